@@ -1,0 +1,145 @@
+"""The problem registry: every end-of-chapter problem is a function registered with its id.
+
+A problem function takes no argument, builds the problem's data, calls the library and returns a
+:class:`Solution` holding named values, checks (comparisons with the manual, properties that the
+figures show) and matplotlib figures. ``@problem("2.15", "title", kind="numeric")`` registers it.
+"""
+
+from __future__ import annotations
+
+import difflib
+import importlib
+import pkgutil
+import re
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+KINDS = ("derivation", "numeric", "simulation", "programming", "qualitative")
+
+
+@dataclass(frozen=True)
+class Check:
+    """One verified statement: a comparison with the manual, or a property a figure shows."""
+
+    name: str
+    passed: bool
+    detail: str = ""
+
+
+@dataclass
+class Solution:
+    """What a problem function returns: named values, checks and figures."""
+
+    id: str = ""
+    title: str = ""
+    kind: str = ""
+    values: dict[str, Any] = field(default_factory=dict)
+    checks: list[Check] = field(default_factory=list)
+    figures: list[Any] = field(default_factory=list)  # matplotlib Figure objects
+
+    @property
+    def passed(self) -> bool:
+        """True when there is at least one check and every check passed."""
+        return bool(self.checks) and all(c.passed for c in self.checks)
+
+    def value(self, name: str, value: Any) -> Any:
+        """Record a named value and return it (so it can be used inline)."""
+        self.values[name] = value
+        return value
+
+    def check(self, name: str, passed: bool, detail: str = "") -> bool:
+        """Record a check; ``passed`` is coerced to ``bool``."""
+        self.checks.append(Check(name, bool(passed), detail))
+        return bool(passed)
+
+    def check_close(self, name: str, actual: Any, expected: Any, *, atol: float = 1e-9,
+                    rtol: float = 0.0) -> bool:
+        """Record a numerical comparison ``|actual - expected| <= atol + rtol |expected|``."""
+        a = np.asarray(actual, dtype=complex if np.iscomplexobj(actual) else float)
+        e = np.asarray(expected, dtype=complex if np.iscomplexobj(expected) else float)
+        if a.shape != e.shape:
+            return self.check(name, False, f"shape {a.shape} != expected {e.shape}")
+        err = np.abs(a - e)
+        ok = bool(np.all(np.isfinite(a)) and np.all(err <= atol + rtol * np.abs(e)))
+        max_err = float(np.max(err)) if err.size else 0.0
+        return self.check(name, ok, f"max |error| = {max_err:.3g} (atol {atol:g}, rtol {rtol:g})")
+
+    def figure(self, fig: Any) -> Any:
+        """Attach a matplotlib figure (give it a title or ``fig.canvas.manager`` label) and return it."""
+        self.figures.append(fig)
+        return fig
+
+
+@dataclass(frozen=True)
+class Problem:
+    id: str
+    title: str
+    kind: str
+    function: Callable[[], Solution]
+
+    @property
+    def chapter(self) -> int:
+        return int(self.id.split(".")[0])
+
+    def solve(self) -> Solution:
+        sol = self.function()
+        if not isinstance(sol, Solution):
+            raise TypeError(f"problem {self.id} returned {type(sol).__name__}, not a Solution")
+        sol.id, sol.title, sol.kind = self.id, self.title, self.kind
+        return sol
+
+
+_REGISTRY: dict[str, Problem] = {}
+
+
+def problem(id: str, title: str, kind: str = "derivation") -> Callable:
+    """Decorator registering a problem function under the book's id, e.g. ``"3.21"``."""
+    if not re.fullmatch(r"\d{1,2}\.\d{1,2}", id):
+        raise ValueError(f"problem id must look like '3.21', got {id!r}")
+    if kind not in KINDS:
+        raise ValueError(f"problem {id}: kind must be one of {KINDS}, got {kind!r}")
+
+    def register(function: Callable[[], Solution]) -> Callable[[], Solution]:
+        if id in _REGISTRY and _REGISTRY[id].function.__qualname__ != function.__qualname__:
+            raise ValueError(f"problem {id} is registered twice")
+        _REGISTRY[id] = Problem(id, title, kind, function)
+        return function
+
+    return register
+
+
+def _id_key(id: str) -> tuple[int, int]:
+    chapter, number = id.split(".")
+    return int(chapter), int(number)
+
+
+def load_all() -> None:
+    """Import every ``problems/chNN.py`` module so that its problems register."""
+    import problems
+
+    for info in pkgutil.iter_modules(problems.__path__):
+        if re.fullmatch(r"ch\d\d", info.name):
+            importlib.import_module(f"problems.{info.name}")
+
+
+def all_problems() -> list[Problem]:
+    """Every registered problem, in the book's order."""
+    load_all()
+    return [_REGISTRY[k] for k in sorted(_REGISTRY, key=_id_key)]
+
+
+def get(id: str) -> Problem:
+    """The problem with this id; ``KeyError`` naming the nearest ids otherwise."""
+    load_all()
+    if id not in _REGISTRY:
+        near = difflib.get_close_matches(id, list(_REGISTRY), n=5, cutoff=0.5)
+        hint = f"; nearest: {', '.join(near)}" if near else ""
+        raise KeyError(f"unknown problem id {id!r}{hint} (see 'rmpc list')")
+    return _REGISTRY[id]
+
+
+def solve(id: str) -> Solution:
+    """Solve one problem by id."""
+    return get(id).solve()

@@ -1,0 +1,240 @@
+"""Denavit–Hartenberg tables: homogeneous transforms (2.52) and DH table → URDF → Pinocchio.
+
+A serial arm is a list of :class:`DHLink` (or dicts with the same keys). The URDF written by
+:func:`urdf_from_dh` has one link ``frame_i`` per DH frame i (``frame_0`` is the base frame), so
+that the Pinocchio frame ``frame_i`` is the product of the book's A matrices ``A_1^0 ... A_i^{i-1}``.
+
+URDF layout of joint i (the recipe of the spec):
+
+* revolute: joint ``joint_i`` at DH frame i−1, origin ``Rz(theta_i)``, axis z; then a fixed joint
+  ``Tz(d_i) Tx(a_i) Rx(alpha_i)`` to ``frame_i``;
+* prismatic: joint ``joint_i`` at DH frame i−1, origin ``Tz(d_i) Rz(theta_i)``, axis z; then a fixed
+  joint ``Tx(a_i) Rx(alpha_i)`` to ``frame_i``.
+
+Motors follow the book (Sect. 7.3): rotor i is carried by link i−1, sits on joint axis i at the
+origin of frame i−1 and spins at ``k_ri q̇_i``. In URDF it is a link ``rotor_i`` on a revolute joint
+``rotor_i_joint`` that ``<mimic>``s ``joint_i`` with multiplier ``k_ri`` (load with ``mimic=True``).
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
+Eq. (2.52), Sect. 2.8.2; Sect. 7.3 (motor model).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from typing import Any, Iterable, Mapping, Sequence
+
+import numpy as np
+
+JOINT_TYPES = ("revolute", "prismatic")
+
+
+def dh_transform(a: float, alpha: float, d: float, theta: float) -> np.ndarray:
+    """A_i^{i-1} = Rz(theta) Tz(d) Tx(a) Rx(alpha), Eq. (2.52); returns a (4, 4) array."""
+    ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
+    return np.array([
+        [ct, -st * ca, st * sa, a * ct],
+        [st, ct * ca, -ct * sa, a * st],
+        [0.0, sa, ca, d],
+        [0.0, 0.0, 0.0, 1.0],
+    ])
+
+
+@dataclass(frozen=True)
+class DHLink:
+    """One row of a DH table with the link's inertial and motor data (SI units).
+
+    ``theta`` (revolute) and ``d`` (prismatic) are the offsets added to the joint variable.
+    ``com`` is the centre of mass in DH frame i, ``inertia`` the 3×3 inertia about the com in
+    DH frame i. ``motor_inertia`` is the rotor's moment about its spin axis (or a 3×3 tensor in the
+    rotor frame, z = spin axis), ``motor_mass`` its mass, ``gear_ratio`` the book's k_r.
+    """
+
+    a: float = 0.0
+    alpha: float = 0.0
+    d: float = 0.0
+    theta: float = 0.0
+    joint: str = "revolute"
+    mass: float = 0.0
+    com: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    inertia: Any = None
+    motor_inertia: Any = 0.0
+    motor_mass: float = 0.0
+    gear_ratio: float = 1.0
+    lower: float | None = None
+    upper: float | None = None
+    effort: float | None = None
+    velocity: float | None = None
+    name: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.joint not in JOINT_TYPES:
+            raise ValueError(f"DH link joint must be one of {JOINT_TYPES}, got {self.joint!r}")
+        for key in ("a", "alpha", "d", "theta", "mass", "motor_mass", "gear_ratio"):
+            value = getattr(self, key)
+            if not np.isfinite(value):
+                raise ValueError(f"DH link `{key}` must be finite, got {value!r}")
+        if self.mass < 0 or self.motor_mass < 0:
+            raise ValueError("DH link masses must be non-negative")
+        if np.asarray(self.com, dtype=float).shape != (3,):
+            raise ValueError(f"DH link `com` must have shape (3,), got {np.shape(self.com)}")
+        if self.inertia is not None and np.asarray(self.inertia, dtype=float).shape != (3, 3):
+            raise ValueError(f"DH link `inertia` must have shape (3, 3), got {np.shape(self.inertia)}")
+
+    @property
+    def has_motor(self) -> bool:
+        return bool(np.any(np.asarray(self.motor_inertia) != 0) or self.motor_mass != 0)
+
+    def transform(self, q: float) -> np.ndarray:
+        """A_i^{i-1}(q_i) of this link, Eq. (2.52)."""
+        if self.joint == "revolute":
+            return dh_transform(self.a, self.alpha, self.d, self.theta + q)
+        return dh_transform(self.a, self.alpha, self.d + q, self.theta)
+
+
+def as_links(links: Iterable[DHLink | Mapping[str, Any]]) -> list[DHLink]:
+    """Accept DHLink objects or dicts with DHLink's keys (unknown keys → TypeError)."""
+    names = {f.name for f in fields(DHLink)}
+    out = []
+    for k, link in enumerate(links):
+        if isinstance(link, DHLink):
+            out.append(link)
+            continue
+        unknown = set(link) - names
+        if unknown:
+            raise TypeError(f"DH link {k + 1}: unrecognized key(s) {sorted(unknown)}; allowed {sorted(names)}")
+        out.append(DHLink(**link))
+    if not out:
+        raise ValueError("a DH table needs at least one link")
+    return out
+
+
+def dh_chain(links: Sequence[DHLink | Mapping[str, Any]], q: Any) -> list[np.ndarray]:
+    """[T_0^0, T_1^0, ..., T_n^0]: the DH frames in the base frame at q (products of (2.52))."""
+    links = as_links(links)
+    q = np.asarray(q, dtype=float).reshape(-1)
+    if q.shape != (len(links),):
+        raise ValueError(f"`q` must have shape ({len(links)},), got {q.shape}")
+    T = [np.eye(4)]
+    for link, qi in zip(links, q):
+        T.append(T[-1] @ link.transform(qi))
+    return T
+
+
+# --------------------------------------------------------------------------------------------
+# URDF
+# --------------------------------------------------------------------------------------------
+
+def _inertial(mass: float, com: Any, inertia: Any, origin_rot: np.ndarray | None = None):
+    import yourdfpy
+
+    origin = np.eye(4)
+    origin[:3, 3] = np.asarray(com, dtype=float)
+    if inertia is None:
+        inertia = np.zeros((3, 3))
+    return yourdfpy.Inertial(mass=float(mass), origin=origin, inertia=np.asarray(inertia, dtype=float))
+
+
+def _rotor_inertia(motor_inertia: Any) -> np.ndarray:
+    """A scalar I_m is the rotor's moment about its spin axis (z); transverse moments 0 as in the book."""
+    Im = np.asarray(motor_inertia, dtype=float)
+    if Im.shape == ():
+        return np.diag([0.0, 0.0, float(Im)])
+    if Im.shape != (3, 3):
+        raise ValueError(f"`motor_inertia` must be a scalar or (3, 3), got shape {Im.shape}")
+    return Im
+
+
+def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_robot",
+                 payload: float = 0.0, tool: np.ndarray | None = None) -> str:
+    """URDF text of a serial DH arm, with link inertias, rotors on ``<mimic>`` joints and a payload.
+
+    Parameters
+    ----------
+    links : DH table, one entry per joint (see :class:`DHLink`).
+    name : the robot's name.
+    payload : point mass [kg] at the origin of the last DH frame (link ``payload``).
+    tool : optional (4, 4) constant transform from the last DH frame to the end-effector frame ``ee``;
+        identity by default (``ee`` coincides with ``frame_n``).
+    """
+    import yourdfpy
+    from lxml import etree
+
+    links = as_links(links)
+    if not np.isfinite(payload) or payload < 0:
+        raise ValueError(f"`payload` must be a non-negative mass, got {payload!r}")
+    eye = np.eye(4)
+    robot = yourdfpy.Robot(name=name)
+    robot.links.append(yourdfpy.Link(name="frame_0"))
+    mimics: dict[str, tuple[str, float]] = {}
+    for i, link in enumerate(links, start=1):
+        parent = f"frame_{i - 1}"
+        body = f"link_{i}"
+        lower = link.lower if link.lower is not None else (-np.pi if link.joint == "revolute" else -1.0)
+        upper = link.upper if link.upper is not None else (np.pi if link.joint == "revolute" else 1.0)
+        limit = yourdfpy.Limit(effort=link.effort if link.effort is not None else 1e4,
+                               velocity=link.velocity if link.velocity is not None else 1e2,
+                               lower=lower, upper=upper)
+        if link.joint == "revolute":
+            origin = dh_transform(0.0, 0.0, 0.0, link.theta)
+            fixed = dh_transform(link.a, link.alpha, link.d, 0.0)
+        else:
+            origin = dh_transform(0.0, 0.0, link.d, link.theta)
+            fixed = dh_transform(link.a, link.alpha, 0.0, 0.0)
+        robot.links.append(yourdfpy.Link(name=body))
+        robot.joints.append(yourdfpy.Joint(
+            name=link.name or f"joint_{i}", type=link.joint, parent=parent, child=body,
+            origin=origin, axis=np.array([0.0, 0.0, 1.0]), limit=limit))
+        inertial = _inertial(link.mass, link.com, link.inertia) if link.mass > 0 else None
+        robot.links.append(yourdfpy.Link(name=f"frame_{i}", inertial=inertial))
+        robot.joints.append(yourdfpy.Joint(name=f"frame_{i}_fixed", type="fixed", parent=body,
+                                           child=f"frame_{i}", origin=fixed))
+        if link.has_motor:
+            # Rotor i sits on axis i at the origin of frame i-1, carried by link i-1 (Sect. 7.3).
+            rotor = f"rotor_{i}"
+            robot.links.append(yourdfpy.Link(
+                name=rotor, inertial=_inertial(max(link.motor_mass, 1e-12), np.zeros(3),
+                                               _rotor_inertia(link.motor_inertia))))
+            rotor_joint = f"rotor_{i}_joint"
+            robot.joints.append(yourdfpy.Joint(
+                name=rotor_joint, type="revolute", parent=parent, child=rotor, origin=eye.copy(),
+                axis=np.array([0.0, 0.0, 1.0]),
+                limit=yourdfpy.Limit(effort=1e4, velocity=1e5, lower=-1e6, upper=1e6),
+                mimic=yourdfpy.Mimic(joint=link.name or f"joint_{i}", multiplier=float(link.gear_ratio),
+                                     offset=0.0)))
+            mimics[rotor_joint] = (link.name or f"joint_{i}", float(link.gear_ratio))
+    n = len(links)
+    if payload > 0:
+        robot.links.append(yourdfpy.Link(name="payload", inertial=_inertial(payload, np.zeros(3), None)))
+        robot.joints.append(yourdfpy.Joint(name="payload_fixed", type="fixed", parent=f"frame_{n}",
+                                           child="payload", origin=eye.copy()))
+    tool = eye.copy() if tool is None else np.asarray(tool, dtype=float)
+    if tool.shape != (4, 4):
+        raise ValueError(f"`tool` must have shape (4, 4), got {tool.shape}")
+    robot.links.append(yourdfpy.Link(name="ee"))
+    robot.joints.append(yourdfpy.Joint(name="ee_fixed", type="fixed", parent=f"frame_{n}", child="ee",
+                                       origin=tool))
+    urdf = yourdfpy.URDF(robot=robot, build_scene_graph=False, load_meshes=False)
+    root = urdf.write_xml().getroot()
+    # yourdfpy 0.0.60 drops <mimic> when writing: add it back.
+    for joint in root.findall("joint"):
+        if joint.get("name") in mimics:
+            target, multiplier = mimics[joint.get("name")]
+            etree.SubElement(joint, "mimic", attrib={"joint": target, "multiplier": repr(multiplier),
+                                                     "offset": "0.0"})
+    return etree.tostring(root, pretty_print=True, xml_declaration=True, encoding="utf-8").decode()
+
+
+def robot_from_dh(links: Sequence[DHLink | Mapping[str, Any]], gravity: Any = (0.0, 0.0, -9.81),
+                  name: str = "dh_robot", payload: float = 0.0, tool: np.ndarray | None = None):
+    """Build a :class:`rigid_body.robots.Robot` from a DH table (through its URDF, with mimic rotors).
+
+    >>> import numpy as np
+    >>> arm = robot_from_dh([dict(a=1.0), dict(a=1.0)])
+    >>> arm.model.nq
+    2
+    """
+    from rigid_body.robots import robot_from_urdf_string
+
+    xml = urdf_from_dh(links, name=name, payload=payload, tool=tool)
+    return robot_from_urdf_string(xml, gravity=gravity, name=name)

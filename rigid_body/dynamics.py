@@ -1,0 +1,68 @@
+"""Joint-space dynamics B(q) q̈ + C(q, q̇) q̇ + g(q) = τ, Eq. (7.42), from Pinocchio.
+
+The book's motor model (rotor i carried by link i−1, spinning at k_ri q̇_i, Sect. 7.3) is in the
+URDF as mimic joints, so CRBA/RNEA here include the k_r I_m terms of (7.32). With mimic joints
+Pinocchio refuses ABA; forward dynamics is then the Cholesky solve of B q̈ = τ − h.
+Every function copies its result out of ``robot.data``.
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
+Eqs. (7.32) B(q), (7.42) the model, (7.45) Christoffel C, (7.39) g, Sect. 7.5 Newton–Euler.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+from scipy.linalg import cho_factor, cho_solve
+
+from rigid_body.robots import Robot
+from rigid_body.validation import as_vector
+
+
+def inertia_matrix(robot: Robot, q: np.ndarray) -> np.ndarray:
+    """B(q), (nv, nv), symmetric positive definite, Eq. (7.32) (CRBA)."""
+    q = as_vector(q, robot.nq, "q")
+    B = pin.crba(robot.model, robot.data, q)
+    return np.triu(B) + np.triu(B, 1).T
+
+
+def coriolis_matrix(robot: Robot, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """C(q, q̇) built from the Christoffel symbols, Eq. (7.45): Ḃ − 2C is skew-symmetric."""
+    q = as_vector(q, robot.nq, "q")
+    qd = as_vector(qd, robot.nv, "qd")
+    return pin.computeCoriolisMatrix(robot.model, robot.data, q, qd).copy()
+
+
+def gravity_torques(robot: Robot, q: np.ndarray) -> np.ndarray:
+    """g(q), Eq. (7.39)."""
+    q = as_vector(q, robot.nq, "q")
+    return pin.computeGeneralizedGravity(robot.model, robot.data, q).copy()
+
+
+def nonlinear_effects(robot: Robot, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """h(q, q̇) = C(q, q̇) q̇ + g(q)."""
+    q = as_vector(q, robot.nq, "q")
+    qd = as_vector(qd, robot.nv, "qd")
+    return pin.nonLinearEffects(robot.model, robot.data, q, qd).copy()
+
+
+def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+    """τ = B(q) q̈ + C(q, q̇) q̇ + g(q) by recursive Newton–Euler (Sect. 7.5)."""
+    q = as_vector(q, robot.nq, "q")
+    qd = as_vector(qd, robot.nv, "qd")
+    qdd = as_vector(qdd, robot.nv, "qdd")
+    return pin.rnea(robot.model, robot.data, q, qd, qdd).copy()
+
+
+def forward_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    """q̈ = B(q)⁻¹ (τ − C q̇ − g): ABA without mimic joints, else a Cholesky solve (Eq. 7.42)."""
+    q = as_vector(q, robot.nq, "q")
+    qd = as_vector(qd, robot.nv, "qd")
+    tau = as_vector(tau, robot.nv, "tau")
+    model, data = robot.model, robot.data
+    if not robot.has_mimic:
+        return pin.aba(model, data, q, qd, tau).copy()
+    B = pin.crba(model, data, q)
+    B = np.triu(B) + np.triu(B, 1).T
+    h = pin.nonLinearEffects(model, data, q, qd)
+    return cho_solve(cho_factor(B), tau - h)

@@ -1,0 +1,33 @@
+"""Input checks shared by the whole package: one place for the error messages."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+
+def as_vector(x: Any, n: int | None, name: str) -> np.ndarray:
+    """``x`` as a finite float vector of shape (n,); ValueError naming ``name`` otherwise."""
+    try:
+        v = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"`{name}` must be a numeric vector, got {type(x).__name__}") from None
+    if v.ndim == 0 and n in (None, 1):
+        v = v.reshape(1)
+    if v.ndim != 1 or (n is not None and v.shape[0] != n):
+        expected = f"({n},)" if n is not None else "a 1-D vector"
+        raise ValueError(f"`{name}` must have shape {expected}, got {v.shape}")
+    if not np.all(np.isfinite(v)):
+        raise ValueError(f"`{name}` must be finite, got {v}")
+    return v
+
+
+def as_matrix(x: Any, shape: tuple[int, int], name: str) -> np.ndarray:
+    """``x`` as a finite float array of the given shape; ValueError naming ``name`` otherwise."""
+    m = np.asarray(x, dtype=float)
+    if m.shape != shape:
+        raise ValueError(f"`{name}` must have shape {shape}, got {m.shape}")
+    if not np.all(np.isfinite(m)):
+        raise ValueError(f"`{name}` must be finite")
+    return m

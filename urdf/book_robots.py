@@ -1,0 +1,215 @@
+"""The book's robots as data: DH tables (Siciliano et al. 2009), inertial and motor data, gravity.
+
+Every ``urdf/<name>.urdf`` file is generated from these tables by ``python -m urdf.book_robots``
+(a test regenerates them and compares). All parameters are in SI units: m, rad, kg, kg·m².
+
+Provenance:
+
+* ``planar_2r``: the two-link arm of Sect. 7.3.2 / Example 7.2 / Sect. 8.7, data confirmed by the
+  authors' companion file ``param.m`` (a = 1 m, ℓ = 0.5 m, m_ℓ = 50 kg, I_ℓ = 10 kg·m², k_r = 100,
+  m_m = 5 kg, I_m = 0.01 kg·m²); vertical plane, gravity along −y₀, g = 9.81 m/s².
+* ``scara``: Table S2.3 (all axes pointing down, so the URDF root is DH frame 0 with z₀ down and
+  gravity is +g along z₀); a₁ = a₂ = 0.5 m (from the manual's 5.7 matrix). Last link m = 2 kg,
+  I = 1 kg·m²; the first two links' inertial data are illustrative (not in the book).
+* ``cylindrical``: Table S2.2; ``spherical``, ``anthropomorphic``, ``spherical_wrist``,
+  ``anthropomorphic_wrist``: the DH tables of Sect. 2.9 (recalled from the textbook, marked
+  [TB-verify] in the spec); lengths are test values of the spec; inertial data illustrative.
+* ``planar_3r``: Fig. 2.20 arm; a = (0.5, 0.3, 0.2) and the joint limits of Problem 2.17.
+* ``cartesian_skew``: the two-link Cartesian arm of Problem 7.1 (joint 2 axis at π/4 to joint 1).
+* ``planar_pr``: the prismatic–revolute arm of Problems 7.5/7.8 (z₁ = y₀, gravity along −x₀).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from rigid_body.dh import DHLink, urdf_from_dh
+
+G = 9.81  # m/s², the book's value
+HERE = Path(__file__).resolve().parent
+
+
+def rod_inertia(mass: float, length: float, axis: int = 0) -> np.ndarray:
+    """Inertia about the com of a slender rod along ``axis`` (illustrative link data)."""
+    moment = mass * length**2 / 12.0
+    diag = np.full(3, moment)
+    diag[axis] = 1e-3 * mass
+    return np.diag(diag)
+
+
+@dataclass(frozen=True)
+class BookRobot:
+    """A book robot's DH table, gravity (in the URDF root frame = DH frame 0) and payload."""
+
+    name: str
+    links: tuple[DHLink, ...]
+    gravity: tuple[float, float, float]
+    payload: float = 0.0
+
+    def urdf(self) -> str:
+        return urdf_from_dh(self.links, name=self.name, payload=self.payload)
+
+
+def planar_2r(a: Any = (1.0, 1.0), l: Any = (0.5, 0.5), m_l: Any = (50.0, 50.0), I_l: Any = (10.0, 10.0),
+              k_r: Any = (100.0, 100.0), m_m: Any = (5.0, 5.0), I_m: Any = (0.01, 0.01),
+              payload: float = 0.0, motors: bool = True) -> BookRobot:
+    """Two-link planar arm of Sect. 7.3.2 with motors (7.82); link i's com at ℓ_i from joint i."""
+    links = []
+    for i in range(2):
+        links.append(DHLink(
+            a=a[i], mass=m_l[i], com=(l[i] - a[i], 0.0, 0.0), inertia=np.diag([0.0, I_l[i], I_l[i]]),
+            motor_inertia=I_m[i] if motors else 0.0, motor_mass=m_m[i] if motors else 0.0,
+            gear_ratio=k_r[i]))
+    return BookRobot("planar_2r", tuple(links), (0.0, -G, 0.0), payload)
+
+
+def planar_3r(a: Any = (0.5, 0.3, 0.2), lower: Any = (-np.pi / 3, -2 * np.pi / 3, -np.pi / 2),
+              upper: Any = (np.pi / 3, 2 * np.pi / 3, np.pi / 2), mass: float = 1.0,
+              payload: float = 0.0) -> BookRobot:
+    """Three-link planar arm of Fig. 2.20 with the joint limits of Problem 2.17."""
+    links = tuple(DHLink(a=a[i], mass=mass, com=(-a[i] / 2, 0.0, 0.0), inertia=rod_inertia(mass, a[i]),
+                         lower=lower[i], upper=upper[i]) for i in range(3))
+    return BookRobot("planar_3r", links, (0.0, -G, 0.0), payload)
+
+
+def scara(a: Any = (0.5, 0.5), d3_range: Any = (0.0, 1.0), payload: float = 0.0) -> BookRobot:
+    """SCARA of Table S2.3, joint axes pointing down (DH frame 0 has z₀ down: gravity +g z₀)."""
+    links = (
+        DHLink(a=a[0], mass=10.0, com=(-a[0] / 2, 0, 0), inertia=rod_inertia(10.0, a[0])),
+        DHLink(a=a[1], mass=10.0, com=(-a[1] / 2, 0, 0), inertia=rod_inertia(10.0, a[1])),
+        DHLink(joint="prismatic", lower=d3_range[0], upper=d3_range[1]),
+        DHLink(mass=2.0, inertia=np.diag([1.0, 1.0, 1.0])),
+    )
+    return BookRobot("scara", links, (0.0, 0.0, G), payload)
+
+
+def cylindrical(d2_range: Any = (0.0, 1.0), d3_range: Any = (0.1, 1.0), payload: float = 0.0) -> BookRobot:
+    """Cylindrical arm (R-P-P) of Table S2.2."""
+    links = (
+        DHLink(mass=5.0, inertia=np.diag([0.1, 0.1, 0.1])),
+        DHLink(alpha=-np.pi / 2, joint="prismatic", mass=3.0, inertia=np.diag([0.05] * 3),
+               lower=d2_range[0], upper=d2_range[1]),
+        DHLink(joint="prismatic", mass=2.0, com=(0, 0, -0.25), inertia=rod_inertia(2.0, 0.5, axis=2),
+               lower=d3_range[0], upper=d3_range[1]),
+    )
+    return BookRobot("cylindrical", links, (0.0, 0.0, -G), payload)
+
+
+def spherical(d2: float = 0.2, d3_range: Any = (0.1, 1.0), payload: float = 0.0) -> BookRobot:
+    """Spherical (Stanford-type) arm R-R-P: (0,−π/2,0,θ1), (0,π/2,d2,θ2), (0,0,d3,0)."""
+    links = (
+        DHLink(alpha=-np.pi / 2, mass=5.0, inertia=np.diag([0.1] * 3)),
+        DHLink(alpha=np.pi / 2, d=d2, mass=3.0, inertia=np.diag([0.05] * 3)),
+        DHLink(joint="prismatic", mass=2.0, com=(0, 0, -0.25), inertia=rod_inertia(2.0, 0.5, axis=2),
+               lower=d3_range[0], upper=d3_range[1]),
+    )
+    return BookRobot("spherical", links, (0.0, 0.0, -G), payload)
+
+
+def anthropomorphic(a2: float = 0.5, a3: float = 0.4, payload: float = 0.0) -> BookRobot:
+    """Anthropomorphic arm: (0,π/2,0,θ1), (a2,0,0,θ2), (a3,0,0,θ3), Eq. (2.66)."""
+    links = (
+        DHLink(alpha=np.pi / 2, mass=5.0, inertia=np.diag([0.1] * 3)),
+        DHLink(a=a2, mass=4.0, com=(-a2 / 2, 0, 0), inertia=rod_inertia(4.0, a2)),
+        DHLink(a=a3, mass=3.0, com=(-a3 / 2, 0, 0), inertia=rod_inertia(3.0, a3)),
+    )
+    return BookRobot("anthropomorphic", links, (0.0, 0.0, -G), payload)
+
+
+def _wrist_links(d6: float, first: int = 4) -> tuple[DHLink, ...]:
+    return (
+        DHLink(alpha=-np.pi / 2, mass=0.5, inertia=np.diag([0.005] * 3), name=f"joint_{first}"),
+        DHLink(alpha=np.pi / 2, mass=0.5, inertia=np.diag([0.005] * 3), name=f"joint_{first + 1}"),
+        DHLink(d=d6, mass=0.2, com=(0, 0, -d6 / 2), inertia=np.diag([0.002] * 3), name=f"joint_{first + 2}"),
+    )
+
+
+def spherical_wrist(d6: float = 0.1, payload: float = 0.0) -> BookRobot:
+    """Spherical wrist: (0,−π/2,0,θ4), (0,π/2,0,θ5), (0,0,d6,θ6); joints named joint_4..joint_6."""
+    return BookRobot("spherical_wrist", _wrist_links(d6), (0.0, 0.0, -G), payload)
+
+
+def anthropomorphic_wrist(a2: float = 0.5, d4: float = 0.5, d6: float = 0.1, payload: float = 0.0) -> BookRobot:
+    """Anthropomorphic arm with spherical wrist (Sect. 2.9.7): 6R."""
+    links = (
+        DHLink(alpha=np.pi / 2, mass=5.0, inertia=np.diag([0.1] * 3)),
+        DHLink(a=a2, mass=4.0, com=(-a2 / 2, 0, 0), inertia=rod_inertia(4.0, a2)),
+        DHLink(alpha=np.pi / 2, mass=2.0, inertia=np.diag([0.02] * 3)),
+        DHLink(alpha=-np.pi / 2, d=d4, mass=2.0, com=(0, d4 / 2, 0) , inertia=rod_inertia(2.0, d4, axis=1)),
+        DHLink(alpha=np.pi / 2, mass=0.5, inertia=np.diag([0.005] * 3)),
+        DHLink(d=d6, mass=0.2, com=(0, 0, -d6 / 2), inertia=np.diag([0.002] * 3)),
+    )
+    return BookRobot("anthropomorphic_wrist", links, (0.0, 0.0, -G), payload)
+
+
+def cartesian_skew(m_l: Any = (10.0, 5.0), m_m: Any = (2.0, 2.0), I_m: Any = (0.01, 0.01),
+                   k_r: Any = (50.0, 50.0), payload: float = 0.0) -> BookRobot:
+    """Two-link Cartesian arm of Problem 7.1: z₀ = [0 0 1], z₁ = [1/√2 0 1/√2], gravity −g z₀.
+
+    DH: (0, π/4, d1, π/2), (0, 0, d2, 0). Masses are illustrative (the problem is symbolic).
+    Rotor i sits on axis i, driven through a screw of k_r (rad/m).
+    """
+    links = (
+        DHLink(alpha=np.pi / 4, theta=np.pi / 2, joint="prismatic", mass=m_l[0], inertia=np.diag([0.1] * 3),
+               motor_inertia=I_m[0], motor_mass=m_m[0], gear_ratio=k_r[0], lower=-1.0, upper=1.0),
+        DHLink(joint="prismatic", mass=m_l[1], inertia=np.diag([0.05] * 3), motor_inertia=I_m[1],
+               motor_mass=m_m[1], gear_ratio=k_r[1], lower=-1.0, upper=1.0),
+    )
+    return BookRobot("cartesian_skew", links, (0.0, 0.0, -G), payload)
+
+
+def planar_pr(a2: float = 0.5, l2: float = 0.25, m_l: Any = (10.0, 5.0), I_l2: float = 0.1,
+              payload: float = 0.0) -> BookRobot:
+    """Prismatic–revolute arm of Problems 7.5/7.8: q = [d1, θ2], z₁ = y₀, gravity along −x₀.
+
+    DH: (0, π/2, d1, π), (a2, 0, 0, θ2); link 2's com at ℓ2 from the joint: p_ℓ2 = [−ℓ2 c2, 0, d1 + ℓ2 s2].
+    """
+    links = (
+        DHLink(alpha=np.pi / 2, theta=np.pi, joint="prismatic", mass=m_l[0], inertia=np.diag([0.1] * 3),
+               lower=-1.0, upper=1.0),
+        DHLink(a=a2, mass=m_l[1], com=(l2 - a2, 0, 0), inertia=np.diag([0.0, I_l2, I_l2])),
+    )
+    return BookRobot("planar_pr", links, (-G, 0.0, 0.0), payload)
+
+
+BOOK_ROBOTS: dict[str, Callable[..., BookRobot]] = {
+    "planar_2r": planar_2r,
+    "planar_3r": planar_3r,
+    "scara": scara,
+    "cylindrical": cylindrical,
+    "spherical": spherical,
+    "anthropomorphic": anthropomorphic,
+    "spherical_wrist": spherical_wrist,
+    "anthropomorphic_wrist": anthropomorphic_wrist,
+    "cartesian_skew": cartesian_skew,
+    "planar_pr": planar_pr,
+}
+
+
+def book_robot_spec(name: str, **params: Any) -> BookRobot:
+    """The table of the book robot ``name`` with its parameters changed by ``params``."""
+    if name not in BOOK_ROBOTS:
+        raise ValueError(f"unknown book robot {name!r}; available: {', '.join(sorted(BOOK_ROBOTS))}")
+    try:
+        return BOOK_ROBOTS[name](**params)
+    except TypeError as exc:
+        raise TypeError(f"book robot {name!r}: {exc}") from None
+
+
+def write_all(directory: Path = HERE) -> list[Path]:
+    """Regenerate every ``urdf/<name>.urdf`` from its table."""
+    paths = []
+    for name in BOOK_ROBOTS:
+        path = directory / f"{name}.urdf"
+        path.write_text(book_robot_spec(name).urdf())
+        paths.append(path)
+    return paths
+
+
+if __name__ == "__main__":
+    for p in write_all():
+        print(p)

@@ -116,11 +116,11 @@ def _id_key(id: str) -> tuple[int, int]:
 
 
 def load_all() -> None:
-    """Import every ``problems/chNN.py`` module so that its problems register."""
+    """Import every ``problems/chNN.py`` (or ``chNN_part.py``) module so that its problems register."""
     import problems
 
     for info in pkgutil.iter_modules(problems.__path__):
-        if re.fullmatch(r"ch\d\d", info.name):
+        if re.fullmatch(r"ch\d\d(_[a-z_]+)?", info.name):
             importlib.import_module(f"problems.{info.name}")
 
 

@@ -1,0 +1,213 @@
+"""Symbolic (CasADi SX) kinematics generated from a numeric ``pin.Model``.
+
+The PyPI ``pin`` wheel has no ``pinocchio.casadi``, so rmpc rebuilds the kinematic chain from the
+model's data — joint placements ``model.jointPlacements``, joint types and axes, frame placements —
+as CasADi expressions. The factories return ``casadi.Function`` objects with named inputs and
+outputs (``q`` → ``R``, ``p``, ``J``) that optimisation-based IK (and the symbolic dynamics appended
+below) evaluate and differentiate.
+
+Supported joints: revolute and prismatic about x, y, z (``RX``, ``RY``, ``RZ``, ``PX``, ``PY``,
+``PZ``), about any axis (``RevoluteUnaligned``, ``PrismaticUnaligned``), continuous revolute joints
+(``RUBX/Y/Z``, q = [cos θ, sin θ]) and fixed frames. Mimic joints (the book's rotors) are skipped:
+they carry leaf bodies, and a frame whose chain passes through one is refused.
+
+Conventions: a joint ``i`` has placement ``oMi = oM_parent · jointPlacements[i] · M_i(q)``, as in
+Pinocchio; the geometric Jacobian is the book's ``[J_P; J_O]`` (Pinocchio ``LOCAL_WORLD_ALIGNED``),
+built column by column from Eq. (3.30): ``[z_k × (p − p_k); z_k]`` for a revolute joint and
+``[z_k; 0]`` for a prismatic one.
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
+Eqs. (2.25) (rotation about an axis), (2.50) (direct kinematics), (3.30) (geometric Jacobian).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import casadi as ca
+import numpy as np
+import pinocchio as pin
+
+__all__ = [
+    "joint_kind",
+    "joint_transform",
+    "joint_placements",
+    "frame_placement",
+    "frame_placement_function",
+    "geometric_jacobian_function",
+    "pose_function",
+]
+
+_AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
+
+
+def _model(robot_or_model: Any) -> pin.Model:
+    model = getattr(robot_or_model, "model", robot_or_model)
+    if not isinstance(model, pin.Model):
+        raise ValueError(f"`robot_or_model` must be a Robot or a pin.Model, got {type(robot_or_model).__name__}")
+    return model
+
+
+def _frame_id(robot_or_model: Any, frame: str | int | None) -> int:
+    model = _model(robot_or_model)
+    if frame is None:
+        if not hasattr(robot_or_model, "ee_frame"):
+            raise ValueError("`frame` is required when a bare pin.Model is given")
+        return int(robot_or_model.ee_frame)
+    if isinstance(frame, (int, np.integer)):
+        if not 0 <= frame < model.nframes:
+            raise ValueError(f"`frame` id {frame} out of range [0, {model.nframes})")
+        return int(frame)
+    if not model.existFrame(frame):
+        raise ValueError(f"model {model.name!r} has no frame {frame!r}")
+    return model.getFrameId(frame)
+
+
+def joint_kind(model: pin.Model, i: int) -> tuple[str, np.ndarray | None]:
+    """Kind of joint ``i`` — ``"revolute"``, ``"prismatic"``, ``"revolute_unbounded"``, ``"mimic"``
+    or ``"universe"`` — and its unit axis in the joint frame (None for the last two).
+
+    Raises ValueError for joint types this module does not support (free-flyer, spherical, ...).
+    """
+    if i == 0:
+        return "universe", None
+    jmodel = model.joints[i]
+    name = jmodel.shortname().replace("JointModel", "")
+    if name == "Mimic":
+        return "mimic", None
+    if name in ("RX", "RY", "RZ"):
+        return "revolute", _AXES[name[1]]
+    if name in ("PX", "PY", "PZ"):
+        return "prismatic", _AXES[name[1]]
+    if name in ("RUBX", "RUBY", "RUBZ"):
+        return "revolute_unbounded", _AXES[name[3]]
+    if name == "RevoluteUnaligned":
+        return "revolute", np.asarray(jmodel.extract().axis, dtype=float).copy()
+    if name == "PrismaticUnaligned":
+        return "prismatic", np.asarray(jmodel.extract().axis, dtype=float).copy()
+    raise ValueError(f"joint {model.names[i]!r} of type {name} is not supported by rigid_body.symbolic")
+
+
+def _axis_rotation(axis: np.ndarray, c: Any, s: Any) -> ca.SX:
+    """Rotation by angle θ (given cos θ, sin θ) about the unit ``axis``, Eq. (2.25)."""
+    if np.allclose(axis, _AXES["X"]):
+        return ca.vertcat(ca.horzcat(1, 0, 0), ca.horzcat(0, c, -s), ca.horzcat(0, s, c))
+    if np.allclose(axis, _AXES["Y"]):
+        return ca.vertcat(ca.horzcat(c, 0, s), ca.horzcat(0, 1, 0), ca.horzcat(-s, 0, c))
+    if np.allclose(axis, _AXES["Z"]):
+        return ca.vertcat(ca.horzcat(c, -s, 0), ca.horzcat(s, c, 0), ca.horzcat(0, 0, 1))
+    r = ca.DM(axis)
+    S = ca.skew(r)
+    return ca.DM.eye(3) + s * S + (1 - c) * ca.mtimes(S, S)
+
+
+def joint_transform(model: pin.Model, i: int, q: ca.SX) -> tuple[ca.SX, ca.SX]:
+    """``(R, p)`` of the parent-to-joint transform ``liMi = jointPlacements[i] · M_i(q)`` of joint ``i``.
+
+    ``q`` is the whole configuration (SX of size nq). Mimic joints are not modelled (ValueError).
+    """
+    kind, axis = joint_kind(model, i)
+    placement = model.jointPlacements[i]
+    R0 = ca.DM(np.asarray(placement.rotation))
+    p0 = ca.DM(np.asarray(placement.translation))
+    if kind == "mimic":
+        raise ValueError(f"joint {model.names[i]!r} is a mimic joint: not modelled by rigid_body.symbolic")
+    iq = model.joints[i].idx_q
+    if kind == "revolute":
+        Rj = _axis_rotation(axis, ca.cos(q[iq]), ca.sin(q[iq]))
+        return ca.mtimes(R0, Rj), p0
+    if kind == "revolute_unbounded":
+        Rj = _axis_rotation(axis, q[iq], q[iq + 1])
+        return ca.mtimes(R0, Rj), p0
+    # prismatic: translation q along the axis, in the joint frame
+    return R0, p0 + ca.mtimes(R0, ca.DM(axis) * q[iq])
+
+
+def joint_placements(model: pin.Model, q: ca.SX) -> list[tuple[ca.SX, ca.SX] | None]:
+    """World placements ``oMi = (R, p)`` of every joint (index 0 = universe); None on mimic branches."""
+    placements: list[tuple[ca.SX, ca.SX] | None] = [(ca.SX.eye(3), ca.SX.zeros(3))]
+    for i in range(1, model.njoints):
+        parent = placements[model.parents[i]]
+        if parent is None or joint_kind(model, i)[0] == "mimic":
+            placements.append(None)
+            continue
+        R_li, p_li = joint_transform(model, i, q)
+        R_p, p_p = parent
+        placements.append((ca.mtimes(R_p, R_li), p_p + ca.mtimes(R_p, p_li)))
+    return placements
+
+
+def frame_placement(model: pin.Model, frame_id: int, q: ca.SX,
+                    placements: list | None = None) -> tuple[ca.SX, ca.SX]:
+    """``(R, p)`` of frame ``frame_id`` in the world frame: ``oMf = oMi[parent] · frame.placement``."""
+    placements = joint_placements(model, q) if placements is None else placements
+    frame = model.frames[frame_id]
+    parent = placements[frame.parentJoint]
+    if parent is None:
+        raise ValueError(f"frame {frame.name!r} hangs on a mimic joint: not modelled by rigid_body.symbolic")
+    R_p, p_p = parent
+    R_f = ca.DM(np.asarray(frame.placement.rotation))
+    p_f = ca.DM(np.asarray(frame.placement.translation))
+    return ca.mtimes(R_p, R_f), p_p + ca.mtimes(R_p, p_f)
+
+
+def _support(model: pin.Model, joint: int) -> list[int]:
+    chain = []
+    while joint > 0:
+        chain.append(joint)
+        joint = model.parents[joint]
+    return chain[::-1]
+
+
+def _jacobian(model: pin.Model, frame_id: int, q: ca.SX, placements: list) -> ca.SX:
+    _, p = frame_placement(model, frame_id, q, placements)
+    J = ca.SX.zeros(6, model.nv)
+    for k in _support(model, model.frames[frame_id].parentJoint):
+        kind, axis = joint_kind(model, k)
+        R_k, p_k = placements[k]
+        z = ca.mtimes(R_k, ca.DM(axis))                       # joint axis in the base frame
+        iv = model.joints[k].idx_v
+        if kind == "prismatic":
+            J[0:3, iv] = z                                    # Eq. (3.30), prismatic column
+        else:
+            J[0:3, iv] = ca.cross(z, p - p_k)                 # Eq. (3.30), revolute column
+            J[3:6, iv] = z
+    return J
+
+
+def frame_placement_function(robot_or_model: Any, frame: str | int | None = None,
+                             name: str = "frame_placement") -> ca.Function:
+    """``casadi.Function`` ``q (nq) → R (3×3), p (3)``: the pose of ``frame`` (default the end effector).
+
+    >>> from rigid_body.robots import load
+    >>> fk = frame_placement_function(load("planar_2r"))
+    >>> [round(float(v), 6) for v in fk(q=[0.0, 0.0])["p"].full().ravel()]
+    [2.0, 0.0, 0.0]
+    """
+    model = _model(robot_or_model)
+    fid = _frame_id(robot_or_model, frame)
+    q = ca.SX.sym("q", model.nq)
+    R, p = frame_placement(model, fid, q)
+    return ca.Function(name, [q], [R, p], ["q"], ["R", "p"])
+
+
+def geometric_jacobian_function(robot_or_model: Any, frame: str | int | None = None,
+                                name: str = "geometric_jacobian") -> ca.Function:
+    """``casadi.Function`` ``q (nq) → J (6×nv)``: the book's geometric Jacobian of ``frame``, Eq. (3.30)."""
+    model = _model(robot_or_model)
+    fid = _frame_id(robot_or_model, frame)
+    q = ca.SX.sym("q", model.nq)
+    J = _jacobian(model, fid, q, joint_placements(model, q))
+    return ca.Function(name, [q], [J], ["q"], ["J"])
+
+
+def pose_function(robot_or_model: Any, frame: str | int | None = None,
+                  name: str = "pose") -> ca.Function:
+    """``casadi.Function`` ``q → R, p, J``: pose and geometric Jacobian of ``frame`` in one call."""
+    model = _model(robot_or_model)
+    fid = _frame_id(robot_or_model, frame)
+    q = ca.SX.sym("q", model.nq)
+    placements = joint_placements(model, q)
+    R, p = frame_placement(model, fid, q, placements)
+    J = _jacobian(model, fid, q, placements)
+    return ca.Function(name, [q], [R, p, J], ["q"], ["R", "p", "J"])

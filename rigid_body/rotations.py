@@ -1,0 +1,334 @@
+"""Orientation: elementary rotations, Euler angles, axis–angle, unit quaternion, skew S(·).
+
+Conventions (the book's):
+
+* ``R`` is a (3, 3) rotation matrix R^0_1 whose columns are the unit vectors of frame 1 in frame 0;
+* Euler ZYZ (2.18) ``R = Rz(φ) Ry(θ) Rz(ψ)`` and ZXZ ``R = Rz(φ) Rx(θ) Rz(ψ)``, angles ``[φ, θ, ψ]``;
+  ``branch=+1`` picks θ ∈ (0, π) (Eq. (2.19)), ``branch=-1`` θ ∈ (−π, 0) (Eq. (2.20));
+* Roll–pitch–yaw (2.21) ``R = Rz(φ) Ry(θ) Rx(ψ)``, angles ``[φ, θ, ψ]``; ``branch=+1`` picks
+  θ ∈ (−π/2, π/2) (Eq. (2.22)), ``branch=-1`` θ ∈ (π/2, 3π/2) (returned wrapped into (−π, π]);
+* unit quaternion ``Q = [η, εx, εy, εz]``, scalar first, as the book's ``{η, ε}`` (Pinocchio's
+  ``pin.Quaternion`` coefficients are ``[x, y, z, w]``: mind the order where the two meet);
+* homogeneous transform ``T = [[R, o], [0, 1]]`` (2.42).
+
+Every function validates its input: wrong shape, non-finite entries, a matrix that is not a rotation
+(orthonormal, det +1, within ``ORTHONORMAL_TOL``) or a quaternion that is not unit norm raise a
+ValueError naming the argument.
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
+Sects. 2.2–2.7, Eqs. (2.5)–(2.45).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from rigid_body.validation import as_matrix, as_vector
+
+ORTHONORMAL_TOL = 1e-6  # max |R^T R − I| accepted as a rotation; also |‖Q‖ − 1| for quaternions
+SINGULAR_TOL = 1e-9  # |sin θ| (ZYZ, ZXZ) or |cos θ| (RPY) below which Euler angles are singular
+
+
+# --------------------------------------------------------------------------------------------
+# Validation
+# --------------------------------------------------------------------------------------------
+
+def as_rotation(R: Any, name: str = "R", tol: float = ORTHONORMAL_TOL) -> np.ndarray:
+    """``R`` as a (3, 3) rotation matrix: orthonormal and det +1 within ``tol``, else ValueError."""
+    R = as_matrix(R, (3, 3), name)
+    err = np.max(np.abs(R.T @ R - np.eye(3)))
+    if err > tol:
+        raise ValueError(f"`{name}` is not orthonormal: max |R^T R - I| = {err:.3g} > {tol:g}")
+    if np.linalg.det(R) < 0:
+        raise ValueError(f"`{name}` has determinant -1: a reflection, not a rotation")
+    return R
+
+
+def as_unit_quaternion(Q: Any, name: str = "Q", tol: float = ORTHONORMAL_TOL) -> np.ndarray:
+    """``Q`` as a (4,) unit quaternion [η, εx, εy, εz]; ValueError unless |‖Q‖ − 1| ≤ ``tol``."""
+    Q = as_vector(Q, 4, name)
+    norm = np.linalg.norm(Q)
+    if abs(norm - 1.0) > tol:
+        raise ValueError(f"`{name}` must be a unit quaternion [eta, eps_x, eps_y, eps_z], got norm {norm:.6g}")
+    return Q
+
+
+def as_homogeneous(T: Any, name: str = "T", tol: float = ORTHONORMAL_TOL) -> np.ndarray:
+    """``T`` as a (4, 4) homogeneous transform [[R, o], [0, 1]] (2.42); ValueError otherwise."""
+    T = as_matrix(T, (4, 4), name)
+    if np.max(np.abs(T[3] - [0.0, 0.0, 0.0, 1.0])) > tol:
+        raise ValueError(f"`{name}` must have last row [0, 0, 0, 1], got {T[3]}")
+    as_rotation(T[:3, :3], f"{name}[:3, :3]", tol)
+    return T
+
+
+def _scalar(x: Any, name: str) -> float:
+    return float(as_vector(x, 1, name)[0])
+
+
+def _branch(branch: int) -> int:
+    if branch not in (1, -1):
+        raise ValueError(f"`branch` must be +1 or -1, got {branch!r}")
+    return branch
+
+
+# --------------------------------------------------------------------------------------------
+# Elementary rotations and the skew-symmetric operator
+# --------------------------------------------------------------------------------------------
+
+def rot_x(a: float) -> np.ndarray:
+    """Rx(α): elementary rotation about x, Eq. (2.7)."""
+    a = _scalar(a, "a")
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def rot_y(a: float) -> np.ndarray:
+    """Ry(β): elementary rotation about y, Eq. (2.7)."""
+    a = _scalar(a, "a")
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def rot_z(a: float) -> np.ndarray:
+    """Rz(α): elementary rotation about z, Eq. (2.6)."""
+    a = _scalar(a, "a")
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def skew(v: Any) -> np.ndarray:
+    """S(v): the skew-symmetric matrix with S(v) p = v × p, Eq. (3.9)."""
+    x, y, z = as_vector(v, 3, "v")
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+def vee(S: Any) -> np.ndarray:
+    """The vector v of a skew-symmetric S = S(v) (the inverse of :func:`skew`; antisymmetric part used)."""
+    S = as_matrix(S, (3, 3), "S")
+    return 0.5 * np.array([S[2, 1] - S[1, 2], S[0, 2] - S[2, 0], S[1, 0] - S[0, 1]])
+
+
+# --------------------------------------------------------------------------------------------
+# Euler angles: ZYZ (2.18)–(2.20), ZXZ, roll–pitch–yaw (2.21)–(2.23)
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class EulerResult:
+    """Euler angles ``[φ, θ, ψ]`` of a rotation and whether R lies in the representation's singular set.
+
+    When ``singular`` is True only a combination of φ and ψ is determined (φ ± ψ); ``angles`` is
+    then the representative with ψ = 0, which reproduces R.
+    """
+
+    angles: np.ndarray
+    singular: bool
+
+
+_ELEMENTARY = {"x": rot_x, "y": rot_y, "z": rot_z}
+
+
+def _euler_to_rotation(angles: Any, axes: str) -> np.ndarray:
+    phi, theta, psi = as_vector(angles, 3, "phi")
+    return _ELEMENTARY[axes[0]](phi) @ _ELEMENTARY[axes[1]](theta) @ _ELEMENTARY[axes[2]](psi)
+
+
+def _residual_angle(R: np.ndarray, phi: float, theta: float, axes: str) -> float:
+    """ψ from (R_a(φ) R_b(θ))^T R = R_c(ψ): exact reconstruction even close to the singular set."""
+    M = (_ELEMENTARY[axes[0]](phi) @ _ELEMENTARY[axes[1]](theta)).T @ R
+    i = "xyz".index(axes[2])
+    j, k = (i + 1) % 3, (i + 2) % 3  # R_c(ψ) has cos ψ at (j, j) and sin ψ at (k, j)
+    return float(np.arctan2(M[k, j], M[j, j]))
+
+
+def euler_zyz_to_rotation(phi: Any) -> np.ndarray:
+    """R(φ) = Rz(φ) Ry(θ) Rz(ψ) of the ZYZ Euler angles ``phi = [φ, θ, ψ]``, Eq. (2.18)."""
+    return _euler_to_rotation(phi, "zyz")
+
+
+def rotation_to_euler_zyz(R: Any, branch: int = 1, tol: float = SINGULAR_TOL) -> EulerResult:
+    """ZYZ Euler angles of R, Eq. (2.19) (``branch=+1``, θ ∈ (0, π)) or (2.20) (``branch=-1``).
+
+    Singular when sin θ = 0 (r13 = r23 = 0): then θ ∈ {0, π} and only φ ± ψ is determined; the
+    representative with ψ = 0 is returned with ``singular=True``.
+    """
+    R = as_rotation(R)
+    b = _branch(branch)
+    s_theta = np.hypot(R[0, 2], R[1, 2])
+    if s_theta < tol:
+        theta = 0.0 if R[2, 2] > 0 else b * np.pi
+        M = R @ rot_y(theta).T  # = Rz(φ) with ψ = 0
+        return EulerResult(np.array([np.arctan2(M[1, 0], M[0, 0]), theta, 0.0]), True)
+    phi = np.arctan2(b * R[1, 2], b * R[0, 2])
+    theta = np.arctan2(b * s_theta, R[2, 2])
+    return EulerResult(np.array([phi, theta, _residual_angle(R, phi, theta, "zyz")]), False)
+
+
+def euler_zxz_to_rotation(phi: Any) -> np.ndarray:
+    """R(φ) = Rz(φ) Rx(θ) Rz(ψ) of the ZXZ Euler angles ``phi = [φ, θ, ψ]`` (Problem 2.5)."""
+    return _euler_to_rotation(phi, "zxz")
+
+
+def rotation_to_euler_zxz(R: Any, branch: int = 1, tol: float = SINGULAR_TOL) -> EulerResult:
+    """ZXZ Euler angles of R: φ = atan2(r13, −r23), θ = atan2(√(r13² + r23²), r33), ψ = atan2(r31, r32).
+
+    ``branch=+1`` gives θ ∈ (0, π), ``branch=-1`` θ ∈ (−π, 0). Singular when sin θ = 0
+    (r13 = r23 = 0); then the representative with ψ = 0 is returned with ``singular=True``.
+    """
+    R = as_rotation(R)
+    b = _branch(branch)
+    s_theta = np.hypot(R[0, 2], R[1, 2])
+    if s_theta < tol:
+        theta = 0.0 if R[2, 2] > 0 else b * np.pi
+        M = R @ rot_x(theta).T
+        return EulerResult(np.array([np.arctan2(M[1, 0], M[0, 0]), theta, 0.0]), True)
+    phi = np.arctan2(b * R[0, 2], -b * R[1, 2])
+    theta = np.arctan2(b * s_theta, R[2, 2])
+    return EulerResult(np.array([phi, theta, _residual_angle(R, phi, theta, "zxz")]), False)
+
+
+def rpy_to_rotation(phi: Any) -> np.ndarray:
+    """R(φ) = Rz(φ) Ry(θ) Rx(ψ) of the roll–pitch–yaw angles ``phi = [φ, θ, ψ]``, Eq. (2.21)."""
+    return _euler_to_rotation(phi, "zyx")
+
+
+def rotation_to_rpy(R: Any, branch: int = 1, tol: float = SINGULAR_TOL) -> EulerResult:
+    """Roll–pitch–yaw angles of R, Eq. (2.22) (``branch=+1``, θ ∈ (−π/2, π/2)) or (2.23) (``branch=-1``).
+
+    Singular when cos θ = 0 (r11 = r21 = 0): θ = ±π/2 and only φ ∓ ψ is determined; the
+    representative with ψ = 0 is returned with ``singular=True``.
+    """
+    R = as_rotation(R)
+    b = _branch(branch)
+    c_theta = np.hypot(R[2, 1], R[2, 2])
+    if c_theta < tol:
+        theta = np.copysign(np.pi / 2, -R[2, 0])
+        M = R @ rot_y(theta).T  # = Rz(φ) with ψ = 0
+        return EulerResult(np.array([np.arctan2(M[1, 0], M[0, 0]), theta, 0.0]), True)
+    phi = np.arctan2(b * R[1, 0], b * R[0, 0])
+    theta = np.arctan2(-R[2, 0], b * c_theta)
+    return EulerResult(np.array([phi, theta, _residual_angle(R, phi, theta, "zyx")]), False)
+
+
+# --------------------------------------------------------------------------------------------
+# Angle and axis (2.25)–(2.27)
+# --------------------------------------------------------------------------------------------
+
+def axis_angle_to_rotation(theta: float, r: Any) -> np.ndarray:
+    """R(θ, r) = I cos θ + (1 − cos θ) r r^T + sin θ S(r): rotation by θ about the unit vector r, Eq. (2.25)."""
+    theta = _scalar(theta, "theta")
+    r = as_vector(r, 3, "r")
+    norm = np.linalg.norm(r)
+    if abs(norm - 1.0) > ORTHONORMAL_TOL:
+        raise ValueError(f"`r` must be a unit vector, got norm {norm:.6g}")
+    c, s = np.cos(theta), np.sin(theta)
+    return c * np.eye(3) + (1.0 - c) * np.outer(r, r) + s * skew(r)
+
+
+def rotation_to_axis_angle(R: Any) -> tuple[float, np.ndarray]:
+    """(θ, r) with θ ∈ [0, π] and unit r such that R = R(θ, r), Eqs. (2.26)–(2.27), robust at 0 and π.
+
+    θ = atan2(‖vee(R − R^T)‖/2, (tr R − 1)/2). Away from θ = π the axis is (2.27),
+    r = vee(R − R^T) / (2 sin θ). Near θ = π, where (2.27) loses its digits, r is the largest-diagonal
+    column of (R + R^T)/2 − cos θ I = (1 − cos θ) r r^T, with its sign taken from vee(R − R^T).
+    At θ = 0 the axis is arbitrary: r = [0, 0, 1] is returned.
+    """
+    R = as_rotation(R)
+    w = vee(R)  # = sin θ r
+    s = np.linalg.norm(w)
+    c = np.clip(0.5 * (np.trace(R) - 1.0), -1.0, 1.0)
+    theta = float(np.arctan2(s, c))
+    if c > -0.5:  # θ < 2π/3: (2.27) is well conditioned (or θ ≈ 0)
+        if s < 1e-15:
+            return 0.0, np.array([0.0, 0.0, 1.0])
+        return theta, w / s
+    B = 0.5 * (R + R.T) - c * np.eye(3)
+    k = int(np.argmax(np.diag(B)))
+    r = B[:, k] / np.linalg.norm(B[:, k])
+    if r @ w < 0:
+        r = -r
+    return theta, r
+
+
+# --------------------------------------------------------------------------------------------
+# Unit quaternion (2.33)–(2.37)
+# --------------------------------------------------------------------------------------------
+
+def quaternion_to_rotation(Q: Any) -> np.ndarray:
+    """R(η, ε) of the unit quaternion ``Q = [η, εx, εy, εz]``, Eq. (2.33)."""
+    eta, ex, ey, ez = as_unit_quaternion(Q)
+    return np.array([
+        [2 * (eta**2 + ex**2) - 1, 2 * (ex * ey - eta * ez), 2 * (ex * ez + eta * ey)],
+        [2 * (ex * ey + eta * ez), 2 * (eta**2 + ey**2) - 1, 2 * (ey * ez - eta * ex)],
+        [2 * (ex * ez - eta * ey), 2 * (ey * ez + eta * ex), 2 * (eta**2 + ez**2) - 1],
+    ])
+
+
+def rotation_to_quaternion(R: Any) -> np.ndarray:
+    """Unit quaternion [η, εx, εy, εz] of R with η ≥ 0, Eqs. (2.34)–(2.35).
+
+    The magnitudes are those of (2.34)–(2.35), e.g. η = ½ √(r11 + r22 + r33 + 1). The signs of ε in
+    (2.35) come from r32 − r23 etc., which vanish as η → 0; instead the largest of the four magnitudes
+    is taken from its square root and the other three from the off-diagonal sums and differences
+    (e.g. 4 η εx = r32 − r23, 4 εx εy = r12 + r21), which is exact for every R. Then Q is flipped
+    so that η ≥ 0 (Q and −Q are the same rotation).
+    """
+    R = as_rotation(R)
+    r11, r22, r33 = R[0, 0], R[1, 1], R[2, 2]
+    squares = 0.25 * np.array([1 + r11 + r22 + r33, 1 + r11 - r22 - r33, 1 - r11 + r22 - r33,
+                               1 - r11 - r22 + r33])  # η², εx², εy², εz²  (2.34)–(2.35)
+    d = R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]  # 4η ε
+    p = R[0, 1] + R[1, 0], R[0, 2] + R[2, 0], R[1, 2] + R[2, 1]  # 4 εx εy, 4 εx εz, 4 εy εz
+    k = int(np.argmax(squares))
+    m = np.sqrt(max(squares[k], 0.0))
+    f = 0.25 / m
+    if k == 0:
+        Q = np.array([m, f * d[0], f * d[1], f * d[2]])
+    elif k == 1:
+        Q = np.array([f * d[0], m, f * p[0], f * p[1]])
+    elif k == 2:
+        Q = np.array([f * d[1], f * p[0], m, f * p[2]])
+    else:
+        Q = np.array([f * d[2], f * p[1], f * p[2], m])
+    if Q[0] < 0:
+        Q = -Q
+    return Q / np.linalg.norm(Q)
+
+
+def quaternion_product(Q1: Any, Q2: Any) -> np.ndarray:
+    """Q1 ∗ Q2 = {η1 η2 − ε1^T ε2, η1 ε2 + η2 ε1 + ε1 × ε2}, Eq. (2.37): the quaternion of R(Q1) R(Q2)."""
+    Q1 = as_unit_quaternion(Q1, "Q1")
+    Q2 = as_unit_quaternion(Q2, "Q2")
+    eta1, eps1, eta2, eps2 = Q1[0], Q1[1:], Q2[0], Q2[1:]
+    return np.concatenate([[eta1 * eta2 - eps1 @ eps2], eta1 * eps2 + eta2 * eps1 + np.cross(eps1, eps2)])
+
+
+def quaternion_inverse(Q: Any) -> np.ndarray:
+    """Q^{-1} = {η, −ε}: the quaternion of R^T, Eq. (2.36)."""
+    Q = as_unit_quaternion(Q)
+    return np.concatenate([[Q[0]], -Q[1:]])
+
+
+# --------------------------------------------------------------------------------------------
+# Homogeneous transformations (2.42)–(2.45)
+# --------------------------------------------------------------------------------------------
+
+def homogeneous_transform(R: Any, o: Any) -> np.ndarray:
+    """A = [[R, o], [0^T, 1]], Eq. (2.42)."""
+    T = np.eye(4)
+    T[:3, :3] = as_rotation(R)
+    T[:3, 3] = as_vector(o, 3, "o")
+    return T
+
+
+def homogeneous_inverse(T: Any) -> np.ndarray:
+    """A^{-1} = [[R^T, −R^T o], [0^T, 1]], Eq. (2.45) (never a general 4×4 inverse)."""
+    T = as_homogeneous(T)
+    R, o = T[:3, :3], T[:3, 3]
+    Ti = np.eye(4)
+    Ti[:3, :3] = R.T
+    Ti[:3, 3] = -R.T @ o
+    return Ti

@@ -1,0 +1,107 @@
+"""The simulation loop against closed forms: mass–spring–damper, undamped pendulum energy, ZOH."""
+
+import numpy as np
+import pytest
+
+from controllers.simulation import ArmPlant, SimulationDiverged, simulate
+from rigid_body.dynamics import gravity_torques, inertia_matrix
+from rigid_body.robots import load
+
+
+class MassSpringDamper:
+    def __init__(self, m, c, k):
+        self.m, self.c, self.k = m, c, k
+
+    def derivative(self, t, x, u):
+        return np.array([x[1], (u[0] - self.c * x[1] - self.k * x[0]) / self.m])
+
+
+def test_mass_spring_damper_step_response_matches_closed_form():
+    m, c, k, F = 2.0, 1.2, 50.0, 3.0
+    res = simulate(MassSpringDamper(m, c, k), lambda t, x: np.array([F]), (0.0, 5.0), [0.0, 0.0], h=1e-3)
+    wn, zeta = np.sqrt(k / m), c / (2 * np.sqrt(k * m))
+    wd = wn * np.sqrt(1 - zeta**2)
+    t = res.t
+    x_exact = F / k * (1 - np.exp(-zeta * wn * t) * (np.cos(wd * t) + zeta / np.sqrt(1 - zeta**2) * np.sin(wd * t)))
+    np.testing.assert_allclose(res.x[:, 0], x_exact, atol=1e-9)
+
+
+def test_undamped_pendulum_conserves_energy_over_10_s():
+    """One link of planar_2r alone would need a 1-DOF model: use the ideal pendulum ml²θ̈ = −mgl sin θ."""
+    g, l = 9.81, 0.7
+
+    def pendulum(t, x, u):
+        return np.array([x[1], -g / l * np.sin(x[0])])
+
+    res = simulate(pendulum, lambda t, x: np.zeros(1), (0.0, 10.0), [2.5, 0.0], h=1e-3, Ts=1e-2)
+    energy = 0.5 * l**2 * res.x[:, 1] ** 2 - g * l * np.cos(res.x[:, 0])
+    assert np.max(np.abs(energy - energy[0])) < 1e-7 * abs(energy[0]) + 1e-9
+    assert len(res) == 1001 and res.t[-1] == pytest.approx(10.0)
+
+
+def test_arm_plant_energy_balance_two_link_with_motors():
+    """planar_2r with motors, τ = 0, no friction: kinetic + potential energy constant over 2 s."""
+    robot = load("planar_2r")
+    plant = ArmPlant(robot)
+    res = simulate(plant, lambda t, x: np.zeros(2), (0.0, 2.0), [0.3, -0.4, 0.0, 0.0], h=1e-3, Ts=1e-2)
+
+    def potential(q):
+        # U such that ∂U/∂q = g(q), by integrating along the straight line from 0 to q (Simpson)
+        s = np.linspace(0.0, 1.0, 201)
+        vals = np.array([gravity_torques(robot, si * q) @ q for si in s])
+        w = np.ones_like(s); w[1:-1:2] = 4; w[2:-1:2] = 2
+        return (s[1] - s[0]) / 3 * w @ vals
+
+    E = [0.5 * x[2:] @ inertia_matrix(robot, x[:2]) @ x[2:] + potential(x[:2]) for x in res.x[::20]]
+    assert np.ptp(E) < 1e-4 * (abs(E[0]) + 1.0)
+
+
+def test_zero_order_hold_between_samples():
+    """ẋ = u with u sampled every 0.1 s: x is piecewise linear with the held values."""
+    seen = []
+
+    def controller(t, x):
+        seen.append(t)
+        return np.array([np.floor(t * 10 + 1e-9) + 1.0])
+
+    res = simulate(lambda t, x, u: u, controller, (0.0, 0.5), [0.0], h=0.01, Ts=0.1)
+    np.testing.assert_allclose(res.t, [0.0, 0.1, 0.2, 0.3, 0.4, 0.5], atol=1e-12)
+    np.testing.assert_allclose(res.x[:, 0], np.cumsum([0, 0.1, 0.2, 0.3, 0.4, 0.5]), atol=1e-12)
+    assert len(seen) == 6
+
+
+def test_controller_reset_and_log_signals():
+    class Counter:
+        def reset(self):
+            self.k = 0
+
+        def __call__(self, t, x):
+            self.k += 1
+            return np.zeros(1)
+
+        def log(self):
+            return {"k": self.k}
+
+    c = Counter()
+    c.k = 99
+    res = simulate(lambda t, x, u: u, c, (0.0, 1.0), [0.0], h=0.1, log=lambda t, x, u: {"twice_t": 2 * t})
+    np.testing.assert_allclose(res["k"], np.arange(1, 12))
+    np.testing.assert_allclose(res["twice_t"], 2 * res.t)
+    with pytest.raises(KeyError, match="no signal 'e'"):
+        res["e"]
+
+
+def test_divergence_stops_and_names_the_time():
+    with pytest.raises(SimulationDiverged, match=r"at t = ") as info:
+        simulate(lambda t, x, u: x**2, lambda t, x: np.zeros(1), (0.0, 5.0), [1.0], h=1e-3)
+    assert 0.9 < info.value.t < 1.01  # x = 1/(1 − t) blows up at t = 1
+
+
+def test_bad_arguments():
+    f = lambda t, x, u: u  # noqa: E731
+    with pytest.raises(ValueError, match="multiple of `h`"):
+        simulate(f, lambda t, x: np.zeros(1), (0, 1), [0.0], h=0.003, Ts=0.01)
+    with pytest.raises(ValueError, match="t_span"):
+        simulate(f, lambda t, x: np.zeros(1), (1, 0), [0.0], h=0.01)
+    with pytest.raises(ValueError, match="`x0` must be finite"):
+        simulate(f, lambda t, x: np.zeros(1), (0, 1), [np.nan], h=0.01)

@@ -1,0 +1,93 @@
+"""planar_2r dynamics against the closed forms of Sect. 7.3.2 (7.82) with the motors' terms."""
+
+import numpy as np
+import pytest
+
+from rigid_body.dynamics import (coriolis_matrix, forward_dynamics, gravity_torques, inertia_matrix,
+                                 inverse_dynamics, nonlinear_effects)
+from rigid_body.robots import load
+
+# Sect. 7.3.2 data (companion param.m)
+a1 = a2 = 1.0
+l1 = l2 = 0.5
+ml1 = ml2 = 50.0
+Il1 = Il2 = 10.0
+kr1 = kr2 = 100.0
+mm1 = mm2 = 5.0
+Im1 = Im2 = 0.01
+g = 9.81
+
+
+def B_closed(q, mL=0.0):
+    c2 = np.cos(q[1])
+    b11 = (Il1 + ml1 * l1**2 + kr1**2 * Im1 + Il2 + ml2 * (a1**2 + l2**2 + 2 * a1 * l2 * c2) + Im2 + mm2 * a1**2
+           + mL * (a1**2 + a2**2 + 2 * a1 * a2 * c2))
+    b12 = Il2 + ml2 * (l2**2 + a1 * l2 * c2) + kr2 * Im2 + mL * (a2**2 + a1 * a2 * c2)
+    b22 = Il2 + ml2 * l2**2 + kr2**2 * Im2 + mL * a2**2
+    return np.array([[b11, b12], [b12, b22]])
+
+
+def C_closed(q, qd, mL=0.0):
+    h = -(ml2 * a1 * l2 + mL * a1 * a2) * np.sin(q[1])
+    return np.array([[h * qd[1], h * (qd[0] + qd[1])], [-h * qd[0], 0.0]])
+
+
+def g_closed(q, mL=0.0):
+    c1, c12 = np.cos(q[0]), np.cos(q[0] + q[1])
+    g1 = (ml1 * l1 + mm2 * a1 + ml2 * a1 + mL * a1) * g * c1 + (ml2 * l2 + mL * a2) * g * c12
+    g2 = (ml2 * l2 + mL * a2) * g * c12
+    return np.array([g1, g2])
+
+
+@pytest.mark.parametrize("mL", [0.0, 10.0])
+def test_two_link_B_C_g_equal_closed_forms(mL, rng):
+    robot = load("planar_2r", payload=mL) if mL else load("planar_2r")
+    for _ in range(20):
+        q, qd = rng.uniform(-np.pi, np.pi, 2), rng.normal(size=2)
+        np.testing.assert_allclose(inertia_matrix(robot, q), B_closed(q, mL), atol=1e-9)
+        np.testing.assert_allclose(coriolis_matrix(robot, q, qd), C_closed(q, qd, mL), atol=1e-9)
+        np.testing.assert_allclose(gravity_torques(robot, q), g_closed(q, mL), atol=1e-9)
+
+
+def test_brief_numbers_at_q_03_05():
+    robot = load("planar_2r")
+    q = np.array([0.3, 0.5])
+    np.testing.assert_allclose(inertia_matrix(robot, q), [[243.8891, 45.4396], [45.4396, 122.5]], atol=1e-4)
+    np.testing.assert_allclose(gravity_torques(robot, q), [920.615, 170.867], atol=1e-3)
+
+
+def test_motor_coupling_term_kr2_Im2_is_in_b12():
+    """Without rotors b12 loses exactly k_r2 I_m2 (the gyroscopic coupling of (7.32))."""
+    q = np.array([0.1, 0.7])
+    with_motors = inertia_matrix(load("planar_2r"), q)
+    without = inertia_matrix(load("planar_2r", motors=False), q)
+    assert with_motors[0, 1] - without[0, 1] == pytest.approx(kr2 * Im2, abs=1e-9)
+    assert with_motors[1, 1] - without[1, 1] == pytest.approx(kr2**2 * Im2, abs=1e-9)
+    assert with_motors[0, 0] - without[0, 0] == pytest.approx(kr1**2 * Im1 + Im2 + mm2 * a1**2, abs=1e-9)
+
+
+def test_rnea_equals_lagrange_form_and_forward_inverts_inverse(rng):
+    robot = load("planar_2r")
+    for _ in range(20):
+        q, qd, qdd = rng.uniform(-np.pi, np.pi, 2), rng.normal(size=2), rng.normal(size=2)
+        tau = inverse_dynamics(robot, q, qd, qdd)
+        np.testing.assert_allclose(tau, B_closed(q) @ qdd + C_closed(q, qd) @ qd + g_closed(q), atol=1e-8)
+        np.testing.assert_allclose(nonlinear_effects(robot, q, qd), C_closed(q, qd) @ qd + g_closed(q), atol=1e-8)
+        np.testing.assert_allclose(forward_dynamics(robot, q, qd, tau), qdd, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["panda", "ur5", "planar_3r"])
+def test_forward_dynamics_without_mimic_uses_aba_and_inverts_rnea(name, rng):
+    robot = load(name)
+    assert not robot.has_mimic
+    q, qd, qdd = robot.random_configuration(rng), rng.normal(size=robot.nv), rng.normal(size=robot.nv)
+    tau = inverse_dynamics(robot, q, qd, qdd)
+    np.testing.assert_allclose(forward_dynamics(robot, q, qd, tau), qdd, atol=1e-8)
+
+
+def test_bad_inputs_raise_value_error_naming_the_argument():
+    robot = load("planar_2r")
+    with pytest.raises(ValueError, match="`qd` must have shape"):
+        inverse_dynamics(robot, np.zeros(2), np.zeros(3), np.zeros(2))
+    with pytest.raises(ValueError, match="`tau` must be finite"):
+        forward_dynamics(robot, np.zeros(2), np.zeros(2), [np.inf, 0.0])

@@ -29,7 +29,7 @@ import numpy as np
 from rigid_body.validation import as_matrix, as_vector
 
 ORTHONORMAL_TOL = 1e-6  # max |R^T R − I| accepted as a rotation; also |‖Q‖ − 1| for quaternions
-SINGULAR_TOL = 1e-9  # |sin θ| (ZYZ, ZXZ) or |cos θ| (RPY) below which Euler angles are singular
+SINGULAR_TOL = 1e-12  # |sin θ| (ZYZ, ZXZ) or |cos θ| (RPY) below which Euler angles are singular
 
 
 # --------------------------------------------------------------------------------------------
@@ -121,7 +121,10 @@ class EulerResult:
     """Euler angles ``[φ, θ, ψ]`` of a rotation and whether R lies in the representation's singular set.
 
     When ``singular`` is True only a combination of φ and ψ is determined (φ ± ψ); ``angles`` is
-    then the representative with ψ = 0, which reproduces R.
+    then the representative with ψ = 0 and θ on the singular set, which reproduces R within the
+    singularity tolerance (R is within ``tol`` of the singular set). Away from it the angles
+    reproduce R to machine precision: ψ is taken from the residual rotation (R_a(φ) R_b(θ))^T R,
+    which equals the book's Atan2 formula and stays exact close to the singular set.
     """
 
     angles: np.ndarray
@@ -332,3 +335,80 @@ def homogeneous_inverse(T: Any) -> np.ndarray:
     Ti[:3, :3] = R.T
     Ti[:3, 3] = -R.T @ o
     return Ti
+
+
+# --------------------------------------------------------------------------------------------
+# Orientation errors (Chapter 3): Euler-rate matrices T(φ), orientation errors, quaternion propagation
+# --------------------------------------------------------------------------------------------
+
+def euler_rate_matrix_zyz(phi: Any) -> np.ndarray:
+    """T(φ) with ω = T(φ) φ̇ for ZYZ angles φ = [φ, θ, ψ], Eq. (3.64); det T = −sin θ."""
+    ph, th, _ = as_vector(phi, 3, "phi")
+    cp, sp, ct, st = np.cos(ph), np.sin(ph), np.cos(th), np.sin(th)
+    return np.array([[0.0, -sp, cp * st], [0.0, cp, sp * st], [1.0, 0.0, ct]])
+
+
+def euler_rate_matrix_rpy(phi: Any) -> np.ndarray:
+    """T(φ) with ω = T(φ) φ̇ for RPY angles φ = [φ, θ, ψ] (R = Rz(φ) Ry(θ) Rx(ψ)), Problem 3.12;
+    det T = −cos θ."""
+    ph, th, _ = as_vector(phi, 3, "phi")
+    cp, sp, ct, st = np.cos(ph), np.sin(ph), np.cos(th), np.sin(th)
+    return np.array([[0.0, -sp, cp * ct], [0.0, cp, sp * ct], [1.0, 0.0, -st]])
+
+
+def _wrap(a: np.ndarray) -> np.ndarray:
+    return (a + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def orientation_error_euler(R_d: Any, R_e: Any, representation: str = "zyz") -> np.ndarray:
+    """e_O = φ_d − φ_e (each angle wrapped into [−π, π)): the Euler-angle orientation error, Sect. 3.7.3.
+
+    Both sets are extracted with ``branch=+1``; ``representation`` is ``"zyz"`` or ``"rpy"``.
+    ValueError when R_d or R_e is a representation singularity.
+    """
+    extract = {"zyz": rotation_to_euler_zyz, "rpy": rotation_to_rpy}.get(representation)
+    if extract is None:
+        raise ValueError(f"`representation` must be 'zyz' or 'rpy', got {representation!r}")
+    d, e = extract(R_d), extract(R_e)
+    if d.singular or e.singular:
+        raise ValueError(f"{representation.upper()} angles are singular at "
+                         f"{'R_d' if d.singular else 'R_e'}: the Euler-angle error is undefined")
+    return _wrap(d.angles - e.angles)
+
+
+def orientation_error_axis_angle(R_d: Any, R_e: Any) -> np.ndarray:
+    """e_O = r sin ϑ = ½ (n_e × n_d + s_e × s_d + a_e × a_d), Eq. (3.85), with R(ϑ, r) = R_d R_e^T (3.84)."""
+    R_d = as_rotation(R_d, "R_d")
+    R_e = as_rotation(R_e, "R_e")
+    return 0.5 * np.cross(R_e.T, R_d.T).sum(axis=0)
+
+
+def orientation_error_matrix(R_d: Any, R_e: Any) -> np.ndarray:
+    """L = −½ (S(n_d) S(n_e) + S(s_d) S(s_e) + S(a_d) S(a_e)), Eq. (3.87): ė_O = L^T ω_d − L ω_e (3.86)."""
+    R_d = as_rotation(R_d, "R_d")
+    R_e = as_rotation(R_e, "R_e")
+    # Σ_k S(d_k) S(e_k) = Σ_k (e_k d_k^T − (d_k·e_k) I), with S(x)S(y) = y x^T − x^T y I
+    return -0.5 * (R_e @ R_d.T - np.trace(R_d.T @ R_e) * np.eye(3))
+
+
+def orientation_error_quaternion(Q_d: Any, Q_e: Any) -> np.ndarray:
+    """e_O = η_e ε_d − η_d ε_e − S(ε_d) ε_e, Eq. (3.91): the vector part of Q_d ∗ Q_e^{-1}."""
+    Q_d = as_unit_quaternion(Q_d, "Q_d")
+    Q_e = as_unit_quaternion(Q_e, "Q_e")
+    return Q_e[0] * Q_d[1:] - Q_d[0] * Q_e[1:] - np.cross(Q_d[1:], Q_e[1:])
+
+
+def quaternion_rate(Q: Any, omega: Any) -> np.ndarray:
+    """Q̇ = [η̇, ε̇] of a unit quaternion rotating at ω (base frame): η̇ = −½ ε^T ω (3.94),
+    ε̇ = ½ (η I − S(ε)) ω (3.95)."""
+    Q = as_unit_quaternion(Q)
+    w = as_vector(omega, 3, "omega")
+    eta, eps = Q[0], Q[1:]
+    return np.concatenate([[-0.5 * eps @ w], 0.5 * (eta * w - np.cross(eps, w))])
+
+
+def quaternion_angular_velocity(Q: Any, Q_dot: Any) -> np.ndarray:
+    """ω = 2 (η ε̇ − η̇ ε + S(ε) ε̇): the angular velocity from unit-quaternion rates, Problem 3.18 (S3.13)."""
+    Q = as_unit_quaternion(Q)
+    Qd = as_vector(Q_dot, 4, "Q_dot")
+    return 2.0 * (Q[0] * Qd[1:] - Qd[0] * Q[1:] + np.cross(Q[1:], Qd[1:]))

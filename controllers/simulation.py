@@ -21,7 +21,6 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Protocol
 
 import numpy as np
-import pinocchio as pin
 
 from rigid_body.validation import as_vector
 
@@ -176,11 +175,9 @@ class ArmPlant:
         self.Fv = np.broadcast_to(np.asarray(viscous_friction, dtype=float), (self.n,)).copy()
         self.tau_max = None if tau_max is None else as_vector(tau_max, self.n, "tau_max")
         self.external_force = external_force
-        # The hot loop calls Pinocchio directly (inputs are validated here, once): with mimic joints
-        # (the book's rotors) ABA is refused and q̈ = B⁻¹(τ − h) — the same maths as
-        # rigid_body.dynamics.forward_dynamics without its per-call checks (about 4× faster).
-        self._model, self._data = robot.model, robot.data
-        self._mimic = robot.has_mimic
+        from rigid_body.dynamics import forward_dynamics
+
+        self._forward_dynamics = forward_dynamics  # called with check=False: inputs validated here
 
     def torque(self, u: np.ndarray) -> np.ndarray:
         """The torque actually applied: ``u`` saturated at ±tau_max."""
@@ -192,11 +189,7 @@ class ArmPlant:
         tau = self.torque(u) - self.Fv * qd
         if self.external_force is not None:
             tau = tau - self.external_force(t, q, qd)
-        model, data = self._model, self._data
         xd = np.empty(2 * n)
         xd[:n] = qd
-        if self._mimic:
-            xd[n:] = np.linalg.solve(pin.crba(model, data, q), tau - pin.nonLinearEffects(model, data, q, qd))
-        else:
-            xd[n:] = pin.aba(model, data, q, qd, tau)
+        xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
         return xd

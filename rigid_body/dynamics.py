@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-from scipy.linalg import cho_factor, cho_solve
+from scipy.linalg import get_lapack_funcs
 
 from rigid_body.robots import Robot
 from rigid_body.validation import as_vector
@@ -54,15 +54,24 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     return pin.rnea(robot.model, robot.data, q, qd, qdd).copy()
 
 
-def forward_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
-    """q̈ = B(q)⁻¹ (τ − C q̇ − g): ABA without mimic joints, else a Cholesky solve (Eq. 7.42)."""
-    q = as_vector(q, robot.nq, "q")
-    qd = as_vector(qd, robot.nv, "qd")
-    tau = as_vector(tau, robot.nv, "tau")
+def forward_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarray,
+                     check: bool = True) -> np.ndarray:
+    """q̈ = B(q)⁻¹ (τ − C q̇ − g): ABA without mimic joints, else a Cholesky solve (Eq. 7.42).
+
+    ``check=False`` skips the input validation (for simulation hot loops whose inputs are known good).
+    """
+    if check:
+        q = as_vector(q, robot.nq, "q")
+        qd = as_vector(qd, robot.nv, "qd")
+        tau = as_vector(tau, robot.nv, "tau")
     model, data = robot.model, robot.data
     if not robot.has_mimic:
         return pin.aba(model, data, q, qd, tau).copy()
-    B = pin.crba(model, data, q)
-    B = np.triu(B) + np.triu(B, 1).T
-    h = pin.nonLinearEffects(model, data, q, qd)
-    return cho_solve(cho_factor(B), tau - h)
+    B = pin.crba(model, data, q)  # upper triangle is what LAPACK's posv reads
+    _, qdd, info = _posv(B, tau - pin.nonLinearEffects(model, data, q, qd), lower=False)
+    if info != 0:
+        raise ValueError(f"B(q) is not positive definite at q = {q} (LAPACK posv info {info})")
+    return qdd
+
+
+_posv = get_lapack_funcs("posv", (np.zeros((1, 1)),))

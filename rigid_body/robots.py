@@ -62,10 +62,11 @@ class Robot:
     def nv(self) -> int:
         return self.model.nv
 
-    @property
-    def has_mimic(self) -> bool:
-        """True when the model has mimic joints (the book's rotors): ABA is then unavailable."""
-        return len(self.model.mimicking_joints) > 0 if hasattr(self.model, "mimicking_joints") else False
+    has_mimic: bool = field(init=False)
+
+    def __post_init__(self) -> None:
+        # True when the model has mimic joints (the book's rotors): ABA is then unavailable.
+        self.has_mimic = len(getattr(self.model, "mimicking_joints", ())) > 0
 
     def frame_id(self, name: str) -> int:
         """Id of the frame ``name``; ValueError listing the frames when it does not exist."""

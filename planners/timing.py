@@ -1,0 +1,533 @@
+"""Joint-space trajectories: timing laws q(t) of Chapter 4, sampled into a :class:`Trajectory`.
+
+Two layers, as in the book (Sect. 4.2, 4.3):
+
+* a **law** is a callable ``law(t) -> (q, qd, qdd)`` defined on ``[law.t_i, law.t_f]``; the value
+  shape is that of the boundary data, so a law built from scalars is a scalar timing law
+  ``s(t) -> (s, ṡ, s̈)`` (shared by the operational-space paths of :mod:`planners.paths`), and one
+  built from ``(n,)`` vectors is an n-joint law. Outside its interval a law is held at its end
+  value with zero velocity and acceleration (the companion files hold q_f until t_d).
+* a :class:`Trajectory` holds samples of a law: ``t`` (N,), ``q``, ``qd``, ``qdd`` (N, n),
+  time-major (rows are time steps, columns are joints), and can evaluate the law anywhere.
+
+Every law below but the raised cosine is a :class:`PiecewisePolynomial`.
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
+Sect. 4.2 (point-to-point: (4.1)–(4.9)), Sect. 4.3 (via points: (4.10)–(4.28)).
+"""
+
+from __future__ import annotations
+
+import bisect
+from dataclasses import dataclass, field
+from typing import Any, Callable, Protocol
+
+import numpy as np
+from scipy.linalg import solve_banded
+
+from rigid_body.validation import as_vector
+
+__all__ = [
+    "TimingLaw", "PiecewisePolynomial", "RaisedCosine", "Trajectory", "sample",
+    "polynomial_law", "cubic_law", "quintic_law", "cubic", "quintic",
+    "trapezoidal_law", "trapezoidal", "trapezoidal_acceleration_law", "trapezoidal_limits",
+    "raised_cosine_law", "raised_cosine",
+]
+
+
+class TimingLaw(Protocol):
+    """What every law offers: its interval and ``law(t) -> (q, qd, qdd)``."""
+
+    t_i: float
+    t_f: float
+
+    def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
+
+
+# --------------------------------------------------------------------------------------------
+# Input checks
+# --------------------------------------------------------------------------------------------
+
+def _as_value(x: Any, shape: tuple[int, ...] | None, name: str) -> np.ndarray:
+    """``x`` as a finite float array (scalar or vector) of the given shape."""
+    try:
+        v = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"`{name}` must be numeric, got {type(x).__name__}") from None
+    if v.ndim > 1:
+        raise ValueError(f"`{name}` must be a scalar or a 1-D vector, got shape {v.shape}")
+    if shape is not None:
+        if v.ndim == 0 and shape != ():
+            v = np.full(shape, float(v))
+        elif v.shape != shape:
+            raise ValueError(f"`{name}` must have shape {shape} (like q_i), got {v.shape}")
+    if not np.all(np.isfinite(v)):
+        raise ValueError(f"`{name}` must be finite, got {v}")
+    return v
+
+
+def _as_duration(t_i: float, t_f: float) -> float:
+    if not (np.isfinite(t_i) and np.isfinite(t_f)):
+        raise ValueError(f"`t_i` and `t_f` must be finite, got {t_i}, {t_f}")
+    if not t_f > t_i:
+        raise ValueError(f"`t_f` must be greater than `t_i`, got t_i = {t_i}, t_f = {t_f}")
+    return float(t_f - t_i)
+
+
+def _as_times(t: Any, name: str = "t", minimum: int = 2) -> np.ndarray:
+    t = as_vector(t, None, name)
+    if t.size < minimum:
+        raise ValueError(f"`{name}` must hold at least {minimum} instants, got {t.size}")
+    if np.any(np.diff(t) <= 0):
+        k = int(np.argmax(np.diff(t) <= 0))
+        raise ValueError(f"`{name}` must be strictly increasing, got {name}[{k}] = {t[k]} "
+                         f">= {name}[{k + 1}] = {t[k + 1]}")
+    return t
+
+
+def _as_points(q: Any, m: int, name: str = "q") -> np.ndarray:
+    """Via points: (m,) for one joint or (m, n) for n joints (one row per instant)."""
+    q = np.asarray(q, dtype=float)
+    if q.ndim not in (1, 2) or q.shape[0] != m:
+        raise ValueError(f"`{name}` must have shape ({m},) or ({m}, n): one row per time instant, "
+                         f"got {q.shape}")
+    if not np.all(np.isfinite(q)):
+        raise ValueError(f"`{name}` must be finite")
+    return q
+
+
+# --------------------------------------------------------------------------------------------
+# Laws
+# --------------------------------------------------------------------------------------------
+
+def _derivative_coefficients(c: np.ndarray) -> np.ndarray:
+    """Coefficients (ascending powers, axis 1) of the derivative of each piece."""
+    d = c.shape[1] - 1
+    scale = np.arange(1, d + 1, dtype=float).reshape((1, d) + (1,) * (c.ndim - 2))
+    return c[:, 1:] * scale
+
+
+@dataclass(frozen=True)
+class PiecewisePolynomial:
+    """q(t) = Σ_j c[k, j] (t − o_k)^j for t in [breaks[k], breaks[k+1]].
+
+    Parameters
+    ----------
+    breaks : (K+1,) strictly increasing instants [s].
+    coefficients : (K, d+1) for a scalar law or (K, d+1, n) for n joints, ascending powers.
+    origins : (K,) the instant o_k each piece's powers are taken about (default: its start,
+        ``breaks[:-1]``); the book writes blends about the via point, Eq. (4.6) of Problem 4.6.
+
+    Calling it with a float gives (q, qd, qdd) of the value shape; with an (M,) array, arrays of
+    shape (M,) + value shape. Outside [t_i, t_f] it holds the end value, with zero derivatives.
+    """
+
+    breaks: np.ndarray
+    coefficients: np.ndarray
+    origins: np.ndarray | None = None
+    _c: tuple = field(init=False, repr=False, compare=False)
+    _breaks: list = field(init=False, repr=False, compare=False)
+    _origins: list = field(init=False, repr=False, compare=False)
+    _powers: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        breaks = _as_times(self.breaks, "breaks")
+        c = np.asarray(self.coefficients, dtype=float)
+        if c.ndim not in (2, 3) or c.shape[0] != breaks.size - 1:
+            raise ValueError(f"`coefficients` must have shape ({breaks.size - 1}, d+1[, n]), got {c.shape}")
+        if not np.all(np.isfinite(c)):
+            raise ValueError("`coefficients` must be finite")
+        origins = breaks[:-1].copy() if self.origins is None else as_vector(self.origins, breaks.size - 1, "origins")
+        if c.shape[1] < 3:  # pad to degree 2 so that q̈ always exists
+            c = np.concatenate([c, np.zeros((c.shape[0], 3 - c.shape[1]) + c.shape[2:])], axis=1)
+        dc = _derivative_coefficients(c)
+        object.__setattr__(self, "breaks", breaks)
+        object.__setattr__(self, "coefficients", c)
+        object.__setattr__(self, "origins", origins)
+        object.__setattr__(self, "_c", (c, dc, _derivative_coefficients(dc)))
+        object.__setattr__(self, "_breaks", breaks.tolist())
+        object.__setattr__(self, "_origins", origins.tolist())
+        object.__setattr__(self, "_powers", np.arange(c.shape[1], dtype=float))
+
+    @property
+    def t_i(self) -> float:
+        return float(self.breaks[0])
+
+    @property
+    def t_f(self) -> float:
+        return float(self.breaks[-1])
+
+    @property
+    def value_shape(self) -> tuple[int, ...]:
+        return self.coefficients.shape[2:]
+
+    def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        if isinstance(t, (float, int, np.floating, np.integer)):
+            return self._at(float(t))
+        t = np.asarray(t, dtype=float)
+        breaks = self.breaks
+        tt = np.clip(t, breaks[0], breaks[-1])
+        k = np.clip(np.searchsorted(breaks, tt, side="right") - 1, 0, breaks.size - 2)
+        tau = (tt - self.origins[k]).reshape(t.shape + (1,) * len(self.value_shape))
+        out = []
+        for c in self._c:
+            ck = c[k]  # t.shape + (d+1,) + value shape
+            p = np.take(ck, -1, axis=t.ndim)
+            for j in range(c.shape[1] - 2, -1, -1):  # Horner
+                p = p * tau + np.take(ck, j, axis=t.ndim)
+            out.append(p)
+        outside = ((t < breaks[0]) | (t > breaks[-1])).reshape(tau.shape)
+        if np.any(outside):
+            out[1] = np.where(outside, 0.0, out[1])
+            out[2] = np.where(outside, 0.0, out[2])
+        return out[0], out[1], out[2]
+
+
+    def _at(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Fast path for one instant (controllers call this at 1 kHz)."""
+        breaks, (c, dc, ddc) = self._breaks, self._c
+        if t <= breaks[0] or t >= breaks[-1]:
+            k = 0 if t <= breaks[0] else len(breaks) - 2
+            tau = (breaks[0] if t <= breaks[0] else breaks[-1]) - self._origins[k]
+            moving = breaks[0] <= t <= breaks[-1]
+        else:
+            k = bisect.bisect_right(breaks, t) - 1
+            tau, moving = t - self._origins[k], True
+        powers = tau ** self._powers
+        q = powers @ c[k]
+        if not moving:
+            z = np.zeros_like(q)
+            return q, z, z.copy()
+        return q, powers[:-1] @ dc[k], powers[:-2] @ ddc[k]
+
+
+@dataclass(frozen=True)
+class RaisedCosine:
+    """q̇(t) = k (1 − cos(2π (t − t_i)/T)), T = t_f − t_i: Problem 4.2.
+
+    Integrating, q(t) = k1 + k (τ − T/(2π) sin(2πτ/T)), τ = t − t_i, with k1 = q_i and
+    k = (q_f − q_i)/T (null boundary velocity and acceleration).
+    """
+
+    q_i: np.ndarray
+    q_f: np.ndarray
+    t_i: float
+    t_f: float
+
+    @property
+    def k(self) -> np.ndarray:
+        return (np.asarray(self.q_f) - np.asarray(self.q_i)) / (self.t_f - self.t_i)
+
+    @property
+    def k1(self) -> np.ndarray:
+        return np.asarray(self.q_i)
+
+    @property
+    def a(self) -> float:
+        """Angular frequency a = 2π/T of the velocity profile."""
+        return 2.0 * np.pi / (self.t_f - self.t_i)
+
+    def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        t = np.asarray(t, dtype=float)
+        vs = np.shape(self.q_i)
+        tau = (np.clip(t, self.t_i, self.t_f) - self.t_i).reshape(t.shape + (1,) * len(vs))
+        a, k = self.a, self.k
+        q = self.k1 + k * (tau - np.sin(a * tau) / a)
+        qd = k * (1.0 - np.cos(a * tau))
+        qdd = k * a * np.sin(a * tau)
+        return q, qd, qdd
+
+
+def polynomial_law(t_i: float, t_f: float, start: tuple, end: tuple) -> PiecewisePolynomial:
+    """The polynomial of degree 2m−1 matching m derivatives (q, q̇[, q̈]) at t_i and t_f.
+
+    ``start`` and ``end`` are (q, q̇) for a cubic, Eq. (4.1)–(4.2), and (q, q̇, q̈) for a quintic,
+    Eq. (4.3); each entry a scalar or an (n,) vector.
+    """
+    T = _as_duration(t_i, t_f)
+    m = len(start)
+    if len(end) != m or m not in (2, 3):
+        raise ValueError("`start` and `end` must both be (q, qd) or (q, qd, qdd)")
+    shape = np.shape(np.asarray(start[0], dtype=float))
+    names = ("q", "qd", "qdd")
+    b = np.stack([_as_value(v, shape, f"{names[i]}_i") for i, v in enumerate(start)]
+                 + [_as_value(v, shape, f"{names[i]}_f") for i, v in enumerate(end)])
+    d = 2 * m - 1
+    # Rows: the i-th derivative of τ^j at τ = 0 and at τ = T.
+    A = np.zeros((2 * m, d + 1))
+    for i in range(m):
+        for j in range(i, d + 1):
+            f = np.prod(np.arange(j - i + 1, j + 1, dtype=float))  # j!/(j−i)!
+            A[i, j] = f if j == i else 0.0
+            A[m + i, j] = f * T ** (j - i)
+    coeffs = np.linalg.solve(A, b.reshape(2 * m, -1)).reshape((d + 1,) + shape)
+    return PiecewisePolynomial(np.array([t_i, t_f], dtype=float), coeffs[None])
+
+
+def cubic_law(q_i: Any, q_f: Any, t_f: float, qd_i: Any = 0.0, qd_f: Any = 0.0, *,
+              t_i: float = 0.0) -> PiecewisePolynomial:
+    """Cubic polynomial (4.1) with assigned boundary positions and velocities (4.2)."""
+    return polynomial_law(t_i, t_f, (q_i, qd_i), (q_f, qd_f))
+
+
+def quintic_law(q_i: Any, q_f: Any, t_f: float, qd_i: Any = 0.0, qd_f: Any = 0.0, qdd_i: Any = 0.0,
+                qdd_f: Any = 0.0, *, t_i: float = 0.0) -> PiecewisePolynomial:
+    """Quintic polynomial (4.3) with assigned boundary positions, velocities and accelerations.
+
+    The coefficients ``law.coefficients[0]`` are [a0, ..., a5] of q(t) = Σ a_j (t − t_i)^j
+    (Problem 4.1).
+    """
+    return polynomial_law(t_i, t_f, (q_i, qd_i, qdd_i), (q_f, qd_f, qdd_f))
+
+
+# --------------------------------------------------------------------------------------------
+# Trapezoidal velocity profile, Eq. (4.8)
+# --------------------------------------------------------------------------------------------
+
+def trapezoidal_limits(q_i: Any, q_f: Any, t_f: float, t_i: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Admissible cruise speeds |q̇_c| in (|Δq|/T, 2|Δq|/T] for a trapezoid of duration T, Eq. (4.8)."""
+    T = _as_duration(t_i, t_f)
+    dq = np.abs(_as_value(q_f, None, "q_f") - _as_value(q_i, None, "q_i"))
+    return dq / T, 2.0 * dq / T
+
+
+def _trapezoid(q_i: np.ndarray, q_f: np.ndarray, t_i: float, t_f: float, t_c: np.ndarray,
+               qdd_c: np.ndarray) -> PiecewisePolynomial:
+    """The three pieces of (4.8), in powers of τ = t − t_i, for each joint's t_c and |q̈_c|.
+
+    Joints with different t_c get the union of their phase boundaries as breaks.
+    """
+    T = t_f - t_i
+    qi, qf, tc, a = (np.atleast_1d(x).astype(float) for x in (q_i, q_f, t_c, qdd_c))
+    cuts = np.unique(np.concatenate([[0.0, T], tc, T - tc]))
+    cuts = cuts[(cuts >= 0.0) & (cuts <= T)]
+    acc = np.sign(qf - qi) * a
+    coeffs = np.zeros((cuts.size - 1, 3, qi.size))
+    for k in range(cuts.size - 1):
+        mid = 0.5 * (cuts[k] + cuts[k + 1])
+        rise, fall = mid <= tc, mid >= T - tc
+        cruise = ~(rise | fall)
+        # rise: q_i + ½ q̈_c τ²; cruise: q_i + q̈_c t_c (τ − t_c/2); fall: q_f − ½ q̈_c (T − τ)²
+        coeffs[k, 0] = np.where(rise, qi, np.where(cruise, qi - 0.5 * acc * tc ** 2, qf - 0.5 * acc * T ** 2))
+        coeffs[k, 1] = np.where(rise, 0.0, np.where(cruise, acc * tc, acc * T))
+        coeffs[k, 2] = np.where(rise, 0.5 * acc, np.where(cruise, 0.0, -0.5 * acc))
+    if np.ndim(q_i) == 0:
+        coeffs = coeffs[..., 0]
+    return PiecewisePolynomial(t_i + cuts, coeffs, origins=np.full(cuts.size - 1, float(t_i)))
+
+
+def trapezoidal_law(q_i: Any, q_f: Any, t_f: float, qd_c: Any, *, t_i: float = 0.0,
+                    triangular: bool = False) -> PiecewisePolynomial:
+    """Trapezoidal velocity profile (4.8) given the cruise speed q̇_c and the duration.
+
+    As the companion ``trapez.m``: t_c = T − |Δq|/|q̇_c| and q̈_c = |q̇_c|/t_c (the direction
+    of motion is that of q_f − q_i; the sign of ``qd_c`` is ignored). The profile exists iff
+    |Δq|/T < |q̇_c| ≤ 2|Δq|/T (equality on the right: triangular profile, t_c = T/2).
+    A joint with q_f = q_i stays still whatever q̇_c.
+
+    Parameters
+    ----------
+    q_i, q_f : scalar or (n,) [rad | m].
+    t_f : final instant [s]; the motion lasts T = t_f − t_i.
+    qd_c : scalar or (n,) cruise speed [rad/s | m/s].
+    triangular : when True, a cruise speed above 2|Δq|/T is lowered to 2|Δq|/T (the triangular
+        profile, minimum acceleration 4|Δq|/T²) instead of raising ValueError. A speed at or
+        below |Δq|/T always raises: the motion cannot end at t_f.
+
+    Raises
+    ------
+    ValueError naming the joint and the admissible range of ``qd_c``.
+    """
+    T = _as_duration(t_i, t_f)
+    qi = _as_value(q_i, None, "q_i")
+    qf = _as_value(q_f, qi.shape, "q_f")
+    vc = np.abs(_as_value(qd_c, qi.shape, "qd_c"))
+    dq = np.abs(qf - qi)
+    lo, hi = dq / T, 2.0 * dq / T
+    moving = dq > 0
+    too_slow = moving & (vc <= lo)
+    too_fast = moving & (vc > hi * (1.0 + 1e-12))
+    if triangular:
+        vc = np.where(too_fast, hi, vc)
+        too_fast = np.zeros_like(too_fast)
+    bad = too_slow | too_fast
+    if np.any(bad):
+        j = int(np.flatnonzero(np.atleast_1d(bad))[0])
+        lo1, hi1, v1 = (float(np.atleast_1d(x)[j]) for x in (lo, hi, vc))
+        which = f"`qd_c[{j}]`" if qi.ndim else "`qd_c`"
+        hint = "" if v1 <= lo1 else " (or pass triangular=True for the triangular profile)"
+        raise ValueError(f"{which} must be in (|q_f - q_i|/T, 2|q_f - q_i|/T] = ({lo1:.6g}, {hi1:.6g}] "
+                         f"for a trapezoidal profile lasting T = {T:.6g} s, got {v1:.6g}{hint}")
+    vc = np.minimum(vc, hi)  # within rounding of the triangular bound
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_c = np.where(moving, T - dq / np.where(moving, vc, 1.0), 0.0)  # Eq. (4.8)
+        qdd_c = np.where(moving, vc / np.where(moving, t_c, 1.0), 0.0)
+    return _trapezoid(qi, qf, t_i, t_f, t_c, qdd_c)
+
+
+def trapezoidal_acceleration_law(q_i: Any, q_f: Any, t_f: float, qdd_c: Any, *,
+                                 t_i: float = 0.0) -> PiecewisePolynomial:
+    """Trapezoidal profile given the acceleration: t_c = T/2 − ½ √((T² q̈_c − 4|Δq|)/q̈_c), Eq. (4.9).
+
+    Needs |q̈_c| ≥ 4|Δq|/T² (equality: triangular profile); ValueError with that bound otherwise.
+    """
+    T = _as_duration(t_i, t_f)
+    qi = _as_value(q_i, None, "q_i")
+    qf = _as_value(q_f, qi.shape, "q_f")
+    a = np.abs(_as_value(qdd_c, qi.shape, "qdd_c"))
+    dq = np.abs(qf - qi)
+    lo = 4.0 * dq / T ** 2
+    bad = (dq > 0) & (a < lo * (1.0 - 1e-12))
+    if np.any(bad):
+        j = int(np.flatnonzero(np.atleast_1d(bad))[0])
+        raise ValueError(f"`qdd_c[{j}]` must be at least 4|q_f - q_i|/T^2 = {float(np.atleast_1d(lo)[j]):.6g}, "
+                         f"got {float(np.atleast_1d(a)[j]):.6g}")
+    moving = dq > 0
+    a = np.where(moving, np.maximum(a, lo), 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_c = np.where(moving, 0.5 * T - 0.5 * np.sqrt(np.maximum(T ** 2 - 4.0 * dq / np.where(moving, a, 1.0), 0.0)), 0.0)
+    return _trapezoid(qi, qf, t_i, t_f, t_c, a)
+
+
+def raised_cosine_law(q_i: Any, q_f: Any, t_f: float, *, t_i: float = 0.0) -> RaisedCosine:
+    """The law with velocity profile k (1 − cos(a t)), a = 2π/T: Problem 4.2."""
+    _as_duration(t_i, t_f)
+    qi = _as_value(q_i, None, "q_i")
+    qf = _as_value(q_f, qi.shape, "q_f")
+    return RaisedCosine(qi, qf, float(t_i), float(t_f))
+
+
+# --------------------------------------------------------------------------------------------
+# Trajectory
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Trajectory:
+    """Samples of a joint-space timing law, time-major.
+
+    Attributes
+    ----------
+    t : (N,) instants [s].
+    q, qd, qdd : (N, n) positions, velocities, accelerations; row k is time t[k], column j joint j.
+    law : the law ``law(t) -> (q, qd, qdd)`` the samples came from (evaluated by :meth:`evaluate`).
+    name : what produced it (e.g. ``"quintic"``).
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    law: Callable[[Any], tuple] = field(repr=False)
+    name: str = ""
+
+    def __len__(self) -> int:
+        return self.t.shape[0]
+
+    def __str__(self) -> str:
+        return (f"Trajectory {self.name or '(unnamed)'}: {len(self)} samples x {self.n} joints "
+                f"on [{self.t[0]:.6g}, {self.t[-1]:.6g}] s")
+
+    @property
+    def n(self) -> int:
+        """Number of joints (columns)."""
+        return self.q.shape[1]
+
+    @property
+    def duration(self) -> float:
+        return float(self.t[-1] - self.t[0])
+
+    def evaluate(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(q, q̇, q̈) at one instant, each (n,); held at the end values outside the law's interval."""
+        q, qd, qdd = self.law(float(t))
+        return (np.reshape(q, self.n), np.reshape(qd, self.n), np.reshape(qdd, self.n))
+
+    def sample(self, t: Any) -> "Trajectory":
+        """The same law sampled at the instants ``t`` (any increasing (M,) array)."""
+        return sample(self.law, times=t, name=self.name)
+
+    def plot(self, axes: Any = None, labels: Any = None) -> Any:
+        """Position, velocity and acceleration against time on three axes (created if None).
+
+        Returns the three axes; never shows the figure.
+        """
+        if axes is None:
+            import matplotlib.pyplot as plt
+
+            _, axes = plt.subplots(3, 1, sharex=True, figsize=(6.4, 6.4))
+        labels = labels if labels is not None else [f"joint {j + 1}" for j in range(self.n)]
+        for ax, y, name in zip(axes, (self.q, self.qd, self.qdd), ("position", "velocity", "acceleration")):
+            for j in range(self.n):
+                ax.plot(self.t, y[:, j], label=labels[j] if self.n > 1 else None)
+            ax.set_ylabel(name)
+            ax.grid(True, alpha=0.3)
+        axes[-1].set_xlabel("t [s]")
+        if self.n > 1:
+            axes[0].legend(loc="best", fontsize="small")
+        return axes
+
+
+def sample(law: Callable[[Any], tuple], *, samples: int | None = None, dt: float | None = None,
+           times: Any = None, name: str = "") -> Trajectory:
+    """Sample a law into a :class:`Trajectory`.
+
+    Give one of ``samples`` (count, evenly spaced over [law.t_i, law.t_f], default 501), ``dt``
+    (step [s]; the grid runs t_i, t_i + dt, ..., up to t_f included when it falls on the grid)
+    or ``times`` (explicit increasing instants).
+    """
+    if sum(x is not None for x in (samples, dt, times)) > 1:
+        raise ValueError("give only one of `samples`, `dt`, `times`")
+    if times is not None:
+        t = _as_times(times, "times", minimum=1)
+    else:
+        t_i, t_f = float(law.t_i), float(law.t_f)
+        if dt is not None:
+            if not (np.isfinite(dt) and dt > 0):
+                raise ValueError(f"`dt` must be positive, got {dt}")
+            m = int(np.floor((t_f - t_i) / dt + 1e-9))
+            t = t_i + dt * np.arange(m + 1)
+        else:
+            samples = 501 if samples is None else int(samples)
+            if samples < 2:
+                raise ValueError(f"`samples` must be at least 2, got {samples}")
+            t = np.linspace(t_i, t_f, samples)
+    q, qd, qdd = law(t)
+    N = t.size
+    return Trajectory(t, np.reshape(q, (N, -1)), np.reshape(qd, (N, -1)), np.reshape(qdd, (N, -1)),
+                      law, name)
+
+
+def cubic(q_i: Any, q_f: Any, t_f: float, qd_i: Any = 0.0, qd_f: Any = 0.0, *, t_i: float = 0.0,
+          samples: int | None = None, dt: float | None = None) -> Trajectory:
+    """Cubic joint trajectory, Eqs. (4.1)–(4.2), sampled (see :func:`sample`)."""
+    return sample(cubic_law(q_i, q_f, t_f, qd_i, qd_f, t_i=t_i), samples=samples, dt=dt, name="cubic")
+
+
+def quintic(q_i: Any, q_f: Any, t_f: float, qd_i: Any = 0.0, qd_f: Any = 0.0, qdd_i: Any = 0.0,
+            qdd_f: Any = 0.0, *, t_i: float = 0.0, samples: int | None = None,
+            dt: float | None = None) -> Trajectory:
+    """Quintic joint trajectory, Eq. (4.3), sampled (see :func:`sample`).
+
+    >>> tr = quintic(1.0, 4.0, 2.0, dt=0.01)          # Problem 4.1
+    >>> float(tr.evaluate(1.0)[1][0])                  # peak velocity 15 Δq / (8 T)
+    2.8125
+    """
+    return sample(quintic_law(q_i, q_f, t_f, qd_i, qd_f, qdd_i, qdd_f, t_i=t_i),
+                  samples=samples, dt=dt, name="quintic")
+
+
+def trapezoidal(q_i: Any, q_f: Any, t_f: float, qd_c: Any, *, t_i: float = 0.0, triangular: bool = False,
+                samples: int | None = None, dt: float | None = None) -> Trajectory:
+    """Trapezoidal velocity profile (4.8) given q̇_c and t_f, sampled; see :func:`trapezoidal_law`.
+
+    >>> tr = trapezoidal([0, np.pi/4], [np.pi/2, np.pi/2], 1.0, [3*np.pi/4, np.pi/3])  # tra_4
+    >>> np.round(tr.evaluate(1.0)[0], 6).tolist()
+    [1.570796, 1.570796]
+    """
+    return sample(trapezoidal_law(q_i, q_f, t_f, qd_c, t_i=t_i, triangular=triangular),
+                  samples=samples, dt=dt, name="trapezoidal")
+
+
+def raised_cosine(q_i: Any, q_f: Any, t_f: float, *, t_i: float = 0.0, samples: int | None = None,
+                  dt: float | None = None) -> Trajectory:
+    """Raised-cosine velocity profile k(1 − cos(2π t/T)) (Problem 4.2), sampled."""
+    return sample(raised_cosine_law(q_i, q_f, t_f, t_i=t_i), samples=samples, dt=dt, name="raised cosine")

@@ -1,0 +1,131 @@
+"""Timing laws of Chapter 4: boundary conditions, closed forms, finite differences, bad input."""
+
+import numpy as np
+import pytest
+
+from planners import timing
+
+
+def _fd_consistent(tr, tol, acceleration=True):
+    """Velocities (and accelerations, where continuous) agree with central differences."""
+    t = tr.t
+    qd_fd = np.gradient(tr.q, t, axis=0)
+    qdd_fd = np.gradient(tr.qd, t, axis=0)
+    interior = slice(2, -2)
+    assert np.max(np.abs(qd_fd[interior] - tr.qd[interior])) < tol
+    if acceleration:
+        assert np.max(np.abs(qdd_fd[interior] - tr.qdd[interior])) < 50 * tol
+
+
+def test_quintic_matches_closed_form_rest_to_rest():
+    # Rest-to-rest quintic: q = q_i + Δq (10 s³ − 15 s⁴ + 6 s⁵), s = t/T.
+    tr = timing.quintic(1.0, 4.0, 2.0, samples=401)
+    s = tr.t / 2.0
+    np.testing.assert_allclose(tr.q[:, 0], 1.0 + 3.0 * (10 * s**3 - 15 * s**4 + 6 * s**5), atol=1e-12)
+    np.testing.assert_allclose(tr.law.coefficients[0], [1, 0, 0, 3.75, -2.8125, 0.5625], atol=1e-12)
+    assert tr.qd.max() == pytest.approx(15 * 3.0 / (8 * 2.0))
+    _fd_consistent(tr, 1e-3)
+
+
+def test_cubic_and_quintic_boundary_conditions_many_joints(rng):
+    n = 4
+    qi, qf, vi, vf, ai, af = rng.normal(size=(6, n))
+    tr = timing.quintic(qi, qf, 3.0, vi, vf, ai, af, t_i=1.0)
+    for (q, qd, qdd), (p, v, a) in ((tr.evaluate(1.0), (qi, vi, ai)), (tr.evaluate(3.0), (qf, vf, af))):
+        np.testing.assert_allclose(q, p, atol=1e-12)
+        np.testing.assert_allclose(qd, v, atol=1e-12)
+        np.testing.assert_allclose(qdd, a, atol=1e-11)
+    c = timing.cubic(qi, qf, 2.0, vi, vf)
+    np.testing.assert_allclose(c.q[[0, -1]], [qi, qf], atol=1e-12)
+    np.testing.assert_allclose(c.qd[[0, -1]], [vi, vf], atol=1e-12)
+    assert c.q.shape == (501, n) and len(c) == 501
+    _fd_consistent(c, 1e-3)
+
+
+def test_trapezoidal_follows_eq_4_8():
+    qi, qf, tf, vc = 0.3, 1.3, 2.0, 0.8
+    tr = timing.trapezoidal(qi, qf, tf, vc, samples=2001)
+    tc = tf - (qf - qi) / vc
+    a = vc / tc
+    t = tr.t
+    expected = np.where(t <= tc, qi + 0.5 * a * t**2,
+                        np.where(t <= tf - tc, qi + a * tc * (t - tc / 2), qf - 0.5 * a * (tf - t) ** 2))
+    np.testing.assert_allclose(tr.q[:, 0], expected, atol=1e-12)
+    assert tr.qd.max() == pytest.approx(vc)
+    assert np.abs(tr.qdd).max() == pytest.approx(a)
+    _fd_consistent(tr, 2e-3, acceleration=False)
+
+
+def test_trapezoidal_tra_4_negative_motion_and_rest():
+    tr = timing.trapezoidal([0, np.pi / 4, 1.0, 2.0], [np.pi / 2, np.pi / 2, 1.0, 1.0], 1.0,
+                            [3 * np.pi / 4, np.pi / 3, 5.0, 1.5], dt=1e-3)
+    np.testing.assert_allclose(tr.q[-1], [np.pi / 2, np.pi / 2, 1.0, 1.0], atol=1e-12)
+    np.testing.assert_allclose(tr.q[:, 2], 1.0)  # q_f = q_i: stays still
+    np.testing.assert_allclose(np.abs(tr.qd).max(axis=0), [3 * np.pi / 4, np.pi / 3, 0.0, 1.5], atol=1e-12)
+    assert np.all(tr.qd[:, 3] <= 0)  # moves downwards
+    q, qd, qdd = tr.evaluate(1.5)  # held after t_f
+    np.testing.assert_allclose(q, tr.q[-1])
+    np.testing.assert_allclose(qd, 0.0)
+    np.testing.assert_allclose(qdd, 0.0)
+
+
+def test_trapezoidal_infeasible_cruise_speed_is_explained():
+    with pytest.raises(ValueError, match=r"qd_c.*\(1, 2\].*got 3.*triangular=True"):
+        timing.trapezoidal(0.0, 1.0, 1.0, 3.0)
+    with pytest.raises(ValueError, match=r"qd_c\[1\].*got 0.5"):
+        timing.trapezoidal([0, 0], [1, 1], 1.0, [1.5, 0.5])
+    tri = timing.trapezoidal(0.0, 1.0, 1.0, 3.0, triangular=True)
+    assert tri.qd.max() == pytest.approx(2.0)
+    assert tri.q[-1, 0] == pytest.approx(1.0)
+    np.testing.assert_allclose(tri.law.breaks, [0, 0.5, 1.0])
+
+
+def test_trapezoidal_given_acceleration_eq_4_9():
+    qi, qf, tf, a = 0.0, 1.0, 2.0, 2.0
+    law = timing.trapezoidal_acceleration_law(qi, qf, tf, a)
+    tc = tf / 2 - 0.5 * np.sqrt((tf**2 * a - 4 * (qf - qi)) / a)
+    assert law(tc)[1] == pytest.approx(a * tc)
+    assert law(tf)[0] == pytest.approx(qf)
+    with pytest.raises(ValueError, match="4\\|q_f - q_i\\|/T\\^2 = 1"):
+        timing.trapezoidal_acceleration_law([0.0], [1.0], 2.0, [0.5])
+
+
+def test_raised_cosine_problem_4_2_closed_form():
+    tr = timing.raised_cosine(0.0, 3.0, 2.0, samples=801)
+    assert tr.law.k == pytest.approx(1.5) and tr.law.k1 == pytest.approx(0.0)
+    t = tr.t
+    np.testing.assert_allclose(tr.qd[:, 0], 1.5 * (1 - np.cos(np.pi * t)), atol=1e-12)
+    assert tr.q[-1, 0] == pytest.approx(3.0)
+    _fd_consistent(tr, 1e-3)
+
+
+def test_scalar_and_vector_evaluation_agree(rng):
+    law = timing.trapezoidal_law([0, np.pi / 4], [np.pi / 2, np.pi / 2], 1.0, [3 * np.pi / 4, np.pi / 3])
+    ts = np.concatenate([rng.uniform(-0.5, 1.5, 100), [0.0, 0.25, 1.0]])
+    vq, vqd, vqdd = law(ts)
+    for k, t in enumerate(ts):
+        q, qd, qdd = law(float(t))
+        np.testing.assert_allclose([q, qd, qdd], [vq[k], vqd[k], vqdd[k]], atol=1e-12)
+
+
+def test_sample_and_plot():
+    tr = timing.quintic([0, 1], [1, 0], 1.0, dt=0.01)
+    assert tr.t[-1] == pytest.approx(1.0) and len(tr) == 101
+    sub = tr.sample([0.0, 0.5, 2.0])
+    np.testing.assert_allclose(sub.q[1], [0.5, 0.5])
+    np.testing.assert_allclose(sub.qd[2], 0.0)
+    axes = tr.plot()
+    assert len(axes) == 3 and len(axes[0].lines) == 2
+    assert "2 joints" in str(tr)
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: timing.quintic(0.0, 1.0, 0.0), "t_f"),
+    (lambda: timing.quintic([0.0, 1.0], [1.0], 1.0), "q_f"),
+    (lambda: timing.cubic(np.nan, 1.0, 1.0), "q_i"),
+    (lambda: timing.sample(timing.cubic_law(0, 1, 1), samples=3, dt=0.1), "only one"),
+    (lambda: timing.PiecewisePolynomial([0, 1, 1], np.zeros((2, 3))), "increasing"),
+])
+def test_bad_input_names_the_argument(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

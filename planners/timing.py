@@ -508,7 +508,7 @@ def quintic(q_i: Any, q_f: Any, t_f: float, qd_i: Any = 0.0, qd_f: Any = 0.0, qd
     """Quintic joint trajectory, Eq. (4.3), sampled (see :func:`sample`).
 
     >>> tr = quintic(1.0, 4.0, 2.0, dt=0.01)          # Problem 4.1
-    >>> float(tr.evaluate(1.0)[1][0])                  # peak velocity 15 Δq / (8 T)
+    >>> round(float(tr.evaluate(1.0)[1][0]), 12)       # peak velocity 15 Δq / (8 T)
     2.8125
     """
     return sample(quintic_law(q_i, q_f, t_f, qd_i, qd_f, qdd_i, qdd_f, t_i=t_i),

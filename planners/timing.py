@@ -32,6 +32,9 @@ __all__ = [
     "polynomial_law", "cubic_law", "quintic_law", "cubic", "quintic",
     "trapezoidal_law", "trapezoidal", "trapezoidal_acceleration_law", "trapezoidal_limits",
     "raised_cosine_law", "raised_cosine",
+    "via_point_velocities", "via_point_accelerations", "polynomial_sequence_law", "polynomial_sequence",
+    "SplineSystem", "spline_system", "cubic_spline_law", "cubic_spline",
+    "BlendCoefficients", "blend_coefficients", "linear_parabolic_blends_law", "linear_parabolic_blends",
 ]
 
 
@@ -531,3 +534,293 @@ def raised_cosine(q_i: Any, q_f: Any, t_f: float, *, t_i: float = 0.0, samples: 
                   dt: float | None = None) -> Trajectory:
     """Raised-cosine velocity profile k(1 − cos(2π t/T)) (Problem 4.2), sampled."""
     return sample(raised_cosine_law(q_i, q_f, t_f, t_i=t_i), samples=samples, dt=dt, name="raised cosine")
+
+
+# --------------------------------------------------------------------------------------------
+# Sequences of polynomials through via points (Sect. 4.3)
+# --------------------------------------------------------------------------------------------
+
+def via_point_velocities(t: Any, q: Any, qd_i: Any = 0.0, qd_f: Any = 0.0) -> np.ndarray:
+    """Velocities at the via points by the heuristic (4.12).
+
+    v_k = 0 where the slopes v_{k−1,k}, v_{k,k+1} of the adjacent segments have opposite signs,
+    else their mean; ``qd_i``, ``qd_f`` at the ends. Returns the shape of ``q``.
+    """
+    t = _as_times(t, "t")
+    q = _as_points(q, t.size)
+    slope = np.diff(q, axis=0) / np.diff(t).reshape((-1,) + (1,) * (q.ndim - 1))
+    v = np.empty_like(q)
+    v[0] = _as_value(qd_i, q.shape[1:], "qd_i")
+    v[-1] = _as_value(qd_f, q.shape[1:], "qd_f")
+    same = np.sign(slope[:-1]) == np.sign(slope[1:])
+    v[1:-1] = np.where(same, 0.5 * (slope[:-1] + slope[1:]), 0.0)
+    return v
+
+
+def via_point_accelerations(t: Any, qd: Any, qdd_i: Any = 0.0, qdd_f: Any = 0.0) -> np.ndarray:
+    """Accelerations at the via points as the mean of the adjacent velocity slopes (Problem 4.3).
+
+    q̈_k = ½ ((q̇_k − q̇_{k−1})/Δt_{k−1} + (q̇_{k+1} − q̇_k)/Δt_k); ``qdd_i``, ``qdd_f`` at the ends.
+    """
+    t = _as_times(t, "t")
+    qd = _as_points(qd, t.size, "qd")
+    slope = np.diff(qd, axis=0) / np.diff(t).reshape((-1,) + (1,) * (qd.ndim - 1))
+    a = np.empty_like(qd)
+    a[0] = _as_value(qdd_i, qd.shape[1:], "qdd_i")
+    a[-1] = _as_value(qdd_f, qd.shape[1:], "qdd_f")
+    a[1:-1] = 0.5 * (slope[:-1] + slope[1:])
+    return a
+
+
+def polynomial_sequence_law(t: Any, q: Any, qd: Any = None, qdd: Any = None, *, degree: int = 5,
+                            qd_i: Any = 0.0, qd_f: Any = 0.0, qdd_i: Any = 0.0,
+                            qdd_f: Any = 0.0) -> PiecewisePolynomial:
+    """Polynomials through the points (t_k, q_k) joined with continuous velocity (and acceleration).
+
+    ``degree=3``: cubics (4.10)–(4.11) with velocities ``qd`` at the points (default: the
+    heuristic (4.12), :func:`via_point_velocities`), continuous velocity.
+    ``degree=5``: quintics with velocities and accelerations at the points (default accelerations:
+    :func:`via_point_accelerations`), continuous velocity and acceleration (Problem 4.3).
+
+    Parameters
+    ----------
+    t : (m,) strictly increasing instants [s], m ≥ 2.
+    q : (m,) or (m, n) positions, one row per instant.
+    qd, qdd : same shape, the velocities/accelerations at the points (ends included), or None.
+    """
+    t = _as_times(t, "t")
+    q = _as_points(q, t.size)
+    if degree not in (3, 5):
+        raise ValueError(f"`degree` must be 3 (cubic) or 5 (quintic), got {degree}")
+    qd = via_point_velocities(t, q, qd_i, qd_f) if qd is None else _as_points(qd, t.size, "qd")
+    if qd.shape != q.shape:
+        raise ValueError(f"`qd` must have the shape of `q` {q.shape}, got {qd.shape}")
+    pieces = []
+    if degree == 5:
+        qdd = via_point_accelerations(t, qd, qdd_i, qdd_f) if qdd is None else _as_points(qdd, t.size, "qdd")
+        if qdd.shape != q.shape:
+            raise ValueError(f"`qdd` must have the shape of `q` {q.shape}, got {qdd.shape}")
+    for k in range(t.size - 1):
+        if degree == 5:
+            law = polynomial_law(t[k], t[k + 1], (q[k], qd[k], qdd[k]), (q[k + 1], qd[k + 1], qdd[k + 1]))
+        else:
+            law = polynomial_law(t[k], t[k + 1], (q[k], qd[k]), (q[k + 1], qd[k + 1]))
+        pieces.append(law.coefficients[0][: degree + 1])
+    return PiecewisePolynomial(t, np.stack(pieces))
+
+
+def polynomial_sequence(t: Any, q: Any, qd: Any = None, qdd: Any = None, *, degree: int = 5,
+                        qd_i: Any = 0.0, qd_f: Any = 0.0, qdd_i: Any = 0.0, qdd_f: Any = 0.0,
+                        samples: int | None = None, dt: float | None = None) -> Trajectory:
+    """Sampled :func:`polynomial_sequence_law`."""
+    law = polynomial_sequence_law(t, q, qd, qdd, degree=degree, qd_i=qd_i, qd_f=qd_f, qdd_i=qdd_i, qdd_f=qdd_f)
+    return sample(law, samples=samples, dt=dt, name=f"{'quintic' if degree == 5 else 'cubic'} sequence")
+
+
+# --------------------------------------------------------------------------------------------
+# Cubic spline with two virtual points, Eq. (4.28)
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class SplineSystem:
+    """The tridiagonal system A x = b of (4.28), x = [Π̈_2(t_2), ..., Π̈_{N+1}(t_{N+1})].
+
+    ``A_banded`` is A in the (3, N) LAPACK band layout (upper diagonal, diagonal, lower diagonal);
+    :attr:`A` is the dense matrix (for display). ``knots`` are the N+2 instants t_1, ..., t_{N+2}
+    (virtual points at t_2 and t_{N+1}).
+    """
+
+    knots: np.ndarray
+    A_banded: np.ndarray
+    b: np.ndarray
+
+    @property
+    def A(self) -> np.ndarray:
+        n = self.A_banded.shape[1]
+        return (np.diag(self.A_banded[1]) + np.diag(self.A_banded[0, 1:], 1)
+                + np.diag(self.A_banded[2, :-1], -1)) if n > 1 else self.A_banded[1:2, :]
+
+
+def _spline_knots(t: np.ndarray, t_virtual: Any) -> np.ndarray:
+    if t_virtual is None:
+        t_virtual = (0.5 * (t[0] + t[1]), 0.5 * (t[-2] + t[-1]))
+    tv = as_vector(t_virtual, 2, "t_virtual")
+    if not (t[0] < tv[0] < t[1] and t[-2] < tv[1] < t[-1]):
+        raise ValueError(f"`t_virtual` must lie in ({t[0]}, {t[1]}) and ({t[-2]}, {t[-1]}), got {tv}")
+    return np.concatenate([[t[0], tv[0]], t[1:-1], [tv[1], t[-1]]])
+
+
+def spline_system(t: Any, q: Any, qd_i: Any = 0.0, qd_f: Any = 0.0, qdd_i: Any = 0.0, qdd_f: Any = 0.0,
+                  t_virtual: Any = None) -> SplineSystem:
+    """Assemble (4.28) for the cubic spline through N ≥ 3 points with two virtual points.
+
+    The equations are (S4.2) for k = 1, ..., N with q_2 and q_{N+1} replaced by (S4.3), (S4.4),
+    which are linear in the first and last unknowns: this reproduces the a_ij, b_i of
+    Problem 4.4 (including the special b_2 for N = 3).
+
+    Parameters
+    ----------
+    t : (N,) instants of the given points t_1, t_3, ..., t_N, t_{N+2} (book numbering).
+    q : (N,) or (N, n) positions at those instants.
+    qd_i, qd_f, qdd_i, qdd_f : boundary velocities and accelerations.
+    t_virtual : instants (t_2, t_{N+1}) of the virtual points; default the midpoints of the first
+        and last intervals.
+    """
+    t = _as_times(t, "t", minimum=3)
+    q = _as_points(q, t.size)
+    N = t.size
+    shape = q.shape[1:]
+    vi, vf = _as_value(qd_i, shape, "qd_i"), _as_value(qd_f, shape, "qd_f")
+    ai, af = _as_value(qdd_i, shape, "qdd_i"), _as_value(qdd_f, shape, "qdd_f")
+    knots = _spline_knots(t, t_virtual)
+    dt = np.diff(knots)  # Δt_1, ..., Δt_{N+1}
+    # Positions at the N+2 knots; the two virtual ones are α + β x (S4.3), (S4.4).
+    qk = np.concatenate([q[:1], np.zeros((1,) + shape), q[1:-1], np.zeros((1,) + shape), q[-1:]])
+    alpha2 = q[0] + vi * dt[0] + ai * dt[0] ** 2 / 3.0
+    beta2 = dt[0] ** 2 / 6.0
+    alphaN1 = q[-1] - vf * dt[-1] + af * dt[-1] ** 2 / 3.0
+    betaN1 = dt[-1] ** 2 / 6.0
+    qk[1], qk[N] = alpha2, alphaN1
+    sub, diag, sup = np.zeros(N), np.zeros(N), np.zeros(N)
+    b = np.zeros((N,) + shape)
+    for r in range(N):  # row r ↔ (S4.2) with k = r + 1 (book), knots r, r+1, r+2 (0-based)
+        d0, d1 = dt[r], dt[r + 1]
+        sub[r], diag[r], sup[r] = d0 / 6.0, (d0 + d1) / 3.0, d1 / 6.0
+        w = (1.0 / d0, -(1.0 / d1 + 1.0 / d0), 1.0 / d1)  # weights of q at knots r, r+1, r+2
+        b[r] = w[0] * qk[r] + w[1] * qk[r + 1] + w[2] * qk[r + 2]
+        for j, wj in zip((r, r + 1, r + 2), w):  # move the virtual points' x-terms to the left
+            if j == 1:
+                _add(sub, diag, sup, r, 0, -wj * beta2)
+            elif j == N:
+                _add(sub, diag, sup, r, N - 1, -wj * betaN1)
+    b[0] -= dt[0] / 6.0 * ai  # Π̈_1 = q̈_i (4.19)
+    b[-1] -= dt[-1] / 6.0 * af  # Π̈_{N+2} = q̈_f (4.22)
+    banded = np.zeros((3, N))
+    banded[0, 1:] = sup[:-1]
+    banded[1] = diag
+    banded[2, :-1] = sub[1:]
+    return SplineSystem(knots, banded, b)
+
+
+def _add(sub: np.ndarray, diag: np.ndarray, sup: np.ndarray, row: int, col: int, value: float) -> None:
+    """A[row, col] += value on the three diagonals of a tridiagonal matrix."""
+    if col == row:
+        diag[row] += value
+    elif col == row - 1:
+        sub[row] += value
+    elif col == row + 1:
+        sup[row] += value
+    else:  # pragma: no cover - the structure of (4.28) never reaches here
+        raise AssertionError("(4.28) is tridiagonal")
+
+
+def cubic_spline_law(t: Any, q: Any, qd_i: Any = 0.0, qd_f: Any = 0.0, qdd_i: Any = 0.0, qdd_f: Any = 0.0,
+                     t_virtual: Any = None) -> PiecewisePolynomial:
+    """Cubic spline through N ≥ 3 points with assigned boundary velocities and accelerations.
+
+    Two virtual points (at ``t_virtual``) free the spline's first and last intervals so that the
+    four boundary conditions hold (Sect. 4.3, Problem 4.4). The N accelerations at the knots
+    t_2, ..., t_{N+1} solve the tridiagonal (4.28) in O(N) (``scipy.linalg.solve_banded``); each
+    interval is then the cubic (4.27) in those accelerations.
+    """
+    system = spline_system(t, q, qd_i, qd_f, qdd_i, qdd_f, t_virtual)
+    q = np.asarray(q, dtype=float)
+    shape = q.shape[1:]
+    x = solve_banded((1, 1), system.A_banded, system.b)
+    ai, af = _as_value(qdd_i, shape, "qdd_i"), _as_value(qdd_f, shape, "qdd_f")
+    M = np.concatenate([ai[None], x, af[None]])  # Π̈ at the N+2 knots
+    dt = np.diff(system.knots)
+    d = dt.reshape((-1,) + (1,) * len(shape))
+    qk = np.concatenate([q[:1], q[:1] * 0, q[1:-1], q[:1] * 0, q[-1:]])
+    qk[1] = qk[0] + _as_value(qd_i, shape, "qd_i") * dt[0] + ai * dt[0] ** 2 / 3 + x[0] * dt[0] ** 2 / 6  # (S4.3)
+    qk[-2] = qk[-1] - _as_value(qd_f, shape, "qd_f") * dt[-1] + af * dt[-1] ** 2 / 3 + x[-1] * dt[-1] ** 2 / 6  # (S4.4)
+    # (4.27) in powers of τ = t − t_k.
+    c0 = qk[:-1]
+    c1 = (qk[1:] - qk[:-1]) / d - d * (2 * M[:-1] + M[1:]) / 6.0
+    c2 = M[:-1] / 2.0
+    c3 = (M[1:] - M[:-1]) / (6.0 * d)
+    return PiecewisePolynomial(system.knots, np.stack([c0, c1, c2, c3], axis=1))
+
+
+def cubic_spline(t: Any, q: Any, qd_i: Any = 0.0, qd_f: Any = 0.0, qdd_i: Any = 0.0, qdd_f: Any = 0.0,
+                 t_virtual: Any = None, *, samples: int | None = None, dt: float | None = None) -> Trajectory:
+    """Sampled :func:`cubic_spline_law`."""
+    return sample(cubic_spline_law(t, q, qd_i, qd_f, qdd_i, qdd_f, t_virtual), samples=samples, dt=dt,
+                  name="cubic spline")
+
+
+# --------------------------------------------------------------------------------------------
+# Linear segments with parabolic blends (Sect. 4.3, Problem 4.6)
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class BlendCoefficients:
+    """The book's coefficients of Problem 4.6 (one row per segment/blend, columns the joints).
+
+    a[k] = (a_k0, a_k1) of the linear segment k (k = 1..N−1): q = a_k1 (t − t_k) + a_k0;
+    b[k] = (b_k0, b_k1, b_k2) of the blend about t_k (k = 1..N): q = b_k2 (t − t_k)² + b_k1 (t − t_k) + b_k0.
+    """
+
+    a: np.ndarray
+    b: np.ndarray
+
+
+def linear_parabolic_blends_law(t: Any, q: Any, blend: Any, qd_i: Any = 0.0,
+                                qd_f: Any = 0.0) -> PiecewisePolynomial:
+    """Linear segments joined by parabolic blends of duration Δt'_k centred on the points t_k.
+
+    Segment velocities q̇_{k,k+1} = (q_{k+1} − q_k)/Δt_k (q̇_i, q̇_f at the ends); each blend has
+    constant acceleration (q̇_{k,k+1} − q̇_{k−1,k})/Δt'_k. As the companion ``lin_par.m``, the
+    blends are centred on the knots, so the law runs on [t_1 − Δt'_1/2, t_N + Δt'_N/2] and
+    passes *near*, not through, the interior points (Problem 4.6). The pieces keep the book's
+    form, powers of (t − t_k); :func:`blend_coefficients` returns a_k0, a_k1, b_k0, b_k1, b_k2.
+    """
+    t = _as_times(t, "t")
+    q = _as_points(q, t.size)
+    N = t.size
+    shape = q.shape[1:]
+    d = as_vector(np.broadcast_to(np.asarray(blend, dtype=float), (N,)) if np.ndim(blend) == 0 else blend,
+                  N, "blend")
+    if np.any(d <= 0):
+        raise ValueError(f"`blend` durations must be positive, got {d}")
+    gaps = np.diff(t) - 0.5 * (d[:-1] + d[1:])
+    if np.any(gaps < -1e-12):
+        k = int(np.argmax(gaps < -1e-12))
+        raise ValueError(f"`blend` durations overlap between t[{k}] = {t[k]} and t[{k + 1}] = {t[k + 1]}: "
+                         f"need (blend[{k}] + blend[{k + 1}])/2 <= {t[k + 1] - t[k]}")
+    coef = blend_coefficients(t, q, d, qd_i, qd_f)
+    breaks, origins, pieces = [], [], []
+    for k in range(N):
+        breaks.append(t[k] - d[k] / 2)
+        origins.append(t[k])
+        pieces.append(coef.b[k])
+        if k < N - 1 and gaps[k] > 1e-12:
+            breaks.append(t[k] + d[k] / 2)
+            origins.append(t[k])
+            pieces.append(np.concatenate([coef.a[k], np.zeros((1,) + shape)]))
+    breaks.append(t[-1] + d[-1] / 2)
+    return PiecewisePolynomial(np.array(breaks), np.stack(pieces), origins=np.array(origins))
+
+
+def blend_coefficients(t: Any, q: Any, blend: Any, qd_i: Any = 0.0, qd_f: Any = 0.0) -> BlendCoefficients:
+    """a_k0 = q_k, a_k1 = q̇_{k,k+1}; b_k1 = (q̇_{k,k+1} + q̇_{k−1,k})/2,
+    b_k2 = (q̇_{k,k+1} − q̇_{k−1,k})/(2Δt'_k), b_k0 = q_k + (q̇_{k,k+1} − q̇_{k−1,k}) Δt'_k/8 (Problem 4.6)."""
+    t = _as_times(t, "t")
+    q = _as_points(q, t.size)
+    N = t.size
+    shape = q.shape[1:]
+    d = np.broadcast_to(np.asarray(blend, dtype=float), (N,)).reshape((N,) + (1,) * len(shape))
+    v = np.concatenate([_as_value(qd_i, shape, "qd_i")[None],
+                        np.diff(q, axis=0) / np.diff(t).reshape((-1,) + (1,) * len(shape)),
+                        _as_value(qd_f, shape, "qd_f")[None]])  # q̇_{k−1,k}, k = 1..N+1
+    before, after = v[:-1], v[1:]
+    a = np.stack([q[:-1], after[:-1]], axis=1)
+    b = np.stack([q + (after - before) * d / 8.0, (after + before) / 2.0, (after - before) / (2.0 * d)], axis=1)
+    return BlendCoefficients(a, b)
+
+
+def linear_parabolic_blends(t: Any, q: Any, blend: Any, qd_i: Any = 0.0, qd_f: Any = 0.0, *,
+                            samples: int | None = None, dt: float | None = None) -> Trajectory:
+    """Sampled :func:`linear_parabolic_blends_law`."""
+    return sample(linear_parabolic_blends_law(t, q, blend, qd_i, qd_f), samples=samples, dt=dt,
+                  name="linear with parabolic blends")

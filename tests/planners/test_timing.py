@@ -129,3 +129,120 @@ def test_sample_and_plot():
 def test_bad_input_names_the_argument(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+# ---------------------------------------------------------------- via points -----------------
+
+def _continuity(law, instants, orders=(0, 1, 2), tol=1e-9):
+    for t in instants:
+        left, right = law(t - 1e-12), law(t + 1e-12)
+        for o in orders:
+            np.testing.assert_allclose(left[o], right[o], atol=tol, err_msg=f"order {o} at t = {t}")
+
+
+def test_quintic_sequence_problem_4_3_and_continuity():
+    law = timing.polynomial_sequence_law([0, 2, 4], [0, 2, 3])
+    np.testing.assert_allclose(law.coefficients[0], [0, 0, 0, 1.75, -1.21875, 0.234375], atol=1e-12)
+    np.testing.assert_allclose(law.coefficients[1], [2, 0.75, 0, 0.125, -0.1875, 0.046875], atol=1e-12)
+    _continuity(law, [2.0])
+
+
+def test_via_point_velocity_heuristic_4_12():
+    v = timing.via_point_velocities([0, 1, 2, 3, 4], [0, 1, 3, 2, 2.5], qd_i=0.1, qd_f=-0.2)
+    np.testing.assert_allclose(v, [0.1, 1.5, 0.0, 0.0, -0.2])  # sign changes at t = 2 and t = 3
+
+
+def test_cubic_sequence_many_joints_is_c1(rng):
+    t = np.cumsum(rng.uniform(0.5, 1.5, 6))
+    q = rng.normal(size=(6, 3))
+    law = timing.polynomial_sequence_law(t, q, degree=3)
+    np.testing.assert_allclose(law(t)[0], q, atol=1e-12)
+    _continuity(law, t[1:-1], orders=(0, 1))
+
+
+def _manual_A_b(dt, q, vi, vf, ai, af):
+    """(4.28) transcribed verbatim from the manual's solution of Problem 4.4 (1-based indices)."""
+    N = len(dt) - 1
+    D = {k + 1: dt[k] for k in range(N + 1)}      # Δt_1 .. Δt_{N+1}
+    Q = {1: q[0], N + 2: q[-1]}
+    for j, k in enumerate(range(3, N + 1)):        # given q_3, ..., q_N
+        Q[k] = q[j + 1]
+    A = np.zeros((N, N))
+    A[0, 0] = D[1] / 2 + D[2] / 3 + D[1] ** 2 / (6 * D[2])
+    for k in range(2, N):
+        A[k - 1, k - 1] = (D[k] + D[k + 1]) / 3
+    A[N - 1, N - 1] = D[N] / 3 + D[N + 1] / 2 + D[N + 1] ** 2 / (6 * D[N])
+    A[1, 0] = D[2] / 6 - D[1] ** 2 / (6 * D[2])
+    for k in range(3, N + 1):
+        A[k - 1, k - 2] = D[k] / 6
+    for k in range(1, N - 1):
+        A[k - 1, k] = D[k + 1] / 6
+    A[N - 2, N - 1] = D[N] / 6 - D[N + 1] ** 2 / (6 * D[N])
+    qi, qf = Q[1], Q[N + 2]
+    b = np.zeros(N)
+    b[0] = (Q[3] - qi) / D[2] - (1 / D[2] + 1 / D[1]) * (vi * D[1] + ai * D[1] ** 2 / 3) - ai * D[1] / 6
+    start = (qi + vi * D[1] + ai * D[1] ** 2 / 3) / D[2]
+    end = (qf - vf * D[N + 1] + af * D[N + 1] ** 2 / 3) / D[N]
+    if N == 3:
+        b[1] = start - (1 / D[3] + 1 / D[2]) * Q[3] + (qf - vf * D[4] + af * D[4] ** 2 / 3) / D[3]
+    else:
+        b[1] = start - (1 / D[3] + 1 / D[2]) * Q[3] + Q[4] / D[3]
+        for k in range(3, N - 1):
+            b[k - 1] = Q[k] / D[k] - (1 / D[k + 1] + 1 / D[k]) * Q[k + 1] + Q[k + 2] / D[k + 1]
+        b[N - 2] = Q[N - 1] / D[N - 1] - (1 / D[N] + 1 / D[N - 1]) * Q[N] + end
+    b[N - 1] = ((Q[N] - qf) / D[N] - (1 / D[N + 1] + 1 / D[N]) * (-vf * D[N + 1] + af * D[N + 1] ** 2 / 3)
+                - af * D[N + 1] / 6)
+    return A, b
+
+
+@pytest.mark.parametrize("N", [3, 4, 5, 7, 12])
+def test_spline_system_equals_manual_formulas_and_spline_is_c2(N, rng):
+    t = np.cumsum(np.concatenate([[0.0], rng.uniform(0.5, 2.0, N - 1)]))
+    q = rng.normal(size=N)
+    vi, vf, ai, af = rng.normal(size=4)
+    tv = (t[0] + rng.uniform(0.2, 0.8) * (t[1] - t[0]), t[-2] + rng.uniform(0.2, 0.8) * (t[-1] - t[-2]))
+    system = timing.spline_system(t, q, vi, vf, ai, af, t_virtual=tv)
+    A, b = _manual_A_b(np.diff(system.knots), q, vi, vf, ai, af)
+    np.testing.assert_allclose(system.A, A, atol=1e-12)
+    np.testing.assert_allclose(system.b, b, atol=1e-12)
+    law = timing.cubic_spline_law(t, q, vi, vf, ai, af, t_virtual=tv)
+    np.testing.assert_allclose(law(t)[0], q, atol=1e-12)
+    q0, v0, a0 = law(t[0])
+    q1, v1, a1 = law(t[-1])
+    np.testing.assert_allclose([v0, a0, v1, a1], [vi, ai, vf, af], atol=1e-10)
+    _continuity(law, system.knots[1:-1], tol=1e-8)
+
+
+def test_spline_many_joints_and_large_n_is_fast(rng):
+    import time
+    N = 20000
+    t = np.cumsum(rng.uniform(0.5, 1.0, N))
+    q = rng.normal(size=(N, 2))
+    start = time.perf_counter()
+    law = timing.cubic_spline_law(t, q)
+    assert time.perf_counter() - start < 2.0  # O(N): a dense solve would need ~N³ flops
+    np.testing.assert_allclose(law(t)[0], q, atol=1e-9)
+
+
+def test_linear_parabolic_blends_problem_4_6():
+    c = timing.blend_coefficients([0, 2, 4], [0, 2, 3], 0.2)
+    np.testing.assert_allclose(c.a, [[0, 1], [2, 0.5]])
+    np.testing.assert_allclose(c.b, [[0.025, 0.5, 2.5], [1.9875, 0.75, -1.25], [2.9875, 0.25, -1.25]])
+    tr = timing.linear_parabolic_blends([0, 2, 4], [0, 2, 3], 0.2, samples=4201)
+    assert tr.t[0] == pytest.approx(-0.1) and tr.t[-1] == pytest.approx(4.1)
+    _continuity(tr.law, [0.1, 1.9, 2.1, 3.9], orders=(0, 1))
+    assert tr.q[0, 0] == pytest.approx(0.0) and tr.q[-1, 0] == pytest.approx(3.0)
+    assert tr.law(1.0)[1] == pytest.approx(1.0) and tr.law(3.0)[1] == pytest.approx(0.5)
+    with pytest.raises(ValueError, match="overlap"):
+        timing.linear_parabolic_blends_law([0, 1, 2], [0, 1, 0], 1.5)
+
+
+def test_via_point_bad_input():
+    with pytest.raises(ValueError, match="strictly increasing"):
+        timing.cubic_spline_law([0, 2, 2, 4], [0, 1, 2, 3])
+    with pytest.raises(ValueError, match=r"`q` must have shape \(3,\)"):
+        timing.polynomial_sequence_law([0, 1, 2], [0, 1])
+    with pytest.raises(ValueError, match="at least 3"):
+        timing.spline_system([0, 1], [0, 1])
+    with pytest.raises(ValueError, match="t_virtual"):
+        timing.cubic_spline_law([0, 2, 4], [0, 1, 2], t_virtual=(3, 3.5))

@@ -66,3 +66,29 @@ def end_effector_velocity(robot: Robot, q: np.ndarray, qd: np.ndarray,
                           frame: str | int | None = None) -> np.ndarray:
     """v_e = J(q) q̇ = [ṗ_e; ω_e] (6,), Eq. (3.2)."""
     return geometric_jacobian(robot, q, frame) @ as_vector(qd, robot.nv, "qd")
+
+
+# --------------------------------------------------------------------------------------------
+# Analytical Jacobian (Chapter 3)
+# --------------------------------------------------------------------------------------------
+
+def analytical_jacobian(robot: Robot, q: np.ndarray, representation: str = "zyz",
+                        frame: str | int | None = None) -> np.ndarray:
+    """J_A(q) = T_A^{-1}(φ_e) J(q), (6, nv): ẋ_e = [ṗ_e; φ̇_e] for Euler angles φ_e, Eqs. (3.64)–(3.66).
+
+    ``representation`` is ``"zyz"`` (T from (3.64)) or ``"rpy"`` (Problem 3.12); φ_e is extracted
+    with ``branch=+1``. ValueError at a representation singularity (sin θ = 0 for ZYZ, cos θ = 0 for RPY).
+    """
+    from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz, rotation_to_euler_zyz,
+                                      rotation_to_rpy)
+
+    pair = {"zyz": (rotation_to_euler_zyz, euler_rate_matrix_zyz),
+            "rpy": (rotation_to_rpy, euler_rate_matrix_rpy)}.get(representation)
+    if pair is None:
+        raise ValueError(f"`representation` must be 'zyz' or 'rpy', got {representation!r}")
+    J = geometric_jacobian(robot, q, frame)
+    phi = pair[0](direct_kinematics(robot, q, frame)[:3, :3])
+    if phi.singular:
+        raise ValueError(f"{representation.upper()} representation singularity at q = {q}: T(φ) is not invertible")
+    J[3:] = np.linalg.solve(pair[1](phi.angles), J[3:])
+    return J

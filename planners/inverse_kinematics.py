@@ -1,0 +1,638 @@
+"""Inverse kinematics: closed-loop IK (CLIK), two-stage arm/wrist CLIK, CasADi/IPOPT and proxsuite QP IK.
+
+* **CLIK** (Sect. 3.7): ``q̇ = J#(q) (ẋ_d + K e) + (I − J# J) q̇_0`` with J# the inverse (3.70),
+  the right pseudo-inverse (3.72) or the damped least-squares inverse (3.59), or ``q̇ = J^T K e``
+  (3.76). The error e is the position error and one of the orientation errors of Sect. 3.7.3:
+  Euler angles (analytical Jacobian), angle–axis (3.85) with (3.88)–(3.89), unit quaternion (3.91),
+  (3.93). :class:`CLIK` is a discrete controller for :func:`controllers.simulation.simulate` on the
+  :class:`JointIntegrator` plant q̇ = u, whose RK4 step of a held input is exactly Euler's (3.48).
+* **Two-stage CLIK** for a manipulator with a spherical wrist (Problem 3.14): position of the wrist
+  point with the arm joints, then orientation with the wrist joints.
+* **Optimisation IK** (:class:`CasadiIK`): IPOPT on the symbolic kinematics of
+  :mod:`rigid_body.symbolic`, joint limits as bounds, weighted pose error, optional posture cost,
+  restarts from random seeds.
+* **Velocity QP IK** (:class:`QPVelocityIK`): one proxsuite QP per step, task error + damping,
+  joint position and velocity limits.
+
+Every solver returns an :class:`IKResult`; ``success`` is True only when the final residual is below
+the tolerance, and an unreachable target gives ``success=False`` with the best residual found.
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
+Sects. 3.5 (redundancy, (3.50)–(3.59)), 3.7 (CLIK, (3.68)–(3.97)); Problems 3.10, 3.14, 3.21, 3.22.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+import pinocchio as pin
+
+from rigid_body.manipulability import manipulability
+from rigid_body.robots import Robot
+from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz, orientation_error_axis_angle,
+                                  orientation_error_matrix, orientation_error_quaternion, rotation_to_euler_zyz,
+                                  rotation_to_quaternion, rotation_to_rpy)
+from rigid_body.validation import as_matrix, as_vector
+
+__all__ = [
+    "IKResult",
+    "damped_least_squares_inverse",
+    "weighted_pseudo_inverse",
+    "TaskSpace",
+    "pose_error",
+    "CLIK",
+    "TwoStageCLIK",
+    "JointIntegrator",
+    "constant_pose",
+    "numerical_gradient",
+    "gradient_velocity",
+    "joint_limit_distance",
+    "joint_limit_distance_gradient",
+    "solve_clik",
+    "CasadiIKOptions",
+    "CasadiIK",
+    "QPIKOptions",
+    "QPVelocityIK",
+    "pose_residual",
+]
+
+LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+ORIENTATIONS = ("none", "axis_angle", "quaternion", "euler_zyz", "rpy")
+LAWS = ("inverse", "pseudo_inverse", "dls", "transpose")
+
+
+@dataclass(frozen=True)
+class IKResult:
+    """Outcome of an IK solve.
+
+    Attributes
+    ----------
+    q : (nq,) the best configuration found.
+    success : True only when ``residual`` < the solver's tolerance.
+    iterations : iterations (summed over restarts for :class:`CasadiIK`).
+    residual : max(‖p_d − p_e‖ [m], rotation angle of R_e^T R_d [rad]) at ``q``
+        (only the controlled components for a reduced task).
+    message : a human-readable reason.
+    """
+
+    q: np.ndarray
+    success: bool
+    iterations: int
+    residual: float
+    message: str = ""
+
+    def __iter__(self):
+        return iter((self.q, self.success))
+
+
+# --------------------------------------------------------------------------------------------
+# Generalised inverses (3.50)–(3.59)
+# --------------------------------------------------------------------------------------------
+
+def damped_least_squares_inverse(J: Any, k: float) -> np.ndarray:
+    """J* = J^T (J J^T + k² I)^{-1}, the damped least-squares inverse, Eq. (3.59) / Problem 3.10."""
+    J = np.asarray(J, dtype=float)
+    if J.ndim != 2:
+        raise ValueError(f"`J` must be a 2-D Jacobian, got shape {J.shape}")
+    if not (np.isfinite(k) and k >= 0):
+        raise ValueError(f"`k` must be finite and >= 0, got {k}")
+    return J.T @ np.linalg.solve(J @ J.T + k * k * np.eye(J.shape[0]), np.eye(J.shape[0]))
+
+
+def weighted_pseudo_inverse(J: Any, W: Any = None) -> np.ndarray:
+    """J† = W^{-1} J^T (J W^{-1} J^T)^{-1}, Eq. (3.50) (right pseudo-inverse (3.52) for W = I).
+
+    ValueError when J J^T is singular (J has not full row rank).
+    """
+    J = np.asarray(J, dtype=float)
+    if J.ndim != 2:
+        raise ValueError(f"`J` must be a 2-D Jacobian, got shape {J.shape}")
+    Wi = np.eye(J.shape[1]) if W is None else np.linalg.inv(as_matrix(W, (J.shape[1],) * 2, "W"))
+    A = J @ Wi @ J.T
+    if np.linalg.cond(A) > 1e12:
+        raise ValueError("`J` is (close to) singular: J W^-1 J^T is not invertible; use the DLS inverse")
+    return Wi @ J.T @ np.linalg.inv(A)
+
+
+# --------------------------------------------------------------------------------------------
+# Task space and pose errors (Sect. 3.7.3)
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class TaskSpace:
+    """The controlled end-effector quantities.
+
+    Attributes
+    ----------
+    frame : the frame (name or id; None = the robot's end effector).
+    orientation : ``"none"`` (position only), ``"axis_angle"`` (3.85), ``"quaternion"`` (3.91),
+        ``"euler_zyz"`` or ``"rpy"`` (φ_d − φ_e with the analytical Jacobian (3.66)).
+    rows : indices (into the 6 components [position; orientation]) that are controlled;
+        default all 6, or the 3 position rows when ``orientation="none"``. E.g. (0, 1) for the
+        planar position of Problem 3.21, (0, 1, 2, 3) for [p; φ] of the SCARA in Problem 3.22.
+    """
+
+    frame: str | int | None = None
+    orientation: str = "axis_angle"
+    rows: tuple[int, ...] | None = None
+
+    def __post_init__(self):
+        if self.orientation not in ORIENTATIONS:
+            raise ValueError(f"`orientation` must be one of {ORIENTATIONS}, got {self.orientation!r}")
+        rows = self.selected
+        if len(rows) == 0 or len(set(rows)) != len(rows) or not all(0 <= r < 6 for r in rows):
+            raise ValueError(f"`rows` must be distinct indices in 0..5, got {self.rows}")
+        if self.orientation == "none" and any(r >= 3 for r in rows):
+            raise ValueError("`rows` may only select position rows (0..2) when orientation='none'")
+
+    @property
+    def selected(self) -> tuple[int, ...]:
+        if self.rows is not None:
+            return tuple(int(r) for r in self.rows)
+        return (0, 1, 2) if self.orientation == "none" else tuple(range(6))
+
+
+@dataclass(frozen=True)
+class PoseError:
+    """Errors and Jacobians of a task at one configuration (all restricted to the task rows).
+
+    ``e`` the error (3.68 style), ``J`` the task Jacobian (geometric or analytical),
+    ``feedforward`` the desired task velocity (ẋ_d), ``L`` the (3.87) matrix for angle–axis, else None.
+    """
+
+    e: np.ndarray
+    J: np.ndarray
+    feedforward: np.ndarray
+    L: np.ndarray | None
+    T_e: np.ndarray
+
+
+def pose_error(robot: Robot, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | None = None,
+               task: TaskSpace = TaskSpace()) -> PoseError:
+    """Position and orientation error of ``task``'s frame at ``q`` w.r.t. the desired pose ``T_d``.
+
+    ``v_d`` = [ṗ_d; ω_d] (6,) is the desired velocity (default 0); for Euler-angle errors the
+    feed-forward is [ṗ_d; T^{-1}(φ_d) ω_d] and the Jacobian is the analytical one, Eq. (3.66).
+    """
+    model, data = robot.model, robot.data
+    fid = robot.ee_frame if task.frame is None else robot.frame(task.frame)
+    J = pin.computeFrameJacobian(model, data, q, fid, LWA)          # also runs forward kinematics
+    oMf = pin.updateFramePlacement(model, data, fid)
+    R_e, p_e = oMf.rotation, oMf.translation
+    R_d, p_d = T_d[:3, :3], T_d[:3, 3]
+    v_d = np.zeros(6) if v_d is None else v_d
+    e = np.empty(6)
+    e[:3] = p_d - p_e
+    ff = v_d.copy()
+    L = None
+    kind = task.orientation
+    if kind == "axis_angle":
+        e[3:] = orientation_error_axis_angle(R_d, R_e)                # Eq. (3.85)
+        L = orientation_error_matrix(R_d, R_e)                         # Eq. (3.87)
+    elif kind == "quaternion":
+        e[3:] = orientation_error_quaternion(rotation_to_quaternion(R_d), rotation_to_quaternion(R_e))  # (3.91)
+    elif kind in ("euler_zyz", "rpy"):
+        extract, T_of = ((rotation_to_euler_zyz, euler_rate_matrix_zyz) if kind == "euler_zyz"
+                         else (rotation_to_rpy, euler_rate_matrix_rpy))
+        phi_d, phi_e = extract(R_d), extract(R_e)
+        if phi_e.singular or phi_d.singular:
+            raise ValueError(f"{kind} representation singularity at the {'current' if phi_e.singular else 'desired'}"
+                             " orientation: the analytical Jacobian is not defined")
+        e[3:] = (phi_d.angles - phi_e.angles + np.pi) % (2 * np.pi) - np.pi
+        J = J.copy()
+        J[3:] = np.linalg.solve(T_of(phi_e.angles), J[3:])             # J_A = T_A^{-1} J, Eq. (3.66)
+        ff[3:] = np.linalg.solve(T_of(phi_d.angles), v_d[3:])          # φ̇_d = T^{-1}(φ_d) ω_d
+    else:
+        e[3:] = 0.0
+    rows = list(task.selected)
+    T_e = oMf.homogeneous
+    return PoseError(e[rows], J[rows], ff[rows], L, T_e)
+
+
+def pose_residual(T_d: np.ndarray, T_e: np.ndarray, task: TaskSpace = TaskSpace()) -> float:
+    """max(‖p_d − p_e‖ over the task's position rows, rotation angle of R_e^T R_d if orientation is controlled)."""
+    rows = task.selected
+    pos = [r for r in rows if r < 3]
+    res = float(np.linalg.norm((T_d[:3, 3] - T_e[:3, 3])[pos])) if pos else 0.0
+    if task.orientation != "none" and any(r >= 3 for r in rows):
+        if len([r for r in rows if r >= 3]) == 3:
+            angle = float(np.linalg.norm(pin.log3(T_e[:3, :3].T @ T_d[:3, :3])))
+        else:  # a partial orientation task: the error components themselves
+            angle = 0.0
+        res = max(res, angle)
+    return res
+
+
+def _gain(K: Any, m: int, name: str) -> np.ndarray:
+    K = np.asarray(K, dtype=float)
+    if K.ndim == 0:
+        return float(K) * np.eye(m)
+    if K.ndim == 1:
+        return np.diag(as_vector(K, m, name))
+    return as_matrix(K, (m, m), name)
+
+
+# --------------------------------------------------------------------------------------------
+# Secondary tasks for the null space (3.55)–(3.58): plain functions q -> q̇_0
+# --------------------------------------------------------------------------------------------
+
+def numerical_gradient(w: Callable[[np.ndarray], float], q: np.ndarray, step: float = 1e-6,
+                       scheme: str = "forward") -> np.ndarray:
+    """∂w/∂q by forward (as the manual's 3.21) or central differences of step ``step``."""
+    q = np.asarray(q, dtype=float)
+    g = np.empty(q.size)
+    if scheme == "forward":
+        w0 = w(q)
+        for k in range(q.size):
+            dq = q.copy()
+            dq[k] += step
+            g[k] = (w(dq) - w0) / step
+    elif scheme == "central":
+        for k in range(q.size):
+            dp, dm = q.copy(), q.copy()
+            dp[k] += step
+            dm[k] -= step
+            g[k] = (w(dp) - w(dm)) / (2 * step)
+    else:
+        raise ValueError(f"`scheme` must be 'forward' or 'central', got {scheme!r}")
+    return g
+
+
+def gradient_velocity(w: Callable[[np.ndarray], float], k0: float, step: float = 1e-6,
+                      scheme: str = "forward",
+                      gradient: Callable[[np.ndarray], np.ndarray] | None = None) -> Callable[[np.ndarray], np.ndarray]:
+    """q̇_0(q) = k_0 (∂w/∂q)^T, Eq. (3.55): ascend the objective ``w`` (numerically unless ``gradient``)."""
+    if gradient is not None:
+        return lambda q: k0 * gradient(q)
+    return lambda q: k0 * numerical_gradient(w, q, step, scheme)
+
+
+def joint_limit_distance(robot: Robot, q: np.ndarray) -> float:
+    """w(q) = −1/(2n) Σ ((q_i − q̄_i)/(q_iM − q_im))², the distance from the joint limits, Eq. (3.57)."""
+    lo, hi = robot.lower, robot.upper
+    mid = 0.5 * (lo + hi)
+    return float(-0.5 / robot.nq * np.sum(((q - mid) / (hi - lo)) ** 2))
+
+
+def joint_limit_distance_gradient(robot: Robot, q: np.ndarray) -> np.ndarray:
+    """∂w/∂q of :func:`joint_limit_distance`: −(q_i − q̄_i)/(n (q_iM − q_im)²)."""
+    lo, hi = robot.lower, robot.upper
+    return -(q - 0.5 * (lo + hi)) / (robot.nq * (hi - lo) ** 2)
+
+
+def manipulability_objective(robot: Robot, frame: str | int | None = None,
+                             rows: tuple[int, ...] = tuple(range(6))) -> Callable[[np.ndarray], float]:
+    """w(q) = √det(J J^T) (3.56) of the rows ``rows`` of the frame's Jacobian, as a function of q."""
+    fid = robot.ee_frame if frame is None else robot.frame(frame)
+    rows = list(rows)
+    return lambda q: manipulability(pin.computeFrameJacobian(robot.model, robot.data, q, fid, LWA)[rows])
+
+
+# --------------------------------------------------------------------------------------------
+# CLIK as a discrete controller on the integrator plant
+# --------------------------------------------------------------------------------------------
+
+class JointIntegrator:
+    """The plant q̇ = u of a kinematic IK loop (x = q); RK4 with u held is Euler's step (3.48)."""
+
+    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return u
+
+
+def constant_pose(T_d: Any) -> Callable[[float], tuple[np.ndarray, np.ndarray]]:
+    """A reference t ↦ (T_d, 0): regulation to a fixed pose."""
+    T_d = as_matrix(T_d, (4, 4), "T_d").copy()
+    zero = np.zeros(6)
+    return lambda t: (T_d, zero)
+
+
+class CLIK:
+    """Closed-loop inverse kinematics, Sect. 3.7: a controller ``(t, q) -> q̇`` for :func:`simulate`.
+
+    Parameters
+    ----------
+    robot : the robot.
+    reference : ``t -> (T_d (4, 4), v_d (6,) = [ṗ_d; ω_d])``.
+    task : the controlled quantities (:class:`TaskSpace`).
+    K : gain (scalar, (m,) diagonal or (m, m)); for angle–axis and quaternion errors the
+        orientation block is K_O of (3.89)/(3.93).
+    law : ``"inverse"`` (3.70), ``"pseudo_inverse"`` (3.72), ``"dls"`` (3.59) or ``"transpose"`` (3.76).
+    damping : k of the DLS inverse.
+    secondary : optional ``q -> q̇_0`` projected in the null space, (3.54)/(3.72) (not with "inverse").
+
+    ``log()`` returns ``e`` (task error), ``qd`` (joint velocity) and ``residual``.
+    """
+
+    def __init__(self, robot: Robot, reference: Callable[[float], tuple[np.ndarray, np.ndarray]],
+                 task: TaskSpace = TaskSpace(), K: Any = 500.0, law: str = "pseudo_inverse",
+                 damping: float = 0.0, secondary: Callable[[np.ndarray], np.ndarray] | None = None):
+        if law not in LAWS:
+            raise ValueError(f"`law` must be one of {LAWS}, got {law!r}")
+        if secondary is not None and law in ("inverse", "transpose"):
+            raise ValueError(f"a null-space `secondary` task needs a redundant law, not {law!r}")
+        self.robot, self.reference, self.task, self.law = robot, reference, task, law
+        self.K = _gain(K, len(task.selected), "K")
+        self.damping = float(damping)
+        self.secondary = secondary
+        rows = task.selected
+        self._ori_rows = [i for i, r in enumerate(rows) if r >= 3]
+        self._ori_full = [r - 3 for r in rows if r >= 3]
+        self._last: dict[str, Any] = {}
+
+    def reset(self) -> None:
+        self._last = {}
+
+    def velocity(self, t: float, q: np.ndarray) -> tuple[np.ndarray, PoseError]:
+        """q̇ of the CLIK law at (t, q) and the pose error it used."""
+        T_d, v_d = self.reference(t)
+        err = pose_error(self.robot, q, T_d, v_d, self.task)
+        J, e = err.J, err.e
+        if self.law == "transpose":
+            return J.T @ (self.K @ e), err                                 # Eq. (3.76)
+        v = err.feedforward + self.K @ e                                   # ẋ_d + K e
+        if err.L is not None and self._ori_rows:                           # Eqs. (3.88)–(3.89)
+            o = self._ori_rows
+            L = err.L[np.ix_(self._ori_full, self._ori_full)]
+            v[o] = np.linalg.solve(L, L.T @ err.feedforward[o] + (self.K @ e)[o])
+        if self.law == "inverse":
+            if J.shape[0] != J.shape[1]:
+                raise ValueError(f"law 'inverse' needs a square task Jacobian, got {J.shape}")
+            return np.linalg.solve(J, v), err                              # Eq. (3.70)
+        Jp = (damped_least_squares_inverse(J, self.damping) if self.law == "dls"
+              else np.linalg.pinv(J))                                      # Eqs. (3.59), (3.52)
+        qd = Jp @ v
+        if self.secondary is not None:
+            qd0 = self.secondary(q)
+            qd = qd + qd0 - Jp @ (J @ qd0)                                 # (I − J† J) q̇_0, Eq. (3.72)
+        return qd, err
+
+    def __call__(self, t: float, q: np.ndarray) -> np.ndarray:
+        qd, err = self.velocity(t, q)
+        self._last = {"e": err.e, "qd": qd}
+        return qd
+
+    def log(self) -> dict[str, Any]:
+        return self._last
+
+
+class TwoStageCLIK:
+    """Two-stage CLIK for a manipulator with a spherical wrist, Problem 3.14.
+
+    Stage 1 (arm joints q_P): q̇_P = J_PP^{-1}(ṗ_Wd + K_P e_PW), with p_Wd = p_d + R_d o_W, the
+    wrist point located by the constant offset o_W of the wrist frame in the end-effector frame
+    (−d6 z_e for the book's wrist, (2.93)) and ṗ_Wd = ṗ_d + ω_d × R_d o_W.
+    Stage 2 (wrist joints q_O): q̇_O = J_OO^{-1}(ω_d − J_OP q̇_P + K_O e_O), e_O from (3.85).
+    J_PP, J_OP, J_OO are the blocks of (3.42) (the wrist joints do not move p_W).
+    """
+
+    def __init__(self, robot: Robot, reference: Callable[[float], tuple[np.ndarray, np.ndarray]],
+                 wrist_frame: str | int, n_arm: int = 3, K_P: Any = 500.0, K_O: Any = 500.0):
+        self.robot, self.reference, self.n_arm = robot, reference, int(n_arm)
+        self.wrist = robot.frame(wrist_frame)
+        self.ee = robot.ee_frame
+        self.K_P, self.K_O = _gain(K_P, 3, "K_P"), _gain(K_O, 3, "K_O")
+        model, data = robot.model, robot.data
+        pin.framesForwardKinematics(model, data, pin.neutral(model))
+        oMe, oMw = data.oMf[self.ee], data.oMf[self.wrist]
+        self.offset = oMe.rotation.T @ (oMw.translation - oMe.translation)   # o_W in the ee frame
+        self._last: dict[str, Any] = {}
+
+    def reset(self) -> None:
+        self._last = {}
+
+    def __call__(self, t: float, q: np.ndarray) -> np.ndarray:
+        model, data, n = self.robot.model, self.robot.data, self.n_arm
+        T_d, v_d = self.reference(t)
+        R_d, p_d = T_d[:3, :3], T_d[:3, 3]
+        pin.computeJointJacobians(model, data, q)
+        pin.updateFramePlacements(model, data)
+        J_W = pin.getFrameJacobian(model, data, self.wrist, LWA)
+        J_E = pin.getFrameJacobian(model, data, self.ee, LWA)
+        r_W = R_d @ self.offset
+        e_PW = p_d + r_W - data.oMf[self.wrist].translation
+        pd_W = v_d[:3] + np.cross(v_d[3:], r_W)
+        qd_P = np.linalg.solve(J_W[:3, :n], pd_W + self.K_P @ e_PW)            # stage 1
+        e_O = orientation_error_axis_angle(R_d, data.oMf[self.ee].rotation)     # Eq. (3.85)
+        qd_O = np.linalg.solve(J_E[3:, n:], v_d[3:] - J_E[3:, :n] @ qd_P + self.K_O @ e_O)  # stage 2
+        e_P = p_d - data.oMf[self.ee].translation
+        self._last = {"e_PW": e_PW, "e_P": e_P, "e_O": e_O}
+        return np.concatenate([qd_P, qd_O])
+
+    def log(self) -> dict[str, Any]:
+        return self._last
+
+
+def solve_clik(robot: Robot, T_d: Any, q0: Any, task: TaskSpace = TaskSpace(), damping: float = 1e-3,
+               tol: float = 1e-6, max_iterations: int = 500,
+               secondary: Callable[[np.ndarray], np.ndarray] | None = None,
+               step: float = 1.0) -> IKResult:
+    """Regulate to a fixed pose by CLIK iterations q ← q + α J*(e) (+ null-space q̇_0): IK of one pose.
+
+    Each iteration is one step of the CLIK law with unit gain (a damped Gauss–Newton step); the
+    configuration is kept within the joint limits. ``success`` when the residual is below ``tol``.
+    """
+    T_d = as_matrix(T_d, (4, 4), "T_d")
+    q = as_vector(q0, robot.nq, "q0").copy()
+    lo, hi = robot.lower, robot.upper
+    best_q, best = q.copy(), np.inf
+    for it in range(1, max_iterations + 1):
+        err = pose_error(robot, q, T_d, None, task)
+        res = pose_residual(T_d, err.T_e, task)
+        if res < best:
+            best, best_q = res, q.copy()
+        if res < tol:
+            return IKResult(q, True, it - 1, res, "converged")
+        Jp = damped_least_squares_inverse(err.J, damping)
+        dq = Jp @ err.e
+        if secondary is not None:
+            dq0 = secondary(q)
+            dq = dq + dq0 - Jp @ (err.J @ dq0)
+        q = np.clip(pin.integrate(robot.model, q, step * dq), lo, hi)
+    err = pose_error(robot, q, T_d, None, task)
+    res = pose_residual(T_d, err.T_e, task)
+    if res < best:
+        best, best_q = res, q.copy()
+    return IKResult(best_q, best < tol, max_iterations, best,
+                    "converged" if best < tol else f"not converged in {max_iterations} iterations "
+                    f"(best residual {best:.3g}; unreachable pose or local minimum)")
+
+
+# --------------------------------------------------------------------------------------------
+# Optimisation IK with CasADi / IPOPT
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class CasadiIKOptions:
+    """Options of :class:`CasadiIK`.
+
+    position_weights : (3,) weights of ‖p − p_d‖² components [1/m²].
+    orientation_weight : weight of ‖R − R_d‖_F² = 2 (3 − tr R_d^T R).
+    posture_weight : weight of ‖q − q_posture‖² (0 = no posture cost).
+    tol : success tolerance on the pose residual (max of position [m] and angle [rad]).
+    restarts : number of random seeds tried after the initial guess.
+    max_iter : IPOPT iterations per solve.
+    """
+
+    position_weights: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    orientation_weight: float = 1.0
+    posture_weight: float = 0.0
+    tol: float = 1e-6
+    restarts: int = 10
+    max_iter: int = 300
+
+    def __post_init__(self):
+        if self.tol <= 0 or self.restarts < 0 or self.max_iter < 1:
+            raise ValueError("CasadiIKOptions: tol > 0, restarts >= 0 and max_iter >= 1 are required")
+        if min(self.position_weights) < 0 or self.orientation_weight < 0 or self.posture_weight < 0:
+            raise ValueError("CasadiIKOptions: weights must be >= 0")
+
+
+class CasadiIK:
+    """IK as a nonlinear program solved by IPOPT on the symbolic kinematics of the robot:
+
+    min_q  Σ w_p,i (p_i(q) − p_d,i)² + w_O ‖R(q) − R_d‖_F² + w_q ‖q − q_posture‖²   s.t.  q_m ≤ q ≤ q_M.
+
+    The problem is built once; :meth:`solve` tries the initial guess, then up to ``restarts`` random
+    configurations within the limits (``rng``), and stops at the first whose residual is below ``tol``.
+    With a posture cost the optimum trades pose accuracy for posture, so keep its weight small.
+    """
+
+    def __init__(self, robot: Robot, frame: str | int | None = None,
+                 options: CasadiIKOptions | None = None):
+        import casadi as ca
+
+        from rigid_body.symbolic import frame_placement_function
+
+        self.robot = robot
+        self.options = options or CasadiIKOptions()
+        self.frame = robot.ee_frame if frame is None else robot.frame(frame)
+        fk = frame_placement_function(robot, self.frame)
+        o = self.options
+        q = ca.SX.sym("q", robot.nq)
+        p_d = ca.SX.sym("p_d", 3)
+        R_d = ca.SX.sym("R_d", 3, 3)
+        q_post = ca.SX.sym("q_posture", robot.nq)
+        R, p = fk(q)
+        dp = p - p_d
+        cost = ca.sum1(ca.DM(o.position_weights) * dp * dp)
+        cost += o.orientation_weight * ca.sumsqr(R - R_d)
+        if o.posture_weight > 0:
+            cost += o.posture_weight * ca.sumsqr(q - q_post)
+        params = ca.vertcat(p_d, ca.vec(R_d), q_post)
+        nlp = {"x": q, "f": cost, "p": params}
+        self._solver = ca.nlpsol("ik", "ipopt", nlp, {
+            "ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
+            "ipopt.tol": 1e-14, "ipopt.acceptable_tol": 1e-12, "ipopt.max_iter": o.max_iter,
+            "ipopt.hessian_approximation": "exact"})
+        self._lo = np.array(robot.lower)
+        self._hi = np.array(robot.upper)
+        self._fk = fk
+
+    def _residual(self, q: np.ndarray, T_d: np.ndarray) -> float:
+        R, p = (x.full() for x in self._fk(q))
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = R, p.ravel()
+        return pose_residual(T_d, T, TaskSpace())
+
+    def solve(self, T_d: Any, q0: Any = None, rng: np.random.Generator | None = None,
+              q_posture: Any = None) -> IKResult:
+        """Solve for the pose ``T_d`` (4, 4); ``q0`` the first guess (default: mid-range)."""
+        T_d = as_matrix(T_d, (4, 4), "T_d")
+        robot, o = self.robot, self.options
+        lo, hi = self._lo, self._hi
+        mid = 0.5 * (np.maximum(lo, -np.pi) + np.minimum(hi, np.pi))
+        q0 = mid if q0 is None else np.clip(as_vector(q0, robot.nq, "q0"), lo, hi)
+        q_post = mid if q_posture is None else as_vector(q_posture, robot.nq, "q_posture")
+        rng = np.random.default_rng(0) if rng is None else rng
+        params = np.concatenate([T_d[:3, 3], T_d[:3, :3].ravel(order="F"), q_post])
+        best_q, best, iterations = q0, np.inf, 0
+        for attempt in range(o.restarts + 1):
+            guess = q0 if attempt == 0 else robot.random_configuration(rng)
+            sol = self._solver(x0=guess, p=params, lbx=lo, ubx=hi)
+            stats = self._solver.stats()
+            iterations += int(stats.get("iter_count", 0))
+            q = np.clip(sol["x"].full().ravel(), lo, hi)
+            res = self._residual(q, T_d)
+            if res < best:
+                best, best_q = res, q
+            if best < o.tol:
+                return IKResult(best_q, True, iterations, best, f"converged (attempt {attempt + 1})")
+        return IKResult(best_q, False, iterations, best,
+                        f"no solution within tol {o.tol:g} after {o.restarts + 1} attempts "
+                        f"(best residual {best:.3g}): the pose is unreachable or outside the joint limits")
+
+
+# --------------------------------------------------------------------------------------------
+# Velocity IK as a QP (proxsuite)
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class QPIKOptions:
+    """Options of :class:`QPVelocityIK`.
+
+    gain : K of the task velocity v = v_d + K e [1/s]; dt : step [s] used for the position limits
+    and by :meth:`QPVelocityIK.solve`; damping : λ of ½ λ ‖q̇‖²; velocity_limit : (nv,) or scalar
+    [rad/s] (None: the model's); task : :class:`TaskSpace` (angle–axis error by default).
+    """
+
+    gain: float = 1.0 / 0.05
+    dt: float = 0.05
+    damping: float = 1e-4
+    velocity_limit: Any = None
+    task: TaskSpace = field(default_factory=TaskSpace)
+    tol: float = 1e-6
+    max_iterations: int = 500
+
+
+class QPVelocityIK:
+    """Velocity IK as a QP solved by proxsuite at every step:
+
+    min_q̇ ½ ‖J q̇ − v‖² + ½ λ ‖q̇‖²  s.t.  max(−q̇_M, (q_m − q)/Δt) ≤ q̇ ≤ min(q̇_M, (q_M − q)/Δt),
+
+    with v = v_d + K e the task velocity (the CLIK velocity of (3.70) with the limits as constraints).
+    """
+
+    def __init__(self, robot: Robot, options: QPIKOptions | None = None):
+        self.robot = robot
+        self.options = options or QPIKOptions()
+        o = self.options
+        vmax = robot.model.velocityLimit if o.velocity_limit is None else o.velocity_limit
+        self.qd_max = np.broadcast_to(np.asarray(vmax, dtype=float), (robot.nv,)).copy()
+        if np.any(self.qd_max <= 0):
+            raise ValueError("`velocity_limit` must be positive")
+
+    def step(self, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | None = None) -> tuple[np.ndarray, PoseError]:
+        """The joint velocity q̇ of one QP step at q, and the pose error."""
+        import proxsuite
+
+        o, robot = self.options, self.robot
+        err = pose_error(robot, q, T_d, v_d, o.task)
+        J = err.J
+        v = err.feedforward + o.gain * err.e
+        H = J.T @ J + o.damping * np.eye(robot.nv)
+        g = -J.T @ v
+        lo = np.maximum(-self.qd_max, (robot.lower - q) / o.dt)
+        hi = np.minimum(self.qd_max, (robot.upper - q) / o.dt)
+        res = proxsuite.proxqp.dense.solve(H, g, None, None, np.eye(robot.nv), lo, hi,
+                                           eps_abs=1e-10, verbose=False)
+        return np.asarray(res.x), err
+
+    def solve(self, T_d: Any, q0: Any) -> IKResult:
+        """Iterate q ← q + Δt q̇ (QP steps toward the fixed pose T_d) until the residual < tol."""
+        T_d = as_matrix(T_d, (4, 4), "T_d")
+        o, robot = self.options, self.robot
+        q = np.clip(as_vector(q0, robot.nq, "q0"), robot.lower, robot.upper)
+        best, best_q = np.inf, q.copy()
+        for it in range(o.max_iterations + 1):
+            qd, err = self.step(q, T_d)
+            res = pose_residual(T_d, err.T_e, o.task)
+            if res < best:
+                best, best_q = res, q.copy()
+            if res < o.tol:
+                return IKResult(q, True, it, res, "converged")
+            if it < o.max_iterations:
+                q = np.clip(pin.integrate(robot.model, q, o.dt * qd), robot.lower, robot.upper)
+        return IKResult(best_q, False, o.max_iterations, best,
+                        f"not converged in {o.max_iterations} QP steps (best residual {best:.3g})")

@@ -1,0 +1,468 @@
+"""Centralised joint-space motion control (Sects. 8.4–8.5): controllers for any :class:`Robot`.
+
+Each controller is a small object called by :func:`controllers.simulation.simulate` every sampling
+period with the measured state ``x = [q, q̇]``; its output (a torque, or a voltage for the
+voltage-controlled arm) is held until the next sample. Controllers that have a state (integrators,
+adaptive estimates) reset it in ``reset()``; ``log()`` returns the signals worth plotting.
+
+* :class:`PDGravityCompensation` — u = g(q) + K_P q̃ + K_D q̃̇, Eq. (8.51), Fig. 8.20.
+* :class:`ComputedTorqueFeedforward` — independent-joint P/PI servos on the motor side (Fig. 5.11)
+  with decentralised feedforward and the computed-torque feedforward of the diagonal inertia and
+  gravity, Fig. 8.19, for the voltage-controlled arm of Fig. 8.3.
+* :class:`InverseDynamicsControl` — u = B(q) y + n(q, q̇), y = q̈_d + K_D q̃̇ + K_P q̃,
+  Eqs. (8.57), (8.60), Fig. 8.22.
+* :class:`RobustControl` — constant B̂ and n̂ plus the robust term w of (8.89) with a boundary layer,
+  Fig. 8.23.
+* :class:`AdaptivePayloadControl` — the adaptive law (8.98) with the update π̂̇ = K_π⁻¹ Yᵀσ when the
+  unknown parameter is the mass of a payload at the tip, Fig. 8.26.
+
+A *reference* is a constant posture (n,), a :class:`planners.timing.Trajectory` (its ``evaluate``) or
+any callable ``t -> (q_d, q̇_d, q̈_d)``. The tracking error is q̃ = q_d − q (desired minus actual).
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
+Sects. 8.3.3, 8.4, 8.5; Eqs. (8.51), (8.57), (8.60), (8.76)–(8.89), (8.92)–(8.98).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Sequence
+
+import numpy as np
+import pinocchio as pin
+from scipy.linalg import solve_continuous_lyapunov
+from scipy.optimize import fsolve
+
+from controllers.independent_joint import JointDesign, JointDrive, Transducers
+from rigid_body.dynamics import coriolis_matrix, gravity_torques, inertia_matrix, inverse_dynamics
+from rigid_body.robots import Robot
+from rigid_body.validation import as_matrix, as_vector
+
+Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
+
+
+# --------------------------------------------------------------------------------------------
+# Shared pieces: references, gains, payload models
+# --------------------------------------------------------------------------------------------
+
+def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
+    """``reference`` as a function ``t -> (x_d, ẋ_d, ẍ_d)`` of (n,) arrays.
+
+    Accepts a constant (n,) vector (a set point: zero velocity and acceleration), an object with
+    ``evaluate(t)`` (a :class:`planners.timing.Trajectory`) or a callable ``t -> (x, ẋ, ẍ)``.
+    """
+    if hasattr(reference, "evaluate"):
+        law = reference.evaluate
+    elif callable(reference):
+        law = reference
+    else:
+        x_d = as_vector(reference, n, name).copy()
+        zero = np.zeros(n)
+        return lambda t: (x_d, zero, zero)
+
+    def sampled(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        x, xd, xdd = law(t)
+        return (np.reshape(np.asarray(x, dtype=float), n), np.reshape(np.asarray(xd, dtype=float), n),
+                np.reshape(np.asarray(xdd, dtype=float), n))
+
+    try:
+        sampled(0.0)
+    except (ValueError, TypeError) as err:
+        raise ValueError(f"`{name}` must give (n,) = ({n},) position, velocity and acceleration: {err}") from None
+    return sampled
+
+
+def as_gain(K: Any, n: int, name: str) -> np.ndarray:
+    """A gain matrix (n, n) from a scalar (K I), a vector (diag K) or a matrix; must be positive definite."""
+    K_arr = np.asarray(K, dtype=float)
+    if K_arr.ndim == 0:
+        M = float(K_arr) * np.eye(n)
+    elif K_arr.ndim == 1:
+        M = np.diag(as_vector(K_arr, n, name))
+    else:
+        M = as_matrix(K_arr, (n, n), name)
+    if not np.all(np.isfinite(M)) or np.min(np.linalg.eigvalsh(0.5 * (M + M.T))) <= 0:
+        raise ValueError(f"`{name}` must be a finite positive definite gain, got {K!r}")
+    return M
+
+
+def _friction(Fv: Any, n: int) -> np.ndarray:
+    v = as_vector(np.broadcast_to(np.asarray(Fv, dtype=float), (n,)), n, "viscous_friction")
+    if np.any(v < 0):
+        raise ValueError(f"`viscous_friction` must be non-negative, got {v}")
+    return v
+
+
+def with_payload(robot: Robot, mass: float, frame: str | int | None = None) -> Robot:
+    """A copy of ``robot`` carrying a point mass ``mass`` [kg] at the origin of ``frame`` (default ee).
+
+    The mass is added to the inertia of the body that carries the frame, so B(q), C(q, q̇) and g(q)
+    of the copy are those of the arm with the payload (Sect. 7.2.2, a concentrated load).
+    """
+    if not (np.isfinite(mass) and mass >= 0):
+        raise ValueError(f"`mass` must be a non-negative payload [kg], got {mass!r}")
+    fid = robot.ee_frame if frame is None else robot.frame(frame)
+    model = robot.model.copy()
+    f = model.frames[fid]
+    model.inertias[f.parentJoint] = model.inertias[f.parentJoint] + pin.Inertia(
+        float(mass), f.placement.translation.copy(), np.zeros((3, 3)))
+    return Robot(name=f"{robot.name}+{mass:g}kg", model=model, data=model.createData(),
+                 ee_frame=robot.ee_frame, urdf_path=None, urdf_xml=robot.urdf_xml,
+                 configurations=dict(robot.configurations))
+
+
+def mean_diagonal_inertia(robot: Robot, configurations: np.ndarray) -> np.ndarray:
+    """B̄: the average over ``configurations`` (M, n) of the diagonal of B(q), a constant B̂ for (8.76)."""
+    qs = np.atleast_2d(np.asarray(configurations, dtype=float))
+    if qs.shape[1] != robot.nq:
+        raise ValueError(f"`configurations` must have shape (M, {robot.nq}), got {qs.shape}")
+    return np.mean([np.diag(inertia_matrix(robot, q)) for q in qs], axis=0)
+
+
+def _split(x: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    return x[:n], x[n:2 * n]
+
+
+# --------------------------------------------------------------------------------------------
+# PD control with gravity compensation (8.51)
+# --------------------------------------------------------------------------------------------
+
+class PDGravityCompensation:
+    """u = g(q) + K_P q̃ + K_D q̃̇ (Eq. 8.51, Fig. 8.20; with q̇_d = 0, K_D q̃̇ = −K_D q̇).
+
+    For a set point the equilibrium q = q_d is globally asymptotically stable (Lyapunov function
+    V = ½ q̇ᵀ B q̇ + ½ q̃ᵀ K_P q̃). With a moving reference this is PD + gravity tracking, whose error
+    is not zero while the reference accelerates.
+
+    Parameters
+    ----------
+    robot : the controller's model (its g(q) is compensated).
+    K_P, K_D : gains (scalar, (n,) or (n, n)), positive definite.
+    reference : set point (n,) or trajectory (see :func:`as_reference`).
+    """
+
+    def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any):
+        n = robot.nv
+        self.robot, self.n = robot, n
+        self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
+        self.reference = as_reference(reference, n)
+        self._log: dict[str, np.ndarray] = {}
+
+    def reset(self) -> None:
+        self._log = {}
+
+    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
+        q, qd = _split(x, self.n)
+        q_d, qd_d, _ = self.reference(t)
+        e = q_d - q
+        u = gravity_torques(self.robot, q) + self.K_P @ e + self.K_D @ (qd_d - qd)  # Eq. (8.51)
+        self._log = {"q_d": q_d, "e": e}
+        return u
+
+    def log(self) -> dict[str, np.ndarray]:
+        return self._log
+
+
+# --------------------------------------------------------------------------------------------
+# Independent joint servos with computed-torque feedforward (Fig. 8.19 on Fig. 5.11)
+# --------------------------------------------------------------------------------------------
+
+class ComputedTorqueFeedforward:
+    """Independent-joint P/PI servos with decentralised and computed-torque feedforward (Fig. 8.19).
+
+    Each motor i (angle θ_mi = k_ri q_i) has the position + velocity loops of Fig. 5.11: a position
+    gain K_P, a PI velocity controller K_V (1 + s T_V)/s with T_V = T_m (the zero cancels the motor's
+    pole; discretised with a zero-order hold on its input, i.e. forward-Euler integral), transducers
+    k_TP, k_TV. The reference of the position loop carries the decentralised feedforward (Sect. 8.3.3)
+
+        r = k_TP θ_md + (k_TV/K_P) θ̇_md + θ̈_md/(k_m K_P K_V),
+
+    which inverts the servo's closed loop, and the voltage is corrected by the computed-torque
+    feedforward of the diagonal inertia terms and gravity along the desired trajectory,
+
+        τ_ff,i = (b_ii(q_d) − b̄_i) q̈_d,i + g_i(q_d),       v_ff = K_pr τ_ff,
+
+    where b̄_i = k_ri² I_i is the constant joint-side inertia the servo was designed for and
+    K_pr = R_a (k_t K_r)⁻¹ turns a joint torque into the voltage that cancels it (Fig. 8.3).
+
+    Parameters
+    ----------
+    robot : the controller's model for B(q_d), g(q_d).
+    reference : joint trajectory (see :func:`as_reference`).
+    gear_ratio : k_r (n,).
+    drives : one :class:`controllers.independent_joint.JointDrive` per joint (motor-side average
+        inertia I_i, R_a, k_t, k_v): give k_m = 1/k_v, b̄_i = k_ri² I_i and K_pr = R_a/(k_t k_r).
+    designs : one position + velocity :class:`~controllers.independent_joint.JointDesign` per joint
+        (K_P, K_V, T_V = T_m), e.g. from ``design_position_velocity(drive, zeta, omega_n)``.
+    transducers : the :class:`~controllers.independent_joint.Transducers` (k_TP, k_TV), default unit.
+    feedforward : False drops the computed-torque feedforward (the independent-joint servos alone).
+    """
+
+    def __init__(self, robot: Robot, reference: Any, gear_ratio: Any, drives: Sequence[JointDrive],
+                 designs: Sequence[JointDesign], transducers: Transducers = Transducers(),
+                 feedforward: bool = True):
+        n = robot.nv
+        self.robot, self.n = robot, n
+        if len(drives) != n or len(designs) != n:
+            raise ValueError(f"`drives` and `designs` must have one entry per joint ({n}), "
+                             f"got {len(drives)} and {len(designs)}")
+        if any(d.K_V is None or d.T_V is None or d.K_A is not None for d in designs):
+            raise ValueError("`designs` must be position + velocity designs (K_P, K_V, T_V)")
+        self.reference = as_reference(reference, n)
+        self.k_r = as_vector(np.broadcast_to(np.asarray(gear_ratio, dtype=float), (n,)), n, "gear_ratio")
+        if np.any(self.k_r <= 0):
+            raise ValueError(f"`gear_ratio` must be positive, got {self.k_r}")
+        self.K_P = np.array([d.K_P for d in designs])
+        self.K_V = np.array([d.K_V for d in designs])
+        self.T_V = np.array([d.T_V for d in designs])
+        self.k_m = np.array([d.k_m for d in drives])
+        self.K_pr = np.array([d.Ra / d.kt for d in drives]) / self.k_r  # R_a (k_t K_r)⁻¹
+        self.b_bar = self.k_r**2 * np.array([d.I for d in drives])  # joint-side constant inertia
+        self.k_TP, self.k_TV = float(transducers.k_TP), float(transducers.k_TV)
+        self.feedforward = bool(feedforward)
+        self.reset()
+
+    def reset(self) -> None:
+        self._integral = np.zeros(self.n)  # ∫ e_v dt of the PI velocity controllers
+        self._e_v = np.zeros(self.n)
+        self._t = None
+        self._log: dict[str, np.ndarray] = {}
+
+    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
+        q, qd = _split(x, self.n)
+        if self._t is not None:
+            self._integral = self._integral + (t - self._t) * self._e_v  # ZOH on the PI's input
+        self._t = t
+        q_d, qd_d, qdd_d = self.reference(t)
+        k_r = self.k_r
+        # Position-loop reference with the decentralised feedforward (motor side, θ_m = k_r q)
+        r = (self.k_TP * k_r * q_d + self.k_TV * k_r * qd_d / self.K_P
+             + k_r * qdd_d / (self.k_m * self.K_P * self.K_V))
+        e_v = self.K_P * (r - self.k_TP * k_r * q) - self.k_TV * k_r * qd
+        v = self.K_V * (self.T_V * e_v + self._integral)  # PI: K_V (1 + s T_V)/s
+        self._e_v = e_v
+        tau_ff = np.zeros(self.n)
+        if self.feedforward:
+            B_d = inertia_matrix(self.robot, q_d)
+            tau_ff = (np.diag(B_d) - self.b_bar) * qdd_d + gravity_torques(self.robot, q_d)
+            v = v + self.K_pr * tau_ff
+        self._log = {"q_d": q_d, "e": q_d - q, "tau_ff": tau_ff}
+        return v
+
+    def log(self) -> dict[str, np.ndarray]:
+        return self._log
+
+
+# --------------------------------------------------------------------------------------------
+# Inverse dynamics control (8.57), (8.60)
+# --------------------------------------------------------------------------------------------
+
+class InverseDynamicsControl:
+    """u = B(q) y + n(q, q̇), y = q̈_d + K_D q̃̇ + K_P q̃ (Eqs. 8.57, 8.60, Fig. 8.22).
+
+    n(q, q̇) = C(q, q̇) q̇ + F_v q̇ + g(q). With a perfect model the error obeys q̃̈ + K_D q̃̇ + K_P q̃ = 0.
+    B y + C q̇ + g is one recursive Newton–Euler pass (RNEA at acceleration y).
+
+    Parameters
+    ----------
+    robot : the controller's model (e.g. without the payload the real arm carries).
+    K_P, K_D : gains, positive definite.
+    reference : trajectory (see :func:`as_reference`).
+    viscous_friction : F_v of the model, scalar or (n,).
+    """
+
+    def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, viscous_friction: Any = 0.0):
+        n = robot.nv
+        self.robot, self.n = robot, n
+        self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
+        self.Fv = _friction(viscous_friction, n)
+        self.reference = as_reference(reference, n)
+        self._log: dict[str, np.ndarray] = {}
+
+    def reset(self) -> None:
+        self._log = {}
+
+    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
+        q, qd = _split(x, self.n)
+        q_d, qd_d, qdd_d = self.reference(t)
+        e, ed = q_d - q, qd_d - qd
+        y = qdd_d + self.K_D @ ed + self.K_P @ e  # Eq. (8.60)
+        u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd  # Eq. (8.57)
+        self._log = {"q_d": q_d, "e": e}
+        return u
+
+    def log(self) -> dict[str, np.ndarray]:
+        return self._log
+
+
+def inverse_dynamics_steady_state(plant_robot: Robot, model_robot: Robot, K_P: Any, q_d: Any,
+                                  q0: Any = None) -> np.ndarray:
+    """The rest posture q where inverse-dynamics control with a wrong model settles on a set point.
+
+    At rest (q̇ = q̈ = 0) the controller applies B̂(q) K_P (q_d − q) + ĝ(q) and the arm needs g(q):
+    the posture solves B̂(q) K_P (q_d − q) = g(q) − ĝ(q) (solved by Newton iterations from q_d).
+    """
+    n = model_robot.nv
+    K_P = as_gain(K_P, n, "K_P")
+    q_d = as_vector(q_d, n, "q_d")
+    start = q_d if q0 is None else as_vector(q0, n, "q0")
+
+    def residual(q: np.ndarray) -> np.ndarray:
+        return (inertia_matrix(model_robot, q) @ K_P @ (q_d - q)
+                - gravity_torques(plant_robot, q) + gravity_torques(model_robot, q))
+
+    q, info, ier, msg = fsolve(residual, start, full_output=True, xtol=1e-13)
+    if ier != 1 or np.max(np.abs(residual(q))) > 1e-8:
+        raise ValueError(f"no steady state of the inverse-dynamics loop found near {start}: {msg}")
+    return q
+
+
+# --------------------------------------------------------------------------------------------
+# Robust control (8.76)–(8.89)
+# --------------------------------------------------------------------------------------------
+
+def lyapunov_matrix(K_P: Any, K_D: Any, P: Any = None) -> np.ndarray:
+    """Q > 0 solving H̃ᵀ Q + Q H̃ = −P with H̃ = [[O, I], [−K_P, −K_D]] (Eq. 8.81); P defaults to I."""
+    K_P = np.atleast_2d(np.asarray(K_P, dtype=float))
+    n = K_P.shape[0]
+    K_P, K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
+    P = np.eye(2 * n) if P is None else as_gain(P, 2 * n, "P")
+    H = np.block([[np.zeros((n, n)), np.eye(n)], [-K_P, -K_D]])
+    Q = solve_continuous_lyapunov(H.T, -P)
+    return 0.5 * (Q + Q.T)
+
+
+class RobustControl:
+    """u = B̂ y + n̂, y = q̈_d + K_D q̃̇ + K_P q̃ + w, with the robust term (8.89) and a boundary layer.
+
+    z = Dᵀ Q ξ (ξ = [q̃; q̃̇], D = [O; I], Q from :func:`lyapunov_matrix`);
+    w = (ρ/‖z‖) z if ‖z‖ ≥ ε, else (ρ/ε) z (Eq. 8.89, continuous within the layer of thickness ε).
+    Here B̂ is a constant matrix and n̂ = F_v q̇ + g(q) (the model of Problem 8.13).
+
+    Parameters
+    ----------
+    robot : the controller's model for g(q).
+    B_hat : constant inertia estimate (n,) diagonal or (n, n).
+    K_P, K_D : error-dynamics gains; P : the matrix of (8.81) (default I).
+    rho : ρ ≥ 0, the bound of the uncertainty the term must dominate; epsilon : ε > 0.
+    reference, viscous_friction : as in :class:`InverseDynamicsControl`.
+    """
+
+    def __init__(self, robot: Robot, B_hat: Any, K_P: Any, K_D: Any, reference: Any, rho: float,
+                 epsilon: float, P: Any = None, viscous_friction: Any = 0.0):
+        n = robot.nv
+        self.robot, self.n = robot, n
+        self.B_hat = as_gain(B_hat, n, "B_hat")
+        self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
+        if not (np.isfinite(rho) and rho >= 0):
+            raise ValueError(f"`rho` must be non-negative, got {rho!r}")
+        if not (np.isfinite(epsilon) and epsilon > 0):
+            raise ValueError(f"`epsilon` must be positive, got {epsilon!r}")
+        self.rho, self.epsilon = float(rho), float(epsilon)
+        self.Q = lyapunov_matrix(self.K_P, self.K_D, P)
+        self._DtQ = self.Q[n:, :].copy()  # Dᵀ Q
+        self.Fv = _friction(viscous_friction, n)
+        self.reference = as_reference(reference, n)
+        self._log: dict[str, np.ndarray] = {}
+
+    def reset(self) -> None:
+        self._log = {}
+
+    def robust_term(self, e: np.ndarray, ed: np.ndarray) -> np.ndarray:
+        """w of Eq. (8.89) for the errors q̃, q̃̇."""
+        z = self._DtQ @ np.concatenate([e, ed])
+        norm = float(np.linalg.norm(z))
+        return (self.rho / max(norm, self.epsilon)) * z
+
+    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
+        q, qd = _split(x, self.n)
+        q_d, qd_d, qdd_d = self.reference(t)
+        e, ed = q_d - q, qd_d - qd
+        w = self.robust_term(e, ed)
+        y = qdd_d + self.K_D @ ed + self.K_P @ e + w
+        u = self.B_hat @ y + self.Fv * qd + gravity_torques(self.robot, q)
+        self._log = {"q_d": q_d, "e": e, "w": w}
+        return u
+
+    def log(self) -> dict[str, np.ndarray]:
+        return self._log
+
+
+# --------------------------------------------------------------------------------------------
+# Adaptive control on the payload mass (8.92)–(8.98)
+# --------------------------------------------------------------------------------------------
+
+class AdaptivePayloadControl:
+    """Adaptive control (Fig. 8.26) estimating the mass m_L of a point payload at ``frame``.
+
+    With q̇_r = q̇_d + Λ q̃, q̈_r = q̈_d + Λ q̃̇ and σ = q̇_r − q̇ (Eq. 8.92), the model is linear in
+    m_L: B(q) q̈_r + C(q, q̇) q̇_r + g(q) = τ₀ + m_L y_L, where τ₀ is the known arm's (without payload)
+    and y_L the payload's column of the regressor. The control law (8.98) and update law are
+
+        u = τ₀ + m̂_L y_L + F_v q̇_r + K_D σ,        m̂̇_L = k_π⁻¹ y_Lᵀ σ,
+
+    the update integrated by forward Euler over the sampling period. ``adaptation_gain`` is k_π⁻¹
+    (the manual's k_π = 0.005 must divide, not multiply: erratum of Problem 8.14).
+
+    y_L is computed exactly from two Pinocchio models (the known arm and the arm with a unit payload);
+    C is the Christoffel matrix, so y_L equals the manual's a₁y'₁₁ + a₂y'₁₃, a₁y'₂₁ + a₂y'₂₃.
+
+    Parameters
+    ----------
+    robot : the known arm (without the unknown payload).
+    K_D, Lambda : gains, positive definite.
+    adaptation_gain : k_π⁻¹ > 0 [kg/(N·m·rad/s·s)].
+    reference : trajectory (see :func:`as_reference`).
+    viscous_friction : F_v of the model; frame : where the payload sits (default the end effector).
+    mass0 : the initial estimate m̂_L(0).
+    """
+
+    def __init__(self, robot: Robot, K_D: Any, Lambda: Any, adaptation_gain: float, reference: Any,
+                 viscous_friction: Any = 0.0, frame: str | int | None = None, mass0: float = 0.0):
+        n = robot.nv
+        self.robot, self.n = robot, n
+        self.unit = with_payload(robot, 1.0, frame)
+        self.K_D, self.Lambda = as_gain(K_D, n, "K_D"), as_gain(Lambda, n, "Lambda")
+        if not (np.isfinite(adaptation_gain) and adaptation_gain > 0):
+            raise ValueError(f"`adaptation_gain` must be positive (it is k_pi^-1), got {adaptation_gain!r}")
+        self.gain = float(adaptation_gain)
+        if not np.isfinite(mass0):
+            raise ValueError(f"`mass0` must be finite, got {mass0!r}")
+        self.mass0 = float(mass0)
+        self.Fv = _friction(viscous_friction, n)
+        self.reference = as_reference(reference, n)
+        self.reset()
+
+    def reset(self) -> None:
+        self.mass = self.mass0
+        self._rate = 0.0
+        self._t = None
+        self._log: dict[str, Any] = {}
+
+    def regressor(self, q: np.ndarray, qd: np.ndarray, qd_r: np.ndarray,
+                  qdd_r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(τ₀, y_L): B q̈_r + C(q, q̇) q̇_r + g of the known arm, and the payload column (per kg)."""
+        def torque(robot: Robot) -> np.ndarray:
+            return (inertia_matrix(robot, q) @ qdd_r + coriolis_matrix(robot, q, qd) @ qd_r
+                    + gravity_torques(robot, q))
+
+        tau0 = torque(self.robot)
+        return tau0, torque(self.unit) - tau0
+
+    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
+        q, qd = _split(x, self.n)
+        if self._t is not None:
+            self.mass += (t - self._t) * self._rate  # forward Euler of m̂̇_L
+        self._t = t
+        q_d, qd_d, qdd_d = self.reference(t)
+        e, ed = q_d - q, qd_d - qd
+        qd_r = qd_d + self.Lambda @ e  # Eq. (8.92)
+        qdd_r = qdd_d + self.Lambda @ ed
+        sigma = qd_r - qd
+        tau0, y_L = self.regressor(q, qd, qd_r, qdd_r)
+        u = tau0 + self.mass * y_L + self.Fv * qd_r + self.K_D @ sigma  # Eq. (8.98)
+        self._rate = self.gain * float(y_L @ sigma)  # π̂̇ = K_π⁻¹ Yᵀ σ
+        self._log = {"q_d": q_d, "e": e, "m_hat": self.mass}
+        return u
+
+    def log(self) -> dict[str, Any]:
+        return self._log

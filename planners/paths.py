@@ -1,0 +1,335 @@
+"""Operational-space paths p(s) and orientation interpolation, timed by a scalar law s(t).
+
+A **path** maps its arc length s ∈ [0, length] to (p(s), dp/ds, d²p/ds²) (Sect. 4.4): a segment
+(4.34), a circle in 3-D (4.38)–(4.40), a sequence of segments through via points. A scalar timing
+law from :mod:`planners.timing` (``trapezoidal_law(0, path.length, t_f, sd_c)`` …) gives s(t);
+:class:`PathLaw` composes them (4.35)–(4.36):
+
+    ṗ = ṡ dp/ds,    p̈ = s̈ dp/ds + ṡ² d²p/ds²,
+
+and :func:`planners.timing.sample` turns it into a :class:`~planners.timing.Trajectory` whose
+columns are x, y, z. Orientation: angle–axis interpolation (Sect. 4.5, (4.47)) and the
+quaternion *slerp*, both timed by a law ϑ(t) ∈ [0, 1] (fraction of the rotation).
+
+Conventions: positions (3,) [m]; rotations (3, 3); quaternions scalar-first {η, ε} as in the book
+(Pinocchio's ``coeffs()`` is [x, y, z, w]).
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
+Eqs. (4.34)–(4.46), Sect. 4.5; (2.25)–(2.37) for the rotations used.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable, Protocol, Sequence
+
+import numpy as np
+
+from planners.timing import TimingLaw, Trajectory, sample
+from rigid_body.rotations import (
+    as_rotation,
+    as_unit_quaternion,
+    axis_angle_to_rotation,
+    quaternion_product,
+    quaternion_to_rotation,
+    rotation_to_axis_angle,
+)
+from rigid_body.validation import as_vector
+
+__all__ = [
+    "Path", "Segment", "Circle", "circle_through", "SegmentSequence", "PathLaw", "path_trajectory",
+    "AngleAxisInterpolation", "Slerp", "slerp",
+]
+
+
+class Path(Protocol):
+    """A curve parametrised by arc length: ``path(s) -> (p, dp/ds, d²p/ds²)``."""
+
+    length: float
+
+    def __call__(self, s: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
+
+
+def _column(s: Any) -> tuple[np.ndarray, np.ndarray]:
+    s = np.asarray(s, dtype=float)
+    return s, s[..., None]
+
+
+@dataclass(frozen=True)
+class Segment:
+    """p(s) = p_i + s (p_f − p_i)/‖p_f − p_i‖, s ∈ [0, ‖p_f − p_i‖], Eq. (4.34)."""
+
+    p_i: np.ndarray
+    p_f: np.ndarray
+
+    def __post_init__(self) -> None:
+        p_i = as_vector(self.p_i, 3, "p_i")
+        p_f = as_vector(self.p_f, 3, "p_f")
+        if np.linalg.norm(p_f - p_i) == 0.0:
+            raise ValueError("`p_f` must differ from `p_i`: a segment needs a positive length")
+        object.__setattr__(self, "p_i", p_i)
+        object.__setattr__(self, "p_f", p_f)
+
+    @property
+    def length(self) -> float:
+        return float(np.linalg.norm(self.p_f - self.p_i))
+
+    @property
+    def tangent(self) -> np.ndarray:
+        """The unit tangent t̂ = (p_f − p_i)/‖p_f − p_i‖ (constant, Eq. (4.35))."""
+        return (self.p_f - self.p_i) / self.length
+
+    def __call__(self, s: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        s, sc = _column(s)
+        t_hat = self.tangent
+        p = self.p_i + sc * t_hat
+        return p, np.broadcast_to(t_hat, p.shape).copy(), np.zeros(p.shape)
+
+
+@dataclass(frozen=True)
+class Circle:
+    """p(s) = c + R [ρ cos(s/ρ), ρ sin(s/ρ), 0]^T, Eq. (4.39).
+
+    ``R = [x' y' z']`` is the circle frame: z' the axis (motion counter-clockwise about it), x'
+    pointing from the centre to p(0). ``length`` is the arc to travel (default a full turn 2πρ).
+    """
+
+    center: np.ndarray
+    radius: float
+    R: np.ndarray
+    length: float = float("nan")
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "center", as_vector(self.center, 3, "center"))
+        object.__setattr__(self, "R", as_rotation(self.R, "R"))
+        if not (np.isfinite(self.radius) and self.radius > 0):
+            raise ValueError(f"`radius` must be positive, got {self.radius}")
+        length = 2.0 * np.pi * self.radius if np.isnan(self.length) else float(self.length)
+        if not (np.isfinite(length) and length > 0):
+            raise ValueError(f"`length` must be a positive arc length, got {self.length}")
+        object.__setattr__(self, "radius", float(self.radius))
+        object.__setattr__(self, "length", length)
+
+    def __call__(self, s: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        s, _ = _column(s)
+        rho, a = self.radius, s / self.radius
+        c, sn, z = np.cos(a), np.sin(a), np.zeros_like(a)
+        local = np.stack([rho * c, rho * sn, z], axis=-1)
+        d1 = np.stack([-sn, c, z], axis=-1)                       # (4.40)
+        d2 = np.stack([-c / rho, -sn / rho, z], axis=-1)
+        R = self.R
+        return self.center + local @ R.T, d1 @ R.T, d2 @ R.T
+
+
+def circle_through(p_i: Any, axis: Any, point: Any, length: float | None = None) -> Circle:
+    """The circle through ``p_i`` about the axis of unit direction ``axis`` through ``point``.
+
+    As in Sect. 4.4: δ = p_i − point, centre c = point + (δ^T r) r (4.38), radius ρ = ‖p_i − c‖;
+    x' = (p_i − c)/ρ, z' = r, y' = z' × x'. The motion is counter-clockwise about ``axis``.
+    ``length`` is the arc to travel (default a full turn).
+    """
+    p_i = as_vector(p_i, 3, "p_i")
+    r = as_vector(axis, 3, "axis")
+    if np.linalg.norm(r) == 0:
+        raise ValueError("`axis` must be a non-zero vector")
+    r = r / np.linalg.norm(r)
+    d = as_vector(point, 3, "point")
+    c = d + ((p_i - d) @ r) * r  # (4.38)
+    rho = float(np.linalg.norm(p_i - c))
+    if rho < 1e-12:
+        raise ValueError("`p_i` lies on the axis: the circle would have zero radius")
+    x = (p_i - c) / rho
+    R = np.column_stack([x, np.cross(r, x), r])
+    return Circle(c, rho, R, float("nan") if length is None else length)
+
+
+@dataclass(frozen=True)
+class SegmentSequence:
+    """Straight segments through via points p_0, ..., p_m, each timed by its own law.
+
+    p(t) = p_0 + Σ_j s_j(t)/‖p_j − p_{j−1}‖ (p_j − p_{j−1}) (Sect. 4.4, via points): the law
+    s_j(t) of segment j goes from 0 to ‖p_j − p_{j−1}‖ (and is held outside its interval). If
+    segment j+1 starts before segment j ends, the two motions overlap and the path rounds the
+    via point p_j instead of stopping there; with no overlap it passes through it at rest.
+    Calling it with t gives (p, ṗ, p̈) directly: it is a law on time, not on arc length.
+    """
+
+    points: np.ndarray
+    laws: Sequence[TimingLaw]
+
+    def __post_init__(self) -> None:
+        pts = np.asarray(self.points, dtype=float)
+        if pts.ndim != 2 or pts.shape[1] != 3 or pts.shape[0] < 2:
+            raise ValueError(f"`points` must have shape (m+1, 3) with m >= 1, got {pts.shape}")
+        if not np.all(np.isfinite(pts)):
+            raise ValueError("`points` must be finite")
+        if len(self.laws) != pts.shape[0] - 1:
+            raise ValueError(f"`laws` must hold one law per segment ({pts.shape[0] - 1}), got {len(self.laws)}")
+        lengths = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+        if np.any(lengths == 0):
+            raise ValueError("consecutive `points` must differ")
+        for j, (law, L) in enumerate(zip(self.laws, lengths)):
+            s0, s1 = float(np.asarray(law(law.t_i)[0])), float(np.asarray(law(law.t_f)[0]))
+            if abs(s0) > 1e-9 * max(1.0, L) or abs(s1 - L) > 1e-9 * max(1.0, L):
+                raise ValueError(f"`laws[{j}]` must go from 0 to the segment length {L:.6g}, "
+                                 f"goes from {s0:.6g} to {s1:.6g}")
+        object.__setattr__(self, "points", pts)
+
+    @property
+    def t_i(self) -> float:
+        return min(float(law.t_i) for law in self.laws)
+
+    @property
+    def t_f(self) -> float:
+        return max(float(law.t_f) for law in self.laws)
+
+    def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        t = np.asarray(t, dtype=float)
+        p = np.broadcast_to(self.points[0], t.shape + (3,)).copy()
+        pd, pdd = np.zeros_like(p), np.zeros_like(p)
+        for j, law in enumerate(self.laws):
+            step = self.points[j + 1] - self.points[j]
+            t_hat = step / np.linalg.norm(step)
+            s, sd, sdd = (np.asarray(x)[..., None] for x in law(t))
+            p += s * t_hat
+            pd += sd * t_hat
+            pdd += sdd * t_hat
+        return p, pd, pdd
+
+
+@dataclass(frozen=True)
+class PathLaw:
+    """A path timed by a scalar law s(t): ``law(t) -> (p, ṗ, p̈)``, Eqs. (4.35)–(4.36)."""
+
+    path: Path
+    timing: TimingLaw
+
+    def __post_init__(self) -> None:
+        if np.ndim(self.timing(self.timing.t_i)[0]) != 0:
+            raise ValueError("`timing` must be a scalar law s(t) (built from scalar boundary values)")
+        s_end = float(self.timing(self.timing.t_f)[0])
+        if s_end > self.path.length * (1 + 1e-9) + 1e-12:
+            raise ValueError(f"`timing` ends at s = {s_end:.6g}, beyond the path length {self.path.length:.6g}")
+
+    @property
+    def t_i(self) -> float:
+        return float(self.timing.t_i)
+
+    @property
+    def t_f(self) -> float:
+        return float(self.timing.t_f)
+
+    def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        s, sd, sdd = self.timing(t)
+        p, dp, ddp = self.path(s)
+        sd, sdd = np.asarray(sd)[..., None], np.asarray(sdd)[..., None]
+        return p, sd * dp, sdd * dp + sd**2 * ddp
+
+
+def path_trajectory(path: Path, timing: TimingLaw, *, samples: int | None = None, dt: float | None = None,
+                    name: str = "path") -> Trajectory:
+    """Sample ``PathLaw(path, timing)``: a Trajectory whose q, qd, qdd columns are x, y, z."""
+    return sample(PathLaw(path, timing), samples=samples, dt=dt, name=name)
+
+
+# --------------------------------------------------------------------------------------------
+# Orientation
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class AngleAxisInterpolation:
+    """R(t) = R_i R^i(ϑ(t) θ_f, r^i), Sect. 4.5: rotate about the fixed axis of R_i^T R_f.
+
+    ``timing`` is a scalar law σ(t) from 0 to 1 (the fraction of the angle θ_f ∈ [0, π] of
+    R_i^T R_f = R(θ_f, r^i), (2.26)–(2.27)). Calling it gives (R (…, 3, 3), ω, ω̇) with
+    ω = σ̇ θ_f R_i r^i and ω̇ = σ̈ θ_f R_i r^i in the base frame.
+    """
+
+    R_i: np.ndarray
+    R_f: np.ndarray
+    timing: TimingLaw
+    theta_f: float = field(init=False)
+    axis: np.ndarray = field(init=False)  # r^i, in the frame of R_i
+
+    def __post_init__(self) -> None:
+        R_i, R_f = as_rotation(self.R_i, "R_i"), as_rotation(self.R_f, "R_f")
+        theta, r = rotation_to_axis_angle(R_i.T @ R_f)
+        object.__setattr__(self, "R_i", R_i)
+        object.__setattr__(self, "R_f", R_f)
+        object.__setattr__(self, "theta_f", float(theta))
+        object.__setattr__(self, "axis", r)
+
+    @property
+    def t_i(self) -> float:
+        return float(self.timing.t_i)
+
+    @property
+    def t_f(self) -> float:
+        return float(self.timing.t_f)
+
+    def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        sigma, sd, sdd = (np.asarray(x, dtype=float) for x in self.timing(t))
+        w_axis = self.R_i @ self.axis
+        R = np.array([self.R_i @ axis_angle_to_rotation(a * self.theta_f, self.axis) for a in sigma.ravel()])
+        R = R.reshape(sigma.shape + (3, 3))
+        return R, (sd * self.theta_f)[..., None] * w_axis, (sdd * self.theta_f)[..., None] * w_axis
+
+
+def slerp(Q_i: Any, Q_f: Any, sigma: float) -> np.ndarray:
+    """Spherical linear interpolation of unit quaternions {η, ε}, σ ∈ [0, 1], on the shorter arc.
+
+    Q(σ) = sin((1 − σ)Ω)/sin Ω Q_i + sin(σΩ)/sin Ω Q_f, cos Ω = Q_i·Q_f ≥ 0 (Q_f flipped if needed).
+    """
+    Q_i = as_unit_quaternion(Q_i, "Q_i")
+    Q_f = as_unit_quaternion(Q_f, "Q_f")
+    d = float(Q_i @ Q_f)
+    if d < 0:
+        Q_f, d = -Q_f, -d
+    omega = np.arccos(min(d, 1.0))
+    if omega < 1e-9:
+        return Q_i.copy()
+    Q = (np.sin((1 - sigma) * omega) * Q_i + np.sin(sigma * omega) * Q_f) / np.sin(omega)
+    return Q / np.linalg.norm(Q)
+
+
+@dataclass(frozen=True)
+class Slerp:
+    """Quaternion interpolation Q(t) = slerp(Q_i, Q_f, σ(t)) timed by a scalar law σ: 0 → 1.
+
+    Calling it gives (Q (…, 4) scalar-first, ω, ω̇). Slerp rotates about the fixed axis of
+    Q_i^{-1} * Q_f at constant rate per unit σ: ω = σ̇ θ_f R_i r, the angle θ_f = 2Ω.
+    """
+
+    Q_i: np.ndarray
+    Q_f: np.ndarray
+    timing: TimingLaw
+    theta_f: float = field(init=False)
+    omega_axis: np.ndarray = field(init=False)  # unit axis in the base frame
+
+    def __post_init__(self) -> None:
+        Q_i, Q_f = as_unit_quaternion(self.Q_i, "Q_i"), as_unit_quaternion(self.Q_f, "Q_f")
+        if Q_i @ Q_f < 0:
+            Q_f = -Q_f
+        rel = quaternion_product(np.concatenate([[Q_i[0]], -Q_i[1:]]), Q_f)  # Q_i^{-1} * Q_f
+        eta, eps = float(np.clip(rel[0], -1.0, 1.0)), rel[1:]
+        theta = 2.0 * np.arctan2(np.linalg.norm(eps), eta)
+        r = eps / np.linalg.norm(eps) if np.linalg.norm(eps) > 0 else np.array([0.0, 0.0, 1.0])
+        object.__setattr__(self, "Q_i", Q_i)
+        object.__setattr__(self, "Q_f", Q_f)
+        object.__setattr__(self, "theta_f", float(theta))
+        object.__setattr__(self, "omega_axis", quaternion_to_rotation(Q_i) @ r)
+
+    @property
+    def t_i(self) -> float:
+        return float(self.timing.t_i)
+
+    @property
+    def t_f(self) -> float:
+        return float(self.timing.t_f)
+
+    def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        sigma, sd, sdd = (np.asarray(x, dtype=float) for x in self.timing(t))
+        Q = np.array([slerp(self.Q_i, self.Q_f, a) for a in sigma.ravel()]).reshape(sigma.shape + (4,))
+        w = self.omega_axis
+        return Q, (sd * self.theta_f)[..., None] * w, (sdd * self.theta_f)[..., None] * w
+

@@ -11,10 +11,14 @@ Sects. 2.8–2.12 (direct and inverse kinematics), 3.1–3.3 (geometric Jacobian
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import pinocchio as pin
 
+from rigid_body.dh import dh_chain
 from rigid_body.robots import Robot
+from rigid_body.rotations import as_homogeneous, as_rotation, rot_z, rotation_to_euler_zyz
 from rigid_body.validation import as_vector
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
@@ -92,3 +96,347 @@ def analytical_jacobian(robot: Robot, q: np.ndarray, representation: str = "zyz"
         raise ValueError(f"{representation.upper()} representation singularity at q = {q}: T(φ) is not invertible")
     J[3:] = np.linalg.solve(pair[1](phi.angles), J[3:])
     return J
+
+
+# --------------------------------------------------------------------------------------------
+# Closed-form inverse kinematics (Sect. 2.12)
+# --------------------------------------------------------------------------------------------
+# Link lengths are read from the book robot's DH table (``urdf.book_robots``): every function takes
+# the same keyword parameters as ``load(name, **params)``, so ``load("anthropomorphic", a2=0.6)``
+# and ``inverse_kinematics_anthropomorphic(p, a2=0.6)`` describe the same arm. Each returns a
+# (k, n) array of solutions, one per row, revolute angles wrapped into (−π, π]. Before returning,
+# every solution is checked against the DH product (2.52): a pose that cannot be reached raises a
+# ValueError that says so, and a solution is never returned with a residual above IK_TOL.
+
+IK_TOL = 1e-9  # max pose residual of a returned closed-form solution [m, rad]
+ELBOW_UP, ELBOW_DOWN = 0, 1  # row order of the planar/SCARA solutions: s2 < 0 first, then s2 > 0
+
+
+def _wrap(angle: np.ndarray) -> np.ndarray:
+    return np.arctan2(np.sin(angle), np.cos(angle))
+
+
+def _book_links(name: str, params: dict) -> tuple:
+    from urdf.book_robots import book_robot_spec
+
+    return book_robot_spec(name, **params).links
+
+
+def _prismatic_in_range(value: float, link, name: str, robot: str) -> float:
+    lo = -np.inf if link.lower is None else link.lower
+    hi = np.inf if link.upper is None else link.upper
+    if not lo - IK_TOL <= value <= hi + IK_TOL:
+        raise ValueError(f"pose unreachable by the {robot}: it needs {name} = {value:.6g} m, outside the joint "
+                         f"range [{lo:g}, {hi:g}] m")
+    return float(np.clip(value, lo, hi))
+
+
+def _checked(links, qs: np.ndarray, T_target: np.ndarray, mask: np.ndarray, robot: str) -> np.ndarray:
+    """Keep the DH-product check honest: every returned row reproduces the entries of ``T_target`` in ``mask``."""
+    for q in qs:
+        T = dh_chain(links, q)[-1]
+        err = np.max(np.abs((T - T_target)[mask]))
+        if not err <= IK_TOL:
+            raise ValueError(f"pose unreachable by the {robot}: closed-form residual {err:.3g} > {IK_TOL:g}")
+    return qs
+
+
+def _two_link(px: float, py: float, a1: float, a2: float, robot: str) -> np.ndarray:
+    """(θ1, θ2) of a two-link planar arm reaching (px, py), Eqs. (2.91)–(2.92): rows [s2 < 0, s2 > 0].
+
+    c2 = (px² + py² − a1² − a2²)/(2 a1 a2), s2 = ∓√(1 − c2²), θ2 = Atan2(s2, c2) and
+    θ1 = Atan2((a1 + a2 c2) py − a2 s2 px, (a1 + a2 c2) px + a2 s2 py) (the book's s1, c1 times the
+    positive px² + py²; at px = py = 0 with a1 = a2, θ1 is arbitrary and 0 is returned).
+    """
+    c2 = (px**2 + py**2 - a1**2 - a2**2) / (2.0 * a1 * a2)
+    if abs(c2) > 1.0 + 1e-12:
+        r = np.hypot(px, py)
+        raise ValueError(f"point unreachable by the {robot}: distance {r:.6g} m from joint 1 is outside "
+                         f"[|a1 - a2|, a1 + a2] = [{abs(a1 - a2):.6g}, {a1 + a2:.6g}] m")
+    c2 = float(np.clip(c2, -1.0, 1.0))
+    out = []
+    for s2 in (-np.sqrt(1.0 - c2**2), np.sqrt(1.0 - c2**2)):
+        k1, k2 = a1 + a2 * c2, a2 * s2
+        out.append([np.arctan2(k1 * py - k2 * px, k1 * px + k2 * py), np.arctan2(s2, c2)])
+    return np.array(out)
+
+
+def inverse_kinematics_planar_2r(p: np.ndarray, **params) -> np.ndarray:
+    """Both solutions q = [θ1, θ2] of the two-link planar arm reaching ``p = [px, py]``, Sect. 2.12.1.
+
+    Rows: ``[ELBOW_UP, ELBOW_DOWN]`` = [s2 < 0, s2 > 0] (the companion files' "elbow-up" is s2 < 0).
+    ``params`` are those of ``urdf.book_robots.planar_2r`` (``a``), as for ``load("planar_2r", ...)``.
+    """
+    links = _book_links("planar_2r", params)
+    px, py = as_vector(p, 2, "p")
+    qs = _two_link(px, py, links[0].a, links[1].a, "two-link planar arm")
+    T = np.eye(4)
+    T[:2, 3] = px, py
+    mask = np.zeros((4, 4), bool)
+    mask[:2, 3] = True
+    return _checked(links, qs, T, mask, "two-link planar arm")
+
+
+def inverse_kinematics_planar_3r(x: np.ndarray, **params) -> np.ndarray:
+    """Both solutions q = [θ1, θ2, θ3] of the three-link planar arm for ``x = [px, py, φ]``, Sect. 2.12.1.
+
+    p_W = p − a3 [cφ, sφ] (2.91)–(2.92), (θ1, θ2) as for the two-link arm, θ3 = φ − θ1 − θ2.
+    Rows ``[ELBOW_UP, ELBOW_DOWN]`` = [s2 < 0, s2 > 0]. ``params``: those of ``planar_3r`` (``a``).
+    """
+    links = _book_links("planar_3r", params)
+    px, py, phi = as_vector(x, 3, "x")
+    a1, a2, a3 = (link.a for link in links)
+    q12 = _two_link(px - a3 * np.cos(phi), py - a3 * np.sin(phi), a1, a2, "three-link planar arm")
+    qs = _wrap(np.column_stack([q12, phi - q12.sum(axis=1)]))
+    T = np.eye(4)
+    T[:3, :3] = rot_z(phi)
+    T[:2, 3] = px, py
+    return _checked(links, qs, T, np.ones((4, 4), bool), "three-link planar arm")
+
+
+def inverse_kinematics_scara(x: np.ndarray, **params) -> np.ndarray:
+    """Both solutions q = [θ1, θ2, d3, θ4] of the SCARA of Table S2.3 for ``x = [px, py, pz, φ]`` (Problem 2.20).
+
+    In DH frame 0 (z₀ down): (θ1, θ2) as for the two-link arm, d3 = pz, θ4 = φ − θ1 − θ2 with
+    φ = Atan2(r21, r11). Rows ``[ELBOW_UP, ELBOW_DOWN]`` = [s2 < 0, s2 > 0]. ``params``: those of ``scara``.
+    """
+    links = _book_links("scara", params)
+    px, py, pz, phi = as_vector(x, 4, "x")
+    q12 = _two_link(px, py, links[0].a, links[1].a, "SCARA")
+    d3 = _prismatic_in_range(pz, links[2], "d3", "SCARA")
+    qs = np.column_stack([q12, np.full(2, d3), _wrap(phi - q12.sum(axis=1))])
+    T = np.eye(4)
+    T[:3, :3] = rot_z(phi)
+    T[:3, 3] = px, py, pz
+    return _checked(links, qs, T, np.ones((4, 4), bool), "SCARA")
+
+
+def inverse_kinematics_cylindrical(p: np.ndarray, **params) -> np.ndarray:
+    """q = [θ1, d2, d3] of the cylindrical arm of Table S2.2 reaching ``p`` (Problem 2.19), shape (1, 3).
+
+    From p = [−d3 s1, d3 c1, d2] (Problem 2.12): θ1 = Atan2(−px, py), d3 = √(px² + py²) (the d3 ≥ 0
+    branch), d2 = pz; d2 and d3 must lie in their joint ranges. ``params``: those of ``cylindrical``.
+    """
+    links = _book_links("cylindrical", params)
+    px, py, pz = as_vector(p, 3, "p")
+    d3 = _prismatic_in_range(np.hypot(px, py), links[2], "d3", "cylindrical arm")
+    d2 = _prismatic_in_range(pz, links[1], "d2", "cylindrical arm")
+    qs = np.array([[np.arctan2(-px, py), d2, d3]])
+    T = np.eye(4)
+    T[:3, 3] = px, py, pz
+    mask = np.zeros((4, 4), bool)
+    mask[:3, 3] = True
+    return _checked(links, qs, T, mask, "cylindrical arm")
+
+
+def inverse_kinematics_spherical(p: np.ndarray, **params) -> np.ndarray:
+    """Both solutions q = [θ1, θ2, d3] of the spherical arm reaching ``p``, Sect. 2.12.3; shape (2, 3).
+
+    From p = [c1 s2 d3 − s1 d2, s1 s2 d3 + c1 d2, c2 d3]: d3 = √(‖p‖² − d2²) (d3 ≥ 0),
+    s2 d3 = ±√(px² + py² − d2²) =: ±A, θ2 = Atan2(±A, pz), and [px, py] = Rz(θ1) [±A, d2] gives
+    θ1 = Atan2(py, px) − Atan2(d2, ±A). ``params``: those of ``spherical`` (``d2``, ``d3_range``).
+    """
+    links = _book_links("spherical", params)
+    px, py, pz = as_vector(p, 3, "p")
+    d2 = links[1].d
+    rho2 = px**2 + py**2 - d2**2
+    if rho2 < -1e-12:
+        raise ValueError(f"point unreachable by the spherical arm: its distance {np.hypot(px, py):.6g} m from "
+                         f"the z0 axis is smaller than the offset d2 = {d2:g} m")
+    d3 = _prismatic_in_range(np.sqrt(max(px**2 + py**2 + pz**2 - d2**2, 0.0)), links[2], "d3", "spherical arm")
+    A = np.sqrt(max(rho2, 0.0))
+    qs = np.array([[np.arctan2(py, px) - np.arctan2(d2, s * A), np.arctan2(s * A, pz), d3] for s in (1.0, -1.0)])
+    qs[:, :2] = _wrap(qs[:, :2])
+    T = np.eye(4)
+    T[:3, 3] = px, py, pz
+    mask = np.zeros((4, 4), bool)
+    mask[:3, 3] = True
+    return _checked(links, qs, T, mask, "spherical arm")
+
+
+def _anthropomorphic(p: np.ndarray, a2: float, a3: float, theta1: float, theta2: float, robot: str) -> np.ndarray:
+    """The four solutions [θ1, θ2, θ3] of the anthropomorphic arm's wrist position, Sect. 2.12.4.
+
+    c3 = (‖p‖² − a2² − a3²)/(2 a2 a3) (2.103), θ3,I = Atan2(s3, c3), θ3,II = −θ3,I (2.104);
+    θ1,I = Atan2(py, px) (2.109), θ1,II = θ1,I + π (2.110); θ2 from the planar two-link arm in the
+    plane of θ1 with horizontal coordinate ±√(px² + py²) (2.105)–(2.108). Rows are the book's
+    combinations (θ1,I, θ2,I, θ3,I), (θ1,I, θ2,III, θ3,II), (θ1,II, θ2,II, θ3,I), (θ1,II, θ2,IV, θ3,II):
+    shoulder right/left × elbow up/down. Singular cases (Problem 2.18): at s3 = 0 rows coincide
+    pairwise; at px = py = 0, θ1 is arbitrary (``theta1`` is used); with a2 = a3 and p = 0, θ2 too
+    (``theta2`` is used).
+    """
+    px, py, pz = p
+    c3 = (px**2 + py**2 + pz**2 - a2**2 - a3**2) / (2.0 * a2 * a3)
+    if abs(c3) > 1.0 + 1e-12:
+        raise ValueError(f"point unreachable by the {robot}: distance {np.linalg.norm(p):.6g} m from the "
+                         f"shoulder is outside [|a2 - a3|, a2 + a3] = [{abs(a2 - a3):.6g}, {a2 + a3:.6g}] m")
+    c3 = float(np.clip(c3, -1.0, 1.0))
+    s3 = np.sqrt(1.0 - c3**2)
+    rho = np.hypot(px, py)
+    th1 = np.arctan2(py, px) if rho > 1e-12 else float(theta1)
+    out = []
+    for t1, h in ((th1, rho), (th1 + np.pi, -rho)):
+        for s in (s3, -s3):
+            k1, k2 = a2 + a3 * c3, a3 * s
+            if abs(h) < 1e-12 and abs(pz) < 1e-12 and abs(k1) < 1e-12 and abs(k2) < 1e-12:
+                t2 = float(theta2)  # a2 = a3, p = 0: θ2 arbitrary
+            else:
+                t2 = np.arctan2(k1 * pz - k2 * h, k1 * h + k2 * pz)
+            out.append([t1, t2, np.arctan2(s, c3)])
+    return _wrap(np.array(out))
+
+
+def inverse_kinematics_anthropomorphic(p: np.ndarray, theta1: float = 0.0, theta2: float = 0.0,
+                                       **params) -> np.ndarray:
+    """The four solutions q = [θ1, θ2, θ3] of the anthropomorphic arm reaching ``p``, Sect. 2.12.4; (4, 3).
+
+    Rows: (shoulder right, elbow up), (shoulder right, elbow down), (shoulder left, elbow up),
+    (shoulder left, elbow down) — the book's I–IV combinations. In the singular cases of Problem 2.18
+    rows coincide (s3 = 0) and the undetermined angles take the values ``theta1`` (px = py = 0) and
+    ``theta2`` (a2 = a3, p = 0). ``params``: those of ``anthropomorphic`` (``a2``, ``a3``).
+    """
+    links = _book_links("anthropomorphic", params)
+    p = as_vector(p, 3, "p")
+    qs = _anthropomorphic(p, links[1].a, links[2].a, theta1, theta2, "anthropomorphic arm")
+    T = np.eye(4)
+    T[:3, 3] = p
+    mask = np.zeros((4, 4), bool)
+    mask[:3, 3] = True
+    return _checked(links, qs, T, mask, "anthropomorphic arm")
+
+
+def _spherical_wrist(R_36: np.ndarray) -> np.ndarray:
+    """[θ4, θ5, θ6] of a spherical wrist with R_6^3 = Rz(θ4) Ry(θ5) Rz(θ6): ZYZ angles, both branches (2.19)–(2.20)."""
+    return np.array([rotation_to_euler_zyz(R_36, branch).angles for branch in (1, -1)])
+
+
+def inverse_kinematics_spherical_wrist(R: np.ndarray, **params) -> np.ndarray:
+    """Both solutions q = [θ4, θ5, θ6] of the spherical wrist with orientation ``R`` = R_6^3, Sect. 2.12.5; (2, 3).
+
+    R_6^3 = Rz(θ4) Ry(θ5) Rz(θ6) (the DH table (0, −π/2, 0, θ4), (0, π/2, 0, θ5), (0, 0, d6, θ6)), so the
+    angles are the ZYZ Euler angles of R: θ5 ∈ (0, π) in the first row, (−π, 0) in the second. At
+    θ5 = 0 or π (singular wrist) only θ4 ± θ6 is determined; both rows are then the representative θ6 = 0.
+    ``params``: those of ``spherical_wrist`` (``d6``).
+    """
+    links = _book_links("spherical_wrist", params)
+    R = as_rotation(R, "R")
+    qs = _spherical_wrist(R)
+    T = np.eye(4)
+    T[:3, :3] = R
+    T[:3, 3] = links[2].d * R[:, 2]
+    return _checked(links, qs, T, np.ones((4, 4), bool), "spherical wrist")
+
+
+def inverse_kinematics_anthropomorphic_wrist(T: np.ndarray, theta1: float = 0.0, theta2: float = 0.0,
+                                             **params) -> np.ndarray:
+    """The eight solutions q = [θ1, ..., θ6] of the anthropomorphic arm with spherical wrist for the pose ``T``; (8, 6).
+
+    Sect. 2.12 (kinematic decoupling): p_W = p_e − d6 a_e (2.93); the arm's wrist position
+    p_W = [c1 (a2 c2 + d4 s23), s1 (a2 c2 + d4 s23), a2 s2 − d4 c23] is the anthropomorphic arm's with
+    a3 = d4 and θ3 − π/2, giving four (θ1, θ2, θ3); for each, R_6^3 = (R_3^0)^T R_e and the wrist gives
+    two (θ4, θ5, θ6). Rows: arm solution k (order of :func:`inverse_kinematics_anthropomorphic`) × wrist
+    branch (θ5 > 0, θ5 < 0). ``params``: those of ``anthropomorphic_wrist`` (``a2``, ``d4``, ``d6``).
+    """
+    links = _book_links("anthropomorphic_wrist", params)
+    T = as_homogeneous(T, "T")
+    a2, d4, d6 = links[1].a, links[3].d, links[5].d
+    p_W = T[:3, 3] - d6 * T[:3, 2]  # Eq. (2.93)
+    arm = _anthropomorphic(p_W, a2, d4, theta1, theta2, "anthropomorphic arm with spherical wrist")
+    arm[:, 2] = _wrap(arm[:, 2] + np.pi / 2)
+    qs = []
+    for q_arm in arm:
+        R_30 = dh_chain(links[:3], q_arm)[-1][:3, :3]
+        for q_wrist in _spherical_wrist(R_30.T @ T[:3, :3]):
+            qs.append(np.concatenate([q_arm, q_wrist]))
+    return _checked(links, np.array(qs), T, np.ones((4, 4), bool), "anthropomorphic arm with spherical wrist")
+
+
+def distinct_solutions(qs: np.ndarray, atol: float = 1e-9) -> np.ndarray:
+    """The distinct rows of a solution array (angles compared modulo 2π), in their first order."""
+    qs = np.atleast_2d(np.asarray(qs, dtype=float))
+    keep: list[np.ndarray] = []
+    for q in qs:
+        if not any(np.max(np.abs(_wrap(q - k))) <= atol for k in keep):
+            keep.append(q)
+    return np.array(keep)
+
+
+# --------------------------------------------------------------------------------------------
+# Reachable workspace (Sect. 2.11, Problem 2.17)
+# --------------------------------------------------------------------------------------------
+
+def workspace_points(robot: Robot, n: int, rng: np.random.Generator, frame: str | int | None = None) -> np.ndarray:
+    """Positions (n, 3) of ``frame`` (default the end effector) at n joint vectors drawn uniformly in the joint limits.
+
+    A sample of the reachable workspace (Sect. 2.11); the limits must be finite.
+    """
+    if not (np.all(np.isfinite(robot.lower)) and np.all(np.isfinite(robot.upper))):
+        raise ValueError(f"robot {robot.name!r} has infinite joint limits: its reachable workspace is not a box image")
+    if int(n) < 1:
+        raise ValueError(f"`n` must be a positive number of samples, got {n!r}")
+    fid = _frame(robot, frame)
+    qs = rng.uniform(robot.lower, robot.upper, size=(int(n), robot.nq))
+    out = np.empty((int(n), 3))
+    for k, q in enumerate(qs):
+        pin.forwardKinematics(robot.model, robot.data, q)
+        out[k] = pin.updateFramePlacement(robot.model, robot.data, fid).translation
+    return out
+
+
+def joint_arc(robot: Robot, q_start: np.ndarray, joint: int, q_end: float, n: int = 50,
+              frame: str | int | None = None) -> np.ndarray:
+    """Positions (n, 3) traced by ``frame`` while joint ``joint`` (0-based) moves from q_start[joint] to ``q_end``."""
+    q_start = as_vector(q_start, robot.nq, "q_start")
+    if not 0 <= joint < robot.nq:
+        raise ValueError(f"`joint` must be in [0, {robot.nq - 1}], got {joint}")
+    fid = _frame(robot, frame)
+    out = np.empty((n, 3))
+    for k, value in enumerate(np.linspace(q_start[joint], q_end, n)):
+        q = q_start.copy()
+        q[joint] = value
+        pin.forwardKinematics(robot.model, robot.data, q)
+        out[k] = pin.updateFramePlacement(robot.model, robot.data, fid).translation
+    return out
+
+
+@dataclass(frozen=True)
+class WorkspaceContour:
+    """Closed boundary (m, 2) of a planar arm's reachable workspace and its named corner configurations."""
+
+    points: np.ndarray
+    configurations: dict[str, np.ndarray]
+    corners: dict[str, np.ndarray]
+
+
+def planar_3r_workspace_contour(robot: Robot, n: int = 60) -> WorkspaceContour:
+    """Contour AMQRPHEDA of the reachable workspace of a three-link planar arm with joint limits (Problem 2.17).
+
+    The manual's construction: the configurations where mobility is lost (joint limits, θ2 = 0,
+    θ3 = 0) are joined by the arcs traced when one joint moves; the outer contour is
+    A→M (θ3 arc), M→Q (θ2), Q→R (θ1, radius a1 + a2 + a3), R→P (θ2), P→H (θ3), then the inner
+    circle through H, E, D, A traced by θ1 at (θ2, θ3) = (u2, u3) from H down to E and at
+    (l2, l3) from E to A. Requires limits symmetric about 0 for joints 2 and 3 (as in 2.17).
+    """
+    if robot.nq != 3:
+        raise ValueError(f"`robot` must be a three-link planar arm, got nq = {robot.nq}")
+    lo, up = robot.lower, robot.upper
+    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(up))):
+        raise ValueError("`robot` must have finite joint limits")
+    if not (np.allclose(lo[1:], -up[1:]) and np.all(up[1:] > 0)):
+        raise ValueError(f"joints 2 and 3 must have limits symmetric about 0, got {lo[1:]} .. {up[1:]}")
+    cfg = {
+        "A": [lo[0], lo[1], lo[2]], "M": [lo[0], lo[1], 0.0], "Q": [lo[0], 0.0, 0.0], "R": [up[0], 0.0, 0.0],
+        "P": [up[0], up[1], 0.0], "H": [up[0], up[1], up[2]], "E": [up[0], lo[1], lo[2]], "D": [lo[0], up[1], up[2]],
+    }
+    cfg = {k: np.array(v, dtype=float) for k, v in cfg.items()}
+    corner = {k: direct_kinematics(robot, q)[:2, 3] for k, q in cfg.items()}
+    angle = {k: np.arctan2(v[1], v[0]) for k, v in corner.items()}
+    delta = _wrap(angle["H"] - angle["E"])  # θ1 travel from H to E along the inner circle
+    arcs = [
+        joint_arc(robot, cfg["A"], 2, 0.0, n), joint_arc(robot, cfg["M"], 1, 0.0, n),
+        joint_arc(robot, cfg["Q"], 0, up[0], 2 * n), joint_arc(robot, cfg["R"], 1, up[1], n),
+        joint_arc(robot, cfg["P"], 2, up[2], n), joint_arc(robot, cfg["H"], 0, up[0] - delta, n),
+        joint_arc(robot, cfg["E"], 0, lo[0], 2 * n),
+    ]
+    points = np.vstack([arc[:-1, :2] for arc in arcs] + [arcs[0][:1, :2]])
+    return WorkspaceContour(points, cfg, corner)

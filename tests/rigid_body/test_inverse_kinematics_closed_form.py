@@ -1,0 +1,196 @@
+"""Closed-form IK of the book's arms (Sect. 2.12): every returned solution reproduces the pose by
+Pinocchio's direct kinematics on the URDF model, and the configuration the pose came from is among them."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rigid_body import kinematics as kin
+from rigid_body.robots import load
+
+
+def wrap(a):
+    return np.arctan2(np.sin(a), np.cos(a))
+
+
+def contains(qs, q, revolute, atol=1e-8):
+    d = np.asarray(qs) - q
+    d[:, revolute] = wrap(d[:, revolute])
+    return bool(np.any(np.max(np.abs(d), axis=1) < atol))
+
+
+def fk(robot, q):
+    return kin.direct_kinematics(robot, q)
+
+
+def random_q(robot, rng):
+    return rng.uniform(robot.lower, robot.upper) if np.all(np.isfinite(robot.upper)) else rng.uniform(-np.pi, np.pi, robot.nq)
+
+
+@pytest.mark.parametrize("params", [{}, {"a": (0.7, 0.4)}])
+def test_planar_2r_both_elbows_reproduce_the_point(params):
+    rng = np.random.default_rng(0)
+    robot = load("planar_2r", **params)
+    for _ in range(30):
+        q = rng.uniform(-np.pi, np.pi, 2)
+        p = fk(robot, q)[:2, 3]
+        qs = kin.inverse_kinematics_planar_2r(p, **params)
+        assert qs.shape == (2, 2)
+        assert qs[kin.ELBOW_UP, 1] <= 0 <= qs[kin.ELBOW_DOWN, 1]
+        for qk in qs:
+            np.testing.assert_allclose(fk(robot, qk)[:2, 3], p, atol=1e-10)
+        assert contains(qs, q, [0, 1])
+
+
+def test_planar_3r_both_elbows_reproduce_the_pose():
+    rng = np.random.default_rng(1)
+    robot = load("planar_3r", a=(0.5, 0.3, 0.3))
+    for _ in range(30):
+        q = rng.uniform(-np.pi, np.pi, 3)
+        T = fk(robot, q)
+        x = [T[0, 3], T[1, 3], np.arctan2(T[1, 0], T[0, 0])]
+        qs = kin.inverse_kinematics_planar_3r(x, a=(0.5, 0.3, 0.3))
+        for qk in qs:
+            np.testing.assert_allclose(fk(robot, qk), T, atol=1e-10)
+        assert contains(qs, q, [0, 1, 2])
+
+
+def test_scara_ik_problem_2_20_and_companion_example():
+    rng = np.random.default_rng(2)
+    robot = load("scara")
+    for _ in range(30):
+        q = random_q(robot, rng)
+        T = fk(robot, q)
+        x = [*T[:3, 3], np.arctan2(T[1, 0], T[0, 0])]
+        qs = kin.inverse_kinematics_scara(x)
+        for qk in qs:
+            np.testing.assert_allclose(fk(robot, qk), T, atol=1e-10)
+        assert contains(qs, q, [0, 1, 3])
+    # the companion file inv_ksu: x = [1, 1, 0.5, π/4] (elbow-up, a1 = a2 = 0.5) gives q = [π/2, −π/2, 0.5, π/4]
+    # (here with a = (1, 1): p = (1, 1) is then reachable as in the companion's unit-length call)
+    q_up = kin.inverse_kinematics_scara([1.0, 1.0, 0.5, np.pi / 4], a=(1.0, 1.0))[kin.ELBOW_UP]
+    np.testing.assert_allclose(q_up, [np.pi / 2, -np.pi / 2, 0.5, np.pi / 4], atol=1e-12)
+
+
+def test_cylindrical_ik_problem_2_19():
+    rng = np.random.default_rng(3)
+    robot = load("cylindrical")
+    for _ in range(30):
+        q = random_q(robot, rng)
+        p = fk(robot, q)[:3, 3]
+        qs = kin.inverse_kinematics_cylindrical(p)
+        assert qs.shape == (1, 3)
+        np.testing.assert_allclose(fk(robot, qs[0])[:3, 3], p, atol=1e-10)
+        assert contains(qs, q, [0])
+
+
+def test_spherical_arm_ik_two_solutions():
+    rng = np.random.default_rng(4)
+    robot = load("spherical")
+    for _ in range(30):
+        q = random_q(robot, rng)
+        q[:2] = rng.uniform(-np.pi, np.pi, 2)
+        p = fk(robot, q)[:3, 3]
+        qs = kin.inverse_kinematics_spherical(p)
+        for qk in qs:
+            np.testing.assert_allclose(fk(robot, qk)[:3, 3], p, atol=1e-10)
+        assert contains(qs, q, [0, 1])
+
+
+@pytest.mark.parametrize("params", [{}, {"a2": 0.5, "a3": 0.5}, {"a2": 0.3, "a3": 0.6}])
+def test_anthropomorphic_ik_four_solutions(params):
+    rng = np.random.default_rng(5)
+    robot = load("anthropomorphic", **params)
+    for _ in range(30):
+        q = rng.uniform(-np.pi, np.pi, 3)
+        p = fk(robot, q)[:3, 3]
+        qs = kin.inverse_kinematics_anthropomorphic(p, **params)
+        assert qs.shape == (4, 3)
+        assert len(kin.distinct_solutions(qs)) == 4
+        for qk in qs:
+            np.testing.assert_allclose(fk(robot, qk)[:3, 3], p, atol=1e-10)
+        assert contains(qs, q, [0, 1, 2])
+
+
+def test_anthropomorphic_ik_singular_cases_problem_2_18():
+    rng = np.random.default_rng(6)
+    robot = load("anthropomorphic")
+    a2, a3 = 0.5, 0.4
+    # s3 = 0 (outstretched and retracted), off the z0 axis: two distinct configurations
+    for th3 in (0.0, np.pi):
+        q = np.array([rng.uniform(-3, 3), rng.uniform(-1.4, 1.4), th3])
+        p = fk(robot, q)[:3, 3]
+        qs = kin.distinct_solutions(kin.inverse_kinematics_anthropomorphic(p))
+        assert len(qs) == 2
+        for qk in qs:
+            np.testing.assert_allclose(fk(robot, qk)[:3, 3], p, atol=1e-10)
+    # on the z0 axis: θ1 arbitrary
+    for p, th3 in (([0, 0, a2 + a3], 0.0), ([0, 0, a2 - a3], np.pi), ([0, 0, -(a2 + a3)], 0.0)):
+        for th1 in rng.uniform(-np.pi, np.pi, 5):
+            qs = kin.inverse_kinematics_anthropomorphic(p, theta1=th1)
+            assert np.allclose(wrap(qs[:2, 0] - th1), 0)
+            for qk in qs:
+                np.testing.assert_allclose(fk(robot, qk)[:3, 3], p, atol=1e-10)
+    # a2 = a3 and p = 0: θ1 and θ2 arbitrary
+    equal = load("anthropomorphic", a2=0.5, a3=0.5)
+    for th1, th2 in rng.uniform(-np.pi, np.pi, (5, 2)):
+        qs = kin.inverse_kinematics_anthropomorphic([0, 0, 0], theta1=th1, theta2=th2, a2=0.5, a3=0.5)
+        for qk in qs:
+            np.testing.assert_allclose(fk(equal, qk)[:3, 3], 0.0, atol=1e-10)
+
+
+def test_spherical_wrist_ik_both_solutions():
+    rng = np.random.default_rng(7)
+    robot = load("spherical_wrist")
+    for _ in range(30):
+        q = rng.uniform(-np.pi, np.pi, 3)
+        T = fk(robot, q)
+        qs = kin.inverse_kinematics_spherical_wrist(T[:3, :3])
+        assert qs.shape == (2, 3)
+        for qk in qs:
+            np.testing.assert_allclose(fk(robot, qk), T, atol=1e-10)
+        assert contains(qs, q, [0, 1, 2])
+
+
+def test_anthropomorphic_wrist_ik_eight_solutions():
+    rng = np.random.default_rng(8)
+    for params in ({}, {"a2": 0.4, "d4": 0.6, "d6": 0.15}):
+        robot = load("anthropomorphic_wrist", **params)
+        for _ in range(15):
+            q = rng.uniform(-np.pi, np.pi, 6)
+            T = fk(robot, q)
+            qs = kin.inverse_kinematics_anthropomorphic_wrist(T, **params)
+            assert qs.shape == (8, 6)
+            assert len(kin.distinct_solutions(qs)) == 8
+            for qk in qs:
+                np.testing.assert_allclose(fk(robot, qk), T, atol=1e-10)
+            assert contains(qs, q, list(range(6)))
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: kin.inverse_kinematics_planar_2r([3.0, 0.0]), "unreachable"),
+    (lambda: kin.inverse_kinematics_planar_3r([1.2, 0.0, 0.0]), "unreachable"),
+    (lambda: kin.inverse_kinematics_scara([0.3, 0.2, 5.0, 0.0]), "unreachable.*d3"),
+    (lambda: kin.inverse_kinematics_cylindrical([0.0, 0.0, 0.5]), "unreachable.*d3"),
+    (lambda: kin.inverse_kinematics_spherical([0.05, 0.0, 0.5]), "unreachable"),
+    (lambda: kin.inverse_kinematics_anthropomorphic([0.0, 0.0, 1.0]), "unreachable"),
+    (lambda: kin.inverse_kinematics_anthropomorphic([0.0, 0.0, 0.05]), "unreachable"),
+    (lambda: kin.inverse_kinematics_anthropomorphic_wrist(np.diag([1.0, 1.0, 1.0, 1.0]) + np.eye(4, k=3) * 2.0),
+     "unreachable"),
+    (lambda: kin.inverse_kinematics_spherical_wrist(np.ones((3, 3))), "`R`"),
+    (lambda: kin.inverse_kinematics_planar_2r([1.0, np.nan]), "`p` must be finite"),
+])
+def test_unreachable_or_bad_poses_raise(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+def test_workspace_points_stay_within_reach():
+    rng = np.random.default_rng(9)
+    robot = load("planar_3r")
+    pts = kin.workspace_points(robot, 500, rng)
+    r = np.linalg.norm(pts[:, :2], axis=1)
+    assert np.all(r <= 1.0 + 1e-12) and np.allclose(pts[:, 2], 0.0)
+    with pytest.raises(ValueError, match="`n`"):
+        kin.workspace_points(robot, 0, rng)

@@ -256,3 +256,31 @@ def inverse_dynamics(model: SerialModel, q: Any, qd: Any, qdd: Any) -> np.ndarra
     qd = as_vector(qd, model.n, "qd")
     qdd = as_vector(qdd, model.n, "qdd")
     return inertia_matrix(model, q) @ qdd + coriolis_matrix(model, q, qd) @ qd + gravity_torques(model, q)
+
+
+def _point_jacobian(model: SerialModel, R: np.ndarray, o: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """J_P, J_O as rows (n, 3) for a point p attached to link n."""
+    z = R[:model.n, :, 2]
+    rev = model.revolute[:, None]
+    return np.where(rev, np.cross(z, p - o[:model.n]), z), z * rev
+
+
+def geometric_jacobian(model: SerialModel, q: Any, tool: Any = None) -> np.ndarray:
+    """J = [J_P; J_O] (6, n) of the origin of frame n (or of ``tool`` (3,), a point in frame n), Eq. (3.30)."""
+    R, o = frames(model, q)
+    p = o[-1] if tool is None else o[-1] + R[-1] @ as_vector(tool, 3, "tool")
+    JP, JO = _point_jacobian(model, R, o, p)
+    return np.vstack([JP.T, JO.T])
+
+
+def geometric_jacobian_rate(model: SerialModel, q: Any, qd: Any, tool: Any = None) -> np.ndarray:
+    """J̇(q, q̇) (6, n) = Σ_k ∂J/∂q_k q̇_k, with the column derivatives used for (7.32) above."""
+    qd = as_vector(qd, model.n, "qd")
+    R, o = frames(model, q)
+    p = o[-1] if tool is None else o[-1] + R[-1] @ as_vector(tool, 3, "tool")
+    JP, JO = _point_jacobian(model, R, o, p)
+    idx = np.arange(model.n)
+    lo, hi = np.minimum.outer(idx, idx), np.maximum.outer(idx, idx)
+    dJP = np.cross(JO[lo], JP[hi])  # [k, j]
+    dJO = np.cross(JO[:, None, :], JO[None, :, :]) * (idx[:, None] < idx[None, :])[..., None]
+    return np.vstack([np.einsum("kja,k->aj", dJP, qd), np.einsum("kja,k->aj", dJO, qd)])

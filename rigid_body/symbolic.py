@@ -211,3 +211,119 @@ def pose_function(robot_or_model: Any, frame: str | int | None = None,
     R, p = frame_placement(model, fid, q, placements)
     J = _jacobian(model, fid, q, placements)
     return ca.Function(name, [q], [R, p, J], ["q"], ["R", "p", "J"])
+
+
+# ============================================================================================
+# Symbolic inverse dynamics (recursive Newton–Euler), appended for planners.optimization
+# ============================================================================================
+
+def _mimic_data(model: pin.Model, i: int) -> tuple[int, float, float, str, np.ndarray]:
+    """(mimicked joint, scaling, offset, kind, axis) of the mimic joint ``i`` (a book rotor).
+
+    The axis is read from the joint's motion subspace S = scaling · [linear; angular] axis.
+    """
+    mimicked = dict(zip(list(model.mimicking_joints), list(model.mimicked_joints)))[i]
+    jm = model.joints[i].extract()
+    scaling, offset = float(jm.scaling), float(jm.offset)
+    jd = model.joints[i].createData()
+    model.joints[i].calc(jd, pin.neutral(model))
+    S = np.asarray(jd.S, dtype=float).reshape(6) / scaling
+    if np.linalg.norm(S[3:]) > 0:
+        return mimicked, scaling, offset, "revolute", S[3:] / np.linalg.norm(S[3:])
+    return mimicked, scaling, offset, "prismatic", S[:3] / np.linalg.norm(S[:3])
+
+
+def inverse_dynamics_function(robot_or_model: Any, name: str = "inverse_dynamics") -> ca.Function:
+    """``casadi.Function`` ``q, qd, qdd → tau``: τ = B(q) q̈ + C(q, q̇) q̇ + g(q) by Newton–Euler.
+
+    The recursion of Sect. 7.5 in spatial (6-D) form, frame by frame as Pinocchio's RNEA:
+    forward, v_i = ⁱX_λ v_λ + S_i q̇_i, a_i = ⁱX_λ a_λ + S_i q̈_i + v_i × S_i q̇_i with a_0 = −g;
+    f_i = I_i a_i + v_i ×* I_i v_i; backward, τ_i = S_i^T f_i and f_λ += ^λX_i* f_i.
+    Mimic joints (the book's rotors, Sect. 7.3) move with k_r q̇ of the joint they mimic: their
+    S carries the factor k_r, and S^T f is added to that joint's torque, which gives the rotor
+    terms k_r I_m of (7.32) and the reaction torques of the rotors.
+
+    >>> from rigid_body.robots import load
+    >>> tau = inverse_dynamics_function(load("planar_2r"))
+    >>> [round(float(x), 3) for x in tau([0.3, 0.5], [0, 0], [0, 0]).full().ravel()]
+    [920.615, 170.867]
+    """
+    model = _model(robot_or_model)
+    q = ca.SX.sym("q", model.nq)
+    qd = ca.SX.sym("qd", model.nv)
+    qdd = ca.SX.sym("qdd", model.nv)
+    nj = model.njoints
+    # Per joint: local transform (R, p) parent → joint, subspace S (6 × 1) and the velocity/acc.
+    # variables of that joint, as SX scalars.
+    R_l, p_l, S_l, qd_l, qdd_l = [None] * nj, [None] * nj, [None] * nj, [None] * nj, [None] * nj
+    for i in range(1, nj):
+        kind, axis = joint_kind(model, i)
+        if kind == "mimic":
+            j, k, offset, kind, axis = _mimic_data(model, i)
+            iq, iv = model.joints[j].idx_q, model.joints[j].idx_v
+            angle = k * q[iq] + offset
+            if kind == "revolute":
+                Rj, pj = _axis_rotation(axis, ca.cos(angle), ca.sin(angle)), ca.DM.zeros(3)
+            else:
+                Rj, pj = ca.DM.eye(3), ca.DM(axis) * angle
+            placement = model.jointPlacements[i]
+            R0 = ca.DM(np.asarray(placement.rotation))
+            R_l[i] = ca.mtimes(R0, Rj)
+            p_l[i] = ca.DM(np.asarray(placement.translation)) + ca.mtimes(R0, pj)
+            qd_l[i], qdd_l[i] = k * qd[iv], k * qdd[iv]
+        else:
+            R_l[i], p_l[i] = joint_transform(model, i, q)
+            iv = model.joints[i].idx_v
+            qd_l[i], qdd_l[i] = qd[iv], qdd[iv]
+        S_l[i] = (ca.DM(axis), ca.DM.zeros(3)) if kind == "prismatic" else (ca.DM.zeros(3), ca.DM(axis))
+    # Forward recursion. Motion vectors are (linear, angular) in the joint frame.
+    g = np.asarray(model.gravity.linear, dtype=float)
+    v = [(ca.SX.zeros(3), ca.SX.zeros(3))] + [None] * (nj - 1)
+    a = [(ca.SX(-g), ca.SX.zeros(3))] + [None] * (nj - 1)
+    f = [None] * nj
+    for i in range(1, nj):
+        R, p = R_l[i], p_l[i]
+        vl, wl = v[model.parents[i]]
+        al, bl = a[model.parents[i]]
+        # ⁱX_λ: ω' = R^T ω, v' = R^T (v + ω × p)
+        w_i = ca.mtimes(R.T, wl)
+        v_i = ca.mtimes(R.T, vl + ca.cross(wl, p))
+        b_i = ca.mtimes(R.T, bl)
+        a_i = ca.mtimes(R.T, al + ca.cross(bl, p))
+        s_lin, s_ang = S_l[i]
+        vj_lin, vj_ang = s_lin * qd_l[i], s_ang * qd_l[i]
+        v_i, w_i = v_i + vj_lin, w_i + vj_ang
+        # a_i += S q̈ + v_i × (S q̇)   (motion cross product)
+        a_i = a_i + s_lin * qdd_l[i] + ca.cross(w_i, vj_lin) + ca.cross(v_i, vj_ang)
+        b_i = b_i + s_ang * qdd_l[i] + ca.cross(w_i, vj_ang)
+        v[i], a[i] = (v_i, w_i), (a_i, b_i)
+        inertia = model.inertias[i]
+        m = float(inertia.mass)
+        c = ca.DM(np.asarray(inertia.lever, dtype=float))
+        Ic = ca.DM(np.asarray(inertia.inertia, dtype=float))
+
+        def momentum(lin: Any, ang: Any) -> tuple[Any, Any]:
+            h_lin = m * (lin + ca.cross(ang, c))
+            return h_lin, ca.mtimes(Ic, ang) + ca.cross(c, h_lin)
+
+        ha_lin, ha_ang = momentum(a_i, b_i)
+        hv_lin, hv_ang = momentum(v_i, w_i)
+        # f = I a + v ×* (I v), with (v, ω) ×* (f, n) = (ω × f, ω × n + v × f)
+        f[i] = [ha_lin + ca.cross(w_i, hv_lin), ha_ang + ca.cross(w_i, hv_ang) + ca.cross(v_i, hv_lin)]
+    tau = ca.SX.zeros(model.nv)
+    for i in range(nj - 1, 0, -1):
+        f_lin, f_ang = f[i]
+        s_lin, s_ang = S_l[i]
+        kind, _ = joint_kind(model, i)
+        if kind == "mimic":
+            j, k, _, _, _ = _mimic_data(model, i)
+            tau[model.joints[j].idx_v] += k * (ca.dot(s_lin, f_lin) + ca.dot(s_ang, f_ang))
+        else:
+            tau[model.joints[i].idx_v] += ca.dot(s_lin, f_lin) + ca.dot(s_ang, f_ang)
+        parent = model.parents[i]
+        if parent > 0:  # ^λX_i*: f' = R f, n' = R n + p × R f
+            R, p = R_l[i], p_l[i]
+            Rf = ca.mtimes(R, f_lin)
+            f[parent][0] = f[parent][0] + Rf
+            f[parent][1] = f[parent][1] + ca.mtimes(R, f_ang) + ca.cross(p, Rf)
+    return ca.Function(name, [q, qd, qdd], [tau], ["q", "qd", "qdd"], ["tau"])

@@ -36,6 +36,7 @@ __all__ = [
     "frame_placement_function",
     "geometric_jacobian_function",
     "pose_function",
+    "inverse_dynamics_function",
 ]
 
 _AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}

@@ -46,6 +46,8 @@ __all__ = [
     "TwoStageCLIK",
     "JointIntegrator",
     "constant_pose",
+    "cosine_pose_reference",
+    "manipulability_objective",
     "numerical_gradient",
     "gradient_velocity",
     "joint_limit_distance",
@@ -306,6 +308,34 @@ def constant_pose(T_d: Any) -> Callable[[float], tuple[np.ndarray, np.ndarray]]:
     T_d = as_matrix(T_d, (4, 4), "T_d").copy()
     zero = np.zeros(6)
     return lambda t: (T_d, zero)
+
+
+def cosine_pose_reference(p_i: Any, p_f: Any, t_f: float, phi_i: float = 0.0, phi_f: float = 0.0,
+                          axis: Any = (0.0, 0.0, 1.0), R_0: Any = None) -> Callable[[float], tuple[np.ndarray, np.ndarray]]:
+    """A straight-line position and a rotation about a fixed ``axis`` with the sinusoidal timing law
+    s(t) = ½ (1 − cos(π t / t_f)) on [0, t_f], held afterwards (the manual's 3.21/3.22 references).
+
+    p_d = p_i + s (p_f − p_i), R_d = R(φ_i + s (φ_f − φ_i), axis) R_0, ṗ_d = ṡ (p_f − p_i),
+    ω_d = ṡ (φ_f − φ_i) axis. Returns ``t -> (T_d, v_d)``.
+    """
+    p_i, p_f = as_vector(p_i, 3, "p_i"), as_vector(p_f, 3, "p_f")
+    if not (np.isfinite(t_f) and t_f > 0):
+        raise ValueError(f"`t_f` must be positive, got {t_f}")
+    r = as_vector(axis, 3, "axis")
+    r = r / np.linalg.norm(r)
+    R_0 = np.eye(3) if R_0 is None else as_matrix(R_0, (3, 3), "R_0")
+    dp, dphi = p_f - p_i, float(phi_f - phi_i)
+
+    def reference(t: float) -> tuple[np.ndarray, np.ndarray]:
+        tau = min(max(t, 0.0), t_f)
+        s = 0.5 * (1.0 - np.cos(np.pi * tau / t_f))
+        sd = 0.5 * np.pi / t_f * np.sin(np.pi * tau / t_f) if t < t_f else 0.0
+        T = np.eye(4)
+        T[:3, :3] = pin.exp3((phi_i + s * dphi) * r) @ R_0
+        T[:3, 3] = p_i + s * dp
+        return T, np.concatenate([sd * dp, sd * dphi * r])
+
+    return reference
 
 
 class CLIK:

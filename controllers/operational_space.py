@@ -38,6 +38,28 @@ def _rows(rows: Sequence[int]) -> np.ndarray:
     return r
 
 
+def task_reference(reference: Any, rows: Sequence[int]) -> Any:
+    """``reference`` in the task components: a point or law given in full (x, y, z) is restricted to ``rows``.
+
+    Lets a 3-D path law (e.g. :class:`planners.paths.PathLaw`) drive a planar task (rows (0, 1)).
+    """
+    r = _rows(rows)
+    if r.size == 3:
+        return reference
+    if hasattr(reference, "evaluate") or callable(reference):
+        law = reference.evaluate if hasattr(reference, "evaluate") else reference
+        if np.size(law(0.0)[0]) != 3:
+            return reference
+
+        def restricted(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            x, xd, xdd = law(t)
+            return (np.reshape(x, 3)[r], np.reshape(xd, 3)[r], np.reshape(xdd, 3)[r])
+
+        return restricted
+    v = np.asarray(reference, dtype=float).ravel()
+    return v[r] if v.size == 3 else reference
+
+
 class _PositionTask:
     """x_e(q) = p_e[rows], J_A = J_P[rows], J̇_A q̇ = ṗ̇_e[rows] at q̈ = 0, for one frame."""
 
@@ -66,7 +88,8 @@ class OperationalPDGravity:
     ----------
     robot : the controller's model (g(q) and the kinematics).
     K_P, K_D : (m, m) gains (scalar, (m,) or matrix), positive definite.
-    reference : the desired position x_d (m,) in the ``rows`` components (or a trajectory).
+    reference : the desired position x_d, (m,) in the ``rows`` components or (3,) (or a trajectory,
+        see :func:`task_reference`).
     rows : controlled position components of the frame origin (default x, y, z).
     frame : the controlled frame (default the end effector).
     """
@@ -77,7 +100,7 @@ class OperationalPDGravity:
         self.task = _PositionTask(robot, rows, frame)
         m = self.task.m
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
-        self.reference = as_reference(reference, m)
+        self.reference = as_reference(task_reference(reference, rows), m)
         self._log: dict[str, np.ndarray] = {}
 
     def reset(self) -> None:
@@ -121,7 +144,7 @@ class OperationalInverseDynamics:
             raise ValueError(f"`rows` must select {self.n} components (J_A square, nonredundant task), got {m}")
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
         self.Fv = _friction(viscous_friction, self.n)
-        self.reference = as_reference(reference, m)
+        self.reference = as_reference(task_reference(reference, rows), m)
         self._log: dict[str, np.ndarray] = {}
 
     def reset(self) -> None:
@@ -167,7 +190,7 @@ def operational_inverse_dynamics_steady_state(plant_robot: Robot, model_robot: R
         y = np.linalg.solve(task.jacobian(q), K_P @ (x_d - task.position(q)))
         return inertia_matrix(model_robot, q) @ y - gravity_torques(plant_robot, q) + gravity_torques(model_robot, q)
 
-    q, info, ier, msg = fsolve(residual, start, full_output=True, xtol=1e-13)
-    if ier != 1 or np.max(np.abs(residual(q))) > 1e-8:
+    q, _, _, msg = fsolve(residual, start, full_output=True, xtol=1e-13)
+    if np.max(np.abs(residual(q))) > 1e-8:  # judged by the residual (fsolve's ier is pessimistic at a root)
         raise ValueError(f"no steady state of the operational-space loop found near {start}: {msg}")
     return q

@@ -1,0 +1,151 @@
+"""Inverse kinematics: CLIK laws, null-space tasks, CasADi IPOPT IK and proxsuite QP IK (Panda, UR5, book arms).
+
+FK(IK(T)) is always checked with Pinocchio's direct kinematics, independent of the solvers' own models.
+"""
+
+import numpy as np
+import pytest
+
+from controllers.simulation import simulate
+from planners.inverse_kinematics import (CLIK, CasadiIK, CasadiIKOptions, JointIntegrator, QPIKOptions, QPVelocityIK,
+                                         TaskSpace, constant_pose, cosine_pose_reference,
+                                         damped_least_squares_inverse, gradient_velocity, joint_limit_distance,
+                                         joint_limit_distance_gradient, pose_residual, solve_clik,
+                                         weighted_pseudo_inverse)
+from rigid_body.kinematics import direct_kinematics
+from rigid_body.robots import load
+
+
+@pytest.fixture(scope="module")
+def panda():
+    return load("panda")
+
+
+@pytest.fixture(scope="module")
+def panda_ik(panda):
+    return CasadiIK(panda)
+
+
+def _within_limits(robot, q):
+    return np.all(q >= robot.lower - 1e-12) and np.all(q <= robot.upper + 1e-12)
+
+
+def test_casadi_ik_reaches_random_reachable_poses(panda, panda_ik):
+    rng = np.random.default_rng(7)
+    for _ in range(6):
+        T = direct_kinematics(panda, panda.random_configuration(rng))
+        res = panda_ik.solve(T, rng=rng)
+        assert res.success, res.message
+        assert res.residual < 1e-6
+        assert _within_limits(panda, res.q)
+        assert pose_residual(T, direct_kinematics(panda, res.q)) < 1e-6
+
+
+def test_casadi_ik_unreachable_pose_reports_failure(panda, panda_ik):
+    T = np.eye(4)
+    T[:3, 3] = [2.0, 0.0, 0.5]  # ~2 m away: outside the Panda's workspace
+    res = panda_ik.solve(T, rng=np.random.default_rng(0))
+    assert not res.success
+    assert res.residual > 0.5 and "unreachable" in res.message
+    assert _within_limits(panda, res.q)
+
+
+def test_casadi_ik_posture_cost_and_ur5():
+    robot = load("ur5")
+    rng = np.random.default_rng(3)
+    ik = CasadiIK(robot, options=CasadiIKOptions(posture_weight=1e-10, restarts=5))
+    q_ref = robot.random_configuration(rng)
+    res = ik.solve(direct_kinematics(robot, q_ref), q0=q_ref + 0.05, rng=rng, q_posture=q_ref)
+    assert res.success and pose_residual(direct_kinematics(robot, q_ref), direct_kinematics(robot, res.q)) < 1e-6
+
+
+def test_qp_velocity_ik_converges_within_limits(panda):
+    rng = np.random.default_rng(11)
+    qp = QPVelocityIK(panda)
+    q_goal = panda.random_configuration(rng)
+    q0 = np.clip(q_goal + rng.normal(scale=0.3, size=7), panda.lower, panda.upper)
+    T = direct_kinematics(panda, q_goal)
+    res = qp.solve(T, q0)
+    assert res.success, res.message
+    assert _within_limits(panda, res.q)
+    assert pose_residual(T, direct_kinematics(panda, res.q)) < 1e-6
+
+
+def test_qp_step_respects_velocity_and_position_limits(panda):
+    qp = QPVelocityIK(panda, QPIKOptions(dt=0.05, gain=100.0, velocity_limit=0.5))
+    q = panda.lower + 1e-3  # at the lower limits
+    T = direct_kinematics(panda, np.zeros(7))
+    T[:3, 3] += [0.3, -0.3, -0.3]
+    qd, _ = qp.step(q, T)
+    assert np.all(np.abs(qd) <= 0.5 + 1e-6)
+    assert np.all(q + 0.05 * qd >= panda.lower - 1e-6)
+
+
+def test_solve_clik_converges_and_never_claims_false_success():
+    robot = load("ur5")
+    rng = np.random.default_rng(5)
+    q_goal = robot.random_configuration(rng)
+    T = direct_kinematics(robot, q_goal)
+    res = solve_clik(robot, T, q_goal + 0.1)
+    assert res.success and res.residual < 1e-6
+    short = solve_clik(robot, T, q_goal + 0.5, max_iterations=2)
+    assert short.success == (short.residual < 1e-6)
+    far = np.eye(4)
+    far[:3, 3] = [3.0, 0.0, 0.0]
+    bad = solve_clik(robot, far, q_goal, max_iterations=50)
+    assert not bad.success and bad.residual > 1.0
+
+
+def test_clik_null_space_keeps_panda_away_from_joint_limits(panda):
+    """Position CLIK (3.72) on the 7-DOF Panda with q̇_0 = k0 ∂w/∂q, w the distance from the limits (3.57)."""
+    q0 = np.array([0.3, 0.2, -0.2, -2.8, 0.1, 3.2, 0.8])
+    T0 = direct_kinematics(panda, q0)
+    ref = cosine_pose_reference(T0[:3, 3], T0[:3, 3] + [0.1, 0.1, 0.05], 2.0, R_0=T0[:3, :3])
+    task = TaskSpace(orientation="none")
+    out = {}
+    for k0 in (0.0, 200.0):
+        sec = gradient_velocity(None, k0, gradient=lambda q: joint_limit_distance_gradient(panda, q)) if k0 else None
+        res = simulate(JointIntegrator(), CLIK(panda, ref, task, K=50.0, secondary=sec), (0.0, 4.0), q0, h=1e-2)
+        out[k0] = res
+        assert np.linalg.norm(res["e"][-1]) < 1e-6
+        assert np.linalg.norm(res["e"], axis=1).max() < 1e-3
+    w0, w1 = joint_limit_distance(panda, out[0.0].x[-1]), joint_limit_distance(panda, out[200.0].x[-1])
+    assert w1 > 0.5 * w0 > w0  # w < 0: the null-space task more than halves the distance measure
+    # the numerical gradient agrees with the analytic one
+    g = gradient_velocity(lambda q: joint_limit_distance(panda, q), 1.0, scheme="central")(q0)
+    np.testing.assert_allclose(g, joint_limit_distance_gradient(panda, q0), atol=1e-8)
+
+
+def test_clik_regulates_ur5_with_quaternion_and_dls():
+    robot = load("ur5")
+    rng = np.random.default_rng(9)
+    q_goal = robot.random_configuration(rng)
+    T = direct_kinematics(robot, q_goal)
+    for orientation, law in (("quaternion", "dls"), ("axis_angle", "inverse"), ("euler_zyz", "pseudo_inverse")):
+        clik = CLIK(robot, constant_pose(T), TaskSpace(orientation=orientation), K=20.0, law=law, damping=1e-4)
+        res = simulate(JointIntegrator(), clik, (0.0, 2.0), q_goal + 0.05, h=1e-2)
+        assert pose_residual(T, direct_kinematics(robot, res.x[-1])) < 1e-6, orientation
+
+
+def test_generalised_inverses(rng):
+    J = rng.normal(size=(3, 6))
+    np.testing.assert_allclose(weighted_pseudo_inverse(J), np.linalg.pinv(J), atol=1e-10)
+    W = np.diag(rng.uniform(1, 3, 6))
+    Jw = weighted_pseudo_inverse(J, W)
+    np.testing.assert_allclose(J @ Jw, np.eye(3), atol=1e-10)
+    np.testing.assert_allclose(damped_least_squares_inverse(J, 0.5), J.T @ np.linalg.inv(J @ J.T + 0.25 * np.eye(3)))
+    with pytest.raises(ValueError, match="singular"):
+        weighted_pseudo_inverse(np.ones((2, 3)))
+
+
+def test_bad_inputs_raise(panda):
+    with pytest.raises(ValueError, match="orientation"):
+        TaskSpace(orientation="euler_xyz")
+    with pytest.raises(ValueError, match="rows"):
+        TaskSpace(orientation="none", rows=(0, 4))
+    with pytest.raises(ValueError, match="law"):
+        CLIK(panda, constant_pose(np.eye(4)), law="newton")
+    with pytest.raises(ValueError, match="square"):
+        CLIK(panda, constant_pose(np.eye(4)), law="inverse")(0.0, np.zeros(7))
+    with pytest.raises(ValueError, match="T_d"):
+        CasadiIK(panda, options=CasadiIKOptions(restarts=0)).solve(np.eye(3))

@@ -111,7 +111,7 @@ def _pi(K: float, T: float) -> control.TransferFunction:
 
 
 def _min(G: control.TransferFunction) -> control.TransferFunction:
-    return control.minreal(G, verbose=False)
+    return control.minreal(G, tol=1e-9, verbose=False)
 
 
 def position_feedback(drive: JointDrive, K_P: float, T_P: float,

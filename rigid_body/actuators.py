@@ -127,10 +127,10 @@ def servomotor_transfer_functions(motor: DCServomotor, regulator: PIRegulator | 
     i_from_emf = -control.feedback(armature, drive * motor.ki)  # I_a/(k_v Ω_m) at V'_c = 0
     # Mechanical loop: Ω_m = R(s)(k_t I_a − C_r), closed through the back-emf path.
     loop = motor.kt * rotor * motor.kv * (-i_from_emf)
-    velocity_input = control.minreal(i_from_v * motor.kt * rotor / (1 + loop), verbose=False)
-    velocity_load = control.minreal(-rotor / (1 + loop), verbose=False)
-    current_input = control.minreal(i_from_v / (1 + loop), verbose=False)
-    current_load = control.minreal(i_from_emf * motor.kv * velocity_load, verbose=False)
+    velocity_input = control.minreal(i_from_v * motor.kt * rotor / (1 + loop), tol=1e-9, verbose=False)
+    velocity_load = control.minreal(-rotor / (1 + loop), tol=1e-9, verbose=False)
+    current_input = control.minreal(i_from_v / (1 + loop), tol=1e-9, verbose=False)
+    current_load = control.minreal(i_from_emf * motor.kv * velocity_load, tol=1e-9, verbose=False)
     return ServomotorTransferFunctions(velocity_input, velocity_load, current_input, current_load)
 
 
@@ -243,8 +243,8 @@ def hydraulic_transfer_functions(motor: HydraulicMotor
     valve = m.Gs / (m.Ts * s + 1)
     omega_x = control.feedback(m.kt * chamber * rotor, m.kq) * (m.kx / m.kr)
     omega_load = -control.feedback(rotor, m.kt * chamber * m.kq)
-    theta_v = control.minreal(valve * omega_x / s, verbose=False)
-    theta_load = control.minreal(omega_load / s, verbose=False)
+    theta_v = control.minreal(valve * omega_x / s, tol=1e-9, verbose=False)
+    theta_load = control.minreal(omega_load / s, tol=1e-9, verbose=False)
     return theta_v, theta_load
 
 

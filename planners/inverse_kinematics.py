@@ -213,18 +213,24 @@ def pose_error(robot: Robot, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | N
     return PoseError(e[rows], J[rows], ff[rows], L, T_e)
 
 
-def pose_residual(T_d: np.ndarray, T_e: np.ndarray, task: TaskSpace = TaskSpace()) -> float:
-    """max(‖p_d − p_e‖ over the task's position rows, rotation angle of R_e^T R_d if orientation is controlled)."""
+def pose_residual(T_d: np.ndarray, T_e: np.ndarray, task: TaskSpace = TaskSpace(),
+                  e: np.ndarray | None = None) -> float:
+    """The IK residual: max(‖p_d − p_e‖ over the task's position rows, orientation error).
+
+    The orientation error is the rotation angle of R_e^T R_d when the three orientation rows are
+    controlled, otherwise max |e_i| over the task's orientation rows of the error ``e`` (required then).
+    """
     rows = task.selected
     pos = [r for r in rows if r < 3]
     res = float(np.linalg.norm((T_d[:3, 3] - T_e[:3, 3])[pos])) if pos else 0.0
-    if task.orientation != "none" and any(r >= 3 for r in rows):
-        if len([r for r in rows if r >= 3]) == 3:
-            angle = float(np.linalg.norm(pin.log3(T_e[:3, :3].T @ T_d[:3, :3])))
-        else:  # a partial orientation task: the error components themselves
-            angle = 0.0
-        res = max(res, angle)
-    return res
+    ori = [i for i, r in enumerate(rows) if r >= 3]
+    if task.orientation == "none" or not ori:
+        return res
+    if len(ori) == 3:
+        return max(res, float(np.linalg.norm(pin.log3(T_e[:3, :3].T @ T_d[:3, :3]))))
+    if e is None:
+        raise ValueError("`e` is required for the residual of a partial orientation task")
+    return max(res, float(np.max(np.abs(np.asarray(e)[ori]))))
 
 
 def _gain(K: Any, m: int, name: str) -> np.ndarray:
@@ -469,7 +475,7 @@ def solve_clik(robot: Robot, T_d: Any, q0: Any, task: TaskSpace = TaskSpace(), d
     best_q, best = q.copy(), np.inf
     for it in range(1, max_iterations + 1):
         err = pose_error(robot, q, T_d, None, task)
-        res = pose_residual(T_d, err.T_e, task)
+        res = pose_residual(T_d, err.T_e, task, err.e)
         if res < best:
             best, best_q = res, q.copy()
         if res < tol:
@@ -481,7 +487,7 @@ def solve_clik(robot: Robot, T_d: Any, q0: Any, task: TaskSpace = TaskSpace(), d
             dq = dq + dq0 - Jp @ (err.J @ dq0)
         q = np.clip(pin.integrate(robot.model, q, step * dq), lo, hi)
     err = pose_error(robot, q, T_d, None, task)
-    res = pose_residual(T_d, err.T_e, task)
+    res = pose_residual(T_d, err.T_e, task, err.e)
     if res < best:
         best, best_q = res, q.copy()
     return IKResult(best_q, best < tol, max_iterations, best,
@@ -510,7 +516,7 @@ class CasadiIKOptions:
     posture_weight: float = 0.0
     tol: float = 1e-6
     restarts: int = 10
-    max_iter: int = 300
+    max_iter: int = 100
 
     def __post_init__(self):
         if self.tol <= 0 or self.restarts < 0 or self.max_iter < 1:
@@ -554,7 +560,7 @@ class CasadiIK:
         nlp = {"x": q, "f": cost, "p": params}
         self._solver = ca.nlpsol("ik", "ipopt", nlp, {
             "ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
-            "ipopt.tol": 1e-14, "ipopt.acceptable_tol": 1e-12, "ipopt.max_iter": o.max_iter,
+            "ipopt.tol": 1e-10, "ipopt.acceptable_tol": 1e-12, "ipopt.obj_scaling_factor": 1e3, "ipopt.max_iter": o.max_iter,
             "ipopt.hessian_approximation": "exact"})
         self._lo = np.array(robot.lower)
         self._hi = np.array(robot.upper)
@@ -657,7 +663,7 @@ class QPVelocityIK:
         best, best_q = np.inf, q.copy()
         for it in range(o.max_iterations + 1):
             qd, err = self.step(q, T_d)
-            res = pose_residual(T_d, err.T_e, o.task)
+            res = pose_residual(T_d, err.T_e, o.task, err.e)
             if res < best:
                 best, best_q = res, q.copy()
             if res < o.tol:

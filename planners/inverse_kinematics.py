@@ -31,6 +31,7 @@ import pinocchio as pin
 
 from rigid_body.manipulability import manipulability
 from rigid_body.robots import Robot
+from rigid_body.rotations import _axis_angle_error, _orientation_error_matrix  # unvalidated kernels (hot loop)
 from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz, orientation_error_axis_angle,
                                   orientation_error_matrix, orientation_error_quaternion, rotation_to_euler_zyz,
                                   rotation_to_quaternion, rotation_to_rpy)
@@ -191,8 +192,8 @@ def pose_error(robot: Robot, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | N
     L = None
     kind = task.orientation
     if kind == "axis_angle":
-        e[3:] = orientation_error_axis_angle(R_d, R_e)                # Eq. (3.85)
-        L = orientation_error_matrix(R_d, R_e)                         # Eq. (3.87)
+        e[3:] = _axis_angle_error(R_d, R_e)                            # Eq. (3.85)
+        L = _orientation_error_matrix(R_d, R_e)                        # Eq. (3.87)
     elif kind == "quaternion":
         e[3:] = orientation_error_quaternion(rotation_to_quaternion(R_d), rotation_to_quaternion(R_e))  # (3.91)
     elif kind in ("euler_zyz", "rpy"):
@@ -375,6 +376,7 @@ class CLIK:
         rows = task.selected
         self._ori_rows = [i for i, r in enumerate(rows) if r >= 3]
         self._ori_full = [r - 3 for r in rows if r >= 3]
+        self._ori_block = np.ix_(self._ori_full, self._ori_full)
         self._last: dict[str, Any] = {}
 
     def reset(self) -> None:
@@ -390,7 +392,7 @@ class CLIK:
         v = err.feedforward + self.K @ e                                   # ẋ_d + K e
         if err.L is not None and self._ori_rows:                           # Eqs. (3.88)–(3.89)
             o = self._ori_rows
-            L = err.L[np.ix_(self._ori_full, self._ori_full)]
+            L = err.L[self._ori_block]
             v[o] = np.linalg.solve(L, L.T @ err.feedforward[o] + (self.K @ e)[o])
         if self.law == "inverse":
             if J.shape[0] != J.shape[1]:

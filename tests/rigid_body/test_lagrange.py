@@ -117,3 +117,22 @@ def test_bad_input():
         lg.serial_model([DHLink(a=1.0, mass=1.0, motor_inertia=np.diag([0.1, 0.2, 0.3]))])
     with pytest.raises(ValueError, match="payload"):
         lg.serial_model([DHLink(a=1.0, mass=1.0)], payload=-1.0)
+
+
+def test_panda_standard_dh_table_reproduces_example_robot_data():
+    """The Panda converted from Craig's modified DH: kinematics and dynamics equal load("panda")."""
+    from rigid_body.kinematics import direct_kinematics
+    from urdf.panda_dh import panda_links, panda_tool
+
+    rng = np.random.default_rng(4)
+    links = panda_links()
+    panda, from_dh, model = load("panda"), robot_from_dh(links, tool=panda_tool()), lg.serial_model(links)
+    for _ in range(3):
+        q = panda.random_configuration(rng)
+        qd, qdd = rng.normal(size=(2, 7))
+        np.testing.assert_allclose(direct_kinematics(from_dh, q), direct_kinematics(panda, q), atol=1e-12)
+        np.testing.assert_allclose(lg.inertia_matrix(model, q), dyn.inertia_matrix(panda, q), atol=1e-12)
+        np.testing.assert_allclose(lg.coriolis_matrix(model, q, qd), dyn.coriolis_matrix(panda, q, qd), atol=1e-12)
+        tau = dyn.inverse_dynamics(panda, q, qd, qdd)
+        np.testing.assert_allclose(ne.inverse_dynamics(model, q, qd, qdd), tau, atol=1e-10)
+        np.testing.assert_allclose(dyn.inverse_dynamics(from_dh, q, qd, qdd), tau, atol=1e-10)

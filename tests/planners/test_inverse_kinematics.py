@@ -149,3 +149,18 @@ def test_bad_inputs_raise(panda):
         CLIK(panda, constant_pose(np.eye(4)), law="inverse")(0.0, np.zeros(7))
     with pytest.raises(ValueError, match="T_d"):
         CasadiIK(panda, options=CasadiIKOptions(restarts=0)).solve(np.eye(3))
+
+
+def test_null_space_manipulability_task_increases_w():
+    """Planar position task on the three-link arm: q̇_0 = k0 ∂w/∂q with w of (3.56) raises w without moving p."""
+    from planners.inverse_kinematics import manipulability_objective
+
+    robot = load("planar_3r", a=(0.5, 0.3, 0.3))
+    q0 = np.array([0.2, 0.3, 2.5])
+    T = direct_kinematics(robot, q0)
+    task = TaskSpace(orientation="none", rows=(0, 1))
+    w = manipulability_objective(robot, rows=(0, 1))
+    clik = CLIK(robot, constant_pose(T), task, K=50.0, secondary=gradient_velocity(w, 5.0, scheme="central"))
+    res = simulate(JointIntegrator(), clik, (0.0, 3.0), q0, h=1e-2)
+    assert w(res.x[-1]) > 1.5 * w(q0)
+    assert np.linalg.norm(direct_kinematics(robot, res.x[-1])[:2, 3] - T[:2, 3]) < 1e-6

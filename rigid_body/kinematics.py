@@ -141,6 +141,13 @@ def _checked(links, qs: np.ndarray, T_target: np.ndarray, mask: np.ndarray, robo
     return qs
 
 
+def _snap_cosine(c: float) -> float:
+    """Clip a cosine to [−1, 1] and snap it to ±1 within 1e-12: at the elbow singularity s = √(1 − c²) would
+    otherwise be ~1e-8 from round-off alone (the position error of snapping is second order, ~1e-12 m)."""
+    c = float(np.clip(c, -1.0, 1.0))
+    return float(np.sign(c)) if 1.0 - abs(c) < 1e-12 else c
+
+
 def _two_link(px: float, py: float, a1: float, a2: float, robot: str) -> np.ndarray:
     """(θ1, θ2) of a two-link planar arm reaching (px, py), Eqs. (2.91)–(2.92): rows [s2 < 0, s2 > 0].
 
@@ -153,7 +160,7 @@ def _two_link(px: float, py: float, a1: float, a2: float, robot: str) -> np.ndar
         r = np.hypot(px, py)
         raise ValueError(f"point unreachable by the {robot}: distance {r:.6g} m from joint 1 is outside "
                          f"[|a1 - a2|, a1 + a2] = [{abs(a1 - a2):.6g}, {a1 + a2:.6g}] m")
-    c2 = float(np.clip(c2, -1.0, 1.0))
+    c2 = _snap_cosine(c2)
     out = []
     for s2 in (-np.sqrt(1.0 - c2**2), np.sqrt(1.0 - c2**2)):
         k1, k2 = a1 + a2 * c2, a2 * s2
@@ -270,7 +277,7 @@ def _anthropomorphic(p: np.ndarray, a2: float, a3: float, theta1: float, theta2:
     if abs(c3) > 1.0 + 1e-12:
         raise ValueError(f"point unreachable by the {robot}: distance {np.linalg.norm(p):.6g} m from the "
                          f"shoulder is outside [|a2 - a3|, a2 + a3] = [{abs(a2 - a3):.6g}, {a2 + a3:.6g}] m")
-    c3 = float(np.clip(c3, -1.0, 1.0))
+    c3 = _snap_cosine(c3)
     s3 = np.sqrt(1.0 - c3**2)
     rho = np.hypot(px, py)
     th1 = np.arctan2(py, px) if rho > 1e-12 else float(theta1)

@@ -470,6 +470,9 @@ def solve_clik(robot: Robot, T_d: Any, q0: Any, task: TaskSpace = TaskSpace(), d
 
     Each iteration is one step of the CLIK law with unit gain (a damped Gauss–Newton step); the
     configuration is kept within the joint limits. ``success`` when the residual is below ``tol``.
+    A local method: it converges from a nearby guess (e.g. tracking, or a previous solution); from
+    an arbitrary guess on a 7-DOF arm with limits it often stalls (measured: 4 of 20 random
+    Panda guesses), and reports it with ``success=False`` — use :class:`CasadiIK` (restarts) then.
     """
     T_d = as_matrix(T_d, (4, 4), "T_d")
     q = as_vector(q0, robot.nq, "q0").copy()

@@ -31,13 +31,13 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
 
 import numpy as np
+import pinocchio as pin
 
 from controllers.joint_space import InverseDynamicsControl, with_payload
 from controllers.simulation import ArmPlant, simulate
 from planners.paths import SegmentSequence
 from planners.timing import cubic_law, quintic_law, trapezoidal_law
-from rigid_body.dynamics import gravity_torques
-from rigid_body.kinematics import direct_kinematics, geometric_jacobian
+from rigid_body.kinematics import direct_kinematics
 from rigid_body.robots import Robot
 from rigid_body.validation import as_vector
 
@@ -450,13 +450,14 @@ class ForceSensingArm:
     def __init__(self, robot: Robot, environment: SurfaceWithHole, viscous_friction: Any = 0.0,
                  frame: str | int | None = None):
         self.robot, self.env, self.frame = robot, environment, frame
+        self._fid = robot.ee_frame if frame is None else robot.frame(frame)
         self.arm = ArmPlant(robot, viscous_friction=viscous_friction, external_force=self._joint_torques)
 
     def contact_force(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(force of the environment on the tip (2,), J_P rows x, y (2, n))."""
-        J = geometric_jacobian(self.robot, q, self.frame)[:2]
-        p = direct_kinematics(self.robot, q, self.frame)[:2, 3]
-        return self.env.force(p, J @ qd), J
+        J, T = _jacobian_and_pose(self.robot, q, self._fid)
+        J = J[:2]
+        return self.env.force(T.translation[:2], J @ qd), J
 
     def _joint_torques(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         f, J = self.contact_force(q, qd)
@@ -469,6 +470,13 @@ class ForceSensingArm:
         n = self.robot.nv
         f, _ = self.contact_force(x[:n], x[n:])
         return np.concatenate([x, -f])
+
+
+def _jacobian_and_pose(robot: Robot, q: np.ndarray, fid: int) -> tuple[np.ndarray, Any]:
+    """(geometric Jacobian (6, n), pose pin.SE3) of frame ``fid`` in one Pinocchio pass (hot loops: q is
+    trusted, no validation)."""
+    J = pin.computeFrameJacobian(robot.model, robot.data, q, fid, pin.LOCAL_WORLD_ALIGNED)
+    return J, robot.data.oMf[fid].copy()
 
 
 PEG_STATES = ("approach", "descend", "search", "insert", "done")
@@ -510,6 +518,7 @@ class PegInHoleController:
     def __init__(self, robot: Robot, task: PegInHoleTask, K_P: Any = (3000.0, 3000.0, 300.0),
                  K_D: Any = (120.0, 120.0, 10.0), frame: str | int | None = None):
         self.robot, self.task, self.frame = robot, task, frame
+        self._fid = robot.ee_frame if frame is None else robot.frame(frame)
         self.K_P, self.K_D = as_vector(K_P, 3, "K_P"), as_vector(K_D, 3, "K_D")
         self.n = robot.nv
         self.reset()
@@ -533,9 +542,10 @@ class PegInHoleController:
     def __call__(self, t: float, meas: np.ndarray) -> np.ndarray:
         n, task = self.n, self.task
         q, qd, f = meas[:n], meas[n:2 * n], meas[2 * n:2 * n + 2]
-        T = direct_kinematics(self.robot, q, self.frame)
-        J = geometric_jacobian(self.robot, q, self.frame)[[0, 1, 5]]
-        x = np.array([T[0, 3], T[1, 3], np.arctan2(T[1, 0], T[0, 0])])
+        J, T = _jacobian_and_pose(self.robot, q, self._fid)
+        J = J[[0, 1, 5]]
+        R, p = T.rotation, T.translation
+        x = np.array([p[0], p[1], np.arctan2(R[1, 0], R[0, 0])])
         xd = J @ qd
         x_d, xd_d = x.copy(), np.zeros(3)
         select = np.ones(3)
@@ -586,14 +596,14 @@ class PegInHoleController:
         e[2] = np.arctan2(np.sin(e[2]), np.cos(e[2]))
         wrench = self.K_P * select * e + self.K_D * (xd_d - xd) + force
         self._log = {"x_e": x, "x_d": x_d, "f": f, "state": PEG_STATES.index(self.state)}
-        return gravity_torques(self.robot, q) + J.T @ wrench
+        return pin.computeGeneralizedGravity(self.robot.model, self.robot.data, q) + J.T @ wrench
 
     def log(self) -> dict[str, Any]:
         return self._log
 
 
 def run_peg_in_hole(robot: Robot, environment: SurfaceWithHole, task: PegInHoleTask, q0: Any,
-                    duration: float, Ts: float = 1e-3, h: float = 5e-4,
+                    duration: float, Ts: float = 1e-3, h: float = 1e-3,
                     viscous_friction: Any = 0.0) -> tuple[Any, PegInHoleController]:
     """Simulate the peg-in-hole state machine on ``robot`` against ``environment`` from ``q0``.
 

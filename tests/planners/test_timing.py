@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from planners import timing
+from problems.ch04 import manual_spline_system
 
 
 def _fd_consistent(tr, tol, acceleration=True):
@@ -160,41 +161,6 @@ def test_cubic_sequence_many_joints_is_c1(rng):
     _continuity(law, t[1:-1], orders=(0, 1))
 
 
-def _manual_A_b(dt, q, vi, vf, ai, af):
-    """(4.28) transcribed verbatim from the manual's solution of Problem 4.4 (1-based indices)."""
-    N = len(dt) - 1
-    D = {k + 1: dt[k] for k in range(N + 1)}      # Δt_1 .. Δt_{N+1}
-    Q = {1: q[0], N + 2: q[-1]}
-    for j, k in enumerate(range(3, N + 1)):        # given q_3, ..., q_N
-        Q[k] = q[j + 1]
-    A = np.zeros((N, N))
-    A[0, 0] = D[1] / 2 + D[2] / 3 + D[1] ** 2 / (6 * D[2])
-    for k in range(2, N):
-        A[k - 1, k - 1] = (D[k] + D[k + 1]) / 3
-    A[N - 1, N - 1] = D[N] / 3 + D[N + 1] / 2 + D[N + 1] ** 2 / (6 * D[N])
-    A[1, 0] = D[2] / 6 - D[1] ** 2 / (6 * D[2])
-    for k in range(3, N + 1):
-        A[k - 1, k - 2] = D[k] / 6
-    for k in range(1, N - 1):
-        A[k - 1, k] = D[k + 1] / 6
-    A[N - 2, N - 1] = D[N] / 6 - D[N + 1] ** 2 / (6 * D[N])
-    qi, qf = Q[1], Q[N + 2]
-    b = np.zeros(N)
-    b[0] = (Q[3] - qi) / D[2] - (1 / D[2] + 1 / D[1]) * (vi * D[1] + ai * D[1] ** 2 / 3) - ai * D[1] / 6
-    start = (qi + vi * D[1] + ai * D[1] ** 2 / 3) / D[2]
-    end = (qf - vf * D[N + 1] + af * D[N + 1] ** 2 / 3) / D[N]
-    if N == 3:
-        b[1] = start - (1 / D[3] + 1 / D[2]) * Q[3] + (qf - vf * D[4] + af * D[4] ** 2 / 3) / D[3]
-    else:
-        b[1] = start - (1 / D[3] + 1 / D[2]) * Q[3] + Q[4] / D[3]
-        for k in range(3, N - 1):
-            b[k - 1] = Q[k] / D[k] - (1 / D[k + 1] + 1 / D[k]) * Q[k + 1] + Q[k + 2] / D[k + 1]
-        b[N - 2] = Q[N - 1] / D[N - 1] - (1 / D[N] + 1 / D[N - 1]) * Q[N] + end
-    b[N - 1] = ((Q[N] - qf) / D[N] - (1 / D[N + 1] + 1 / D[N]) * (-vf * D[N + 1] + af * D[N + 1] ** 2 / 3)
-                - af * D[N + 1] / 6)
-    return A, b
-
-
 @pytest.mark.parametrize("N", [3, 4, 5, 7, 12])
 def test_spline_system_equals_manual_formulas_and_spline_is_c2(N, rng):
     t = np.cumsum(np.concatenate([[0.0], rng.uniform(0.5, 2.0, N - 1)]))
@@ -202,7 +168,7 @@ def test_spline_system_equals_manual_formulas_and_spline_is_c2(N, rng):
     vi, vf, ai, af = rng.normal(size=4)
     tv = (t[0] + rng.uniform(0.2, 0.8) * (t[1] - t[0]), t[-2] + rng.uniform(0.2, 0.8) * (t[-1] - t[-2]))
     system = timing.spline_system(t, q, vi, vf, ai, af, t_virtual=tv)
-    A, b = _manual_A_b(np.diff(system.knots), q, vi, vf, ai, af)
+    A, b = manual_spline_system(np.diff(system.knots), q, vi, vf, ai, af)  # the manual's (4.28)
     np.testing.assert_allclose(system.A, A, atol=1e-12)
     np.testing.assert_allclose(system.b, b, atol=1e-12)
     law = timing.cubic_spline_law(t, q, vi, vf, ai, af, t_virtual=tv)

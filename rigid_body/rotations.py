@@ -21,6 +21,7 @@ Sects. 2.2–2.7, Eqs. (2.5)–(2.45).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -36,13 +37,20 @@ SINGULAR_TOL = 1e-12  # |sin θ| (ZYZ, ZXZ) or |cos θ| (RPY) below which Euler 
 # Validation
 # --------------------------------------------------------------------------------------------
 
+_EYE3 = np.eye(3)
+
+
 def as_rotation(R: Any, name: str = "R", tol: float = ORTHONORMAL_TOL) -> np.ndarray:
     """``R`` as a (3, 3) rotation matrix: orthonormal and det +1 within ``tol``, else ValueError."""
-    R = as_matrix(R, (3, 3), name)
-    err = np.max(np.abs(R.T @ R - np.eye(3)))
-    if err > tol:
+    if type(R) is not np.ndarray or R.shape != (3, 3) or R.dtype != np.float64:
+        R = as_matrix(R, (3, 3), name)
+    err = np.abs(R.T @ R - _EYE3).max()
+    if not err <= tol:  # also catches NaN
+        if not np.isfinite(R).all():
+            raise ValueError(f"`{name}` must be finite")
         raise ValueError(f"`{name}` is not orthonormal: max |R^T R - I| = {err:.3g} > {tol:g}")
-    if np.linalg.det(R) < 0:
+    (r11, r12, r13), (r21, r22, r23), (r31, r32, r33) = R.tolist()
+    if r11 * (r22 * r33 - r23 * r32) - r12 * (r21 * r33 - r23 * r31) + r13 * (r21 * r32 - r22 * r31) < 0:
         raise ValueError(f"`{name}` has determinant -1: a reflection, not a rotation")
     return R
 
@@ -66,6 +74,11 @@ def as_homogeneous(T: Any, name: str = "T", tol: float = ORTHONORMAL_TOL) -> np.
 
 
 def _scalar(x: Any, name: str) -> float:
+    if isinstance(x, (float, int, np.floating, np.integer)) and not isinstance(x, bool):
+        x = float(x)
+        if not math.isfinite(x):
+            raise ValueError(f"`{name}` must be finite, got {x}")
+        return x
     return float(as_vector(x, 1, name)[0])
 
 
@@ -82,21 +95,21 @@ def _branch(branch: int) -> int:
 def rot_x(a: float) -> np.ndarray:
     """Rx(α): elementary rotation about x, Eq. (2.7)."""
     a = _scalar(a, "a")
-    c, s = np.cos(a), np.sin(a)
+    c, s = math.cos(a), math.sin(a)
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
 
 
 def rot_y(a: float) -> np.ndarray:
     """Ry(β): elementary rotation about y, Eq. (2.7)."""
     a = _scalar(a, "a")
-    c, s = np.cos(a), np.sin(a)
+    c, s = math.cos(a), math.sin(a)
     return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def rot_z(a: float) -> np.ndarray:
     """Rz(α): elementary rotation about z, Eq. (2.6)."""
     a = _scalar(a, "a")
-    c, s = np.cos(a), np.sin(a)
+    c, s = math.cos(a), math.sin(a)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
@@ -240,7 +253,7 @@ def rotation_to_axis_angle(R: Any) -> tuple[float, np.ndarray]:
     At θ = 0 the axis is arbitrary: r = [0, 0, 1] is returned.
     """
     R = as_rotation(R)
-    w = vee(R)  # = sin θ r
+    w = 0.5 * np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])  # vee(R − R^T)/2 = sin θ r
     s = np.linalg.norm(w)
     c = np.clip(0.5 * (np.trace(R) - 1.0), -1.0, 1.0)
     theta = float(np.arctan2(s, c))

@@ -321,7 +321,11 @@ def inverse_dynamics_steady_state(plant_robot: Robot, model_robot: Robot, K_P: A
 # --------------------------------------------------------------------------------------------
 
 def lyapunov_matrix(K_P: Any, K_D: Any, P: Any = None) -> np.ndarray:
-    """Q > 0 solving H̃ᵀ Q + Q H̃ = −P with H̃ = [[O, I], [−K_P, −K_D]] (Eq. 8.81); P defaults to I."""
+    """Q > 0 solving H̃ᵀ Q + Q H̃ = −P with H̃ = [[O, I], [−K_P, −K_D]] (Eq. 8.81); P defaults to I.
+
+    >>> lyapunov_matrix(100.0, 16.0).round(7).tolist()    # one joint, Problem 8.13
+    [[3.23625, 0.005], [0.005, 0.0315625]]
+    """
     K_P = np.atleast_2d(np.asarray(K_P, dtype=float))
     n = K_P.shape[0]
     K_P, K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")

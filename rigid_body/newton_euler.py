@@ -26,6 +26,11 @@ from rigid_body.validation import as_vector
 EZ = np.array([0.0, 0.0, 1.0])
 
 
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a × b for 3-vectors (several times faster than ``np.cross`` on single vectors)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
 @dataclass(frozen=True)
 class AugmentedLink:
     """Augmented link i in frame i: mass m_i, com r^i_{i,Ci} (3,), inertia Ī_i (3, 3) about the com.
@@ -120,18 +125,18 @@ def newton_euler(model: SerialModel, q: Any, qd: Any, qdd: Any, f_tip: Any = Non
     for i in range(n):
         Rt = R[i].T
         # Rotor i on link i-1, Eq. (7.108) for the motor: ω̇^{i-1}_{mi}.
-        omega_dot_m[i] = wd + kr[i] * qdd[i] * EZ + kr[i] * qd[i] * np.cross(w, EZ)
+        omega_dot_m[i] = wd + kr[i] * qdd[i] * EZ + kr[i] * qd[i] * _cross(w, EZ)
         if model.revolute[i]:
             w_new = Rt @ (w + qd[i] * EZ)  # (7.107)
-            wd_new = Rt @ (wd + qdd[i] * EZ + qd[i] * np.cross(w, EZ))  # (7.108)
-            a_new = Rt @ a + np.cross(wd_new, r[i]) + np.cross(w_new, np.cross(w_new, r[i]))  # (7.109)
+            wd_new = Rt @ (wd + qdd[i] * EZ + qd[i] * _cross(w, EZ))  # (7.108)
+            a_new = Rt @ a + _cross(wd_new, r[i]) + _cross(w_new, _cross(w_new, r[i]))  # (7.109)
         else:
             w_new = Rt @ w
             wd_new = Rt @ wd
-            a_new = (Rt @ (a + qdd[i] * EZ) + 2.0 * qd[i] * np.cross(w_new, Rt @ EZ)
-                     + np.cross(wd_new, r[i]) + np.cross(w_new, np.cross(w_new, r[i])))
+            a_new = (Rt @ (a + qdd[i] * EZ) + 2.0 * qd[i] * _cross(w_new, Rt @ EZ)
+                     + _cross(wd_new, r[i]) + _cross(w_new, _cross(w_new, r[i])))
         rc = links[i].com
-        pc_ddot[i] = a_new + np.cross(wd_new, rc) + np.cross(w_new, np.cross(w_new, rc))  # (7.110)
+        pc_ddot[i] = a_new + _cross(wd_new, rc) + _cross(w_new, _cross(w_new, rc))  # (7.110)
         omega[i], omega_dot[i], p_ddot[i] = w_new, wd_new, a_new
         w, wd, a = w_new, wd_new, a_new
 
@@ -147,11 +152,11 @@ def newton_euler(model: SerialModel, q: Any, qd: Any, qdd: Any, f_tip: Any = Non
         w, wd, rc = omega[i], omega_dot[i], L.com
         Rf = R_next @ f_next
         f[i] = Rf + L.mass * pc_ddot[i]  # (7.111)
-        m_i = (-np.cross(f[i], r[i] + rc) + R_next @ mu_next + np.cross(Rf, rc)
-               + L.inertia @ wd + np.cross(w, L.inertia @ w))  # (7.112)
+        m_i = (-_cross(f[i], r[i] + rc) + R_next @ mu_next + _cross(Rf, rc)
+               + L.inertia @ wd + _cross(w, L.inertia @ w))  # (7.112)
         if i + 1 < n:  # spin of rotor i+1 carried by link i
             m_i += (kr[i + 1] * qdd[i + 1] * L.rotor_axial * EZ
-                    + kr[i + 1] * qd[i + 1] * L.rotor_axial * np.cross(w, EZ))
+                    + kr[i + 1] * qd[i + 1] * L.rotor_axial * _cross(w, EZ))
         mu[i] = m_i
         z_prev = R[i].T @ EZ  # z_{i-1} in frame i
         tau[i] = (m_i if model.revolute[i] else f[i]) @ z_prev + kr[i] * Im[i] * omega_dot_m[i] @ EZ  # (7.113)/(7.114)

@@ -12,6 +12,7 @@ Sects. 2.8–2.12 (direct and inverse kinematics), 3.1–3.3 (geometric Jacobian
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 import pinocchio as pin
@@ -116,10 +117,21 @@ def _wrap(angle: np.ndarray) -> np.ndarray:
     return np.arctan2(np.sin(angle), np.cos(angle))
 
 
-def _book_links(name: str, params: dict) -> tuple:
+@lru_cache(maxsize=64)
+def _cached_book_links(name: str, items: tuple) -> tuple:
     from urdf.book_robots import book_robot_spec
 
-    return book_robot_spec(name, **params).links
+    return book_robot_spec(name, **dict(items)).links
+
+
+def _book_links(name: str, params: dict) -> tuple:
+    """The DH table of book robot ``name`` with ``params`` (cached when the values are hashable)."""
+    try:
+        return _cached_book_links(name, tuple(sorted(params.items())))
+    except TypeError:  # unhashable values (lists, arrays), or bad parameters: build it (and raise) uncached
+        from urdf.book_robots import book_robot_spec
+
+        return book_robot_spec(name, **params).links
 
 
 def _prismatic_in_range(value: float, link, name: str, robot: str) -> float:

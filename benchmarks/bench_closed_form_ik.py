@@ -1,0 +1,65 @@
+"""Benchmark of the closed-form inverse kinematics of Sect. 2.12, relative to one raw Pinocchio FK call.
+
+Each closed-form IK returns all its solutions and checks every one against the DH product (2.52);
+the ratio is to one ``pin.forwardKinematics`` + ``pin.updateFramePlacement`` on the same robot,
+measured in the same run. Also times the rotation conversions of ``rigid_body.rotations`` against
+``pin.log3`` / ``pin.Quaternion``.
+
+Run: ``python benchmarks/bench_closed_form_ik.py``.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pinocchio as pin
+
+from rigid_body import kinematics as kin
+from rigid_body import rotations as rot
+from rigid_body.robots import load
+
+
+def per_call(f, repetitions: int) -> float:
+    """Mean wall time of ``f()`` [s] over ``repetitions`` calls (after one warm-up call)."""
+    f()
+    t0 = time.perf_counter()
+    for _ in range(repetitions):
+        f()
+    return (time.perf_counter() - t0) / repetitions
+
+
+def raw_fk(robot, q):
+    def f():
+        pin.forwardKinematics(robot.model, robot.data, q)
+        pin.updateFramePlacement(robot.model, robot.data, robot.ee_frame)
+    return f
+
+
+if __name__ == "__main__":
+    reps = 2000
+    rng = np.random.default_rng(0)
+    cases = {
+        "planar_3r": lambda T: kin.inverse_kinematics_planar_3r([T[0, 3], T[1, 3], np.arctan2(T[1, 0], T[0, 0])]),
+        "scara": lambda T: kin.inverse_kinematics_scara([*T[:3, 3], np.arctan2(T[1, 0], T[0, 0])]),
+        "anthropomorphic": lambda T: kin.inverse_kinematics_anthropomorphic(T[:3, 3]),
+        "spherical_wrist": lambda T: kin.inverse_kinematics_spherical_wrist(T[:3, :3]),
+        "anthropomorphic_wrist": lambda T: kin.inverse_kinematics_anthropomorphic_wrist(T),
+    }
+    print(f"{'closed-form IK':<24} {'us/call':>10} {'raw FK us':>10} {'ratio':>8}")
+    for name, ik in cases.items():
+        robot = load(name)
+        q = rng.uniform(robot.lower, robot.upper)
+        T = kin.direct_kinematics(robot, q)
+        t_ik = per_call(lambda: ik(T), reps)
+        t_fk = per_call(raw_fk(robot, q), reps * 10)
+        print(f"{name:<24} {t_ik * 1e6:10.1f} {t_fk * 1e6:10.2f} {t_ik / t_fk:8.1f}")
+    R = pin.exp3(np.array([0.3, -0.2, 0.9]))
+    t_log = per_call(lambda: pin.log3(R), reps * 10)
+    t_quat = per_call(lambda: pin.Quaternion(R), reps * 10)
+    print(f"\n{'rotation conversion':<24} {'us/call':>10} {'pin us':>10} {'ratio':>8}")
+    for label, f, ref in (("rotation_to_axis_angle", lambda: rot.rotation_to_axis_angle(R), t_log),
+                          ("rotation_to_quaternion", lambda: rot.rotation_to_quaternion(R), t_quat),
+                          ("rotation_to_euler_zyz", lambda: rot.rotation_to_euler_zyz(R), t_log)):
+        t = per_call(f, reps)
+        print(f"{label:<24} {t * 1e6:10.1f} {ref * 1e6:10.2f} {t / ref:8.1f}")

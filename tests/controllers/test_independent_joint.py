@@ -1,0 +1,74 @@
+"""Independent joint control: designs meet their specifications; feedforward tracks; inertia bounds."""
+
+import control
+import numpy as np
+import pytest
+
+from controllers.independent_joint import (JointDrive, JointDrivePlant, PositionVelocityController, Transducers,
+                                           bandwidth, design_position_feedback, design_position_velocity,
+                                           design_position_velocity_acceleration, inertia_bounds)
+from controllers.simulation import simulate
+
+DRIVE = JointDrive(I=6.0, Ra=0.3, kt=0.5, kv=0.5, Fm=0.001)
+
+
+def _damping(W):
+    wn, zeta, _ = control.damp(W, doprint=False)
+    return wn, zeta
+
+
+def test_position_velocity_designs_meet_specifications(rng):
+    for _ in range(5):
+        zeta, wn = rng.uniform(0.3, 0.9), rng.uniform(5, 50)
+        t = Transducers(*rng.uniform(0.5, 2, 3))
+        d5 = design_position_velocity(DRIVE, zeta, wn, t)
+        d6 = design_position_velocity_acceleration(DRIVE, zeta, wn, 2 * wn**2 / DRIVE.k_m, t)
+        for d in (d5, d6):
+            w, z = _damping(d.closed_loop.reference)
+            assert np.allclose(w, wn) and np.allclose(z, zeta)
+            assert control.dcgain(d.closed_loop.reference) == pytest.approx(1 / t.k_TP)
+        assert d6.K_P * t.k_TP * d6.K_V * d6.K_A == pytest.approx(2 * wn**2 / DRIVE.k_m)
+
+
+def test_position_feedback_design_damping():
+    d = design_position_feedback(DRIVE, 0.5, 10 * DRIVE.T_m)
+    complex_poles = d.poles[np.abs(d.poles.imag) > 0]
+    assert np.allclose(-complex_poles.real / np.abs(complex_poles), 0.5)
+    with pytest.raises(ValueError, match="`zeta`"):
+        design_position_feedback(DRIVE, 1.2, 72.0)
+
+
+def test_acceleration_design_needs_enough_rejection():
+    with pytest.raises(ValueError, match="`X_R` must exceed"):
+        design_position_velocity_acceleration(DRIVE, 0.4, 20.0, 100.0)
+
+
+def test_bandwidth_of_second_order():
+    W = control.tf([1.0], [1 / 400.0, np.sqrt(2.0) / 20.0, 1.0])
+    assert bandwidth(W) == pytest.approx(20.0, rel=1e-3)        # ζ = 1/√2: ω_3 = ω_n
+
+
+def test_feedforward_tracks_sampled_trajectory():
+    d = design_position_velocity(DRIVE, 0.4, 20.0)
+
+    def ref(t):
+        return np.sin(t), np.cos(t), -np.sin(t)
+
+    err = {}
+    for ff in (True, False):
+        res = simulate(JointDrivePlant(DRIVE), PositionVelocityController(d, DRIVE, ref, Ts=1e-3, feedforward=ff),
+                       (0.0, 2.0), [0.0, 1.0], h=5e-4, Ts=1e-3)
+        err[ff] = np.max(np.abs(res["e"]))
+    assert err[True] < 1e-3 and err[True] < err[False] / 20     # what is left is the ZOH delay ~ Ts/2 · ϑ̇
+
+
+def test_inertia_bounds_alpha_bound(rng):
+    Bs = []
+    for _ in range(20):
+        A = rng.normal(size=(3, 3))
+        Bs.append(A @ A.T + np.eye(3))
+    b = inertia_bounds(Bs)
+    for B in Bs:
+        assert np.linalg.norm(np.linalg.solve(B, b.B_hat) - np.eye(3), 2) <= b.alpha + 1e-12
+    with pytest.raises(ValueError, match="positive definite"):
+        inertia_bounds([-np.eye(2)])

@@ -1,0 +1,42 @@
+"""Chapter 4 problems: the value keys of ARCHITECTURE.md and a few numbers recomputed independently."""
+
+import numpy as np
+import pytest
+
+from problems.registry import solve
+
+
+def test_value_keys_and_shapes():
+    assert len(solve("4.1").values["coefficients"]) == 6
+    v = solve("4.2").values
+    assert {"k", "k1"} <= set(v)
+    v = solve("4.5").values
+    assert np.shape(v["A"]) == (3, 3) and np.shape(v["b"]) == (3,)
+    v = solve("4.6").values
+    keys = ["a10", "a11", "a20", "a21", "b10", "b11", "b12", "b20", "b21", "b22", "b30", "b31", "b32"]
+    assert all(np.isscalar(v[k]) for k in keys)
+
+
+def test_problem_4_1_coefficients_solve_the_manual_system():
+    a = np.array(solve("4.1").values["coefficients"])
+    tf = 2.0
+    M = np.array([[1, 0, 0, 0, 0, 0], [0, 1, 0, 0, 0, 0], [0, 0, 2, 0, 0, 0],
+                  [1, tf, tf**2, tf**3, tf**4, tf**5], [0, 1, 2 * tf, 3 * tf**2, 4 * tf**3, 5 * tf**4],
+                  [0, 0, 2, 6 * tf, 12 * tf**2, 20 * tf**3]])
+    np.testing.assert_allclose(a, np.linalg.solve(M, [1, 0, 0, 4, 0, 0]), atol=1e-12)
+
+
+def test_problem_4_5_spline_values_by_dense_solve():
+    v = solve("4.5").values
+    x = np.linalg.solve(np.array(v["A"]), np.array(v["b"]))
+    np.testing.assert_allclose(v["accelerations"], x, atol=1e-12)
+    # virtual points from (S4.3)/(S4.4) with null boundary data and Δt = 1
+    np.testing.assert_allclose(v["virtual_points"], [x[0] / 6, 3 + x[2] / 6], atol=1e-12)
+
+
+@pytest.mark.parametrize("pid", ["4.7", "4.8"])
+def test_trapezoid_on_the_path(pid):
+    v = solve(pid).values
+    s_f = np.sqrt(2) if pid == "4.7" else np.pi / 2
+    assert v["t_c"] == pytest.approx(2.0 - s_f)
+    assert v["sdd_c"] == pytest.approx(1.0 / (2.0 - s_f))

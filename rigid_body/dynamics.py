@@ -27,10 +27,39 @@ def inertia_matrix(robot: Robot, q: np.ndarray) -> np.ndarray:
 
 
 def coriolis_matrix(robot: Robot, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-    """C(q, q̇) built from the Christoffel symbols, Eq. (7.45): Ḃ − 2C is skew-symmetric."""
+    """C(q, q̇) built from the Christoffel symbols, Eq. (7.45): Ḃ − 2C is skew-symmetric.
+
+    With mimic joints (the book's rotors) Pinocchio 4.1's ``computeCoriolisMatrix`` is not
+    consistent with its own RNEA on spatial arms (C q̇ ≠ h − g; found against the book's Lagrange
+    model, :mod:`rigid_body.lagrange`). C is then built from :func:`christoffel_symbols` instead.
+    """
     q = as_vector(q, robot.nq, "q")
     qd = as_vector(qd, robot.nv, "qd")
+    if robot.has_mimic:
+        return christoffel_symbols(robot, q) @ qd
     return pin.computeCoriolisMatrix(robot.model, robot.data, q, qd).copy()
+
+
+def christoffel_symbols(robot: Robot, q: np.ndarray) -> np.ndarray:
+    """c_ijk (nv, nv, nv) indexed [i, j, k], Eq. (7.45), from RNEA by polarisation.
+
+    The Christoffel symbols are the unique coefficients, symmetric in (j, k), of the quadratic form
+    h(q, q̇) − g(q) = Σ_jk c_ijk q̇_j q̇_k. So c_·jk = [v(e_j + e_k) − v(e_j − e_k)]/4 with
+    v(q̇) = h(q, q̇) − g(q), exactly and with n(n+1)/2 + n RNEA calls.
+    """
+    q = as_vector(q, robot.nq, "q")
+    model, data = robot.model, robot.data
+    n = model.nv
+    g = pin.computeGeneralizedGravity(model, data, q).copy()
+    E = np.eye(n)
+    c = np.empty((n, n, n))
+    for j in range(n):
+        c[:, j, j] = (pin.nonLinearEffects(model, data, q, 2.0 * E[j]) - g) / 4.0
+        for k in range(j + 1, n):
+            plus = pin.nonLinearEffects(model, data, q, E[j] + E[k]) - g
+            minus = pin.nonLinearEffects(model, data, q, E[j] - E[k]) - g
+            c[:, j, k] = c[:, k, j] = (plus - minus) / 4.0
+    return c
 
 
 def gravity_torques(robot: Robot, q: np.ndarray) -> np.ndarray:

@@ -129,3 +129,15 @@ def test_bad_input(arm, arm_limits):
         opt.JointLimits([0, 0], [1, 1], [1, -1], 1.0, 1.0)
     with pytest.raises(ValueError, match="t_f"):
         opt.minimum_effort_trajectory(arm, Q_I, Q_F, -1.0, arm_limits)
+
+
+def test_back_off_repairs_limits_between_the_constraint_points(arm, arm_limits):
+    # Few C² intervals: the torque peaks between the constraint points of the first solve.
+    honest = opt.minimum_time_trajectory(arm, Q_I, Q_F, arm_limits,
+                                         opt.OptimizationOptions(nodes=6, order=3, max_backoff=0))
+    assert not honest.success and "exceeded" in honest.message
+    assert max(honest.ratios.values()) > 1.0
+    repaired = opt.minimum_time_trajectory(arm, Q_I, Q_F, arm_limits, opt.OptimizationOptions(nodes=6, order=3))
+    assert repaired.success, repaired.message
+    r = _independent_ratios(arm, repaired.trajectory.law, arm_limits)
+    assert max(r["qd"], r["qdd"], r["tau"]) <= 1 + 1e-6

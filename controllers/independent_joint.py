@@ -26,7 +26,6 @@ import control
 import numpy as np
 from scipy.optimize import brentq
 
-from rigid_body.validation import as_vector
 
 
 def _positive(value: float, name: str) -> float:
@@ -402,11 +401,3 @@ def inertia_bounds(inertia_matrices: Any) -> InertiaBounds:
     B_m, B_M = float(np.min(1.0 / eig)), float(np.max(1.0 / eig))
     n = B.shape[1]
     return InertiaBounds(B_m, B_M, 2.0 / (B_M + B_m) * np.eye(n), (B_M - B_m) / (B_M + B_m))
-
-
-def as_reference(theta: Callable[[float], Any]) -> Callable[[float], tuple[float, float, float]]:
-    """Wrap ``t -> (ϑ, ϑ̇, ϑ̈)`` checking its output (a helper for the controllers above)."""
-    def reference(t: float) -> tuple[float, float, float]:
-        v = as_vector(theta(t), 3, "reference(t)")
-        return float(v[0]), float(v[1]), float(v[2])
-    return reference

@@ -176,7 +176,8 @@ class ServomotorPlant:
         else:
             self._KP, self._KI = float(regulator), 0.0
 
-    x0 = np.zeros(5)
+    x0 = np.zeros(5)          # the motor at rest (read-only; simulate() copies it)
+    x0.setflags(write=False)
 
     def regulator_output(self, x: np.ndarray, v_c: float) -> float:
         """v_c of the regulator: C_i applied to the current error (5.5)."""

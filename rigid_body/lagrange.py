@@ -27,7 +27,7 @@ Eqs. (7.16)–(7.19), (7.25)–(7.32), (7.39), (7.41)–(7.48).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -173,7 +173,12 @@ def body_jacobians(model: SerialModel, q: Any) -> list[Body]:
 
 
 def inertia_matrix(model: SerialModel, q: Any) -> np.ndarray:
-    """B(q) (n, n), Eq. (7.32), from the link and motor Jacobians."""
+    """B(q) (n, n), Eq. (7.32), from the link and motor Jacobians.
+
+    >>> from urdf.book_robots import planar_2r
+    >>> inertia_matrix(serial_model(planar_2r()), [0.0, 0.0]).round(4).tolist()   # Sect. 7.3.2 arm
+    [[250.01, 48.5], [48.5, 122.5]]
+    """
     B = np.zeros((model.n, model.n))
     for b in body_jacobians(model, q):
         B += b.mass * b.J_P.T @ b.J_P + b.J_O.T @ b.inertia @ b.J_O

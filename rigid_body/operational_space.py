@@ -150,7 +150,11 @@ def minimum_norm_torque_qp(B: Any, J: Any, gamma: Any, tau_a: Any = None, eps_ab
 
 
 def dynamic_manipulability(J: Any, B: Any) -> float:
-    """w'(q) = √det(J B⁻¹ B⁻ᵀ Jᵀ) (Problem 7.11); for square J it equals |det J| / det B."""
+    """w'(q) = √det(J B⁻¹ B⁻ᵀ Jᵀ) (Problem 7.11); for square J it equals |det J| / det B.
+
+    >>> round(dynamic_manipulability(np.eye(2), np.diag([2.0, 4.0])), 6)
+    0.125
+    """
     B, chol = _inertia(B)
     J = _task_jacobian(J, B.shape[0])
     return manipulability(cho_solve(chol, J.T).T)

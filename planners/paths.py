@@ -30,6 +30,7 @@ from rigid_body.rotations import (
     as_rotation,
     as_unit_quaternion,
     axis_angle_to_rotation,
+    quaternion_inverse,
     quaternion_product,
     quaternion_to_rotation,
     rotation_to_axis_angle,
@@ -310,7 +311,7 @@ class Slerp:
         Q_i, Q_f = as_unit_quaternion(self.Q_i, "Q_i"), as_unit_quaternion(self.Q_f, "Q_f")
         if Q_i @ Q_f < 0:
             Q_f = -Q_f
-        rel = quaternion_product(np.concatenate([[Q_i[0]], -Q_i[1:]]), Q_f)  # Q_i^{-1} * Q_f
+        rel = quaternion_product(quaternion_inverse(Q_i), Q_f)  # Q_i^{-1} * Q_f, (2.36)-(2.37)
         eta, eps = float(np.clip(rel[0], -1.0, 1.0)), rel[1:]
         theta = 2.0 * np.arctan2(np.linalg.norm(eps), eta)
         r = eps / np.linalg.norm(eps) if np.linalg.norm(eps) > 0 else np.array([0.0, 0.0, 1.0])

@@ -636,9 +636,8 @@ class SplineSystem:
 
     @property
     def A(self) -> np.ndarray:
-        n = self.A_banded.shape[1]
         return (np.diag(self.A_banded[1]) + np.diag(self.A_banded[0, 1:], 1)
-                + np.diag(self.A_banded[2, :-1], -1)) if n > 1 else self.A_banded[1:2, :]
+                + np.diag(self.A_banded[2, :-1], -1))
 
 
 def _spline_knots(t: np.ndarray, t_virtual: Any) -> np.ndarray:

@@ -633,6 +633,15 @@ class SplineSystem:
     knots: np.ndarray
     A_banded: np.ndarray
     b: np.ndarray
+    positions: np.ndarray  # q at the N+2 knots, the two virtual ones set to α of (S4.3), (S4.4)
+    beta: tuple[float, float]  # Δt_1²/6 and Δt_{N+1}²/6: q_2 = α_2 + β_2 x_1, q_{N+1} = α + β x_N
+
+    def knot_positions(self, x: np.ndarray) -> np.ndarray:
+        """q at all N+2 knots once the accelerations x are known (virtual points by (S4.3), (S4.4))."""
+        q = self.positions.copy()
+        q[1] = q[1] + self.beta[0] * x[0]
+        q[-2] = q[-2] + self.beta[1] * x[-1]
+        return q
 
     @property
     def A(self) -> np.ndarray:
@@ -698,7 +707,7 @@ def spline_system(t: Any, q: Any, qd_i: Any = 0.0, qd_f: Any = 0.0, qdd_i: Any =
     banded[0, 1:] = sup[:-1]
     banded[1] = diag
     banded[2, :-1] = sub[1:]
-    return SplineSystem(knots, banded, b)
+    return SplineSystem(knots, banded, b, qk, (beta2, betaN1))
 
 
 def _add(sub: np.ndarray, diag: np.ndarray, sup: np.ndarray, row: int, col: int, value: float) -> None:
@@ -730,9 +739,7 @@ def cubic_spline_law(t: Any, q: Any, qd_i: Any = 0.0, qd_f: Any = 0.0, qdd_i: An
     M = np.concatenate([ai[None], x, af[None]])  # Π̈ at the N+2 knots
     dt = np.diff(system.knots)
     d = dt.reshape((-1,) + (1,) * len(shape))
-    qk = np.concatenate([q[:1], q[:1] * 0, q[1:-1], q[:1] * 0, q[-1:]])
-    qk[1] = qk[0] + _as_value(qd_i, shape, "qd_i") * dt[0] + ai * dt[0] ** 2 / 3 + x[0] * dt[0] ** 2 / 6  # (S4.3)
-    qk[-2] = qk[-1] - _as_value(qd_f, shape, "qd_f") * dt[-1] + af * dt[-1] ** 2 / 3 + x[-1] * dt[-1] ** 2 / 6  # (S4.4)
+    qk = system.knot_positions(x)
     # (4.27) in powers of τ = t − t_k.
     c0 = qk[:-1]
     c1 = (qk[1:] - qk[:-1]) / d - d * (2 * M[:-1] + M[1:]) / 6.0

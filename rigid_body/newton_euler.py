@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from rigid_body.lagrange import SerialModel, frames
+from rigid_body.lagrange import SerialModel
 from rigid_body.validation import as_vector
 
 EZ = np.array([0.0, 0.0, 1.0])
@@ -104,7 +104,6 @@ def newton_euler(model: SerialModel, q: Any, qd: Any, qdd: Any, f_tip: Any = Non
     qd = as_vector(qd, n, "qd")
     qdd = as_vector(qdd, n, "qdd")
     links = augmented_links(model)
-    R0, _ = frames(model, q)
     # Relative rotations R^{i-1}_i and r^i_{i-1,i} from the DH transforms (2.52).
     R = np.empty((n, 3, 3))
     r = np.empty((n, 3))
@@ -143,7 +142,10 @@ def newton_euler(model: SerialModel, q: Any, qd: Any, qdd: Any, f_tip: Any = Non
     f = np.zeros((n, 3))
     mu = np.zeros((n, 3))
     tau = np.zeros(n)
-    Rn = R0[n]
+    Rn = np.eye(3)  # R^0_n, to bring the tip force and moment into frame n
+    if f_tip is not None or mu_tip is not None:
+        for Ri in R:
+            Rn = Rn @ Ri
     f_next = np.zeros(3) if f_tip is None else Rn.T @ as_vector(f_tip, 3, "f_tip")  # in frame n+1 = n
     mu_next = np.zeros(3) if mu_tip is None else Rn.T @ as_vector(mu_tip, 3, "mu_tip")
     R_next = np.eye(3)

@@ -99,7 +99,7 @@ def problem_5_1() -> Solution:
     m = DCServomotor(**MOTOR_52)
     omega_fm, _ = m.steady_state(1.0)
     ratio = m.Fm * m.Ra / (m.kv * m.kt)
-    sol.value("omega_over_v_limit", m.steady_state(1.0, 0.0)[0])
+    sol.value("omega_ss_unit_step", omega_fm)
     sol.check("F_m ≪ k_v k_t/R_a ⇒ ω_m ≈ (K/k_v) v'_c (5.7)",
               abs(omega_fm - 1.0 / m.kv) / (1.0 / m.kv) <= 1.01 * ratio / (1 + ratio),
               f"[MOT52]: ω_m = {omega_fm:.5f} vs K/k_v = {1 / m.kv:.5f}; relative gap = "

@@ -3,19 +3,19 @@
 A **path** maps its arc length s ∈ [0, length] to (p(s), dp/ds, d²p/ds²) (Sect. 4.4): a segment
 (4.34), a circle in 3-D (4.38)–(4.40), a sequence of segments through via points. A scalar timing
 law from :mod:`planners.timing` (``trapezoidal_law(0, path.length, t_f, sd_c)`` …) gives s(t);
-:class:`PathLaw` composes them (4.35)–(4.36):
+:class:`PathLaw` composes them (the general form of (4.42) and (4.44)):
 
     ṗ = ṡ dp/ds,    p̈ = s̈ dp/ds + ṡ² d²p/ds²,
 
 and :func:`planners.timing.sample` turns it into a :class:`~planners.timing.Trajectory` whose
-columns are x, y, z. Orientation: angle–axis interpolation (Sect. 4.5, (4.47)) and the
+columns are x, y, z. Orientation: angle–axis interpolation (Sect. 4.5) and the
 quaternion *slerp*, both timed by a law ϑ(t) ∈ [0, 1] (fraction of the rotation).
 
 Conventions: positions (3,) [m]; rotations (3, 3); quaternions scalar-first {η, ε} as in the book
 (Pinocchio's ``coeffs()`` is [x, y, z, w]).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
-Eqs. (4.34)–(4.46), Sect. 4.5; (2.25)–(2.37) for the rotations used.
+Sect. 4.4 ((4.34), (4.39), (4.42), (4.44)), Sect. 4.5; (2.25)–(2.37) for the rotations used.
 """
 
 from __future__ import annotations
@@ -77,7 +77,7 @@ class Segment:
 
     @property
     def tangent(self) -> np.ndarray:
-        """The unit tangent t̂ = (p_f − p_i)/‖p_f − p_i‖ (constant, Eq. (4.35))."""
+        """The unit tangent t̂ = (p_f − p_i)/‖p_f − p_i‖ (constant)."""
         return (self.p_f - self.p_i) / self.length
 
     def __call__(self, s: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -116,7 +116,7 @@ class Circle:
         rho, a = self.radius, s / self.radius
         c, sn, z = np.cos(a), np.sin(a), np.zeros_like(a)
         local = np.stack([rho * c, rho * sn, z], axis=-1)
-        d1 = np.stack([-sn, c, z], axis=-1)                       # (4.40)
+        d1 = np.stack([-sn, c, z], axis=-1)
         d2 = np.stack([-c / rho, -sn / rho, z], axis=-1)
         R = self.R
         return self.center + local @ R.T, d1 @ R.T, d2 @ R.T
@@ -125,7 +125,7 @@ class Circle:
 def circle_through(p_i: Any, axis: Any, point: Any, length: float | None = None) -> Circle:
     """The circle through ``p_i`` about the axis of unit direction ``axis`` through ``point``.
 
-    As in Sect. 4.4: δ = p_i − point, centre c = point + (δ^T r) r (4.38), radius ρ = ‖p_i − c‖;
+    As in Sect. 4.4: δ = p_i − point, centre c = point + (δ^T r) r, radius ρ = ‖p_i − c‖;
     x' = (p_i − c)/ρ, z' = r, y' = z' × x'. The motion is counter-clockwise about ``axis``.
     ``length`` is the arc to travel (default a full turn).
     """
@@ -135,7 +135,7 @@ def circle_through(p_i: Any, axis: Any, point: Any, length: float | None = None)
         raise ValueError("`axis` must be a non-zero vector")
     r = r / np.linalg.norm(r)
     d = as_vector(point, 3, "point")
-    c = d + ((p_i - d) @ r) * r  # (4.38)
+    c = d + ((p_i - d) @ r) * r
     rho = float(np.linalg.norm(p_i - c))
     if rho < 1e-12:
         raise ValueError("`p_i` lies on the axis: the circle would have zero radius")
@@ -200,7 +200,7 @@ class SegmentSequence:
 
 @dataclass(frozen=True)
 class PathLaw:
-    """A path timed by a scalar law s(t): ``law(t) -> (p, ṗ, p̈)``, Eqs. (4.35)–(4.36)."""
+    """A path timed by a scalar law s(t): ``law(t) -> (p, ṗ, p̈)``: ṗ = ṡ p', p̈ = s̈ p' + ṡ² p'' ((4.42), (4.44))."""
 
     path: Path
     timing: TimingLaw

@@ -119,7 +119,7 @@ class PiecewisePolynomial:
     breaks : (K+1,) strictly increasing instants [s].
     coefficients : (K, d+1) for a scalar law or (K, d+1, n) for n joints, ascending powers.
     origins : (K,) the instant o_k each piece's powers are taken about (default: its start,
-        ``breaks[:-1]``); the book writes blends about the via point, Eq. (4.6) of Problem 4.6.
+        ``breaks[:-1]``); the manual writes the blends of Problem 4.6 about the via point.
 
     Calling it with a float gives (q, qd, qdd) of the value shape; with an (M,) array, arrays of
     shape (M,) + value shape. Outside [t_i, t_f] it holds the end value, with zero derivatives.
@@ -370,7 +370,7 @@ def trapezoidal_law(q_i: Any, q_f: Any, t_f: float, qd_c: Any, *, t_i: float = 0
 
 def trapezoidal_acceleration_law(q_i: Any, q_f: Any, t_f: float, qdd_c: Any, *,
                                  t_i: float = 0.0) -> PiecewisePolynomial:
-    """Trapezoidal profile given the acceleration: t_c = T/2 − ½ √((T² q̈_c − 4|Δq|)/q̈_c), Eq. (4.9).
+    """Trapezoidal profile given the acceleration: t_c = T/2 − ½ √((T² q̈_c − 4|Δq|)/q̈_c), Sect. 4.2.2.
 
     Needs |q̈_c| ≥ 4|Δq|/T² (equality: triangular profile); ValueError with that bound otherwise.
     """
@@ -541,7 +541,7 @@ def raised_cosine(q_i: Any, q_f: Any, t_f: float, *, t_i: float = 0.0, samples: 
 # --------------------------------------------------------------------------------------------
 
 def via_point_velocities(t: Any, q: Any, qd_i: Any = 0.0, qd_f: Any = 0.0) -> np.ndarray:
-    """Velocities at the via points by the heuristic (4.12).
+    """Velocities at the via points by the book's heuristic (Sect. 4.3.1).
 
     v_k = 0 where the slopes v_{k−1,k}, v_{k,k+1} of the adjacent segments have opposite signs,
     else their mean; ``qd_i``, ``qd_f`` at the ends. Returns the shape of ``q``.
@@ -577,8 +577,8 @@ def polynomial_sequence_law(t: Any, q: Any, qd: Any = None, qdd: Any = None, *, 
                             qdd_f: Any = 0.0) -> PiecewisePolynomial:
     """Polynomials through the points (t_k, q_k) joined with continuous velocity (and acceleration).
 
-    ``degree=3``: cubics (4.10)–(4.11) with velocities ``qd`` at the points (default: the
-    heuristic (4.12), :func:`via_point_velocities`), continuous velocity.
+    ``degree=3``: cubics with velocities ``qd`` at the points (default: the
+    book's heuristic, :func:`via_point_velocities`), continuous velocity.
     ``degree=5``: quintics with velocities and accelerations at the points (default accelerations:
     :func:`via_point_accelerations`), continuous velocity and acceleration (Problem 4.3).
 

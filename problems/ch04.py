@@ -371,7 +371,7 @@ def problem_4_8() -> Solution:
 
     The manual's circle frame x' = y, y' = −z, z' = −x is what ``circle_through`` builds from the
     axis −x through c and the point p_i; then p(s) = [0, 0.5 cos 2s, 1 − 0.5 sin 2s] by (4.39),
-    s_f = ρπ = π/2, and ṗ, p̈ by (4.40) with ṡ, s̈.
+    s_f = ρπ = π/2, and ṗ, p̈ by (4.44) with ṡ, s̈.
     """
     sol = Solution()
     p_i, c, rho, t_f, sd_c = np.array([0.0, 0.5, 1.0]), np.array([0.0, 0.0, 1.0]), 0.5, 2.0, 1.0

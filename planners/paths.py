@@ -1,7 +1,7 @@
 """Operational-space paths p(s) and orientation interpolation, timed by a scalar law s(t).
 
 A **path** maps its arc length s ∈ [0, length] to (p(s), dp/ds, d²p/ds²) (Sect. 4.4): a segment
-(4.34), a circle in 3-D (4.38)–(4.40), a sequence of segments through via points. A scalar timing
+(4.34), a circle in 3-D (4.39), a sequence of segments through via points. A scalar timing
 law from :mod:`planners.timing` (``trapezoidal_law(0, path.length, t_f, sd_c)`` …) gives s(t);
 :class:`PathLaw` composes them (the general form of (4.42) and (4.44)):
 

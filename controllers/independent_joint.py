@@ -218,6 +218,10 @@ def design_position_velocity(drive: JointDrive, zeta: float, omega_n: float,
 
     ``W(s) = (1/k_TP)/(1 + 2ζ s/ω_n + s²/ω_n²)`` requires ``K_P k_TP = ω_n k_TV/(2ζ)`` and
     ``k_m K_V k_TV = 2ζ ω_n``; then ``X_R = K_P k_TP K_V`` and ``T_R = T_V`` (8.32)–(8.33).
+
+    >>> d = design_position_velocity(JointDrive(I=6.0, Ra=0.3, kt=0.5, kv=0.5), zeta=0.4, omega_n=20.0)
+    >>> round(d.K_P, 9), round(d.K_V, 9), round(d.X_R, 9)
+    (25.0, 8.0, 200.0)
     """
     zeta, omega_n = _positive(zeta, "zeta"), _positive(omega_n, "omega_n")
     t = transducers

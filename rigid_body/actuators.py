@@ -170,6 +170,8 @@ class ServomotorPlant:
     """
 
     def __init__(self, motor: DCServomotor, regulator: PIRegulator | float = 1.0):
+        if motor.La <= 0:
+            raise ValueError("`motor.La` must be > 0 to simulate the armature current dynamics")
         self.motor = motor
         if isinstance(regulator, PIRegulator):
             self._KP, self._KI = regulator.K * regulator.T, regulator.K
@@ -196,10 +198,7 @@ class ServomotorPlant:
         i_a, omega = x[0], x[1]
         e = v_c - m.ki * i_a
         v_a = self.armature_voltage(x, v_c)
-        if m.La > 0:
-            di = (v_a - m.Ra * i_a - m.kv * omega) / m.La           # (5.1)–(5.2)
-        else:
-            raise ValueError("`motor.La` must be > 0 to simulate the armature current dynamics")
+        di = (v_a - m.Ra * i_a - m.kv * omega) / m.La               # (5.1)–(5.2)
         domega = (m.kt * i_a - m.Fm * omega - c_r) / m.Im         # (5.3)–(5.4)
         dva = (m.Gv * (self._KP * e + self._KI * x[4]) - x[3]) / m.Tv if m.Tv > 0 else 0.0
         return np.array([di, domega, omega, dva, e])

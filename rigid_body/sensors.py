@@ -26,6 +26,9 @@ def gray_to_binary(gray: Sequence[int] | np.ndarray) -> np.ndarray:
     """Binary word of a Gray-code word (bits, most significant first): the XOR cascade of Fig. S5.6.
 
     ``y_1 = x_1``, ``y_k = y_{k−1} ⊕ x_k`` for any word length.
+
+    >>> gray_to_binary([1, 1, 1, 0]).tolist()          # row 11 of Table S5.1
+    [1, 0, 1, 1]
     """
     x = _bits(gray, "gray")
     y = np.empty_like(x)

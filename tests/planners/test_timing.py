@@ -212,3 +212,30 @@ def test_via_point_bad_input():
         timing.spline_system([0, 1], [0, 1])
     with pytest.raises(ValueError, match="t_virtual"):
         timing.cubic_spline_law([0, 2, 4], [0, 1, 2], t_virtual=(3, 3.5))
+
+
+# ---------------------------------------------------------------- properties -----------------
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+finite = st.floats(-10, 10, allow_nan=False)
+
+
+@settings(max_examples=60, deadline=None)
+@given(q_i=finite, dq=st.floats(-5, 5).filter(lambda x: abs(x) > 1e-3), t_f=st.floats(0.1, 10),
+       fraction=st.floats(1e-3, 1.0))
+def test_trapezoid_property(q_i, dq, t_f, fraction):
+    lo, hi = abs(dq) / t_f, 2 * abs(dq) / t_f
+    vc = lo + fraction * (hi - lo)
+    law = timing.trapezoidal_law(q_i, q_i + dq, t_f, vc)
+    t = np.linspace(0, t_f, 257)
+    q, qd, qdd = law(t)
+    assert law(0.0)[0] == pytest.approx(q_i, abs=1e-9)
+    assert law(t_f)[0] == pytest.approx(q_i + dq, abs=1e-9 * (1 + abs(dq)))
+    assert np.max(np.abs(qd)) <= vc * (1 + 1e-9)
+    assert law(t_f / 2)[1] == pytest.approx(np.sign(dq) * vc, rel=1e-9)
+    assert np.all(np.sign(dq) * qd >= -1e-12)  # monotone motion
+    # position is the integral of velocity (trapezoid rule on a fine grid)
+    tt = np.linspace(0, t_f, 20001)
+    integral = np.trapezoid(law(tt)[1], tt)
+    assert integral == pytest.approx(dq, abs=1e-6 * (1 + abs(dq)))

@@ -141,3 +141,15 @@ def test_back_off_repairs_limits_between_the_constraint_points(arm, arm_limits):
     assert repaired.success, repaired.message
     r = _independent_ratios(arm, repaired.trajectory.law, arm_limits)
     assert max(r["qd"], r["qdd"], r["tau"]) <= 1 + 1e-6
+
+
+def test_kinematic_limits_only_give_the_bang_coast_bang_time(arm):
+    # Torques loose: the minimum time is that of the slowest joint's bang-coast-bang profile,
+    # T_j = Δq/v + v/a when Δq ≥ v²/a, else 2√(Δq/a) (closed form, independent of the solver).
+    limits = opt.JointLimits.from_robot(arm, qdd_max=[6.0, 10.0], qd_max=[2.0, 1.0])
+    q_i, q_f = np.array([0.0, 0.0]), np.array([1.2, -1.5])
+    dq, v, a = np.abs(q_f - q_i), limits.qd_max, limits.qdd_max
+    T = np.where(dq >= v**2 / a, dq / v + v / a, 2 * np.sqrt(dq / a))
+    res = opt.minimum_time_trajectory(arm, q_i, q_f, limits, opt.OptimizationOptions(nodes=20))
+    assert res.success, res.message
+    assert res.t_f == pytest.approx(T.max(), rel=1e-4)

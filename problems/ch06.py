@@ -185,13 +185,17 @@ def problem_6_3() -> Solution:
     sol = Solution()
     robot = load("planar_3r")
     task = PegInHoleTask(x_H=0.6)
-    q0 = inverse_kinematics_planar_3r(np.array([0.45, 0.15, task.phi]))[0]
+    q0 = inverse_kinematics_planar_3r(np.array([0.55, 0.15, task.phi]))[0]       # elbow up, within the limits
     fig, axes = plt.subplots(3, 2, figsize=(11, 7), sharex="col")
     for col, (label, offset, duration) in enumerate((("hole 12 mm left of x_H", -0.012, 7.0),
                                                     ("hole within the clearance of x_H", 0.002, 4.0))):
         env = SurfaceWithHole(x_hole=task.x_H + offset, clearance=0.004, depth=0.05)
         res, ctrl = run_peg_in_hole(robot, env, task, q0, duration)
         states = [s for _, s in ctrl.transitions]
+        q = res.x[:, :robot.nq]
+        sol.check(f"{label}: the motion respects the joint limits of the arm (Problem 2.17)",
+                  bool(np.all(q >= robot.lower) and np.all(q <= robot.upper)),
+                  f"q ranges {np.round(q.min(axis=0), 3).tolist()} … {np.round(q.max(axis=0), 3).tolist()}")
         key = "search" if offset < -0.004 else "direct"
         sol.value(f"transitions_{key}", [(round(t, 3), s) for t, s in ctrl.transitions])
         x_e, f, state = res["x_e"], res["f"], res["state"]

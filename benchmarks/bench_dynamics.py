@@ -58,6 +58,8 @@ def main() -> None:
         row("lagrange.inertia_matrix (7.32)", per_call(lambda: lg.inertia_matrix(model, q), n), t_crba)
         t_cor = per_call(lambda: pin.computeCoriolisMatrix(m, d, q, qd), 20000)
         row("pin.computeCoriolisMatrix (raw)", t_cor, t_cor)
+        row("rigid_body.dynamics.coriolis_matrix" + (" (polarised RNEA)" if robot.has_mimic else ""),
+            per_call(lambda: dyn.coriolis_matrix(robot, q, qd), 5000), t_cor)
         row("lagrange.coriolis_matrix (7.45, analytic dB/dq)", per_call(lambda: lg.coriolis_matrix(model, q, qd), n // 2),
             t_cor)
         t_rnea = per_call(lambda: pin.rnea(m, d, q, qd, qdd), 20000)

@@ -21,7 +21,7 @@ Sect. 4.4 ((4.34), (4.39), (4.42), (4.44)), Sect. 4.5; (2.25)–(2.37) for the r
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable, Protocol, Sequence
+from typing import Any, Protocol, Sequence
 
 import numpy as np
 

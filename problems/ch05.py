@@ -15,6 +15,7 @@ import control
 import matplotlib.pyplot as plt
 import numpy as np
 import pinocchio as pin
+import sympy as sp
 
 from controllers.simulation import simulate
 from problems.registry import Solution, problem
@@ -110,6 +111,20 @@ def problem_5_1() -> Solution:
     sol.check("K k_i ≫ R_a ⇒ c_m ≈ (k_t/k_i)(v'_c − (k_v/K) ω_m) (5.8)",
               abs(big.kt * ia_b - approx) / abs(approx) < 1e-6,
               f"c_m = {big.kt * ia_b:.9f} vs {approx:.9f} at K = 1e7")
+    # Symbolic: (S5.1)–(S5.5) solved with sympy; the two relations and their limits.
+    Ra, kt, kv, Fm, ki, K = sp.symbols("R_a k_t k_v F_m k_i K", positive=True)
+    va, ia, vg, om, cm, vc, cr = sp.symbols("v_a i_a v_g omega_m c_m v_c c_r")
+    steady = sp.solve([sp.Eq(va, Ra * ia + vg), sp.Eq(vg, kv * om), sp.Eq(cm, Fm * om + cr), sp.Eq(cm, kt * ia),
+                       sp.Eq(va, K * (vc - ki * ia))], [va, ia, vg, om, cm], dict=True)[0]
+    om0 = steady[om].subs({ki: 0, cr: 0})
+    rel_1 = sp.simplify(K * vc - (Fm * Ra / kt + kv) * om0) == 0 and sp.limit(om0, Fm, 0) == K * vc / kv
+    rel_2 = sp.simplify(K * vc - ((Ra + K * ki) / kt * steady[cm] + kv * steady[om])) == 0
+    ratio = sp.simplify(steady[cm] / (kt / ki * (vc - kv / K * steady[om])))   # exact: K k_i/(R_a + K k_i) → 1
+    gap = sp.simplify(ratio - K * ki / (Ra + K * ki))
+    sol.check("sympy: (S5.1)–(S5.5) give K v'_c = (F_m R_a/k_t + k_v) ω_m → ω_m = (K/k_v) v'_c as F_m → 0, and "
+              "K v'_c = ((R_a + K k_i)/k_t) c_m + k_v ω_m → c_m = (k_t/k_i)(v'_c − (k_v/K) ω_m) as K → ∞",
+              rel_1 and rel_2 and gap == 0 and sp.limit(ratio, K, sp.oo) == 1,
+              f"c_m/((k_t/k_i)(v'_c − (k_v/K) ω_m)) = {ratio} → 1")
     sol.check("Fig. 5.3 transfer functions Ω_m/V'_c and Ω_m/C_r (block reduction vs manual)", worst_53 < 1e-9,
               f"max relative error {worst_53:.2e} at 60 frequencies × 5 motors")
     sol.check("Fig. 5.3 with F_m → 0: (K/k_v)/(1 + s R_a I_m/(k_v k_t)) and −(R_a/(k_v k_t))/(1 + ·)",
@@ -268,6 +283,19 @@ def problem_5_4() -> Solution:
     sol.check("Θ_m/C_r = −((1+k_r k_l+s k_r k_c)/(k_t k_r k_q))/(s(1 + ...))", worst_c < 1e-8,
               f"max relative error {worst_c:.2e}")
     sol.value("max_relative_error", max(worst_v, worst_c))
+    # Symbolic: the five relations of Fig. S5.5 solved with sympy against the manual's closed form.
+    sym = sp.symbols("s k_t k_x k_r k_q k_c k_l G_s T_s I_m F_m", positive=True)
+    s_, kt, kx, kr, kq, kc, kl, Gs, Ts, Im, Fm = sym
+    Vc, Cr, Th, Om, Cm, P, X = sp.symbols("V_c C_r Theta_m Omega_m C_m P X")
+    relations = [sp.Eq(Th, Om / s_), sp.Eq(Om, (Cm - Cr) / (s_ * Im + Fm)), sp.Eq(Cm, kt * P),
+                 sp.Eq(P, (kx / kr * (X - P / kx) - kq * Om) / (s_ * kc + kl)), sp.Eq(X, Gs / (1 + s_ * Ts) * Vc)]
+    theta = sp.solve(relations, [Th, Om, Cm, P, X], dict=True)[0][Th]
+    ch = 1 + kr * kl + s_ * kr * kc
+    common = 1 + Fm / (kt * kr * kq) * (1 + s_ * Im / Fm) * ch
+    manual = (kx * Gs / (kr * kq)) / (s_ * (1 + s_ * Ts) * common) * Vc - (ch / (kt * kr * kq)) / (s_ * common) * Cr
+    sol.check("sympy: the relations of Fig. S5.5 solved for Θ_m equal the manual's closed form",
+              sp.simplify(theta - manual) == 0, "simplify(Θ_m − manual) = 0 (manual erratum: garbled equation "
+              "labels '(S5.6) into (S5.6)')")
     return sol
 
 

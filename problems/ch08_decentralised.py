@@ -15,6 +15,7 @@ from __future__ import annotations
 import control
 import matplotlib.pyplot as plt
 import numpy as np
+import sympy as sp
 
 from controllers.independent_joint import (JointDesign, JointDrive, JointDrivePlant, PositionVelocityController,
                                            Transducers, acceleration_filter, bandwidth, damping_of_complex_poles,
@@ -44,6 +45,16 @@ def _random_case(rng: np.random.Generator) -> tuple[JointDrive, Transducers, dic
     return drive, t, gains
 
 
+S, KM, TM, RA_KT = sp.symbols("s k_m T_m R_a/k_t", positive=True)
+THETA_R, DIST, THETA = sp.symbols("Theta_r D Theta_m")
+
+
+def _symbolic_loop(equation: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """(Θ_m/Θ_r, Θ_m/D) from a block equation ``Θ_m = f(Θ_m, Θ_r, D)`` solved with sympy (the check's reference)."""
+    theta = sp.solve(sp.Eq(THETA, equation), THETA)[0]
+    return sp.diff(theta, THETA_R), sp.diff(theta, DIST)
+
+
 def _rel(G: control.TransferFunction, manual: np.ndarray, w: np.ndarray = OMEGA) -> float:
     return float(np.max(np.abs(frequency_samples(G, w) - manual) / np.abs(manual)))
 
@@ -69,6 +80,13 @@ def problem_8_1() -> Solution:
         worst[0] = max(worst[0], _rel(loop.reference, (1 / kTP) / den))
         worst[1] = max(worst[1], _rel(loop.disturbance, -(s * d.Ra / (d.kt * KP * kTP * (1 + s * TP))) / den))
         worst[2] = max(worst[2], _rel(loop.P, km * KP * (1 + s * TP) / (s**2 * (1 + s * Tm))))
+    K_P, T_P, k_TP = sp.symbols("K_P T_P k_TP", positive=True)
+    M = KM / (S * (1 + S * TM))
+    ref, dist = _symbolic_loop(M * (K_P * (1 + S * T_P) / S * (THETA_R - k_TP * THETA) - RA_KT * DIST))
+    den = 1 + S**2 * (1 + S * TM) / (KM * K_P * k_TP * (1 + S * T_P))
+    sol.check("sympy: block equation of Fig. 5.10 solved = manual's Θ_m/Θ_r and Θ_m/D",
+              sp.simplify(ref - (1 / k_TP) / den) == 0
+              and sp.simplify(dist + (S * RA_KT / (K_P * k_TP * (1 + S * T_P))) / den) == 0, "simplify(difference) = 0")
     sol.check("P(s) = k_m K_P(1 + sT_P)/(s²(1 + sT_m)), H(s) = k_TP", worst[2] < 1e-9, f"max rel. error {worst[2]:.2e}")
     sol.check("Θ_m/Θ_r = (1/k_TP)/(1 + s²(1 + sT_m)/(k_m K_P k_TP(1 + sT_P)))", worst[0] < 1e-9,
               f"max relative error {worst[0]:.2e} (61 frequencies × 5 random cases)")
@@ -97,6 +115,15 @@ def problem_8_2() -> Solution:
         worst[1] = max(worst[1], _rel(loop.disturbance,
                                       -(s * d.Ra / (d.kt * KP * t.k_TP * KV * (1 + s * d.T_m))) / den))
         worst[2] = max(worst[2], _rel(loop.H, t.k_TP * (1 + s * t.k_TV / (KP * t.k_TP))))
+    K_P, K_V, k_TP, k_TV = sp.symbols("K_P K_V k_TP k_TV", positive=True)
+    M = KM / (S * (1 + S * TM))
+    C_V = K_V * (1 + S * TM) / S                                          # T_V = T_m
+    ref, dist = _symbolic_loop(M * (C_V * (K_P * (THETA_R - k_TP * THETA) - k_TV * S * THETA) - RA_KT * DIST))
+    den = 1 + S * k_TV / (K_P * k_TP) + S**2 / (KM * K_P * k_TP * K_V)
+    sol.check("sympy: block equation of Fig. 5.11 (T_V = T_m) solved = manual's Θ_m/Θ_r and Θ_m/D",
+              sp.simplify(ref - (1 / k_TP) / den) == 0
+              and sp.simplify(dist + (S * RA_KT / (K_P * k_TP * K_V * (1 + S * TM))) / den) == 0,
+              "simplify(difference) = 0")
     sol.check("H(s) = k_TP(1 + s k_TV/(K_P k_TP)) (Fig. S8.1)", worst[2] < 1e-9, f"max rel. error {worst[2]:.2e}")
     sol.check("Θ_m/Θ_r = (1/k_TP)/(1 + s k_TV/(K_P k_TP) + s²/(k_m K_P k_TP K_V)) for T_V = T_m", worst[0] < 1e-9,
               f"max relative error {worst[0]:.2e}")
@@ -128,6 +155,17 @@ def problem_8_3() -> Solution:
         inner = (d.kt / (s * d.Ra * d.I)) / (1 + d.kt * d.kv / (s * d.Ra * d.I))
         worst[2] = max(worst[2], float(np.max(np.abs(s * frequency_samples(d.motor_tf(), OMEGA) - inner)
                                               / np.abs(inner))))
+    K_P, K_V, K_A, k_TP, k_TV, k_TA = sp.symbols("K_P K_V K_A k_TP k_TV k_TA", positive=True)
+    G = KM / (1 + S * TM)                                                   # sM(s)
+    C_A = K_A * (1 + S * TM) / S                                            # T_A = T_m
+    omega = S * THETA
+    ref, dist = _symbolic_loop(G * (C_A * (K_V * (K_P * (THETA_R - k_TP * THETA) - k_TV * omega) - k_TA * S * omega)
+                                    - RA_KT * DIST) / S)
+    den = 1 + S * k_TV / (K_P * k_TP) + S**2 * (1 + KM * K_A * k_TA) / (KM * K_P * k_TP * K_V * K_A)
+    sol.check("sympy: block equation of Figs. 8.6/8.9 (T_A = T_m) solved = manual's Θ_m/Θ_r and Θ_m/D",
+              sp.simplify(ref - (1 / k_TP) / den) == 0
+              and sp.simplify(dist + (S * RA_KT / (K_P * k_TP * K_V * K_A * (1 + S * TM))) / den) == 0,
+              "simplify(difference) = 0")
     sol.check("sM(s) = (k_t/(sR_a I))/(1 + k_t k_v/(sR_a I)) = k_m/(1 + sT_m) (Fig. S8.2)", worst[2] < 1e-9,
               f"max rel. error {worst[2]:.2e}")
     sol.check("Θ_m/Θ_r = (1/k_TP)/(1 + s k_TV/(K_P k_TP) + s²(1 + k_m K_A k_TA)/(k_m K_P k_TP K_V K_A)), T_A = T_m",

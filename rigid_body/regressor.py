@@ -64,22 +64,34 @@ def two_link_regressor(q: Any, qd: Any, qdd: Any, a: Sequence[float] = (1.0, 1.0
     >>> Y[:, 0].tolist()
     [9.81, 0.0]
     """
+    return two_link_reference_regressor(q, qd, qd, qdd, a=a, k_r2=k_r2, g=g, convention=convention)
+
+
+def two_link_reference_regressor(q: Any, qd: Any, qd_r: Any, qdd_r: Any, a: Sequence[float] = (1.0, 1.0),
+                                 k_r2: float = 100.0, g: float = G, convention: str = "manual") -> np.ndarray:
+    """Y'(q, q̇, q̇_r, q̈_r) (2, 5) with Y'π' = B(q) q̈_r + C(q, q̇) q̇_r + g(q) (Christoffel C, (7.45)).
+
+    This is the regressor of the adaptive control law (Sect. 8.5.4, Problem 8.14). With
+    h = −a1 s2 π'₃, the velocity terms of row 1 are −a1 s2 (q̇2 q̇_r1 + (q̇1 + q̇2) q̇_r2) and those of
+    row 2 are a1 s2 q̇1 q̇_r1. With q̇_r = q̇ and q̈_r = q̈ it is (S7.3).
+    """
     _check_convention(convention)
     q1, q2 = as_vector(q, 2, "q")
     qd1, qd2 = as_vector(qd, 2, "qd")
-    qdd1, qdd2 = as_vector(qdd, 2, "qdd")
+    qr1, qr2 = as_vector(qd_r, 2, "qd_r")
+    ar1, ar2 = as_vector(qdd_r, 2, "qdd_r")
     a1, a2 = float(a[0]), float(a[1])
     c1, c2, s2, c12 = np.cos(q1), np.cos(q2), np.sin(q2), np.cos(q1 + q2)
     Y = np.zeros((2, 5))
-    Y[0, 0] = a1 * qdd1 + g * c1
-    Y[0, 1] = qdd1
-    Y[0, 2] = ((2 * a1 * c2 + a2) * qdd1 + (a1 * c2 + a2) * qdd2 - 2 * a1 * s2 * qd1 * qd2
-               - a1 * s2 * qd2**2 + g * c12)
-    Y[0, 3] = qdd1 + qdd2
-    Y[0, 4] = (qdd1 if convention == "manual" else 0.0) + k_r2 * qdd2
-    Y[1, 2] = a2 * qdd2 + (a1 * c2 + a2) * qdd1 + a1 * s2 * qd1**2 + g * c12
-    Y[1, 3] = qdd1 + qdd2
-    Y[1, 4] = k_r2**2 * qdd2 + k_r2 * qdd1
+    Y[0, 0] = a1 * ar1 + g * c1
+    Y[0, 1] = ar1
+    Y[0, 2] = ((2 * a1 * c2 + a2) * ar1 + (a1 * c2 + a2) * ar2 - a1 * s2 * (qd2 * qr1 + (qd1 + qd2) * qr2)
+               + g * c12)
+    Y[0, 3] = ar1 + ar2
+    Y[0, 4] = (ar1 if convention == "manual" else 0.0) + k_r2 * ar2
+    Y[1, 2] = a2 * ar2 + (a1 * c2 + a2) * ar1 + a1 * s2 * qd1 * qr1 + g * c12
+    Y[1, 3] = ar1 + ar2
+    Y[1, 4] = k_r2**2 * ar2 + k_r2 * ar1
     return Y
 
 

@@ -7,8 +7,9 @@ import pytest
 
 from rigid_body.dh import robot_from_dh
 from rigid_body.dynamics import inverse_dynamics
+from rigid_body import lagrange as lg
 from rigid_body.regressor import (identify, minimum_parameters, pr_minimum_parameters, pr_regressor,
-                                  stack_regressor, two_link_regressor)
+                                  stack_regressor, two_link_reference_regressor, two_link_regressor)
 from rigid_body.robots import load
 from urdf.book_robots import planar_2r, planar_pr
 
@@ -67,3 +68,15 @@ def test_bad_input_names_the_argument():
         minimum_parameters(planar_2r().links, convention="book")
     with pytest.raises(ValueError, match="planar"):
         minimum_parameters(planar_pr().links)
+
+
+@pytest.mark.parametrize("payload", [0.0, 10.0])
+def test_reference_regressor_is_B_qdd_r_plus_C_qd_r_plus_g(payload):
+    rng = np.random.default_rng(5)
+    model = lg.serial_model(planar_2r(payload=payload))
+    pi = minimum_parameters(planar_2r().links, payload=payload)
+    for _ in range(10):
+        q, qd, qd_r, qdd_r = rng.uniform(-3, 3, size=(4, 2))
+        expected = (lg.inertia_matrix(model, q) @ qdd_r + lg.coriolis_matrix(model, q, qd) @ qd_r
+                    + lg.gravity_torques(model, q))
+        np.testing.assert_allclose(two_link_reference_regressor(q, qd, qd_r, qdd_r) @ pi, expected, atol=1e-9)

@@ -431,6 +431,19 @@ def problem_8_8() -> Solution:
         manual_E = (KP * KV * KA * Tm + KV * t.k_TV * KA / t.k_TP + KP * KV * KA / s
                     + (KV * t.k_TV * KA * Tm + KA * t.k_TA) / t.k_TP * s + KA * Tm * t.k_TA / t.k_TP * s**2)
         w_PVA = max(w_PVA, _rel(G_E, manual_E), _rel(G_d, manual_d))
+    K_P, K_V, K_A, k_TP, k_TV, k_TA = sp.symbols("K_P K_V K_A k_TP k_TV k_TA", positive=True)
+    E, TH_D = sp.symbols("E Theta_d")
+    U_pv = K_P * (1 + k_TV * S / (K_P * k_TP)) * E + S**2 * TH_D / (KM * K_V)
+    Y_pv = K_V * (1 + S * TM) / S * U_pv
+    manual_pv = ((K_P * K_V * TM + K_V * k_TV / k_TP + K_P * K_V / S + K_V * TM * k_TV * S / k_TP) * E
+                 + S * TH_D / KM + TM * S**2 * TH_D / KM)
+    U_pva = (K_P * K_V + K_V * k_TV / k_TP * S + k_TA / k_TP * S**2) * E + S**2 * TH_D / (KM * K_A)
+    Y_pva = K_A * (1 + S * TM) / S * U_pva
+    manual_pva = ((K_P * K_V * K_A * TM + K_V * k_TV * K_A / k_TP + K_P * K_V * K_A / S
+                   + (K_V * k_TV * K_A * TM + K_A * k_TA) / k_TP * S + K_A * TM * k_TA / k_TP * S**2) * E
+                  + S * TH_D / KM + TM * S**2 * TH_D / KM)
+    sol.check("sympy: K_V(1 + sT_V)/s · U and K_A(1 + sT_A)/s · U expand to the manual's Y (T_V = T_A = T_m)",
+              sp.expand(Y_pv - manual_pv) == 0 and sp.expand(Y_pva - manual_pva) == 0, "expand(difference) = 0")
     sol.check("Fig. 8.15 ≡ Fig. 8.12: K_P(1 + sT_P)/s = K_P T_P + K_P/s", w_815 < 1e-9, f"max rel. error {w_815:.2e}")
     sol.check("Fig. 8.16 ≡ Fig. 8.13 (manual: 'Fig. 8.28', erratum): Y = (K_P K_V T_V + K_V k_TV/k_TP + K_P K_V/s "
               "+ K_V T_V k_TV s/k_TP)E + Θ̇_d/k_m + T_m Θ̈_d/k_m", w_PV < 1e-9, f"max rel. error {w_PV:.2e}")

@@ -611,15 +611,16 @@ def problem_7_7() -> Solution:
     q_i = inverse_kinematics_planar_2r([0.2, 0.0])[ELBOW_DOWN]
     sol.check_close("lower-elbow initial posture q(0) = [−1.4706, 2.9413] rad (catalogue)", q_i, [-1.4706, 2.9413],
                     atol=5e-5)
-    titles = {"tra_1": "S7.3 — first trajectory (joint, triangular velocity)",
-              "tra_2": "S7.4 — second trajectory (joint, trapezoidal velocity)",
-              "tra_3": "S7.5 — third trajectory (straight tip path)"}
+    titles = {"tra_1": "S7.3: trajectory 1 (joints, triangular velocity)",
+              "tra_2": "S7.4: trajectory 2 (joints, trapezoidal velocity)",
+              "tra_3": "S7.5: trajectory 3 (straight tip path)"}
     for name, (t, q, qd, qdd) in trajectories.items():
-        tau = np.empty_like(q)
+        tau, tau_free = np.empty_like(q), np.empty_like(q)
         err_ne = err_pin = 0.0
         for k in range(t.size):
             J = geometric_jacobian(robot, q[k])[:2]
-            tau[k] = two_link_regressor(q[k], qd[k], qdd[k]) @ pi + J.T @ TIP_FORCE
+            tau_free[k] = two_link_regressor(q[k], qd[k], qdd[k]) @ pi
+            tau[k] = tau_free[k] + J.T @ TIP_FORCE
             err_ne = max(err_ne, _max_err(ne.inverse_dynamics(model, q[k], qd[k], qdd[k], f_tip=f3), tau[k]))
             err_pin = max(err_pin, _max_err(dyn.inverse_dynamics(robot, q[k], qd[k], qdd[k]) + J.T @ TIP_FORCE, tau[k]))
         scale = np.abs(tau).max()
@@ -637,12 +638,14 @@ def problem_7_7() -> Solution:
                         lg.gravity_torques(model, q[-1]) + J.T @ TIP_FORCE, atol=1e-9 * scale)
         fig, ax = plt.subplots(figsize=(6.4, 3.6))
         for j in range(2):
-            ax.plot(t, tau[:, j], label=f"τ{j + 1}")
+            ax.plot(t, tau[:, j], c=f"C{j}", label=f"τ{j + 1}")
+            ax.plot(t, tau_free[:, j], c=f"C{j}", ls=":", lw=1, label=f"τ{j + 1} without tip force (Example 7.2)")
         ax.set_xlabel("t [s]")
         ax.set_ylabel("joint torque [N·m]")
         ax.grid(alpha=0.3)
-        ax.legend()
-        fig.suptitle(f"Problem 7.7, Fig. {titles[name]}, f = [500, 500] N")
+        ax.legend(fontsize="x-small")
+        fig.suptitle(f"Problem 7.7 — Fig. {titles[name]}\ntip force f = [500, 500] N", fontsize="medium")
+        fig.tight_layout()
         sol.figure(fig)
     t, q, qd, qdd = trajectories["tra_2"]
     durations = [abs(d) / 5.0 + 0.15 for d in inverse_kinematics_planar_2r([1.8, 0.0])[ELBOW_DOWN] - q_i]

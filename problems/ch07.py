@@ -301,7 +301,7 @@ def problem_7_4() -> Solution:
     so π'₂ = 97.5. The companion file ``param.m`` (π'₂ = 97.51, Ī₁ with I_m2, y'₁₅ = k_r2 ϑ̈₂) is
     checked to give the same torques. With the 10 kg payload of ``load_m.m`` only π'₁ and π'₃ change.
 
-    Identification (Sect. 7.4, (7.86)), an addition to the manual: ``planar_2r`` (viscous friction
+    Identification (the book's least-squares parameter identification), an addition to the manual: ``planar_2r`` (viscous friction
     F_v = 100 N·m·s/rad, companion) is driven by open-loop sum-of-sines torques for 4 s and sampled
     every 10 ms. Noise is added to the measured τ (σ = 2 N·m) and q̈ (σ = 0.02 rad/s²). π' and F_v
     are then estimated by least squares on the regressor augmented with diag(q̇).

@@ -1,4 +1,4 @@
-"""The book's Lagrange formulation for any serial DH arm with motors (Sect. 7.1–7.2).
+"""The book's Lagrange formulation for any serial DH arm with motors (Ch. 7).
 
 This module computes the dynamic model straight from the DH table, link inertial data and motor
 data with the formulas of the book. It does not use Pinocchio, so it is an independent reference

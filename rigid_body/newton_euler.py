@@ -62,7 +62,7 @@ def augmented_links(model: SerialModel) -> list[AugmentedLink]:
         m = sum(p[0] for p in parts)
         com = sum(p[0] * p[1] for p in parts) / m if m > 0 else np.zeros(3)
         I = np.zeros((3, 3))
-        for mk, ck, Ik in parts:  # parallel-axis theorem (7.60) about the augmented com
+        for mk, ck, Ik in parts:  # parallel-axis (Steiner) theorem about the augmented com
             r = ck - com
             I += Ik + mk * (r @ r * np.eye(3) - np.outer(r, r))
         out.append(AugmentedLink(m, com, I, Im[2, 2]))

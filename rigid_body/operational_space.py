@@ -1,4 +1,4 @@
-"""Operational-space dynamics (Sect. 7.8) and the dynamic manipulability ellipsoid (Sect. 7.10).
+"""Operational-space dynamics and the dynamic manipulability ellipsoid (Eq. 7.149).
 
 Every function works on arrays (B, C, g, J_A, J̇_A), whichever model produced them: Pinocchio
 (:mod:`rigid_body.dynamics`) or the book's Lagrange model (:mod:`rigid_body.lagrange`). J_A is
@@ -7,7 +7,7 @@ end effector, through the dynamically consistent pseudo-inverse J̄_A.
 
 * B_A = (J_A B⁻¹ J_Aᵀ)⁻¹ (7.130); J̄_A = B⁻¹ J_Aᵀ B_A (7.138);
 * C_A = B_A J_A B⁻¹ C J̄_A − B_A J̇_A J̄_A, so that C_A ẋ = B_A J_A B⁻¹ C q̇ − B_A J̇_A q̇ (7.131), the
-  matrix of Problem 7.9; g_A = J̄_Aᵀ g = B_A J_A B⁻¹ g (7.132);
+  matrix of Problem 7.9; g_A = J̄_Aᵀ g = B_A J_A B⁻¹ g;
 * for square J_A these reduce to B_A = J_A⁻ᵀ B J_A⁻¹, g_A = J_A⁻ᵀ g (7.134)–(7.136), Problem 7.6.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
@@ -77,7 +77,7 @@ class OperationalSpaceModel:
 
 
 def operational_space_model(B: Any, C: Any, g: Any, J: Any, Jdot: Any) -> OperationalSpaceModel:
-    """The operational-space model from the joint-space one, Eqs. (7.130)–(7.132), (7.138).
+    """The operational-space model from the joint-space one, Eqs. (7.130), (7.131), (7.138).
 
     Parameters
     ----------

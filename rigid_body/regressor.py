@@ -3,7 +3,7 @@
 The model B(q) q̈ + C(q, q̇) q̇ + g(q) = τ is linear in suitable parameters, τ = Y(q, q̇, q̈) π
 (Eq. 7.81). For the book's two-link planar arm (7.82) the eight parameters of (7.83) reduce to the
 five minimum parameters π' of Problem 7.4, and for the prismatic–revolute arm of Problem 7.5 to
-three. Least squares on a stacked regressor identifies them (Eq. 7.86).
+three. Least squares on a stacked regressor identifies them (dynamic parameter identification).
 
 Parameter bookkeeping of the two-link arm (``convention``):
 
@@ -13,7 +13,7 @@ Parameter bookkeeping of the two-link arm (``convention``):
   π'₂ = 97.51. Both give the same τ.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
-Eqs. (7.81)–(7.87); solution manual, Problems 7.4 (S7.2, S7.3) and 7.5.
+Eqs. (7.81)–(7.84) and the parameter identification that follows them; solution manual, Problems 7.4 (S7.2, S7.3) and 7.5.
 """
 
 from __future__ import annotations
@@ -71,7 +71,7 @@ def two_link_reference_regressor(q: Any, qd: Any, qd_r: Any, qdd_r: Any, a: Sequ
                                  k_r2: float = 100.0, g: float = G, convention: str = "manual") -> np.ndarray:
     """Y'(q, q̇, q̇_r, q̈_r) (2, 5) with Y'π' = B(q) q̈_r + C(q, q̇) q̇_r + g(q) (Christoffel C, (7.45)).
 
-    This is the regressor of the adaptive control law (Sect. 8.5.4, Problem 8.14). With
+    This is the regressor of the adaptive control law (Problem 8.14). With
     h = −a1 s2 π'₃, the velocity terms of row 1 are −a1 s2 (q̇2 q̇_r1 + (q̇1 + q̇2) q̇_r2) and those of
     row 2 are a1 s2 q̇1 q̇_r1. With q̇_r = q̇ and q̈_r = q̈ it is (S7.3).
     """
@@ -221,12 +221,12 @@ def payload_link_parameters(mass: float, ell: float, inertia: float, a: float,
 
 
 # --------------------------------------------------------------------------------------------
-# Identification (Sect. 7.4)
+# Identification (least squares on a stacked regressor)
 # --------------------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
 class Identification:
-    """Least-squares estimate of π from stacked measurements, Eq. (7.86).
+    """Least-squares estimate of π from stacked measurements Ȳ π = τ̄.
 
     ``estimate`` (p,), ``residual`` = ‖Ȳ π̂ − τ̄‖/√N (N = number of torque samples),
     ``condition_number`` of the stacked regressor Ȳ, ``rank`` of Ȳ, ``samples`` = number of states.
@@ -240,7 +240,7 @@ class Identification:
 
 
 def stack_regressor(regressor: Any, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, **kwargs: Any) -> np.ndarray:
-    """Ȳ = [Y(q_1, q̇_1, q̈_1); ...; Y(q_N, ...)] for (N, n) samples, Eq. (7.86)."""
+    """Ȳ = [Y(q_1, q̇_1, q̈_1); ...; Y(q_N, ...)] for (N, n) samples."""
     q, qd, qdd = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (q, qd, qdd))
     if not (q.shape == qd.shape == qdd.shape):
         raise ValueError(f"`q`, `qd`, `qdd` must have the same (N, n) shape, got {q.shape}, {qd.shape}, {qdd.shape}")
@@ -248,7 +248,7 @@ def stack_regressor(regressor: Any, q: np.ndarray, qd: np.ndarray, qdd: np.ndarr
 
 
 def identify(Y: np.ndarray, tau: np.ndarray) -> Identification:
-    """π̂ = (Ȳᵀ Ȳ)⁻¹ Ȳᵀ τ̄ (7.86) by an SVD least-squares solve of the stacked regressor.
+    """π̂ = (Ȳᵀ Ȳ)⁻¹ Ȳᵀ τ̄ by an SVD least-squares solve of the stacked regressor.
 
     Parameters
     ----------

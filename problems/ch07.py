@@ -43,7 +43,7 @@ from rigid_body.operational_space import (dynamic_manipulability, dynamic_manipu
 from rigid_body.manipulability import plot_ellipse
 from rigid_body.regressor import (identify, minimum_parameters, payload_link_parameters,
                                   pr_minimum_parameters, pr_regressor, stack_regressor, two_link_parameters,
-                                  two_link_regressor)
+                                  two_link_regressor, two_link_textbook_parameters, two_link_textbook_regressor)
 from rigid_body.robots import load
 from urdf.book_robots import G, cartesian_skew, planar_2r, planar_3r, planar_pr
 
@@ -299,7 +299,9 @@ def problem_7_4() -> Solution:
     Lagrange model, the Newton–Euler model and Pinocchio's RNEA at random states, and the stacked
     regressor has rank 5. The bookkeeping is the manual's: Ī₁ excludes I_m2 and y'₁₅ = ϑ̈₁ + k_r2 ϑ̈₂,
     so π'₂ = 97.5. The companion file ``param.m`` (π'₂ = 97.51, Ī₁ with I_m2, y'₁₅ = k_r2 ϑ̈₂) is
-    checked to give the same torques. With the 10 kg payload of ``load_m.m`` only π'₁ and π'₃ change.
+    checked to give the same torques. The eight-parameter regressor (7.84), recalled from the textbook
+    (catalogue [TB?]), reproduces the model but has rank 5, and the manual's combinations (S7.2) of its
+    parameters give π'. With the 10 kg payload of ``load_m.m`` only π'₁ and π'₃ change.
 
     Identification (the book's least-squares parameter identification), an addition to the manual: ``planar_2r`` (viscous friction
     F_v = 100 N·m·s/rad, companion) is driven by open-loop sum-of-sines torques for 4 s and sampled
@@ -334,6 +336,18 @@ def problem_7_4() -> Solution:
     qs = rng.uniform(-3, 3, (3, 60, 2))
     Ybar = stack_regressor(two_link_regressor, *qs)
     sol.check("the stacked regressor has rank 5 (π' is minimal and identifiable)", np.linalg.matrix_rank(Ybar) == 5)
+    # From the eight parameters of (7.83)-(7.84) (textbook convention Î1 = Ī1 + I_m2) to π' by (S7.2).
+    p8 = two_link_parameters(spec.links, convention="companion")
+    pi8 = two_link_textbook_parameters(p8)
+    a1, a2, kr1 = p8.a1, p8.a2, p8.k_r1
+    sol.check_close("(S7.2): π' = [a1π1 + π2 + a1π5, a1π2 + π3 + kr1²π4, a2π5 + π6, a2π6 + π7, π8]",
+                    [a1 * pi8[0] + pi8[1] + a1 * pi8[4], a1 * pi8[1] + pi8[2] + kr1**2 * pi8[3], a2 * pi8[4] + pi8[5],
+                     a2 * pi8[5] + pi8[6], pi8[7]], pi_c, atol=1e-12)
+    Y8 = stack_regressor(two_link_textbook_regressor, *qs)
+    sv = np.linalg.svd(Y8 / np.abs(Y8).max(axis=0), compute_uv=False)
+    sol.check("the 8-column regressor (7.84) reproduces RNEA but has rank 5 (columns scaled)",
+              _max_err(Y8 @ pi8, Ybar @ pi) < 1e-9 and sv[4] > 1e-6 * sv[0] and sv[5] < 1e-12 * sv[0],
+              f"singular values {np.array2string(sv, precision=2)}")
     pi_L = minimum_parameters(spec.links, payload=10.0)
     sol.check_close("payload m_L = 10 kg: Δπ' = [a1 m_L, 0, a2 m_L, 0, 0]", pi_L - pi, [10.0, 0, 10.0, 0, 0], atol=1e-12)
     robot_L = load("planar_2r", payload=10.0)

@@ -170,6 +170,44 @@ def minimum_parameters(links: Sequence[DHLink | Any], payload: float = 0.0,
     return two_link_minimum_parameters(two_link_parameters(links, payload, convention))
 
 
+def two_link_textbook_parameters(p: TwoLinkParameters) -> np.ndarray:
+    """The eight parameters of (7.83): [m1, m1ℓC1, Î1, I_m1, m2, m2ℓC2, Î2, I_m2].
+
+    Î1 must include I_m2 (textbook convention): build ``p`` with ``convention="companion"``.
+    """
+    return np.array([p.m1, p.m1_lC1, p.I1, p.Im1, p.m2, p.m2_lC2, p.I2, p.Im2])
+
+
+def two_link_textbook_regressor(q: Any, qd: Any, qdd: Any, a: Sequence[float] = (1.0, 1.0),
+                                k_r: Sequence[float] = (100.0, 100.0), g: float = G) -> np.ndarray:
+    """The (2, 8) regressor of (7.84) for the parameters of :func:`two_link_textbook_parameters`.
+
+    Its columns are linearly dependent: only 5 combinations (S7.2) are identifiable.
+    """
+    q1, q2 = as_vector(q, 2, "q")
+    qd1, qd2 = as_vector(qd, 2, "qd")
+    qdd1, qdd2 = as_vector(qdd, 2, "qdd")
+    a1, a2 = float(a[0]), float(a[1])
+    kr1, kr2 = float(k_r[0]), float(k_r[1])
+    c1, c2, s2, c12 = np.cos(q1), np.cos(q2), np.sin(q2), np.cos(q1 + q2)
+    Y = np.zeros((2, 8))
+    Y[0] = [a1**2 * qdd1 + a1 * g * c1,
+            2 * a1 * qdd1 + g * c1,
+            qdd1,
+            kr1**2 * qdd1,
+            ((a1**2 + 2 * a1 * a2 * c2 + a2**2) * qdd1 + (a1 * a2 * c2 + a2**2) * qdd2 - 2 * a1 * a2 * s2 * qd1 * qd2
+             - a1 * a2 * s2 * qd2**2 + a1 * g * c1 + a2 * g * c12),
+            ((2 * a1 * c2 + 2 * a2) * qdd1 + (a1 * c2 + 2 * a2) * qdd2 - 2 * a1 * s2 * qd1 * qd2 - a1 * s2 * qd2**2
+             + g * c12),
+            qdd1 + qdd2,
+            kr2 * qdd2]
+    Y[1, 4:] = [(a1 * a2 * c2 + a2**2) * qdd1 + a2**2 * qdd2 + a1 * a2 * s2 * qd1**2 + a2 * g * c12,
+                (a1 * c2 + 2 * a2) * qdd1 + 2 * a2 * qdd2 + a1 * s2 * qd1**2 + g * c12,
+                qdd1 + qdd2,
+                kr2 * qdd1 + kr2**2 * qdd2]
+    return Y
+
+
 # --------------------------------------------------------------------------------------------
 # Prismatic–revolute arm (Problem 7.5)
 # --------------------------------------------------------------------------------------------

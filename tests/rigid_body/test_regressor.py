@@ -9,7 +9,8 @@ from rigid_body.dh import robot_from_dh
 from rigid_body.dynamics import inverse_dynamics
 from rigid_body import lagrange as lg
 from rigid_body.regressor import (identify, minimum_parameters, pr_minimum_parameters, pr_regressor,
-                                  stack_regressor, two_link_reference_regressor, two_link_regressor)
+                                  stack_regressor, two_link_parameters, two_link_reference_regressor,
+                                  two_link_regressor, two_link_textbook_parameters, two_link_textbook_regressor)
 from rigid_body.robots import load
 from urdf.book_robots import planar_2r, planar_pr
 
@@ -80,3 +81,13 @@ def test_reference_regressor_is_B_qdd_r_plus_C_qd_r_plus_g(payload):
         expected = (lg.inertia_matrix(model, q) @ qdd_r + lg.coriolis_matrix(model, q, qd) @ qd_r
                     + lg.gravity_torques(model, q))
         np.testing.assert_allclose(two_link_reference_regressor(q, qd, qd_r, qdd_r) @ pi, expected, atol=1e-9)
+
+
+def test_textbook_eight_parameter_regressor_matches_rnea():
+    rng = np.random.default_rng(6)
+    robot = load("planar_2r")
+    pi8 = two_link_textbook_parameters(two_link_parameters(planar_2r().links, convention="companion"))
+    for _ in range(10):
+        q, qd, qdd = rng.uniform(-3, 3, size=(3, 2))
+        np.testing.assert_allclose(two_link_textbook_regressor(q, qd, qdd) @ pi8, inverse_dynamics(robot, q, qd, qdd),
+                                   atol=1e-9)

@@ -286,8 +286,10 @@ class ActionExecutor:
     viscous_friction : F_v of the arm (plant and model).
     """
 
-    def __init__(self, robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.ndarray], workcell: Workcell,
-                 q0: Any, options: ExecutionOptions = ExecutionOptions(), viscous_friction: Any = 0.0):
+    def __init__(self, robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.ndarray],
+                 workcell: Workcell | None, q0: Any, options: ExecutionOptions = ExecutionOptions(),
+                 viscous_friction: Any = 0.0):
+        workcell = Workcell(np.zeros(3)) if workcell is None else workcell
         self.robot, self.ik, self.workcell, self.options = robot, inverse_kinematics, workcell, options
         self.Fv = viscous_friction
         self._loaded = with_payload(robot, workcell.object_mass) if workcell.object_mass > 0 else robot
@@ -353,6 +355,23 @@ class ActionExecutor:
         if self.workcell.held is not None:
             self.workcell.held.position = reached.copy()
 
+    def follow(self, law: Any, position_rows: Sequence[int], orientation: Sequence[float],
+               jacobian_rows: Sequence[int], step: int = -1) -> None:
+        """Track an operational-space motion ``law(t) -> (p, ṗ, p̈)`` (p (3,), absolute times from now on)
+        with constant end-effector orientation: joint reference by :func:`joint_reference`, then
+        inverse-dynamics control on the simulated arm until ``law.t_f``."""
+        opts = self.options
+        if law.t_i < self.t - 1e-12:
+            raise ValueError(f"the motion starts at t = {law.t_i} s, before the executor's time {self.t} s")
+        reference = joint_reference(self.robot, self.ik, law, position_rows, orientation, jacobian_rows,
+                                    self.x[:self.robot.nq])
+        model = self._model()
+        controller = InverseDynamicsControl(model, opts.K_P, opts.K_D, reference, viscous_friction=self.Fv)
+        t_f = self.t + opts.Ts * np.ceil((law.t_f - self.t) / opts.Ts - 1e-9)
+        res = simulate(ArmPlant(model, viscous_friction=self.Fv), controller, (self.t, t_f), self.x, h=opts.h, Ts=opts.Ts)
+        self._segments.append((step, res))
+        self.x, self.t = res.x[-1].copy(), float(res.t[-1])
+
     def grasp(self) -> None:
         if self.workcell.held is not None:
             raise ValueError(f"the gripper already holds {self.workcell.held.name}")
@@ -399,6 +418,42 @@ class ActionExecutor:
         p = np.array([direct_kinematics(self.robot, qk)[:3, 3] for qk in q])
         return ExecutionRecord(list(self._steps), t, q, p, idx,
                                {o.name: o.position.copy() for o in self.workcell.objects})
+
+
+def joint_reference(robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.ndarray], law: Any,
+                    position_rows: Sequence[int], orientation: Sequence[float], jacobian_rows: Sequence[int],
+                    q_near: Any) -> Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Joint reference (q_d, q̇_d, q̈_d)(t) of an operational motion with constant orientation.
+
+    q_d: closed-form IK of ``[p[position_rows], *orientation]``, the solution nearest to the previous
+    one (starting from ``q_near``); q̇_d = J⁻¹ ẋ_d and q̈_d = J⁻¹ (ẍ_d − J̇ q̇_d) (Eqs. (3.50), (3.99)
+    inverted), with J the ``jacobian_rows`` of the geometric Jacobian — square for a non-redundant task
+    (e.g. x, y, ω_z of a planar three-link arm).
+    """
+    rows = list(position_rows)
+    jrows = list(jacobian_rows)
+    phi = np.asarray(orientation, dtype=float)
+    n_o = phi.size
+    if len(jrows) != robot.nv or len(rows) + n_o != len(jrows):
+        raise ValueError(f"the task must be square: {len(rows)} positions + {n_o} orientations vs "
+                         f"{len(jrows)} Jacobian rows for {robot.nv} joints")
+    last = [as_vector(q_near, robot.nq, "q_near").copy()]
+
+    def reference(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        p, pd, pdd = (np.asarray(v, dtype=float) for v in law(t))
+        sols = np.atleast_2d(inverse_kinematics(np.concatenate([p[rows], phi])))
+        q = sols[np.argmin(np.linalg.norm(np.arctan2(np.sin(sols - last[0]), np.cos(sols - last[0])), axis=1))]
+        q = last[0] + np.arctan2(np.sin(q - last[0]), np.cos(q - last[0]))
+        last[0] = q
+        J = pin.computeFrameJacobian(robot.model, robot.data, q, robot.ee_frame, pin.LOCAL_WORLD_ALIGNED)[jrows]
+        qd = np.linalg.solve(J, np.concatenate([pd[rows], np.zeros(n_o)]))
+        pin.forwardKinematics(robot.model, robot.data, q, qd, np.zeros(robot.nv))
+        a = pin.getFrameClassicalAcceleration(robot.model, robot.data, robot.ee_frame, pin.LOCAL_WORLD_ALIGNED)
+        Jd_qd = np.concatenate([a.linear, a.angular])[jrows]
+        qdd = np.linalg.solve(J, np.concatenate([pdd[rows], np.zeros(n_o)]) - Jd_qd)
+        return q, qd, qdd
+
+    return reference
 
 
 # --------------------------------------------------------------------------------------------

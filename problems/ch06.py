@@ -16,7 +16,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from controllers.tasks import (PEG_STATES, ActionExecutor, PegInHoleTask, Step, SurfaceWithHole, TaskError, Workcell,
+from controllers.tasks import (PEG_STATES, ActionExecutor, ExecutionOptions, PegInHoleTask, Step, SurfaceWithHole, TaskError, Workcell,
                                decompose_pick_and_place, distance_to_box, fill_pallet_program, moveto,
                                pick_and_place_path, run_peg_in_hole)
 from problems.registry import Solution, problem
@@ -25,8 +25,9 @@ from rigid_body.robots import load
 from planners.timing import sample
 
 # Scene of 6.1/6.2 (three-link planar arm of Fig. 2.20 in the vertical plane, base at the origin):
-A, B = (0.3, -0.3), (0.7, -0.3)                 # pick and place locations on the table y = −0.3 m
-OBSTACLE = (0.45, 0.55, -0.1)                   # box x ∈ [0.45, 0.55] standing on the table, top at y = −0.1 m
+TABLE = -0.2                                    # work surface y = −0.2 m (below the arm's base)
+A, B = (0.45, TABLE), (0.75, TABLE)             # pick and place locations on the table
+OBSTACLE = (0.55, 0.65, -0.05)                  # box x ∈ [0.55, 0.65] standing on the table, top at y = −0.05 m
 CLEARANCE = 0.05                                # safety distance [m]
 PHI_DOWN = -np.pi / 2                           # end effector pointing down (constant orientation, 6.2)
 DURATIONS = (1.0, 1.5, 1.0)                     # CD, DE, EF [s]
@@ -78,7 +79,7 @@ def problem_6_1() -> Solution:
               f"{failures} of {len(traj.q)} samples unreachable")
     unreachable = False
     try:
-        decompose_pick_and_place(A, (0.52, -0.3), OBSTACLE, CLEARANCE)
+        decompose_pick_and_place(A, (0.6, TABLE), OBSTACLE, CLEARANCE)
     except ValueError:
         unreachable = True
     sol.check("an impossible task (B inside the obstacle's span) is rejected at the task level", unreachable,
@@ -94,7 +95,9 @@ def problem_6_2() -> Solution:
     fourth order"), DE by a cubic or a trapezoidal velocity profile; the arm stops at D and E. Via
     points: the same laws with DE and EF anticipated (overlapping), so the path rounds D and E keeping
     a safety distance from the obstacle. The constant end-effector orientation along −y uses the
-    redundant DOF of the planar arm (checked by IK along the path). Fig. S6.1.
+    redundant DOF of the planar arm (checked by IK along the path). Both motions are then executed
+    on the simulated planar arm (joint reference from closed-form IK and differential kinematics,
+    inverse-dynamics control at 1 ms). Fig. S6.1 (the scene's coordinates are chosen here).
     """
     sol = Solution()
     plan = decompose_pick_and_place(A, B, OBSTACLE, CLEARANCE)
@@ -143,13 +146,29 @@ def problem_6_2() -> Solution:
                 ik_ok = False
     sol.check("redundancy: the orientation along −y is kept constant along every path (IK exists)", ik_ok,
               "planar 3R, φ = −π/2 at every 10th sample")
+    # Primitive level: both motions executed on the simulated arm (inverse-dynamics control, 1 ms).
+    robot = load("planar_3r")
+    q0 = inverse_kinematics_planar_3r(np.array([*A, PHI_DOWN]))[0]          # elbow up: within the joint limits
+    executed = {}
+    for label in ("path points (cubic DE)", "via points"):
+        law = results[label][0]
+        executor = ActionExecutor(robot, inverse_kinematics_planar_3r, None, q0, ExecutionOptions(Ts=1e-3, h=1e-3))
+        executor.follow(law, position_rows=(0, 1), orientation=(PHI_DOWN,), jacobian_rows=(0, 1, 5))
+        rec = executor.record()
+        executed[label] = rec
+        err = float(np.max(np.abs(rec.p[:, :2] - law(rec.t)[0][:, :2])))
+        d_run = float(distance_to_box(rec.p[:, :2], OBSTACLE).min())
+        within = bool(np.all(rec.q >= robot.lower) and np.all(rec.q <= robot.upper))
+        sol.check(f"{label} executed on the simulated planar arm: tracking error < 1 mm, clear of the obstacle, "
+                  f"within the joint limits", err < 1e-3 and d_run >= 0.5 * CLEARANCE and within,
+                  f"max |p − p_d| = {err * 1e3:.3f} mm, min distance {d_run:.4f} m, joint limits respected: {within}")
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
     x0, x1, top = OBSTACLE
-    ax.fill([x0, x1, x1, x0], [-0.3, -0.3, top, top], color="0.7", label="obstacle")
-    ax.axhline(-0.3, color="k", lw=0.8)
+    ax.fill([x0, x1, x1, x0], [TABLE, TABLE, top, top], color="0.7", label="obstacle")
+    ax.axhline(TABLE, color="k", lw=0.8)
     for label, style in (("path points (cubic DE)", "b-"), ("via points", "r--")):
-        tr = results[label][1]
-        ax.plot(tr.q[:, 0], tr.q[:, 1], style, label=label)
+        rec = executed[label]
+        ax.plot(rec.p[:, 0], rec.p[:, 1], style, label=f"{label} (executed)")
     for k, p in plan.points.items():
         ax.plot(*p, "ko")
         ax.annotate(k, p, textcoords="offset points", xytext=(5, 5))

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from controllers.tasks import (ActionExecutor, Step, SurfaceWithHole, TaskError, Workcell, decompose_pick_and_place,
-                               fill_pallet_program, moveto, pick_and_place_path)
-from rigid_body.kinematics import inverse_kinematics_scara
+                               fill_pallet_program, joint_reference, moveto, pick_and_place_path)
+from rigid_body.kinematics import direct_kinematics, inverse_kinematics_planar_3r, inverse_kinematics_scara
 from rigid_body.robots import load
 
 HOME = (0.5, -0.3, 0.3, 0.0)
@@ -61,3 +61,19 @@ def test_pick_and_place_path_validation():
         pick_and_place_path(plan, (1, 1, 1), via_points=True, overlap=2.0)
     with pytest.raises(ValueError, match="between A and B"):
         decompose_pick_and_place((0.3, -0.3), (0.4, -0.3), (0.45, 0.55, -0.1), 0.05)
+
+
+def test_joint_reference_is_consistent_with_finite_differences():
+    robot = load("planar_3r")
+    plan = decompose_pick_and_place((0.45, -0.2), (0.75, -0.2), (0.55, 0.65, -0.05), 0.05)
+    law = pick_and_place_path(plan, (1.0, 1.5, 1.0), via_points=True, overlap=0.4)
+    q0 = inverse_kinematics_planar_3r(np.array([0.45, -0.2, -np.pi / 2]))[0]
+    ref = joint_reference(robot, inverse_kinematics_planar_3r, law, (0, 1), (-np.pi / 2,), (0, 1, 5), q0)
+    dt = 1e-5
+    for t in (0.3, 1.2, 2.0, 2.6):
+        qm, qdm, _ = ref(t - dt)
+        q, qd, qdd = ref(t)
+        qp, qdp, _ = ref(t + dt)
+        np.testing.assert_allclose(qd, (qp - qm) / (2 * dt), atol=1e-5)
+        np.testing.assert_allclose(qdd, (qdp - qdm) / (2 * dt), atol=1e-3)
+        np.testing.assert_allclose(direct_kinematics(robot, q)[:2, 3], law(t)[0][:2], atol=1e-12)

@@ -244,6 +244,11 @@ class Workcell:
         return free[k] if d[k] <= self.grasp_tolerance else None
 
 
+def revolute_joints(robot: Robot) -> np.ndarray:
+    """Boolean mask (n,) of the revolute joints (whose angles may be shifted by 2π)."""
+    return np.array([j.shortname().startswith(("JointModelR", "JointModelRevolute")) for j in robot.model.joints[1:]])
+
+
 @dataclass(frozen=True)
 class ExecutionOptions:
     """Options of the primitive level: sampling ``Ts`` and integration step ``h`` [s], inverse-dynamics
@@ -293,8 +298,7 @@ class ActionExecutor:
         self.robot, self.ik, self.workcell, self.options = robot, inverse_kinematics, workcell, options
         self.Fv = viscous_friction
         self._loaded = with_payload(robot, workcell.object_mass) if workcell.object_mass > 0 else robot
-        self._revolute = np.array([j.shortname().startswith(("JointModelR", "JointModelRevolute"))
-                                   for j in robot.model.joints[1:]])
+        self._revolute = revolute_joints(robot)
         self.x = np.concatenate([as_vector(q0, robot.nq, "q0"), np.zeros(robot.nv)])
         self.t = 0.0
         self._segments: list[tuple[int, Any]] = []
@@ -438,12 +442,18 @@ def joint_reference(robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.
         raise ValueError(f"the task must be square: {len(rows)} positions + {n_o} orientations vs "
                          f"{len(jrows)} Jacobian rows for {robot.nv} joints")
     last = [as_vector(q_near, robot.nq, "q_near").copy()]
+    revolute = revolute_joints(robot)
+
+    def nearest(q: np.ndarray) -> np.ndarray:
+        """The 2π-equivalent of q (revolute joints only) closest to the previous reference."""
+        d = q - last[0]
+        d[..., revolute] = np.arctan2(np.sin(d[..., revolute]), np.cos(d[..., revolute]))
+        return last[0] + d
 
     def reference(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         p, pd, pdd = (np.asarray(v, dtype=float) for v in law(t))
-        sols = np.atleast_2d(inverse_kinematics(np.concatenate([p[rows], phi])))
-        q = sols[np.argmin(np.linalg.norm(np.arctan2(np.sin(sols - last[0]), np.cos(sols - last[0])), axis=1))]
-        q = last[0] + np.arctan2(np.sin(q - last[0]), np.cos(q - last[0]))
+        sols = nearest(np.atleast_2d(inverse_kinematics(np.concatenate([p[rows], phi]))))
+        q = sols[np.argmin(np.linalg.norm(sols - last[0], axis=1))]
         last[0] = q
         J = pin.computeFrameJacobian(robot.model, robot.data, q, robot.ee_frame, pin.LOCAL_WORLD_ALIGNED)[jrows]
         qd = np.linalg.solve(J, np.concatenate([pd[rows], np.zeros(n_o)]))

@@ -198,6 +198,9 @@ def problem_6_3() -> Solution:
     along x — runs as :class:`PegInHoleController` on the simulated three-link planar arm against a
     compliant surface with a hole (stiffness 2·10⁴ N/m, clearance 4 mm).
 
+    The manual's moment control about z during insertion (keeping the peg aligned) is replaced by
+    holding the peg's orientation: the point-contact model of the hole produces no moment.
+
     Two scenes: the hole 12 mm to the left of its estimate (the search starts to the right, inverts,
     finds it) and the hole within the clearance of its estimate (no search needed).
     """

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-import two_link_closed_form as arm2
+from tests import two_link_closed_form as arm2
 from controllers.independent_joint import JointDrive, design_position_velocity
 from controllers.joint_space import (AdaptivePayloadControl, ComputedTorqueFeedforward, InverseDynamicsControl,
                                      PDGravityCompensation, RobustControl, as_gain, as_reference,

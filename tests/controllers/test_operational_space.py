@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-import two_link_closed_form as arm2
+from tests import two_link_closed_form as arm2
 from controllers.operational_space import (OperationalInverseDynamics, OperationalPDGravity,
                                            operational_inverse_dynamics_steady_state, task_reference)
 from controllers.simulation import ArmPlant, simulate

@@ -7,36 +7,8 @@ from rigid_body.dynamics import (coriolis_matrix, forward_dynamics, gravity_torq
                                  inverse_dynamics, nonlinear_effects)
 from rigid_body.robots import load
 
-# Sect. 7.3.2 data (companion param.m)
-a1 = a2 = 1.0
-l1 = l2 = 0.5
-ml1 = ml2 = 50.0
-Il1 = Il2 = 10.0
-kr1 = kr2 = 100.0
-mm1 = mm2 = 5.0
-Im1 = Im2 = 0.01
-g = 9.81
-
-
-def B_closed(q, mL=0.0):
-    c2 = np.cos(q[1])
-    b11 = (Il1 + ml1 * l1**2 + kr1**2 * Im1 + Il2 + ml2 * (a1**2 + l2**2 + 2 * a1 * l2 * c2) + Im2 + mm2 * a1**2
-           + mL * (a1**2 + a2**2 + 2 * a1 * a2 * c2))
-    b12 = Il2 + ml2 * (l2**2 + a1 * l2 * c2) + kr2 * Im2 + mL * (a2**2 + a1 * a2 * c2)
-    b22 = Il2 + ml2 * l2**2 + kr2**2 * Im2 + mL * a2**2
-    return np.array([[b11, b12], [b12, b22]])
-
-
-def C_closed(q, qd, mL=0.0):
-    h = -(ml2 * a1 * l2 + mL * a1 * a2) * np.sin(q[1])
-    return np.array([[h * qd[1], h * (qd[0] + qd[1])], [-h * qd[0], 0.0]])
-
-
-def g_closed(q, mL=0.0):
-    c1, c12 = np.cos(q[0]), np.cos(q[0] + q[1])
-    g1 = (ml1 * l1 + mm2 * a1 + ml2 * a1 + mL * a1) * g * c1 + (ml2 * l2 + mL * a2) * g * c12
-    g2 = (ml2 * l2 + mL * a2) * g * c12
-    return np.array([g1, g2])
+from tests.two_link_closed_form import A1 as a1, I_M1 as Im1, I_M2 as Im2, K_R1 as kr1, K_R2 as kr2, M_M2 as mm2
+from tests.two_link_closed_form import coriolis as C_closed, gravity as g_closed, inertia as B_closed
 
 
 @pytest.mark.parametrize("mL", [0.0, 10.0])

@@ -10,7 +10,6 @@ Run: ``python benchmarks/bench_closed_form_ik.py``.
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 import pinocchio as pin
@@ -19,14 +18,7 @@ from rigid_body import kinematics as kin
 from rigid_body import rotations as rot
 from rigid_body.robots import load
 
-
-def per_call(f, repetitions: int) -> float:
-    """Mean wall time of ``f()`` [s] over ``repetitions`` calls (after one warm-up call)."""
-    f()
-    t0 = time.perf_counter()
-    for _ in range(repetitions):
-        f()
-    return (time.perf_counter() - t0) / repetitions
+from benchtools import per_call
 
 
 def raw_fk(robot, q):

@@ -22,18 +22,8 @@ from planners.paths import PathLaw, Segment
 from planners.timing import quintic, trapezoidal, trapezoidal_law
 from rigid_body.robots import load
 
-REPEAT = 2000
+from benchtools import per_call
 
-
-def per_call(f: Callable[[], object], repeat: int = REPEAT) -> float:
-    """Best of three mean times of ``f()`` [s]."""
-    best = np.inf
-    for _ in range(3):
-        t0 = time.perf_counter()
-        for _ in range(repeat):
-            f()
-        best = min(best, (time.perf_counter() - t0) / repeat)
-    return best
 
 
 def step_costs(name: str, robot, plant_robot, controller, raw: Callable[[], object], h: float, Ts: float) -> None:

@@ -9,7 +9,6 @@ Per-call times [µs] and ratios against the raw Pinocchio call measured in the s
 from __future__ import annotations
 
 import dataclasses
-import time
 
 import numpy as np
 import pinocchio as pin
@@ -22,22 +21,11 @@ from rigid_body.robots import load
 from urdf.book_robots import book_robot_spec
 from urdf.panda_dh import panda_links, panda_tool
 
-REPEAT = 5
-
-
-def per_call(f, n: int) -> float:
-    """Best-of-REPEAT mean time per call [µs] over n calls."""
-    best = np.inf
-    for _ in range(REPEAT):
-        t0 = time.perf_counter()
-        for _ in range(n):
-            f()
-        best = min(best, (time.perf_counter() - t0) / n)
-    return best * 1e6
-
+from benchtools import per_call
 
 def row(label: str, t: float, ref: float) -> None:
-    print(f"  {label:<44s} {t:10.2f} µs   x{t / ref:8.1f}")
+    """One line: time per call [s] shown in µs, and its ratio to the raw Pinocchio call ``ref``."""
+    print(f"  {label:<44s} {t * 1e6:10.2f} µs   x{t / ref:8.1f}")
 
 
 def main() -> None:

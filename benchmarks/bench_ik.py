@@ -18,14 +18,7 @@ from planners.inverse_kinematics import CLIK, CasadiIK, QPVelocityIK, TaskSpace,
 from rigid_body.kinematics import direct_kinematics
 from rigid_body.robots import load
 
-
-def per_call(f, repetitions: int) -> float:
-    """Mean wall time of ``f()`` [s] over ``repetitions`` calls (after one warm-up call)."""
-    f()
-    t0 = time.perf_counter()
-    for _ in range(repetitions):
-        f()
-    return (time.perf_counter() - t0) / repetitions
+from benchtools import per_call
 
 
 def main() -> None:

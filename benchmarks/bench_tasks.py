@@ -10,13 +10,7 @@ import time
 import numpy as np
 import pinocchio as pin
 
-
-def per_call(f, repeat: int = 3000) -> float:
-    f()
-    t0 = time.perf_counter()
-    for _ in range(repeat):
-        f()
-    return (time.perf_counter() - t0) / repeat
+from benchtools import per_call
 
 
 if __name__ == "__main__":

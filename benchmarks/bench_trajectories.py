@@ -16,25 +16,15 @@ from planners import paths, timing
 from planners.optimization import JointLimits, OptimizationOptions, minimum_time_trajectory, trapezoidal_under_limits
 from rigid_body.robots import load
 
+from benchtools import per_call
+
 SAMPLES = 1000
-REPEAT = 7
-
-
-def best_time(fn, number: int) -> float:
-    """Best per-call time over REPEAT repetitions of ``number`` calls."""
-    best = np.inf
-    for _ in range(REPEAT):
-        start = time.perf_counter()
-        for _ in range(number):
-            fn()
-        best = min(best, (time.perf_counter() - start) / number)
-    return best
 
 
 def rnea_time(robot) -> float:
     rng = np.random.default_rng(0)
     q, v, a = robot.random_configuration(rng), rng.normal(size=robot.nv), rng.normal(size=robot.nv)
-    return best_time(lambda: pin.rnea(robot.model, robot.data, q, v, a), 20000)
+    return per_call(lambda: pin.rnea(robot.model, robot.data, q, v, a), 20000)
 
 
 def main() -> None:
@@ -62,11 +52,11 @@ def main() -> None:
     print(f"{'law':38s} {SAMPLES}-sample eval   ratio to rnea(2R)   one-instant evaluate   ratio")
     for name, law in laws.items():
         t = np.linspace(law.t_i, law.t_f, SAMPLES)
-        t_vec = best_time(lambda: law(t), 200)
-        t_one = best_time(lambda: law(0.37 * law.t_f), 5000)
+        t_vec = per_call(lambda: law(t), 200)
+        t_one = per_call(lambda: law(0.37 * law.t_f), 5000)
         print(f"{name:38s} {t_vec * 1e6:10.1f} µs {t_vec / t_rnea_arm:14.1f} x {t_one * 1e6:16.2f} µs {t_one / t_rnea_arm:9.1f} x")
     big = np.cumsum(np.random.default_rng(1).uniform(0.5, 1.0, 10000))
-    t_spline = best_time(lambda: timing.cubic_spline_law(big, np.sin(big)), 3)
+    t_spline = per_call(lambda: timing.cubic_spline_law(big, np.sin(big)), 3)
     print(f"\ncubic spline through 10 000 points (banded O(N) solve): {t_spline * 1e3:.2f} ms "
           f"({t_spline / t_rnea_arm:.0f} x rnea(2R))")
 

@@ -33,7 +33,7 @@ from rigid_body.manipulability import manipulability
 from rigid_body.robots import Robot
 from rigid_body.rotations import _axis_angle_error, _orientation_error_matrix  # unvalidated kernels (hot loop)
 from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz, orientation_error_axis_angle,
-                                  orientation_error_matrix, orientation_error_quaternion, rotation_to_euler_zyz,
+                                  orientation_error_quaternion, rotation_to_euler_zyz,
                                   rotation_to_quaternion, rotation_to_rpy)
 from rigid_body.validation import as_matrix, as_vector
 

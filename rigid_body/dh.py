@@ -21,7 +21,7 @@ Eq. (2.52), Sect. 2.8.2; Sect. 7.3 (motor model).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, fields
 from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np

@@ -6,7 +6,6 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from problems import cli
 from problems.registry import Solution, all_problems, problem

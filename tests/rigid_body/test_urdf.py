@@ -1,15 +1,13 @@
 """The committed URDF files: regenerated from their tables, <mimic> kept, and yourdfpy agrees with Pinocchio."""
 
-from pathlib import Path
 
 import numpy as np
-import pinocchio as pin
 import pytest
 import yourdfpy
 
 from rigid_body.kinematics import frame_poses
 from rigid_body.robots import URDF_DIR, load
-from urdf.book_robots import BOOK_ROBOTS, book_robot_spec, write_all
+from urdf.book_robots import BOOK_ROBOTS, write_all
 
 
 @pytest.mark.parametrize("name", sorted(BOOK_ROBOTS))
@@ -48,7 +46,6 @@ def test_yourdfpy_forward_kinematics_agrees_with_pinocchio(name, rng):
     urdf = yourdfpy.URDF.load(str(robot.urdf_path), build_scene_graph=True, load_meshes=False,
                               build_collision_scene_graph=False, load_collision_meshes=False)
     ee = robot.model.frames[robot.ee_frame].name
-    base = robot.model.frames[1].name if name in BOOK_ROBOTS else urdf.base_link
     for _ in range(5):
         q = robot.random_configuration(rng)
         T_pin = frame_poses(robot, q, [ee])[0]

@@ -169,7 +169,7 @@ def cmd_report(args: argparse.Namespace) -> int:
         _progress(len(problems), len(problems), "", started)
         sys.stderr.write("\n")
     (out / "summary.json").write_text(json.dumps(summary, indent=1))
-    (out / "index.html").write_text(_html_page(rows, n_pass, n_fail))
+    (out / "index.html").write_text(_html_page(rows, n_pass, n_fail, summary))
     print(f"report written to {out / 'index.html'}")
     failed = [d["id"] for d in summary if not d["passed"]]
     if failed:
@@ -199,13 +199,24 @@ def _html_problem(d: dict) -> str:
     return "\n".join(parts)
 
 
-def _html_page(rows: list[str], n_pass: int, n_fail: int) -> str:
+def _html_index(summary: list[dict]) -> str:
+    """One link per problem, grouped by chapter, red when it failed."""
+    chapters: dict[str, list[str]] = {}
+    for d in summary:
+        cls = "pass" if d["passed"] else "fail"
+        chapters.setdefault(d["id"].split(".")[0], []).append(
+            f'<a class="{cls}" href="#p{d["id"]}" title="{html.escape(d["title"])}">{d["id"]}</a>')
+    return "<nav>" + "".join(f"<div>Ch. {ch}: {' '.join(links)}</div>" for ch, links in chapters.items()) + "</nav>"
+
+
+def _html_page(rows: list[str], n_pass: int, n_fail: int, summary: list[dict]) -> str:
     style = ("body{font-family:sans-serif;max-width:1100px;margin:auto} section{border-top:1px solid #ccc}"
              " .fail h2{color:#b00} li.fail{color:#b00} pre{display:inline;white-space:pre-wrap}"
-             " img{max-width:520px;margin:4px} th{text-align:left;padding-right:1em;vertical-align:top}")
+             " img{max-width:520px;margin:4px} th{text-align:left;padding-right:1em;vertical-align:top}"
+             " nav a{margin-right:.4em} a.fail{color:#b00;font-weight:bold}")
     return (f"<!doctype html><html><head><meta charset='utf-8'><title>rmpc report</title>"
             f"<style>{style}</style></head><body><h1>rmpc — solved problems</h1>"
-            f"<p>{n_pass} passed, {n_fail} failed</p>{''.join(rows)}</body></html>")
+            f"<p>{n_pass} passed, {n_fail} failed</p>{_html_index(summary)}{''.join(rows)}</body></html>")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -62,3 +62,4 @@ def test_report_writes_html_and_summary_line(tmp_path, capsys):
     assert out[-1] == "0 passed, 1 failed" and code == 1
     html = (tmp_path / "index.html").read_text()
     assert "99.1" in html and "wrong" in html
+    assert '<a class="fail" href="#p99.1"' in html

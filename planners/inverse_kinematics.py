@@ -32,8 +32,8 @@ import pinocchio as pin
 from rigid_body.manipulability import manipulability
 from rigid_body.robots import Robot
 from rigid_body.rotations import _axis_angle_error, _orientation_error_matrix  # unvalidated kernels (hot loop)
-from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz, orientation_error_axis_angle,
-                                  orientation_error_quaternion, rotation_to_euler_zyz,
+from rigid_body.rotations import (as_homogeneous, euler_rate_matrix_rpy, euler_rate_matrix_zyz,
+                                  orientation_error_axis_angle, orientation_error_quaternion, rotation_to_euler_zyz,
                                   rotation_to_quaternion, rotation_to_rpy)
 from rigid_body.validation import as_matrix, as_vector
 
@@ -312,7 +312,7 @@ class JointIntegrator:
 
 def constant_pose(T_d: Any) -> Callable[[float], tuple[np.ndarray, np.ndarray]]:
     """A reference t ↦ (T_d, 0): regulation to a fixed pose."""
-    T_d = as_matrix(T_d, (4, 4), "T_d").copy()
+    T_d = as_homogeneous(T_d, "T_d").copy()
     zero = np.zeros(6)
     return lambda t: (T_d, zero)
 
@@ -474,7 +474,7 @@ def solve_clik(robot: Robot, T_d: Any, q0: Any, task: TaskSpace = TaskSpace(), d
     an arbitrary guess on a 7-DOF arm with limits it often stalls (measured: 4 of 20 random
     Panda guesses), and reports it with ``success=False`` — use :class:`CasadiIK` (restarts) then.
     """
-    T_d = as_matrix(T_d, (4, 4), "T_d")
+    T_d = as_homogeneous(T_d, "T_d")
     q = as_vector(q0, robot.nq, "q0").copy()
     lo, hi = robot.lower, robot.upper
     best_q, best = q.copy(), np.inf
@@ -580,7 +580,7 @@ class CasadiIK:
     def solve(self, T_d: Any, q0: Any = None, rng: np.random.Generator | None = None,
               q_posture: Any = None) -> IKResult:
         """Solve for the pose ``T_d`` (4, 4); ``q0`` the first guess (default: mid-range)."""
-        T_d = as_matrix(T_d, (4, 4), "T_d")
+        T_d = as_homogeneous(T_d, "T_d")
         robot, o = self.robot, self.options
         lo, hi = self._lo, self._hi
         mid = 0.5 * (np.maximum(lo, -np.pi) + np.minimum(hi, np.pi))
@@ -662,7 +662,7 @@ class QPVelocityIK:
 
     def solve(self, T_d: Any, q0: Any) -> IKResult:
         """Iterate q ← q + Δt q̇ (QP steps toward the fixed pose T_d) until the residual < tol."""
-        T_d = as_matrix(T_d, (4, 4), "T_d")
+        T_d = as_homogeneous(T_d, "T_d")
         o, robot = self.options, self.robot
         q = np.clip(as_vector(q0, robot.nq, "q0"), robot.lower, robot.upper)
         best, best_q = np.inf, q.copy()

@@ -149,6 +149,12 @@ def test_bad_inputs_raise(panda):
         CLIK(panda, constant_pose(np.eye(4)), law="inverse")(0.0, np.zeros(7))
     with pytest.raises(ValueError, match="T_d"):
         CasadiIK(panda, options=CasadiIKOptions(restarts=0)).solve(np.eye(3))
+    not_a_pose = np.eye(4)
+    not_a_pose[:3, :3] *= 2.0  # scaled "rotation": no configuration can reach it
+    with pytest.raises(ValueError, match="T_d.*orthonormal"):
+        solve_clik(panda, not_a_pose, np.zeros(7))
+    with pytest.raises(ValueError, match="T_d.*orthonormal"):
+        QPVelocityIK(panda).solve(not_a_pose, np.zeros(7))
 
 
 def test_null_space_manipulability_task_increases_w():

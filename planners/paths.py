@@ -283,6 +283,7 @@ def slerp(Q_i: Any, Q_f: Any, sigma: float) -> np.ndarray:
     """
     Q_i = as_unit_quaternion(Q_i, "Q_i")
     Q_f = as_unit_quaternion(Q_f, "Q_f")
+    sigma = float(as_vector(sigma, 1, "sigma")[0])
     d = float(Q_i @ Q_f)
     if d < 0:
         Q_f, d = -Q_f, -d

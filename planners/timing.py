@@ -103,6 +103,14 @@ def _as_points(q: Any, m: int, name: str = "q") -> np.ndarray:
 # Laws
 # --------------------------------------------------------------------------------------------
 
+def _as_instants(t: Any) -> np.ndarray:
+    """Evaluation instants as a float array; ValueError on NaN (±inf is outside the law: end values held)."""
+    t = np.asarray(t, dtype=float)
+    if np.isnan(t).any():
+        raise ValueError(f"`t` must not be NaN, got {t}")
+    return t
+
+
 def _derivative_coefficients(c: np.ndarray) -> np.ndarray:
     """Coefficients (ascending powers, axis 1) of the derivative of each piece."""
     d = c.shape[1] - 1
@@ -167,7 +175,7 @@ class PiecewisePolynomial:
     def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         if isinstance(t, (float, int, np.floating, np.integer)):
             return self._at(float(t))
-        t = np.asarray(t, dtype=float)
+        t = _as_instants(t)
         breaks = self.breaks
         tt = np.clip(t, breaks[0], breaks[-1])
         k = np.clip(np.searchsorted(breaks, tt, side="right") - 1, 0, breaks.size - 2)
@@ -193,6 +201,8 @@ class PiecewisePolynomial:
             k = 0 if t <= breaks[0] else len(breaks) - 2
             tau = (breaks[0] if t <= breaks[0] else breaks[-1]) - self._origins[k]
             moving = breaks[0] <= t <= breaks[-1]
+        elif t != t:
+            raise ValueError("`t` must not be NaN")
         else:
             k = bisect.bisect_right(breaks, t) - 1
             tau, moving = t - self._origins[k], True
@@ -231,7 +241,7 @@ class RaisedCosine:
         return 2.0 * np.pi / (self.t_f - self.t_i)
 
     def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        t = np.asarray(t, dtype=float)
+        t = _as_instants(t)
         vs = np.shape(self.q_i)
         tau = (np.clip(t, self.t_i, self.t_f) - self.t_i).reshape(t.shape + (1,) * len(vs))
         a, k = self.a, self.k

@@ -101,6 +101,8 @@ def test_slerp_takes_the_short_way_and_bad_input():
     Q_f = -rotation_to_quaternion(axis_angle_to_rotation(0.4, [0, 0, 1]))
     mid = paths.slerp(Q_i, Q_f, 0.5)
     np.testing.assert_allclose(quaternion_to_rotation(mid), axis_angle_to_rotation(0.2, [0, 0, 1]), atol=1e-12)
+    with pytest.raises(ValueError, match="sigma"):
+        paths.slerp(Q_i, Q_f, np.nan)
     with pytest.raises(ValueError, match="p_f"):
         paths.Segment([0, 0, 0], [0, 0, 0])
     with pytest.raises(ValueError, match="on the axis"):

@@ -126,6 +126,9 @@ def test_sample_and_plot():
     (lambda: timing.cubic(np.nan, 1.0, 1.0), "q_i"),
     (lambda: timing.sample(timing.cubic_law(0, 1, 1), samples=3, dt=0.1), "only one"),
     (lambda: timing.PiecewisePolynomial([0, 1, 1], np.zeros((2, 3))), "increasing"),
+    (lambda: timing.quintic_law(0.0, 1.0, 1.0)(np.nan), "NaN"),
+    (lambda: timing.quintic_law(0.0, 1.0, 1.0)(np.array([0.5, np.nan])), "NaN"),
+    (lambda: timing.raised_cosine_law(0.0, 1.0, 1.0)(np.nan), "NaN"),
 ])
 def test_bad_input_names_the_argument(call, match):
     with pytest.raises(ValueError, match=match):

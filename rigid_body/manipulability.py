@@ -76,18 +76,27 @@ def velocity_ellipsoid(J: Any) -> Ellipsoid:
 
     Raises ValueError at a singularity (the ellipsoid degenerates; J J^T is not invertible).
     """
-    J = _jacobian(J)
-    U, s, _ = np.linalg.svd(J, full_matrices=True)
-    s = np.concatenate([s, np.zeros(J.shape[0] - s.size)]) if s.size < J.shape[0] else s
-    if s[-1] <= RANK_TOL * max(1.0, s[0]):
-        raise ValueError("`J` is singular: the velocity ellipsoid degenerates (J J^T not invertible)")
+    U, s = _principal_axes(J, "velocity ellipsoid degenerates: a zero semi-axis")
     return Ellipsoid(U, s)
 
 
 def force_ellipsoid(J: Any) -> Ellipsoid:
-    """Force manipulability ellipsoid γ^T (J J^T) γ = 1, Eq. (3.126): same axes u_i, semi-axes 1/σ_i."""
-    v = velocity_ellipsoid(J)
-    return Ellipsoid(v.axes, 1.0 / v.semi_axes)
+    """Force manipulability ellipsoid γ^T (J J^T) γ = 1, Eq. (3.126): same axes u_i, semi-axes 1/σ_i.
+
+    Raises ValueError at a singularity (a semi-axis 1/σ_i would be infinite).
+    """
+    U, s = _principal_axes(J, "force ellipsoid degenerates: an infinite semi-axis 1/sigma_i")
+    return Ellipsoid(U, 1.0 / s)
+
+
+def _principal_axes(J: Any, what: str) -> tuple[np.ndarray, np.ndarray]:
+    """U and σ_1 ≥ … ≥ σ_r (zeros included) of J = U Σ V^T; ValueError naming ``what`` at a singularity."""
+    J = _jacobian(J)
+    U, s, _ = np.linalg.svd(J, full_matrices=True)
+    s = np.concatenate([s, np.zeros(J.shape[0] - s.size)]) if s.size < J.shape[0] else s
+    if s[-1] <= RANK_TOL * max(1.0, s[0]):
+        raise ValueError(f"`J` is singular: the {what} (J J^T not invertible)")
+    return U, s
 
 
 def plot_ellipse(ax: Any, ellipsoid: Ellipsoid, center: Any = (0.0, 0.0), n: int = 100, **kwargs: Any) -> Any:

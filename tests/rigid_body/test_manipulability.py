@@ -35,6 +35,8 @@ def test_ellipsoids_are_dual_and_satisfy_quadratic_forms(rng):
         assert y @ A @ y == pytest.approx(1.0)                         # (3.126)
     with pytest.raises(ValueError, match="singular"):
         velocity_ellipsoid(np.array([[1.0, 1.0], [1.0, 1.0]]))
+    with pytest.raises(ValueError, match="force ellipsoid"):
+        force_ellipsoid(np.array([[1.0, 1.0], [1.0, 1.0]]))
     fig, ax = plt.subplots()
     line = plot_ellipse(ax, velocity_ellipsoid(J[:2, :2]))
     assert line.get_xydata().shape == (100, 2)

@@ -34,7 +34,7 @@ from rigid_body.robots import Robot
 from rigid_body.rotations import _axis_angle_error, _orientation_error_matrix  # unvalidated kernels (hot loop)
 from rigid_body.rotations import (as_homogeneous, euler_rate_matrix_rpy, euler_rate_matrix_zyz,
                                   orientation_error_axis_angle, orientation_error_quaternion, rotation_to_euler_zyz,
-                                  rotation_to_quaternion, rotation_to_rpy)
+                                  rotation_to_quaternion, rotation_to_rpy, wrap_angle)
 from rigid_body.validation import as_matrix, as_vector
 
 __all__ = [
@@ -203,7 +203,7 @@ def pose_error(robot: Robot, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | N
         if phi_e.singular or phi_d.singular:
             raise ValueError(f"{kind} representation singularity at the {'current' if phi_e.singular else 'desired'}"
                              " orientation: the analytical Jacobian is not defined")
-        e[3:] = (phi_d.angles - phi_e.angles + np.pi) % (2 * np.pi) - np.pi
+        e[3:] = wrap_angle(phi_d.angles - phi_e.angles)
         J = J.copy()
         J[3:] = np.linalg.solve(T_of(phi_e.angles), J[3:])             # J_A = T_A^{-1} J, Eq. (3.66)
         ff[3:] = np.linalg.solve(T_of(phi_d.angles), v_d[3:])          # φ̇_d = T^{-1}(φ_d) ω_d

@@ -38,10 +38,6 @@ N_WORKSPACE = 200_000  # joint samples of the 2.17 workspace
 c, s = np.cos, np.sin
 
 
-def _wrap(a):
-    return np.arctan2(np.sin(a), np.cos(a))
-
-
 def _max_error(pairs) -> float:
     return max(float(np.max(np.abs(np.asarray(a, dtype=float) - np.asarray(b, dtype=float)))) for a, b in pairs)
 
@@ -86,10 +82,10 @@ def problem_2_1() -> Solution:
         manual_neg = [np.arctan2(-r[0, 2], r[1, 2]), np.arctan2(-n, r[2, 2]), np.arctan2(-r[2, 0], -r[2, 1])]
         for branch, manual_angles in ((1, manual_pos), (-1, manual_neg)):
             res = rot.rotation_to_euler_zxz(R, branch)
-            inv_pairs.append((_wrap(res.angles - manual_angles), 0.0))
+            inv_pairs.append((rot.wrap_angle(res.angles - manual_angles), 0.0))
             back.append((rot.euler_zxz_to_rotation(res.angles), R))
         true = np.array([ph, th, ps]) if th > 0 else np.array([ph + np.pi, -th, ps + np.pi])
-        inv_pairs.append((_wrap(rot.rotation_to_euler_zxz(R, 1).angles - true), 0.0))
+        inv_pairs.append((rot.wrap_angle(rot.rotation_to_euler_zxz(R, 1).angles - true), 0.0))
     sol.value("R_example", rot.euler_zxz_to_rotation([0.3, 0.5, -0.2]))
     sol.check("zxz_matrix_matches_manual", _max_error(pairs) < 1e-12,
               f"max |error| = {_max_error(pairs):.2e} over {N_RANDOM} random angle sets "
@@ -117,12 +113,12 @@ def problem_2_2() -> Solution:
                       else [[-c(g), -s(g), 0], [-s(g), c(g), 0], [0, 0, -1]])
             R = rot.euler_zyz_to_rotation([ph, th, ps])
             closed.append((R, manual))
-            atan.append((_wrap(np.arctan2(-R[0, 1], R[1, 1]) - g), 0.0))
+            atan.append((rot.wrap_angle(np.arctan2(-R[0, 1], R[1, 1]) - g), 0.0))
             for branch in (1, -1):
                 res = rot.rotation_to_euler_zyz(R, branch)
                 flags.append(res.singular)
                 rep.append((rot.euler_zyz_to_rotation(res.angles), R))
-                atan.append((_wrap(res.angles[0] + sign * res.angles[2] - g), 0.0))
+                atan.append((rot.wrap_angle(res.angles[0] + sign * res.angles[2] - g), 0.0))
     sol.check("closed_forms_theta_0_and_pi", _max_error(closed) < 1e-12, f"max |error| = {_max_error(closed):.2e}")
     sol.check("phi_pm_psi_is_atan2(-r12, r22)", _max_error(atan) < 1e-9,
               f"+ for theta = 0, - for theta = pi; max error (mod 2pi) = {_max_error(atan):.2e}")
@@ -150,7 +146,7 @@ def problem_2_3() -> Solution:
                       else [[0, -s(g), -c(g)], [0, c(g), -s(g)], [1, 0, 0]])
             R = rot.rpy_to_rotation([ph, th, ps])
             closed += [(R, manual), (R, pin.rpy.rpyToMatrix(ps, th, ph))]
-            atan.append((_wrap(np.arctan2(-R[1, 2], R[1, 1]) - g), 0.0))
+            atan.append((rot.wrap_angle(np.arctan2(-R[1, 2], R[1, 1]) - g), 0.0))
             for branch in (1, -1):
                 res = rot.rotation_to_rpy(R, branch)
                 flags.append(res.singular)
@@ -519,8 +515,8 @@ def problem_2_15() -> Solution:
     sol.check_close("R2", R2, [[0, 1, 0], [0, 0, 1], [1, 0, 0]], atol=1e-15)
     sol.check_close("R1R2_current_frame", R1R2, [[0, 0, -1], [1, 0, 0], [0, -1, 0]], atol=1e-15)
     sol.check_close("R2R1_fixed_frame", R2R1, [[0, 0, 1], [-1, 0, 0], [0, -1, 0]], atol=1e-15)
-    sol.check_close("euler_R1R2_mod_2pi", _wrap(e12 - [[np.pi, h, -h], [0, -h, h]]), np.zeros((2, 3)), atol=1e-12)
-    sol.check_close("euler_R2R1_mod_2pi", _wrap(e21 - [[0, h, -h], [np.pi, -h, h]]), np.zeros((2, 3)), atol=1e-12)
+    sol.check_close("euler_R1R2_mod_2pi", rot.wrap_angle(e12 - [[np.pi, h, -h], [0, -h, h]]), np.zeros((2, 3)), atol=1e-12)
+    sol.check_close("euler_R2R1_mod_2pi", rot.wrap_angle(e21 - [[0, h, -h], [np.pi, -h, h]]), np.zeros((2, 3)), atol=1e-12)
     sol.check("not_commutative", np.max(np.abs(R1R2 - R2R1)) > 0.5, f"max |R1R2 - R2R1| = {np.max(np.abs(R1R2 - R2R1)):g}")
     R_sum = sol.value("R_phi1_plus_phi2", rot.euler_zyz_to_rotation(phi1 + phi2))
     sol.check_close("direct_sum_gives_identity", R_sum, np.eye(3), atol=1e-15)
@@ -677,10 +673,10 @@ def problem_2_18() -> Solution:
             counts.append(len(distinct_solutions(qs)))
             fk += [(direct_kinematics(robot, qk)[:3, 3], p) for qk in qs]
             rho = np.hypot(p[0], p[1])
-            manual += [(_wrap(qs[0, 1] - np.arctan2(fa * p[2], fb * rho)), 0.0),  # (S2.4)/(S2.6)
-                       (_wrap(qs[1, 1] - qs[0, 1]), 0.0),
-                       (_wrap(qs[2, 1] - np.arctan2(fa * p[2], -fb * rho)), 0.0),  # (S2.5)/(S2.7)
-                       (_wrap(qs[3, 1] - qs[2, 1]), 0.0)]
+            manual += [(rot.wrap_angle(qs[0, 1] - np.arctan2(fa * p[2], fb * rho)), 0.0),  # (S2.4)/(S2.6)
+                       (rot.wrap_angle(qs[1, 1] - qs[0, 1]), 0.0),
+                       (rot.wrap_angle(qs[2, 1] - np.arctan2(fa * p[2], -fb * rho)), 0.0),  # (S2.5)/(S2.7)
+                       (rot.wrap_angle(qs[3, 1] - qs[2, 1]), 0.0)]
     sol.check("s3_zero_gives_two_solutions", set(counts) == {2}, f"distinct solutions: {sorted(set(counts))}")
     sol.check("theta2_matches_S2_4_to_S2_7", _max_error(manual) < 1e-9,
               f"theta2,I = theta2,III and theta2,II = theta2,IV as in (S2.4)-(S2.7): max error {_max_error(manual):.2e}")
@@ -723,7 +719,7 @@ def problem_2_19() -> Solution:
         q_hat = inverse_kinematics_cylindrical(p)[0]
         manual = [np.arctan2(-p[0], p[1]), p[2], np.hypot(p[0], p[1])]
         pairs += [(direct_kinematics(robot, q_hat)[:3, 3], p), (q_hat, manual),
-                  (np.concatenate([[_wrap(q_hat[0] - q[0])], q_hat[1:] - q[1:]]), np.zeros(3))]
+                  (np.concatenate([[rot.wrap_angle(q_hat[0] - q[0])], q_hat[1:] - q[1:]]), np.zeros(3))]
     sol.check("ik_of_fk_is_identity", _max_error(pairs) < 1e-12, f"{N_RANDOM} random q: max error {_max_error(pairs):.2e}")
     return sol
 
@@ -745,7 +741,7 @@ def problem_2_20() -> Solution:
         qs = inverse_kinematics_scara(x)
         fk += [(direct_kinematics(robot, qk), T) for qk in qs]
         d = qs - q
-        d[:, [0, 1, 3]] = _wrap(d[:, [0, 1, 3]])
+        d[:, [0, 1, 3]] = rot.wrap_angle(d[:, [0, 1, 3]])
         found.append(np.min(np.max(np.abs(d), axis=1)))
         px, py = x[0], x[1]
         c2 = (px**2 + py**2 - 0.25 - 0.25) / (2 * 0.5 * 0.5)

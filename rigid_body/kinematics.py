@@ -19,7 +19,7 @@ import pinocchio as pin
 
 from rigid_body.dh import dh_chain
 from rigid_body.robots import Robot
-from rigid_body.rotations import as_homogeneous, as_rotation, rot_z, rotation_to_euler_zyz
+from rigid_body.rotations import as_homogeneous, as_rotation, rot_z, rotation_to_euler_zyz, wrap_angle
 from rigid_body.validation import as_vector
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
@@ -113,10 +113,6 @@ IK_TOL = 1e-9  # max pose residual of a returned closed-form solution [m, rad]
 ELBOW_UP, ELBOW_DOWN = 0, 1  # row order of the planar/SCARA solutions: s2 < 0 first, then s2 > 0
 
 
-def _wrap(angle: np.ndarray) -> np.ndarray:
-    return np.arctan2(np.sin(angle), np.cos(angle))
-
-
 @lru_cache(maxsize=64)
 def _cached_book_links(name: str, items: tuple) -> tuple:
     from urdf.book_robots import book_robot_spec
@@ -206,7 +202,7 @@ def inverse_kinematics_planar_3r(x: np.ndarray, **params) -> np.ndarray:
     px, py, phi = as_vector(x, 3, "x")
     a1, a2, a3 = (link.a for link in links)
     q12 = _two_link(px - a3 * np.cos(phi), py - a3 * np.sin(phi), a1, a2, "three-link planar arm")
-    qs = _wrap(np.column_stack([q12, phi - q12.sum(axis=1)]))
+    qs = wrap_angle(np.column_stack([q12, phi - q12.sum(axis=1)]))
     T = np.eye(4)
     T[:3, :3] = rot_z(phi)
     T[:2, 3] = px, py
@@ -223,7 +219,7 @@ def inverse_kinematics_scara(x: np.ndarray, **params) -> np.ndarray:
     px, py, pz, phi = as_vector(x, 4, "x")
     q12 = _two_link(px, py, links[0].a, links[1].a, "SCARA")
     d3 = _prismatic_in_range(pz, links[2], "d3", "SCARA")
-    qs = np.column_stack([q12, np.full(2, d3), _wrap(phi - q12.sum(axis=1))])
+    qs = np.column_stack([q12, np.full(2, d3), wrap_angle(phi - q12.sum(axis=1))])
     T = np.eye(4)
     T[:3, :3] = rot_z(phi)
     T[:3, 3] = px, py, pz
@@ -265,7 +261,7 @@ def inverse_kinematics_spherical(p: np.ndarray, **params) -> np.ndarray:
     d3 = _prismatic_in_range(np.sqrt(max(px**2 + py**2 + pz**2 - d2**2, 0.0)), links[2], "d3", "spherical arm")
     A = np.sqrt(max(rho2, 0.0))
     qs = np.array([[np.arctan2(py, px) - np.arctan2(d2, s * A), np.arctan2(s * A, pz), d3] for s in (1.0, -1.0)])
-    qs[:, :2] = _wrap(qs[:, :2])
+    qs[:, :2] = wrap_angle(qs[:, :2])
     T = np.eye(4)
     T[:3, 3] = px, py, pz
     mask = np.zeros((4, 4), bool)
@@ -302,7 +298,7 @@ def _anthropomorphic(p: np.ndarray, a2: float, a3: float, theta1: float, theta2:
             else:
                 t2 = np.arctan2(k1 * pz - k2 * h, k1 * h + k2 * pz)
             out.append([t1, t2, np.arctan2(s, c3)])
-    return _wrap(np.array(out))
+    return wrap_angle(np.array(out))
 
 
 def inverse_kinematics_anthropomorphic(p: np.ndarray, theta1: float = 0.0, theta2: float = 0.0,
@@ -361,7 +357,7 @@ def inverse_kinematics_anthropomorphic_wrist(T: np.ndarray, theta1: float = 0.0,
     a2, d4, d6 = links[1].a, links[3].d, links[5].d
     p_W = T[:3, 3] - d6 * T[:3, 2]  # Eq. (2.93)
     arm = _anthropomorphic(p_W, a2, d4, theta1, theta2, "anthropomorphic arm with spherical wrist")
-    arm[:, 2] = _wrap(arm[:, 2] + np.pi / 2)
+    arm[:, 2] = wrap_angle(arm[:, 2] + np.pi / 2)
     qs = []
     for q_arm in arm:
         R_30 = dh_chain(links[:3], q_arm)[-1][:3, :3]
@@ -375,7 +371,7 @@ def distinct_solutions(qs: np.ndarray, atol: float = 1e-9) -> np.ndarray:
     qs = np.atleast_2d(np.asarray(qs, dtype=float))
     keep: list[np.ndarray] = []
     for q in qs:
-        if not any(np.max(np.abs(_wrap(q - k))) <= atol for k in keep):
+        if not any(np.max(np.abs(wrap_angle(q - k))) <= atol for k in keep):
             keep.append(q)
     return np.array(keep)
 
@@ -450,7 +446,7 @@ def planar_3r_workspace_contour(robot: Robot, n: int = 60) -> WorkspaceContour:
     cfg = {k: np.array(v, dtype=float) for k, v in cfg.items()}
     corner = {k: direct_kinematics(robot, q)[:2, 3] for k, q in cfg.items()}
     angle = {k: np.arctan2(v[1], v[0]) for k, v in corner.items()}
-    delta = _wrap(angle["H"] - angle["E"])  # θ1 travel from H to E along the inner circle
+    delta = wrap_angle(angle["H"] - angle["E"])  # θ1 travel from H to E along the inner circle
     arcs = [
         joint_arc(robot, cfg["A"], 2, 0.0, n), joint_arc(robot, cfg["M"], 1, 0.0, n),
         joint_arc(robot, cfg["Q"], 0, up[0], 2 * n), joint_arc(robot, cfg["R"], 1, up[1], n),

@@ -369,12 +369,13 @@ def euler_rate_matrix_rpy(phi: Any) -> np.ndarray:
     return np.array([[0.0, -sp, cp * ct], [0.0, cp, sp * ct], [1.0, 0.0, -st]])
 
 
-def _wrap(a: np.ndarray) -> np.ndarray:
-    return (a + np.pi) % (2.0 * np.pi) - np.pi
+def wrap_angle(a: Any) -> np.ndarray:
+    """Angle(s) ``a`` wrapped into (−π, π] (a − 2πk): compare angles modulo 2π; ±π both give π."""
+    return np.pi - (np.pi - np.asarray(a, dtype=float)) % (2.0 * np.pi)
 
 
 def orientation_error_euler(R_d: Any, R_e: Any, representation: str = "zyz") -> np.ndarray:
-    """e_O = φ_d − φ_e (each angle wrapped into [−π, π)): the Euler-angle orientation error, Sect. 3.7.3.
+    """e_O = φ_d − φ_e (each angle wrapped into (−π, π]): the Euler-angle orientation error, Sect. 3.7.3.
 
     Both sets are extracted with ``branch=+1``; ``representation`` is ``"zyz"`` or ``"rpy"``.
     ValueError when R_d or R_e is a representation singularity.
@@ -386,7 +387,7 @@ def orientation_error_euler(R_d: Any, R_e: Any, representation: str = "zyz") -> 
     if d.singular or e.singular:
         raise ValueError(f"{representation.upper()} angles are singular at "
                          f"{'R_d' if d.singular else 'R_e'}: the Euler-angle error is undefined")
-    return _wrap(d.angles - e.angles)
+    return wrap_angle(d.angles - e.angles)
 
 
 def orientation_error_axis_angle(R_d: Any, R_e: Any) -> np.ndarray:

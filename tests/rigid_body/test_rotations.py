@@ -309,3 +309,13 @@ def test_homogeneous_inverse_matches_linalg_and_se3(R, o):
 def test_bad_input_raises_value_error_naming_the_argument(call, message):
     with pytest.raises(ValueError, match=message):
         call()
+
+
+def test_wrap_angle_maps_into_minus_pi_pi():
+    """wrap_angle(a) ∈ (−π, π] and differs from a by a multiple of 2π (one home for angle wrapping)."""
+    a = np.array([-7.0, -np.pi, -3.0, 0.0, np.pi, 3.5, 10.0])
+    w = rot.wrap_angle(a)
+    assert np.all(w > -np.pi) and np.all(w <= np.pi)
+    k = (a - w) / (2 * np.pi)
+    np.testing.assert_allclose(k, np.round(k), atol=1e-12)
+    np.testing.assert_allclose(w[[1, 4, 5]], [np.pi, np.pi, 3.5 - 2 * np.pi], atol=1e-15)

@@ -93,7 +93,7 @@ def _branch(branch: int) -> int:
 # --------------------------------------------------------------------------------------------
 
 def rot_x(a: float) -> np.ndarray:
-    """Rx(α): elementary rotation about x, Eq. (2.7)."""
+    """Rx(γ): elementary rotation about x, Eq. (2.8)."""
     a = _scalar(a, "a")
     c, s = math.cos(a), math.sin(a)
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
@@ -184,7 +184,7 @@ def rotation_to_euler_zyz(R: Any, branch: int = 1, tol: float = SINGULAR_TOL) ->
 
 
 def euler_zxz_to_rotation(phi: Any) -> np.ndarray:
-    """R(φ) = Rz(φ) Rx(θ) Rz(ψ) of the ZXZ Euler angles ``phi = [φ, θ, ψ]`` (Problem 2.5)."""
+    """R(φ) = Rz(φ) Rx(θ) Rz(ψ) of the ZXZ Euler angles ``phi = [φ, θ, ψ]`` (Problem 2.1)."""
     return _euler_to_rotation(phi, "zxz")
 
 

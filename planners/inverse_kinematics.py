@@ -626,6 +626,12 @@ class QPIKOptions:
     tol: float = 1e-6
     max_iterations: int = 500
 
+    def __post_init__(self):
+        if not (self.gain > 0 and self.dt > 0 and self.damping >= 0 and self.tol > 0 and self.max_iterations >= 0):
+            raise ValueError("QPIKOptions: gain > 0, dt > 0, damping >= 0, tol > 0 and max_iterations >= 0 are required, "
+                             f"got gain={self.gain}, dt={self.dt}, damping={self.damping}, tol={self.tol}, "
+                             f"max_iterations={self.max_iterations}")
+
 
 class QPVelocityIK:
     """Velocity IK as a QP solved by proxsuite at every step:

@@ -155,6 +155,8 @@ def test_bad_inputs_raise(panda):
         solve_clik(panda, not_a_pose, np.zeros(7))
     with pytest.raises(ValueError, match="T_d.*orthonormal"):
         QPVelocityIK(panda).solve(not_a_pose, np.zeros(7))
+    with pytest.raises(ValueError, match="QPIKOptions"):
+        QPIKOptions(dt=float("nan"))
 
 
 def test_null_space_manipulability_task_increases_w():

@@ -107,6 +107,8 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     if not (np.isfinite(h) and h > 0):
         raise ValueError(f"`h` must be a positive step, got {h}")
     Ts = h if Ts is None else float(Ts)
+    if not (np.isfinite(Ts) and Ts > 0):
+        raise ValueError(f"`Ts` must be a positive sampling period, got {Ts}")
     ratio = Ts / h
     n_sub = int(round(ratio))
     if n_sub < 1 or abs(ratio - n_sub) > 1e-9 * max(1.0, ratio):
@@ -135,10 +137,10 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
             extra.update(log(t, x, u))
         for name, value in extra.items():
             signals.setdefault(name, []).append(np.asarray(value, dtype=float))
-        if k == n_samples - 1:
-            break
         if not np.all(np.isfinite(u)):
             raise SimulationDiverged(f"controller output became non-finite at t = {t:.6g} s: u = {u}", t)
+        if k == n_samples - 1:
+            break
 
         def f(tau: float, xi: np.ndarray, u: np.ndarray = u) -> np.ndarray:
             return derivative(tau, xi, u)
@@ -172,8 +174,13 @@ class ArmPlant:
                  external_force: Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None = None):
         self.robot = robot
         self.n = robot.nv
-        self.Fv = np.broadcast_to(np.asarray(viscous_friction, dtype=float), (self.n,)).copy()
+        Fv = np.asarray(viscous_friction, dtype=float)
+        self.Fv = as_vector(np.full(self.n, float(Fv)) if Fv.ndim == 0 else Fv, self.n, "viscous_friction").copy()
+        if np.any(self.Fv < 0):
+            raise ValueError(f"`viscous_friction` must be non-negative, got {self.Fv}")
         self.tau_max = None if tau_max is None else as_vector(tau_max, self.n, "tau_max")
+        if self.tau_max is not None and np.any(self.tau_max <= 0):
+            raise ValueError(f"`tau_max` must be positive torque limits, got {self.tau_max}")
         self.external_force = external_force
         from rigid_body.dynamics import forward_dynamics
 
@@ -181,6 +188,8 @@ class ArmPlant:
 
     def torque(self, u: np.ndarray) -> np.ndarray:
         """The torque actually applied: ``u`` saturated at ±tau_max."""
+        if np.shape(u) != (self.n,):
+            raise ValueError(f"the arm needs {self.n} joint torques, got an input of shape {np.shape(u)}")
         return u if self.tau_max is None else np.clip(u, -self.tau_max, self.tau_max)
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:

@@ -105,3 +105,29 @@ def test_bad_arguments():
         simulate(f, lambda t, x: np.zeros(1), (1, 0), [0.0], h=0.01)
     with pytest.raises(ValueError, match="`x0` must be finite"):
         simulate(f, lambda t, x: np.zeros(1), (0, 1), [np.nan], h=0.01)
+
+
+def test_bad_sampling_period_and_non_finite_last_output():
+    f = lambda t, x, u: u  # noqa: E731
+    with pytest.raises(ValueError, match="`Ts`"):
+        simulate(f, lambda t, x: np.zeros(1), (0, 1), [0.0], h=0.1, Ts=float("nan"))
+    # a non-finite output at the last sample is reported too (not silently returned in res.u)
+    with pytest.raises(SimulationDiverged, match="at t = 1 s") as info:
+        simulate(f, lambda t, x: np.array([np.nan if t > 0.95 else 0.0]), (0.0, 1.0), [0.0], h=0.1)
+    assert info.value.t == pytest.approx(1.0)
+
+
+def test_arm_plant_validates_friction_limits_and_input_size():
+    robot = load("planar_2r")
+    with pytest.raises(ValueError, match="`viscous_friction` must be finite"):
+        ArmPlant(robot, viscous_friction=float("nan"))
+    with pytest.raises(ValueError, match="`viscous_friction` must have shape"):
+        ArmPlant(robot, viscous_friction=[1.0, 2.0, 3.0])
+    with pytest.raises(ValueError, match="`viscous_friction` must be non-negative"):
+        ArmPlant(robot, viscous_friction=[1.0, -2.0])
+    with pytest.raises(ValueError, match="`tau_max` must be positive"):
+        ArmPlant(robot, tau_max=[100.0, -1.0])
+    plant = ArmPlant(robot, viscous_friction=[1.0, 2.0], tau_max=[10.0, 10.0])
+    np.testing.assert_allclose(plant.torque(np.array([20.0, -3.0])), [10.0, -3.0])
+    with pytest.raises(ValueError, match="needs 2 joint torques"):
+        simulate(plant, lambda t, x: np.zeros(3), (0.0, 0.01), [0.0, 0.0, 0.0, 0.0], h=1e-3)

@@ -113,28 +113,17 @@ def planar_arm_obstacle_distance(robot: Any, q: Any, center: Any, radius: float,
 
 
 def planar_arm_obstacle_distance_gradient(robot: Any, q: Any, center: Any, radius: float,
-                                          frames: list[str] | None = None, method: str = "analytic",
-                                          step: float = 1e-6) -> np.ndarray:
-    """∂d/∂q (n,) of :func:`planar_arm_obstacle_distance`.
+                                          frames: list[str] | None = None) -> np.ndarray:
+    """∂d/∂q (n,) of :func:`planar_arm_obstacle_distance`, analytically.
 
-    ``method="analytic"``: the closest point is p = (1 − s) x_{i-1} + s x_i at the optimal s (the
-    derivative with respect to s vanishes or s is clamped), so ∂d/∂q = (p − o)^T/‖p − o‖ ·
-    ((1 − s) J_{i-1} + s J_i) with J_j the position Jacobian (x, y rows) of the frame origins.
-    ``method="forward"``: forward differences with ``step``, as the manual's Problem 3.21 does.
+    The closest point is p = (1 − s) x_{i-1} + s x_i at the optimal s (the derivative with respect
+    to s vanishes or s is clamped), so ∂d/∂q = (p − o)^T/‖p − o‖ · ((1 − s) J_{i-1} + s J_i) with
+    J_j the position Jacobian (x, y rows) of the frame origins. The manual's Problem 3.21 uses
+    forward differences instead: :func:`planners.inverse_kinematics.numerical_gradient`.
     """
     import pinocchio as pin
 
     q = as_vector(q, robot.nq, "q")
-    if method == "forward":
-        d0 = planar_arm_obstacle_distance(robot, q, center, radius, frames).distance
-        grad = np.empty(robot.nq)
-        for k in range(robot.nq):
-            dq = q.copy()
-            dq[k] += step
-            grad[k] = (planar_arm_obstacle_distance(robot, dq, center, radius, frames).distance - d0) / step
-        return grad
-    if method != "analytic":
-        raise ValueError(f"`method` must be 'analytic' or 'forward', got {method!r}")
     points, ids = _link_points(robot, q, frames)
     res = segment_chain_distance(points, center, radius)
     o = as_vector(center, 2, "center")

@@ -40,3 +40,19 @@ def test_trapezoid_on_the_path(pid):
     s_f = np.sqrt(2) if pid == "4.7" else np.pi / 2
     assert v["t_c"] == pytest.approx(2.0 - s_f)
     assert v["sdd_c"] == pytest.approx(1.0 / (2.0 - s_f))
+
+
+def test_problem_4_5_and_4_6_numbers_worked_by_hand():
+    """Hand evaluation of the manual's formulas with the problems' data (all Δt = 1 in 4.5, Δt' = 0.2 in 4.6)."""
+    v = solve("4.5").values
+    # (4.4): a11 = Δt1/2 + Δt2/3 + Δt1²/(6Δt2) = 1, a22 = (Δt2 + Δt3)/3 = 2/3, a21 = Δt2/6 − Δt1²/(6Δt2) = 0, ...
+    np.testing.assert_allclose(v["A"], [[1, 1 / 6, 0], [0, 2 / 3, 0], [0, 1 / 6, 1]], atol=1e-15)
+    # b1 = (q3 − q_i)/Δt2 = 2, b2 = q_i/Δt2 − (1/Δt3 + 1/Δt2) q3 + q_f/Δt3 = −1, b3 = (q3 − q_f)/Δt3 = −1
+    np.testing.assert_allclose(v["b"], [2, -1, -1], atol=1e-15)
+    np.testing.assert_allclose(v["accelerations"], [2.25, -1.5, -0.75], atol=1e-12)
+    w = solve("4.6").values
+    # segment velocities 0, 1, 0.5, 0; b_k0 = q_k + Δv Δt'/8, b_k1 = mean v, b_k2 = Δv/(2Δt')
+    expected = {"a10": 0, "a11": 1, "a20": 2, "a21": 0.5, "b10": 0.025, "b11": 0.5, "b12": 2.5,
+                "b20": 1.9875, "b21": 0.75, "b22": -1.25, "b30": 2.9875, "b31": 0.25, "b32": -1.25}
+    for key, value in expected.items():
+        assert w[key] == pytest.approx(value, abs=1e-12), key

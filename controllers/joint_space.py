@@ -65,9 +65,11 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
                 np.reshape(np.asarray(xdd, dtype=float), n))
 
     try:
-        sampled(0.0)
+        first = sampled(0.0)
     except (ValueError, TypeError) as err:
         raise ValueError(f"`{name}` must give (n,) = ({n},) position, velocity and acceleration: {err}") from None
+    if not all(np.all(np.isfinite(v)) for v in first):
+        raise ValueError(f"`{name}` must be finite, got {first} at t = 0")
     return sampled
 
 
@@ -119,6 +121,9 @@ def mean_diagonal_inertia(robot: Robot, configurations: np.ndarray) -> np.ndarra
 
 
 def _split(x: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(q, q̇) from a measurement [q, q̇, ...] (extra entries, e.g. sensed forces, are ignored)."""
+    if len(x) < 2 * n:
+        raise ValueError(f"the measurement must start with [q, q̇] ({2 * n} values), got {len(x)}")
     return x[:n], x[n:2 * n]
 
 

@@ -196,3 +196,11 @@ def test_voltage_controlled_arm_torque_is_eq_8_3(arm):
     qdd = plant.derivative(0.0, x, v)[2:]
     tau = 20.0 * v - 4000.0 * x[2:] - 100.0 * x[2:]
     np.testing.assert_allclose(qdd, arm2.forward_dynamics(x[:2], x[2:], tau), atol=1e-9)
+
+
+def test_controllers_reject_short_measurements_and_non_finite_references(arm):
+    ctrl = PDGravityCompensation(arm, 3750.0, 750.0, [0.0, 0.0])
+    with pytest.raises(ValueError, match=r"\[q, q̇\] \(4 values\), got 3"):
+        ctrl(0.0, np.zeros(3))
+    with pytest.raises(ValueError, match="`reference` must be finite"):
+        InverseDynamicsControl(arm, 100.0, 16.0, lambda t: (np.array([np.nan, 0.0]), np.zeros(2), np.zeros(2)))

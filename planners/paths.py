@@ -53,6 +53,8 @@ class Path(Protocol):
 
 def _column(s: Any) -> tuple[np.ndarray, np.ndarray]:
     s = np.asarray(s, dtype=float)
+    if not np.all(np.isfinite(s)):
+        raise ValueError(f"the arc length `s` must be finite, got {s}")
     return s, s[..., None]
 
 

@@ -103,6 +103,8 @@ def test_slerp_takes_the_short_way_and_bad_input():
     np.testing.assert_allclose(quaternion_to_rotation(mid), axis_angle_to_rotation(0.2, [0, 0, 1]), atol=1e-12)
     with pytest.raises(ValueError, match="sigma"):
         paths.slerp(Q_i, Q_f, np.nan)
+    with pytest.raises(ValueError, match="arc length"):
+        paths.Segment([0, 0, 0], [1, 0, 0])(np.array([0.5, np.nan]))
     with pytest.raises(ValueError, match="p_f"):
         paths.Segment([0, 0, 0], [0, 0, 0])
     with pytest.raises(ValueError, match="on the axis"):

@@ -78,6 +78,18 @@ class _PositionTask:
         return jacobian_derivative_times_qd(self.robot, q, qd, self.frame)[self.rows]
 
 
+SINGULAR_CONDITION = 1e10  # cond(J_A) above which the task is treated as singular
+
+
+def _solve_task(J: np.ndarray, b: np.ndarray, where: str) -> np.ndarray:
+    """J_A⁻¹ b for a square J_A; ValueError at (or numerically at) a kinematic singularity."""
+    s = np.linalg.svd(J, compute_uv=False)
+    if not s[-1] > s[0] / SINGULAR_CONDITION:
+        raise ValueError(f"J_A is singular {where} (condition number {s[0] / s[-1] if s[-1] else np.inf:.3g}): "
+                         "the task cannot be inverted")
+    return np.linalg.solve(J, b)
+
+
 class OperationalPDGravity:
     """u = g(q) + J_Aᵀ(q) K_P x̃ − J_Aᵀ(q) K_D J_A(q) q̇ (Eq. 8.110, Fig. 8.29), x̃ = x_d − x_e.
 
@@ -157,10 +169,7 @@ class OperationalInverseDynamics:
         J = self.task.jacobian(q)
         e, ed = x_d - x_e, xd_d - J @ qd
         a = xdd_d + self.K_D @ ed + self.K_P @ e - self.task.jacobian_derivative_times_qd(q, qd)
-        try:
-            y = np.linalg.solve(J, a)  # Eq. (8.114)
-        except np.linalg.LinAlgError:
-            raise ValueError(f"J_A is singular at t = {t:.6g} s, q = {q}: the task cannot be inverted") from None
+        y = _solve_task(J, a, f"at t = {t:.6g} s, q = {q}")  # Eq. (8.114)
         u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd
         self._log = {"x_d": x_d, "x_e": x_e, "e": e}
         return u
@@ -187,7 +196,7 @@ def operational_inverse_dynamics_steady_state(plant_robot: Robot, model_robot: R
     start = as_vector(q0, n, "q0")
 
     def residual(q: np.ndarray) -> np.ndarray:
-        y = np.linalg.solve(task.jacobian(q), K_P @ (x_d - task.position(q)))
+        y = _solve_task(task.jacobian(q), K_P @ (x_d - task.position(q)), f"at q = {q}")
         return inertia_matrix(model_robot, q) @ y - gravity_torques(plant_robot, q) + gravity_torques(model_robot, q)
 
     q, _, _, msg = fsolve(residual, start, full_output=True, xtol=1e-13)

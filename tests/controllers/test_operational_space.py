@@ -74,3 +74,13 @@ def test_bad_task_definitions_raise(arm_loaded):
     ctrl = OperationalInverseDynamics(arm_loaded, 100.0, 16.0, [0.5, 0.5], rows=(0, 1))
     with pytest.raises(ValueError, match="singular"):
         ctrl(0.0, np.array([0.3, 0.0, 0.0, 0.0]))  # stretched arm: J singular
+
+
+def test_nearly_singular_jacobian_raises_instead_of_huge_torques(arm_loaded):
+    ctrl = OperationalInverseDynamics(arm_loaded, 100.0, 16.0, [0.5, 0.5], rows=(0, 1))
+    with pytest.raises(ValueError, match="J_A is singular at t = 0 s"):
+        ctrl(0.0, np.array([0.3, 1e-14, 0.0, 0.0]))  # numerically stretched: cond(J) ~ 1e14
+    assert np.all(np.isfinite(ctrl(0.0, np.array([0.3, 1e-3, 0.0, 0.0]))))  # near the singularity, not at it
+    arm = load("planar_2r")
+    with pytest.raises(ValueError, match="J_A is singular at q"):
+        operational_inverse_dynamics_steady_state(arm_loaded, arm, 100.0, [2.0, 0.0], [0.0, 0.0], rows=(0, 1))

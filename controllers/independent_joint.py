@@ -28,10 +28,11 @@ from scipy.optimize import brentq
 
 
 
-def _positive(value: float, name: str) -> float:
+def _positive(value: float, name: str, allow_zero: bool = False) -> float:
     value = float(value)
-    if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"`{name}` must be a finite positive number, got {value}")
+    if not (np.isfinite(value) and (value > 0 or allow_zero and value == 0)):
+        kind = "non-negative" if allow_zero else "positive"
+        raise ValueError(f"`{name}` must be a finite {kind} number, got {value}")
     return value
 
 
@@ -90,6 +91,10 @@ class Transducers:
     k_TV: float = 1.0
     k_TA: float = 1.0
 
+    def __post_init__(self) -> None:
+        for name in ("k_TP", "k_TV", "k_TA"):
+            _positive(getattr(self, name), name)
+
 
 @dataclass(frozen=True)
 class ClosedLoop:
@@ -116,7 +121,7 @@ def _min(G: control.TransferFunction) -> control.TransferFunction:
 def position_feedback(drive: JointDrive, K_P: float, T_P: float,
                       transducers: Transducers = Transducers()) -> ClosedLoop:
     """Fig. 5.10: Θ_m = M(C_P(Θ_r − k_TP Θ_m) − (R_a/k_t) D), C_P = K_P(1 + sT_P)/s (Problem 8.1)."""
-    M, C = drive.motor_tf(), _pi(K_P, T_P)
+    M, C = drive.motor_tf(), _pi(_positive(K_P, "K_P"), _positive(T_P, "T_P", allow_zero=True))
     k_TP = transducers.k_TP
     P = C * M
     return ClosedLoop(_min(control.feedback(P, k_TP)),
@@ -127,7 +132,8 @@ def position_feedback(drive: JointDrive, K_P: float, T_P: float,
 def position_velocity_feedback(drive: JointDrive, K_P: float, K_V: float, T_V: float,
                                transducers: Transducers = Transducers()) -> ClosedLoop:
     """Fig. 5.11: Θ_m = M(C_V(K_P(Θ_r − k_TP Θ_m) − k_TV sΘ_m) − (R_a/k_t) D) (Problem 8.2)."""
-    M, C = drive.motor_tf(), _pi(K_V, T_V)
+    K_P = _positive(K_P, "K_P")
+    M, C = drive.motor_tf(), _pi(_positive(K_V, "K_V"), _positive(T_V, "T_V", allow_zero=True))
     t = transducers
     feedback_path = K_P * t.k_TP + t.k_TV * _s                       # what multiplies −Θ_m at C_V
     reference = K_P * control.feedback(C * M, feedback_path)
@@ -139,7 +145,8 @@ def position_velocity_acceleration_feedback(drive: JointDrive, K_P: float, K_V: 
                                             T_A: float, transducers: Transducers = Transducers()
                                             ) -> ClosedLoop:
     """Figs. 8.6/8.9: Θ_m = M(C_A(K_V(K_P(Θ_r − k_TP Θ_m) − k_TV sΘ_m) − k_TA s²Θ_m) − (R_a/k_t) D) (Problem 8.3)."""
-    M, C = drive.motor_tf(), _pi(K_A, T_A)
+    K_P, K_V = _positive(K_P, "K_P"), _positive(K_V, "K_V")
+    M, C = drive.motor_tf(), _pi(_positive(K_A, "K_A"), _positive(T_A, "T_A", allow_zero=True))
     t = transducers
     feedback_path = K_V * K_P * t.k_TP + K_V * t.k_TV * _s + t.k_TA * _s**2
     reference = K_V * K_P * control.feedback(C * M, feedback_path)
@@ -257,7 +264,11 @@ def design_position_velocity_acceleration(drive: JointDrive, zeta: float, omega_
 
 def bandwidth(W: control.TransferFunction) -> float:
     """ω_3 [rad/s]: the frequency where |W(jω)| falls 3 dB (1/√2) below its static gain."""
-    return float(control.bandwidth(W, dbdrop=-20 * np.log10(np.sqrt(2.0))))
+    w3 = float(control.bandwidth(W, dbdrop=-20 * np.log10(np.sqrt(2.0))))
+    if not np.isfinite(w3):
+        raise ValueError("`W` has no −3 dB bandwidth: it is unstable, or |W(jω)| never falls 3 dB below its "
+                         "static gain")
+    return w3
 
 
 def acceleration_filter(k_f: float) -> control.TransferFunction:
@@ -399,6 +410,8 @@ def inertia_bounds(inertia_matrices: Any) -> InertiaBounds:
     B = np.asarray(inertia_matrices, dtype=float)
     if B.ndim != 3 or B.shape[1] != B.shape[2] or B.shape[0] == 0:
         raise ValueError(f"`inertia_matrices` must have shape (N, n, n), got {B.shape}")
+    if not np.all(np.isfinite(B)):
+        raise ValueError("`inertia_matrices` must be finite")
     eig = np.linalg.eigvalsh(B)               # of B; those of B⁻¹ are the reciprocals
     if np.any(eig <= 0):
         raise ValueError("`inertia_matrices` must be positive definite")

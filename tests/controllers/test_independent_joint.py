@@ -6,7 +6,8 @@ import pytest
 
 from controllers.independent_joint import (JointDrive, JointDrivePlant, PositionVelocityController, Transducers,
                                            bandwidth, design_position_feedback, design_position_velocity,
-                                           design_position_velocity_acceleration, inertia_bounds)
+                                           design_position_velocity_acceleration, inertia_bounds, position_feedback,
+                                           position_velocity_acceleration_feedback, position_velocity_feedback)
 from controllers.simulation import simulate
 
 DRIVE = JointDrive(I=6.0, Ra=0.3, kt=0.5, kv=0.5, Fm=0.001)
@@ -72,3 +73,18 @@ def test_inertia_bounds_alpha_bound(rng):
         assert np.linalg.norm(np.linalg.solve(B, b.B_hat) - np.eye(3), 2) <= b.alpha + 1e-12
     with pytest.raises(ValueError, match="positive definite"):
         inertia_bounds([-np.eye(2)])
+
+
+def test_bad_gains_transducers_and_systems_raise():
+    with pytest.raises(ValueError, match="`K_P`"):
+        position_feedback(DRIVE, float("nan"), 72.0)
+    with pytest.raises(ValueError, match="`K_V`"):
+        position_velocity_feedback(DRIVE, 25.0, -8.0, DRIVE.T_m)
+    with pytest.raises(ValueError, match="`T_A`"):
+        position_velocity_acceleration_feedback(DRIVE, 25.0, 32.0, 0.5, -1.0)
+    with pytest.raises(ValueError, match="`k_TP`"):
+        Transducers(-1.0, 1.0, 1.0)
+    with pytest.raises(ValueError, match="bandwidth"):
+        bandwidth(control.tf([1.0], [1.0, -1.0]))
+    with pytest.raises(ValueError, match="finite"):
+        inertia_bounds(np.full((1, 2, 2), np.nan))

@@ -32,7 +32,7 @@ import pinocchio as pin
 from rigid_body.manipulability import manipulability
 from rigid_body.robots import Robot
 from rigid_body.rotations import _axis_angle_error, _orientation_error_matrix  # unvalidated kernels (hot loop)
-from rigid_body.rotations import (as_homogeneous, euler_rate_matrix_rpy, euler_rate_matrix_zyz,
+from rigid_body.rotations import (as_homogeneous, as_rotation, euler_rate_matrix_rpy, euler_rate_matrix_zyz,
                                   orientation_error_axis_angle, orientation_error_quaternion, rotation_to_euler_zyz,
                                   rotation_to_quaternion, rotation_to_rpy, wrap_angle)
 from rigid_body.validation import as_matrix, as_vector
@@ -94,11 +94,16 @@ class IKResult:
 # Generalised inverses (3.50)–(3.59)
 # --------------------------------------------------------------------------------------------
 
+def _finite_jacobian(J: Any) -> np.ndarray:
+    J = np.asarray(J, dtype=float)
+    if J.ndim != 2 or not np.isfinite(J).all():
+        raise ValueError(f"`J` must be a finite 2-D Jacobian, got shape {J.shape}")
+    return J
+
+
 def damped_least_squares_inverse(J: Any, k: float) -> np.ndarray:
     """J* = J^T (J J^T + k² I)^{-1}, the damped least-squares inverse, Eq. (3.59) / Problem 3.10."""
-    J = np.asarray(J, dtype=float)
-    if J.ndim != 2:
-        raise ValueError(f"`J` must be a 2-D Jacobian, got shape {J.shape}")
+    J = _finite_jacobian(J)
     if not (np.isfinite(k) and k >= 0):
         raise ValueError(f"`k` must be finite and >= 0, got {k}")
     return J.T @ np.linalg.solve(J @ J.T + k * k * np.eye(J.shape[0]), np.eye(J.shape[0]))
@@ -109,9 +114,7 @@ def weighted_pseudo_inverse(J: Any, W: Any = None) -> np.ndarray:
 
     ValueError when J J^T is singular (J has not full row rank).
     """
-    J = np.asarray(J, dtype=float)
-    if J.ndim != 2:
-        raise ValueError(f"`J` must be a 2-D Jacobian, got shape {J.shape}")
+    J = _finite_jacobian(J)
     Wi = np.eye(J.shape[1]) if W is None else np.linalg.inv(as_matrix(W, (J.shape[1],) * 2, "W"))
     A = J @ Wi @ J.T
     if np.linalg.cond(A) > 1e12:
@@ -329,9 +332,12 @@ def cosine_pose_reference(p_i: Any, p_f: Any, t_f: float, phi_i: float = 0.0, ph
     if not (np.isfinite(t_f) and t_f > 0):
         raise ValueError(f"`t_f` must be positive, got {t_f}")
     r = as_vector(axis, 3, "axis")
+    if not np.linalg.norm(r) > 0:
+        raise ValueError("`axis` must be a non-zero vector")
     r = r / np.linalg.norm(r)
-    R_0 = np.eye(3) if R_0 is None else as_matrix(R_0, (3, 3), "R_0")
-    dp, dphi = p_f - p_i, float(phi_f - phi_i)
+    R_0 = np.eye(3) if R_0 is None else as_rotation(R_0, "R_0")
+    phi_i, phi_f = (float(as_vector(x, 1, name)[0]) for x, name in ((phi_i, "phi_i"), (phi_f, "phi_f")))
+    dp, dphi = p_f - p_i, phi_f - phi_i
 
     def reference(t: float) -> tuple[np.ndarray, np.ndarray]:
         tau = min(max(t, 0.0), t_f)

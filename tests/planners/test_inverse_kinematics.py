@@ -157,6 +157,14 @@ def test_bad_inputs_raise(panda):
         QPVelocityIK(panda).solve(not_a_pose, np.zeros(7))
     with pytest.raises(ValueError, match="QPIKOptions"):
         QPIKOptions(dt=float("nan"))
+    with pytest.raises(ValueError, match="finite 2-D Jacobian"):
+        damped_least_squares_inverse(np.full((2, 3), np.nan), 0.1)
+    with pytest.raises(ValueError, match="R_0.*orthonormal"):
+        cosine_pose_reference([0, 0, 0], [1, 0, 0], 1.0, R_0=2 * np.eye(3))
+    with pytest.raises(ValueError, match="axis"):
+        cosine_pose_reference([0, 0, 0], [1, 0, 0], 1.0, axis=[0, 0, 0])
+    with pytest.raises(ValueError, match="phi_f"):
+        cosine_pose_reference([0, 0, 0], [1, 0, 0], 1.0, phi_f=np.nan)
 
 
 def test_null_space_manipulability_task_increases_w():

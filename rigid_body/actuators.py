@@ -86,6 +86,8 @@ class DCServomotor:
 
         Solves ``K v'_c = (R_a + K k_i) i_a + k_v ω_m`` and ``k_t i_a = F_m ω_m + c_r``.
         """
+        v_c, c_r = float(as_vector(v_c, 1, "v_c")[0]), float(as_vector(c_r, 1, "c_r")[0])
+        K = _positive(K, "K")
         A = np.array([[self.kv, self.Ra + K * self.ki], [-self.Fm, self.kt]])
         omega, i_a = np.linalg.solve(A, [K * v_c, c_r])
         return float(omega), float(i_a)
@@ -94,7 +96,7 @@ class DCServomotor:
 def _regulator_tf(regulator: PIRegulator | float) -> control.TransferFunction:
     if isinstance(regulator, PIRegulator):
         return regulator.tf()
-    return control.tf([float(regulator)], [1.0])
+    return control.tf([_positive(regulator, "regulator")], [1.0])
 
 
 @dataclass(frozen=True)
@@ -176,7 +178,7 @@ class ServomotorPlant:
         if isinstance(regulator, PIRegulator):
             self._KP, self._KI = regulator.K * regulator.T, regulator.K
         else:
-            self._KP, self._KI = float(regulator), 0.0
+            self._KP, self._KI = _positive(regulator, "regulator"), 0.0
 
     x0 = np.zeros(5)          # the motor at rest (read-only; simulate() copies it)
     x0.setflags(write=False)

@@ -34,6 +34,9 @@ class PinholeCamera:
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
                 raise ValueError(f"`{name}` must be a positive number of pixels, got {value}")
+        for name in ("X0", "Y0"):
+            if not np.isfinite(getattr(self, name)):
+                raise ValueError(f"`{name}` (principal point) must be finite, got {getattr(self, name)}")
 
     @property
     def intrinsic_matrix(self) -> np.ndarray:

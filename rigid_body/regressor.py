@@ -35,6 +35,10 @@ def _check_convention(convention: str) -> None:
         raise ValueError(f"`convention` must be one of {CONVENTIONS}, got {convention!r}")
 
 
+def _finite(value: float, name: str) -> float:
+    return float(as_vector(value, 1, name)[0])
+
+
 def _zz_inertia(inertia: Any) -> float:
     return 0.0 if inertia is None else float(np.asarray(inertia, dtype=float)[2, 2])
 
@@ -80,7 +84,8 @@ def two_link_reference_regressor(q: Any, qd: Any, qd_r: Any, qdd_r: Any, a: Sequ
     qd1, qd2 = as_vector(qd, 2, "qd")
     qr1, qr2 = as_vector(qd_r, 2, "qd_r")
     ar1, ar2 = as_vector(qdd_r, 2, "qdd_r")
-    a1, a2 = float(a[0]), float(a[1])
+    a1, a2 = as_vector(a, 2, "a")
+    k_r2, g = _finite(k_r2, "k_r2"), _finite(g, "g")
     c1, c2, s2, c12 = np.cos(q1), np.cos(q2), np.sin(q2), np.cos(q1 + q2)
     Y = np.zeros((2, 5))
     Y[0, 0] = a1 * ar1 + g * c1
@@ -187,8 +192,9 @@ def two_link_textbook_regressor(q: Any, qd: Any, qdd: Any, a: Sequence[float] = 
     q1, q2 = as_vector(q, 2, "q")
     qd1, qd2 = as_vector(qd, 2, "qd")
     qdd1, qdd2 = as_vector(qdd, 2, "qdd")
-    a1, a2 = float(a[0]), float(a[1])
-    kr1, kr2 = float(k_r[0]), float(k_r[1])
+    a1, a2 = as_vector(a, 2, "a")
+    kr1, kr2 = as_vector(k_r, 2, "k_r")
+    g = _finite(g, "g")
     c1, c2, s2, c12 = np.cos(q1), np.cos(q2), np.sin(q2), np.cos(q1 + q2)
     Y = np.zeros((2, 8))
     Y[0] = [a1**2 * qdd1 + a1 * g * c1,
@@ -220,6 +226,7 @@ def pr_regressor(q: Any, qd: Any, qdd: Any, g: float = G) -> np.ndarray:
     _, q2 = as_vector(q, 2, "q")
     _, qd2 = as_vector(qd, 2, "qd")
     qdd1, qdd2 = as_vector(qdd, 2, "qdd")
+    g = _finite(g, "g")
     c2, s2 = np.cos(q2), np.sin(q2)
     return np.array([[qdd1, c2 * qdd2 - s2 * qd2**2, 0.0],
                      [0.0, c2 * qdd1 + g * s2, qdd2]])

@@ -57,3 +57,15 @@ def test_hydraulic_velocity_gain_at_low_frequency(rng):
     w = np.array([1e-6])
     static = p.kx * p.Gs / (p.kr * p.kq) / (1 + p.Fm * (1 + p.kr * p.kl) / (p.kt * p.kr * p.kq))
     assert (1j * w * frequency_samples(G_v, w))[0].real == pytest.approx(static, rel=1e-5)
+
+
+def test_non_finite_operating_points_and_regulators_raise():
+    m = DCServomotor(**MOTOR)
+    with pytest.raises(ValueError, match="`v_c`"):
+        m.steady_state(float("nan"))
+    with pytest.raises(ValueError, match="`K`"):
+        m.steady_state(1.0, 0.0, K=0.0)
+    with pytest.raises(ValueError, match="`regulator`"):
+        ServomotorPlant(m, float("nan"))
+    with pytest.raises(ValueError, match="`regulator`"):
+        servomotor_transfer_functions(m, -1.0)

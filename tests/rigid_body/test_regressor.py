@@ -91,3 +91,14 @@ def test_textbook_eight_parameter_regressor_matches_rnea():
         q, qd, qdd = rng.uniform(-3, 3, size=(3, 2))
         np.testing.assert_allclose(two_link_textbook_regressor(q, qd, qdd) @ pi8, inverse_dynamics(robot, q, qd, qdd),
                                    atol=1e-9)
+
+
+def test_regressor_geometry_is_validated():
+    with pytest.raises(ValueError, match="`a`"):
+        two_link_regressor([0.0, 0.0], [0.0, 0.0], [0.0, 0.0], a=(np.nan, 1.0))
+    with pytest.raises(ValueError, match="`a`"):
+        two_link_regressor([0.0, 0.0], [0.0, 0.0], [0.0, 0.0], a=(1.0,))
+    with pytest.raises(ValueError, match="`k_r`"):
+        two_link_textbook_regressor([0.0, 0.0], [0.0, 0.0], [0.0, 0.0], k_r=(100.0,))
+    with pytest.raises(ValueError, match="`g`"):
+        pr_regressor([0.0, 0.0], [0.0, 0.0], [0.0, 0.0], g=np.inf)

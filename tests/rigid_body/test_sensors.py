@@ -66,3 +66,8 @@ def test_projection_rejects_points_behind_the_camera():
         project(PinholeCamera(500.0, 500.0), [0.0, 0.0, -1.0])
     with pytest.raises(ValueError, match="`f_alpha_x`"):
         PinholeCamera(-1.0, 500.0)
+
+
+def test_camera_principal_point_must_be_finite():
+    with pytest.raises(ValueError, match="`X0`"):
+        PinholeCamera(500.0, 500.0, float("nan"), 0.0)

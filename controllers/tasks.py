@@ -37,7 +37,8 @@ from controllers.joint_space import InverseDynamicsControl, with_payload
 from controllers.simulation import ArmPlant, simulate
 from planners.paths import SegmentSequence
 from planners.timing import cubic_law, quintic_law, trapezoidal_law
-from rigid_body.kinematics import direct_kinematics
+from rigid_body.dynamics import gravity_torques
+from rigid_body.kinematics import direct_kinematics, geometric_jacobian, jacobian_derivative_times_qd
 from rigid_body.robots import Robot
 from rigid_body.validation import as_vector
 
@@ -455,11 +456,9 @@ def joint_reference(robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.
         sols = nearest(np.atleast_2d(inverse_kinematics(np.concatenate([p[rows], phi]))))
         q = sols[np.argmin(np.linalg.norm(sols - last[0], axis=1))]
         last[0] = q
-        J = pin.computeFrameJacobian(robot.model, robot.data, q, robot.ee_frame, pin.LOCAL_WORLD_ALIGNED)[jrows]
+        J = geometric_jacobian(robot, q)[jrows]
         qd = np.linalg.solve(J, np.concatenate([pd[rows], np.zeros(n_o)]))
-        pin.forwardKinematics(robot.model, robot.data, q, qd, np.zeros(robot.nv))
-        a = pin.getFrameClassicalAcceleration(robot.model, robot.data, robot.ee_frame, pin.LOCAL_WORLD_ALIGNED)
-        Jd_qd = np.concatenate([a.linear, a.angular])[jrows]
+        Jd_qd = jacobian_derivative_times_qd(robot, q, qd)[jrows]
         qdd = np.linalg.solve(J, np.concatenate([pdd[rows], np.zeros(n_o)]) - Jd_qd)
         return q, qd, qdd
 
@@ -661,7 +660,7 @@ class PegInHoleController:
         e[2] = np.arctan2(np.sin(e[2]), np.cos(e[2]))
         wrench = self.K_P * select * e + self.K_D * (xd_d - xd) + force
         self._log = {"x_e": x, "x_d": x_d, "f": f, "state": PEG_STATES.index(self.state)}
-        return pin.computeGeneralizedGravity(self.robot.model, self.robot.data, q) + J.T @ wrench
+        return gravity_torques(self.robot, q) + J.T @ wrench
 
     def log(self) -> dict[str, Any]:
         return self._log

@@ -19,7 +19,8 @@ import pinocchio as pin
 
 from rigid_body.dh import dh_chain
 from rigid_body.robots import Robot
-from rigid_body.rotations import as_homogeneous, as_rotation, rot_z, rotation_to_euler_zyz, wrap_angle
+from rigid_body.rotations import (as_homogeneous, as_rotation, euler_rate_matrix_rpy, euler_rate_matrix_zyz, rot_z,
+                                  rotation_to_euler_zyz, rotation_to_rpy, wrap_angle)
 from rigid_body.validation import as_vector
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
@@ -84,9 +85,6 @@ def analytical_jacobian(robot: Robot, q: np.ndarray, representation: str = "zyz"
     ``representation`` is ``"zyz"`` (T from (3.64)) or ``"rpy"`` (Problem 3.12); φ_e is extracted
     with ``branch=+1``. ValueError at a representation singularity (sin θ = 0 for ZYZ, cos θ = 0 for RPY).
     """
-    from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz, rotation_to_euler_zyz,
-                                      rotation_to_rpy)
-
     pair = {"zyz": (rotation_to_euler_zyz, euler_rate_matrix_zyz),
             "rpy": (rotation_to_rpy, euler_rate_matrix_rpy)}.get(representation)
     if pair is None:

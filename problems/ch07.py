@@ -299,7 +299,9 @@ def problem_7_4() -> Solution:
     Lagrange model, the Newton–Euler model and Pinocchio's RNEA at random states, and the stacked
     regressor has rank 5. The bookkeeping is the manual's: Ī₁ excludes I_m2 and y'₁₅ = ϑ̈₁ + k_r2 ϑ̈₂,
     so π'₂ = 97.5. The companion file ``param.m`` (π'₂ = 97.51, Ī₁ with I_m2, y'₁₅ = k_r2 ϑ̈₂) is
-    checked to give the same torques. The eight-parameter regressor (7.84), recalled from the textbook
+    checked to give the same torques. Manual erratum: its intermediate expansion of τ1, τ2 in π1..π8
+    writes the coupling term of b12 as k_r²π8 instead of k_r2 π8 (checked against B(q)); only (S7.2),
+    (S7.3) are used. The eight-parameter regressor (7.84), recalled from the textbook
     (catalogue [TB?]), reproduces the model but has rank 5, and the manual's combinations (S7.2) of its
     parameters give π'. With the 10 kg payload of ``load_m.m`` only π'₁ and π'₃ change.
 
@@ -333,6 +335,23 @@ def problem_7_4() -> Solution:
                   _max_err(tau, two_link_regressor(q, qd, qdd, convention="companion") @ pi_c))
     sol.check("Y'π' (S7.3) = (7.82) = Lagrange = Newton–Euler = Pinocchio RNEA (both conventions)", err < 1e-9,
               f"max |error| = {err:.2g} N·m over {N_STATES} random states")
+    # The manual's intermediate expansion of (7.82) in π1..π8 (π3 = Ī1 without I_m2): its b12 prints
+    # "π7 + k_r² π8" (in τ1's ϑ̈2 and τ2's ϑ̈1 terms); the model needs π7 + k_r2 π8.
+    P = two_link_textbook_parameters(p)
+    a1, a2, kr1, kr2 = p.a1, p.a2, p.k_r1, p.k_r2
+    err_fixed = err_printed = 0.0
+    for q2 in np.random.default_rng(740).uniform(-np.pi, np.pi, N_STATES):
+        c2 = np.cos(q2)
+        b11 = (a1**2 * P[0] + 2 * a1 * P[1] + P[2] + kr1**2 * P[3] + (a1**2 + 2 * a1 * a2 * c2 + a2**2) * P[4]
+               + (2 * a1 * c2 + 2 * a2) * P[5] + P[6] + P[7])
+        b12 = (a1 * a2 * c2 + a2**2) * P[4] + (a1 * c2 + 2 * a2) * P[5] + P[6]
+        b22 = a2**2 * P[4] + 2 * a2 * P[5] + P[6] + kr2**2 * P[7]
+        B = lg.inertia_matrix(model, [0.0, q2])
+        err_fixed = max(err_fixed, _max_err([[b11, b12 + kr2 * P[7]], [b12 + kr2 * P[7], b22]], B))
+        err_printed = max(err_printed, abs(b12 + kr2**2 * P[7] - B[0, 1]))
+    sol.check("manual erratum: in the intermediate τ1, τ2 of 7.4 the coupling b12 reads π7 + k_r²π8; with "
+              "π7 + k_r2 π8 the expansion equals B(q) of the Lagrange model", err_fixed < 1e-9 and err_printed > 1.0,
+              f"corrected: max |error| = {err_fixed:.2g}; as printed: b12 off by (k_r2² − k_r2) I_m2 = {err_printed:.4g} kg·m²")
     qs = rng.uniform(-3, 3, (3, 60, 2))
     Ybar = stack_regressor(two_link_regressor, *qs)
     sol.check("the stacked regressor has rank 5 (π' is minimal and identifiable)", np.linalg.matrix_rank(Ybar) == 5)

@@ -387,6 +387,8 @@ def workspace_points(robot: Robot, n: int, rng: np.random.Generator, frame: str 
         raise ValueError(f"robot {robot.name!r} has infinite joint limits: its reachable workspace is not a box image")
     if int(n) < 1:
         raise ValueError(f"`n` must be a positive number of samples, got {n!r}")
+    if not isinstance(rng, np.random.Generator):
+        raise ValueError(f"`rng` must be a numpy Generator (np.random.default_rng(seed)), got {type(rng).__name__}")
     fid = _frame(robot, frame)
     qs = rng.uniform(robot.lower, robot.upper, size=(int(n), robot.nq))
     out = np.empty((int(n), 3))
@@ -400,6 +402,7 @@ def joint_arc(robot: Robot, q_start: np.ndarray, joint: int, q_end: float, n: in
               frame: str | int | None = None) -> np.ndarray:
     """Positions (n, 3) traced by ``frame`` while joint ``joint`` (0-based) moves from q_start[joint] to ``q_end``."""
     q_start = as_vector(q_start, robot.nq, "q_start")
+    q_end = float(as_vector(q_end, 1, "q_end")[0])
     if not 0 <= joint < robot.nq:
         raise ValueError(f"`joint` must be in [0, {robot.nq - 1}], got {joint}")
     fid = _frame(robot, frame)

@@ -194,3 +194,7 @@ def test_workspace_points_stay_within_reach():
     assert np.all(r <= 1.0 + 1e-12) and np.allclose(pts[:, 2], 0.0)
     with pytest.raises(ValueError, match="`n`"):
         kin.workspace_points(robot, 0, rng)
+    with pytest.raises(ValueError, match="`rng`"):
+        kin.workspace_points(robot, 10, 0)
+    with pytest.raises(ValueError, match="`q_end`"):
+        kin.joint_arc(robot, np.zeros(3), 0, np.nan)

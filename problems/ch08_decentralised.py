@@ -209,8 +209,11 @@ def problem_8_4() -> Solution:
     sol.check_close("damping of the complex pair = 0.4", damping_of_complex_poles(roots), ZETA, atol=1e-9)
     sol.check("two complex poles and a real pole", int(np.sum(np.abs(roots.imag) > 1e-9)) == 2,
               f"poles {np.round(roots, 5)}")
-    sol.check_close("root-locus gain K' = 20 K_P (T_P = 10 T_m, k_m = 2)", K_prime, 20 * K_P, atol=1e-12)
     L = control.tf([1.0, 1.0 / T_P], [1.0, 1.0 / drive.T_m, 0.0, 0.0])   # K' (s + 1/T_P)/(s²(s + 1/T_m))
+    loop_gain = frequency_samples(design.closed_loop.P * design.closed_loop.H, OMEGA)
+    gap = float(np.max(np.abs(20 * K_P * frequency_samples(L, OMEGA) - loop_gain) / np.abs(loop_gain)))
+    sol.check("root-locus gain K' = 20 K_P: 20 K_P (s + 1/T_P)/(s²(s + 1/T_m)) is the loop gain P(s)H(s)",
+              gap < 1e-9 and np.isclose(K_prime, 20 * K_P, rtol=1e-12), f"max relative error {gap:.2e}")
     locus = control.root_locus_map(L, gains=np.array([K_prime]))
     sol.check_close("python-control's root locus at K' passes through the designed poles",
                     np.sort_complex(locus.loci[0]), poles, atol=1e-9)

@@ -33,7 +33,7 @@ from scipy.linalg import solve_continuous_lyapunov
 from scipy.optimize import fsolve
 
 from controllers.independent_joint import JointDesign, JointDrive, Transducers
-from rigid_body.dynamics import coriolis_matrix, gravity_torques, inertia_matrix, inverse_dynamics
+from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics, reference_torque
 from rigid_body.robots import Robot
 from rigid_body.validation import as_matrix, as_vector
 
@@ -450,12 +450,8 @@ class AdaptivePayloadControl:
     def regressor(self, q: np.ndarray, qd: np.ndarray, qd_r: np.ndarray,
                   qdd_r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(τ₀, y_L): B q̈_r + C(q, q̇) q̇_r + g of the known arm, and the payload column (per kg)."""
-        def torque(robot: Robot) -> np.ndarray:
-            return (inertia_matrix(robot, q) @ qdd_r + coriolis_matrix(robot, q, qd) @ qd_r
-                    + gravity_torques(robot, q))
-
-        tau0 = torque(self.robot)
-        return tau0, torque(self.unit) - tau0
+        tau0 = reference_torque(self.robot, q, qd, qd_r, qdd_r)
+        return tau0, reference_torque(self.unit, q, qd, qd_r, qdd_r) - tau0
 
     def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
         q, qd = _split(x, self.n)

@@ -83,6 +83,24 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     return pin.rnea(robot.model, robot.data, q, qd, qdd).copy()
 
 
+def reference_torque(robot: Robot, q: np.ndarray, qd: np.ndarray, qd_r: np.ndarray,
+                     qdd_r: np.ndarray) -> np.ndarray:
+    """B(q) q̈_r + C(q, q̇) q̇_r + g(q), Christoffel C (7.45): the model part of the adaptive law (8.98).
+
+    C(q, a) b = Γ(a, b) is symmetric bilinear in (a, b) with Γ(v, v) = h(q, v) − g(q), so by
+    polarisation of RNEA: B q̈_r + Γ(q̇, q̇_r) = [RNEA(q, q̇ + q̇_r, 4 q̈_r) − RNEA(q, q̇ − q̇_r, 0)]/4
+    (three Pinocchio passes instead of B, C and g separately). With q̇_r = q̇ it is RNEA(q, q̇, q̈_r).
+    """
+    q = as_vector(q, robot.nq, "q")
+    qd = as_vector(qd, robot.nv, "qd")
+    qd_r = as_vector(qd_r, robot.nv, "qd_r")
+    qdd_r = as_vector(qdd_r, robot.nv, "qdd_r")
+    model, data = robot.model, robot.data
+    plus = pin.rnea(model, data, q, qd + qd_r, 4.0 * qdd_r).copy()
+    minus = pin.rnea(model, data, q, qd - qd_r, np.zeros(model.nv))
+    return (plus - minus) / 4.0 + pin.computeGeneralizedGravity(model, data, q)
+
+
 def forward_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarray,
                      check: bool = True) -> np.ndarray:
     """q̈ = B(q)⁻¹ (τ − C q̇ − g): ABA without mimic joints, else a Cholesky solve (Eq. 7.42).

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from rigid_body.dynamics import (coriolis_matrix, forward_dynamics, gravity_torques, inertia_matrix,
-                                 inverse_dynamics, nonlinear_effects)
+                                 inverse_dynamics, nonlinear_effects, reference_torque)
 from rigid_body.robots import load
 
 from tests.two_link_closed_form import A1 as a1, I_M1 as Im1, I_M2 as Im2, K_R1 as kr1, K_R2 as kr2, M_M2 as mm2
@@ -63,3 +63,23 @@ def test_bad_inputs_raise_value_error_naming_the_argument():
         inverse_dynamics(robot, np.zeros(2), np.zeros(3), np.zeros(2))
     with pytest.raises(ValueError, match="`tau` must be finite"):
         forward_dynamics(robot, np.zeros(2), np.zeros(2), [np.inf, 0.0])
+
+
+@pytest.mark.parametrize("mL", [0.0, 10.0])
+def test_reference_torque_is_B_qdd_r_plus_C_qd_r_plus_g(mL, rng):
+    """B q̈_r + C(q, q̇) q̇_r + g by polarised RNEA against (7.82) and against the book's Lagrange model."""
+    robot = load("planar_2r", payload=mL) if mL else load("planar_2r")
+    for _ in range(5):
+        q, qd, qd_r, qdd_r = rng.uniform(-2, 2, (4, 2))
+        expected = B_closed(q, mL) @ qdd_r + C_closed(q, qd, mL) @ qd_r + g_closed(q, mL)
+        np.testing.assert_allclose(reference_torque(robot, q, qd, qd_r, qdd_r), expected, atol=1e-9)
+    from rigid_body import lagrange as lg
+    from urdf.book_robots import anthropomorphic_wrist
+    spatial, model = load("anthropomorphic_wrist"), lg.serial_model(anthropomorphic_wrist())
+    q = spatial.random_configuration(rng)
+    qd, qd_r, qdd_r = rng.normal(size=(3, spatial.nv))
+    expected = (lg.inertia_matrix(model, q) @ qdd_r + lg.coriolis_matrix(model, q, qd) @ qd_r
+                + lg.gravity_torques(model, q))
+    np.testing.assert_allclose(reference_torque(spatial, q, qd, qd_r, qdd_r), expected, atol=1e-9)
+    with pytest.raises(ValueError, match="`qd_r`"):
+        reference_torque(robot, q[:2], qd[:2], [0.0], qdd_r[:2])

@@ -30,6 +30,8 @@ def _inertia(B: Any) -> tuple[np.ndarray, Any]:
     B = np.asarray(B, dtype=float)
     if B.ndim != 2 or B.shape[0] != B.shape[1] or not np.all(np.isfinite(B)):
         raise ValueError(f"`B` must be a finite square inertia matrix, got shape {B.shape}")
+    if not np.allclose(B, B.T, rtol=1e-9, atol=1e-12 * max(1.0, float(np.abs(B).max()))):
+        raise ValueError("`B` must be symmetric positive definite (it is not symmetric)")
     try:
         return B, cho_factor(B)
     except np.linalg.LinAlgError:

@@ -80,3 +80,9 @@ def test_singular_jacobian_is_reported():
         operational_space_inertia(B, [[1.0, 1.0], [2.0, 2.0]])
     with pytest.raises(ValueError, match="positive definite"):
         operational_space_inertia(-np.eye(2), np.eye(2))
+
+
+def test_non_symmetric_inertia_is_rejected():
+    """cho_factor reads one triangle only: a non-symmetric B would otherwise pass silently."""
+    with pytest.raises(ValueError, match="not symmetric"):
+        operational_space_inertia(np.array([[2.0, 0.5], [0.0, 1.0]]), np.eye(2))

@@ -33,6 +33,7 @@ from scipy.linalg import solve_continuous_lyapunov
 from scipy.optimize import fsolve
 
 from controllers.independent_joint import JointDesign, JointDrive, Transducers
+from controllers.simulation import as_friction
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics, reference_torque
 from rigid_body.robots import Robot
 from rigid_body.validation import as_matrix, as_vector
@@ -85,13 +86,6 @@ def as_gain(K: Any, n: int, name: str) -> np.ndarray:
     if not np.all(np.isfinite(M)) or np.min(np.linalg.eigvalsh(0.5 * (M + M.T))) <= 0:
         raise ValueError(f"`{name}` must be a finite positive definite gain, got {K!r}")
     return M
-
-
-def _friction(Fv: Any, n: int) -> np.ndarray:
-    v = as_vector(np.broadcast_to(np.asarray(Fv, dtype=float), (n,)), n, "viscous_friction")
-    if np.any(v < 0):
-        raise ValueError(f"`viscous_friction` must be non-negative, got {v}")
-    return v
 
 
 def with_payload(robot: Robot, mass: float, frame: str | int | None = None) -> Robot:
@@ -279,7 +273,7 @@ class InverseDynamicsControl:
         n = robot.nv
         self.robot, self.n = robot, n
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
-        self.Fv = _friction(viscous_friction, n)
+        self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
         self._log: dict[str, np.ndarray] = {}
 
@@ -369,7 +363,7 @@ class RobustControl:
         self.rho, self.epsilon = float(rho), float(epsilon)
         self.Q = lyapunov_matrix(self.K_P, self.K_D, P)
         self._DtQ = self.Q[n:, :].copy()  # Dᵀ Q
-        self.Fv = _friction(viscous_friction, n)
+        self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
         self._log: dict[str, np.ndarray] = {}
 
@@ -437,7 +431,7 @@ class AdaptivePayloadControl:
         if not np.isfinite(mass0):
             raise ValueError(f"`mass0` must be finite, got {mass0!r}")
         self.mass0 = float(mass0)
-        self.Fv = _friction(viscous_friction, n)
+        self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
         self.reset()
 

@@ -24,7 +24,8 @@ from typing import Any, Sequence
 import numpy as np
 from scipy.optimize import fsolve
 
-from controllers.joint_space import _friction, _split, as_gain, as_reference
+from controllers.joint_space import _split, as_gain, as_reference
+from controllers.simulation import as_friction
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics
 from rigid_body.kinematics import direct_kinematics, geometric_jacobian, jacobian_derivative_times_qd
 from rigid_body.robots import Robot
@@ -155,7 +156,7 @@ class OperationalInverseDynamics:
         if m != self.n:
             raise ValueError(f"`rows` must select {self.n} components (J_A square, nonredundant task), got {m}")
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
-        self.Fv = _friction(viscous_friction, self.n)
+        self.Fv = as_friction(viscous_friction, self.n)
         self.reference = as_reference(task_reference(reference, rows), m)
         self._log: dict[str, np.ndarray] = {}
 

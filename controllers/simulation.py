@@ -159,6 +159,15 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                             signals={k: np.array(v) for k, v in signals.items()})
 
 
+def as_friction(viscous_friction: Any, n: int) -> np.ndarray:
+    """Viscous friction F_v (scalar or (n,)) as a finite non-negative (n,) vector [N·m·s/rad]."""
+    Fv = np.asarray(viscous_friction, dtype=float)
+    Fv = as_vector(np.full(n, float(Fv)) if Fv.ndim == 0 else Fv, n, "viscous_friction").copy()
+    if np.any(Fv < 0):
+        raise ValueError(f"`viscous_friction` must be non-negative, got {Fv}")
+    return Fv
+
+
 class ArmPlant:
     """A rigid arm driven by joint torques: x = [q, q̇], ẋ = [q̇, B⁻¹(τ − C q̇ − g − F_v q̇ − J^T h_e)].
 
@@ -174,10 +183,7 @@ class ArmPlant:
                  external_force: Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None = None):
         self.robot = robot
         self.n = robot.nv
-        Fv = np.asarray(viscous_friction, dtype=float)
-        self.Fv = as_vector(np.full(self.n, float(Fv)) if Fv.ndim == 0 else Fv, self.n, "viscous_friction").copy()
-        if np.any(self.Fv < 0):
-            raise ValueError(f"`viscous_friction` must be non-negative, got {self.Fv}")
+        self.Fv = as_friction(viscous_friction, self.n)
         self.tau_max = None if tau_max is None else as_vector(tau_max, self.n, "tau_max")
         if self.tau_max is not None and np.any(self.tau_max <= 0):
             raise ValueError(f"`tau_max` must be positive torque limits, got {self.tau_max}")

@@ -258,6 +258,10 @@ def payload_link_parameters(mass: float, ell: float, inertia: float, a: float,
     Returns (m', ℓ', I') with m' = m + m_L, ℓ' = (m ℓ + m_L a)/m' and
     I' = I + m (ℓ' − ℓ)² + m_L (a − ℓ')² (moment about the new centre of mass).
     """
+    mass, ell, inertia, a, payload = (_finite(v, name) for v, name in
+                                      ((mass, "mass"), (ell, "ell"), (inertia, "inertia"), (a, "a"), (payload, "payload")))
+    if mass < 0 or payload < 0 or inertia < 0:
+        raise ValueError(f"`mass`, `payload` and `inertia` must be non-negative, got {mass}, {payload}, {inertia}")
     m_new = mass + payload
     if m_new <= 0:
         raise ValueError("the link with its payload must have a positive mass")

@@ -8,8 +8,8 @@ import pytest
 from rigid_body.dh import robot_from_dh
 from rigid_body.dynamics import inverse_dynamics
 from rigid_body import lagrange as lg
-from rigid_body.regressor import (identify, minimum_parameters, pr_minimum_parameters, pr_regressor,
-                                  stack_regressor, two_link_parameters, two_link_reference_regressor,
+from rigid_body.regressor import (identify, minimum_parameters, payload_link_parameters, pr_minimum_parameters,
+                                  pr_regressor, stack_regressor, two_link_parameters, two_link_reference_regressor,
                                   two_link_regressor, two_link_textbook_parameters, two_link_textbook_regressor)
 from rigid_body.robots import load
 from urdf.book_robots import planar_2r, planar_pr
@@ -102,3 +102,7 @@ def test_regressor_geometry_is_validated():
         two_link_textbook_regressor([0.0, 0.0], [0.0, 0.0], [0.0, 0.0], k_r=(100.0,))
     with pytest.raises(ValueError, match="`g`"):
         pr_regressor([0.0, 0.0], [0.0, 0.0], [0.0, 0.0], g=np.inf)
+    with pytest.raises(ValueError, match="`mass`"):
+        payload_link_parameters(np.nan, 0.5, 1.0, 1.0, 1.0)
+    with pytest.raises(ValueError, match="non-negative"):
+        payload_link_parameters(5.0, 0.5, 1.0, 1.0, -1.0)

@@ -255,7 +255,7 @@ def problem_5_3() -> Solution:
 
     r3, r2 = rise(omega, slow.t), rise(ref.x[:, 1], ref.t)
     sol.check("velocity slowed down with respect to Fig. S5.2", r3 > 5 * r2,
-              f"63 % rise time {r3 * 1e3:.1f} ms (PI current loop) vs {r2 * 1e3:.1f} ms (5.2)")
+              f"63 % rise time {r3 * 1e3:.1f} ms (PI current loop) vs {r2 * 1e3:.1f} ms (Problem 5.2)")
     sol.value("v_a_final", float(plant.armature_voltage(slow.x[-1], 1.0)))
     sol.figure(_servomotor_figure("Fig. S5.4 — servomotor with PI current loop",
                                   [("current transient (h = 0.5 µs)", t, i_a, fast.x[:, 1]),

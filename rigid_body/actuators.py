@@ -38,7 +38,7 @@ def _positive(value: float, name: str, allow_zero: bool = False) -> float:
 
 @dataclass(frozen=True)
 class PIRegulator:
-    """C(s) = K (1 + s T)/s: a proportional–integral regulator in the book's form (5.3 / 8.1)."""
+    """C(s) = K (1 + s T)/s: a proportional–integral regulator in the book's form (Problems 5.3 and 8.1)."""
 
     K: float
     T: float
@@ -184,7 +184,7 @@ class ServomotorPlant:
     x0.setflags(write=False)
 
     def regulator_output(self, x: np.ndarray, v_c: float) -> float:
-        """v_c of the regulator: C_i applied to the current error (5.5)."""
+        """v_c of the regulator: C_i applied to the current error, cf. (S5.5)."""
         e = v_c - self.motor.ki * x[0]
         return self._KP * e + self._KI * x[4]
 

@@ -31,12 +31,11 @@ from controllers.operational_space import (OperationalInverseDynamics, Operation
                                            operational_inverse_dynamics_steady_state)
 from controllers.plants import VoltageControlledArm
 from controllers.simulation import ArmPlant, SimulationResult, simulate
-from planners.inverse_kinematics import TaskSpace, solve_clik
 from planners.paths import PathLaw, Segment
 from planners.timing import quintic, trapezoidal, trapezoidal_law
 from problems.registry import Solution, problem
 from rigid_body.dynamics import inertia_matrix
-from rigid_body.kinematics import direct_kinematics
+from rigid_body.kinematics import ELBOW_UP, direct_kinematics, inverse_kinematics_planar_2r
 from rigid_body.regressor import minimum_parameters, two_link_reference_regressor
 from rigid_body.robots import Robot, load
 from urdf.book_robots import G, planar_2r
@@ -49,7 +48,6 @@ F_V = K_R * F_M * K_R  # joint-side viscous friction, 100 N·m·s/rad
 M_L = 10.0            # payload [kg] (load_m.m)
 # tra_4: trapezoidal joint trajectory of 8.11–8.14
 Q_I, Q_F, T_F, QD_C = np.array([0.0, np.pi / 4]), np.array([np.pi / 2, np.pi / 2]), 1.0, np.array([3 * np.pi / 4, np.pi / 3])
-PLANAR = TaskSpace(orientation="none", rows=(0, 1))
 
 
 def _arm(payload: float = 0.0) -> Robot:
@@ -58,16 +56,6 @@ def _arm(payload: float = 0.0) -> Robot:
 
 def _tra_4():
     return trapezoidal(Q_I, Q_F, T_F, QD_C, dt=T_C)
-
-
-def _elbow_up(robot: Robot, p: np.ndarray) -> np.ndarray:
-    """q with s2 < 0 (the companion's ``inv_k2u``) placing the tip at p: IK seeded on that branch."""
-    T = np.eye(4)
-    T[:2, 3] = p
-    res = solve_clik(robot, T, [np.pi / 2, -2.0], PLANAR, tol=1e-12)
-    if not res.success or np.sin(res.q[1]) >= 0:
-        raise ValueError(f"no elbow-up (s2 < 0) configuration found for p = {p}: {res.message}")
-    return res.q
 
 
 def _tip(robot: Robot, qs: np.ndarray) -> np.ndarray:
@@ -408,7 +396,7 @@ def problem_8_15() -> Solution:
     plant = ArmPlant(armL, viscous_friction=F_V)
     expected_q0 = ([2.06944, -2.56808], [0.73453, -2.54990])  # companion's inv_k2u(p(0))
     for k, p_d in enumerate((np.array([0.5, 0.5]), np.array([0.6, -0.2])), start=1):
-        q0 = _elbow_up(armL, p_d - 0.1)
+        q0 = inverse_kinematics_planar_2r(p_d - 0.1)[ELBOW_UP]  # companion inv_k2u: s2 < 0
         sol.value(f"q0_{k}", q0)
         sol.check_close(f"initial posture {k} = companion's inv_k2u(p_d − 0.1)", q0, expected_q0[k - 1], atol=1e-5)
         res = simulate(plant, OperationalPDGravity(armL, 16250.0, 3250.0, p_d, rows=(0, 1)), (0.0, T_D),
@@ -447,7 +435,7 @@ def problem_8_16() -> Solution:
     segment = Segment(p_i, p_f)
     sol.check_close("path length", segment.length, 1.0, atol=1e-12)
     law = PathLaw(segment, trapezoidal_law(0.0, segment.length, 1.0, 1.5))
-    q0 = _elbow_up(armL, p_i[:2])
+    q0 = inverse_kinematics_planar_2r(p_i[:2])[ELBOW_UP]  # companion inv_k2u: s2 < 0
     sol.check_close("initial posture = companion's inv_k2u(p_i)", q0, [1.47653, -2.39646], atol=1e-5)
     plant = ArmPlant(armL, viscous_friction=F_V)
     runs = {}

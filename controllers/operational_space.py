@@ -82,13 +82,15 @@ class _PositionTask:
 SINGULAR_CONDITION = 1e10  # cond(J_A) above which the task is treated as singular
 
 
-def _solve_task(J: np.ndarray, b: np.ndarray, where: str) -> np.ndarray:
-    """J_A⁻¹ b for a square J_A; ValueError at (or numerically at) a kinematic singularity."""
+def _solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    """J_A⁻¹ b for a square J_A; None at (or numerically at) a kinematic singularity, cond(J_A) > 1e10."""
     s = np.linalg.svd(J, compute_uv=False)
-    if not s[-1] > s[0] / SINGULAR_CONDITION:
-        raise ValueError(f"J_A is singular {where} (condition number {s[0] / s[-1] if s[-1] else np.inf:.3g}): "
-                         "the task cannot be inverted")
-    return np.linalg.solve(J, b)
+    return np.linalg.solve(J, b) if s[-1] > s[0] / SINGULAR_CONDITION else None
+
+
+def _singular(where: str) -> ValueError:
+    return ValueError(f"J_A is singular {where} (condition number > {SINGULAR_CONDITION:g}): "
+                      "the task cannot be inverted")
 
 
 class OperationalPDGravity:
@@ -170,7 +172,9 @@ class OperationalInverseDynamics:
         J = self.task.jacobian(q)
         e, ed = x_d - x_e, xd_d - J @ qd
         a = xdd_d + self.K_D @ ed + self.K_P @ e - self.task.jacobian_derivative_times_qd(q, qd)
-        y = _solve_task(J, a, f"at t = {t:.6g} s, q = {q}")  # Eq. (8.114)
+        y = _solve_task(J, a)  # Eq. (8.114)
+        if y is None:
+            raise _singular(f"at t = {t:.6g} s, q = {q}")
         u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd
         self._log = {"x_d": x_d, "x_e": x_e, "e": e}
         return u
@@ -197,7 +201,9 @@ def operational_inverse_dynamics_steady_state(plant_robot: Robot, model_robot: R
     start = as_vector(q0, n, "q0")
 
     def residual(q: np.ndarray) -> np.ndarray:
-        y = _solve_task(task.jacobian(q), K_P @ (x_d - task.position(q)), f"at q = {q}")
+        y = _solve_task(task.jacobian(q), K_P @ (x_d - task.position(q)))
+        if y is None:
+            raise _singular(f"at q = {q}")
         return inertia_matrix(model_robot, q) @ y - gravity_torques(plant_robot, q) + gravity_torques(model_robot, q)
 
     q, _, _, msg = fsolve(residual, start, full_output=True, xtol=1e-13)

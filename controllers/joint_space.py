@@ -33,7 +33,7 @@ from scipy.linalg import solve_continuous_lyapunov
 from scipy.optimize import fsolve
 
 from controllers.independent_joint import JointDesign, JointDrive, Transducers
-from controllers.simulation import as_friction
+from controllers.simulation import as_friction, per_joint
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics, reference_torque
 from rigid_body.robots import Robot
 from rigid_body.validation import as_matrix, as_vector
@@ -207,7 +207,7 @@ class ComputedTorqueFeedforward:
         if any(d.K_V is None or d.T_V is None or d.K_A is not None for d in designs):
             raise ValueError("`designs` must be position + velocity designs (K_P, K_V, T_V)")
         self.reference = as_reference(reference, n)
-        self.k_r = as_vector(np.broadcast_to(np.asarray(gear_ratio, dtype=float), (n,)), n, "gear_ratio")
+        self.k_r = per_joint(gear_ratio, n, "gear_ratio")
         if np.any(self.k_r <= 0):
             raise ValueError(f"`gear_ratio` must be positive, got {self.k_r}")
         self.K_P = np.array([d.K_P for d in designs])

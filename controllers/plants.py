@@ -20,12 +20,11 @@ from typing import Any, Sequence
 import numpy as np
 
 from controllers.independent_joint import JointDrive
-from controllers.simulation import ArmPlant
-from rigid_body.validation import as_vector
+from controllers.simulation import ArmPlant, per_joint
 
 
 def _positive(x: Any, n: int, name: str) -> np.ndarray:
-    v = as_vector(np.broadcast_to(np.asarray(x, dtype=float), (n,)), n, name)
+    v = per_joint(x, n, name)
     if np.any(v <= 0):
         raise ValueError(f"`{name}` must be positive, got {v}")
     return v

@@ -159,10 +159,16 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                             signals={k: np.array(v) for k, v in signals.items()})
 
 
+def per_joint(value: Any, n: int, name: str) -> np.ndarray:
+    """A per-joint quantity given as a scalar (the same for every joint) or (n,): a finite (n,) vector."""
+    if np.ndim(value) == 0:
+        value = np.full(n, as_vector(value, 1, name)[0])
+    return as_vector(value, n, name).copy()
+
+
 def as_friction(viscous_friction: Any, n: int) -> np.ndarray:
     """Viscous friction F_v (scalar or (n,)) as a finite non-negative (n,) vector [N·m·s/rad]."""
-    Fv = np.asarray(viscous_friction, dtype=float)
-    Fv = as_vector(np.full(n, float(Fv)) if Fv.ndim == 0 else Fv, n, "viscous_friction").copy()
+    Fv = per_joint(viscous_friction, n, "viscous_friction")
     if np.any(Fv < 0):
         raise ValueError(f"`viscous_friction` must be non-negative, got {Fv}")
     return Fv

@@ -204,3 +204,15 @@ def test_controllers_reject_short_measurements_and_non_finite_references(arm):
         ctrl(0.0, np.zeros(3))
     with pytest.raises(ValueError, match="`reference` must be finite"):
         InverseDynamicsControl(arm, 100.0, 16.0, lambda t: (np.array([np.nan, 0.0]), np.zeros(2), np.zeros(2)))
+
+
+def test_per_joint_gear_ratios_name_the_argument(arm):
+    drives = [JointDrive(I=0.0128, Ra=10.0, kt=2.0, kv=2.0) for _ in range(2)]
+    designs = [design_position_velocity(d, 0.8, 10.0) for d in drives]
+    with pytest.raises(ValueError, match="`gear_ratio` must have shape"):
+        ComputedTorqueFeedforward(arm, [0.0, 0.0], [100.0, 100.0, 100.0], drives, designs)
+    with pytest.raises(ValueError, match="`gear_ratio` must have shape"):
+        VoltageControlledArm(arm, [100.0, 100.0, 100.0], drives)
+    with pytest.raises(ValueError, match="`gear_ratio` must be finite"):
+        VoltageControlledArm(arm, np.nan, drives)
+    np.testing.assert_allclose(VoltageControlledArm(arm, 100.0, drives).voltage_gain, [20.0, 20.0])

@@ -26,14 +26,7 @@ import control
 import numpy as np
 from scipy.optimize import brentq
 
-
-
-def _positive(value: float, name: str, allow_zero: bool = False) -> float:
-    value = float(value)
-    if not (np.isfinite(value) and (value > 0 or allow_zero and value == 0)):
-        kind = "non-negative" if allow_zero else "positive"
-        raise ValueError(f"`{name}` must be a finite {kind} number, got {value}")
-    return value
+from rigid_body.validation import as_positive
 
 
 _s = control.tf("s")
@@ -55,7 +48,7 @@ class JointDrive:
 
     def __post_init__(self) -> None:
         for name in ("I", "Ra", "kt", "kv"):
-            _positive(getattr(self, name), name)
+            as_positive(getattr(self, name), name)
         if not (np.isfinite(self.Fm) and self.Fm >= 0):
             raise ValueError(f"`Fm` must be non-negative, got {self.Fm}")
 
@@ -93,7 +86,7 @@ class Transducers:
 
     def __post_init__(self) -> None:
         for name in ("k_TP", "k_TV", "k_TA"):
-            _positive(getattr(self, name), name)
+            as_positive(getattr(self, name), name)
 
 
 @dataclass(frozen=True)
@@ -121,7 +114,7 @@ def _min(G: control.TransferFunction) -> control.TransferFunction:
 def position_feedback(drive: JointDrive, K_P: float, T_P: float,
                       transducers: Transducers = Transducers()) -> ClosedLoop:
     """Fig. 5.10: Θ_m = M(C_P(Θ_r − k_TP Θ_m) − (R_a/k_t) D), C_P = K_P(1 + sT_P)/s (Problem 8.1)."""
-    M, C = drive.motor_tf(), _pi(_positive(K_P, "K_P"), _positive(T_P, "T_P", allow_zero=True))
+    M, C = drive.motor_tf(), _pi(as_positive(K_P, "K_P"), as_positive(T_P, "T_P", allow_zero=True))
     k_TP = transducers.k_TP
     P = C * M
     return ClosedLoop(_min(control.feedback(P, k_TP)),
@@ -132,8 +125,8 @@ def position_feedback(drive: JointDrive, K_P: float, T_P: float,
 def position_velocity_feedback(drive: JointDrive, K_P: float, K_V: float, T_V: float,
                                transducers: Transducers = Transducers()) -> ClosedLoop:
     """Fig. 5.11: Θ_m = M(C_V(K_P(Θ_r − k_TP Θ_m) − k_TV sΘ_m) − (R_a/k_t) D) (Problem 8.2)."""
-    K_P = _positive(K_P, "K_P")
-    M, C = drive.motor_tf(), _pi(_positive(K_V, "K_V"), _positive(T_V, "T_V", allow_zero=True))
+    K_P = as_positive(K_P, "K_P")
+    M, C = drive.motor_tf(), _pi(as_positive(K_V, "K_V"), as_positive(T_V, "T_V", allow_zero=True))
     t = transducers
     feedback_path = K_P * t.k_TP + t.k_TV * _s                       # what multiplies −Θ_m at C_V
     reference = K_P * control.feedback(C * M, feedback_path)
@@ -145,8 +138,8 @@ def position_velocity_acceleration_feedback(drive: JointDrive, K_P: float, K_V: 
                                             T_A: float, transducers: Transducers = Transducers()
                                             ) -> ClosedLoop:
     """Figs. 8.6/8.9: Θ_m = M(C_A(K_V(K_P(Θ_r − k_TP Θ_m) − k_TV sΘ_m) − k_TA s²Θ_m) − (R_a/k_t) D) (Problem 8.3)."""
-    K_P, K_V = _positive(K_P, "K_P"), _positive(K_V, "K_V")
-    M, C = drive.motor_tf(), _pi(_positive(K_A, "K_A"), _positive(T_A, "T_A", allow_zero=True))
+    K_P, K_V = as_positive(K_P, "K_P"), as_positive(K_V, "K_V")
+    M, C = drive.motor_tf(), _pi(as_positive(K_A, "K_A"), as_positive(T_A, "T_A", allow_zero=True))
     t = transducers
     feedback_path = K_V * K_P * t.k_TP + K_V * t.k_TV * _s + t.k_TA * _s**2
     reference = K_V * K_P * control.feedback(C * M, feedback_path)
@@ -196,8 +189,8 @@ def design_position_feedback(drive: JointDrive, zeta: float, T_P: float,
     as K_P grows: the largest gain with ζ ≥ ``zeta`` is the design (best disturbance rejection).
     ``X_R = K_P k_TP`` and ``T_R = T_P``.
     """
-    zeta = _positive(zeta, "zeta")
-    T_P = _positive(T_P, "T_P")
+    zeta = as_positive(zeta, "zeta")
+    T_P = as_positive(T_P, "T_P")
     if zeta >= 1:
         raise ValueError(f"`zeta` must be < 1 for a complex pair, got {zeta}")
     k = drive.k_m * transducers.k_TP
@@ -230,7 +223,7 @@ def design_position_velocity(drive: JointDrive, zeta: float, omega_n: float,
     >>> round(d.K_P, 9), round(d.K_V, 9), round(d.X_R, 9)
     (25.0, 8.0, 200.0)
     """
-    zeta, omega_n = _positive(zeta, "zeta"), _positive(omega_n, "omega_n")
+    zeta, omega_n = as_positive(zeta, "zeta"), as_positive(omega_n, "omega_n")
     t = transducers
     K_P = omega_n * t.k_TV / (2 * zeta * t.k_TP)
     K_V = 2 * zeta * omega_n / (drive.k_m * t.k_TV)
@@ -247,7 +240,7 @@ def design_position_velocity_acceleration(drive: JointDrive, zeta: float, omega_
     ``2ζ/ω_n = k_TV/(K_P k_TP)``, ``ω_n² = k_m X_R/(1 + k_m K_A k_TA)``, ``X_R = K_P k_TP K_V K_A``;
     ``T_R = max(T_A, T_m/(k_m K_A k_TA))`` (8.42) [recalled from the textbook].
     """
-    zeta, omega_n, X_R = _positive(zeta, "zeta"), _positive(omega_n, "omega_n"), _positive(X_R, "X_R")
+    zeta, omega_n, X_R = as_positive(zeta, "zeta"), as_positive(omega_n, "omega_n"), as_positive(X_R, "X_R")
     t = transducers
     k_m = drive.k_m
     if k_m * X_R <= omega_n**2:
@@ -273,7 +266,7 @@ def bandwidth(W: control.TransferFunction) -> float:
 
 def acceleration_filter(k_f: float) -> control.TransferFunction:
     """Fig. 8.11: acceleration reconstructed from velocity, ``Â/Ω = k_f s/(s + k_f)`` (bandwidth k_f)."""
-    k_f = _positive(k_f, "k_f")
+    k_f = as_positive(k_f, "k_f")
     return control.tf([k_f, 0.0], [1.0, k_f])
 
 
@@ -366,7 +359,7 @@ class PositionVelocityController:
         if design.K_V is None or design.K_A is not None:
             raise ValueError("`design` must be a position + velocity design")
         self.d, self.k_m, self.t = design, drive.k_m, transducers
-        self.reference, self.Ts, self.feedforward = reference, _positive(Ts, "Ts"), feedforward
+        self.reference, self.Ts, self.feedforward = reference, as_positive(Ts, "Ts"), feedforward
         self.disturbance = disturbance
         self.reset()
 

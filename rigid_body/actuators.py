@@ -25,15 +25,7 @@ from dataclasses import dataclass
 import control
 import numpy as np
 
-from rigid_body.validation import as_vector
-
-
-def _positive(value: float, name: str, allow_zero: bool = False) -> float:
-    value = float(value)
-    if not np.isfinite(value) or value < 0 or (value == 0 and not allow_zero):
-        kind = "non-negative" if allow_zero else "positive"
-        raise ValueError(f"`{name}` must be a finite {kind} number, got {value}")
-    return value
+from rigid_body.validation import as_positive, as_vector
 
 
 @dataclass(frozen=True)
@@ -44,8 +36,8 @@ class PIRegulator:
     T: float
 
     def __post_init__(self) -> None:
-        _positive(self.K, "K")
-        _positive(self.T, "T", allow_zero=True)
+        as_positive(self.K, "K")
+        as_positive(self.T, "T", allow_zero=True)
 
     def tf(self) -> control.TransferFunction:
         return control.tf([self.K * self.T, self.K], [1.0, 0.0])
@@ -72,9 +64,9 @@ class DCServomotor:
 
     def __post_init__(self) -> None:
         for name in ("Ra", "kt", "kv", "Im", "Gv"):
-            _positive(getattr(self, name), name)
+            as_positive(getattr(self, name), name)
         for name in ("La", "Fm", "Tv", "ki"):
-            _positive(getattr(self, name), name, allow_zero=True)
+            as_positive(getattr(self, name), name, allow_zero=True)
 
     @property
     def mechanical_time_constant(self) -> float:
@@ -87,7 +79,7 @@ class DCServomotor:
         Solves ``K v'_c = (R_a + K k_i) i_a + k_v ω_m`` and ``k_t i_a = F_m ω_m + c_r``.
         """
         v_c, c_r = float(as_vector(v_c, 1, "v_c")[0]), float(as_vector(c_r, 1, "c_r")[0])
-        K = _positive(K, "K")
+        K = as_positive(K, "K")
         A = np.array([[self.kv, self.Ra + K * self.ki], [-self.Fm, self.kt]])
         omega, i_a = np.linalg.solve(A, [K * v_c, c_r])
         return float(omega), float(i_a)
@@ -96,7 +88,7 @@ class DCServomotor:
 def _regulator_tf(regulator: PIRegulator | float) -> control.TransferFunction:
     if isinstance(regulator, PIRegulator):
         return regulator.tf()
-    return control.tf([_positive(regulator, "regulator")], [1.0])
+    return control.tf([as_positive(regulator, "regulator")], [1.0])
 
 
 @dataclass(frozen=True)
@@ -149,8 +141,8 @@ def design_pi_current_loop(motor: DCServomotor, zeta: float, settling_time: floa
     -------
     (regulator, omega_n)
     """
-    zeta = _positive(zeta, "zeta")
-    settling_time = _positive(settling_time, "settling_time")
+    zeta = as_positive(zeta, "zeta")
+    settling_time = as_positive(settling_time, "settling_time")
     if motor.ki <= 0 or motor.La <= 0:
         raise ValueError("`motor` must have current feedback (ki > 0) and armature inductance La > 0")
     omega_n = settling_factor / (zeta * settling_time)
@@ -178,7 +170,7 @@ class ServomotorPlant:
         if isinstance(regulator, PIRegulator):
             self._KP, self._KI = regulator.K * regulator.T, regulator.K
         else:
-            self._KP, self._KI = _positive(regulator, "regulator"), 0.0
+            self._KP, self._KI = as_positive(regulator, "regulator"), 0.0
 
     x0 = np.zeros(5)          # the motor at rest (read-only; simulate() copies it)
     x0.setflags(write=False)
@@ -228,7 +220,7 @@ class HydraulicMotor:
 
     def __post_init__(self) -> None:
         for name, value in self.__dict__.items():
-            _positive(value, name, allow_zero=name in ("kl", "Fm", "Ts"))
+            as_positive(value, name, allow_zero=name in ("kl", "Fm", "Ts"))
 
 
 def hydraulic_transfer_functions(motor: HydraulicMotor

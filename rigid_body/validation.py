@@ -31,3 +31,15 @@ def as_matrix(x: Any, shape: tuple[int, int], name: str) -> np.ndarray:
     if not np.all(np.isfinite(m)):
         raise ValueError(f"`{name}` must be finite")
     return m
+
+
+def as_positive(value: Any, name: str, allow_zero: bool = False) -> float:
+    """``value`` as a finite positive (or, with ``allow_zero``, non-negative) float; ValueError naming ``name``."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"`{name}` must be a number, got {type(value).__name__}") from None
+    if not (np.isfinite(v) and (v > 0 or (allow_zero and v == 0))):
+        kind = "non-negative" if allow_zero else "positive"
+        raise ValueError(f"`{name}` must be a finite {kind} number, got {v}")
+    return v

@@ -40,6 +40,7 @@ from planners.timing import cubic_law, quintic_law, trapezoidal_law
 from rigid_body.dynamics import gravity_torques
 from rigid_body.kinematics import direct_kinematics, geometric_jacobian, jacobian_derivative_times_qd
 from rigid_body.robots import Robot
+from rigid_body.rotations import wrap_angle
 from rigid_body.validation import as_vector
 
 
@@ -320,8 +321,7 @@ class ActionExecutor:
         for sol in np.atleast_2d(self.ik(location)):
             cand = sol.copy()
             # the 2π-equivalent of each revolute joint closest to the current value
-            cand[revolute] = q[revolute] + np.arctan2(np.sin(sol[revolute] - q[revolute]),
-                                                      np.cos(sol[revolute] - q[revolute]))
+            cand[revolute] = q[revolute] + wrap_angle(sol[revolute] - q[revolute])
             for k in np.nonzero(revolute)[0]:
                 for shift in (0.0, -2 * np.pi, 2 * np.pi):
                     if lo[k] - 1e-9 <= cand[k] + shift <= hi[k] + 1e-9:
@@ -448,7 +448,7 @@ def joint_reference(robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.
     def nearest(q: np.ndarray) -> np.ndarray:
         """The 2π-equivalent of q (revolute joints only) closest to the previous reference."""
         d = q - last[0]
-        d[..., revolute] = np.arctan2(np.sin(d[..., revolute]), np.cos(d[..., revolute]))
+        d[..., revolute] = wrap_angle(d[..., revolute])
         return last[0] + d
 
     def reference(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -657,7 +657,7 @@ class PegInHoleController:
             select = np.array([0.0, 1.0, 1.0])
         self._last_t = t
         e = x_d - x
-        e[2] = np.arctan2(np.sin(e[2]), np.cos(e[2]))
+        e[2] = wrap_angle(e[2])
         wrench = self.K_P * select * e + self.K_D * (xd_d - xd) + force
         self._log = {"x_e": x, "x_d": x_d, "f": f, "state": PEG_STATES.index(self.state)}
         return gravity_torques(self.robot, q) + J.T @ wrench

@@ -200,8 +200,22 @@ class SegmentSequence:
         return p, pd, pdd
 
 
+class _TimedByLaw:
+    """Start and end times of an object timed by its scalar law ``self.timing``."""
+
+    timing: TimingLaw
+
+    @property
+    def t_i(self) -> float:
+        return float(self.timing.t_i)
+
+    @property
+    def t_f(self) -> float:
+        return float(self.timing.t_f)
+
+
 @dataclass(frozen=True)
-class PathLaw:
+class PathLaw(_TimedByLaw):
     """A path timed by a scalar law s(t): ``law(t) -> (p, ṗ, p̈)``: ṗ = ṡ p', p̈ = s̈ p' + ṡ² p'' ((4.42), (4.44))."""
 
     path: Path
@@ -213,14 +227,6 @@ class PathLaw:
         s_end = float(self.timing(self.timing.t_f)[0])
         if s_end > self.path.length * (1 + 1e-9) + 1e-12:
             raise ValueError(f"`timing` ends at s = {s_end:.6g}, beyond the path length {self.path.length:.6g}")
-
-    @property
-    def t_i(self) -> float:
-        return float(self.timing.t_i)
-
-    @property
-    def t_f(self) -> float:
-        return float(self.timing.t_f)
 
     def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         s, sd, sdd = self.timing(t)
@@ -240,7 +246,7 @@ def path_trajectory(path: Path, timing: TimingLaw, *, samples: int | None = None
 # --------------------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
-class AngleAxisInterpolation:
+class AngleAxisInterpolation(_TimedByLaw):
     """R(t) = R_i R^i(ϑ(t) θ_f, r^i), Sect. 4.5: rotate about the fixed axis of R_i^T R_f.
 
     ``timing`` is a scalar law σ(t) from 0 to 1 (the fraction of the angle θ_f ∈ [0, π] of
@@ -261,14 +267,6 @@ class AngleAxisInterpolation:
         object.__setattr__(self, "R_f", R_f)
         object.__setattr__(self, "theta_f", float(theta))
         object.__setattr__(self, "axis", r)
-
-    @property
-    def t_i(self) -> float:
-        return float(self.timing.t_i)
-
-    @property
-    def t_f(self) -> float:
-        return float(self.timing.t_f)
 
     def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         sigma, sd, sdd = (np.asarray(x, dtype=float) for x in self.timing(t))
@@ -297,7 +295,7 @@ def slerp(Q_i: Any, Q_f: Any, sigma: float) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class Slerp:
+class Slerp(_TimedByLaw):
     """Quaternion interpolation Q(t) = slerp(Q_i, Q_f, σ(t)) timed by a scalar law σ: 0 → 1.
 
     Calling it gives (Q (…, 4) scalar-first, ω, ω̇). Slerp rotates about the fixed axis of
@@ -322,14 +320,6 @@ class Slerp:
         object.__setattr__(self, "Q_f", Q_f)
         object.__setattr__(self, "theta_f", float(theta))
         object.__setattr__(self, "omega_axis", quaternion_to_rotation(Q_i) @ r)
-
-    @property
-    def t_i(self) -> float:
-        return float(self.timing.t_i)
-
-    @property
-    def t_f(self) -> float:
-        return float(self.timing.t_f)
 
     def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         sigma, sd, sdd = (np.asarray(x, dtype=float) for x in self.timing(t))

@@ -247,8 +247,8 @@ def rotation_to_rpy(R: Any, branch: int = 1, tol: float = SINGULAR_TOL, order: s
     θ ∈ (π/2, 3π/2), returned wrapped into (−π, π]). Every order has the same structure: with
     (i, j, k) the axes and ε = +1 for a cyclic order (xyz), −1 otherwise (zyx, yxz),
     r_ik = ε sin θ, the rest of row i gives |cos θ|, and column k gives φ.
-    Singular when cos θ = 0: θ = ±π/2 and only φ ∓ ψ (zyx) or φ ± ψ is determined; the
-    representative with ψ = 0 is returned with ``singular=True``.
+    Singular when cos θ = 0: θ = ±π/2, R = R_a(φ + ε sin θ ψ) R_b(θ) and only that sum is determined
+    (φ ∓ ψ for zyx); the representative with ψ = 0 is returned with ``singular=True``.
     """
     i, j, k, eps = _rpy_order(order)
     R = as_rotation(R)

@@ -97,3 +97,17 @@ def test_unknown_order_is_rejected():
         rot.rpy_to_rotation([0, 0, 0], order="zyz")
     with pytest.raises(ValueError, match="`order` must be one of"):
         rot.rotation_to_rpy(np.eye(3), order="xzy")
+
+
+def test_spatialmath_published_cases():
+    # spatialmath tests: rpy2tr(0.1, 0.2, 0.3, order) is Rz(0.3) Ry(0.2) Rx(0.1), Rx(0.3) Ry(0.2) Rz(0.1),
+    # Ry(0.3) Rx(0.2) Rz(0.1): rmpc lists the same angles in reverse
+    for order, expected in (("zyx", Rz(0.3) @ Ry(0.2) @ Rx(0.1)), ("xyz", Rx(0.3) @ Ry(0.2) @ Rz(0.1)),
+                            ("yxz", Ry(0.3) @ Rx(0.2) @ Rz(0.1))):
+        np.testing.assert_allclose(rot.rpy_to_rotation([0.3, 0.2, 0.1], order=order), expected, atol=1e-15)
+        np.testing.assert_allclose(rot.rotation_to_rpy(expected, order=order).angles, [0.3, 0.2, 0.1], atol=1e-14)
+    # their corner cases: a half turn about each axis, and pitch ±π/2, must round-trip
+    for order in rot.RPY_ORDERS:
+        for ang in ([math.pi, 0, 0], [0, math.pi, 0], [0, 0, math.pi], [0, math.pi / 2, 0], [0, -math.pi / 2, 0]):
+            R = PRODUCT[order](*ang)
+            np.testing.assert_allclose(PRODUCT[order](*rot.rotation_to_rpy(R, order=order).angles), R, atol=1e-12)

@@ -99,6 +99,21 @@ def test_derivative_of_exp_at_zero_is_the_twist_matrix():
     np.testing.assert_allclose(se3.twist_vector(_twist_hat(xi)), xi, atol=0)
 
 
+def test_modern_robotics_published_examples():
+    # MatrixExp3 of [ω] with ω = (1, 2, 3) (Modern Robotics, core.py docstring example)
+    np.testing.assert_allclose(se3.exp3([1.0, 2.0, 3.0]),
+                               [[-0.69492056, 0.71352099, 0.08929286],
+                                [-0.19200697, -0.30378504, 0.93319235],
+                                [0.69297817, 0.6313497, 0.34810748]], atol=1e-8)
+    # MatrixLog6 of a rotation π/2 about x with o = (0, 0, 3): MR gives [ω; v] = (π/2, 0, 0; 0, 3π/4, 3π/4).
+    # By hand: v = θ G⁻¹(θ) o, G⁻¹ = I/θ − ½ S(x) + (1/θ − ½ cot(θ/2)) S(x)², θ = π/2 → (0, 1.5, 1.5) θ.
+    T = np.array([[1.0, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 3], [0, 0, 0, 1]])
+    np.testing.assert_allclose(se3.log6(T), [0, 3 * math.pi / 4, 3 * math.pi / 4, math.pi / 2, 0, 0], atol=1e-12)
+    # ScrewToAxis(q = (3, 0, 0), s = (0, 0, 1), h = 2) = [ω; v] = (0, 0, 1, 0, −3, 2) in MR's order
+    S_mr = np.array([0.0, 0.0, 1.0, 0.0, -3.0, 2.0])
+    np.testing.assert_allclose(se3.screw_to_twist([0, 0, 1], [3, 0, 0], 2.0), np.r_[S_mr[3:], S_mr[:3]])
+
+
 # --------------------------------------------------------------------------------------------
 # Screws
 # --------------------------------------------------------------------------------------------
@@ -178,9 +193,34 @@ def test_pose_delta_round_trip_and_first_order_agreement_with_log():
         assert err > 0.01 * eps**2  # and not better: the first-order formula has a genuine ε² error
 
 
-def test_delta_to_pose_from_identity():
-    D = se3.delta_to_pose([1, 2, 3, 0.1, 0.2, 0.3])
-    np.testing.assert_allclose(D, [[1, -0.3, 0.2, 1], [0.3, 1, -0.1, 2], [-0.2, 0.1, 1, 3], [0, 0, 0, 1]])
+def test_spatialmath_published_delta_cases():
+    def transl(x, y, z):
+        T = np.eye(4)
+        T[:3, 3] = [x, y, z]
+        return T
+
+    def trot(R):
+        T = np.eye(4)
+        T[:3, :3] = R
+        return T
+
+    np.testing.assert_allclose(se3.pose_delta(np.eye(4), transl(0.1, 0.2, 0.3)), [0.1, 0.2, 0.3, 0, 0, 0], atol=1e-15)
+    np.testing.assert_allclose(se3.pose_delta(transl(0.1, 0.2, 0.3), transl(0.2, 0.4, 0.6)),
+                               [0.1, 0.2, 0.3, 0, 0, 0], atol=1e-15)
+    Rx = Rotation.from_rotvec
+    np.testing.assert_allclose(se3.pose_delta(np.eye(4), trot(Rx([0.001, 0, 0]).as_matrix())),
+                               [0, 0, 0, 0.001, 0, 0], atol=1e-9)
+    np.testing.assert_allclose(se3.pose_delta(trot(Rx([0.001, 0, 0]).as_matrix()), trot(Rx([0.002, 0, 0]).as_matrix())),
+                               [0, 0, 0, 0.001, 0, 0], atol=1e-9)
+    np.testing.assert_allclose(se3.delta_to_pose([0.1, 0.2, 0.3, 0.4, 0.5, 0.6]),
+                               [[1.0, -0.6, 0.5, 0.1], [0.6, 1.0, -0.4, 0.2], [-0.5, 0.4, 1.0, 0.3], [0, 0, 0, 1]],
+                               atol=1e-15)
+    np.testing.assert_allclose(se3.delta_to_pose(np.zeros(6)), np.eye(4), atol=0)
+    # trinterp's cases where slerp and the screw agree: midpoints of symmetric pure rotations/translations
+    R = Rx([0.3, 0, 0]).as_matrix()
+    np.testing.assert_allclose(se3.screw_interpolation(trot(R.T), trot(R), 0.5), np.eye(4), atol=1e-14)
+    np.testing.assert_allclose(se3.screw_interpolation(transl(-1, -2, -3), transl(1, 2, 3), 0.5), np.eye(4),
+                               atol=1e-14)
 
 
 # --------------------------------------------------------------------------------------------

@@ -52,6 +52,19 @@ def test_asada_on_the_two_link_arm_against_the_closed_form(q):
     assert asada_manipulability(J6, B_model, axes="rot") == pytest.approx(0.0, abs=1e-12)
 
 
+@pytest.mark.parametrize("name, axes, rows", [("anthropomorphic", "trans", slice(0, 3)),
+                                               ("spherical_wrist", "rot", slice(3, 6))])
+def test_asada_translational_and_rotational_against_the_toolbox_formula(name, axes, rows):
+    # three joints, three task rows: the Toolbox's λ_min/λ_max of J^{-T} B J^{-1} with an explicit inverse
+    robot = load(name)
+    q = np.array([0.3, 0.7, -0.8])
+    J, B = geometric_jacobian(robot, q), inertia_matrix(robot, q)
+    Ji = np.linalg.inv(J[rows])
+    lam = np.linalg.eigvalsh(Ji.T @ B @ Ji)
+    assert 0.01 < lam[0] / lam[-1] < 0.99  # a genuinely anisotropic ellipsoid
+    assert asada_manipulability(J, B, axes=axes) == pytest.approx(lam[0] / lam[-1], rel=1e-9)
+
+
 def test_asada_vanishes_at_a_singularity_and_is_scale_free():
     q = np.array([0.4, 0.0])  # stretched arm
     assert asada_manipulability(arm2.jacobian(q), arm2.inertia(q)) == pytest.approx(0.0, abs=1e-12)

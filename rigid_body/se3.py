@@ -114,7 +114,10 @@ def screw_to_twist(axis: Any, point: Any, pitch: float, magnitude: float = 1.0) 
     if not abs(norm - 1.0) <= 1e-6:
         raise ValueError(f"`axis` must be a unit vector, got norm {norm:.6g}")
     p = as_vector(point, 3, "point")
-    h = float(pitch)
+    try:
+        h = float(pitch)
+    except (TypeError, ValueError):
+        raise ValueError(f"`pitch` must be a number, got {type(pitch).__name__}") from None
     if math.isnan(h) or h == -math.inf:
         raise ValueError(f"`pitch` must be finite or +inf (pure translation), got {pitch}")
     theta = float(as_vector(magnitude, 1, "magnitude")[0])

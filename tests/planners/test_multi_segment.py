@@ -93,8 +93,11 @@ def test_scalar_law_and_plot():
     import matplotlib
 
     matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     axes = tr.plot()
     assert axes[-1].get_xlabel() == "t [s]"
+    plt.close(axes[0].figure)
 
 
 @pytest.mark.parametrize("args, message", [

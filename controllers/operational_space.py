@@ -41,7 +41,7 @@ import numpy as np
 from scipy.optimize import fsolve
 
 from controllers.joint_space import _split, as_gain, as_reference
-from controllers.simulation import as_friction
+from controllers.simulation import as_friction, per_joint
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics
 from rigid_body.kinematics import _frame
 from rigid_body.robots import Robot
@@ -172,6 +172,13 @@ def _singular(where: str) -> ValueError:
                       "the task cannot be inverted")
 
 
+def _nonnegative(value: Any, n: int, name: str) -> np.ndarray:
+    v = per_joint(value, n, name)
+    if np.any(v < 0):
+        raise ValueError(f"`{name}` must be non-negative, got {v}")
+    return v
+
+
 def _check_redundancy(m: int, n: int) -> None:
     if m > n:
         raise ValueError(f"`rows` must select at most {n} components (one per joint), got {m}")
@@ -206,7 +213,7 @@ class OperationalPDGravity:
         m = self.task.m
         _check_redundancy(m, self.n)
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
-        self.K_N = as_friction(null_space_damping, self.n)
+        self.K_N = _nonnegative(null_space_damping, self.n, "null_space_damping")
         self.reference = self.task.reference
         self._log: dict[str, np.ndarray] = {}
 
@@ -242,8 +249,11 @@ class OperationalInverseDynamics:
     rows, frame, orientation : the task, as in :class:`OperationalPDGravity` (``"quaternion"`` or
         ``"axis_angle"`` for a pose task: geometric Jacobian).
     viscous_friction : F_v of the model.
-    null_space_damping : K_N [1/s] (scalar or (n,)); posture : q_0 (default the neutral configuration);
+    null_space_damping : K_N [1/s] (scalar or (n,)); posture : q_0 (required when K_q ≠ 0);
         posture_stiffness : K_q [1/s²] (scalar or (n,)). Used only for a redundant task.
+
+    With the quaternion error e_O ≈ (ϑ/2) r for small angles, an orientation stiffness 2 K_P gives
+    the orientation the bandwidth of a position stiffness K_P.
     """
 
     def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, rows: Sequence[int] | None = None,
@@ -258,9 +268,11 @@ class OperationalInverseDynamics:
         _check_redundancy(m, self.n)
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
         self.Fv = as_friction(viscous_friction, self.n)
-        self.K_N = as_friction(null_space_damping, self.n)
-        self.K_q = as_friction(posture_stiffness, self.n)
-        self.q_0 = (np.zeros(robot.nq) if posture is None else as_vector(posture, robot.nq, "posture")).copy()
+        self.K_N = _nonnegative(null_space_damping, self.n, "null_space_damping")
+        self.K_q = _nonnegative(posture_stiffness, self.n, "posture_stiffness")
+        if posture is None and np.any(self.K_q > 0):
+            raise ValueError("`posture` (q_0) is required with a nonzero `posture_stiffness`")
+        self.q_0 = np.zeros(robot.nq) if posture is None else as_vector(posture, robot.nq, "posture").copy()
         self.redundant = m < self.n
         self.reference = self.task.reference
         self._log: dict[str, np.ndarray] = {}

@@ -159,12 +159,16 @@ class PoseError:
 
 
 def orientation_error(R_d: np.ndarray, R_e: np.ndarray, orientation: str = "quaternion") -> np.ndarray:
-    """e_O (3,) of R_e w.r.t. R_d: ``"axis_angle"`` r sin ϑ (3.85), ``"quaternion"`` (3.91),
+    """e_O (3,) of R_e w.r.t. R_d: ``"axis_angle"`` r sin ϑ (3.85), ``"quaternion"`` (3.91) with Q_d
+    and Q_e in the same hemisphere (η_d η_e + ε_dᵀ ε_e ≥ 0: e_O = r sin(ϑ/2), R_d R_eᵀ = R(ϑ, r), ϑ ≤ π),
     ``"euler_zyz"``/``"rpy"`` φ_d − φ_e (wrapped), ``"none"`` zeros. Unvalidated rotations."""
     if orientation == "axis_angle":
         return _axis_angle_error(R_d, R_e)
     if orientation == "quaternion":
-        return orientation_error_quaternion(rotation_to_quaternion(R_d), rotation_to_quaternion(R_e))
+        Q_d, Q_e = rotation_to_quaternion(R_d), rotation_to_quaternion(R_e)
+        if Q_d @ Q_e < 0.0:  # same R_d, other sign: the error of the short way round, e_O = r sin(ϑ/2), ϑ ≤ π
+            Q_d = -Q_d
+        return orientation_error_quaternion(Q_d, Q_e)
     if orientation in ("euler_zyz", "rpy"):
         extract = rotation_to_euler_zyz if orientation == "euler_zyz" else rotation_to_rpy
         return wrap_angle(extract(R_d).angles - extract(R_e).angles)

@@ -7,8 +7,10 @@ The task is either
 * the **pose** (``orientation="quaternion"`` or ``"axis_angle"``): the error is
   x̃ = [p_d − p_e; e_O] with the unit-quaternion (3.91) or angle–axis (3.85) orientation error, and
   the Jacobian is the geometric one (the one these errors go with, Sect. 3.7.3), with the desired
-  velocity and acceleration [ṗ_d; ω_d], [p̈_d; ω̇_d]. ``"euler_zyz"``/``"rpy"`` (φ_d − φ_e with the
-  analytical Jacobian (3.66), literally Eq. 8.110) are accepted by the PD law.
+  velocity and acceleration [ṗ_d; ω_d], [p̈_d; ω̇_d]. Euler-angle errors (analytical Jacobian (3.66))
+  are not offered: they are singular where the Panda's hand points down (ZYZ) and, with the gains
+  that work for the quaternion error, the 1 ms PD loop on the Panda with RPY angles oscillated
+  without settling (measured).
 
 The laws, with errors x̃ = x_d − x_e and the task Jacobian J (rows of :class:`rigid_body.task_space.TaskSpace`):
 
@@ -18,7 +20,7 @@ The laws, with errors x̃ = x_d − x_e and the task Jacobian J (rows of :class:
   J† = J⁻¹ for a square task, the right pseudo-inverse (3.52) for a redundant one.
 
 Redundancy (fewer task components than joints, e.g. a 6-D pose on the 7-DOF Panda): the task does not
-fix the self-motion. The PD law adds the joint damping −K_N q̇ (``null_space_damping``): it only adds
+fix the self-motion. The PD law adds the joint damping −K_N q̇ (``joint_damping``): it only adds
 dissipation, so the Lyapunov argument of (8.110) holds and the self-motion comes to rest. Inverse
 dynamics adds, in the null space of J, y_0 = K_q (q_0 − q) − K_N q̇ (``posture``, ``posture_stiffness``,
 ``null_space_damping``), cf. (3.54): the task dynamics x̃̈ + K_D x̃̇ + K_P x̃ = 0 are untouched and the
@@ -50,7 +52,7 @@ from rigid_body.task_space import TaskSpace, pose_error
 from rigid_body.validation import as_vector
 
 PoseReference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
-CONTROL_ORIENTATIONS = ("none", "axis_angle", "quaternion", "euler_zyz", "rpy")
+CONTROL_ORIENTATIONS = ("none", "axis_angle", "quaternion")
 
 
 def _rows(rows: Sequence[int]) -> np.ndarray:
@@ -201,19 +203,19 @@ class OperationalPDGravity:
     rows : controlled components: of the position (0..2, default all three) for a position task, of
         [position; orientation] (0..5, default all six) for a pose task.
     frame : the controlled frame (default the end effector).
-    orientation : ``"none"`` (position task, default), ``"quaternion"``, ``"axis_angle"``, ``"euler_zyz"``, ``"rpy"``.
-    null_space_damping : K_N ≥ 0, joint damping [N·m·s/rad] (scalar or (n,)) that stops the self-motion of
-        a redundant arm.
+    orientation : ``"none"`` (position task, default), ``"quaternion"`` (3.91) or ``"axis_angle"`` (3.85).
+    joint_damping : K_N ≥ 0 [N·m·s/rad] (scalar or (n,)), the extra term −K_N q̇ that brings the self-motion
+        of a redundant arm to rest (pure dissipation: the equilibrium and its stability are those of (8.110)).
     """
 
     def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, rows: Sequence[int] | None = None,
-                 frame: str | int | None = None, orientation: str = "none", null_space_damping: Any = 0.0):
+                 frame: str | int | None = None, orientation: str = "none", joint_damping: Any = 0.0):
         self.robot, self.n = robot, robot.nv
         self.task = _Task(robot, rows, frame, orientation, reference)
         m = self.task.m
         _check_redundancy(m, self.n)
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
-        self.K_N = _nonnegative(null_space_damping, self.n, "null_space_damping")
+        self.K_N = _nonnegative(joint_damping, self.n, "joint_damping")
         self.reference = self.task.reference
         self._log: dict[str, np.ndarray] = {}
 
@@ -259,9 +261,6 @@ class OperationalInverseDynamics:
     def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, rows: Sequence[int] | None = None,
                  frame: str | int | None = None, viscous_friction: Any = 0.0, orientation: str = "none",
                  null_space_damping: Any = 0.0, posture: Any = None, posture_stiffness: Any = 0.0):
-        if orientation in ("euler_zyz", "rpy"):
-            raise ValueError(f"`orientation` {orientation!r}: J̇_A q̇ of Euler angles is not provided; "
-                             "use 'quaternion' or 'axis_angle'")
         self.robot, self.n = robot, robot.nv
         self.task = _Task(robot, rows, frame, orientation, reference)
         m = self.task.m

@@ -139,7 +139,7 @@ def test_pose_regulation_on_panda(panda, orientation):
     T_d = _moved(T_0, 1.0)
     controllers = {
         "PD + gravity": OperationalPDGravity(panda, np.r_[[2000.0] * 3, [400.0] * 3], np.r_[[100.0] * 3, [10.0] * 3],
-                                             T_d, orientation=orientation, null_space_damping=2.0),
+                                             T_d, orientation=orientation, joint_damping=2.0),
         "inverse dynamics": OperationalInverseDynamics(panda, np.r_[[400.0] * 3, [800.0] * 3], 40.0, T_d,
                                                        orientation=orientation, null_space_damping=10.0,
                                                        posture=Q0_PANDA, posture_stiffness=25.0),
@@ -166,7 +166,7 @@ def test_pose_tracking_on_panda(panda):
     assert worst < 1e-4
     assert max(_pose_errors(panda, res.x[-1, :7], T_f)) < 1e-3
     pd_law = OperationalPDGravity(panda, np.r_[[2000.0] * 3, [400.0] * 3], np.r_[[100.0] * 3, [10.0] * 3], path,
-                                  orientation="quaternion", null_space_damping=2.0)
+                                  orientation="quaternion", joint_damping=2.0)
     res = simulate(ArmPlant(panda), pd_law, (0.0, 3.0), np.r_[Q0_PANDA, np.zeros(7)], h=1e-3, Ts=1e-3)
     assert max(_pose_errors(panda, res.x[-1, :7], T_f)) < 1e-3
 
@@ -204,7 +204,7 @@ def test_bad_pose_tasks_raise(panda):
     T = direct_kinematics(panda, Q0_PANDA)
     with pytest.raises(ValueError, match="orientation"):
         OperationalPDGravity(panda, 1.0, 1.0, T, orientation="euler_xyz")
-    with pytest.raises(ValueError, match="Euler"):
+    with pytest.raises(ValueError, match="orientation"):
         OperationalInverseDynamics(panda, 1.0, 1.0, T, orientation="rpy")
     with pytest.raises(ValueError, match="reference"):
         OperationalPDGravity(panda, 1.0, 1.0, np.eye(3), orientation="quaternion")
@@ -212,7 +212,19 @@ def test_bad_pose_tasks_raise(panda):
         OperationalInverseDynamics(panda, 1.0, 1.0, lambda t: (T, np.zeros(3), np.zeros(6)), orientation="quaternion")
     with pytest.raises(ValueError, match="posture"):
         OperationalInverseDynamics(panda, 1.0, 1.0, T, orientation="quaternion", posture_stiffness=1.0)
+    with pytest.raises(ValueError, match="joint_damping"):
+        OperationalPDGravity(panda, 1.0, 1.0, T, orientation="quaternion", joint_damping=-1.0)
     with pytest.raises(ValueError, match="null_space_damping"):
-        OperationalPDGravity(panda, 1.0, 1.0, T, orientation="quaternion", null_space_damping=-1.0)
+        OperationalInverseDynamics(panda, 1.0, 1.0, T, orientation="quaternion", null_space_damping=-1.0)
     with pytest.raises(ValueError, match="no frame"):
         OperationalPDGravity(panda, 1.0, 1.0, T, orientation="quaternion", frame="nope")
+
+
+def test_without_null_space_terms_the_panda_drifts(panda):
+    """The reason for y_0: with the task alone the self-motion keeps going (measured ≈ 0.19 rad in 2–3 s)."""
+    T_d = _moved(direct_kinematics(panda, Q0_PANDA), 1.0)
+    ctrl = OperationalInverseDynamics(panda, np.r_[[400.0] * 3, [800.0] * 3], 40.0, T_d, orientation="quaternion")
+    res = simulate(ArmPlant(panda), ctrl, (0.0, 3.0), np.r_[Q0_PANDA, np.zeros(7)], h=1e-3, Ts=1e-3)
+    k2 = np.searchsorted(res.t, 2.0)
+    assert max(_pose_errors(panda, res.x[-1, :7], T_d)) < 1e-5                  # the task is still met …
+    assert np.abs(res.x[-1, :7] - res.x[k2, :7]).max() > 0.05                     # … but the arm wanders

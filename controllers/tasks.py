@@ -38,9 +38,10 @@ from controllers.simulation import ArmPlant, simulate
 from planners.paths import SegmentSequence
 from planners.timing import cubic_law, quintic_law, trapezoidal_law
 from rigid_body.dynamics import gravity_torques
-from rigid_body.kinematics import direct_kinematics, geometric_jacobian, jacobian_derivative_times_qd
+from rigid_body.kinematics import direct_kinematics, revolute_joints
 from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
+from rigid_body.task_space import joint_reference
 from rigid_body.validation import as_vector
 
 
@@ -246,11 +247,6 @@ class Workcell:
         return free[k] if d[k] <= self.grasp_tolerance else None
 
 
-def revolute_joints(robot: Robot) -> np.ndarray:
-    """Boolean mask (n,) of the revolute joints (whose angles may be shifted by 2π)."""
-    return np.array([j.shortname().startswith(("JointModelR", "JointModelRevolute")) for j in robot.model.joints[1:]])
-
-
 @dataclass(frozen=True)
 class ExecutionOptions:
     """Options of the primitive level: sampling ``Ts`` and integration step ``h`` [s], inverse-dynamics
@@ -423,46 +419,6 @@ class ActionExecutor:
         p = np.array([direct_kinematics(self.robot, qk)[:3, 3] for qk in q])
         return ExecutionRecord(list(self._steps), t, q, p, idx,
                                {o.name: o.position.copy() for o in self.workcell.objects})
-
-
-def joint_reference(robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.ndarray], law: Any,
-                    position_rows: Sequence[int], orientation: Sequence[float], jacobian_rows: Sequence[int],
-                    q_near: Any) -> Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """Joint reference (q_d, q̇_d, q̈_d)(t) of an operational motion with constant orientation.
-
-    q_d: closed-form IK of ``[p[position_rows], *orientation]``, the solution nearest to the previous
-    one (starting from ``q_near``); q̇_d = J⁻¹ ẋ_d and q̈_d = J⁻¹ (ẍ_d − J̇ q̇_d) (Eqs. (3.50), (3.99)
-    inverted), with J the ``jacobian_rows`` of the geometric Jacobian — square for a non-redundant task
-    (e.g. x, y, ω_z of a planar three-link arm).
-    """
-    rows = list(position_rows)
-    jrows = list(jacobian_rows)
-    phi = np.asarray(orientation, dtype=float)
-    n_o = phi.size
-    if len(jrows) != robot.nv or len(rows) + n_o != len(jrows):
-        raise ValueError(f"the task must be square: {len(rows)} positions + {n_o} orientations vs "
-                         f"{len(jrows)} Jacobian rows for {robot.nv} joints")
-    last = [as_vector(q_near, robot.nq, "q_near").copy()]
-    revolute = revolute_joints(robot)
-
-    def nearest(q: np.ndarray) -> np.ndarray:
-        """The 2π-equivalent of q (revolute joints only) closest to the previous reference."""
-        d = q - last[0]
-        d[..., revolute] = wrap_angle(d[..., revolute])
-        return last[0] + d
-
-    def reference(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        p, pd, pdd = (np.asarray(v, dtype=float) for v in law(t))
-        sols = nearest(np.atleast_2d(inverse_kinematics(np.concatenate([p[rows], phi]))))
-        q = sols[np.argmin(np.linalg.norm(sols - last[0], axis=1))]
-        last[0] = q
-        J = geometric_jacobian(robot, q)[jrows]
-        qd = np.linalg.solve(J, np.concatenate([pd[rows], np.zeros(n_o)]))
-        Jd_qd = jacobian_derivative_times_qd(robot, q, qd)[jrows]
-        qdd = np.linalg.solve(J, np.concatenate([pdd[rows], np.zeros(n_o)]) - Jd_qd)
-        return q, qd, qdd
-
-    return reference
 
 
 # --------------------------------------------------------------------------------------------

@@ -20,9 +20,8 @@ import numpy as np  # noqa: E402
 import pinocchio as pin  # noqa: E402
 
 from controllers.simulation import simulate  # noqa: E402
-from planners.inverse_kinematics import (CLIK, JointIntegrator, TaskSpace, TwoStageCLIK,  # noqa: E402
-                                         cosine_pose_reference, damped_least_squares_inverse,
-                                         gradient_velocity, weighted_pseudo_inverse)
+from planners.inverse_kinematics import (CLIK, JointIntegrator, TwoStageCLIK,  # noqa: E402
+                                         cosine_pose_reference, gradient_velocity)
 from problems.registry import Solution, problem  # noqa: E402
 from rigid_body.kinematics import (analytical_jacobian, direct_kinematics, frame_poses,  # noqa: E402
                                    geometric_jacobian)
@@ -37,6 +36,7 @@ from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz, 
                                   rotation_to_quaternion, rpy_to_rotation, skew, vee)
 from rigid_body.statics import (planar_arm_obstacle_distance, planar_arm_obstacle_distance_gradient,  # noqa: E402
                                 segment_chain_distance)
+from rigid_body.task_space import TaskSpace, damped_least_squares_inverse, weighted_pseudo_inverse  # noqa: E402
 
 N_RANDOM = 50  # random configurations per closed-form check
 H = 1e-6       # finite-difference step

@@ -34,8 +34,7 @@ from rigid_body import dynamics as dyn
 from rigid_body import lagrange as lg
 from rigid_body import newton_euler as ne
 from rigid_body.dh import DHLink, robot_from_dh
-from rigid_body.kinematics import (ELBOW_DOWN, direct_kinematics, geometric_jacobian,
-                                   inverse_kinematics_planar_2r, jacobian_derivative_times_qd)
+from rigid_body.kinematics import ELBOW_DOWN, direct_kinematics, geometric_jacobian, inverse_kinematics_planar_2r
 from rigid_body.operational_space import (dynamic_manipulability, dynamic_manipulability_ellipsoid,
                                           dynamically_consistent_inverse, minimum_norm_torque,
                                           minimum_norm_torque_qp, operational_space_inertia_rate,
@@ -45,6 +44,7 @@ from rigid_body.regressor import (identify, minimum_parameters, payload_link_par
                                   pr_minimum_parameters, pr_regressor, stack_regressor, two_link_parameters,
                                   two_link_regressor, two_link_textbook_parameters, two_link_textbook_regressor)
 from rigid_body.robots import load
+from rigid_body.task_space import joint_rates
 from urdf.book_robots import G, cartesian_skew, planar_2r, planar_3r, planar_pr
 
 N_STATES = 20  # random states per closed-form comparison
@@ -612,10 +612,7 @@ def example_7_2_trajectories(dt: float = 1e-3) -> dict:
     q = np.array([inverse_kinematics_planar_2r([x, 0.0])[ELBOW_DOWN] for x in xs.q[:, 0]])
     qd, qdd = np.zeros_like(q), np.zeros_like(q)
     for k in range(t.size):
-        J = geometric_jacobian(robot, q[k])[:2]
-        pd, pdd = np.array([xs.qd[k, 0], 0.0]), np.array([xs.qdd[k, 0], 0.0])
-        qd[k] = np.linalg.solve(J, pd)
-        qdd[k] = np.linalg.solve(J, pdd - jacobian_derivative_times_qd(robot, q[k], qd[k])[:2])
+        qd[k], qdd[k] = joint_rates(robot, q[k], [xs.qd[k, 0], 0.0], [xs.qdd[k, 0], 0.0], rows=(0, 1))
     out["tra_3"] = (t, q, qd, qdd)
     return out
 

@@ -21,6 +21,7 @@ import pinocchio as pin  # noqa: E402
 from matplotlib.path import Path as PolygonPath  # noqa: E402
 from scipy.spatial import cKDTree  # noqa: E402
 
+from planners.configuration_space import polyline_distance  # noqa: E402
 from problems.registry import Solution, problem  # noqa: E402
 from rigid_body import rotations as rot  # noqa: E402
 from rigid_body.closed_chain import (FourLinkClosedChain, closed_chain_direct_kinematics,  # noqa: E402
@@ -551,15 +552,6 @@ def problem_2_16() -> Solution:
     return sol
 
 
-def _distance_to_polyline(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    """Distance of each point (m, 2) to the closed polyline ``poly`` (k, 2)."""
-    a, b = poly[:-1], poly[1:]
-    ab = b - a
-    t = np.clip(np.einsum("mkj,kj->mk", points[:, None, :] - a[None], ab) / np.einsum("kj,kj->k", ab, ab), 0, 1)
-    closest = a[None] + t[..., None] * ab[None]
-    return np.min(np.linalg.norm(points[:, None, :] - closest, axis=2), axis=1)
-
-
 @problem("2.17", "Workspace of a three-link planar arm with joint limits", kind="numeric")
 def problem_2_17() -> Solution:
     """Draw the reachable workspace of the three-link planar arm of Fig. 2.20 with
@@ -596,14 +588,14 @@ def problem_2_17() -> Solution:
     poly = contour.points
     samples = workspace_points(robot, N_WORKSPACE, rng)[:, :2]
     inside = PolygonPath(poly).contains_points(samples)
-    outside_dist = _distance_to_polyline(samples[~inside], poly) if np.any(~inside) else np.zeros(1)
+    outside_dist = polyline_distance(samples[~inside], poly) if np.any(~inside) else np.zeros(1)
     sol.check("samples_inside_contour_AMQRPHEDA", float(np.max(outside_dist)) < 1e-3,
               f"{int(inside.sum())}/{N_WORKSPACE} strictly inside; the others within {np.max(outside_dist):.1e} m of the "
               "contour (arc chords)")
     xs, ys = np.meshgrid(np.linspace(-1, 1, 81), np.linspace(-1, 1, 81))
     grid = np.column_stack([xs.ravel(), ys.ravel()])
     grid = grid[PolygonPath(poly).contains_points(grid)]
-    grid = grid[_distance_to_polyline(grid, poly) > 0.015]
+    grid = grid[polyline_distance(grid, poly) > 0.015]
     gap = cKDTree(samples).query(grid)[0]
     sol.check("interior_is_covered", float(np.max(gap)) < 0.015,
               f"{len(grid)} grid points inside (> 0.015 m from the contour): nearest sample within {np.max(gap):.4f} m")
@@ -616,7 +608,7 @@ def problem_2_17() -> Solution:
     radii = [np.linalg.norm(pts[k]) for k in "HEDA"]
     sol.check_close("H_E_D_A_on_one_circle", np.array(radii), np.full(4, radii[0]), atol=1e-12)
     mirrored = poly * [1.0, -1.0]
-    sym = max(float(np.max(_distance_to_polyline(mirrored, poly))), float(np.max(_distance_to_polyline(poly, mirrored))))
+    sym = max(float(np.max(polyline_distance(mirrored, poly))), float(np.max(polyline_distance(poly, mirrored))))
     mirrored_inside = PolygonPath(poly).contains_points(samples * [1.0, -1.0])
     sol.check("symmetric_about_x_axis", sym < 1e-3 and mirrored_inside.mean() == inside.mean(),
               f"Hausdorff(contour, mirror) = {sym:.1e} m; mirrored samples inside: {mirrored_inside.mean():.4f} "

@@ -1,7 +1,7 @@
 """Chapter 3 — Differential kinematics and statics: Problems 3.1–3.23.
 
 Each problem builds its data, calls the library (``rigid_body.kinematics``, ``rigid_body.rotations``,
-``rigid_body.statics``, ``rigid_body.manipulability``, ``planners.inverse_kinematics``) and checks the
+``rigid_body.manipulability``, ``planners.inverse_kinematics``, ``planners.configuration_space``) and checks the
 manual's closed forms numerically at many random configurations, against an independent reference
 (finite differences, a second formula, a QP solver, brute force).
 
@@ -35,8 +35,8 @@ from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz, 
                                   quaternion_angular_velocity, quaternion_product, quaternion_rate,
                                   quaternion_to_rotation, rot_x, rot_y, rot_z, rotation_to_axis_angle,
                                   rotation_to_quaternion, rpy_to_rotation, skew, vee)
-from rigid_body.statics import (planar_arm_obstacle_distance, planar_arm_obstacle_distance_gradient,  # noqa: E402
-                                segment_chain_distance)
+from planners.configuration_space import (planar_arm_obstacle_distance, planar_arm_obstacle_distance_gradient,  # noqa: E402
+                                           segment_chain_distance)
 
 N_RANDOM = 50  # random configurations per closed-form check
 H = 1e-6       # finite-difference step

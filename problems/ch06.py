@@ -17,8 +17,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from controllers.tasks import (PEG_STATES, ActionExecutor, ExecutionOptions, PegInHoleTask, Step, SurfaceWithHole, TaskError, Workcell,
-                               decompose_pick_and_place, distance_to_box, fill_pallet_program, moveto,
-                               pick_and_place_path, run_peg_in_hole)
+                               fill_pallet_program, moveto, run_peg_in_hole)
+from planners.configuration_space import distance_to_box
+from planners.tasks import decompose_pick_and_place, pick_and_place_path
 from problems.registry import Solution, problem
 from rigid_body.kinematics import inverse_kinematics_planar_3r, inverse_kinematics_scara
 from rigid_body.robots import load

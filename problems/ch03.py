@@ -18,7 +18,7 @@ from controllers.simulation import simulate
 from planners.inverse_kinematics import (CLIK, JointIntegrator, TaskSpace, TwoStageCLIK,
                                          cosine_pose_reference, damped_least_squares_inverse,
                                          gradient_velocity, weighted_pseudo_inverse)
-from problems.common import max_error, random_quaternion, random_rotation, subplots, unit
+from problems.common import label_axes, max_error, random_quaternion, random_rotation, subplots, unit
 from problems.registry import Solution, problem
 from rigid_body.kinematics import (analytical_jacobian, direct_kinematics, frame_poses,
                                    geometric_jacobian)
@@ -591,14 +591,13 @@ def problem_3_20() -> Solution:
 def _history_figure(title: str, res, error_panels: list[tuple[str, np.ndarray]]):
     fig, axes = subplots(2, 2, figsize=(10, 6.5))
     axes[0, 0].plot(res.t, res.x)
-    axes[0, 0].set(title="joint positions", xlabel="t [s]", ylabel="q [rad | m]")
+    label_axes(axes[0, 0], "t [s]", "q [rad | m]", title="joint positions", legend=False)
     axes[0, 0].legend([f"q{i + 1}" for i in range(res.x.shape[1])], fontsize="small")
     axes[0, 1].plot(res.t, res.u)
-    axes[0, 1].set(title="joint velocities", xlabel="t [s]", ylabel="qdot [rad/s | m/s]")
+    label_axes(axes[0, 1], "t [s]", "qdot [rad/s | m/s]", title="joint velocities", legend=False)
     for ax, (label, y) in zip(axes[1], error_panels):
         ax.plot(res.t, y)
-        ax.set(title=label, xlabel="t [s]")
-        ax.grid(True)
+        label_axes(ax, "t [s]", title=label, legend=False)
     fig.suptitle(title)
     return fig  # laid out by Solution.figure
 
@@ -740,6 +739,7 @@ def problem_3_23() -> Solution:
         ax.plot(pts[:, 0], pts[:, 1], "k-o", lw=2)
         plot_ellipse(ax, velocity_ellipsoid(J), pts[-1], color="tab:blue")
         plot_ellipse(ax, force_ellipsoid(J), pts[-1], color="tab:red", ls="--")
-    ax.set(aspect="equal", xlabel="x [m]", ylabel="y [m]", title="velocity (solid) and force (dashed) ellipses")
+    ax.set_aspect("equal")
+    label_axes(ax, "x [m]", "y [m]", title="velocity (solid) and force (dashed) ellipses", legend=False, grid=False)
     sol.figure(fig, "Problem 3.23 — manipulability ellipsoids of the two-link arm")
     return sol

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from planners import paths, timing
-from problems.common import subplots
+from problems.common import label_axes, subplots
 from problems.registry import Solution, problem
 
 TS = 0.01  # sample time of the companion files' plots [s]
@@ -29,11 +29,7 @@ def _figure(tr: timing.Trajectory, title: str, columns: list[int] | None = None,
     for ax, y, name in zip(axes, (tr.q, tr.qd, tr.qdd), names):
         for j, col in enumerate(columns):
             ax.plot(tr.t, y[:, col], label=None if labels is None else labels[j])
-        ax.set_ylabel(name)
-        ax.grid(True, alpha=0.3)
-    if labels is not None:
-        axes[0].legend(loc="best", fontsize="small")
-    axes[-1].set_xlabel("t [s]")
+        label_axes(ax, "t [s]" if ax is axes[-1] else None, name, legend=labels is not None and ax is axes[0])
     fig.suptitle(title)
     return fig  # laid out by Solution.figure
 

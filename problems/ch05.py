@@ -18,7 +18,7 @@ import sympy as sp
 from matplotlib.figure import Figure
 
 from controllers.simulation import simulate
-from problems.common import max_relative_error, subplots
+from problems.common import label_axes, max_relative_error, subplots
 from problems.registry import Solution, problem
 from rigid_body.actuators import (DCServomotor, HydraulicMotor, ServomotorPlant, design_pi_current_loop,
                                   frequency_samples, hydraulic_transfer_functions,
@@ -141,9 +141,8 @@ def _servomotor_figure(title: str, runs: list[tuple[str, np.ndarray, np.ndarray,
         row[1].plot(t * 1e3, omega)
         row[1].set_ylabel("velocity [rad/s]")
         for ax in row:
-            ax.set_xlabel("t [ms]")
             ax.set_title(label, fontsize="small")
-            ax.grid(True, alpha=0.3)
+            label_axes(ax, "t [ms]", legend=False)
     fig.suptitle(title)
     return fig  # laid out by Solution.figure
 

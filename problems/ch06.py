@@ -174,9 +174,7 @@ def problem_6_2() -> Solution:
         ax.plot(*p, "ko")
         ax.annotate(k, p, textcoords="offset points", xytext=(5, 5))
     ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.legend(fontsize="small", loc="lower center")
+    label_axes(ax, "x [m]", "y [m]", legend="lower center", grid=False)
     for label, style in (("path points (cubic DE)", "b-"), ("path points (trapezoidal DE)", "g-."),
                          ("via points", "r--")):
         tr = results[label][1]
@@ -236,16 +234,13 @@ def problem_6_3() -> Solution:
                   f"final tip ({x_e[-1, 0]:.4f}, {x_e[-1, 1]:.4f}) m; hole at x = {env.x_hole:.4f} ± {env.clearance} m")
         axes[0, col].plot(res.t, x_e[:, 0] * 1e3, label="x")
         axes[0, col].axhline(env.x_hole * 1e3, color="k", ls=":", label="hole centre")
-        axes[0, col].set_ylabel("x [mm]")
         axes[0, col].set_title(label, fontsize="small")
-        axes[0, col].legend(fontsize="x-small")
+        label_axes(axes[0, col], None, "x [mm]", legend=True, grid=False, fontsize="x-small")
         axes[1, col].plot(res.t, x_e[:, 1] * 1e3)
-        axes[1, col].set_ylabel("y [mm]")
+        label_axes(axes[1, col], None, "y [mm]", legend=False, grid=False)
         axes[2, col].plot(res.t, f[:, 1], label="f_y")
         axes[2, col].plot(res.t, f[:, 0], label="f_x")
-        axes[2, col].set_ylabel("force [N]")
-        axes[2, col].set_xlabel("t [s]")
-        axes[2, col].legend(fontsize="x-small")
+        label_axes(axes[2, col], "t [s]", "force [N]", legend=True, grid=False, fontsize="x-small")
         for t_s, s in ctrl.transitions[1:]:
             for ax in axes[:, col]:
                 ax.axvline(t_s, color="0.6", lw=0.7)
@@ -326,9 +321,7 @@ def problem_6_4() -> Solution:
     ax.plot(*CONVEYOR[:2], "g^", ms=10, label="conveyor")
     ax.plot(*HOME[:2], "k*", ms=10, label="home")
     ax.set_aspect("equal")
-    ax.set_xlabel("x₀ [m]")
-    ax.set_ylabel("y₀ [m]")
-    ax.legend(fontsize="x-small")
+    label_axes(ax, "x₀ [m]", "y₀ [m]", legend=True, grid=False, fontsize="x-small")
     ax2.plot(record.t, record.p[:, 2])
     ax2.invert_yaxis()
     label_axes(ax2, "t [s]", "z₀ [m] (down)", legend=False)

@@ -115,11 +115,10 @@ def problem_7_1() -> Solution:
         worst["pin"] = max(worst["pin"], max_abs_error(dyn.inertia_matrix(robot, q), B_manual) / np.abs(B_manual).max(),
                            max_abs_error(dyn.gravity_torques(robot, q), g_manual) / np.abs(g_manual).max())
     sol.value("B_last", B)
-    sol.check("link and motor Jacobians (7.16)-(7.29) equal the manual's", worst["jac"] < 1e-12,
-              f"max |error| = {worst['jac']:.2g}")
+    sol.check_error("link and motor Jacobians (7.16)-(7.29) equal the manual's", worst["jac"], 1e-12)
     sol.check("B (7.32) equals the manual's constant matrix", worst["B"] < 1e-12, f"relative {worst['B']:.2g}")
     sol.check("B constant ⇒ C = O (Christoffel symbols vanish)", worst["C"] < 1e-12, f"max |C| = {worst['C']:.2g}")
-    sol.check("g = [(mℓ1 + mm2 + mℓ2) g, mℓ2 g/√2] (7.39)", worst["g"] < 1e-9, f"max |error| = {worst['g']:.2g}")
+    sol.check_error("g = [(mℓ1 + mm2 + mℓ2) g, mℓ2 g/√2] (7.39)", worst["g"], 1e-9)
     sol.check("Pinocchio (URDF with mimic rotors) gives the same B and g", worst["pin"] < 1e-12,
               f"relative {worst['pin']:.2g}")
     sol.check("the model is coupled: b12 = mℓ2/√2 ≠ 0 and gravity acts on joint 2", abs(B[0, 1]) > 0 and worst["g"] < 1e-9)
@@ -188,9 +187,8 @@ def problem_7_2() -> Solution:
         skew_std = max(skew_std, np.abs(Ns + Ns.T).max())
         Np = lg.inertia_matrix_rate(model, q, qd) - 2 * dyn.coriolis_matrix(robot, q, qd)
         skew_pin = max(skew_pin, np.abs(Np + Np.T).max())
-    sol.check("numeric: the alternative C equals the manual's and C q̇ = Pinocchio's h − g", err_C < 1e-9,
-              f"max |error| = {err_C:.2g}")
-    sol.check("numeric: N equals the manual's", err_N < 1e-9, f"max |error| = {err_N:.2g}")
+    sol.check_error("numeric: the alternative C equals the manual's and C q̇ = Pinocchio's h − g", err_C, 1e-9)
+    sol.check_error("numeric: N equals the manual's", err_N, 1e-9)
     sol.check("numeric: N is not skew-symmetric", min_asym > 1.0, f"min max|N + Nᵀ| = {min_asym:.3g}")
     sol.check("numeric: q̇ᵀ N q̇ = 0 (7.49)", qNq < 1e-9, f"max |q̇ᵀNq̇| = {qNq:.2g}")
     sol.check("Christoffel C (7.45): Ḃ − 2C skew (library and Pinocchio)", max(skew_std, skew_pin) < 1e-9,
@@ -266,17 +264,13 @@ def problem_7_3() -> Solution:
                                max_abs_error(dyn.coriolis_matrix(robot, q, qd), Cm),
                                max_abs_error(dyn.gravity_torques(robot, q), [0, 0, -m3 * G, 0]))
     sol.value("B_example", lg.inertia_matrix(down, q))
-    sol.check("B = B' + B'' equals the manual's b11 ... b44", worst["B"] < 1e-9, f"max |error| = {worst['B']:.2g}")
-    sol.check("Christoffel symbols: only c112 = c121 = c122 = k, c211 = −k", worst["c"] < 1e-9,
-              f"max |error| = {worst['c']:.2g}")
-    sol.check("C equals the manual's [[kϑ̇2, k(ϑ̇1+ϑ̇2), 0, 0], [−kϑ̇1, 0, 0, 0], 0, 0]", worst["C"] < 1e-9,
-              f"max |error| = {worst['C']:.2g}")
-    sol.check("axes up (gravity −z₀): g = [0, 0, mℓ3 g, 0] as in the manual", worst["g_up"] < 1e-9,
-              f"max |error| = {worst['g_up']:.2g}")
+    sol.check_error("B = B' + B'' equals the manual's b11 ... b44", worst["B"], 1e-9)
+    sol.check_error("Christoffel symbols: only c112 = c121 = c122 = k, c211 = −k", worst["c"], 1e-9)
+    sol.check_error("C equals the manual's [[kϑ̇2, k(ϑ̇1+ϑ̇2), 0, 0], [−kϑ̇1, 0, 0, 0], 0, 0]", worst["C"], 1e-9)
+    sol.check_error("axes up (gravity −z₀): g = [0, 0, mℓ3 g, 0] as in the manual", worst["g_up"], 1e-9)
     sol.check("erratum: axes down as in Fig. S2.3 (gravity +z₀) ⇒ g3 = −mℓ3 g", worst["g_down"] < 1e-9,
               f"max |error| = {worst['g_down']:.2g}; the manual's +mℓ3 g assumes z₀ up")
-    sol.check("Pinocchio (URDF with mimic rotors) agrees with the manual's B, C and g3 = −mℓ3 g",
-              worst["pin"] < 1e-9, f"max |error| = {worst['pin']:.2g}")
+    sol.check_error("Pinocchio (URDF with mimic rotors) agrees with the manual's B, C and g3 = −mℓ3 g", worst["pin"], 1e-9)
     return sol
 
 
@@ -405,10 +399,7 @@ def problem_7_4() -> Solution:
     for j, ax in enumerate(axes):
         ax.plot(res.t, tau_meas[:, j], ".", ms=2, label="measured τ (noisy)")
         ax.plot(res.t, tau_hat[:, j], lw=1, label="Ȳ π̂")
-        ax.set_ylabel(f"τ{j + 1} [N·m]")
-        ax.grid(alpha=0.3)
-    axes[0].legend(fontsize="small")
-    axes[-1].set_xlabel("t [s]")
+        label_axes(ax, "t [s]" if j == len(axes) - 1 else None, f"τ{j + 1} [N·m]", legend=j == 0)
     sol.figure(fig, "Problem 7.4 — least-squares identification of π' and F_v (two-link arm)")
     return sol
 
@@ -499,19 +490,15 @@ def problem_7_5() -> Solution:
         worst["Y"] = max(worst["Y"], max_abs_error(pr_regressor(q, qd, qdd) @ pi, tau_p),
                          max_abs_error(pi, [b11p, m2p * l2p, b22p]))
     sol.value("pi_prime_last", pi)
-    sol.check("frames of Fig. S7.2: z₁ = y₀, p₁ = [0 0 d1], p_ℓ2 = [−ℓ2c2, 0, d1 + ℓ2s2]", worst["p"] < 1e-12,
-              f"max |error| = {worst['p']:.2g}")
-    sol.check("link and motor Jacobians equal the manual's", worst["jac"] < 1e-12, f"max |error| = {worst['jac']:.2g}")
-    sol.check("B = [[mℓ1+mm2+mℓ2+kr1²Im1, mℓ2ℓ2c2], [·, Iℓ2+mℓ2ℓ2²+kr2²Im2]] (Iℓ2 about the com, erratum)",
-              worst["B"] < 1e-10, f"max |error| = {worst['B']:.2g}")
-    sol.check("Christoffel symbols: only c122 = −mℓ2ℓ2s2", worst["c"] < 1e-10, f"max |error| = {worst['c']:.2g}")
-    sol.check("N = [[0, mℓ2ℓ2s2ϑ̇2], [−mℓ2ℓ2s2ϑ̇2, 0]] is skew-symmetric", worst["N"] < 1e-10, f"max |error| = {worst['N']:.2g}")
-    sol.check("g = [0, mℓ2ℓ2 g s2]", worst["g"] < 1e-10, f"max |error| = {worst['g']:.2g}")
-    sol.check("(S7.4)–(S7.5) = Lagrange model = Pinocchio RNEA", worst["eom"] < 1e-9, f"max |error| = {worst['eom']:.2g}")
-    sol.check("payload: m'ℓ2, ℓ'2, I'ℓ2 in the same formal model = Lagrange model with the payload",
-              worst["payload"] < 1e-9, f"max |error| = {worst['payload']:.2g}")
-    sol.check("minimum parameters π' and regressor Y' reproduce the model with payload", worst["Y"] < 1e-9,
-              f"max |error| = {worst['Y']:.2g}")
+    sol.check_error("frames of Fig. S7.2: z₁ = y₀, p₁ = [0 0 d1], p_ℓ2 = [−ℓ2c2, 0, d1 + ℓ2s2]", worst["p"], 1e-12)
+    sol.check_error("link and motor Jacobians equal the manual's", worst["jac"], 1e-12)
+    sol.check_error("B = [[mℓ1+mm2+mℓ2+kr1²Im1, mℓ2ℓ2c2], [·, Iℓ2+mℓ2ℓ2²+kr2²Im2]] (Iℓ2 about the com, erratum)", worst["B"], 1e-10)
+    sol.check_error("Christoffel symbols: only c122 = −mℓ2ℓ2s2", worst["c"], 1e-10)
+    sol.check_error("N = [[0, mℓ2ℓ2s2ϑ̇2], [−mℓ2ℓ2s2ϑ̇2, 0]] is skew-symmetric", worst["N"], 1e-10)
+    sol.check_error("g = [0, mℓ2ℓ2 g s2]", worst["g"], 1e-10)
+    sol.check_error("(S7.4)–(S7.5) = Lagrange model = Pinocchio RNEA", worst["eom"], 1e-9)
+    sol.check_error("payload: m'ℓ2, ℓ'2, I'ℓ2 in the same formal model = Lagrange model with the payload", worst["payload"], 1e-9)
+    sol.check_error("minimum parameters π' and regressor Y' reproduce the model with payload", worst["Y"], 1e-9)
     return sol
 
 
@@ -559,14 +546,11 @@ def problem_7_6() -> Solution:
         diag0 = np.diag(osm.B_A) if diag0 is None else diag0
         err["diag"] = max(err["diag"], max_abs_error(np.diag(osm.B_A), diag0))
     sol.value("B_A_diagonal", diag0)
-    sol.check("B_A equals the manual's (with (1 − kr2)²Im2 and kr2(1 − kr2)Im2)", err["B"] < 1e-9,
-              f"max |error| = {err['B']:.2g}")
+    sol.check_error("B_A equals the manual's (with (1 − kr2)²Im2 and kr2(1 − kr2)Im2)", err["B"], 1e-9)
     sol.check("diagonal of B_A is configuration-invariant", err["diag"] < 1e-9, f"max variation {err['diag']:.2g}")
-    sol.check("C_A ẋ = [h ẋ2², −h ẋ1²]: no Coriolis term (erratum: the manual's display is garbled)",
-              err["C"] < 1e-9, f"max |error| = {err['C']:.2g}")
-    sol.check("g_A = [(mℓ1ℓ1 + mm2a1 + mℓ2a1) g cos x1, mℓ2ℓ2 g cos x2] (erratum: Sect. 4.3.2 → 7.3.2)",
-              err["g"] < 1e-9, f"max |error| = {err['g']:.2g}")
-    sol.check("Pinocchio's B, C give the same B_A and C_A ẋ", err["pin"] < 1e-9, f"max |error| = {err['pin']:.2g}")
+    sol.check_error("C_A ẋ = [h ẋ2², −h ẋ1²]: no Coriolis term (erratum: the manual's display is garbled)", err["C"], 1e-9)
+    sol.check_error("g_A = [(mℓ1ℓ1 + mm2a1 + mℓ2a1) g cos x1, mℓ2ℓ2 g cos x2] (erratum: Sect. 4.3.2 → 7.3.2)", err["g"], 1e-9)
+    sol.check_error("Pinocchio's B, C give the same B_A and C_A ẋ", err["pin"], 1e-9)
     direct = planar_2r(k_r=(100.0, 1.0))
     osm1 = operational_space_model(lg.inertia_matrix(lg.serial_model(direct), [0.3, 0.4]), np.zeros((2, 2)),
                                    np.zeros(2), J_A, np.zeros((2, 2)))
@@ -739,16 +723,12 @@ def problem_7_8() -> Solution:
         B, h, g = _arm2_closed_form(s, q)
         tau_782 = B @ qdd + np.array([h * qd[1] * qd[0] + h * (qd[0] + qd[1]) * qd[1], -h * qd[0] ** 2]) + g
         worst["arm2"] = max(worst["arm2"], max_abs_error(ne.inverse_dynamics(arm2, q, qd, qdd), tau_782))
-    sol.check("rotations R⁰₁ and R¹₂ of Fig. S7.2", worst["R"] < 1e-12, f"max |error| = {worst['R']:.2g}")
-    sol.check("forward recursion: ω, ω̇, p̈, p̈_C, ω̇_m of links 1 and 2 equal the manual's", worst["fwd"] < 1e-10,
-              f"max |error| = {worst['fwd']:.2g}")
-    sol.check("backward recursion: f²₂, μ²₂,z, f¹₁ equal the manual's", worst["bwd"] < 1e-10,
-              f"max |error| = {worst['bwd']:.2g}")
-    sol.check("τ1, τ2 of the recursion equal the manual's", worst["tau"] < 1e-10, f"max |error| = {worst['tau']:.2g}")
-    sol.check("Newton–Euler = Lagrange (S7.4)–(S7.5) = Pinocchio RNEA", worst["lag"] < 1e-10,
-              f"max |error| = {worst['lag']:.2g}")
-    sol.check("Newton–Euler reproduces (7.82) of the two-link arm, with the k_r2 I_m2 coupling", worst["arm2"] < 1e-9,
-              f"max |error| = {worst['arm2']:.2g}")
+    sol.check_error("rotations R⁰₁ and R¹₂ of Fig. S7.2", worst["R"], 1e-12)
+    sol.check_error("forward recursion: ω, ω̇, p̈, p̈_C, ω̇_m of links 1 and 2 equal the manual's", worst["fwd"], 1e-10)
+    sol.check_error("backward recursion: f²₂, μ²₂,z, f¹₁ equal the manual's", worst["bwd"], 1e-10)
+    sol.check_error("τ1, τ2 of the recursion equal the manual's", worst["tau"], 1e-10)
+    sol.check_error("Newton–Euler = Lagrange (S7.4)–(S7.5) = Pinocchio RNEA", worst["lag"], 1e-10)
+    sol.check_error("Newton–Euler reproduces (7.82) of the two-link arm, with the k_r2 I_m2 coupling", worst["arm2"], 1e-9)
     return sol
 
 
@@ -831,10 +811,9 @@ def problem_7_10() -> Solution:
         err["cons"] = max(err["cons"], max_abs_error(Jb.T @ tau, gamma))
         err["null"] = max(err["null"], np.abs(Jb.T @ (np.eye(3) - J.T @ Jb.T)).max())
     sol.value("tau_last", tau)
-    sol.check("Lagrange-multiplier form = J_Aᵀγ_A + (I − J_AᵀJ̄_Aᵀ)τ_a = library", err["forms"] < 1e-9,
-              f"max |error| = {err['forms']:.2g}")
-    sol.check("proxsuite QP gives the closed-form torque", err["qp"] < 1e-7, f"max |error| = {err['qp']:.2g}")
-    sol.check("the constraint J̄_Aᵀ τ = γ_A holds", err["cons"] < 1e-9, f"max |error| = {err['cons']:.2g}")
+    sol.check_error("Lagrange-multiplier form = J_Aᵀγ_A + (I − J_AᵀJ̄_Aᵀ)τ_a = library", err["forms"], 1e-9)
+    sol.check_error("proxsuite QP gives the closed-form torque", err["qp"], 1e-7)
+    sol.check_error("the constraint J̄_Aᵀ τ = γ_A holds", err["cons"], 1e-9)
     sol.check("J̄_Aᵀ (I − J_Aᵀ J̄_Aᵀ) = O (dynamically consistent null space)", err["null"] < 1e-12,
               f"max |entry| = {err['null']:.2g}")
     return sol
@@ -880,18 +859,14 @@ def problem_7_11() -> Solution:
     fig, (ax1, ax2) = subplots(1, 2, figsize=(10, 4))
     ax1.plot(q2, wq)
     ax1.axvline(q2[k], ls="--", c="gray")
-    ax1.set_xlabel("q2 [rad]")
-    ax1.set_ylabel("w'(q)")
-    ax1.grid(alpha=0.3)
+    label_axes(ax1, "q2 [rad]", "w'(q)", legend=False)
     for q in ([-0.8, 0.6], [-1.0, np.pi / 2], [-1.4, 2.4]):
         pts = lg.frames(model, q)[1][:, :2]  # origins of frames 0, 1, 2
         ax2.plot(pts[:, 0], pts[:, 1], "o-", c="k", lw=2)
         E = dynamic_manipulability_ellipsoid(lg.geometric_jacobian(model, q)[:2], lg.inertia_matrix(model, q))
         plot_ellipse(ax2, dataclasses.replace(E, semi_axes=E.semi_axes * 40.0), center=pts[-1], c="C0")
     ax2.set_aspect("equal")
-    ax2.set_xlabel("x [m]")
-    ax2.set_ylabel("y [m]")
     ax2.set_title("ellipses (7.149), semi-axes × 40", fontsize="small")
-    ax2.grid(alpha=0.3)
+    label_axes(ax2, "x [m]", "y [m]", legend=False)
     sol.figure(fig, "Problem 7.11 — dynamic manipulability of the two-link arm")
     return sol

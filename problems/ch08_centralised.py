@@ -32,7 +32,7 @@ from controllers.plants import VoltageControlledArm
 from controllers.simulation import ArmPlant, SimulationResult, simulate
 from planners.paths import PathLaw, Segment
 from planners.timing import trapezoidal, trapezoidal_law
-from problems.common import subplots
+from problems.common import label_axes, subplots
 from problems.registry import Solution, problem
 from rigid_body.dynamics import inertia_matrix
 from rigid_body.kinematics import ELBOW_UP, direct_kinematics, inverse_kinematics_planar_2r
@@ -74,17 +74,11 @@ def _plot_pair(axes: Any, t: np.ndarray, y: np.ndarray, ylabel: str, labels=("jo
         for j, ax in enumerate(axes):
             ax.plot(t, reference[:, j], "k--", lw=1, label="desired")
             ax.plot(t, y[:, j], "C0-", label="actual")
-            ax.set_ylabel(f"{ylabel} {labels[j]}")
-            ax.grid(True, alpha=0.3)
-        axes[0].legend(loc="best", fontsize="small")
-        axes[-1].set_xlabel("t [s]")
+            label_axes(ax, "t [s]" if j == len(axes) - 1 else None, f"{ylabel} {labels[j]}", legend=j == 0)
         return
     axes.plot(t, y[:, 0], "C0-", label=labels[0])
     axes.plot(t, y[:, 1], "C1--", label=labels[1])
-    axes.set_ylabel(ylabel)
-    axes.set_xlabel("t [s]")
-    axes.grid(True, alpha=0.3)
-    axes.legend(loc="best", fontsize="small")
+    label_axes(axes, "t [s]", ylabel, legend=True)
 
 
 # --------------------------------------------------------------------------------------------
@@ -365,10 +359,7 @@ def problem_8_14() -> Solution:
     _plot_pair(axes[0], res.t, res["e"], "q~ [rad]")
     axes[1].plot(res.t, m_hat, "C0-", label="estimate")
     axes[1].axhline(M_L, color="k", ls="--", lw=1, label="true")
-    axes[1].set_ylabel("m_L [kg]")
-    axes[1].set_xlabel("t [s]")
-    axes[1].legend(loc="best", fontsize="small")
-    axes[1].grid(True, alpha=0.3)
+    label_axes(axes[1], "t [s]", "m_L [kg]", legend=True)
     sol.figure(fig, "Fig. S8.18: joint-space adaptive control")
     return sol
 

@@ -61,3 +61,11 @@ def test_chapter_modules_leave_the_backend_alone():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          env={"PATH": "", "PYTHONPATH": ":".join(sys.path)}).stdout.split()
     assert out == ["None"]
+
+
+def test_check_error_fails_above_the_tolerance_and_on_nan():
+    sol = Solution()
+    assert sol.check_error("small", 1e-13, 1e-12)
+    assert not sol.check_error("large", 2e-12, 1e-12)
+    assert not sol.check_error("nan", float("nan"), 1.0)
+    assert [c.passed for c in sol.checks] == [True, False, False] and "2e-12" in sol.checks[1].detail

@@ -1,14 +1,9 @@
 """Chapter 6: the task and action levels of the hierarchical control architecture, made executable.
 
-The task level decomposes a job into actions (6.1); the action level turns each action into motion
-primitives, choosing the frames, the path/via points and the timing laws (6.2); the primitive
-level plans and runs the motion on the arm (here: the simulation loop of
-:mod:`controllers.simulation`). Three pieces:
+The task level decomposes a job into actions (6.1) and the action level plans their paths (6.2):
+that is planning, in :mod:`planners.tasks`. Here the primitive level runs them on the arm (the
+simulation loop of :mod:`controllers.simulation`):
 
-* :func:`decompose_pick_and_place` and :func:`pick_and_place_path` — the action sequence of a
-  pick-and-place around an obstacle and its operational-space path through the intermediate
-  points C, D, E, F (Fig. S6.1), as path points (stop at D, E) or via points (overlapping
-  segments), timed with the laws of :mod:`planners.timing` on a :class:`planners.paths.SegmentSequence`.
 * :class:`ActionExecutor` — the primitives MOVETO(location, velocity), GRASP, RELEASE and
   NEW_OBJECT of the PASCAL program of 6.4, executed on a simulated arm: MOVETO solves the closed-form
   inverse kinematics, plans a joint-space quintic and tracks it with inverse-dynamics control;
@@ -35,12 +30,12 @@ import pinocchio as pin
 
 from controllers.joint_space import InverseDynamicsControl, with_payload
 from controllers.simulation import ArmPlant, simulate
-from planners.paths import SegmentSequence
-from planners.timing import cubic_law, quintic_law, trapezoidal_law
+from planners.timing import quintic_law
 from rigid_body.dynamics import gravity_torques
-from rigid_body.kinematics import direct_kinematics, geometric_jacobian, jacobian_derivative_times_qd
+from rigid_body.kinematics import direct_kinematics, revolute_joints
 from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
+from rigid_body.task_space import joint_reference
 from rigid_body.validation import as_vector
 
 
@@ -50,98 +45,6 @@ class TaskError(RuntimeError):
     def __init__(self, step: int, text: str, reason: str):
         super().__init__(f"step {step} {text}: {reason}")
         self.step, self.text, self.reason = step, text, reason
-
-
-# --------------------------------------------------------------------------------------------
-# 6.1–6.2: task decomposition and the path of a pick-and-place around an obstacle
-# --------------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class Action:
-    """One action of the task level: its name, the points it uses and how it moves."""
-
-    name: str
-    points: tuple[str, ...]
-    motion: str
-
-
-@dataclass(frozen=True)
-class PickAndPlacePlan:
-    """Intermediate points of Fig. S6.1 and the actions that use them.
-
-    C = grasp location (A), D = above A at a safe height, E = above B at the same height,
-    F = release location (B); ``actions`` is the task-level sequence of 6.1.
-    """
-
-    points: dict[str, np.ndarray]
-    actions: tuple[Action, ...]
-    safe_height: float
-
-
-def decompose_pick_and_place(A: Any, B: Any, obstacle: Any, clearance: float) -> PickAndPlacePlan:
-    """Task decomposition of 6.1 for a planar pick-and-place from A to B over a box obstacle.
-
-    ``A``, ``B`` are (x, y) on the work surface (y vertical up); ``obstacle`` = (x_min, x_max, top)
-    of a box standing on the surface between them (``top`` its upper face); ``clearance`` is the
-    safety distance. The safe height of D and E is top + clearance.
-    """
-    A, B = as_vector(A, 2, "A"), as_vector(B, 2, "B")
-    x_min, x_max, top = as_vector(obstacle, 3, "obstacle")
-    if not (x_min < x_max and clearance > 0):
-        raise ValueError(f"`obstacle` must be (x_min < x_max, top) and `clearance` > 0, got {obstacle}, {clearance}")
-    if not (A[0] < x_min and B[0] > x_max or B[0] < x_min and A[0] > x_max):
-        raise ValueError("the obstacle must stand between A and B along x (else no avoidance is needed)")
-    y_safe = top + clearance
-    if min(A[1], B[1]) >= y_safe:
-        raise ValueError("A and B are already above the obstacle")
-    points = {"C": A, "D": np.array([A[0], y_safe]), "E": np.array([B[0], y_safe]), "F": B}
-    actions = (
-        Action("approach A", ("C",), "slow, vertical end-effector orientation"),
-        Action("pick object", ("C",), "grasp at rest (null velocity and acceleration)"),
-        Action("move object avoiding obstacle", ("C", "D", "E"), "lift to D, transfer to E above the obstacle"),
-        Action("approach B", ("E", "F"), "slow descent, vertical orientation"),
-        Action("place object", ("F",), "release at rest (null velocity and acceleration)"),
-    )
-    return PickAndPlacePlan(points, actions, y_safe)
-
-
-def pick_and_place_path(plan: PickAndPlacePlan, durations: Sequence[float], via_points: bool = False,
-                        overlap: float = 0.0, middle: str = "cubic", t_i: float = 0.0) -> SegmentSequence:
-    """The operational-space motion C → D → E → F of 6.2 as a :class:`SegmentSequence` (z = 0).
-
-    Path points: segments CD and EF are timed by quintics (null velocity *and* acceleration at C and
-    F: "at least fourth order"), DE by a cubic (``middle="cubic"``) or a trapezoidal velocity profile
-    (``"trapezoidal"``), back to back, so the arm stops at D and E. Via points: the same laws, but DE
-    and EF start ``overlap`` seconds before the previous segment ends, so the path rounds D and E.
-    """
-    T1, T2, T3 = (float(v) for v in as_vector(durations, 3, "durations"))
-    if min(T1, T2, T3) <= 0:
-        raise ValueError(f"`durations` must be positive, got {durations}")
-    if via_points and not 0 < overlap < min(T1, T2, T3):
-        raise ValueError(f"`overlap` must be in (0, {min(T1, T2, T3)}) for via points, got {overlap}")
-    shift = overlap if via_points else 0.0
-    pts = np.array([np.append(plan.points[k], 0.0) for k in "CDEF"])
-    L = np.linalg.norm(np.diff(pts, axis=0), axis=1)
-    t1 = t_i + T1
-    t2 = t1 - shift + T2
-    laws = [quintic_law(0.0, L[0], t1, t_i=t_i)]
-    if middle == "cubic":
-        laws.append(cubic_law(0.0, L[1], t2, t_i=t1 - shift))
-    elif middle == "trapezoidal":
-        laws.append(trapezoidal_law(0.0, L[1], t2, 1.5 * L[1] / T2, t_i=t1 - shift))
-    else:
-        raise ValueError(f"`middle` must be 'cubic' or 'trapezoidal', got {middle!r}")
-    laws.append(quintic_law(0.0, L[2], t2 - shift + T3, t_i=t2 - shift))
-    return SegmentSequence(pts, laws)
-
-
-def distance_to_box(p: np.ndarray, obstacle: Any) -> np.ndarray:
-    """Euclidean distance of planar points p (N, 2) to the box [x_min, x_max] × (−∞, top]."""
-    x_min, x_max, top = as_vector(obstacle, 3, "obstacle")
-    p = np.atleast_2d(p)
-    dx = np.maximum(np.maximum(x_min - p[:, 0], p[:, 0] - x_max), 0.0)
-    dy = np.maximum(p[:, 1] - top, 0.0)
-    return np.hypot(dx, dy)
 
 
 # --------------------------------------------------------------------------------------------
@@ -244,11 +147,6 @@ class Workcell:
         d = [np.linalg.norm(o.position - p) for o in free]
         k = int(np.argmin(d))
         return free[k] if d[k] <= self.grasp_tolerance else None
-
-
-def revolute_joints(robot: Robot) -> np.ndarray:
-    """Boolean mask (n,) of the revolute joints (whose angles may be shifted by 2π)."""
-    return np.array([j.shortname().startswith(("JointModelR", "JointModelRevolute")) for j in robot.model.joints[1:]])
 
 
 @dataclass(frozen=True)
@@ -423,46 +321,6 @@ class ActionExecutor:
         p = np.array([direct_kinematics(self.robot, qk)[:3, 3] for qk in q])
         return ExecutionRecord(list(self._steps), t, q, p, idx,
                                {o.name: o.position.copy() for o in self.workcell.objects})
-
-
-def joint_reference(robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.ndarray], law: Any,
-                    position_rows: Sequence[int], orientation: Sequence[float], jacobian_rows: Sequence[int],
-                    q_near: Any) -> Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """Joint reference (q_d, q̇_d, q̈_d)(t) of an operational motion with constant orientation.
-
-    q_d: closed-form IK of ``[p[position_rows], *orientation]``, the solution nearest to the previous
-    one (starting from ``q_near``); q̇_d = J⁻¹ ẋ_d and q̈_d = J⁻¹ (ẍ_d − J̇ q̇_d) (Eqs. (3.50), (3.99)
-    inverted), with J the ``jacobian_rows`` of the geometric Jacobian — square for a non-redundant task
-    (e.g. x, y, ω_z of a planar three-link arm).
-    """
-    rows = list(position_rows)
-    jrows = list(jacobian_rows)
-    phi = np.asarray(orientation, dtype=float)
-    n_o = phi.size
-    if len(jrows) != robot.nv or len(rows) + n_o != len(jrows):
-        raise ValueError(f"the task must be square: {len(rows)} positions + {n_o} orientations vs "
-                         f"{len(jrows)} Jacobian rows for {robot.nv} joints")
-    last = [as_vector(q_near, robot.nq, "q_near").copy()]
-    revolute = revolute_joints(robot)
-
-    def nearest(q: np.ndarray) -> np.ndarray:
-        """The 2π-equivalent of q (revolute joints only) closest to the previous reference."""
-        d = q - last[0]
-        d[..., revolute] = wrap_angle(d[..., revolute])
-        return last[0] + d
-
-    def reference(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        p, pd, pdd = (np.asarray(v, dtype=float) for v in law(t))
-        sols = nearest(np.atleast_2d(inverse_kinematics(np.concatenate([p[rows], phi]))))
-        q = sols[np.argmin(np.linalg.norm(sols - last[0], axis=1))]
-        last[0] = q
-        J = geometric_jacobian(robot, q)[jrows]
-        qd = np.linalg.solve(J, np.concatenate([pd[rows], np.zeros(n_o)]))
-        Jd_qd = jacobian_derivative_times_qd(robot, q, qd)[jrows]
-        qdd = np.linalg.solve(J, np.concatenate([pdd[rows], np.zeros(n_o)]) - Jd_qd)
-        return q, qd, qdd
-
-    return reference
 
 
 # --------------------------------------------------------------------------------------------

@@ -12,12 +12,13 @@ and its solution manual.
 from __future__ import annotations
 
 import control
-import matplotlib.pyplot as plt
 import numpy as np
 import pinocchio as pin
 import sympy as sp
+from matplotlib.figure import Figure
 
 from controllers.simulation import simulate
+from problems.common import label_axes, max_relative_error, subplots
 from problems.registry import Solution, problem
 from rigid_body.actuators import (DCServomotor, HydraulicMotor, ServomotorPlant, design_pi_current_loop,
                                   frequency_samples, hydraulic_transfer_functions,
@@ -40,8 +41,6 @@ def _random_motor(rng: np.random.Generator, **overrides: float) -> DCServomotor:
     return DCServomotor(**p)
 
 
-def _max_rel(a: np.ndarray, b: np.ndarray) -> float:
-    return float(np.max(np.abs(a - b) / np.maximum(np.abs(b), 1e-300)))
 
 
 @problem("5.1", "Steady state and transfer functions of the velocity- and torque-controlled servomotor",
@@ -76,23 +75,23 @@ def problem_5_1() -> Solution:
         den = 1 + m3.kv * m3.kt / (m3.Ra * load_)
         manual_v = (K * m3.kt / (m3.Ra * load_)) / den
         manual_c = -(1 / load_) / den
-        worst_53 = max(worst_53, _max_rel(frequency_samples(tf.velocity_input, w), manual_v),
-                       _max_rel(frequency_samples(tf.velocity_load, w), manual_c))
+        worst_53 = max(worst_53, max_relative_error(frequency_samples(tf.velocity_input, w), manual_v),
+                       max_relative_error(frequency_samples(tf.velocity_load, w), manual_c))
         # ... and its F_m → 0 form, exact at F_m = 0
         m0 = _random_motor(rng, La=0.0, Fm=0.0)
         tf0 = servomotor_transfer_functions(m0, K)
         Tm = m0.Ra * m0.Im / (m0.kv * m0.kt)
         worst_53_approx = max(worst_53_approx,
-                              _max_rel(frequency_samples(tf0.velocity_input, w), (K / m0.kv) / (1 + s * Tm)),
-                              _max_rel(frequency_samples(tf0.velocity_load, w),
+                              max_relative_error(frequency_samples(tf0.velocity_input, w), (K / m0.kv) / (1 + s * Tm)),
+                              max_relative_error(frequency_samples(tf0.velocity_load, w),
                                        -(m0.Ra / (m0.kv * m0.kt)) / (1 + s * Tm)))
         # Fig. 5.4: torque-controlled generator, high-gain current loop
         m4 = _random_motor(rng, La=0.0, ki=rng.uniform(0.5, 2))
         tf4 = servomotor_transfer_functions(m4, 1e8)
         manual4_v = (m4.kt / (m4.ki * m4.Fm)) / (1 + s * m4.Im / m4.Fm)
         manual4_c = -(1 / m4.Fm) / (1 + s * m4.Im / m4.Fm)
-        worst_54 = max(worst_54, _max_rel(frequency_samples(tf4.velocity_input, w[:40]), manual4_v[:40]),
-                       _max_rel(frequency_samples(tf4.velocity_load, w[:40]), manual4_c[:40]))
+        worst_54 = max(worst_54, max_relative_error(frequency_samples(tf4.velocity_input, w[:40]), manual4_v[:40]),
+                       max_relative_error(frequency_samples(tf4.velocity_load, w[:40]), manual4_c[:40]))
     sol.check("steady state (k_i = 0): K v'_c = (F_m R_a/k_t + k_v) ω_m", worst_ss < 1e-12,
               f"max relative error {worst_ss:.2e} over 5 random motors")
     sol.check("steady state (k_i ≠ 0): K v'_c = ((R_a + K k_i)/k_t) c_m + k_v ω_m", worst_cm < 1e-12,
@@ -134,20 +133,18 @@ def problem_5_1() -> Solution:
     return sol
 
 
-def _servomotor_figure(title: str, runs: list[tuple[str, np.ndarray, np.ndarray, np.ndarray]]) -> plt.Figure:
-    fig, axes = plt.subplots(len(runs), 2, figsize=(9, 3.2 * len(runs)), squeeze=False)
+def _servomotor_figure(title: str, runs: list[tuple[str, np.ndarray, np.ndarray, np.ndarray]]) -> Figure:
+    fig, axes = subplots(len(runs), 2, figsize=(9, 3.2 * len(runs)), squeeze=False)
     for row, (label, t, i_a, omega) in zip(axes, runs):
         row[0].plot(t * 1e3, i_a)
         row[0].set_ylabel("current [A]")
         row[1].plot(t * 1e3, omega)
         row[1].set_ylabel("velocity [rad/s]")
         for ax in row:
-            ax.set_xlabel("t [ms]")
             ax.set_title(label, fontsize="small")
-            ax.grid(True, alpha=0.3)
+            label_axes(ax, "t [ms]", legend=False)
     fig.suptitle(title)
-    fig.tight_layout()
-    return fig
+    return fig  # laid out by Solution.figure
 
 
 @problem("5.2", "Current and velocity step response of a DC servomotor", kind="simulation")
@@ -219,7 +216,7 @@ def problem_5_3() -> Solution:
     sol.check_close("... and a 1 % settling time 4.6/(ζω_n) = 2 ms", 4.6 / (z * wn), t_s, atol=1e-12)
     lib = servomotor_transfer_functions(DCServomotor(**{**MOTOR_52, "Tv": 0.0, "kv": 1e-12}, ki=1.0), pi)
     manual = (1 + 1j * OMEGA * T_I) / (1 + 1j * OMEGA * a1 - OMEGA**2 * a2)
-    err = _max_rel(frequency_samples(lib.current_input, OMEGA), manual)
+    err = max_relative_error(frequency_samples(lib.current_input, OMEGA), manual)
     sol.check("current loop I_a/V'_c (block reduction, Ω_m ≈ 0, T_v = 0) = manual's transfer function",
               err < 1e-6, f"max relative error {err:.2e}")
     info = control.step_info(lib.current_input, SettlingTimeThreshold=0.01)
@@ -284,8 +281,8 @@ def problem_5_4() -> Solution:
         common = 1 + p.Fm / kk * (1 + s * p.Im / p.Fm) * chamber
         manual_v = (p.kx * p.Gs / (p.kr * p.kq)) / (s * (1 + s * p.Ts) * common)
         manual_c = -(chamber / kk) / (s * common)
-        worst_v = max(worst_v, _max_rel(frequency_samples(G_v, OMEGA[:45]), manual_v))
-        worst_c = max(worst_c, _max_rel(frequency_samples(G_c, OMEGA[:45]), manual_c))
+        worst_v = max(worst_v, max_relative_error(frequency_samples(G_v, OMEGA[:45]), manual_v))
+        worst_c = max(worst_c, max_relative_error(frequency_samples(G_c, OMEGA[:45]), manual_c))
     sol.check("Θ_m/V_c = (k_x G_s/(k_r k_q))/(s(1+sT_s)(1 + F_m/(k_t k_r k_q)(1+sI_m/F_m)(1+k_r k_l+s k_r k_c)))",
               worst_v < 1e-8, f"max relative error {worst_v:.2e}")
     sol.check("Θ_m/C_r = −((1+k_r k_l+s k_r k_c)/(k_t k_r k_q))/(s(1 + ...))", worst_c < 1e-8,

@@ -68,6 +68,11 @@ def jacobian_derivative_times_qd(robot: Robot, q: np.ndarray, qd: np.ndarray,
     return np.concatenate([a.linear, a.angular])
 
 
+def revolute_joints(robot: Robot) -> np.ndarray:
+    """Boolean mask (n,) of the revolute joints (whose angles may be shifted by 2π)."""
+    return np.array([j.shortname().startswith(("JointModelR", "JointModelRevolute")) for j in robot.model.joints[1:]])
+
+
 def end_effector_velocity(robot: Robot, q: np.ndarray, qd: np.ndarray,
                           frame: str | int | None = None) -> np.ndarray:
     """v_e = J(q) q̇ = [ṗ_e; ω_e] (6,), Eq. (3.2)."""

@@ -1,0 +1,456 @@
+"""Chapter 10 — Visual servoing: Problems 10.1–10.13.
+
+Data (MODEL-C of the catalogue): the SCARA of Table S2.3 with a₁ = a₂ = 1 m, links 1–2 of the two-link
+arm of Sect. 7.3.2 (with motors), last link m₃ = 2 kg, I₄ = 1 kg·m², F_v = diag(100, 100, 0, 0); the
+camera frame is the end-effector frame (z down, the optical axis); normalised image coordinates.
+Object frame x_o = [1, 1, 1, π/4] with feature points P₁ = [0, 0, 0], P₂ = [0.1, 0, 0] m; camera start
+x_c(0) = [1, 1, 0.5, π/4]; desired relative pose x_{d,o} = [−0.1, 0.1, 0.6, −π/3]. Gains, periods and
+durations are the authors' companion files' (i10_4 … i10_11), which win over the manual's text where
+they differ (companion-data.md): controller period T_c = 40 ms, 10.9's K(4,4) = 2. The manual's text
+values (4 ms, K = I₄) run as a named variant beside the primary run.
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Ch. 10,
+and its solution manual; companion files i10_4, i10_5, i10_8, i10_9, i10_11.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg import orthogonal_procrustes
+from scipy.spatial.transform import Rotation
+
+from controllers.visual_servoing import (SCARA_DOFS, PoseEstimator, TargetFeatures, gamma_matrix,
+                                         hybrid_error_jacobians, planar_pose, relative_pose_vector)
+from problems.common import label_axes, max_abs_error, random_rotation, subplots, unit
+from problems.registry import Solution, problem
+from rigid_body.camera import point_velocity_in_camera, region_moments, segment_features, view_points
+from rigid_body.rotations import nearest_rotation, skew
+from rigid_body.vision import (homography_between_views, homography_dlt, homography_dlt_matrix, depth_ratio,
+                               pose_from_homography, register_point_clouds, registration_cost)
+
+# -- MODEL-C and the visual target ------------------------------------------------------------
+X_O = np.array([1.0, 1.0, 1.0, np.pi / 4])            # object pose in the base frame [C i10_8]
+X_C0 = np.array([1.0, 1.0, 0.5, np.pi / 4])           # initial camera pose [M]
+X_DO = np.array([-0.1, 0.1, 0.6, -np.pi / 3])         # desired pose of the object in the camera frame [M]
+P_O = np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0]])    # feature points in the object frame
+S_POINTS_MEASURED = np.array([-0.1667, 0.1667, -0.0833, 0.0223])   # 10.4's measured features [C i10_4]
+K_S_ESTIMATOR = 160.0                                 # K_s = 160 I₄ [M, C]
+T_ESTIMATOR = 1e-3                                    # 1 ms Euler [M, C]
+
+
+def _wrap(a: np.ndarray) -> np.ndarray:
+    return np.arctan2(np.sin(a), np.cos(a))
+
+
+def _pose_error(x: np.ndarray, x_ref: np.ndarray) -> np.ndarray:
+    e = np.asarray(x, dtype=float) - x_ref
+    e[..., 3] = _wrap(e[..., 3])
+    return e
+
+
+def _fd(f, x: np.ndarray, h: float = 1e-6) -> np.ndarray:
+    """Central-difference Jacobian of f at x (the independent reference of the closed forms)."""
+    return np.column_stack([(np.asarray(f(x + h * e)) - np.asarray(f(x - h * e))) / (2 * h) for e in np.eye(x.size)])
+
+
+def _chord_deviation(path: np.ndarray) -> float:
+    """Largest distance of the points of a 2-D path from the chord joining its ends."""
+    a, b = path[0], path[-1]
+    d = unit(b - a)
+    rel = path - a
+    return float(np.max(np.abs(rel[:, 0] * d[1] - rel[:, 1] * d[0])))
+
+
+# --------------------------------------------------------------------------------------------
+# 10.1–10.3: moments, homography, nearest rotation
+# --------------------------------------------------------------------------------------------
+
+@problem("10.1", "Orientation of the principal axes of an image region, Eq. (10.2)", kind="derivation")
+def problem_10_1() -> Solution:
+    """Derive (10.2): α = ½ Atan2(2μ₁₁, μ₂₀ − μ₀₂) is the orientation of the principal axis of the larger
+    principal moment λ of the inertia matrix [[μ₂₀, μ₁₁], [μ₁₁, μ₀₂]].
+
+    Checked on rasterised ellipses (semi-axes 3 and 1, 801 × 801 pixels) at several known orientations:
+    the manual's λ, λ' against ``numpy.linalg.eigh``, its eigenvector a_λ = [μ₁₁, λ − μ₂₀], its tan α,
+    and (10.2) against the drawn angle.
+    """
+    sol = Solution()
+    grid = np.linspace(-4.0, 4.0, 801)
+    X, Y = np.meshgrid(grid, grid)
+    worst_alpha = worst_eig = worst_vec = worst_tan = 0.0
+    alphas = (0.4, -1.1, 1.3, 2.8 - np.pi)
+    for alpha0 in alphas:
+        c, s = np.cos(alpha0), np.sin(alpha0)
+        u, v = c * X + s * Y, -s * X + c * Y
+        m = region_moments((u / 3.0) ** 2 + v ** 2 <= 1.0, grid, grid)
+        lam, lam_p = m.principal_moments
+        w, V = np.linalg.eigh(np.array([[m.mu20, m.mu11], [m.mu11, m.mu02]]))
+        worst_eig = max(worst_eig, max_abs_error([lam, lam_p], [w[1], w[0]]) / w[1])
+        a_lam = unit([m.mu11, lam - m.mu20])
+        worst_vec = max(worst_vec, 1.0 - abs(float(a_lam @ V[:, 1])))
+        root = np.sqrt(4 * m.mu11**2 + (m.mu02 - m.mu20) ** 2)
+        worst_tan = max(worst_tan, abs((m.mu02 - m.mu20 + root) / (2 * m.mu11) - np.tan(m.orientation)))
+        worst_alpha = max(worst_alpha, abs(_wrap(m.orientation - alpha0)))
+        if alpha0 == alphas[0]:
+            sol.value("alpha_0.4", m.orientation)
+            region, moments = (u / 3.0) ** 2 + v ** 2 <= 1.0, m
+    sol.check_error("(10.2) α = ½Atan2(2μ11, μ20 − μ02) recovers the drawn orientation of 4 ellipses [rad]",
+                    worst_alpha, 1e-3)
+    sol.check_error("manual's λ, λ' = eigenvalues of the inertia matrix (numpy eigh), relative", worst_eig, 1e-12)
+    sol.check_error("a_λ = [μ11, λ − μ20] is the eigenvector of λ (1 − |cos| with eigh's)", worst_vec, 1e-12)
+    sol.check_error("manual's t_α = (μ02 − μ20 + √(4μ11² + (μ02 − μ20)²))/(2μ11) = tan α of (10.2)", worst_tan, 1e-9)
+    fig, ax = subplots(figsize=(5, 5))
+    ax.contourf(grid, grid, region.astype(float), levels=[0.5, 1.5], colors=["#9ecae1"])
+    r = np.array([-3.5, 3.5])
+    ax.plot(moments.x_bar + r * np.cos(moments.orientation), moments.y_bar + r * np.sin(moments.orientation),
+            "r-", label=f"principal axis, α = {moments.orientation:.4f} rad")
+    ax.set_aspect("equal")
+    label_axes(ax, "x [pixel units]", "y [pixel units]", legend=True)
+    sol.figure(fig, "10.1 — rasterised ellipse (α₀ = 0.4 rad) and its principal axis (10.2)")
+    return sol
+
+
+def _planar_scene(rng: np.random.Generator, n: int = 6) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """n points on the plane z = 0 of an object frame seen by a camera: (ζ (n,2), s (n,2), R_o^c, o_{c,o}^c)."""
+    zeta = rng.uniform(-0.2, 0.2, size=(n, 2))
+    R = Rotation.from_euler("xyz", rng.uniform(-0.4, 0.4, 3)).as_matrix()
+    o = np.array([rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), rng.uniform(0.8, 1.2)])
+    view = view_points(np.column_stack([zeta, np.zeros(n)]) @ R.T + o).require_visible()
+    return zeta, view.xy, R, o
+
+
+@problem("10.2", "The null right singular vector of A (12×9, rank 8) solves (10.10)", kind="derivation")
+def problem_10_2() -> Solution:
+    """Show that a non-null solution of A h = 0 (10.10) is v₉, the right singular vector of the null
+    singular value of A = U Σ Vᵀ (A 12×9 of rank 8, from six points of a planar object).
+
+    A is built from a synthetic planar object seen by a camera of known pose. Checked: σ₉ ≈ 0 and
+    rank 8, A v₉ = 0 while A v_i = σ_i u_i, v₉ ∝ the true h = rows of [r₁ r₂ o]; the pose recovered
+    from it (with (10.12)) equals the true one, and with image noise the error grows with the noise.
+    """
+    sol = Solution()
+    rng = np.random.default_rng(102)
+    zeta, s, R, o = _planar_scene(rng)
+    A = homography_dlt_matrix(zeta, s)
+    U, sigma, Vt = np.linalg.svd(A)
+    sol.value("singular_values", sigma)
+    sol.check("A is 12×9 of rank 8 (σ₉/σ₁ < 1e-12, σ₈/σ₁ > 1e-6)",
+              A.shape == (12, 9) and sigma[8] / sigma[0] < 1e-12 < 1e-6 < sigma[7] / sigma[0],
+              f"σ₈ = {sigma[7]:.3g}, σ₉ = {sigma[8]:.3g}")
+    v9 = Vt[-1]
+    sol.check_error("A v₉ = 0", np.max(np.abs(A @ v9)), 1e-12)
+    sol.check_error("A v_i = σ_i u_i for i = 1…8", max_abs_error(A @ Vt[:8].T, U[:, :8] * sigma[:8]), 1e-12)
+    h_true = np.column_stack([R[:, 0], R[:, 1], o]).reshape(-1)
+    cos = abs(float(v9 @ h_true)) / np.linalg.norm(h_true)
+    sol.check_error("v₉ ∝ the true h = rows of [r₁ r₂ o] (1 − |cos angle|)", 1.0 - cos, 1e-12)
+    pose = pose_from_homography(v9.reshape(3, 3))
+    sol.check_error("pose from v₉ and (10.12) = true R_o^c, o_{c,o}^c",
+                    max(max_abs_error(pose.R, R), max_abs_error(pose.o, o)), 1e-9)
+    errors = []
+    for noise in (1e-4, 1e-3):
+        p = pose_from_homography(homography_dlt(zeta, s + noise * rng.standard_normal(s.shape)))
+        errors.append(max_abs_error(p.o, o))
+    sol.value("position_error_with_noise", errors)
+    sol.check("with image noise 1e-4 / 1e-3 the position error is small and grows with the noise",
+              errors[0] < 5e-3 and errors[0] < errors[1] < 5e-2, f"errors = {errors}")
+    fig, ax = subplots(figsize=(5, 3.5))
+    ax.semilogy(np.arange(1, 10), sigma, "o-", label="σ_i of A")
+    label_axes(ax, "index i [-]", "singular value [-]", legend=True)
+    sol.figure(fig, "10.2 — singular values of A (12×9): the ninth is null")
+    return sol
+
+
+@problem("10.3", "R = U Vᵀ is the orthogonal matrix nearest to Q in the Frobenius norm, Eq. (10.12)",
+         kind="derivation")
+def problem_10_3() -> Solution:
+    """Show that R = U Vᵀ (Q = U Σ Vᵀ) minimises ‖R − Q‖_F: ‖R − Q‖² = 3 + Tr(QᵀQ) − 2 Tr(RᵀQ) and
+    Tr(Rᵀ Q) = Σ z_ii σ_i ≤ Σ σ_i with equality for R = U Vᵀ.
+
+    Checked on matrices Q near a rotation: the identity at random rotations, the bound, optimality
+    against 1000 random rotations and against SciPy's orthogonal Procrustes solver.
+    """
+    sol = Solution()
+    rng = np.random.default_rng(103)
+    worst_identity = worst_bound = worst_scipy = 0.0
+    beaten = 0
+    for trial in range(10):
+        Q = random_rotation(rng) + 0.1 * rng.standard_normal((3, 3))
+        R_star = nearest_rotation(Q)
+        sigma = np.linalg.svd(Q, compute_uv=False)
+        d_star = np.linalg.norm(R_star - Q)
+        worst_bound = max(worst_bound, abs(np.trace(R_star.T @ Q) - sigma.sum()))
+        R_sp, _ = orthogonal_procrustes(np.eye(3), Q)
+        worst_scipy = max(worst_scipy, max_abs_error(R_star, R_sp))
+        for _ in range(100):
+            R = random_rotation(rng)
+            lhs = np.linalg.norm(R - Q) ** 2
+            worst_identity = max(worst_identity, abs(lhs - (3 + np.trace(Q.T @ Q) - 2 * np.trace(R.T @ Q))))
+            beaten += lhs < d_star**2 - 1e-12
+            worst_bound = max(worst_bound, max(0.0, np.trace(R.T @ Q) - sigma.sum()))
+    sol.check_error("‖R − Q‖² = 3 + Tr(QᵀQ) − 2Tr(RᵀQ) at 1000 random rotations", worst_identity, 1e-12)
+    sol.check_error("Tr(RᵀQ) ≤ Σσ_i, with equality at R = UVᵀ", worst_bound, 1e-12)
+    sol.check("no random rotation is closer to Q than UVᵀ (1000 tries)", beaten == 0, f"{beaten} closer")
+    sol.check_error("UVᵀ = scipy.linalg.orthogonal_procrustes(I, Q)", worst_scipy, 1e-12)
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 10.4–10.5: pose estimation by inversion of the image Jacobian
+# --------------------------------------------------------------------------------------------
+
+def _run_estimator(target: TargetFeatures, s: np.ndarray, steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(x̂_k (steps+1, 4), ‖e_s‖_k (steps+1,), estimated image points (steps+1, 2, 2)) of 10.4/10.5's
+    estimator from x̂(0) = [0, 0, 0.5, 0] at 1 ms."""
+    est = PoseEstimator(target, [0.0, 0.0, 0.5, 0.0], K_S_ESTIMATOR, T_ESTIMATOR)
+    xs, es, pts = [est.x_hat.copy()], [], []
+    for _ in range(steps + 1):
+        pts.append(target.view_from_pose(planar_pose(est.x_hat)).xy)
+        if len(xs) <= steps:
+            xs.append(est.update(s).copy())
+        es.append(np.linalg.norm(est.log()["e_s"]))
+    return np.array(xs), np.array(es[:-1] + [np.linalg.norm(target.error(s, est.predicted(est.x_hat)[0]))]), \
+        np.array(pts)
+
+
+def _estimator_figure(sol: Solution, title: str, es: np.ndarray, xs: np.ndarray, pts: np.ndarray) -> None:
+    t = np.arange(len(es)) * T_ESTIMATOR
+    fig, axes = subplots(1, 3, figsize=(13, 3.6))
+    axes[0].plot(t, es, label="‖e_s‖")
+    label_axes(axes[0], "t [s]", "‖e_s‖ [-]", legend=False)
+    for i, name in enumerate(("P₁", "P₂")):
+        axes[1].plot(pts[:, i, 0], pts[:, i, 1], ".-", ms=3, label=f"{name} estimated")
+        axes[1].plot(*pts[0, i], "kx")
+        axes[1].plot(*pts[-1, i], "ko", mfc="none")
+    axes[1].set_aspect("equal")
+    label_axes(axes[1], "x [-] (normalised)", "y [-] (normalised)", legend=True)
+    for i, name in enumerate(("x [m]", "y [m]", "z [m]")):
+        axes[2].plot(t, xs[:, i], label=name)
+    axes[2].plot(t, xs[:, 3], label="φ [rad]")
+    label_axes(axes[2], "t [s]", "x̂_{c,o} [m, rad]", legend=True)
+    sol.figure(fig, title)
+
+
+@problem("10.4", "Pose estimation by the inverse image Jacobian, two feature points (SCARA camera)",
+         kind="simulation")
+def problem_10_4() -> Solution:
+    """Estimate the pose x_{c,o} = [x, y, z, φ] of the object from the normalised image coordinates of two
+    points, s = [−0.1667, 0.1667, −0.0833, 0.0223] [C i10_4], by (10.40)–(10.41):
+    x̂̇ = Γ(ô) L_s⁻¹ K_s e_s, L_s = the (4×6) two-point interaction matrix without its 4th and 5th columns,
+    K_s = 160 I₄, x̂(0) = [0, 0, 0.5, 0], Euler at 1 ms, 40 steps (Figs. S10.2–S10.3).
+
+    Checks: the measured s is the projection of x_{d,o} = [−0.1, 0.1, 0.6, −π/3] (4 decimals); ‖e_s‖
+    decays by the factor 1 − K_s T = 0.84 a step; the estimate is the manual's ≃ [−0.1, 0.1, 0.6, −π/3]
+    after ≈ 30 steps; the estimated image points move along straight lines (scalar K_s).
+    """
+    sol = Solution()
+    target = TargetFeatures(P_O, kind="points")
+    s_true = target.features(target.view_from_pose(planar_pose(X_DO)).xy)
+    sol.check_error("measured s = projection of x_{d,o} = [−0.1, 0.1, 0.6, −π/3] (4 decimals)",
+                    max_abs_error(S_POINTS_MEASURED, s_true), 5.1e-5)
+    xs, es, pts = _run_estimator(target, S_POINTS_MEASURED, 40)
+    x_hat = sol.value("x_hat_final", xs[-1])
+    sol.value("e_s_norm", {"0": es[0], "30": es[30], "40": es[40]})
+    sol.check_error("x̂(0.04 s) ≃ manual's [−0.1, 0.1, 0.6, −π/3]", np.max(np.abs(_pose_error(x_hat, X_DO))), 3e-3)
+    ratio = es[1:31] / es[:30]
+    sol.check_error("‖e_s‖ decays geometrically by 1 − K_s T = 0.84 per step (steps 1–30)",
+                    np.max(np.abs(ratio - 0.84)), 5e-3)
+    steps_1pct = int(np.argmax(np.max(np.abs(_pose_error(xs, X_DO)), axis=1) < 1e-2))
+    sol.value("steps_to_1cm", steps_1pct)
+    sol.check("converges in about 30 iterations (error < 1 cm / 0.01 rad within 20–35 steps)",
+              20 <= steps_1pct <= 35, f"{steps_1pct} steps")
+    worst = max(_chord_deviation(pts[:, i]) for i in range(2))
+    sol.value("max_chord_deviation", worst)
+    sol.check_error("image paths of the estimated points are straight (max distance from the chord)", worst, 1e-3)
+    xs_exact, es_exact, _ = _run_estimator(target, s_true, 200)
+    sol.check_error("with the unrounded s, x̂(200 steps) = x_{d,o}", np.max(np.abs(_pose_error(xs_exact[-1], X_DO))),
+                    1e-8)
+    _estimator_figure(sol, "Figs. S10.2–S10.3 — pose estimation from two points", es, xs, pts)
+    return sol
+
+
+@problem("10.5", "Pose estimation by the inverse image Jacobian, line-segment features (10.28)",
+         kind="simulation")
+def problem_10_5() -> Solution:
+    """As 10.4, with the features of the segment P₁P₂: s = [x_m, y_m, L, α] (10.28) and its interaction
+    matrix (∂s/∂(end points) times the point matrices), K_s = 160 I₄, x̂(0) = [0, 0, 0.5, 0], 1 ms Euler,
+    40 steps (Figs. S10.5–S10.6).
+
+    Checks: s of the measured points equals the segment features of x_{d,o} (4 decimals); the same final
+    estimate; the image paths of the estimated points are no longer straight; the z transient differs
+    from 10.4's.
+    """
+    sol = Solution()
+    pts_measured = S_POINTS_MEASURED.reshape(2, 2)
+    s = sol.value("s", segment_features(pts_measured[0], pts_measured[1]).as_array())
+    target = TargetFeatures(P_O, kind="segment")
+    s_true = target.features(target.view_from_pose(planar_pose(X_DO)).xy)
+    sol.check_error("s (10.28) of the measured points = segment features of x_{d,o} (rounding of 10.4's data)",
+                    max_abs_error(s, s_true), 2e-4)
+    xs, es, pts = _run_estimator(target, s, 40)
+    x_hat = sol.value("x_hat_final", xs[-1])
+    sol.value("e_s_norm", {"0": es[0], "30": es[30], "40": es[40]})
+    sol.check_error("x̂(0.04 s) ≃ manual's [−0.1, 0.1, 0.6, −π/3]", np.max(np.abs(_pose_error(x_hat, X_DO))), 5e-3)
+    ratio = es[1:31] / es[:30]
+    sol.check_error("‖e_s‖ decays geometrically by 0.84 per step", np.max(np.abs(ratio - 0.84)), 5e-3)
+    worst = min(_chord_deviation(pts[:, i]) for i in range(2))
+    sol.value("min_chord_deviation", worst)
+    sol.check("image paths of the points are not straight (both deviate > 1e-4 from their chords)", worst > 1e-4,
+              f"smallest deviation {worst:.3g}")
+    xs_points, _, _ = _run_estimator(TargetFeatures(P_O, kind="points"), S_POINTS_MEASURED, 40)
+    dz = float(np.max(np.abs(xs[:, 2] - xs_points[:, 2])))
+    sol.check("the z transient differs from 10.4's (max difference > 1 mm)", dz > 1e-3, f"{dz:.3g} m")
+    xs_exact, _, _ = _run_estimator(target, s_true, 200)
+    sol.check_error("with the unrounded s, x̂(200 steps) = x_{d,o}", np.max(np.abs(_pose_error(xs_exact[-1], X_DO))),
+                    1e-8)
+    _estimator_figure(sol, "Figs. S10.5–S10.6 — pose estimation from a line segment", es, xs, pts)
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 10.6–10.7: point-cloud registration
+# --------------------------------------------------------------------------------------------
+
+def _clouds(rng: np.random.Generator, n: int = 12, noise: float = 0.0):
+    R, o = random_rotation(rng), rng.uniform(-1, 1, 3)
+    pp = rng.uniform(-0.5, 0.5, (n, 3))
+    return pp @ R.T + o + noise * rng.standard_normal((n, 3)), pp, R, o
+
+
+@problem("10.6", "o = p̄ − R p̄' minimises the registration cost (10.55), Eq. (10.56)", kind="derivation")
+def problem_10_6() -> Solution:
+    """Show that o = p̄ − R p̄' (10.56) minimises g(o) = Σ‖p_i − o − R p'_i‖² (10.55): with centred points,
+    g(o) = n‖p̄ − o − R p̄'‖² + Σ‖p̄_i − R p̄'_i‖² (the cross term vanishes).
+
+    Checked on noisy synthetic clouds: the decomposition at random o, a null gradient at o* (finite
+    differences), and g(o* + δ) > g(o*) for random δ.
+    """
+    sol = Solution()
+    rng = np.random.default_rng(106)
+    worst_split = worst_grad = 0.0
+    worse = 0
+    for _ in range(20):
+        p, pp, _, _ = _clouds(rng, noise=0.02)
+        R = random_rotation(rng)
+        pbar, ppbar = p.mean(0), pp.mean(0)
+        o_star = pbar - R @ ppbar
+        for _ in range(10):
+            o = rng.uniform(-2, 2, 3)
+            split = len(p) * np.sum((pbar - o - R @ ppbar) ** 2) + np.sum(((p - pbar) - (pp - ppbar) @ R.T) ** 2)
+            worst_split = max(worst_split, abs(registration_cost(p, pp, R, o) - split))
+            delta = 1e-3 * rng.standard_normal(3)
+            worse += registration_cost(p, pp, R, o_star + delta) <= registration_cost(p, pp, R, o_star)
+        grad = _fd(lambda o: registration_cost(p, pp, R, o), o_star)
+        worst_grad = max(worst_grad, float(np.max(np.abs(grad))))
+    sol.check_error("g(o) = n‖p̄ − o − Rp̄'‖² + Σ‖p̄_i − Rp̄'_i‖² at 200 random o", worst_split, 1e-10)
+    sol.check_error("∂g/∂o = 0 at o* = p̄ − Rp̄' (central differences)", worst_grad, 1e-6)
+    sol.check("g(o* + δ) > g(o*) for 200 random δ", worse == 0, f"{worse} not larger")
+    return sol
+
+
+@problem("10.7", "The rotation minimising (10.57) maximises Tr(Rᵀ K), K = Σ p̄_i p̄'_iᵀ", kind="derivation")
+def problem_10_7() -> Solution:
+    """Show that Σ‖p̄_i − R p̄'_i‖² = Σ‖p̄_i‖² − 2 Tr(Rᵀ K) + Σ‖p̄'_i‖², so that the best R maximises
+    Tr(Rᵀ K); by 10.3 it is U diag(1, 1, det UVᵀ) Vᵀ from K = U Σ Vᵀ.
+
+    Checked: the identity at random rotations; exact recovery of R and o from noise-free clouds; with
+    noise, the same rotation as SciPy's Kabsch solver (``Rotation.align_vectors``) and a cost no random
+    rotation beats.
+    """
+    sol = Solution()
+    rng = np.random.default_rng(107)
+    worst_identity = worst_exact = worst_kabsch = 0.0
+    beaten = 0
+    for _ in range(10):
+        p, pp, R_true, o_true = _clouds(rng)
+        R, o = register_point_clouds(p, pp)
+        worst_exact = max(worst_exact, max_abs_error(R, R_true), max_abs_error(o, o_true))
+        pn, ppn, _, _ = _clouds(rng, noise=0.02)
+        c, cp = pn - pn.mean(0), ppn - ppn.mean(0)
+        K = c.T @ cp
+        R_n, o_n = register_point_clouds(pn, ppn)
+        R_k = Rotation.align_vectors(c, cp)[0].as_matrix()
+        worst_kabsch = max(worst_kabsch, max_abs_error(R_n, R_k))
+        best = registration_cost(pn, ppn, R_n, o_n)
+        for _ in range(100):
+            Rr = random_rotation(rng)
+            lhs = np.sum((c - cp @ Rr.T) ** 2)
+            worst_identity = max(worst_identity, abs(lhs - (np.sum(c**2) - 2 * np.trace(Rr.T @ K) + np.sum(cp**2))))
+            beaten += registration_cost(pn, ppn, Rr, pn.mean(0) - Rr @ ppn.mean(0)) < best - 1e-12
+    sol.check_error("Σ‖p̄_i − Rp̄'_i‖² = Σ‖p̄_i‖² − 2Tr(RᵀK) + Σ‖p̄'_i‖² at 1000 rotations", worst_identity, 1e-10)
+    sol.check_error("noise-free clouds: R and o recovered", worst_exact, 1e-10)
+    sol.check_error("noisy clouds: R = SciPy's Kabsch rotation (align_vectors)", worst_kabsch, 1e-9)
+    sol.check("no random rotation gives a lower cost (1000 tries)", beaten == 0, f"{beaten} lower")
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 10.12–10.13: homography-based depth ratio, 2½-D Jacobians
+# --------------------------------------------------------------------------------------------
+
+@problem("10.12", "Depth ratios from the homography, Eqs. (10.94)–(10.95)", kind="derivation")
+def problem_10_12() -> Solution:
+    """Derive (10.94) z_c/z_d = (d_c/d_d)(n^{dT} s̃_d)/(n^{cT} s̃_c) and (10.95) d_c/d_d = det H, with
+    H = R_d^c + o_{c,d}^c n^{dT}/d_d: d_c = d_d + n^{cT} o_{c,d}^c and det(I + a bᵀ) = 1 + bᵀa.
+
+    Checked at random relative poses, planes and plane points: det H against the distances of the plane
+    from the two camera centres, the depth ratio from H against the true depths, and H s̃_d ∝ s̃_c.
+    """
+    sol = Solution()
+    rng = np.random.default_rng(1012)
+    worst_det = worst_ratio = worst_map = 0.0
+    for _ in range(200):
+        R_dc = random_rotation(rng) if rng.uniform() < 0.5 else Rotation.from_rotvec(0.3 * rng.normal(size=3)).as_matrix()
+        o_cd = rng.uniform(-0.3, 0.3, 3)                     # origin of d in c
+        n_d, d_d = unit(rng.normal(size=3) + [0, 0, 3]), rng.uniform(0.5, 2.0)
+        n_c = R_dc @ n_d
+        d_c = d_d + n_c @ o_cd                               # plane n^cT p^c = d_c
+        if d_c <= 0.05:
+            continue
+        H = homography_between_views(R_dc, o_cd, n_d, d_d)
+        worst_det = max(worst_det, abs(np.linalg.det(H) - d_c / d_d))
+        # a plane point, seen from both frames (no visibility needed for the algebra)
+        u = np.cross(n_d, unit(rng.normal(size=3)))
+        p_d = d_d * n_d + rng.uniform(-0.5, 0.5) * unit(u)
+        p_c = R_dc @ p_d + o_cd
+        if abs(p_c[2]) < 1e-2 or abs(p_d[2]) < 1e-2:
+            continue
+        s_c, s_d = p_c[:2] / p_c[2], p_d[:2] / p_d[2]
+        worst_ratio = max(worst_ratio, abs(depth_ratio(H, n_c, s_c, n_d, s_d) - p_c[2] / p_d[2]))
+        m = H @ np.append(s_d, 1.0)
+        worst_map = max(worst_map, max_abs_error(m[:2] / m[2], s_c))
+    sol.check_error("(10.95) det H = d_c/d_d at 200 random poses/planes", worst_det, 1e-12)
+    sol.check_error("(10.94) z_c/z_d from H and the two images = ratio of the true depths", worst_ratio, 1e-9)
+    sol.check_error("H maps the desired image of a plane point to its current image", worst_map, 1e-9)
+    return sol
+
+
+@problem("10.13", "Jacobians J_p, J_o of the 2½-D visual servoing error (10.96)", kind="derivation")
+def problem_10_13() -> Solution:
+    """Derive J_p = (1/(z_d ρ_z))[[−1, 0, X], [0, −1, Y], [0, 0, −1]] and J_o = [[XY, −1−X², Y],
+    [1+Y², −XY, −X], [−Y, X, 0]] of ė_p = J_p v_c^c + J_o ω_c^c, e_p = [X − X_d, Y − Y_d, ln ρ_z], ρ_z = z_c/z_d.
+
+    Checked: e_p differentiated numerically along random camera twists (a fixed point moves as
+    ṙ = −v − ω × r) against J_p v + J_o ω; the manual's S(r_c^c) = z_c[[0, −1, Y], [1, 0, −X], [−Y, X, 0]].
+    """
+    sol = Solution()
+    rng = np.random.default_rng(1013)
+    z_d = 0.6
+    worst_fd = worst_skew = 0.0
+    for _ in range(100):
+        r = np.array([rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), rng.uniform(0.3, 1.5)])
+        v, w = rng.normal(size=3), rng.normal(size=3)
+        X, Y = r[:2] / r[2]
+
+        def e_p(t: float) -> np.ndarray:
+            # the point after the camera moved for t with the constant twist (first order in t is enough
+            # for a central difference of ė_p at t = 0)
+            rt = r + t * point_velocity_in_camera(r, v, w)[0]
+            return np.array([rt[0] / rt[2], rt[1] / rt[2], np.log(rt[2] / z_d)])
+
+        J_p, J_o = hybrid_error_jacobians(X, Y, r[2])
+        fd = (e_p(1e-6) - e_p(-1e-6)) / 2e-6
+        worst_fd = max(worst_fd, max_abs_error(fd, J_p @ v + J_o @ w))
+        worst_skew = max(worst_skew, max_abs_error(skew(r), r[2] * np.array([[0, -1, Y], [1, 0, -X], [-Y, X, 0]])))
+    sol.check_error("ė_p (central differences) = J_p v + J_o ω at 100 random points and twists", worst_fd, 1e-6)
+    sol.check_error("S(r_c^c) = z_c[[0, −1, Y], [1, 0, −X], [−Y, X, 0]]", worst_skew, 1e-12)
+    return sol

@@ -17,7 +17,8 @@ import pinocchio as pin
 
 from controllers.joint_space import AdaptivePayloadControl, InverseDynamicsControl, PDGravityCompensation, with_payload
 from controllers.operational_space import OperationalInverseDynamics
-from controllers.simulation import ArmPlant, rk4_step, simulate
+from controllers.plants import ArmPlant
+from controllers.simulation import rk4_step, simulate
 from planners.paths import PathLaw, Segment
 from planners.timing import quintic, trapezoidal, trapezoidal_law
 from rigid_body.robots import load

@@ -24,7 +24,7 @@ from typing import Any, Sequence
 import numpy as np
 from scipy.optimize import fsolve
 
-from controllers.joint_space import _split, as_gain, as_reference
+from controllers.joint_space import as_gain, as_reference
 from controllers.simulation import as_friction
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics
 from rigid_body.kinematics import direct_kinematics, geometric_jacobian, jacobian_derivative_times_qd
@@ -121,8 +121,8 @@ class OperationalPDGravity:
     def reset(self) -> None:
         self._log = {}
 
-    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
-        q, qd = _split(x, self.n)
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        q, qd = meas.q, meas.qd
         x_d, _, _ = self.reference(t)
         x_e = self.task.position(q)
         J = self.task.jacobian(q)
@@ -165,8 +165,8 @@ class OperationalInverseDynamics:
     def reset(self) -> None:
         self._log = {}
 
-    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
-        q, qd = _split(x, self.n)
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        q, qd = meas.q, meas.qd
         x_d, xd_d, xdd_d = self.reference(t)
         x_e = self.task.position(q)
         J = self.task.jacobian(q)

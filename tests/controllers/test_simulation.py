@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from controllers.simulation import ArmPlant, SimulationDiverged, simulate
+from controllers.plants import ArmPlant
+from controllers.simulation import SimulationDiverged, simulate
 from rigid_body.dynamics import gravity_torques, inertia_matrix
 from rigid_body.robots import load
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from controllers.tasks import (ActionExecutor, Step, SurfaceWithHole, TaskError, Workcell, decompose_pick_and_place,
+from controllers.tasks import (ActionExecutor, Step, TaskError, Workcell, decompose_pick_and_place,
                                fill_pallet_program, joint_reference, moveto, pick_and_place_path)
 from rigid_body.kinematics import direct_kinematics, inverse_kinematics_planar_3r, inverse_kinematics_scara
 from rigid_body.robots import load
@@ -43,16 +43,6 @@ def test_step_validation():
         Step("MOVETO")
     with pytest.raises(ValueError, match="velocity"):
         moveto(HOME, 0.0)
-
-
-def test_surface_with_hole_forces():
-    env = SurfaceWithHole(x_hole=0.0, clearance=0.01, depth=0.05, stiffness=1e4, damping=0.0)
-    assert np.allclose(env.force(np.array([0.1, 0.01]), np.zeros(2)), 0)             # above: free
-    assert np.allclose(env.force(np.array([0.1, -0.001]), np.zeros(2)), [0, 10.0])    # top face pushes up
-    assert np.allclose(env.force(np.array([0.005, -0.02]), np.zeros(2)), 0)           # inside the hole
-    assert np.allclose(env.force(np.array([0.012, -0.02]), np.zeros(2)), [-20.0, 0])  # right wall pushes left
-    assert np.allclose(env.force(np.array([-0.012, -0.02]), np.zeros(2)), [20.0, 0])
-    assert np.allclose(env.force(np.array([0.0, -0.051]), np.zeros(2)), [0, 10.0])    # bottom
 
 
 def test_pick_and_place_path_validation():

@@ -61,7 +61,8 @@ class ArmPlant:
     """A rigid arm driven by joint torques: x = [q, v], ẋ = [v, B⁻¹(τ − C v − g − F_v v − τ_ext)].
 
     ``τ_ext = Jᵀ h_e`` is the joint torque of the external wrench (Eq. 7.42). With nq ≠ nv (continuous
-    joints, a floating base) x has nq + nv entries, ẋ has 2 nv and :meth:`integrate` uses ``pin.integrate``.
+    joints, a floating base) x has nq + nv entries, ẋ has 2 nv, ``integrate`` uses ``pin.integrate`` and
+    ``dexp_inverse`` its Jacobian ``pin.dIntegrate`` (RK4 stays fourth order on SE(3)).
 
     Parameters
     ----------
@@ -73,6 +74,7 @@ class ArmPlant:
 
     units = ARM_UNITS
     integrate: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None  # x + h·dx when nq = nv
+    dexp_inverse: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None
 
     def __init__(self, robot: Robot, viscous_friction: Any = 0.0, tau_max: Any = None,
                  external_force: Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None = None):
@@ -89,6 +91,7 @@ class ArmPlant:
         self.external_force = external_force
         if self.nq != self.n:
             self.integrate = self._integrate_configuration
+            self.dexp_inverse = self._dexp_inverse
         from rigid_body.dynamics import forward_dynamics
 
         self._forward_dynamics = forward_dynamics  # called with check=False: inputs validated here
@@ -104,6 +107,15 @@ class ArmPlant:
         out = np.empty(nq + n)
         out[:nq] = pin.integrate(self.robot.model, x[:nq], h * dx[:n])
         out[nq:] = x[nq:] + h * dx[n:]
+        return out
+
+    def _dexp_inverse(self, x: np.ndarray, xi: np.ndarray, dx: np.ndarray) -> np.ndarray:
+        """The RK4 stage derivative dx, taken at integrate(x, xi, 1), as a tangent vector at x: the
+        velocity part is solved through the Jacobian of ``pin.integrate`` with respect to its step."""
+        n = self.n
+        J = pin.dIntegrate(self.robot.model, x[:self.nq], xi[:n], pin.ArgumentPosition.ARG1)
+        out = dx.copy()
+        out[:n] = np.linalg.solve(J, dx[:n])
         return out
 
     def torque(self, u: np.ndarray) -> np.ndarray:

@@ -16,6 +16,12 @@ The plant contract (duck-typed; only ``derivative`` is required)
     uses it, so a state on a manifold works. Absent or ``None``: ``x + h·dx``. The arm plants keep
     ``x = [q (nq), v (nv)]`` and ``ẋ = [v, v̇]`` (size 2 nv); when nq ≠ nv (continuous joints, a
     planar or free-flyer base) the ``q`` part moves by ``pin.integrate(model, q, h·v)``.
+``dexp_inverse(x, xi, dx) -> dx'``
+    With ``integrate``, on a non-commutative manifold (a free-flyer base): the tangent vector at ``x``
+    whose flow ``integrate(x, ·)`` moves like ``dx`` (given at ``integrate(x, xi, 1)``). RK4 then
+    corrects its stages (Runge–Kutta–Munthe-Kaas) and stays fourth order; without it, stages are
+    composed as they are (exact on vector spaces and commutative groups, second order otherwise).
+    ``ArmPlant`` provides it through ``pin.dIntegrate`` when nq ≠ nv.
 ``tangent_size``
     The size of ``ẋ`` when it differs from ``len(x)`` (default ``len(x)``). ``simulate`` checks the
     shape of the first derivative once and names the plant's derivative when it is wrong.
@@ -49,7 +55,9 @@ period) and holds its output in between — a vision loop at 40 ms inside a moti
 ``Chain(first, second, name=...)`` feeds ``first``'s output to ``second`` as the extra measurement
 attribute ``name`` (``meas.name``; every other attribute is the plant's measurement): an estimator
 at 1 ms feeding a controller at 40 ms is ``Chain(estimator, ZeroOrderHold(controller, 0.04),
-name="estimate")``. The chain's output is the last block's; the logs of all blocks are merged.
+name="estimate")``: the controller reads ``meas.estimate`` and ``meas.q`` (an :class:`Augmented`
+measurement). The chain's output is the second block's; the logs of both blocks are merged. A block
+with periods inside declares them through ``periods()``; ``simulate`` checks each is a multiple of ``Ts``.
 
 >>> import numpy as np
 >>> class Decay:                       # ẋ = −x + u
@@ -268,9 +276,11 @@ class SimulationResult:
 # --------------------------------------------------------------------------------------------
 
 def rk4_step(f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarray, h: float,
-             integrate: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None) -> np.ndarray:
+             integrate: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None,
+             dexp_inverse: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None) -> np.ndarray:
     """One classical Runge–Kutta step of ẋ = f(t, x); ``integrate(x, dx, h)`` moves on a manifold
-    (default ``x + h·dx``)."""
+    (default ``x + h·dx``) and ``dexp_inverse`` brings the stage derivatives back to the tangent space
+    at ``x`` (Runge–Kutta–Munthe-Kaas; see the plant contract)."""
     k1 = f(t, x)
     if integrate is None:
         k2 = f(t + 0.5 * h, x + 0.5 * h * k1)
@@ -278,8 +288,14 @@ def rk4_step(f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarr
         k4 = f(t + h, x + h * k3)
         return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
     k2 = f(t + 0.5 * h, integrate(x, k1, 0.5 * h))
+    if dexp_inverse is not None:
+        k2 = dexp_inverse(x, 0.5 * h * k1, k2)
     k3 = f(t + 0.5 * h, integrate(x, k2, 0.5 * h))
+    if dexp_inverse is not None:
+        k3 = dexp_inverse(x, 0.5 * h * k2, k3)
     k4 = f(t + h, integrate(x, k3, h))
+    if dexp_inverse is not None:
+        k4 = dexp_inverse(x, h * k3, k4)
     return integrate(x, k1 + 2.0 * k2 + 2.0 * k3 + k4, h / 6.0)
 
 
@@ -340,6 +356,7 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                          f"(see its initial_state), got {x.size}")
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
     integrate = getattr(plant, "integrate", None)
+    dexp_inverse = getattr(plant, "dexp_inverse", None)
     n_dx = getattr(plant, "tangent_size", x.size)
     measure = getattr(plant, "measure", None)
     if hasattr(controller, "reset"):
@@ -384,7 +401,7 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                 raise ValueError(f"`{who}` returned shape {shape}, expected ({n_dx},) for a state of size {x.size}")
         for j in range(n_sub):
             ti = t + j * h
-            x = rk4_step(f, ti, x, h, integrate)
+            x = rk4_step(f, ti, x, h, integrate, dexp_inverse)
             peak = np.max(np.abs(x))                  # one reduction: NaN fails the comparison too
             if not peak <= bound:
                 if np.isfinite(peak):

@@ -16,7 +16,8 @@ from typing import Any
 import numpy as np
 
 from controllers.joint_space import AdaptivePayloadControl, InverseDynamicsControl, PDGravityCompensation, with_payload
-from controllers.simulation import ArmPlant, SimulationResult, simulate
+from controllers.plants import ArmPlant
+from controllers.simulation import SimulationResult, simulate
 from planners.timing import quintic
 from problems.common import label_axes, subplots
 from problems.registry import Solution

@@ -26,7 +26,8 @@ import dataclasses
 
 import numpy as np
 
-from controllers.simulation import ArmPlant, simulate
+from controllers.plants import ArmPlant
+from controllers.simulation import simulate
 from planners.timing import sample, trapezoidal_law
 from problems.common import label_axes, max_abs_error, subplots
 from problems.registry import Solution, problem
@@ -375,7 +376,7 @@ def problem_7_4() -> Solution:
     controller = lambda t, x: _excitation(t, amp, omega, phase)  # noqa: E731
     res = simulate(plant, controller, (0.0, 4.0), np.array([-np.pi / 2, 0.0, 0.0, 0.0]), h=1e-3, Ts=1e-2,
                    log=lambda t, x, u: {"qdd": plant.derivative(t, x, u)[2:]})
-    q, qd, qdd, tau = res.x[:, :2], res.x[:, 2:], res["qdd"], res.u
+    q, qd, qdd, tau = res.q, res.qd, res["qdd"], res.u
     tau_meas = tau + rng.normal(scale=2.0, size=tau.shape)
     qdd_meas = qdd + rng.normal(scale=0.02, size=qdd.shape)
     Yf = np.vstack([np.hstack([two_link_regressor(q[k], qd[k], qdd_meas[k]), np.diag(qd[k])]) for k in range(len(q))])

@@ -33,13 +33,13 @@ from typing import Any, Callable, Sequence
 import numpy as np
 import pinocchio as pin
 
-from controllers.joint_space import InverseDynamicsControl, with_payload
+from controllers.joint_space import InverseDynamicsControl
 from controllers.simulation import ArmPlant, simulate
 from planners.paths import SegmentSequence
 from planners.timing import cubic_law, quintic_law, trapezoidal_law
 from rigid_body.dynamics import gravity_torques
 from rigid_body.kinematics import direct_kinematics, geometric_jacobian, jacobian_derivative_times_qd
-from rigid_body.robots import Robot
+from rigid_body.robots import Robot, revolute_joints, with_payload
 from rigid_body.rotations import wrap_angle
 from rigid_body.validation import as_vector
 
@@ -244,11 +244,6 @@ class Workcell:
         d = [np.linalg.norm(o.position - p) for o in free]
         k = int(np.argmin(d))
         return free[k] if d[k] <= self.grasp_tolerance else None
-
-
-def revolute_joints(robot: Robot) -> np.ndarray:
-    """Boolean mask (n,) of the revolute joints (whose angles may be shifted by 2π)."""
-    return np.array([j.shortname().startswith(("JointModelR", "JointModelRevolute")) for j in robot.model.joints[1:]])
 
 
 @dataclass(frozen=True)

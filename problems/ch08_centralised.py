@@ -26,7 +26,7 @@ import numpy as np
 from controllers.independent_joint import JointDrive, bandwidth, design_position_velocity
 from controllers.joint_space import (AdaptivePayloadControl, ComputedTorqueFeedforward, InverseDynamicsControl,
                                      PDGravityCompensation, RobustControl, inverse_dynamics_steady_state,
-                                     lyapunov_matrix, mean_diagonal_inertia, with_payload)
+                                     lyapunov_matrix, mean_diagonal_inertia)
 from controllers.operational_space import (OperationalInverseDynamics, OperationalPDGravity,
                                            operational_inverse_dynamics_steady_state)
 from controllers.plants import VoltageControlledArm
@@ -37,8 +37,9 @@ from problems.registry import Solution, problem
 from rigid_body.dynamics import inertia_matrix
 from rigid_body.kinematics import ELBOW_UP, direct_kinematics, inverse_kinematics_planar_2r
 from rigid_body.regressor import minimum_parameters, two_link_reference_regressor
-from rigid_body.robots import Robot, load
-from urdf.book_robots import G, planar_2r
+from rigid_body.book_robots import planar_2r
+from rigid_body.dh import G
+from rigid_body.robots import Robot, load, with_payload
 
 T_C = 1e-3            # controller sampling period [s]
 T_D = 2.5             # simulated time of the authors' runs [s]

@@ -28,7 +28,7 @@ def test_load_from_path_and_parameters(tmp_path):
     with pytest.raises(TypeError, match="planar_3r"):
         load("planar_3r", lengths=(1, 1, 1))
     with pytest.raises(TypeError, match="only accepted for the book"):
-        load("panda", payload=1.0)
+        load("panda", a=(1.0, 1.0))
     with pytest.raises(FileNotFoundError):
         load(str(tmp_path / "missing.urdf"))
     assert "scara" in available() and "ur5" in available()

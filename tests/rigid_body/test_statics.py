@@ -1,4 +1,4 @@
-"""Statics: τ = J^T γ by virtual work, wrench mapping vs Pinocchio's Force action, obstacle distance."""
+"""Statics: τ = J^T γ by virtual work, obstacle distance."""
 
 import numpy as np
 import pinocchio as pin
@@ -8,7 +8,7 @@ from planners.inverse_kinematics import numerical_gradient
 from rigid_body.kinematics import geometric_jacobian
 from rigid_body.robots import load
 from rigid_body.statics import (joint_torques, planar_arm_obstacle_distance, planar_arm_obstacle_distance_gradient,
-                                segment_chain_distance, transform_wrench)
+                                segment_chain_distance)
 
 
 def test_joint_torques_satisfy_virtual_work(rng):
@@ -17,14 +17,6 @@ def test_joint_torques_satisfy_virtual_work(rng):
     J = geometric_jacobian(robot, q)
     # power balance: τ^T q̇ = γ^T v_e
     assert joint_torques(J, gamma) @ qd == pytest.approx(gamma @ (J @ qd), rel=1e-12)
-
-
-def test_transform_wrench_matches_pinocchio_force_action(rng):
-    for _ in range(10):
-        M = pin.SE3(pin.exp3(rng.normal(size=3)), rng.normal(size=3))
-        g = rng.normal(size=6)
-        np.testing.assert_allclose(transform_wrench(M.homogeneous, g), M.act(pin.Force(g[:3], g[3:])).vector,
-                                   atol=1e-12)
 
 
 def test_segment_distance_brute_force_and_clamping(rng):

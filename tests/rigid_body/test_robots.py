@@ -32,3 +32,46 @@ def test_load_from_path_and_parameters(tmp_path):
     with pytest.raises(FileNotFoundError):
         load(str(tmp_path / "missing.urdf"))
     assert "scara" in available() and "ur5" in available()
+
+
+def test_frame_none_is_the_end_effector_and_ids_are_checked():
+    from rigid_body.kinematics import direct_kinematics
+
+    arm = load("planar_2r")
+    assert arm.frame(None) == arm.frame() == arm.ee_frame == arm.frame("ee")
+    q = np.array([0.3, -0.4])
+    nframes = arm.model.nframes
+    with pytest.raises(ValueError, match=rf"`frame` id 16 out of range \[0, {nframes}\)"):
+        direct_kinematics(arm, q, frame=16)
+    with pytest.raises(ValueError, match="`frame` id -1 out of range"):
+        direct_kinematics(arm, q, frame=-1)
+    with pytest.raises(ValueError, match=r"no frame 'frame_7'.*nearest: \['frame_"):
+        direct_kinematics(arm, q, frame="frame_7")
+    # a numpy integer id is an id (Pinocchio's bindings reject np.int64): same pose as the plain int and the name
+    fid = arm.frame("frame_1")
+    T = direct_kinematics(arm, q, frame=np.int64(fid))
+    np.testing.assert_allclose(T, direct_kinematics(arm, q, frame=fid))
+    np.testing.assert_allclose(T[:2, 3], [np.cos(0.3), np.sin(0.3)], atol=1e-12)  # a1 = 1 m along θ1
+
+
+def test_payload_on_panda_adds_the_weight_through_the_jacobian_transpose(rng):
+    """g(q) with a 2 kg payload minus without = −J_Pᵀ m g₀ (the weight m g₀ applied at the end effector)."""
+    from rigid_body.dynamics import gravity_torques
+    from rigid_body.kinematics import geometric_jacobian
+
+    m = 2.0
+    panda, loaded = load("panda"), load("panda", payload=m)
+    assert loaded.nq == 7 and loaded.ee_frame == panda.ee_frame
+    g0 = np.array([0.0, 0.0, -9.81])
+    for _ in range(5):
+        q = panda.random_configuration(rng)
+        J_P = geometric_jacobian(panda, q)[:3]
+        np.testing.assert_allclose(gravity_torques(loaded, q) - gravity_torques(panda, q), -J_P.T @ (m * g0),
+                                   atol=1e-10)
+    # the book's arm: the same point mass at the tip of the two-link arm, from the closed form m g a (c1 + c12)
+    arm, arm_loaded = load("planar_2r"), load("planar_2r", payload=m)
+    q = np.array([0.4, 0.7])
+    dg = gravity_torques(arm_loaded, q) - gravity_torques(arm, q)
+    np.testing.assert_allclose(dg, m * 9.81 * np.array([np.cos(0.4) + np.cos(1.1), np.cos(1.1)]), atol=1e-10)
+    with pytest.raises(ValueError, match="`mass`"):
+        load("panda", payload=-1.0)

@@ -152,9 +152,44 @@ def _inertial(mass: float, com: Any, inertia: Any, origin_rot: np.ndarray | None
     return yourdfpy.Inertial(mass=float(mass), origin=origin, inertia=np.asarray(inertia, dtype=float))
 
 
+def _shapes(*shapes: tuple[str, tuple[float, ...], np.ndarray]) -> dict:
+    """``visuals`` and ``collisions`` of a yourdfpy Link: the same simple shapes for drawing and collision checking.
+
+    Each shape is ``("cylinder", (radius, length), origin)`` (axis z of ``origin``) or ``("box", size, origin)``.
+    """
+    import yourdfpy
+
+    visuals, collisions = [], []
+    grey = yourdfpy.Material(name="rmpc_grey", color=yourdfpy.Color(rgba=np.array([0.6, 0.6, 0.65, 1.0])))
+    for kind, size, origin in shapes:
+        geometry = (yourdfpy.Geometry(cylinder=yourdfpy.Cylinder(radius=size[0], length=size[1])) if kind == "cylinder"
+                    else yourdfpy.Geometry(box=yourdfpy.Box(size=np.asarray(size, dtype=float))))
+        visuals.append(yourdfpy.Visual(origin=origin, geometry=geometry, material=grey))
+        collisions.append(yourdfpy.Collision(name=None, origin=origin, geometry=geometry))
+    return dict(visuals=visuals, collisions=collisions)
+
+
+def _link_shapes(link: DHLink, radius: float) -> list[tuple[str, tuple[float, ...], np.ndarray]]:
+    """Body i drawn in its joint frame: a cylinder on the joint axis z_{i−1}, then the link as cylinders along
+    the DH offset d_i (along z) and the length a_i (along x, at height d_i), up to the origin of frame i."""
+    shapes = [("cylinder", (1.3 * radius, 4.0 * radius), np.eye(4))]
+    d = link.d if link.joint == "revolute" else 0.0
+    if abs(d) > 1e-9:
+        shapes.append(("cylinder", (radius, abs(d)), dh_transform(0.0, 0.0, d / 2, 0.0)))
+    if abs(link.a) > 1e-9:
+        along_x = dh_transform(0.0, 0.0, d, 0.0) @ dh_transform(link.a / 2, 0.0, 0.0, 0.0)
+        along_x[:3, :3] = [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]  # Ry(π/2): the cylinder's z along x
+        shapes.append(("cylinder", (radius, abs(link.a)), along_x))
+    return shapes
+
+
 def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_robot",
                  tool: np.ndarray | None = None) -> str:
-    """URDF text of a serial DH arm, with link inertias and rotors on ``<mimic>`` joints.
+    """URDF text of a serial DH arm, with link inertias, rotors on ``<mimic>`` joints and simple shapes.
+
+    Every body gets the same ``<visual>`` and ``<collision>`` shapes (drawing and collision checking):
+    a cylinder on its joint axis, cylinders along d_i and a_i, and a box for the gripper at ``ee``; their
+    radius scales with the arm's size. They carry no mass: the dynamics is the table's.
 
     A payload is not part of the arm's file: :func:`rigid_body.robots.with_payload` adds it to a model.
 
@@ -170,6 +205,7 @@ def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_ro
 
     links = as_links(links)
     eye = np.eye(4)
+    radius = 0.02 * max(sum(abs(link.a) + abs(link.d) for link in links), 0.5)
     robot = yourdfpy.Robot(name=name)
     robot.links.append(yourdfpy.Link(name="frame_0"))
     mimics: dict[str, tuple[str, float]] = {}
@@ -187,7 +223,7 @@ def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_ro
         else:
             origin = dh_transform(0.0, 0.0, link.d, link.theta)
             fixed = dh_transform(link.a, link.alpha, 0.0, 0.0)
-        robot.links.append(yourdfpy.Link(name=body))
+        robot.links.append(yourdfpy.Link(name=body, **_shapes(*_link_shapes(link, radius))))
         robot.joints.append(yourdfpy.Joint(
             name=link.name or f"joint_{i}", type=link.joint, parent=parent, child=body,
             origin=origin, axis=np.array([0.0, 0.0, 1.0]), limit=limit))
@@ -213,7 +249,8 @@ def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_ro
     tool = eye.copy() if tool is None else np.asarray(tool, dtype=float)
     if tool.shape != (4, 4):
         raise ValueError(f"`tool` must have shape (4, 4), got {tool.shape}")
-    robot.links.append(yourdfpy.Link(name="ee"))
+    gripper = dh_transform(0.0, 0.0, radius, 0.0)
+    robot.links.append(yourdfpy.Link(name="ee", **_shapes(("box", (2 * radius, 5 * radius, 2 * radius), gripper))))
     robot.joints.append(yourdfpy.Joint(name="ee_fixed", type="fixed", parent=f"frame_{n}", child="ee",
                                        origin=tool))
     urdf = yourdfpy.URDF(robot=robot, build_scene_graph=False, load_meshes=False)

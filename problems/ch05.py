@@ -17,10 +17,11 @@ import pinocchio as pin
 import sympy as sp
 from matplotlib.figure import Figure
 
+from controllers.plants import ServomotorPlant
 from controllers.simulation import simulate
 from problems.common import label_axes, max_relative_error, subplots
 from problems.registry import Solution, problem
-from rigid_body.actuators import (DCServomotor, HydraulicMotor, ServomotorPlant, design_pi_current_loop,
+from rigid_body.actuators import (DCServomotor, HydraulicMotor, design_pi_current_loop,
                                   frequency_samples, hydraulic_transfer_functions,
                                   servomotor_transfer_functions)
 from rigid_body.camera import PinholeCamera, project_from_robot
@@ -161,7 +162,7 @@ def problem_5_2() -> Solution:
     m = DCServomotor(**MOTOR_52)
     res = simulate(ServomotorPlant(m, 1.0), lambda t, x: np.array([1.0, 0.0]), (0.0, 0.2), ServomotorPlant.x0,
                    h=1e-4)
-    t, i_a, omega = res.t, res.x[:, 0], res.x[:, 1]
+    t, i_a, omega = res.t, res["i_a"], res["omega"]
     omega_ss = sol.value("omega_ss", float(omega[-1]))
     i_ss = sol.value("i_ss", float(i_a[-1]))
     sol.value("omega_peak", float(omega.max()))
@@ -183,7 +184,7 @@ def problem_5_2() -> Solution:
               f"max |difference| = {err:.2e} (RK4, h = 0.1 ms)")
     fast = simulate(ServomotorPlant(DCServomotor(**{**MOTOR_52, "Tv": 0.0}), 1.0),
                     lambda t, x: np.array([1.0, 0.0]), (0.0, 0.2), ServomotorPlant.x0, h=1e-4)
-    dev = float(np.max(np.abs(fast.x[:, 1] - omega)))
+    dev = float(np.max(np.abs(fast["omega"] - omega)))
     sol.check("the amplifier time constant (0.1 ms) has no appreciable effect", dev < 0.05 * omega_ss,
               f"max velocity difference with T_v = 0: {dev:.3g} rad/s")
     sol.figure(_servomotor_figure("Fig. S5.2 — step response of the DC servomotor (k_i = 0)",
@@ -230,7 +231,7 @@ def problem_5_3() -> Solution:
     fast = simulate(plant, step, (0.0, 5e-3), plant.x0, h=5e-7, Ts=1e-5)
     slow = simulate(plant, step, (0.0, 1.0), plant.x0, h=1e-4)
     ref = simulate(ServomotorPlant(DCServomotor(**MOTOR_52), 1.0), step, (0.0, 1.0), plant.x0, h=1e-4)
-    t, i_a = fast.t, fast.x[:, 0]
+    t, i_a = fast.t, fast["i_a"]
     after = t > 2.5e-3
     sol.check("current settled: |i_a − 1| < 0.01 after 2.5 ms", np.max(np.abs(i_a[after] - 1)) < 0.01,
               f"max |i_a − 1| after 2.5 ms = {np.max(np.abs(i_a[after] - 1)):.4f} A")
@@ -239,7 +240,7 @@ def problem_5_3() -> Solution:
     sol.value("simulated_current_overshoot_percent", float(100 * (i_a.max() - 1.0)))
     sol.check("simulated current = python-control step response", np.max(np.abs(ref_i - i_a)) < 1e-4,
               f"max |difference| = {np.max(np.abs(ref_i - i_a)):.2e} A")
-    omega = slow.x[:, 1]
+    omega = slow["omega"]
     tau_m = m.Im / m.Fm
     sol.value("omega_final", float(omega[-1]))
     sol.check_close("ω(1 s) → k_t/(k_i F_m) = 20 rad/s", omega[-1], m.kt / (m.ki * m.Fm), atol=0.1)
@@ -250,14 +251,14 @@ def problem_5_3() -> Solution:
     def rise(y: np.ndarray, tt: np.ndarray) -> float:
         return float(tt[np.argmax(y >= 0.632 * y[-1])])
 
-    r3, r2 = rise(omega, slow.t), rise(ref.x[:, 1], ref.t)
+    r3, r2 = rise(omega, slow.t), rise(ref["omega"], ref.t)
     sol.check("velocity slowed down with respect to Fig. S5.2", r3 > 5 * r2,
               f"63 % rise time {r3 * 1e3:.1f} ms (PI current loop) vs {r2 * 1e3:.1f} ms (Problem 5.2)")
     sol.value("v_a_final", float(plant.armature_voltage(slow.x[-1], 1.0)))
     sol.figure(_servomotor_figure("Fig. S5.4 — servomotor with PI current loop",
-                                  [("current transient (h = 0.5 µs)", t, i_a, fast.x[:, 1]),
-                                   ("velocity (h = 0.1 ms); dashed: Problem 5.2", slow.t, slow.x[:, 0], omega)]))
-    sol.figures[-1].axes[3].plot(ref.t * 1e3, ref.x[:, 1], "--", color="gray")
+                                  [("current transient (h = 0.5 µs)", t, i_a, fast["omega"]),
+                                   ("velocity (h = 0.1 ms); dashed: Problem 5.2", slow.t, slow["i_a"], omega)]))
+    sol.figures[-1].axes[3].plot(ref.t * 1e3, ref["omega"], "--", color="gray")
     return sol
 
 

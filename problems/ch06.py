@@ -15,8 +15,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from controllers.tasks import (PEG_STATES, ActionExecutor, ExecutionOptions, PegInHoleTask, Step, SurfaceWithHole, TaskError, Workcell,
-                               fill_pallet_program, moveto, run_peg_in_hole)
+from controllers.environment import SurfaceWithHole
+from controllers.force import PEG_STATES, PegInHoleTask, run_peg_in_hole
+from controllers.tasks import (ActionExecutor, ExecutionOptions, Step, TaskError, Workcell, fill_pallet_program,
+                               moveto)
 from planners.configuration_space import distance_to_box
 from planners.tasks import decompose_pick_and_place, pick_and_place_path
 from problems.common import subplots, label_axes
@@ -209,7 +211,7 @@ def problem_6_3() -> Solution:
         env = SurfaceWithHole(x_hole=task.x_H + offset, clearance=0.004, depth=0.05)
         res, ctrl = run_peg_in_hole(robot, env, task, q0, duration)
         states = [s for _, s in ctrl.transitions]
-        q = res.x[:, :robot.nq]
+        q = res.q
         sol.check(f"{label}: the motion respects the joint limits of the arm (Problem 2.17)",
                   bool(np.all(q >= robot.lower) and np.all(q <= robot.upper)),
                   f"q ranges {np.round(q.min(axis=0), 3).tolist()} … {np.round(q.max(axis=0), 3).tolist()}")

@@ -7,7 +7,7 @@ forms are compared with them at random states.
 
 Data:
 
-* The two-link arm (Sect. 7.3.2) is ``urdf.book_robots.planar_2r``, confirmed by the authors'
+* The two-link arm (Sect. 7.3.2) is ``rigid_body.book_robots.planar_2r``, confirmed by the authors'
   ``param.m``: a = 1 m, ℓ = 0.5 m, m_ℓ = 50 kg, I_ℓ = 10 kg·m², k_r = 100, m_m = 5 kg, I_m = 0.01 kg·m²,
   g = 9.81 m/s² along −y₀.
 * The minimum parameters use the manual's (S7.2)/(S7.3) bookkeeping (π'₂ = 97.5, Ī₁ without I_m2).
@@ -26,14 +26,16 @@ import dataclasses
 
 import numpy as np
 
-from controllers.simulation import ArmPlant, simulate
+from controllers.plants import ArmPlant
+from controllers.simulation import simulate
 from planners.timing import sample, trapezoidal_law
 from problems.common import label_axes, max_abs_error, subplots
 from problems.registry import Solution, problem
 from rigid_body import dynamics as dyn
 from rigid_body import lagrange as lg
 from rigid_body import newton_euler as ne
-from rigid_body.dh import DHLink, robot_from_dh
+from rigid_body.book_robots import cartesian_skew, planar_2r, planar_3r, planar_pr
+from rigid_body.dh import G, DHLink
 from rigid_body.kinematics import ELBOW_DOWN, direct_kinematics, geometric_jacobian, inverse_kinematics_planar_2r
 from rigid_body.operational_space import (dynamic_manipulability, dynamic_manipulability_ellipsoid,
                                           dynamically_consistent_inverse, minimum_norm_torque,
@@ -43,9 +45,8 @@ from rigid_body.manipulability import plot_ellipse
 from rigid_body.regressor import (identify, minimum_parameters, payload_link_parameters,
                                   pr_minimum_parameters, pr_regressor, stack_regressor, two_link_parameters,
                                   two_link_regressor, two_link_textbook_parameters, two_link_textbook_regressor)
-from rigid_body.robots import load
+from rigid_body.robots import load, robot_from_dh
 from rigid_body.task_space import joint_rates
-from urdf.book_robots import G, cartesian_skew, planar_2r, planar_3r, planar_pr
 
 N_STATES = 20  # random states per closed-form comparison
 
@@ -81,7 +82,7 @@ def _arm2_closed_form(s: dict, q) -> tuple[np.ndarray, float, np.ndarray]:
 def problem_7_1() -> Solution:
     """Lagrange model of the Cartesian arm of Fig. 7.3 with joint axis 2 at π/4 to axis 1 (Fig. S7.1).
 
-    The arm is ``urdf.book_robots.cartesian_skew``: z₀ = [0 0 1], z₁ = [1/√2 0 1/√2], g₀ = [0 0 −g],
+    The arm is ``rigid_body.book_robots.cartesian_skew``: z₀ = [0 0 1], z₁ = [1/√2 0 1/√2], g₀ = [0 0 −g],
     rotor i on axis i at the origin of frame i−1. The manual's link and motor Jacobians
     (7.16)–(7.29), B (7.32), C = O and g (7.39) are checked against the library's Lagrange model
     and against Pinocchio. The masses, rotor inertias and gear ratios are symbols in the manual;
@@ -375,7 +376,7 @@ def problem_7_4() -> Solution:
     controller = lambda t, x: _excitation(t, amp, omega, phase)  # noqa: E731
     res = simulate(plant, controller, (0.0, 4.0), np.array([-np.pi / 2, 0.0, 0.0, 0.0]), h=1e-3, Ts=1e-2,
                    log=lambda t, x, u: {"qdd": plant.derivative(t, x, u)[2:]})
-    q, qd, qdd, tau = res.x[:, :2], res.x[:, 2:], res["qdd"], res.u
+    q, qd, qdd, tau = res.q, res.qd, res["qdd"], res.u
     tau_meas = tau + rng.normal(scale=2.0, size=tau.shape)
     qdd_meas = qdd + rng.normal(scale=0.02, size=qdd.shape)
     Yf = np.vstack([np.hstack([two_link_regressor(q[k], qd[k], qdd_meas[k]), np.diag(qd[k])]) for k in range(len(q))])
@@ -430,7 +431,7 @@ def _pr_symbols(links) -> dict:
 def problem_7_5() -> Solution:
     """Lagrange model of the PR arm of Fig. S7.2; then a tip payload m_L and a minimum parameterisation.
 
-    The arm is ``urdf.book_robots.planar_pr`` (z₁ = y₀, g₀ = [−g 0 0]) with motors added. Its link
+    The arm is ``rigid_body.book_robots.planar_pr`` (z₁ = y₀, g₀ = [−g 0 0]) with motors added. Its link
     data and motors are drawn at random, because the manual's are symbols. Checked against the
     library's Lagrange model and Pinocchio: the manual's Jacobians, B, the Christoffel symbols
     (only c122 ≠ 0), N = Ḃ − 2C (skew), g, (S7.4)–(S7.5), the payload-modified parameters and the

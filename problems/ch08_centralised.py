@@ -28,8 +28,8 @@ from controllers.joint_space import (AdaptivePayloadControl, ComputedTorqueFeedf
                                      lyapunov_matrix, mean_diagonal_inertia)
 from controllers.operational_space import (OperationalInverseDynamics, OperationalPDGravity,
                                            operational_inverse_dynamics_steady_state)
-from controllers.plants import VoltageControlledArm
-from controllers.simulation import ArmPlant, SimulationResult, simulate
+from controllers.plants import ArmPlant, VoltageControlledArm
+from controllers.simulation import SimulationResult, simulate
 from planners.paths import PathLaw, Segment
 from planners.timing import trapezoidal, trapezoidal_law
 from problems.common import label_axes, subplots
@@ -37,8 +37,9 @@ from problems.registry import Solution, problem
 from rigid_body.dynamics import inertia_matrix
 from rigid_body.kinematics import ELBOW_UP, direct_kinematics, inverse_kinematics_planar_2r
 from rigid_body.regressor import minimum_parameters, two_link_reference_regressor
-from rigid_body.robots import Robot, load
-from urdf.book_robots import G, planar_2r
+from rigid_body.book_robots import planar_2r
+from rigid_body.dh import G
+from rigid_body.robots import Robot, load, with_payload
 
 T_C = 1e-3            # controller sampling period [s]
 T_D = 2.5             # simulated time of the authors' runs [s]
@@ -103,7 +104,7 @@ def problem_8_10() -> Solution:
         q0 = q_d - 0.1
         res = simulate(plant, PDGravityCompensation(arm, K_P, K_D, q_d), (0.0, t_end), np.r_[q0, 0.0, 0.0],
                        h=T_C, Ts=T_C)
-        q, qd, e = res.x[:, :2], res.x[:, 2:], res["e"]
+        q, qd, e = res.q, res.qd, res["e"]
         sol.value(f"q_d_{k}", q_d)
         sol.value(f"q0_{k}", q0)
         sol.value(f"q_final_{k}", q[-1])
@@ -166,7 +167,7 @@ def problem_8_11() -> Solution:
     sol.check_close("voltage-to-torque gain and electrical damping (Fig. 8.3)",
                     np.r_[plant.voltage_gain, plant.electrical_damping], [20, 20, 4000, 4000], atol=1e-9)
     tra = _tra_4()
-    x0 = np.r_[Q_I, 0.0, 0.0]
+    x0 = plant.initial_state(Q_I)
     runs: dict[tuple[int, bool], SimulationResult] = {}
     for k, (zeta, omega_n, expect, omega_3) in enumerate(((0.5, 5.0, (5.0, 10.0, 50.0), 6.36),
                                                           (0.8, 10.0, (6.25, 32.0, 200.0), 8.71)), start=1):
@@ -384,10 +385,10 @@ def problem_8_15() -> Solution:
         sol.check_close(f"initial posture {k} = companion's inv_k2u(p_d − 0.1)", q0, expected_q0[k - 1], atol=1e-5)
         res = simulate(plant, OperationalPDGravity(armL, 16250.0, 3250.0, p_d, rows=(0, 1)), (0.0, T_D),
                        np.r_[q0, 0.0, 0.0], h=T_C, Ts=T_C)
-        p = _tip(armL, res.x[:, :2])
+        p = _tip(armL, res.q)
         err = np.abs(p[-1] - p_d).max()
         sol.value(f"p_final_{k}", p[-1])
-        sol.value(f"q_final_{k}", res.x[-1, :2])
+        sol.value(f"q_final_{k}", res.q[-1])
         sol.check(f"tip position {k} reached", err < 1e-5,
                   f"|p_d − p(t_d)|_inf = {err:.2e} < 1e-5 m (|x~| at 1 s: {np.abs(res['e'][_at(res, 1.0)]).max():.2e})")
         fig, axes = subplots(2, 1, sharex=True, figsize=(6.4, 4.8))
@@ -429,7 +430,7 @@ def problem_8_16() -> Solution:
     rc, rn = runs["compensated"], runs["not_compensated"]
     sol.check("compensated: excellent tracking", np.abs(rc["e"]).max() < 1e-3 and np.abs(rc["e"][_at(rc, 2.0)]).max() < 1e-6,
               f"max |x~| = {np.abs(rc['e']).max():.2e} < 1e-3 m, |x~(2 s)| = {np.abs(rc['e'][_at(rc, 2.0)]).max():.2e} < 1e-6")
-    q_ss = operational_inverse_dynamics_steady_state(armL, arm, 100.0, p_f[:2], rn.x[-1, :2], rows=(0, 1))
+    q_ss = operational_inverse_dynamics_steady_state(armL, arm, 100.0, p_f[:2], rn.q[-1], rows=(0, 1))
     e_ss = sol.value("steady_state_error_fixed_point", p_f[:2] - direct_kinematics(armL, q_ss)[:2, 3])
     sol.check_close("not compensated: steady state = fixed point of B̂ J⁻¹ K_P x~ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5)
     sol.check_close("fixed point vs the catalogue's s2 < 0 value (−2.82e-3, 6.39e-3) m", e_ss, [-2.82e-3, 6.39e-3],

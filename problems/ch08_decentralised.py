@@ -16,13 +16,14 @@ import control
 import numpy as np
 import sympy as sp
 
-from controllers.independent_joint import (JointDesign, JointDrive, JointDrivePlant, PositionVelocityController,
+from controllers.independent_joint import (JointDesign, JointDrive, PositionVelocityController,
                                            Transducers, acceleration_filter, bandwidth, damping_of_complex_poles,
                                            design_position_feedback, design_position_velocity,
                                            design_position_velocity_acceleration, feedforward_controller_output,
                                            feedforward_reference, feedforward_tracking, inertia_bounds,
                                            position_feedback, position_velocity_acceleration_feedback,
                                            position_velocity_feedback)
+from controllers.plants import JointDrivePlant
 from controllers.simulation import simulate
 from planners.timing import trapezoidal_law
 from problems.common import subplots, label_axes
@@ -274,13 +275,13 @@ def problem_8_5() -> Solution:
     res = simulate(JointDrivePlant(drive), ctrl, (0.0, 2.0), [0.0, 0.0], h=2.5e-4, Ts=1e-3)
     t_after = res.t[res.t >= step_time] - step_time
     ref = control.forced_response(design.closed_loop.disturbance, t_after, np.ones_like(t_after)).outputs
-    theta = res.x[res.t >= step_time, 0]
+    theta = res.q[res.t >= step_time, 0]
     err = float(np.max(np.abs(theta - ref)))
     sol.value("disturbance_peak", float(np.max(np.abs(theta))))
     sol.check("simulated disturbance response (1 ms sampling) ≈ python-control's Θ_m/D step response",
               err < 0.05 * np.max(np.abs(ref)), f"max |difference| = {err:.2e} rad, peak {np.max(np.abs(ref)):.2e} rad")
     fig, ax = subplots(figsize=(7, 3.5))
-    ax.plot(res.t, res.x[:, 0] * 1e3, label="simulated (Ts = 1 ms)")
+    ax.plot(res.t, res.q[:, 0] * 1e3, label="simulated (Ts = 1 ms)")
     ax.plot(t_after + step_time, ref * 1e3, "--", label="Θ_m/D step (python-control)")
     label_axes(ax, "t [s]", "ϑ_m [mrad]", legend=True)
     sol.figure(fig, "8.5 — position + velocity feedback: response to a unit disturbance step")

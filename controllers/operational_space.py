@@ -45,7 +45,6 @@ from scipy.optimize import fsolve
 from controllers.joint_space import as_gain, as_reference
 from controllers.simulation import as_friction, per_joint
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics
-from rigid_body.kinematics import _frame
 from rigid_body.robots import Robot
 from rigid_body.rotations import as_homogeneous
 from rigid_body.task_space import TaskSpace, pose_error
@@ -115,7 +114,7 @@ class _Task:
             raise ValueError(f"`orientation` must be one of {CONTROL_ORIENTATIONS}, got {orientation!r}")
         self.robot = robot
         self.pose = orientation != "none"
-        fid = _frame(robot, frame)  # resolved once (unknown frame → ValueError now)
+        fid = robot.frame(frame)  # resolved once (unknown frame → ValueError now)
         if self.pose:
             self.space = TaskSpace(fid, orientation, None if rows is None else tuple(int(r) for r in rows))
             self.rows = np.array(self.space.selected)

@@ -39,7 +39,7 @@ from rigid_body.kinematics import ELBOW_UP, direct_kinematics, inverse_kinematic
 from rigid_body.regressor import minimum_parameters, two_link_reference_regressor
 from rigid_body.book_robots import planar_2r
 from rigid_body.dh import G
-from rigid_body.robots import Robot, load, with_payload
+from rigid_body.robots import Robot, load
 
 T_C = 1e-3            # controller sampling period [s]
 T_D = 2.5             # simulated time of the authors' runs [s]

@@ -21,6 +21,7 @@ References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Sprin
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Sequence
 
@@ -28,8 +29,7 @@ import numpy as np
 import pinocchio as pin
 
 from controllers.simulation import Chain, LoggedController, ZeroOrderHold
-from rigid_body.camera import (FieldOfView, SegmentFeatures, TargetView, point_interaction_matrix,
-                               segment_feature_jacobian, segment_features, view_points)
+from rigid_body.camera import FieldOfView, SegmentFeatures, TargetView, segment_features, view_points
 from rigid_body.dynamics import gravity_torques
 from rigid_body.robots import Robot
 from rigid_body.validation import as_matrix, as_positive, as_vector
@@ -102,17 +102,28 @@ class CameraImage:
 def _points_interaction(xy: np.ndarray, z: np.ndarray) -> np.ndarray:
     """(2n×6) stack of (10.26) for trusted inputs (hot loops; the checked version is in rigid_body.camera)."""
     x, y = xy[:, 0], xy[:, 1]
-    L = np.empty((2 * len(z), 6))
-    L[0::2] = np.column_stack([-1.0 / z, np.zeros_like(z), x / z, x * y, -(1.0 + x * x), y])
-    L[1::2] = np.column_stack([np.zeros_like(z), -1.0 / z, y / z, 1.0 + y * y, -x * y, -x])
+    L = np.zeros((2 * len(z), 6))
+    L[0::2, 0] = L[1::2, 1] = -1.0 / z
+    L[0::2, 2], L[0::2, 3], L[0::2, 4], L[0::2, 5] = x / z, x * y, -(1.0 + x * x), y
+    L[1::2, 2], L[1::2, 3], L[1::2, 4], L[1::2, 5] = y / z, 1.0 + y * y, -x * y, -x
     return L
 
 
 def _segment(xy: np.ndarray) -> np.ndarray:
     """[x_m, y_m, L, α] of (10.28) for trusted inputs."""
-    d = xy[1] - xy[0]
-    return np.array([0.5 * (xy[0, 0] + xy[1, 0]), 0.5 * (xy[0, 1] + xy[1, 1]), np.hypot(d[0], d[1]),
-                     np.arctan2(d[1], d[0])])
+    x1, y1, x2, y2 = xy.ravel().tolist()
+    dx, dy = x2 - x1, y2 - y1
+    return np.array([0.5 * (x1 + x2), 0.5 * (y1 + y2), math.hypot(dx, dy), math.atan2(dy, dx)])
+
+
+def _segment_jacobian(xy: np.ndarray) -> np.ndarray:
+    """∂s/∂[x1, y1, x2, y2] of (10.28) for trusted inputs (the checked version is in rigid_body.camera)."""
+    x1, y1, x2, y2 = xy.ravel().tolist()
+    dx, dy = x2 - x1, y2 - y1
+    L2 = dx * dx + dy * dy
+    L = math.sqrt(L2)
+    return np.array([[0.5, 0.0, 0.5, 0.0], [0.0, 0.5, 0.0, 0.5], [-dx / L, -dy / L, dx / L, dy / L],
+                     [dy / L2, -dx / L2, -dy / L2, dx / L2]])
 
 
 class TargetFeatures:
@@ -142,7 +153,7 @@ class TargetFeatures:
     def features(self, xy: np.ndarray) -> np.ndarray:
         """s of the image points ``xy`` (n, 2)."""
         if self.kind == "segment":
-            if not np.any(xy[1] != xy[0]):
+            if xy[1, 0] == xy[0, 0] and xy[1, 1] == xy[0, 1]:
                 raise ValueError("the segment's end points coincide in the image: α is undefined")
             return _segment(xy)
         return xy.reshape(-1).copy()
@@ -150,7 +161,7 @@ class TargetFeatures:
     def interaction_matrix(self, xy: np.ndarray, z: np.ndarray) -> np.ndarray:
         """L_s (k×6) at image points ``xy`` with depths ``z`` (10.26; segments: chain rule through (10.28))."""
         L = _points_interaction(xy, z)
-        return segment_feature_jacobian(xy[0], xy[1]) @ L if self.kind == "segment" else L
+        return _segment_jacobian(xy) @ L if self.kind == "segment" else L
 
     def error(self, s_d: np.ndarray, s: np.ndarray) -> np.ndarray:
         """e_s = s_d − s, with the segment angle difference wrapped to (−π, π]."""
@@ -235,12 +246,10 @@ class PoseEstimator(LoggedController):
 
     def predicted(self, x_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(ŝ, L_s) at the estimate: the features and the 4×4 interaction matrix of the estimated pose."""
-        c, s = np.cos(x_hat[3]), np.sin(x_hat[3])
-        P = self.target.points_o
-        p = np.column_stack([c * P[:, 0] - s * P[:, 1] + x_hat[0], s * P[:, 0] + c * P[:, 1] + x_hat[1],
-                             P[:, 2] + x_hat[2]])
+        c, s = math.cos(x_hat[3]), math.sin(x_hat[3])
+        p = self.target.points_o @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) + x_hat[:3]
         z = p[:, 2]
-        if np.any(z <= 0):
+        if z.min() <= 0:
             raise ValueError(f"the estimate x̂ = {x_hat} puts target points behind the camera: diverged")
         xy = p[:, :2] / z[:, None]
         L = self.target.interaction_matrix(xy, z)[:, SCARA_DOFS]
@@ -359,8 +368,7 @@ class _IBVSLaw(_CameraLaw):
         else:
             rows = np.flatnonzero(np.repeat(seen, 2))
             s = image.xy.reshape(-1)[rows]
-            L = np.vstack([point_interaction_matrix(x, y, zi) for (x, y), zi, v in zip(image.xy, z, seen) if v]) \
-                if np.any(seen) else np.zeros((0, 6))
+            L = _points_interaction(image.xy[seen], z[seen])
         e = self.target.error(self.s_d, s) if self.target.kind == "segment" else self.s_d[rows] - s
         return e, L[:, self.dofs] @ Jc[self.dofs, :], rows
 

@@ -541,7 +541,9 @@ def _post(robot, res, period: float = 0.01) -> _Run:
     return _Run(res, res.t[keep], np.array(x_c), np.array(x_co), xy, s)
 
 
-def _pbvs_run(Tc: float, K_P=None, K_D=None, K=None) -> _Run:
+def pbvs_setup(Tc: float, K_P=None, K_D=None, K=None) -> dict:
+    """The arguments of :func:`simulate` for 10.8 (PD + gravity, gains K_P, K_D) or 10.9 (resolved
+    velocity, gain K): camera → estimator at 1 ms → PBVS law held over ``Tc``."""
     robot = scara_eye_in_hand()
     camera = EyeInHandCamera(robot, _target_points_b())
     estimator = PoseEstimator(TargetFeatures(P_O, "segment"), X_DO, K_S_ESTIMATOR, T_ESTIMATOR)
@@ -550,11 +552,13 @@ def _pbvs_run(Tc: float, K_P=None, K_D=None, K=None) -> _Run:
         x0 = plant.initial_state(Q0)
     else:
         plant, law, x0 = KinematicArm(), PBVSResolvedVelocity(robot, X_DO, K), Q0
-    res = simulate(plant, visual_servo(camera, law, Tc, estimator), (0.0, T_FINAL), x0, h=H_ARM, Ts=T_ESTIMATOR)
-    return _post(robot, res)
+    return dict(plant=plant, controller=visual_servo(camera, law, Tc, estimator), t_span=(0.0, T_FINAL), x0=x0,
+                h=H_ARM, Ts=T_ESTIMATOR)
 
 
-def _ibvs_run(Tc: float, kind: str, K_Ps=None, K_Ds=None, K_s=None) -> _Run:
+def ibvs_setup(Tc: float, kind: str, K_Ps=None, K_Ds=None, K_s=None) -> dict:
+    """The arguments of :func:`simulate` for 10.10 (PD + gravity, gains K_Ps, K_Ds) or 10.11 (resolved
+    velocity, gain K_s) with ``kind`` = "segment" or "points" features, L̂_s = L_s(s, z_d)."""
     robot = scara_eye_in_hand()
     camera = EyeInHandCamera(robot, _target_points_b())
     target = TargetFeatures(P_O, kind)
@@ -566,8 +570,15 @@ def _ibvs_run(Tc: float, kind: str, K_Ps=None, K_Ds=None, K_s=None) -> _Run:
     else:
         plant, law, x0 = KinematicArm(), IBVSResolvedVelocity(robot, target, s_d, K_s, depth=z_d), Q0
     h = Tc if K_s is not None else H_ARM             # q̇ = u held over T_c: one RK4 step is exact
-    res = simulate(plant, visual_servo(camera, law, Tc), (0.0, T_FINAL), x0, h=h, Ts=Tc)
-    return _post(robot, res)
+    return dict(plant=plant, controller=visual_servo(camera, law, Tc), t_span=(0.0, T_FINAL), x0=x0, h=h, Ts=Tc)
+
+
+def _pbvs_run(Tc: float, **gains) -> _Run:
+    return _post(scara_eye_in_hand(), simulate(**pbvs_setup(Tc, **gains)))
+
+
+def _ibvs_run(Tc: float, kind: str, **gains) -> _Run:
+    return _post(scara_eye_in_hand(), simulate(**ibvs_setup(Tc, kind, **gains)))
 
 
 def _final_camera_pose() -> np.ndarray:

@@ -13,7 +13,7 @@ import numpy as np
 
 from controllers.simulation import simulate
 from examples.panda_visual_servoing import run_ibvs, scene, start_configuration
-from problems.ch10 import TC_COMPANION, TC_MANUAL, T_FINAL, ibvs_setup, pbvs_setup, scara_eye_in_hand
+from problems.ch10 import TC_COMPANION, TC_MANUAL, ibvs_setup, pbvs_setup, scara_eye_in_hand
 
 LOOPS = {
     "10.8 PBVS PD+g (Tc 40 ms, estimator 1 ms, arm 1 ms)":

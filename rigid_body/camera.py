@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from rigid_body.rotations import as_homogeneous, homogeneous_inverse
-from rigid_body.validation import as_matrix, as_vector
+from rigid_body.validation import as_vector
 
 
 @dataclass(frozen=True)

@@ -170,3 +170,16 @@ def test_two_view_triangulation_with_noise(rng):
     assert np.max(np.abs(noisy - pts)) < 1e-2         # depth error ≈ z²σ√2/baseline ≈ 1e-3 (1σ)
     with pytest.raises(ValueError, match="same number"):
         triangulate(P1, P2, x1, x2[:3])
+
+
+def test_view_through_a_robot_frame():
+    """MODEL-C at its start: the camera (end effector, z down) sees P₁ on its optical axis at depth 0.5 m."""
+    from problems.ch10 import Q0, _target_points_b, scara_eye_in_hand
+    from rigid_body.camera import view_target_from_robot
+
+    view = view_target_from_robot(scara_eye_in_hand(), Q0, _target_points_b(), fov=FieldOfView(-0.5, 0.5, -0.5, 0.5))
+    np.testing.assert_allclose(view.z, [0.5, 0.5], atol=1e-12)
+    np.testing.assert_allclose(view.xy, [[0.0, 0.0], [0.2, 0.0]], atol=1e-12)
+    assert view.all_visible
+    behind = view_target_from_robot(scara_eye_in_hand(), Q0, [[1.0, 1.0, 0.0]])
+    assert not behind.all_visible

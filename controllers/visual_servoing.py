@@ -341,24 +341,32 @@ class _IBVSLaw(_CameraLaw):
     """Shared part of the IBVS laws: e_s = s_d − s and J_L = L̂_s(s, ẑ)[:, dofs] J_c[dofs] from ``meas.image``.
 
     ``depth``: a number = the same depth for every point (e.g. the desired one, z_d); None = the measured
-    depths (known depth). Points not seen drop their rows (point features); with too few rows left the
+    depths (known depth); a function ``image -> z (n,)`` = an estimate (e.g. :func:`depth_from_segment`). Points not seen drop their rows (point features); with too few rows left the
     damped least-squares inverse keeps the law defined, and with none the command is zero.
     """
 
     damping = 1e-4
 
-    def __init__(self, robot: Robot, target: TargetFeatures, s_d: Any, depth: float | None,
+    def __init__(self, robot: Robot, target: TargetFeatures, s_d: Any, depth: Any,
                  frame: str | int | None, dofs: Sequence[int]):
         super().__init__(robot, frame, dofs)
         self.target = target
         self.s_d = as_vector(s_d, target.size, "s_d")
-        self.depth = None if depth is None else as_positive(depth, "depth")
+        if depth is None or callable(depth):
+            self.depth = depth
+        else:
+            self.depth = as_positive(depth, "depth")
 
     def error_and_jacobian(self, q: np.ndarray, image: CameraImage) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(e_s, J_L, rows used) at the current image; rows of unseen points are removed."""
         Jc, _ = camera_jacobian(self.robot, q, self.frame)
         seen = image.visible
-        z = image.z if self.depth is None else np.full(len(seen), self.depth)
+        if self.depth is None:
+            z = image.z
+        elif callable(self.depth):
+            z = self.depth(image)
+        else:
+            z = np.full(len(seen), self.depth)
         if self.target.kind == "segment":
             if not (seen[0] and seen[1]):
                 return np.zeros(0), np.zeros((0, len(q))), np.zeros(0, dtype=int)
@@ -383,7 +391,7 @@ class IBVSPDGravity(_IBVSLaw):
     """u = g(q) + J_Lᵀ(K_Ps e_s − K_Ds J_L q̇), e_s = s_d − s (Fig. 10.16). Logs ``e_s``."""
 
     def __init__(self, robot: Robot, target: TargetFeatures, s_d: Any, K_Ps: Any, K_Ds: Any,
-                 depth: float | None = None, frame: str | int | None = None, dofs: Sequence[int] = SCARA_DOFS):
+                 depth: Any = None, frame: str | int | None = None, dofs: Sequence[int] = SCARA_DOFS):
         super().__init__(robot, target, s_d, depth, frame, dofs)
         self.K_Ps = as_vector(K_Ps, target.size, "K_Ps")
         self.K_Ds = as_vector(K_Ds, target.size, "K_Ds")
@@ -397,7 +405,7 @@ class IBVSPDGravity(_IBVSLaw):
 class IBVSResolvedVelocity(_IBVSLaw):
     """q̇_r = J_L⁻¹ K_s e_s (Fig. 10.17; damped least-squares inverse when J_L is not square): ė_s = −K_s e_s."""
 
-    def __init__(self, robot: Robot, target: TargetFeatures, s_d: Any, K_s: Any, depth: float | None = None,
+    def __init__(self, robot: Robot, target: TargetFeatures, s_d: Any, K_s: Any, depth: Any = None,
                  frame: str | int | None = None, dofs: Sequence[int] = SCARA_DOFS):
         super().__init__(robot, target, s_d, depth, frame, dofs)
         self.K_s = as_vector(K_s, target.size, "K_s") if np.ndim(K_s) else np.full(target.size, float(K_s))
@@ -408,6 +416,18 @@ class IBVSResolvedVelocity(_IBVSLaw):
         if rows.size == 0:
             return np.zeros(len(meas.q))        # nothing seen: stop and wait
         return self.inverse(J) @ (self.K_s[rows] * e)
+
+
+def depth_from_segment(length: float) -> Any:
+    """A depth estimate for a segment of known ``length`` [m] parallel to the image plane: z ≈ ℓ/L, with L
+    the segment's image length (10.28) — both end points get it (NaN when an end point is not seen)."""
+    length = as_positive(length, "length")
+
+    def estimate(image: CameraImage) -> np.ndarray:
+        d = image.xy[1] - image.xy[0]
+        return np.full(len(image.visible), length / math.hypot(d[0], d[1]))
+
+    return estimate
 
 
 def _full(e: np.ndarray, rows: np.ndarray, size: int) -> np.ndarray:

@@ -26,7 +26,8 @@ from scipy.spatial.transform import Rotation
 from controllers.plants import ArmPlant, KinematicArm
 from controllers.simulation import simulate
 from controllers.visual_servoing import (EyeInHandCamera, IBVSPDGravity, IBVSResolvedVelocity, PBVSPDGravity,
-                                         PBVSResolvedVelocity, PoseEstimator, TargetFeatures, hybrid_error_jacobians,
+                                         PBVSResolvedVelocity, PoseEstimator, TargetFeatures, depth_from_segment,
+                                         hybrid_error_jacobians,
                                          planar_pose, planar_pose_vector, relative_pose_vector, visual_servo)
 from problems.common import label_axes, max_abs_error, random_rotation, subplots, unit
 from problems.registry import Solution, problem
@@ -558,19 +559,19 @@ def pbvs_setup(Tc: float, K_P=None, K_D=None, K=None) -> dict:
                 h=H_ARM, Ts=T_ESTIMATOR)
 
 
-def ibvs_setup(Tc: float, kind: str, K_Ps=None, K_Ds=None, K_s=None) -> dict:
+def ibvs_setup(Tc: float, kind: str, K_Ps=None, K_Ds=None, K_s=None, depth: Any = X_DO[2]) -> dict:
     """The arguments of :func:`simulate` for 10.10 (PD + gravity, gains K_Ps, K_Ds) or 10.11 (resolved
-    velocity, gain K_s) with ``kind`` = "segment" or "points" features, L̂_s = L_s(s, z_d)."""
+    velocity, gain K_s) with ``kind`` = "segment" or "points" features, L̂_s = L_s(s, ẑ): ẑ = z_d = 0.6 m
+    (the manual's), or another ``depth`` of the IBVS laws (None: the true depth, or an estimator)."""
     robot = scara_eye_in_hand()
     camera = EyeInHandCamera(robot, _target_points_b())
     target = TargetFeatures(P_O, kind)
     s_d = target.features(target.view_from_pose(planar_pose(X_DO)).xy)
-    z_d = X_DO[2]                                      # L̂_s = L_s(s, z_d) [M]
     if K_s is None:
         plant = ArmPlant(robot, viscous_friction=F_V)
-        law, x0 = IBVSPDGravity(robot, target, s_d, K_Ps, K_Ds, depth=z_d), plant.initial_state(Q0)
+        law, x0 = IBVSPDGravity(robot, target, s_d, K_Ps, K_Ds, depth=depth), plant.initial_state(Q0)
     else:
-        plant, law, x0 = KinematicArm(), IBVSResolvedVelocity(robot, target, s_d, K_s, depth=z_d), Q0
+        plant, law, x0 = KinematicArm(), IBVSResolvedVelocity(robot, target, s_d, K_s, depth=depth), Q0
     h = Tc if K_s is not None else H_ARM             # q̇ = u held over T_c: one RK4 step is exact
     return dict(plant=plant, controller=visual_servo(camera, law, Tc), t_span=(0.0, T_FINAL), x0=x0, h=h, Ts=Tc)
 
@@ -756,7 +757,8 @@ def problem_10_11() -> Solution:
     i10_11); variant: the manual's 4 ms. 8 s (Figs. S10.17–S10.18).
 
     Checks: s → s_d and x_{c,o} → x_{d,o}; no camera retreat: z_{c,o} rises monotonically from 0.5 to 0.6;
-    with the two point features the same law retreats (z_{c,o} > 0.62).
+    with the two point features the same law retreats (z_{c,o} > 0.62); with the depth estimated from the
+    segment's image length instead of z_d, the law still converges without retreat.
     """
     sol = Solution()
     run = _ibvs_run(TC_COMPANION, "segment", K_s=1.0)
@@ -773,6 +775,11 @@ def problem_10_11() -> Solution:
         z = r.x_co[:, 2]
         sol.check(f"{label}no camera retreat: z_{{c,o}} rises monotonically, max ≤ 0.6 + 1e-3",
                   np.all(np.diff(z) >= -1e-9) and z.max() <= 0.601, f"max z = {z.max():.5f} m")
+    estimated = _ibvs_run(TC_COMPANION, "segment", K_s=1.0, depth=depth_from_segment(0.1))
+    z_est = estimated.x_co[:, 2]
+    sol.check("variant with the depth estimated from the segment length (ẑ = ℓ/L, ℓ = 0.1 m) instead of z_d: "
+              "converges, and no retreat either", np.max(np.abs(_pose_error(estimated.x_co[-1], X_DO))) < 1e-2
+              and z_est.max() <= 0.601 and np.all(np.diff(z_est) >= -1e-9), f"max z = {z_est.max():.5f} m")
     z_pts = sol.value("max_depth_points", float(points.x_co[:, 2].max()))
     sol.check("with two point features the same law retreats (max z_{c,o} > 0.62 m)", z_pts > 0.62, f"{z_pts:.4f} m")
     _loop_figures(sol, run, ("S10.17", "S10.18"), "resolved-velocity IBVS, K_s = I₄, T_c = 40 ms")

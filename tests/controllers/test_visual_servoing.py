@@ -106,3 +106,14 @@ def test_hybrid_jacobians_need_positive_depth():
 
 def test_scara_dofs_are_the_book_twist():
     assert SCARA_DOFS == (0, 1, 2, 5)
+
+
+def test_depth_from_segment_length_matches_the_true_depth_for_a_parallel_segment():
+    from controllers.visual_servoing import depth_from_segment
+
+    robot = scara_eye_in_hand()
+    camera = EyeInHandCamera(robot, _target_points_b())
+    image = camera(0.0, ArmMeasurement(Q0, None))
+    np.testing.assert_allclose(depth_from_segment(0.1)(image), image.z, atol=1e-12)
+    with pytest.raises(ValueError, match="length"):
+        depth_from_segment(0.0)

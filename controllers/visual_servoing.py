@@ -62,20 +62,13 @@ def relative_pose_vector(T_bc: np.ndarray, T_bo: np.ndarray) -> np.ndarray:
 def gamma_matrix(o: np.ndarray) -> np.ndarray:
     """Γ(o_{c,o}^c) (4×4) with ẋ_{c,o} = Γ [v_c^c; ω_z] for a fixed object, Eq. (10.41), 4-DOF case:
     Γ = [[−I, s_3(o)], [0ᵀ, −1]], s_3(o) = S(o) e_z = [o_y, −o_x, 0]ᵀ."""
-    G = -np.eye(4)
-    G[0, 3], G[1, 3] = o[1], -o[0]
-    return G
+    return np.array([[-1.0, 0.0, 0.0, o[1]], [0.0, -1.0, 0.0, -o[0]], [0.0, 0.0, -1.0, 0.0], [0.0, 0.0, 0.0, -1.0]])
 
 
-def camera_jacobian(robot: Robot, q: np.ndarray, frame: int) -> tuple[np.ndarray, np.ndarray]:
-    """(J_c, T_bc): the camera twist in the camera frame, [v_c^c; ω_c^c] = J_c q̇ (6×n), and the camera pose."""
-    J = pin.computeFrameJacobian(robot.model, robot.data, q, frame, pin.LOCAL_WORLD_ALIGNED)
-    M = robot.data.oMf[frame]
-    R = M.rotation
-    Jc = np.vstack([R.T @ J[:3], R.T @ J[3:]])
-    T = np.eye(4)
-    T[:3, :3], T[:3, 3] = R, M.translation
-    return Jc, T
+def camera_jacobian(robot: Robot, q: np.ndarray, frame: int) -> np.ndarray:
+    """J_c (6×n): the camera twist in the camera frame, [v_c^c; ω_c^c] = J_c q̇ = [R_cᵀ J_P; R_cᵀ J_O] q̇
+    (Pinocchio's LOCAL frame Jacobian)."""
+    return pin.computeFrameJacobian(robot.model, robot.data, q, frame, pin.LOCAL)
 
 
 # --------------------------------------------------------------------------------------------
@@ -101,12 +94,12 @@ class CameraImage:
 
 def _points_interaction(xy: np.ndarray, z: np.ndarray) -> np.ndarray:
     """(2n×6) stack of (10.26) for trusted inputs (hot loops; the checked version is in rigid_body.camera)."""
-    x, y = xy[:, 0], xy[:, 1]
-    L = np.zeros((2 * len(z), 6))
-    L[0::2, 0] = L[1::2, 1] = -1.0 / z
-    L[0::2, 2], L[0::2, 3], L[0::2, 4], L[0::2, 5] = x / z, x * y, -(1.0 + x * x), y
-    L[1::2, 2], L[1::2, 3], L[1::2, 4], L[1::2, 5] = y / z, 1.0 + y * y, -x * y, -x
-    return L
+    rows = []
+    for (x, y), zi in zip(xy.tolist(), z.tolist()):
+        iz = 1.0 / zi
+        rows.append([-iz, 0.0, x * iz, x * y, -(1.0 + x * x), y])
+        rows.append([0.0, -iz, y * iz, 1.0 + y * y, -x * y, -x])
+    return np.array(rows).reshape(-1, 6)
 
 
 def _segment(xy: np.ndarray) -> np.ndarray:
@@ -167,7 +160,8 @@ class TargetFeatures:
         """e_s = s_d − s, with the segment angle difference wrapped to (−π, π]."""
         e = s_d - s
         if self.kind == "segment":
-            e[3] = np.arctan2(np.sin(e[3]), np.cos(e[3]))
+            a = float(e[3])
+            e[3] = math.atan2(math.sin(a), math.cos(a))
         return e
 
 
@@ -207,16 +201,21 @@ class EyeInHandCamera:
         p = (self.points_b - M.translation) @ M.rotation            # p^c = R_cᵀ (p − o_c), (5.35)
         z = p[:, 2]
         visible = z > 0
-        xy = np.full((len(z), 2), np.nan)
-        xy[visible] = p[visible, :2] / z[visible, None]
+        all_in_front = visible.all()
+        if all_in_front:
+            xy = p[:, :2] / z[:, None]
+        else:
+            xy = np.full((len(z), 2), np.nan)
+            xy[visible] = p[visible, :2] / z[visible, None]
         if self.fov is not None:
-            visible &= self.fov.contains(np.where(visible[:, None], xy, 0.0))
+            visible &= self.fov.contains(xy if all_in_front else np.where(visible[:, None], xy, 0.0))
         for i, (t0, t1) in self.lost.items():
             if t0 <= t < t1:
                 visible[i] = False
         if self.noise > 0:
             xy = xy + self.noise * self.rng.standard_normal(xy.shape)
-        xy[~visible] = np.nan
+        if not visible.all():
+            xy[~visible] = np.nan
         return CameraImage(xy=xy, visible=visible, z=z)
 
 
@@ -246,14 +245,18 @@ class PoseEstimator(LoggedController):
 
     def predicted(self, x_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(ŝ, L_s) at the estimate: the features and the 4×4 interaction matrix of the estimated pose."""
-        c, s = math.cos(x_hat[3]), math.sin(x_hat[3])
-        p = self.target.points_o @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) + x_hat[:3]
-        z = p[:, 2]
-        if z.min() <= 0:
-            raise ValueError(f"the estimate x̂ = {x_hat} puts target points behind the camera: diverged")
-        xy = p[:, :2] / z[:, None]
-        L = self.target.interaction_matrix(xy, z)[:, SCARA_DOFS]
-        return self.target.features(xy), L
+        x, y, z, phi = x_hat.tolist()
+        c, s = math.cos(phi), math.sin(phi)
+        xy, depth = [], []
+        for X, Y, Z in self.target.points_o.tolist():    # p^c = o + R_z(φ) P, then (5.40)
+            pz = Z + z
+            if pz <= 0:
+                raise ValueError(f"the estimate x̂ = {x_hat} puts target points behind the camera: diverged")
+            xy.append([(c * X - s * Y + x) / pz, (s * X + c * Y + y) / pz])
+            depth.append(pz)
+        xy_a, z_a = np.array(xy), np.array(depth)
+        L = self.target.interaction_matrix(xy_a, z_a)[:, SCARA_DOFS]
+        return self.target.features(xy_a), L
 
     def update(self, s: np.ndarray) -> np.ndarray:
         """One step with the measured features ``s``: returns x̂_{k+1} (``x_hat`` then holds it)."""
@@ -291,8 +294,7 @@ class _CameraLaw(LoggedController):
 
     def pbvs_jacobian(self, q: np.ndarray, x_co: np.ndarray) -> np.ndarray:
         """J_Ad = ∂x_{c,o}/∂q = Γ(o_{c,o}) [R_cᵀ J_P; ω_z rows] (4×n), 4-DOF case of (10.67)."""
-        Jc, _ = camera_jacobian(self.robot, q, self.frame)
-        return gamma_matrix(x_co[:3]) @ Jc[SCARA_DOFS, :]
+        return gamma_matrix(x_co[:3]) @ camera_jacobian(self.robot, q, self.frame)[SCARA_DOFS, :]
 
 
 class PBVSPDGravity(_CameraLaw):
@@ -359,7 +361,7 @@ class _IBVSLaw(_CameraLaw):
 
     def error_and_jacobian(self, q: np.ndarray, image: CameraImage) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(e_s, J_L, rows used) at the current image; rows of unseen points are removed."""
-        Jc, _ = camera_jacobian(self.robot, q, self.frame)
+        Jc = camera_jacobian(self.robot, q, self.frame)
         seen = image.visible
         if self.depth is None:
             z = image.z

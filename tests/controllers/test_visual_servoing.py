@@ -117,3 +117,15 @@ def test_depth_from_segment_length_matches_the_true_depth_for_a_parallel_segment
     np.testing.assert_allclose(depth_from_segment(0.1)(image), image.z, atol=1e-12)
     with pytest.raises(ValueError, match="length"):
         depth_from_segment(0.0)
+
+
+def test_camera_jacobian_is_the_world_jacobian_rotated_into_the_camera(rng):
+    import pinocchio as pin
+
+    from controllers.visual_servoing import camera_jacobian
+    robot = scara_eye_in_hand()
+    q = Q0 + 0.3 * rng.normal(size=4)
+    J = pin.computeFrameJacobian(robot.model, robot.data, q, robot.ee_frame, pin.LOCAL_WORLD_ALIGNED)
+    R = robot.data.oMf[robot.ee_frame].rotation
+    np.testing.assert_allclose(camera_jacobian(robot, q, robot.ee_frame), np.vstack([R.T @ J[:3], R.T @ J[3:]]),
+                               atol=1e-12)

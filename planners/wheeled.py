@@ -21,6 +21,7 @@ Eqs. (11.38)–(11.55); solution manual, Problems 11.10–11.13.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -201,10 +202,15 @@ class ChainedFormPath:
         """(…, n) the path at s."""
         return np.stack([P(np.asarray(s, dtype=float)) for P in self.polynomials], axis=-1)
 
+    @cached_property
+    def _input_coefficients(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.polynomials[0].deriv().coef[::-1], self.polynomials[1].deriv().coef[::-1]
+
     def inputs(self, s: Any) -> np.ndarray:
-        """(…, 2) the geometric inputs (ṽ1, ṽ2) at s."""
+        """(…, 2) the geometric inputs (ṽ1, ṽ2) = (z1', z2') at s."""
+        a, b = self._input_coefficients
         s = np.asarray(s, dtype=float)
-        return np.stack([self.polynomials[0].deriv()(s) + 0 * s, self.polynomials[1].deriv()(s) + 0 * s], axis=-1)
+        return np.stack([np.polyval(a, s), np.polyval(b, s)], axis=-1)
 
 
 def _chained_state(z_i: np.ndarray, v1: float, c: np.ndarray) -> list[Polynomial]:

@@ -1,0 +1,65 @@
+"""Flat-output and chained-form planners: boundary conditions, flatness, the (11.50) system, bad input."""
+
+import numpy as np
+import pytest
+
+from planners import wheeled as pw
+
+
+def test_cartesian_path_meets_boundary_postures_forward_and_backward():
+    for k in (1.0, -2.0):
+        q_i, q_f = np.array([0.5, -0.2, 0.3]), np.array([-1.0, 2.0, -1.2])
+        path = pw.cartesian_polynomial_path(q_i, q_f, k, k)
+        p, _, _ = path(np.array([0.0, 1.0]))
+        th, v, _ = path.geometric_inputs(np.array([0.0, 1.0]))
+        np.testing.assert_allclose(p, [q_i[:2], q_f[:2]], atol=1e-14)
+        np.testing.assert_allclose(np.angle(np.exp(1j * (th - [q_i[2], q_f[2]]))), 0, atol=1e-12)
+        np.testing.assert_allclose(v, [k, k], atol=1e-12)
+
+
+def test_flat_inputs_equal_finite_differences_of_heading_and_arc_length():
+    ref = pw.FigureEight(a=1.5, T=12.0)
+    t, dt = 2.3, 1e-5
+    a, b, c = ref(t - dt), ref(t), ref(t + dt)
+    assert b.omega == pytest.approx((c.theta - a.theta) / (2 * dt), abs=1e-7)
+    assert b.v == pytest.approx(np.linalg.norm(c.p - a.p) / (2 * dt), rel=1e-8)
+
+
+def test_time_scaled_path_holds_the_final_posture():
+    path = pw.cartesian_polynomial_path([0, 0, 0], [2, 1, np.pi / 2])
+    ref = pw.TimeScaledPath(path, 10.0)
+    end = ref(12.0)
+    np.testing.assert_allclose(end.p, [2, 1])
+    assert end.v == 0 and end.omega == 0 and end.theta == pytest.approx(np.pi / 2)
+    assert ref(5.0).v == pytest.approx(path.geometric_inputs(0.5)[1] / 10.0)
+
+
+def test_parameterised_inputs_reach_the_goal_for_any_n(rng):
+    for n in (3, 4, 5):
+        for unit in (False, True):
+            z_i, z_f = rng.normal(size=n), rng.normal(size=n)
+            path = pw.parameterised_inputs(z_i, z_f, unit_interval=unit)
+            np.testing.assert_allclose(path.z(path.s_f), z_f, atol=1e-9)
+            np.testing.assert_allclose(path.z(0.0), z_i, atol=1e-14)
+
+
+def test_interpolation_scheme_matches_parameterised_inputs(rng):
+    z_i, z_f = rng.normal(size=3), rng.normal(size=3)
+    s = np.linspace(0, 1, 50)
+    np.testing.assert_allclose(pw.parameterised_inputs(z_i, z_f, True).z(s), pw.chained_form_interpolation(z_i, z_f).z(s),
+                               atol=1e-12)
+
+
+def test_bad_inputs_name_the_argument():
+    with pytest.raises(ValueError, match="Δ = 0"):
+        pw.parameterised_inputs([0, 1, 2], [0, 3, 4])
+    with pytest.raises(ValueError, match="n ≥ 3"):
+        pw.chained_form_system([0, 1], [1, 2])
+    with pytest.raises(ValueError, match="`k_i`"):
+        pw.cartesian_polynomial_path([0, 0, 0], [1, 1, 0], 1.0, -1.0)
+    with pytest.raises(ValueError, match="`q_f`"):
+        pw.cartesian_polynomial_path([0, 0, 0], [1, 1])
+    with pytest.raises(ValueError, match="`v_max`"):
+        pw.uniform_time_scaling(pw.cartesian_polynomial_path([0, 0, 0], [1, 1, 0]), 0.0, 1.0)
+    with pytest.raises(ValueError, match="stops"):
+        pw.unicycle_flat_inputs(np.zeros(2), np.ones(2))

@@ -31,12 +31,12 @@ from planners.wheeled import ReferenceSample
 from rigid_body.rotations import wrap_angle
 from rigid_body.validation import as_positive, as_vector
 from rigid_body.wheeled import (chained_form_velocity, front_wheel_point, front_wheel_point_matrix,
-                                saturate_wheel_speeds, unicycle_velocity)
+                                saturate_wheel_speeds, unicycle_arc, unicycle_velocity)
 
 __all__ = [
     "Posture", "BicycleState", "UnicyclePlant", "BicyclePlant", "ChainedFormPlant", "DriftlessPlant",
     "tracking_error", "ApproximateLinearizationTracking", "NonlinearTracking", "InputOutputTracking",
-    "ChainedFormTracking", "BicycleInputOutputTracking",
+    "ChainedFormTracking", "BicycleInputOutputTracking", "BicycleTracking",
     "CartesianRegulator", "PostureRegulator", "ODOMETRY_METHODS", "odometry_step", "OdometricRegulator",
 ]
 
@@ -174,7 +174,9 @@ class _Tracking:
         self._e = np.zeros(3)
 
     def log(self) -> dict[str, Any]:
-        return {"e": self._e.copy(), "position_error": float(np.hypot(self._e[0], self._e[1]))}
+        """e (11.65); position_error ‖p_d − p‖; point_error: the error of the point the law controls."""
+        d = float(np.hypot(self._e[0], self._e[1]))
+        return {"e": self._e.copy(), "position_error": d, "point_error": getattr(self, "_point_error", d)}
 
 
 class ApproximateLinearizationTracking(_Tracking):
@@ -233,7 +235,9 @@ class InputOutputTracking(_Tracking):
         x, y, th = _pose(measurement)
         self._e = tracking_error(ref, x, y, th)
         c, s = np.cos(th), np.sin(th)
-        u = ref.pd + self.k * (ref.p - np.array([x + self.b * c, y + self.b * s]))
+        err = ref.p - np.array([x + self.b * c, y + self.b * s])
+        self._point_error = float(np.hypot(err[0], err[1]))
+        u = ref.pd + self.k * err
         return np.array([c * u[0] + s * u[1], (-s * u[0] + c * u[1]) / self.b])
 
 
@@ -294,6 +298,37 @@ class BicycleInputOutputTracking:
 
     def log(self) -> dict[str, Any]:
         return {"e": self._e.copy()}
+
+
+class BicycleTracking:
+    """A rear-drive bicycle (11.19) tracking a unicycle reference: a cascade.
+
+    An outer unicycle tracker (e.g. :class:`NonlinearTracking`) acting on the rear-axle posture gives (v, ω);
+    the steering angle realising ω, φ_d = atan(ℓ ω v / (v² + ε)) (= atan(ℓω/v) away from v = 0, → 0 when the car
+    stops), clipped to ±φ_max, is tracked by the steering rate φ̇ = k_φ (φ_d − φ).
+    """
+
+    def __init__(self, tracker: Any, ell: float, phi_max: float, k_phi: float, eps: float = 1e-3):
+        self.tracker, self.ell = tracker, as_positive(ell, "ell")
+        self.phi_max, self.k_phi = as_positive(phi_max, "phi_max"), as_positive(k_phi, "k_phi")
+        self.eps = as_positive(eps, "eps")
+        self._phi_d = 0.0
+
+    def reset(self) -> None:
+        if hasattr(self.tracker, "reset"):
+            self.tracker.reset()
+        self._phi_d = 0.0
+
+    def __call__(self, t: float, m: Any) -> np.ndarray:
+        v, omega = self.tracker(t, m)
+        phi_d = np.arctan(self.ell * omega * v / (v * v + self.eps))
+        self._phi_d = float(np.clip(phi_d, -self.phi_max, self.phi_max))
+        return np.array([v, self.k_phi * (self._phi_d - m.phi)])
+
+    def log(self) -> dict[str, Any]:
+        out = dict(self.tracker.log()) if hasattr(self.tracker, "log") else {}
+        out["phi_d"] = self._phi_d
+        return out
 
 
 # --------------------------------------------------------------------------------------------
@@ -360,19 +395,20 @@ def odometry_step(q: Any, v: float, omega: float, Ts: float, method: str = "rung
     "exact" (11.85): x + (v/ω)(sin θ_{k+1} − sin θ_k), y − (v/ω)(cos θ_{k+1} − cos θ_k) — the Runge–Kutta
     formula when |ω T_s| < 1e-9 (the limit ω → 0); θ_{k+1} = θ_k + ω T_s in all three.
     """
-    x, y, th = as_vector(q, 3, "q")
+    q = as_vector(q, 3, "q")
     Ts = as_positive(Ts, "Ts")
-    dth = omega * Ts
-    if method == "euler":
-        dx, dy = v * Ts * np.cos(th), v * Ts * np.sin(th)
-    elif method == "runge_kutta" or (method == "exact" and abs(dth) < 1e-9):
-        dx, dy = v * Ts * np.cos(th + dth / 2), v * Ts * np.sin(th + dth / 2)
-    elif method == "exact":
-        dx = v / omega * (np.sin(th + dth) - np.sin(th))
-        dy = -v / omega * (np.cos(th + dth) - np.cos(th))
-    else:
+    if method not in ODOMETRY_METHODS:
         raise ValueError(f"`method` must be one of {ODOMETRY_METHODS}, got {method!r}")
-    return np.array([x + dx, y + dy, th + dth])
+    return _odometry_step(q, v, omega, Ts, method)
+
+
+def _odometry_step(q: np.ndarray, v: float, omega: float, Ts: float, method: str) -> np.ndarray:
+    if method == "exact":
+        return unicycle_arc(q, v, omega, Ts)  # (11.85)
+    x, y, th = q
+    dth = omega * Ts
+    heading = th if method == "euler" else th + dth / 2  # (11.83) or (11.84)
+    return np.array([x + v * Ts * np.cos(heading), y + v * Ts * np.sin(heading), th + dth])
 
 
 class OdometricRegulator:
@@ -400,7 +436,7 @@ class OdometricRegulator:
 
     def __call__(self, t: float, measurement: Any) -> np.ndarray:
         if self._t is not None and t > self._t:
-            self.q_hat = odometry_step(self.q_hat, self._u[0], self._u[1], t - self._t, self.method)
+            self.q_hat = _odometry_step(self.q_hat, self._u[0], self._u[1], t - self._t, self.method)
         self._t = t
         x, y, th = _pose(measurement)
         self._error = float(np.hypot(x - self.q_hat[0], y - self.q_hat[1]))

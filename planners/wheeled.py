@@ -28,12 +28,13 @@ import numpy as np
 from numpy.polynomial import Polynomial
 
 from rigid_body.validation import as_positive, as_vector
+from rigid_body.wheeled import unicycle_arc
 
 __all__ = [
     "unicycle_flat_inputs", "CartesianPolynomialPath", "cartesian_polynomial_path", "uniform_time_scaling",
     "ReferenceSample", "TimeScaledPath", "FigureEight",
     "ChainedFormPath", "parameterised_path", "parameterised_inputs", "chained_form_system", "chained_form_interpolation",
-    "bicycle_flat_inputs",
+    "bicycle_flat_inputs", "max_steering_angle", "steering_feasible_path", "DUBINS_WORDS", "DubinsPath", "dubins_path", "dubins_paths",
 ]
 
 
@@ -113,6 +114,35 @@ def cartesian_polynomial_path(q_i: Any, q_f: Any, k_i: float = 1.0, k_f: float =
     return CartesianPolynomialPath(q_i, q_f, float(k_i), float(k_f), alpha, beta)
 
 
+def max_steering_angle(path: CartesianPolynomialPath, ell: float, samples: int = 2001) -> float:
+    """max |φ| [rad] of a rear-drive bicycle (wheelbase ℓ) whose rear axle follows the path (tan φ = ℓ κ)."""
+    _, dp, ddp = path(np.linspace(0.0, 1.0, samples))
+    return float(np.max(np.abs(bicycle_flat_inputs(dp, ddp, ell, path.forward)[2])))
+
+
+def steering_feasible_path(q_i: Any, q_f: Any, ell: float, phi_max: float, forward: bool = True) -> CartesianPolynomialPath:
+    """The cubic path (11.52) whose k = k_i = k_f minimises the peak steering angle of a car of wheelbase ℓ.
+
+    ValueError when even the best k needs |φ| > φ_max (the manoeuvre is too tight for this car).
+    """
+    from scipy.optimize import minimize_scalar
+
+    q_i, q_f = as_vector(q_i, 3, "q_i"), as_vector(q_f, 3, "q_f")
+    ell, phi_max = as_positive(ell, "ell"), as_positive(phi_max, "phi_max")
+    sign = 1.0 if forward else -1.0
+    dist = max(float(np.hypot(*(q_f[:2] - q_i[:2]))), 1e-3)
+
+    def peak(k: float) -> float:
+        return max_steering_angle(cartesian_polynomial_path(q_i, q_f, sign * k, sign * k), ell, 401)
+
+    best = minimize_scalar(peak, bounds=(0.1 * dist, 4.0 * dist), method="bounded", options={"xatol": 1e-4})
+    path = cartesian_polynomial_path(q_i, q_f, sign * best.x, sign * best.x)
+    phi = max_steering_angle(path, ell)
+    if phi > phi_max:
+        raise ValueError(f"`q_f`: the best cubic path needs |φ| = {phi:.3f} rad > phi_max = {phi_max:.3f} rad")
+    return path
+
+
 def uniform_time_scaling(path: CartesianPolynomialPath, v_max: float, omega_max: float,
                          samples: int = 4001) -> float:
     """The shortest duration T of s = t/T meeting |v| ≤ v_max and |ω| ≤ ω_max (11.54)–(11.55).
@@ -150,24 +180,34 @@ class _FlatReference:
         return ReferenceSample(p, pd, pdd, float(theta), float(v), float(omega))
 
 
-class TimeScaledPath(_FlatReference):
-    """A Cartesian path run at s = t/T, t ∈ [0, T] (11.54)–(11.55); held at the final posture afterwards."""
+class TimeScaledPath:
+    """A Cartesian path run along a timing law s(t) (11.54): a reference for the trackers.
 
-    def __init__(self, path: CartesianPolynomialPath, T: float):
-        self.path, self.T = path, as_positive(T, "T")
+    ṗ = p' ṡ, p̈ = p'' ṡ² + p' s̈, θ = θ(s), v = ṽ(s) ṡ, ω = ω̃(s) ṡ (11.55). With ``T`` only: the uniform
+    scaling s = t/T (ṡ = 1/T, the robot stops abruptly at T); with ``law``: any scalar timing law
+    ``law(t) -> (s, ṡ, s̈)`` from 0 to 1 (e.g. :func:`planners.timing.quintic_law`, which starts and stops
+    at rest). After the end the final posture is held.
+    """
+
+    def __init__(self, path: CartesianPolynomialPath, T: float | None = None, law: Any = None):
+        if (T is None) == (law is None):
+            raise ValueError("give either `T` (uniform scaling) or `law` (a timing law s(t))")
+        self.path, self.law = path, law
+        self.T = as_positive(T, "T") if law is None else float(law.t_f)
         self.forward = path.forward
 
-    def flat(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        s = min(max(t / self.T, 0.0), 1.0)
-        p, dp, ddp = self.path(s)
-        return p, dp / self.T, ddp / self.T**2
+    def timing(self, t: float) -> tuple[float, float, float]:
+        """(s, ṡ, s̈) at t."""
+        if self.law is None:
+            return (min(max(t / self.T, 0.0), 1.0), 1.0 / self.T if 0.0 <= t < self.T else 0.0, 0.0)
+        s, sd, sdd = self.law(t)
+        return float(s), float(sd), float(sdd)
 
     def __call__(self, t: float) -> ReferenceSample:
-        if t < self.T:
-            return super().__call__(t)
-        q_f = self.path.q_f
-        zero = np.zeros(2)
-        return ReferenceSample(q_f[:2].copy(), zero, zero, float(q_f[2]), 0.0, 0.0)
+        s, sd, sdd = self.timing(t)
+        p, dp, ddp = self.path(s)
+        theta, v, omega = self.path.geometric_inputs(s)
+        return ReferenceSample(p, dp * sd, ddp * sd**2 + dp * sdd, float(theta), float(v * sd), float(omega * sd))
 
 
 class FigureEight(_FlatReference):
@@ -296,3 +336,112 @@ def chained_form_interpolation(z_i: Any, z_f: Any) -> ChainedFormPath:
     zn = Polynomial(a)
     polys = [Polynomial([z_i[0], delta])] + [zn.deriv(n - 1 - k) / delta ** (n - 1 - k) for k in range(1, n - 1)] + [zn]
     return ChainedFormPath(tuple(polys), 1.0, a)
+
+
+# --------------------------------------------------------------------------------------------
+# Dubins shortest paths of the car that only moves forward (minimum turning radius ρ)
+# --------------------------------------------------------------------------------------------
+
+DUBINS_WORDS = ("LSL", "RSR", "LSR", "RSL", "RLR", "LRL")
+_TURN = {"L": 1.0, "S": 0.0, "R": -1.0}
+
+
+@dataclass(frozen=True)
+class DubinsPath:
+    """A Dubins path: a word of three segments (L left arc, R right arc, S straight) with lengths in units of ρ."""
+
+    q_i: np.ndarray
+    rho: float
+    word: str
+    segments: np.ndarray  # (3,) normalised lengths (arc angles [rad] for L/R, length/ρ for S)
+
+    @property
+    def length(self) -> float:
+        """Path length [m]."""
+        return float(self.rho * np.sum(self.segments))
+
+    def end(self) -> np.ndarray:
+        """The final posture, by exact integration of the three primitives (11.85)."""
+        return self.sample(np.inf)[-1]
+
+    def sample(self, step: float) -> np.ndarray:
+        """(N, 3) postures every ``step`` metres of arc length (and at the segment ends), exact arcs."""
+        q = self.q_i.copy()
+        out = [q]
+        for kind, length in zip(self.word, self.segments):
+            L = length * self.rho
+            n = 1 if not np.isfinite(step) else max(1, int(np.ceil(L / step)))
+            for _ in range(n):  # unit speed: v = 1, ω = ±1/ρ or 0
+                q = unicycle_arc(q, 1.0, _TURN[kind] / self.rho, L / n)
+                out.append(q)
+        return np.array(out)
+
+
+def _mod2pi(a: float) -> float:
+    """a in [0, 2π); values within 1e-9 of 2π are 0 (an arc of 2π − ε from rounding is no turn at all)."""
+    r = float(np.mod(a, 2 * np.pi))
+    return 0.0 if r > 2 * np.pi - 1e-9 else r
+
+
+def _dubins_word(word: str, a: float, b: float, d: float) -> np.ndarray | None:
+    """Normalised segment lengths (t, p, q) of one word, start heading a, end heading b, distance d (in ρ)."""
+    sa, sb, ca, cb, cab = np.sin(a), np.sin(b), np.cos(a), np.cos(b), np.cos(a - b)
+    if word in ("LSL", "RSR"):
+        turn = 1.0 if word == "LSL" else -1.0
+        p2 = max(0.0, 2 + d * d - 2 * cab + 2 * turn * d * (sa - sb))  # squared distance of the circle centres
+        if p2 < 1e-18:  # one circle: a single arc (the tangent direction is undefined)
+            return np.array([_mod2pi(turn * (b - a)), 0.0, 0.0])
+        tmp = np.arctan2(turn * (cb - ca), d + turn * (sa - sb))
+        return np.array([_mod2pi(turn * (tmp - a)), np.sqrt(p2), _mod2pi(turn * (b - tmp))])
+    if word == "LSR":
+        p2 = -2 + d * d + 2 * cab + 2 * d * (sa + sb)
+        if p2 < -1e-12:
+            return None
+        p2 = max(p2, 0.0)
+        p = np.sqrt(p2)
+        tmp = np.arctan2(-ca - cb, d + sa + sb) - np.arctan2(-2.0, p)
+        return np.array([_mod2pi(-a + tmp), p, _mod2pi(-_mod2pi(b) + tmp)])
+    if word == "RSL":
+        p2 = -2 + d * d + 2 * cab - 2 * d * (sa + sb)
+        if p2 < -1e-12:
+            return None
+        p2 = max(p2, 0.0)
+        p = np.sqrt(p2)
+        tmp = np.arctan2(ca + cb, d - sa - sb) - np.arctan2(2.0, p)
+        return np.array([_mod2pi(a - tmp), p, _mod2pi(b - tmp)])
+    if word == "RLR":
+        c = (6 - d * d + 2 * cab + 2 * d * (sa - sb)) / 8
+        if abs(c) > 1:
+            return None
+        p = _mod2pi(2 * np.pi - np.arccos(c))
+        t = _mod2pi(a - np.arctan2(ca - cb, d - sa + sb) + p / 2)
+        return np.array([t, p, _mod2pi(a - b - t + p)])
+    if word == "LRL":
+        c = (6 - d * d + 2 * cab + 2 * d * (sb - sa)) / 8
+        if abs(c) > 1:
+            return None
+        p = _mod2pi(2 * np.pi - np.arccos(c))
+        t = _mod2pi(-a - np.arctan2(ca - cb, d + sa - sb) + p / 2)
+        return np.array([t, p, _mod2pi(_mod2pi(b) - a - t + p)])
+    raise ValueError(f"`word` must be one of {DUBINS_WORDS}, got {word!r}")
+
+
+def dubins_paths(q_i: Any, q_f: Any, rho: float) -> list[DubinsPath]:
+    """Every feasible Dubins word (CSC and CCC) from q_i to q_f with turning radius ρ, shortest first.
+
+    In the frame of the segment q_i → q_f scaled by 1/ρ, each word's lengths are closed forms (Dubins 1957;
+    the formulas of Shkel & Lumelsky 2001).
+    """
+    q_i, q_f = as_vector(q_i, 3, "q_i"), as_vector(q_f, 3, "q_f")
+    rho = as_positive(rho, "rho")
+    dx, dy = q_f[0] - q_i[0], q_f[1] - q_i[1]
+    d = np.hypot(dx, dy) / rho
+    phi = np.arctan2(dy, dx) if d > 0 else 0.0
+    a, b = _mod2pi(q_i[2] - phi), _mod2pi(q_f[2] - phi)
+    paths = [DubinsPath(q_i, rho, w, seg) for w in DUBINS_WORDS if (seg := _dubins_word(w, a, b, d)) is not None]
+    return sorted(paths, key=lambda p: p.length)
+
+
+def dubins_path(q_i: Any, q_f: Any, rho: float) -> DubinsPath:
+    """The shortest path of a car moving forward with turning radius ≥ ρ from q_i to q_f (Dubins)."""
+    return dubins_paths(q_i, q_f, rho)[0]

@@ -958,3 +958,226 @@ def problem_11_18() -> Solution:
     ax.set_title("Final error against T_s (replaces the Simulink diagram S11.4)")
     sol.figure(fig)
     return sol
+
+
+# --------------------------------------------------------------------------------------------
+# Beyond the book (companions, not registered problems; shown in the chapter notebook)
+# --------------------------------------------------------------------------------------------
+
+def _settling_time(t: np.ndarray, err: np.ndarray, tol: float) -> float:
+    """First time after which ``err`` stays below ``tol`` (inf if it never does)."""
+    above = np.nonzero(err >= tol)[0]
+    if above.size == 0:
+        return float(t[0])
+    return float(t[above[-1] + 1]) if above[-1] + 1 < len(t) else float("inf")
+
+
+def tracking_comparison(t_end: float = 30.0) -> Solution:
+    """The three unicycle trackers of Sect. 11.6.1 on one figure-eight with the same initial error.
+
+    Reference: Gerono figure-eight, a = 2 m, period 30 s (|v_d| ≤ 0.59 m/s). Start 0.3 m off in x and y and
+    0.4 rad off in heading. Gains: approximate linearisation a = 1, ζ = 0.7; nonlinear ζ = 0.7, b = 4;
+    input–output linearisation of B at b = 0.1 m, k = 1 (the error of B is the one it controls). Table:
+    settling time (error of the controlled point < 1 cm for good), peak |v|, |ω| and the final error.
+    """
+    from controllers.wheeled import ApproximateLinearizationTracking, InputOutputTracking, NonlinearTracking
+    from planners.wheeled import FigureEight
+
+    sol = Solution()
+    ref = FigureEight(a=2.0, T=30.0)
+    r0 = ref(0.0)
+    q0 = np.r_[r0.p + [0.3, -0.3], r0.theta + 0.4]
+    laws = {"approximate linearisation": ApproximateLinearizationTracking(ref, a=1.0, zeta=0.7),
+            "nonlinear": NonlinearTracking(ref, zeta=0.7, b=4.0),
+            "input-output linearisation (b = 0.1 m)": InputOutputTracking(ref, b=0.1, k1=1.0)}
+    table, runs = {}, {}
+    for name, law in laws.items():
+        res = simulate(UnicyclePlant(), law, (0.0, t_end), q0, h=H, Ts=H)
+        runs[name] = res
+        err = res["point_error"]
+        row = {"settling_time": _settling_time(res.t, err, 1e-2), "peak_abs_v": float(np.max(np.abs(res.u[:, 0]))),
+               "peak_abs_omega": float(np.max(np.abs(res.u[:, 1]))), "final_error": float(err[-1])}
+        table[name] = row
+        sol.check(f"{name}: the controlled point converges (error < 1e-3 m at {t_end:g} s, settles within 15 s)",
+                  row["final_error"] < 1e-3 and row["settling_time"] < 15.0,
+                  f"final {row['final_error']:.1e} m, settling {row['settling_time']:.2f} s")
+    sol.value("table", table)
+    io = runs["input-output linearisation (b = 0.1 m)"]
+    pred = io["point_error"][0] * np.exp(-io.t)
+    sol.check("input–output law: the error of B decays as e^{−k t} (k = 1)",
+              np.max(np.abs(io["point_error"] - pred)) < 1e-2 * io["point_error"][0],
+              f"max deviation {np.max(np.abs(io['point_error'] - pred)):.1e} m")
+    sol.check("input–output law: the robot itself stays within b of the reference once B has converged",
+              io["position_error"][-1] <= 0.1 + 1e-3, f"‖p_d − p‖ = {io['position_error'][-1]:.3f} m")
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    tt = np.linspace(0, 30, 601)
+    pr = np.array([ref(t).p for t in tt])
+    a1.plot(pr[:, 0], pr[:, 1], "k:", label="reference")
+    for k, (name, res) in enumerate(runs.items()):
+        a1.plot(res.x[:, 0], res.x[:, 1], color=f"C{k}", label=name)
+        a2.semilogy(res.t, np.maximum(res["point_error"], 1e-12), color=f"C{k}", label=name)
+    _path_axes(a1)
+    a1.legend(loc="best", fontsize="x-small")
+    a1.set_title("Figure-eight tracking")
+    a2.set_xlabel("t [s]")
+    a2.set_ylabel("error of the controlled point [m]")
+    a2.grid(True, which="both", alpha=0.3)
+    a2.legend(loc="best", fontsize="x-small")
+    a2.set_title("Tracking error")
+    fig.tight_layout()
+    sol.figure(fig)
+    return sol
+
+
+def parallel_parking(ell: float = 2.5, phi_max: float = 0.6, T: float = 15.0) -> Solution:
+    """Parallel parking of a car-like robot (rear-drive bicycle (11.19), wheelbase ℓ = 2.5 m, |φ| ≤ 0.6 rad).
+
+    Plan: the cubic Cartesian path (11.52) run backwards from (0, 0, 0) to (−7, −2.5, 0) (a bay 2.5 m to the
+    side), its k chosen to minimise the peak steering angle (tan φ = ℓ κ), along a quintic timing law s(t) so
+    the car starts and stops at rest, T = 15 s. Track: nonlinear unicycle law (ζ = 0.7, b = 2) on the rear
+    axle, its ω turned into a steering angle clipped to ±φ_max, steering rate φ̇ = 5(φ_d − φ). The car starts
+    0.2 m and 0.05 rad off.
+    """
+    from controllers.wheeled import BicycleTracking, NonlinearTracking
+    from planners.timing import quintic_law
+    from planners.wheeled import TimeScaledPath, max_steering_angle, steering_feasible_path
+
+    sol = Solution()
+    q_i, q_f = np.zeros(3), np.array([-7.0, -2.5, 0.0])
+    path = steering_feasible_path(q_i, q_f, ell, phi_max, forward=False)
+    sol.value("k", path.k_i)
+    sol.value("planned_max_phi", max_steering_angle(path, ell))
+    sol.check("planned path respects the steering bound", max_steering_angle(path, ell) <= phi_max,
+              f"max |φ| = {max_steering_angle(path, ell):.3f} ≤ {phi_max} rad")
+    ref = TimeScaledPath(path, law=quintic_law(0.0, 1.0, T))
+    ctrl = BicycleTracking(NonlinearTracking(ref, zeta=0.7, b=2.0), ell, phi_max, k_phi=5.0)
+    x0 = np.array([0.1, 0.2, 0.05, 0.0])
+    res = simulate(BicyclePlant(ell), ctrl, (0.0, T + 3.0), x0, h=H, Ts=H)
+    final = res.x[-1, :3] - q_f
+    sol.value("final_posture_error", final)
+    sol.value("closed_loop_max_phi", float(np.max(np.abs(res.x[:, 3]))))
+    sol.check("parked: final position error < 2 cm and heading error < 0.02 rad",
+              np.hypot(*final[:2]) < 0.02 and abs(final[2]) < 0.02, f"error {np.round(final, 4)}")
+    sol.check("closed loop keeps |φ| ≤ φ_max", np.max(np.abs(res.x[:, 3])) <= phi_max + 1e-9,
+              f"max |φ| = {np.max(np.abs(res.x[:, 3])):.3f} rad")
+    sol.check("the manoeuvre is made in reverse (v ≤ 0 after the first second)", np.max(res.u[res.t > 1.0, 0]) <= 1e-6,
+              f"max v = {np.max(res.u[res.t > 1.0, 0]):.2e} m/s")
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.0))
+    pp, _, _ = path(np.linspace(0, 1, 300))
+    a1.plot(pp[:, 0], pp[:, 1], "k:", label="planned rear-axle path")
+    a1.plot(res.x[:, 0], res.x[:, 1], label="car (closed loop)")
+    for k in range(0, len(res.t), 300):
+        _draw_unicycle(a1, *res.x[k, :3], size=0.4)
+    _path_axes(a1)
+    a1.legend(loc="best", fontsize="small")
+    a1.set_title("Parallel parking (reverse)")
+    a2.plot(res.t, res.u[:, 0], label="v [m/s]")
+    a2.plot(res.t, res.x[:, 3], "--", label="φ [rad]")
+    a2.axhline(-phi_max, color="k", ls=":", lw=1, label="±φ_max")
+    a2.axhline(phi_max, color="k", ls=":", lw=1)
+    a2.set_xlabel("t [s]")
+    a2.set_ylabel("v [m/s], φ [rad]")
+    a2.grid(True, alpha=0.3)
+    a2.legend(loc="best", fontsize="small")
+    a2.set_title("Driving velocity and steering angle")
+    fig.tight_layout()
+    sol.figure(fig)
+    return sol
+
+
+def wheel_saturation(t_end: float = 20.0) -> Solution:
+    """Posture regulation (11.81)–(11.82) of a differential drive whose wheels saturate at ω_RL (Problem 11.9).
+
+    r = 0.1 m, d = 0.5 m, ω_RL = 10 rad/s (|v| ≤ 1 m/s, |ω| ≤ 4 rad/s); the commands are scaled into the
+    admissible rhombus keeping the curvature. From the companion start the regulator asks for more than the
+    wheels give; the loop still converges, later than without the bound.
+    """
+    sol = Solution()
+    limits = (0.1, 0.5, 10.0)
+    plant = UnicyclePlant(wheel_limits=limits)
+    reg = PostureRegulator(*K_POSTURE)
+    res = simulate(plant, reg, (0.0, t_end), Q0_COMPANION, h=H, Ts=H, log=lambda t, x, u: {"applied": plant.applied(u)})
+    free = simulate(UnicyclePlant(), reg, (0.0, t_end), Q0_COMPANION, h=H, Ts=H)
+    wR, wL = differential_drive_wheel_speeds(res.u[:, 0], res.u[:, 1], *limits[:2])
+    aR, aL = differential_drive_wheel_speeds(res["applied"][:, 0], res["applied"][:, 1], *limits[:2])
+    peak_cmd, peak_applied = float(np.max(np.abs([wR, wL]))), float(np.max(np.abs([aR, aL])))
+    sol.value("peak_commanded_wheel_speed", peak_cmd)
+    sol.value("peak_applied_wheel_speed", peak_applied)
+    sol.check("saturation is active: commanded wheel speeds exceed ω_RL", peak_cmd > limits[2], f"{peak_cmd:.2f} rad/s")
+    sol.check("applied wheel speeds within ±ω_RL", peak_applied <= limits[2] + 1e-9, f"{peak_applied:.3f} rad/s")
+    dist = np.hypot(res.x[:, 0], res.x[:, 1])
+    dist_free = np.hypot(free.x[:, 0], free.x[:, 1])
+    ts, ts_free = _settling_time(res.t, dist, 1e-2), _settling_time(free.t, dist_free, 1e-2)
+    sol.value("time_to_1cm", ts)
+    sol.value("time_to_1cm_unsaturated", ts_free)
+    sol.check("the saturated loop still converges (‖p‖ < 1 cm), later than the unsaturated one",
+              dist[-1] < 1e-2 and ts > ts_free, f"{ts:.2f} s vs {ts_free:.2f} s")
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.0))
+    a1.plot(free.x[:, 0], free.x[:, 1], label="no wheel bound")
+    a1.plot(res.x[:, 0], res.x[:, 1], "--", label="|ω_R|, |ω_L| ≤ 10 rad/s")
+    _path_axes(a1)
+    a1.legend(loc="best", fontsize="small")
+    a1.set_title("Posture regulation")
+    a2.plot(res.t, aR, label="ω_R applied")
+    a2.plot(res.t, aL, "--", label="ω_L applied")
+    a2.set_xlabel("t [s]")
+    a2.set_ylabel("wheel speed [rad/s]")
+    a2.grid(True, alpha=0.3)
+    a2.legend(loc="best", fontsize="small")
+    a2.set_title("Saturated wheel speeds")
+    fig.tight_layout()
+    sol.figure(fig)
+    return sol
+
+
+def dubins_shortest_paths(cases: int = 300) -> Solution:
+    """Dubins shortest paths (forward-only car, turning radius ρ), checked three ways.
+
+    Closed forms: straight ahead (length d) and the U-turn to (0, 2ρ, π) (length πρ). Every word's end
+    posture, by exact integration of its arcs (11.85), is the goal. Optimality: random forward paths of
+    curvature ≤ 1/ρ (2–5 random arcs and straights, integrated exactly) are never shorter than the Dubins
+    path between their end postures — and many random three-segment paths are themselves optimal (equal).
+    """
+    from planners.wheeled import DubinsPath, dubins_path, dubins_paths
+
+    sol = Solution()
+    rho = 1.0
+    sol.check_close("straight ahead: length = distance", dubins_path([0, 0, 0], [4, 0, 0], rho).length, 4.0, atol=1e-12)
+    sol.check_close("U-turn to (0, 2ρ, π): length = πρ", dubins_path([0, 0, 0], [0, 2, np.pi], rho).length, np.pi,
+                    atol=1e-12)
+    rng = _rng()
+    worst_end, worst_gap, equal = 0.0, -np.inf, 0
+    for _ in range(cases):
+        q_i = rng.uniform(-3, 3, 3)
+        n_seg = int(rng.integers(2, 6))
+        word = "".join(rng.choice(list("LSR"), n_seg))
+        seg = rng.uniform(0.05, 2.0, n_seg)
+        random_path = DubinsPath(q_i, rho, word, seg)  # any sequence of primitives: a feasible path
+        q_f = random_path.end()
+        for p in dubins_paths(q_i, q_f, rho):
+            e = p.end() - q_f
+            worst_end = max(worst_end, float(np.max(np.abs(np.r_[e[:2], np.angle(np.exp(1j * e[2]))]))))
+        gap = dubins_path(q_i, q_f, rho).length - random_path.length
+        worst_gap = max(worst_gap, gap)
+        equal += abs(gap) < 1e-9
+    sol.value("max_end_error", worst_end)
+    sol.value("max_dubins_minus_random_length", worst_gap)
+    sol.value("random_paths_that_are_optimal", f"{equal}/{cases}")
+    # Tangent lengths p = √p² lose half the digits when two circles (nearly) touch: 1e-7, not 1e-15.
+    sol.check_close("every word ends at the goal (exact arcs)", worst_end, 0.0, atol=1e-7)
+    sol.check(f"Dubins length ≤ length of {cases} random feasible paths with the same end postures",
+              worst_gap <= 1e-9, f"max (Dubins − random) = {worst_gap:.2e} m; equal in {equal} cases")
+    sol.check("the bound is tight: some random paths are themselves optimal", equal > 0, f"{equal}/{cases}")
+    fig, ax = plt.subplots(figsize=(6, 5))
+    q_i, q_f = np.array([0.0, 0.0, 0.0]), np.array([1.0, 1.5, np.pi])
+    for p in dubins_paths(q_i, q_f, rho):
+        xy = p.sample(0.02)
+        ax.plot(xy[:, 0], xy[:, 1], lw=2.5 if p is dubins_paths(q_i, q_f, rho)[0] else 1,
+                label=f"{p.word}: {p.length:.2f} m")
+    _draw_unicycle(ax, *q_i, size=0.2)
+    _draw_unicycle(ax, *q_f, size=0.2)
+    _path_axes(ax)
+    ax.legend(loc="best", fontsize="small")
+    ax.set_title("Dubins words from (0, 0, 0) to (1, 1.5, π), ρ = 1 m")
+    sol.figure(fig)
+    return sol

@@ -27,7 +27,7 @@ import numpy as np
 from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
-    "unicycle_input_matrix", "unicycle_constraint", "unicycle_velocity",
+    "unicycle_input_matrix", "unicycle_constraint", "unicycle_velocity", "unicycle_arc",
     "differential_drive_velocities", "differential_drive_wheel_speeds", "differential_drive_admissible",
     "differential_drive_limits", "saturate_wheel_speeds",
     "bicycle_input_matrix", "bicycle_constraints", "bicycle_icr", "front_wheel_point",
@@ -64,6 +64,20 @@ def unicycle_velocity(q: np.ndarray, u: np.ndarray) -> np.ndarray:
     """q̇ = [v cos θ, v sin θ, ω] (11.13) for q = (x, y, θ), u = (v, ω); unchecked (hot loop)."""
     v, th = u[0], q[2]
     return np.array([v * np.cos(th), v * np.sin(th), u[1]])
+
+
+def unicycle_arc(q: np.ndarray, v: float, omega: float, t: float) -> np.ndarray:
+    """Exact solution of (11.13) under constant (v, ω) for a time t (Problem 11.17, (11.85)): an arc of circle.
+
+    θ(t) = θ + ωt, x(t) = x + (v/ω)(sin θ(t) − sin θ), y(t) = y − (v/ω)(cos θ(t) − cos θ); for |ωt| < 1e-9 the
+    chord formula x + vt cos(θ + ωt/2) (its limit, exact to O((ωt)²) relative). Unchecked (used in loops).
+    """
+    x, y, th = q[0], q[1], q[2]
+    dth = omega * t
+    if abs(dth) < 1e-9:
+        return np.array([x + v * t * np.cos(th + dth / 2), y + v * t * np.sin(th + dth / 2), th + dth])
+    return np.array([x + v / omega * (np.sin(th + dth) - np.sin(th)), y - v / omega * (np.cos(th + dth) - np.cos(th)),
+                     th + dth])
 
 
 def differential_drive_velocities(omega_R: Any, omega_L: Any, r: float, d: float) -> tuple[Any, Any]:

@@ -63,3 +63,37 @@ def test_bad_inputs_name_the_argument():
         pw.uniform_time_scaling(pw.cartesian_polynomial_path([0, 0, 0], [1, 1, 0]), 0.0, 1.0)
     with pytest.raises(ValueError, match="stops"):
         pw.unicycle_flat_inputs(np.zeros(2), np.ones(2))
+
+
+def test_dubins_closed_forms_and_end_postures(rng):
+    assert pw.dubins_path([0, 0, 0], [3, 0, 0], 2.0).length == pytest.approx(3.0)
+    assert pw.dubins_path([0, 0, 0], [0, -4, np.pi], 2.0).length == pytest.approx(2 * np.pi)  # right U-turn, ρ = 2
+    assert pw.dubins_path([0, 0, 0], [0, -4, np.pi], 2.0).word[0] == "R"
+    for _ in range(50):
+        q_i, q_f = rng.uniform(-3, 3, 3), rng.uniform(-3, 3, 3)
+        for p in pw.dubins_paths(q_i, q_f, 0.7):
+            e = p.end() - q_f
+            assert np.max(np.abs(np.r_[e[:2], np.sin(e[2]), 1 - np.cos(e[2])])) < 1e-7
+            assert p.sample(0.05).shape[1] == 3
+
+
+def test_single_arc_is_its_own_dubins_path():
+    arc = pw.DubinsPath(np.zeros(3), 1.0, "LSL", np.array([1.2, 0.0, 0.0]))
+    assert pw.dubins_path(np.zeros(3), arc.end(), 1.0).length == pytest.approx(1.2)
+
+
+def test_steering_feasible_path_respects_the_bound_or_says_why():
+    path = pw.steering_feasible_path([0, 0, 0], [-7, -2.5, 0], 2.5, 0.6, forward=False)
+    assert pw.max_steering_angle(path, 2.5) <= 0.6 and not path.forward
+    with pytest.raises(ValueError, match="phi_max"):
+        pw.steering_feasible_path([0, 0, 0], [-1, -2.5, 0], 2.5, 0.3, forward=False)
+
+
+def test_time_scaled_path_with_quintic_law_starts_and_stops_at_rest():
+    from planners.timing import quintic_law
+
+    ref = pw.TimeScaledPath(pw.cartesian_polynomial_path([0, 0, 0], [2, 1, 0.5]), law=quintic_law(0.0, 1.0, 5.0))
+    assert ref(0.0).v == pytest.approx(0, abs=1e-12) and ref(5.0).v == pytest.approx(0, abs=1e-12)
+    np.testing.assert_allclose(ref(5.0).p, [2, 1], atol=1e-12)
+    with pytest.raises(ValueError, match="either"):
+        pw.TimeScaledPath(pw.cartesian_polynomial_path([0, 0, 0], [2, 1, 0.5]))

@@ -37,3 +37,29 @@ def test_11_18_threshold_between_tenth_and_fifth_of_a_second():
     assert sol.passed and len(sol.figures) == 3
     assert 0.1 < sol.values["Ts_threshold"] < 0.2
     assert np.all(np.diff(sol.values["final_distance_grid"][:7]) > 0)
+
+
+@pytest.mark.parametrize("name", ["tracking_comparison", "parallel_parking", "wheel_saturation", "dubins_shortest_paths"])
+def test_beyond_the_book_companions_pass_their_checks(name):
+    import problems.ch11 as ch11
+
+    sol = getattr(ch11, name)()
+    try:
+        failed = [(c.name, c.detail) for c in sol.checks if not c.passed]
+        assert sol.checks and not failed, failed
+        assert sol.figures
+    finally:
+        for fig in sol.figures:
+            plt.close(fig)
+
+
+def test_tracking_comparison_table_has_the_four_metrics():
+    import problems.ch11 as ch11
+
+    sol = ch11.tracking_comparison(t_end=20.0)
+    for fig in sol.figures:
+        plt.close(fig)
+    table = sol.values["table"]
+    assert len(table) == 3
+    for row in table.values():
+        assert set(row) == {"settling_time", "peak_abs_v", "peak_abs_omega", "final_error"}

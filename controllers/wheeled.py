@@ -63,17 +63,10 @@ class Posture:
 
 
 @dataclass(frozen=True)
-class BicycleState:
-    """Measured bicycle state: rear contact point (x, y) [m], heading θ and steering angle φ [rad]."""
+class BicycleState(Posture):
+    """Measured bicycle state: the rear contact point's posture (x, y, θ) and the steering angle φ [rad]."""
 
-    x: float
-    y: float
-    theta: float
     phi: float
-
-    @property
-    def p(self) -> np.ndarray:
-        return np.array([self.x, self.y])
 
 
 def _pose(m: Any) -> tuple[float, float, float]:

@@ -73,15 +73,20 @@ def _path_axes(ax: Any) -> None:
     ax.grid(True, alpha=0.3)
 
 
-def _inputs_axes(ax: Any, t: np.ndarray, u: np.ndarray, title: str = "") -> None:
-    ax.plot(t, u[:, 0], label="v [m/s]")
-    ax.plot(t, u[:, 1], "--", label="ω [rad/s]")
+def _time_axes(ax: Any, t: np.ndarray, series: list[tuple[np.ndarray, str]], ylabel: str, title: str = "") -> None:
+    """Signals against time, the first solid and the others dashed, with a legend."""
+    for k, (y, label) in enumerate(series):
+        ax.plot(t, y, "-" if k == 0 else "--", label=label)
     ax.set_xlabel("t [s]")
-    ax.set_ylabel("v [m/s], ω [rad/s]")
+    ax.set_ylabel(ylabel)
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize="small")
     if title:
         ax.set_title(title)
+
+
+def _inputs_axes(ax: Any, t: np.ndarray, u: np.ndarray, title: str = "") -> None:
+    _time_axes(ax, t, [(u[:, 0], "v [m/s]"), (u[:, 1], "ω [rad/s]")], "v [m/s], ω [rad/s]", title)
 
 
 # --------------------------------------------------------------------------------------------
@@ -757,6 +762,24 @@ def problem_11_15() -> Solution:
     return sol
 
 
+def _motion_figure(res: SimulationResult, title: str, label: str, estimate: np.ndarray | None = None) -> Any:
+    """Cartesian motion (with the odometric estimate as dots) and the velocity inputs (Figs. S11.3, S11.5, S11.6)."""
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    a1.plot(res.x[:, 0], res.x[:, 1], label=label)
+    if estimate is not None:
+        step = max(1, len(res.t) // 60)
+        a1.plot(estimate[::step, 0], estimate[::step, 1], ".", ms=3, label="odometric estimate")
+    for k in range(0, len(res.t), max(1, len(res.t) // 10)):
+        _draw_unicycle(a1, *res.x[k], size=0.08)
+    _path_axes(a1)
+    a1.legend(loc="best", fontsize="small")
+    a1.set_title("Cartesian motion")
+    _inputs_axes(a2, res.t, res.u, "Velocity inputs")
+    fig.suptitle(title)
+    fig.tight_layout()
+    return fig
+
+
 def _regulate(controller: Any, q0: Any, t_end: float = 10.0) -> SimulationResult:
     return simulate(UnicyclePlant(), controller, (0.0, t_end), q0, h=H, Ts=H)
 
@@ -802,17 +825,7 @@ def problem_11_16() -> Solution:
     ax.legend(loc="best", fontsize="small")
     ax.set_title("Fig. S11.2 (here) — the two regulators from an obtuse start")
     sol.figure(fig1)
-    fig2, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
-    a1.plot(mod.x[:, 0], mod.x[:, 1], label="modified regulator")
-    for k in range(0, len(mod.t), 100):
-        _draw_unicycle(a1, *mod.x[k], size=0.08)
-    _path_axes(a1)
-    a1.legend(loc="best", fontsize="small")
-    a1.set_title("Cartesian motion (backward)")
-    _inputs_axes(a2, mod.t, mod.u, "Velocity inputs")
-    fig2.suptitle("Fig. S11.3 — modified Cartesian regulator, k1 = 1, k2 = 3")
-    fig2.tight_layout()
-    sol.figure(fig2)
+    sol.figure(_motion_figure(mod, "Fig. S11.3 — modified Cartesian regulator, k1 = 1, k2 = 3", "modified regulator"))
     return sol
 
 
@@ -875,22 +888,6 @@ def final_distance(Ts: float) -> float:
         return float("inf")
 
 
-def _posture_figure(res: SimulationResult, Ts: float, name: str) -> Any:
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
-    a1.plot(res.x[:, 0], res.x[:, 1], label="unicycle")
-    q_hat = res["q_hat"]
-    step = max(1, len(res.t) // 60)
-    a1.plot(q_hat[::step, 0], q_hat[::step, 1], ".", ms=3, label="odometric estimate")
-    _draw_unicycle(a1, *res.x[0])
-    _path_axes(a1)
-    a1.legend(loc="best", fontsize="small")
-    a1.set_title("Cartesian motion")
-    _inputs_axes(a2, res.t, res.u, "Velocity inputs")
-    fig.suptitle(f"{name} — posture regulation with Runge–Kutta odometry, T_s = {Ts:g} s")
-    fig.tight_layout()
-    return fig
-
-
 @problem("11.18", "Posture regulation with Runge–Kutta odometric localisation", kind="simulation")
 def problem_11_18() -> Solution:
     """Posture regulator (11.81)–(11.82) acting on the odometric estimate (11.84) (Fig. S11.4).
@@ -914,7 +911,8 @@ def problem_11_18() -> Solution:
                   f"‖p̂‖ = {est:.2e} m")
         sol.check(f"T_s = {Ts:g} s: final distance ≈ odometric error (the regulator converged on the estimate)",
                   abs(dist - res["odometry_error"][-1]) < 1e-3, f"‖p‖ = {dist:.2e}, error {res['odometry_error'][-1]:.2e} m")
-        sol.figure(_posture_figure(res, Ts, fig_name))
+        sol.figure(_motion_figure(res, f"{fig_name} — posture regulation with Runge–Kutta odometry, T_s = {Ts:g} s",
+                                  "unicycle", estimate=res["q_hat"]))
     d01, d1 = sol.values["final_distance_Ts_0.01"], sol.values["final_distance_Ts_0.1"]
     sol.check("T_s = 0.01 s: ‖p(10 s)‖ < 1e-3 m and |θ| < 1e-2 rad",
               d01 < 1e-3 and abs(sol.values["final_heading_Ts_0.01"]) < 1e-2, f"‖p‖ = {d01:.2e} m")
@@ -1071,15 +1069,10 @@ def parallel_parking(ell: float = 2.5, phi_max: float = 0.6, T: float = 15.0) ->
     _path_axes(a1)
     a1.legend(loc="best", fontsize="small")
     a1.set_title("Parallel parking (reverse)")
-    a2.plot(res.t, res.u[:, 0], label="v [m/s]")
-    a2.plot(res.t, res.x[:, 3], "--", label="φ [rad]")
-    a2.axhline(-phi_max, color="k", ls=":", lw=1, label="±φ_max")
+    a2.axhline(-phi_max, color="k", ls=":", lw=1)
     a2.axhline(phi_max, color="k", ls=":", lw=1)
-    a2.set_xlabel("t [s]")
-    a2.set_ylabel("v [m/s], φ [rad]")
-    a2.grid(True, alpha=0.3)
-    a2.legend(loc="best", fontsize="small")
-    a2.set_title("Driving velocity and steering angle")
+    _time_axes(a2, res.t, [(res.u[:, 0], "v [m/s]"), (res.x[:, 3], "φ [rad] (dotted: ±φ_max)")], "v [m/s], φ [rad]",
+               "Driving velocity and steering angle")
     fig.tight_layout()
     sol.figure(fig)
     return sol
@@ -1118,13 +1111,7 @@ def wheel_saturation(t_end: float = 20.0) -> Solution:
     _path_axes(a1)
     a1.legend(loc="best", fontsize="small")
     a1.set_title("Posture regulation")
-    a2.plot(res.t, aR, label="ω_R applied")
-    a2.plot(res.t, aL, "--", label="ω_L applied")
-    a2.set_xlabel("t [s]")
-    a2.set_ylabel("wheel speed [rad/s]")
-    a2.grid(True, alpha=0.3)
-    a2.legend(loc="best", fontsize="small")
-    a2.set_title("Saturated wheel speeds")
+    _time_axes(a2, res.t, [(aR, "ω_R applied"), (aL, "ω_L applied")], "wheel speed [rad/s]", "Saturated wheel speeds")
     fig.tight_layout()
     sol.figure(fig)
     return sol

@@ -35,6 +35,7 @@ __all__ = [
     "ReferenceSample", "TimeScaledPath", "FigureEight",
     "ChainedFormPath", "parameterised_path", "parameterised_inputs", "chained_form_system", "chained_form_interpolation",
     "bicycle_flat_inputs", "max_steering_angle", "steering_feasible_path", "DUBINS_WORDS", "DubinsPath", "dubins_path", "dubins_paths",
+    "ReedsSheppPath", "reeds_shepp_path", "reeds_shepp_paths",
 ]
 
 
@@ -445,3 +446,183 @@ def dubins_paths(q_i: Any, q_f: Any, rho: float) -> list[DubinsPath]:
 def dubins_path(q_i: Any, q_f: Any, rho: float) -> DubinsPath:
     """The shortest path of a car moving forward with turning radius ≥ ρ from q_i to q_f (Dubins)."""
     return dubins_paths(q_i, q_f, rho)[0]
+
+
+# --------------------------------------------------------------------------------------------
+# Reeds–Shepp shortest paths of the car that moves forward and backward (turning radius ρ)
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ReedsSheppPath:
+    """A Reeds–Shepp path: segments (L, R, S) with signed lengths in units of ρ (negative: backwards)."""
+
+    q_i: np.ndarray
+    rho: float
+    word: str
+    segments: np.ndarray
+
+    @property
+    def length(self) -> float:
+        """Path length [m]."""
+        return float(self.rho * np.sum(np.abs(self.segments)))
+
+    def end(self) -> np.ndarray:
+        """The final posture, by exact integration of the primitives (11.85)."""
+        return self.sample(np.inf)[-1]
+
+    def sample(self, step: float) -> np.ndarray:
+        """(N, 3) postures every ``step`` metres of arc length (and at the segment ends)."""
+        q = self.q_i.copy()
+        out = [q]
+        for kind, length in zip(self.word, self.segments):
+            L, v = abs(length) * self.rho, float(np.sign(length))
+            n = 1 if not np.isfinite(step) else max(1, int(np.ceil(L / step)))
+            for _ in range(n):
+                q = unicycle_arc(q, v, v * _TURN[kind] / self.rho, L / n)
+                out.append(q)
+        return np.array(out)
+
+
+def _pi_mod(a: float) -> float:
+    """a wrapped into (−π, π]."""
+    return float(np.pi - np.mod(np.pi - a, 2 * np.pi))
+
+
+def _polar(x: float, y: float) -> tuple[float, float]:
+    return float(np.hypot(x, y)), float(np.arctan2(y, x))
+
+
+def _tau_omega(u: float, v: float, xi: float, eta: float, phi: float) -> tuple[float, float]:
+    delta = _pi_mod(u - v)
+    A, B = np.sin(u) - np.sin(delta), np.cos(u) - np.cos(delta) - 1.0
+    t1 = np.arctan2(eta * A - xi * B, xi * A + eta * B)
+    t2 = 2.0 * (np.cos(delta) - np.cos(v) - np.cos(u)) + 3.0
+    tau = _pi_mod(t1 + np.pi) if t2 < 0 else _pi_mod(t1)
+    return tau, _pi_mod(tau - u + v - phi)
+
+
+_EPS = 1e-10
+
+
+def _lsl(x, y, phi):  # Reeds & Shepp (8.1): L+ S+ L+
+    u, t = _polar(x - np.sin(phi), y - 1.0 + np.cos(phi))
+    v = _pi_mod(phi - t)
+    return [t, u, v] if t >= -_EPS and v >= -_EPS else None
+
+
+def _lsr(x, y, phi):  # (8.2): L+ S+ R+
+    u1, t1 = _polar(x + np.sin(phi), y - 1.0 - np.cos(phi))
+    if u1 * u1 < 4.0:
+        return None
+    u = np.sqrt(u1 * u1 - 4.0)
+    t = _pi_mod(t1 + np.arctan2(2.0, u))
+    v = _pi_mod(t - phi)
+    return [t, u, v] if t >= -_EPS and v >= -_EPS else None
+
+
+def _lrl(x, y, phi):  # (8.3): L+ R− L
+    u1, theta = _polar(x - np.sin(phi), y - 1.0 + np.cos(phi))
+    if u1 > 4.0:
+        return None
+    u = -2.0 * np.arcsin(u1 / 4.0)
+    t = _pi_mod(theta + u / 2.0 + np.pi)
+    v = _pi_mod(phi - t + u)
+    return [t, u, v] if t >= -_EPS and u <= _EPS else None
+
+
+def _lrlr_a(x, y, phi):  # (8.7): L+ R+u L−u R−
+    xi, eta = x + np.sin(phi), y - 1.0 - np.cos(phi)
+    rho = 0.25 * (2.0 + np.hypot(xi, eta))
+    if rho > 1.0:
+        return None
+    u = np.arccos(rho)
+    t, v = _tau_omega(u, -u, xi, eta, phi)
+    return [t, u, -u, v] if t >= -_EPS and v <= _EPS else None
+
+
+def _lrlr_b(x, y, phi):  # (8.8): L+ R−u L−u R+
+    xi, eta = x + np.sin(phi), y - 1.0 - np.cos(phi)
+    rho = (20.0 - xi * xi - eta * eta) / 16.0
+    if not 0.0 <= rho <= 1.0:
+        return None
+    u = -np.arccos(rho)
+    if u < -np.pi / 2:
+        return None
+    t, v = _tau_omega(u, u, xi, eta, phi)
+    return [t, u, u, v] if t >= -_EPS and v >= -_EPS else None
+
+
+def _lrsl(x, y, phi):  # (8.9): L+ R−(π/2) S− L−
+    xi, eta = x - np.sin(phi), y - 1.0 + np.cos(phi)  # centre of the final (left) circle
+    rho, theta = _polar(-eta, xi)
+    if rho < 2.0:
+        return None
+    r = np.sqrt(rho * rho - 4.0)  # (−η, ξ) = R(t)(r, −2) with r = 2 − u
+    u = 2.0 - r
+    t = _pi_mod(theta + np.arctan2(2.0, r))
+    v = _pi_mod(phi - np.pi / 2 - t)
+    return [t, -np.pi / 2, u, v] if t >= -_EPS and u <= _EPS and v <= _EPS else None
+
+
+def _lrsr(x, y, phi):  # (8.10): L+ R−(π/2) S− R−
+    xi, eta = x + np.sin(phi), y - 1.0 - np.cos(phi)
+    rho, theta = _polar(-eta, xi)
+    if rho < 2.0:
+        return None
+    t, u = theta, 2.0 - rho
+    v = _pi_mod(t + np.pi / 2 - phi)
+    return [t, -np.pi / 2, u, v] if t >= -_EPS and u <= _EPS and v <= _EPS else None
+
+
+def _lrslr(x, y, phi):  # (8.11): L+ R−(π/2) S− L−(π/2) R+
+    xi, eta = x + np.sin(phi), y - 1.0 - np.cos(phi)
+    rho, _ = _polar(xi, eta)
+    if rho < 2.0:
+        return None
+    u = 4.0 - np.sqrt(rho * rho - 4.0)
+    if u > _EPS:
+        return None
+    t = _pi_mod(np.arctan2((4.0 - u) * xi - 2.0 * eta, -2.0 * xi + (u - 4.0) * eta))
+    v = _pi_mod(t - phi)
+    return [t, -np.pi / 2, u, -np.pi / 2, v] if t >= -_EPS and v >= -_EPS else None
+
+
+# (formula, word, use the "backwards" symmetry too)
+_RS_FAMILIES = ((_lsl, "LSL", False), (_lsr, "LSR", False), (_lrl, "LRL", True), (_lrlr_a, "LRLR", False),
+                (_lrlr_b, "LRLR", False), (_lrsl, "LRSL", True), (_lrsr, "LRSR", True), (_lrslr, "LRSLR", False))
+_SWAP = str.maketrans("LR", "RL")
+
+
+def reeds_shepp_paths(q_i: Any, q_f: Any, rho: float) -> list[ReedsSheppPath]:
+    """Candidate Reeds–Shepp paths (CSC, CCC, CCCC, CCSC, CCSCC families) from q_i to q_f, shortest first.
+
+    Each family's closed form (Reeds & Shepp 1990, formulas 8.1–8.11) gives the base word; the time-flip
+    (x, y, φ) → (−x, y, −φ), the reflection (x, −y, −φ) (L ↔ R) and, for CCC and CCSC, the backwards
+    reading of the path cover the 48 words.
+    """
+    q_i, q_f = as_vector(q_i, 3, "q_i"), as_vector(q_f, 3, "q_f")
+    rho = as_positive(rho, "rho")
+    dx, dy = (q_f[:2] - q_i[:2]) / rho
+    c, s = np.cos(q_i[2]), np.sin(q_i[2])
+    x, y, phi = c * dx + s * dy, -s * dx + c * dy, _pi_mod(q_f[2] - q_i[2])  # goal in the start frame
+    xb, yb = x * np.cos(phi) + y * np.sin(phi), x * np.sin(phi) - y * np.cos(phi)
+    found = []
+    for formula, word, backwards in _RS_FAMILIES:
+        for back in (False, True) if backwards else (False,):
+            bx, by = (xb, yb) if back else (x, y)
+            for flip in (False, True):
+                for refl in (False, True):
+                    seg = formula(-bx if flip else bx, -by if refl else by, -phi if flip != refl else phi)
+                    if seg is None:
+                        continue
+                    seg = -np.array(seg) if flip else np.array(seg)
+                    w = word.translate(_SWAP) if refl else word
+                    if back:
+                        w, seg = w[::-1], seg[::-1]
+                    found.append(ReedsSheppPath(q_i, rho, w, seg.astype(float)))
+    return sorted(found, key=lambda p: p.length)
+
+
+def reeds_shepp_path(q_i: Any, q_f: Any, rho: float) -> ReedsSheppPath:
+    """The shortest path of a car moving forward and backward with turning radius ≥ ρ (Reeds–Shepp)."""
+    return reeds_shepp_paths(q_i, q_f, rho)[0]

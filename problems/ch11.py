@@ -1117,21 +1117,25 @@ def wheel_saturation(t_end: float = 20.0) -> Solution:
     return sol
 
 
-def dubins_shortest_paths(cases: int = 300) -> Solution:
-    """Dubins shortest paths (forward-only car, turning radius ρ), checked three ways.
+def car_shortest_paths(cases: int = 300) -> Solution:
+    """Shortest paths of a car with turning radius ρ: Dubins (forward only) and Reeds–Shepp (both ways).
 
-    Closed forms: straight ahead (length d) and the U-turn to (0, 2ρ, π) (length πρ). Every word's end
-    posture, by exact integration of its arcs (11.85), is the goal. Optimality: random forward paths of
-    curvature ≤ 1/ρ (2–5 random arcs and straights, integrated exactly) are never shorter than the Dubins
-    path between their end postures — and many random three-segment paths are themselves optimal (equal).
+    Closed forms: straight ahead (length d), the U-turn to (0, 2ρ, π) (πρ), straight back (d for Reeds–Shepp).
+    Every candidate's end posture, by exact integration of its arcs (11.85), is the goal. Optimality: random
+    paths of curvature ≤ 1/ρ (1–5 random arcs and straights; forward only for Dubins, either way for
+    Reeds–Shepp) are never shorter than the closed-form shortest path between their end postures, and many
+    are themselves optimal (equal); Reeds–Shepp is never longer than Dubins.
     """
-    from planners.wheeled import DubinsPath, dubins_path, dubins_paths
+    from planners.wheeled import (DubinsPath, ReedsSheppPath, dubins_path, dubins_paths, reeds_shepp_path,
+                                  reeds_shepp_paths)
 
     sol = Solution()
     rho = 1.0
     sol.check_close("straight ahead: length = distance", dubins_path([0, 0, 0], [4, 0, 0], rho).length, 4.0, atol=1e-12)
     sol.check_close("U-turn to (0, 2ρ, π): length = πρ", dubins_path([0, 0, 0], [0, 2, np.pi], rho).length, np.pi,
                     atol=1e-12)
+    sol.check_close("Reeds–Shepp straight back: length = distance",
+                    reeds_shepp_path([0, 0, 0], [-3, 0, 0], rho).length, 3.0, atol=1e-12)
     rng = _rng()
     worst_end, worst_gap, equal = 0.0, -np.inf, 0
     for _ in range(cases):
@@ -1155,6 +1159,27 @@ def dubins_shortest_paths(cases: int = 300) -> Solution:
     sol.check(f"Dubins length ≤ length of {cases} random feasible paths with the same end postures",
               worst_gap <= 1e-9, f"max (Dubins − random) = {worst_gap:.2e} m; equal in {equal} cases")
     sol.check("the bound is tight: some random paths are themselves optimal", equal > 0, f"{equal}/{cases}")
+
+    rs_end, rs_gap, rs_equal, rs_vs_dubins = 0.0, -np.inf, 0, -np.inf
+    for _ in range(cases):
+        q_i = rng.uniform(-3, 3, 3)
+        n_seg = int(rng.integers(1, 6))
+        random_path = ReedsSheppPath(q_i, rho, "".join(rng.choice(list("LSR"), n_seg)),
+                                     rng.uniform(0.05, 2.0, n_seg) * rng.choice([-1.0, 1.0], n_seg))
+        q_f = random_path.end()
+        for p in reeds_shepp_paths(q_i, q_f, rho):
+            e = p.end() - q_f
+            rs_end = max(rs_end, float(np.max(np.abs(np.r_[e[:2], np.angle(np.exp(1j * e[2]))]))))
+        best = reeds_shepp_path(q_i, q_f, rho).length
+        rs_gap = max(rs_gap, best - random_path.length)
+        rs_equal += abs(best - random_path.length) < 1e-9
+        rs_vs_dubins = max(rs_vs_dubins, best - dubins_path(q_i, q_f, rho).length)
+    sol.value("reeds_shepp_max_end_error", rs_end)
+    sol.value("reeds_shepp_random_paths_that_are_optimal", f"{rs_equal}/{cases}")
+    sol.check_close("Reeds–Shepp: every candidate ends at the goal (exact arcs)", rs_end, 0.0, atol=1e-7)
+    sol.check(f"Reeds–Shepp length ≤ length of {cases} random forward/backward paths (and some equal)",
+              rs_gap <= 1e-9 and rs_equal > 0, f"max (RS − random) = {rs_gap:.2e} m; equal in {rs_equal} cases")
+    sol.check("Reeds–Shepp ≤ Dubins (forward paths are a subset)", rs_vs_dubins <= 1e-9, f"max (RS − Dubins) = {rs_vs_dubins:.2e} m")
     fig, ax = plt.subplots(figsize=(6, 5))
     q_i, q_f = np.array([0.0, 0.0, 0.0]), np.array([1.0, 1.5, np.pi])
     for p in dubins_paths(q_i, q_f, rho):
@@ -1165,6 +1190,9 @@ def dubins_shortest_paths(cases: int = 300) -> Solution:
     _draw_unicycle(ax, *q_f, size=0.2)
     _path_axes(ax)
     ax.legend(loc="best", fontsize="small")
-    ax.set_title("Dubins words from (0, 0, 0) to (1, 1.5, π), ρ = 1 m")
+    rs = reeds_shepp_path(q_i, q_f, rho)
+    xy = rs.sample(0.02)
+    ax.plot(xy[:, 0], xy[:, 1], "k--", lw=2, label=f"Reeds–Shepp {rs.word}: {rs.length:.2f} m")
+    ax.set_title("Dubins words and the Reeds–Shepp path, (0, 0, 0) → (1, 1.5, π), ρ = 1 m")
     sol.figure(fig)
     return sol

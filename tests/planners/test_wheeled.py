@@ -97,3 +97,14 @@ def test_time_scaled_path_with_quintic_law_starts_and_stops_at_rest():
     np.testing.assert_allclose(ref(5.0).p, [2, 1], atol=1e-12)
     with pytest.raises(ValueError, match="either"):
         pw.TimeScaledPath(pw.cartesian_polynomial_path([0, 0, 0], [2, 1, 0.5]))
+
+
+def test_reeds_shepp_reaches_the_goal_and_is_never_longer_than_dubins(rng):
+    for _ in range(100):
+        q_i, q_f = rng.uniform(-3, 3, 3), rng.uniform(-3, 3, 3)
+        paths = pw.reeds_shepp_paths(q_i, q_f, 0.8)
+        for p in paths:
+            e = p.end() - q_f
+            assert np.max(np.abs(np.r_[e[:2], np.sin(e[2]), 1 - np.cos(e[2])])) < 1e-7
+        assert paths[0].length <= pw.dubins_path(q_i, q_f, 0.8).length + 1e-9
+    assert pw.reeds_shepp_path([0, 0, 0], [-2, 0, 0], 1.0).length == pytest.approx(2.0)

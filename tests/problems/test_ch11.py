@@ -39,7 +39,7 @@ def test_11_18_threshold_between_tenth_and_fifth_of_a_second():
     assert np.all(np.diff(sol.values["final_distance_grid"][:7]) > 0)
 
 
-@pytest.mark.parametrize("name", ["tracking_comparison", "parallel_parking", "wheel_saturation", "dubins_shortest_paths"])
+@pytest.mark.parametrize("name", ["tracking_comparison", "parallel_parking", "wheel_saturation", "car_shortest_paths"])
 def test_beyond_the_book_companions_pass_their_checks(name):
     import problems.ch11 as ch11
 

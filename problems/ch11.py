@@ -43,7 +43,7 @@ from rigid_body.wheeled import (accessibility_rank, bicycle_constraints, bicycle
                                 front_wheel_point, front_wheel_point_matrix, lie_bracket, lie_bracket_symbolic,
                                 null_space, trailer_angle_indices, trailer_axle_midpoints,
                                 trailer_configuration_size, trailer_constraints, trailer_input_matrix,
-                                unicycle_input_matrix)
+                                unicycle_arc, unicycle_input_matrix)
 
 H = 0.01          # the manual's maximum integration step for the unicycle [s]
 SEED = 11         # random configurations of the derivation checks
@@ -871,19 +871,23 @@ def posture_with_odometry(Ts: float, q0: Any = Q0_COMPANION, t_end: float = T_RE
                           gains: tuple[float, float, float] = K_POSTURE) -> SimulationResult:
     """Posture regulation (11.81)–(11.82) fed by Runge–Kutta odometry (11.84) of period T_s (Problem 11.18).
 
-    The unicycle is integrated by RK4 with h = T_s/⌈T_s/0.01⌉ ≤ 0.01 s (the manual's maximum step); the run
-    lasts ⌈t_end/T_s⌉ T_s. Raises SimulationDiverged when the loop leaves |x_i| < 1e3.
+    The unicycle is integrated by RK4 with h = T_s/⌈T_s/0.01⌉ ≤ 0.01 s (the manual's maximum step); samples at
+    k T_s ≤ t_end. Raises SimulationDiverged when the loop leaves |x_i| < 1e3.
     """
     n_sub = int(np.ceil(Ts / H - 1e-9))
-    t_f = Ts * np.ceil(t_end / Ts - 1e-9)
-    return simulate(UnicyclePlant(), OdometricRegulator(PostureRegulator(*gains), q0), (0.0, t_f), q0,
+    return simulate(UnicyclePlant(), OdometricRegulator(PostureRegulator(*gains), q0), (0.0, t_end), q0,
                     h=Ts / n_sub, Ts=Ts, bound=1e3)
 
 
-def final_distance(Ts: float) -> float:
-    """‖p‖ at the end of the 11.18 run (inf when the loop diverges)."""
+def posture_at(res: SimulationResult, t: float) -> np.ndarray:
+    """The posture at t ≥ the last sample: the last command is held, so the robot runs an exact arc (11.85)."""
+    return unicycle_arc(res.x[-1], res.u[-1, 0], res.u[-1, 1], t - res.t[-1])
+
+
+def final_distance(Ts: float, t_end: float = T_REGULATION) -> float:
+    """‖p(t_end)‖ of the 11.18 loop with odometry period T_s (inf when the loop diverges)."""
     try:
-        return float(np.hypot(*posture_with_odometry(Ts).x[-1, :2]))
+        return float(np.hypot(*posture_at(posture_with_odometry(Ts, t_end=t_end), t_end)[:2]))
     except SimulationDiverged:
         return float("inf")
 
@@ -895,7 +899,8 @@ def problem_11_18() -> Solution:
     Companion i11_18: k = (1, 2.5, 3), start (−1, −2, −π/2), 10 s, T_s = 0.01 s (Fig. S11.5) and 0.1 s
     (Fig. S11.6). Both converge; at 0.1 s the estimate is less accurate (the final distance is the odometric
     error). For larger T_s the final error grows and the loop eventually diverges: the T_s above which
-    ‖p(10 s)‖ > 1e-2 m is found by bisection (Fig. S11.4 here: final distance against T_s).
+    ‖p(10 s)‖ > 1e-2 m is found by bisection (Fig. S11.4 here: final distance against T_s). When T_s does not
+    divide 10 s, the posture at 10 s is the exact arc (11.85) from the last sample under the held command.
     """
     sol = Solution()
     runs = {}

@@ -504,13 +504,13 @@ def _tau_omega(u: float, v: float, xi: float, eta: float, phi: float) -> tuple[f
 _EPS = 1e-10
 
 
-def _lsl(x, y, phi):  # Reeds & Shepp (8.1): L+ S+ L+
+def _lsl(x: float, y: float, phi: float) -> list[float] | None:  # Reeds & Shepp (8.1): L+ S+ L+
     u, t = _polar(x - np.sin(phi), y - 1.0 + np.cos(phi))
     v = _pi_mod(phi - t)
     return [t, u, v] if t >= -_EPS and v >= -_EPS else None
 
 
-def _lsr(x, y, phi):  # (8.2): L+ S+ R+
+def _lsr(x: float, y: float, phi: float) -> list[float] | None:  # (8.2): L+ S+ R+
     u1, t1 = _polar(x + np.sin(phi), y - 1.0 - np.cos(phi))
     if u1 * u1 < 4.0:
         return None
@@ -520,7 +520,7 @@ def _lsr(x, y, phi):  # (8.2): L+ S+ R+
     return [t, u, v] if t >= -_EPS and v >= -_EPS else None
 
 
-def _lrl(x, y, phi):  # (8.3): L+ R− L
+def _lrl(x: float, y: float, phi: float) -> list[float] | None:  # (8.3): L+ R− L
     u1, theta = _polar(x - np.sin(phi), y - 1.0 + np.cos(phi))
     if u1 > 4.0:
         return None
@@ -530,7 +530,7 @@ def _lrl(x, y, phi):  # (8.3): L+ R− L
     return [t, u, v] if t >= -_EPS and u <= _EPS else None
 
 
-def _lrlr_a(x, y, phi):  # (8.7): L+ R+u L−u R−
+def _lrlr_a(x: float, y: float, phi: float) -> list[float] | None:  # (8.7): L+ R+u L−u R−
     xi, eta = x + np.sin(phi), y - 1.0 - np.cos(phi)
     rho = 0.25 * (2.0 + np.hypot(xi, eta))
     if rho > 1.0:
@@ -540,7 +540,7 @@ def _lrlr_a(x, y, phi):  # (8.7): L+ R+u L−u R−
     return [t, u, -u, v] if t >= -_EPS and v <= _EPS else None
 
 
-def _lrlr_b(x, y, phi):  # (8.8): L+ R−u L−u R+
+def _lrlr_b(x: float, y: float, phi: float) -> list[float] | None:  # (8.8): L+ R−u L−u R+
     xi, eta = x + np.sin(phi), y - 1.0 - np.cos(phi)
     rho = (20.0 - xi * xi - eta * eta) / 16.0
     if not 0.0 <= rho <= 1.0:
@@ -552,7 +552,7 @@ def _lrlr_b(x, y, phi):  # (8.8): L+ R−u L−u R+
     return [t, u, u, v] if t >= -_EPS and v >= -_EPS else None
 
 
-def _lrsl(x, y, phi):  # (8.9): L+ R−(π/2) S− L−
+def _lrsl(x: float, y: float, phi: float) -> list[float] | None:  # (8.9): L+ R−(π/2) S− L−
     xi, eta = x - np.sin(phi), y - 1.0 + np.cos(phi)  # centre of the final (left) circle
     rho, theta = _polar(-eta, xi)
     if rho < 2.0:
@@ -564,7 +564,7 @@ def _lrsl(x, y, phi):  # (8.9): L+ R−(π/2) S− L−
     return [t, -np.pi / 2, u, v] if t >= -_EPS and u <= _EPS and v <= _EPS else None
 
 
-def _lrsr(x, y, phi):  # (8.10): L+ R−(π/2) S− R−
+def _lrsr(x: float, y: float, phi: float) -> list[float] | None:  # (8.10): L+ R−(π/2) S− R−
     xi, eta = x + np.sin(phi), y - 1.0 - np.cos(phi)
     rho, theta = _polar(-eta, xi)
     if rho < 2.0:
@@ -574,7 +574,7 @@ def _lrsr(x, y, phi):  # (8.10): L+ R−(π/2) S− R−
     return [t, -np.pi / 2, u, v] if t >= -_EPS and u <= _EPS and v <= _EPS else None
 
 
-def _lrslr(x, y, phi):  # (8.11): L+ R−(π/2) S− L−(π/2) R+
+def _lrslr(x: float, y: float, phi: float) -> list[float] | None:  # (8.11): L+ R−(π/2) S− L−(π/2) R+
     xi, eta = x + np.sin(phi), y - 1.0 - np.cos(phi)
     rho, _ = _polar(xi, eta)
     if rho < 2.0:

@@ -370,6 +370,9 @@ def problem_11_7() -> Solution:
         R_P = np.linalg.norm(P - C)
         worst_perp = max(worst_perp, abs(float(vP @ (P - C))))
         worst_mag = max(worst_mag, abs(np.linalg.norm(vP) - R_P * abs(v * np.tan(phi) / ell)))
+    q = np.r_[rng.uniform(-2, 2, 3), 0.4]
+    sol.check_close("model (11.19): A(q) G(q) = 0 for the constraints (11.15)–(11.16)",
+                    bicycle_constraints(q, ell) @ bicycle_input_matrix(q, ell), np.zeros((2, 2)), atol=1e-15)
     sol.check_close("C (11.7 formula) = intersection of the wheel axes", worst_C, 0.0, atol=1e-12)
     sol.check_close("v_P ⟂ (P − C)", worst_perp, 0.0, atol=1e-12)
     sol.check_close("|v_P| = R_P v tan φ / ℓ", worst_mag, 0.0, atol=1e-12)

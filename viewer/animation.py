@@ -56,9 +56,9 @@ def default_camera(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     reach = max(float(np.max(np.linalg.norm(origins, axis=1))), 0.3)
     if np.ptp(origins[:, 2]) < 1e-9:  # a planar arm in z = const: look down the z axis, y up
         target = np.array([0.0, 0.0, origins[0, 2]])
-        return target + np.array([0.0, -0.01, 1.5]) * reach, target
+        return target + np.array([0.0, -0.01, 2.0]) * reach, target
     target = np.array([0.0, 0.0, 0.35 * reach])
-    return target + np.array([1.1, 0.8, 0.5]) * reach, target
+    return target + np.array([1.4, 1.0, 0.65]) * reach, target
 
 
 def show(robot: Robot, q: Any | None = None, *, server: bool = False, scene: Scene | None = None,

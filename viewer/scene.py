@@ -469,7 +469,7 @@ def _rgba(color: Any) -> list[float]:
 # fetch(data:...) promises whose order is not guaranteed).
 _PAGE = """<!DOCTYPE html>
 <html>
-<head><meta charset="utf-8"><title>{title}</title>
+<head><meta charset="utf-8"><title>{title}</title><link rel="icon" href="data:,">
 <style>body {{ margin: 0; }} #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}</style>
 </head>
 <body>

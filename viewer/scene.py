@@ -229,6 +229,14 @@ class Scene:
         live = self._recorder.live
         return None if live is None else live.web_url
 
+    def close(self) -> None:
+        """Stop the live meshcat server this scene started (the recorded scene stays usable)."""
+        live, self._recorder.live = self._recorder.live, None
+        proc = getattr(live, "server_proc", None)
+        if proc is not None:
+            proc.kill()
+            proc.wait()
+
     # -- robots ------------------------------------------------------------------------------------
     def add_robot(self, robot: Robot, q: Any | None = None, name: str = "robot", kind: str = "collision",
                   frames: Iterable[str | int] | None = None, color: Any | None = None,

@@ -229,3 +229,15 @@ def test_export_is_one_offline_html_file_and_the_report_hook_writes_one_per_anim
     # the commands decode back to meshcat's msgpack
     first = re.search(r'var commands = \[\n"([^"]+)"', page).group(1)
     assert umsgpack.unpackb(base64.b64decode(first))["type"] in ("set_object", "set_property", "set_transform")
+
+
+def test_live_server_binds_to_localhost_and_receives_the_scene():
+    scene = Scene(server=True)
+    try:
+        assert scene.url.startswith("http://127.0.0.1:")
+        scene.add_robot(load("planar_2r"), [0.3, 0.2])
+        served = scene._recorder.live.get_scene()  # the server's own static export of what it received
+        assert served.count("data:application/octet-binary;base64,") == len(scene._recorder.commands())  # all mirrored
+    finally:
+        scene.close()
+    assert scene.url is None

@@ -11,10 +11,10 @@ Imported by notebooks, examples and the report — never by ``rigid_body``, ``pl
 >>> path = export_html(robot, traj, "/tmp/rmpc-doctest-2r.html")   # one offline HTML file
 """
 
-from viewer.animation import animate, default_camera, export_html, motion_of, report_animations, show
+from viewer.animation import animate, default_camera, export_html, motion_of, report_animations, show, up_rotation
 from viewer.geometry import geometry_of, skeleton_of
 from viewer.pendant import TeachPendant
 from viewer.scene import Scene, arrow_transform
 
 __all__ = ["Scene", "TeachPendant", "animate", "arrow_transform", "default_camera", "export_html", "geometry_of",
-           "motion_of", "report_animations", "show", "skeleton_of"]
+           "motion_of", "report_animations", "show", "skeleton_of", "up_rotation"]

@@ -16,6 +16,7 @@ import numpy as np
 import pinocchio as pin
 
 from rigid_body.robots import Robot
+from rigid_body.rotations import axis_angle_to_rotation
 from viewer.scene import Scene
 
 
@@ -43,22 +44,46 @@ def motion_of(motion: Any, robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     return t, q
 
 
-def default_camera(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
-    """A viewpoint ``(position, target)`` that frames the robot: from above for a planar arm (all its
-    frames stay in one plane z = const), from the front-right otherwise."""
+def up_rotation(gravity: Any) -> np.ndarray:
+    """The rotation R_up taking the robot's base frame to the viewer's (z up) so that −g points up:
+    the book's SCARA (g along +z) stands on its base, planar arms with g along −y stand in a vertical
+    plane. Identity without gravity."""
+    g = np.asarray(gravity, dtype=float)
+    norm = float(np.linalg.norm(g))
+    if norm < 1e-12:
+        return np.eye(3)
+    up, z = -g / norm, np.array([0.0, 0.0, 1.0])
+    axis = np.cross(up, z)
+    if np.linalg.norm(axis) < 1e-12:  # already vertical: identity, or upside down: half a turn about x
+        return np.eye(3) if up[2] > 0 else axis_angle_to_rotation(np.pi, [1.0, 0.0, 0.0])
+    return axis_angle_to_rotation(float(np.arccos(np.clip(up @ z, -1.0, 1.0))), axis / np.linalg.norm(axis))
+
+
+def default_camera(robot: Robot, R_up: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """A viewpoint ``(position, target)`` in the viewer's frame that frames the robot (shown rotated
+    by ``R_up``): square to the plane of a planar arm (all its frames stay in one plane), from the
+    front-right and above otherwise, aimed at the centre of the frames' origins over a few random
+    configurations, from a distance proportional to their spread."""
     model, data = robot.model, robot.model.createData()
+    R_up = np.eye(3) if R_up is None else R_up
     rng = np.random.default_rng(0)
     origins = []
     for _ in range(4):
         pin.framesForwardKinematics(model, data, robot.random_configuration(rng))
-        origins += [np.array(m.translation) for m in data.oMf]
+        origins += [R_up @ m.translation for m in data.oMf]
     origins = np.array(origins)
-    reach = max(float(np.max(np.linalg.norm(origins, axis=1))), 0.3)
-    if np.ptp(origins[:, 2]) < 1e-9:  # a planar arm in z = const: look down the z axis, y up
-        target = np.array([0.0, 0.0, origins[0, 2]])
-        return target + np.array([0.0, -0.01, 2.0]) * reach, target
-    target = np.array([0.0, 0.0, 0.35 * reach])
-    return target + np.array([1.4, 1.0, 0.65]) * reach, target
+    centre = origins.mean(axis=0)
+    _, sigma, Vt = np.linalg.svd(origins - centre, full_matrices=False)
+    if sigma[-1] < 1e-9 * max(sigma[0], 1.0):  # a planar arm: centred on its base, square to its plane
+        n = Vt[-1]
+        base = n * (n @ centre)
+        reach = max(float(np.max(np.linalg.norm(origins - base, axis=1))), 0.3)
+        if abs(n[2]) > 0.9:  # a horizontal plane: from above, with y up on the screen
+            return base + np.array([0.0, -0.01, 2.0]) * reach, base
+        n = -n if n[1] > 0 else n  # a vertical plane: from the −y side, z up
+        return base + 2.0 * reach * n, base
+    spread = max(float(np.max(np.linalg.norm(origins - centre, axis=1))), 0.3)
+    return centre + np.array([1.4, 1.0, 0.65]) * spread, centre
 
 
 def show(robot: Robot, q: Any | None = None, *, server: bool = False, scene: Scene | None = None,
@@ -70,9 +95,11 @@ def show(robot: Robot, q: Any | None = None, *, server: bool = False, scene: Sce
     """
     new = scene is None
     scene = Scene(server=server) if new else scene
-    scene.add_robot(robot, q, **options)
     if new:
-        scene.camera(*default_camera(robot))
+        R_up = up_rotation(robot.model.gravity.linear)
+        scene.set_world(R_up)
+        scene.camera(*default_camera(robot, R_up))
+    scene.add_robot(robot, q, **options)
     if overlays is not None:
         overlays(scene)
     return scene

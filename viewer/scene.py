@@ -286,9 +286,13 @@ class Scene:
         node.set_object(mg.triad(as_positive(length, "length")))
         node.set_transform(_as_pose(T))
 
-    def polyline(self, name: str, paths: Any, color: Any = "#1f77b4") -> None:
+    def polyline(self, name: str, paths: Any, color: Any = "#ffd400", radius: float | None = None) -> None:
         """Line strips through the points of ``paths``: one (N, 3) array (a path) or a list of them
-        (the branches of a tree). Planar (N, 2) points lie in z = 0."""
+        (the branches of a tree). Planar (N, 2) points lie in z = 0.
+
+        WebGL draws lines one pixel wide; with ``radius`` [m] each segment is a tube (a cylinder),
+        better seen for a few segments (a path), heavier for thousands (a tree).
+        """
         single = isinstance(paths, np.ndarray) or (len(paths) > 0 and np.ndim(paths[0]) == 1)
         pieces = [paths] if single else list(paths)
         segments = []
@@ -298,9 +302,19 @@ class Scene:
                 segments.append(np.repeat(p, 2, axis=0)[1:-1])
         if not segments:
             raise ValueError("`paths` must hold at least one path of two points or more")
-        rgb, _ = _color(color)
-        geometry = mg.PointsGeometry(np.vstack(segments).T.astype(np.float32))
-        self._node(name).set_object(mg.LineSegments(geometry, mg.LineBasicMaterial(color=rgb)))
+        ends = np.vstack(segments)
+        if radius is None:
+            rgb, _ = _color(color)
+            geometry = mg.PointsGeometry(ends.T.astype(np.float32))
+            self._node(name).set_object(mg.LineSegments(geometry, mg.LineBasicMaterial(color=rgb)))
+            return
+        r = as_positive(radius, "radius")
+        node, material = self._node(name), _material(color)
+        for k, (a, b) in enumerate(zip(ends[::2], ends[1::2])):
+            length = float(np.linalg.norm(b - a))
+            if length > 1e-12:
+                node[f"segment_{k}"].set_object(mg.Cylinder(length, r), material)
+                node[f"segment_{k}"].set_transform(arrow_transform(0.5 * (a + b), (b - a) / length))
 
     def points(self, name: str, points: Any, color: Any = "#d62728", size: float = 0.02) -> None:
         """A point set (via points, samples of a PRM, features): squares of side ``size`` metres."""
@@ -317,6 +331,25 @@ class Scene:
         node = self._node(name)
         node.set_object(mg.Box(s), _material(color, opacity))
         node.set_transform(_as_pose(T))
+
+    def sphere(self, name: str, center: Any, radius: float, color: Any = "#7f7f7f", opacity: float = 1.0) -> None:
+        """A sphere: a point obstacle, a via point."""
+        node = self._node(name)
+        node.set_object(mg.Sphere(as_positive(radius, "radius")), _material(color, opacity))
+        T = np.eye(4)
+        T[:3, 3] = as_vector(center, 3, "center")
+        node.set_transform(T)
+
+    def cylinder(self, name: str, center: Any, radius: float, height: float, axis: Any = (0.0, 0.0, 1.0),
+                 color: Any = "#7f7f7f", opacity: float = 1.0) -> None:
+        """A cylinder centred at ``center`` along ``axis``: a disc obstacle of a planar arm, a pillar."""
+        a = as_vector(axis, 3, "axis")
+        if np.linalg.norm(a) < 1e-12:
+            raise ValueError("`axis` must be a non-zero vector")
+        node = self._node(name)
+        node.set_object(mg.Cylinder(as_positive(height, "height"), as_positive(radius, "radius")),
+                        _material(color, opacity))
+        node.set_transform(arrow_transform(center, a / np.linalg.norm(a)))  # three.js cylinders lie along y
 
     def plane(self, name: str, point: Any, normal: Any, size: Any = (1.0, 1.0), color: Any = "#2ca02c",
               opacity: float = 0.5) -> None:
@@ -389,8 +422,15 @@ class Scene:
                                         mg.LineBasicMaterial(color=rgb)))
         node.set_transform(_as_pose(T))
 
+    def set_world(self, R: Any) -> None:
+        """Orient the whole scene (robots and overlays, given in the robot's base frame) by the rotation
+        ``R`` in the viewer, whose z axis is up (see ``viewer.animation.up_rotation``)."""
+        T = np.eye(4)
+        T[:3, :3] = as_matrix(R, (3, 3), "R")
+        self.vis.set_transform(T)
+
     def camera(self, position: Any, target: Any = (0.0, 0.0, 0.0)) -> None:
-        """Put the viewpoint at ``position`` looking at ``target`` (world coordinates, z up).
+        """Put the viewpoint at ``position`` looking at ``target`` (the viewer's frame, z up).
 
         The mouse orbits around ``target``. (meshcat's camera lives in a frame rotated by +90° about
         x, where world (x, y, z) reads (x, z, −y).)
@@ -412,9 +452,9 @@ class Scene:
                 tracks: Mapping[str, Any] | None = None, repetitions: int = 1000) -> int:
         """Record the motion ``q(t)`` of robot ``name`` as the page's animation; return the frame count.
 
-        ``t`` (N,) increasing times, ``q`` (N, nq) samples; the animation shows one frame every
-        ``speed / fps`` seconds of motion (``speed`` 2 plays twice as fast), the configuration between
-        samples from ``pin.interpolate``. ``tracks`` maps overlay names to (N, 4, 4) poses at the same
+        ``t`` (N,) non-decreasing times (at a repeated instant the last sample wins), ``q`` (N, nq)
+        samples; the animation shows one frame every ``speed / fps`` seconds of motion (``speed`` 2
+        plays twice as fast), the configuration between samples from ``pin.interpolate``. ``tracks`` maps overlay names to (N, 4, 4) poses at the same
         times (a moving target, a force arrow), held between samples.
         """
         view = self._view(name)
@@ -423,8 +463,8 @@ class Scene:
         Q = np.asarray(q, dtype=float)
         if Q.shape != (t.size, model.nq) or not np.all(np.isfinite(Q)):
             raise ValueError(f"`q` must be a finite ({t.size}, {model.nq}) array, got shape {Q.shape}")
-        if t.size < 1 or np.any(np.diff(t) <= 0):
-            raise ValueError("`t` must be a non-empty strictly increasing vector of times")
+        if t.size < 1 or np.any(np.diff(t) < 0) or t[-1] <= t[0] and t.size > 1:
+            raise ValueError("`t` must be a non-empty non-decreasing vector of times")
         speed = as_positive(speed, "speed")
         fps = as_positive(fps, "fps")
         poses = {}

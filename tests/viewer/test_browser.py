@@ -124,7 +124,8 @@ def _assert_offline_and_clean(page, url):
 
 
 def test_planar_arm_is_drawn_where_the_kinematics_puts_it_and_moves(page, served, capsys):
-    """q from [0, 0] (arm along +x: right of the centre, seen from above) to [π/2, 0] (along +y: above)."""
+    """q from [0, 0] to [π/2, 0]. The arm's plane x–y is shown vertical (gravity −y points down) and seen
+    square on: the arm starts along +x (right of the base, at the centre) and ends along +y (above it)."""
     robot = load("planar_2r")
     url = _open(page, served, robot, quintic([0.0, 0.0], [np.pi / 2, 0.0], 1.0, dt=0.01), "planar_2r")
     start, end = _frame_at(page, 0.0, "planar_2r_t0"), _frame_at(page, 1.0, "planar_2r_t1")

@@ -18,7 +18,7 @@ from rigid_body.camera import PinholeCamera, project
 from rigid_body.manipulability import velocity_ellipsoid
 from rigid_body.robots import load
 from viewer import (Scene, TeachPendant, animate, arrow_transform, export_html, geometry_of, motion_of,
-                    report_animations, show, skeleton_of)
+                    report_animations, show, skeleton_of, up_rotation)
 from viewer.scene import _decompose
 
 A1 = A2 = 1.0  # link lengths of the book's two-link arm (planar_2r)
@@ -241,3 +241,42 @@ def test_live_server_binds_to_localhost_and_receives_the_scene():
     finally:
         scene.close()
     assert scene.url is None
+
+
+@pytest.mark.parametrize("g", [(0, 0, -9.81), (0, 0, 9.81), (0, -9.81, 0), (1.0, 2.0, -3.0), (-1e-3, 0, 5.0)])
+def test_up_rotation_turns_minus_gravity_to_the_viewers_vertical(g):
+    R = up_rotation(g)
+    assert np.allclose(R @ R.T, np.eye(3)) and np.linalg.det(R) == pytest.approx(1.0)
+    assert np.allclose(R @ (-np.asarray(g) / np.linalg.norm(g)), [0.0, 0.0, 1.0])
+    assert np.allclose(up_rotation((0, 0, 0)), np.eye(3))
+
+
+def test_the_scaras_base_frame_is_turned_upside_down_in_the_viewer():
+    """The book's SCARA has g along +z (z0 down): the scene's root is rotated by R_x(π)."""
+    scene = show(load("scara"))
+    assert np.allclose(_transform(scene, "/meshcat"), np.diag([1.0, -1.0, -1.0, 1.0]))
+
+
+def test_tubes_and_cylinders_span_their_segments():
+    scene = Scene()
+    scene.polyline("path", np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 2.0, 0.0]]), radius=0.01)
+    for k, (a, b) in enumerate((([0, 0, 0], [1, 0, 0]), ([1, 0, 0], [1, 2, 0]))):
+        T = _transform(scene, f"/meshcat/overlays/path/segment_{k}")
+        height = [c for c in _commands(scene) if c["path"] == f"/meshcat/overlays/path/segment_{k}"
+                  and c["type"] == "set_object"][0]["object"]["geometries"][0]["height"]
+        # three.js cylinders run along local y from -h/2 to h/2
+        assert np.allclose(T @ [0, -height / 2, 0, 1], [*a, 1]) and np.allclose(T @ [0, height / 2, 0, 1], [*b, 1])
+    scene.cylinder("obstacle", [0.3, 0.0, 0.0], 0.1, 0.02)
+    T = _transform(scene, "/meshcat/overlays/obstacle")
+    assert np.allclose(T[:3, 1], [0.0, 0.0, 1.0]) and np.allclose(T[:3, 3], [0.3, 0.0, 0.0])
+
+
+def test_repeated_instants_are_accepted_and_the_last_sample_wins():
+    robot = load("planar_2r")
+    t = np.array([0.0, 0.5, 0.5, 1.0])
+    q = np.array([[0.0, 0.0], [0.1, 0.0], [1.0, 0.0], [1.0, 0.0]])
+    scene = show(robot)
+    assert scene.animate(t, q, fps=2) == 3
+    clips = {a["path"]: a["clip"] for c in _commands(scene) if c["type"] == "set_animation" for a in c["animations"]}
+    keys = {t["name"]: t for t in clips["/meshcat/robot/frames/ee"]["tracks"]}[".position"]["keys"]
+    assert np.allclose(keys[1]["value"], _tip_2r([1.0, 0.0]))

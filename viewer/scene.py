@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable, Mapping, Sequence
 
+import coal
 import meshcat
 import meshcat.geometry as mg
 import numpy as np
@@ -246,7 +247,7 @@ class Scene:
         ``frames`` are drawn as triads that follow the robot; by default the book's DH frames
         ``frame_i`` and the end effector. ``color`` overrides the URDF colours.
         """
-        geom = geometry_of(robot, kind)
+        geom = _as_triangle_meshes(geometry_of(robot, kind))
         viz = MeshcatVisualizer(robot.model, geom, geom)
         viz.initViewer(viewer=self.vis)
         rgba = None if color is None else _rgba(color)
@@ -506,6 +507,20 @@ class Scene:
         """Inline in Jupyter: the static page in an iframe (works without a server)."""
         srcdoc = html_lib.escape(self.html(), quote=True)
         return f'<iframe srcdoc="{srcdoc}" style="width:100%;height:420px;border:none"></iframe>'
+
+
+def _as_triangle_meshes(geom: pin.GeometryModel) -> pin.GeometryModel:
+    """A copy whose meshes read from files are sent as their triangles (Pinocchio's loaded BVH, the
+    scale already applied) rather than as the file: the browser then computes the normals, where some
+    URDF STL files (the UR5's) carry zero normals and render black. Triangles are also smaller."""
+    out = pin.GeometryModel()
+    for obj in geom.geometryObjects:
+        obj = obj.copy()
+        if isinstance(obj.geometry, coal.BVHModelBase) and obj.meshPath:
+            obj.meshPath = ""
+            obj.meshScale = np.ones(3)
+        out.addGeometryObject(obj)
+    return out
 
 
 def _rgba(color: Any) -> list[float]:

@@ -156,3 +156,19 @@ def test_panda_meshes_are_drawn_and_move(page, served, capsys):
     assert m0.sum() > 1500 and m1.sum() > 1500
     assert moved > 0.3 * m0.sum()
     _assert_offline_and_clean(page, url)
+
+
+def test_ur5_meshes_are_lit_not_black(page, served, capsys):
+    """The UR5's collision STL files carry zero normals: sent as triangles, the browser computes them
+    (the file itself rendered the arm black)."""
+    robot = load("ur5")
+    q0 = np.array([0.0, -1.571, 1.571, -1.571, -1.571, 0.0])
+    url = _open(page, served, robot, quintic(q0, q0 + 0.5, 1.0, dt=0.02), "ur5")
+    image = _frame_at(page, 0.5, "ur5_t0.5")[25:]  # below meshcat's black "Open Controls" bar
+    r, g, b = image[..., 0], image[..., 1], image[..., 2]
+    grey = int(((r > 110) & (np.abs(r - g) < 20) & (np.abs(g - b) < 25)).sum())  # lit grey metal
+    black = int(((r < 35) & (g < 35) & (b < 35)).sum())
+    with capsys.disabled():
+        print(f"\n[viewer] ur5 lit grey pixels {grey}, black pixels {black}")
+    assert grey > 2000 and black < 0.05 * grey
+    _assert_offline_and_clean(page, url)

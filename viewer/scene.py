@@ -248,12 +248,13 @@ class Scene:
         ``frame_i`` and the end effector. ``color`` overrides the URDF colours.
         """
         geom = _as_triangle_meshes(geometry_of(robot, kind))
-        viz = MeshcatVisualizer(robot.model, geom, geom)
+        viz = MeshcatVisualizer(robot.model, None, geom)  # drawn once, as the visual group
         viz.initViewer(viewer=self.vis)
         rgba = None if color is None else _rgba(color)
         viz.loadViewerModel(rootNodeName=name, collision_color=rgba, visual_color=rgba)
         if frames is None:
-            frames = [f.name for f in robot.model.frames if f.name.startswith("frame_")] + [robot.ee_frame]
+            frames = [f.name for f in robot.model.frames
+                      if f.name.startswith("frame_") and f.type == pin.FrameType.BODY] + [robot.ee_frame]
         view = RobotView(robot, viz, name, [robot.frame(f) for f in frames])
         for f in view.frames:
             self.vis[f"{name}/frames/{robot.model.frames[f].name}"].set_object(mg.triad(frame_length))

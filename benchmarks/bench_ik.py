@@ -14,9 +14,10 @@ import time
 import numpy as np
 import pinocchio as pin
 
-from planners.inverse_kinematics import CLIK, CasadiIK, QPVelocityIK, TaskSpace, constant_pose
+from planners.inverse_kinematics import CLIK, CasadiIK, QPVelocityIK, constant_pose
 from rigid_body.kinematics import direct_kinematics
 from rigid_body.robots import load
+from rigid_body.task_space import TaskSpace
 
 from benchtools import per_call
 

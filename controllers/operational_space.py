@@ -1,35 +1,57 @@
-"""Centralised operational-space motion control (Sect. 8.6) of the end-effector position.
+"""Centralised operational-space motion control (Sect. 8.6): position or full pose of a frame.
 
-The task is the position of a frame's origin, restricted to the components ``rows`` (e.g. (0, 1):
-x and y of a planar arm). For a position task the analytical Jacobian J_A is the position part of
-the geometric Jacobian, J_P (Eq. 3.30), and J̇_A q̇ is the classical acceleration of the origin at
-q̈ = 0. Orientation tasks (which need the analytical Jacobian of an Euler representation) are not
-covered here.
+The task is either
+* the **position** of a frame's origin, restricted to the components ``rows`` (e.g. (0, 1): x and y
+  of a planar arm); then J_A = J_P[rows] (Eq. 3.30) and J̇_A q̇ is the classical acceleration of the
+  origin at q̈ = 0; or
+* the **pose** (``orientation="quaternion"`` or ``"axis_angle"``): the error is
+  x̃ = [p_d − p_e; e_O] with the unit-quaternion (3.91) or angle–axis (3.85) orientation error, and
+  the Jacobian is the geometric one (the one these errors go with, Sect. 3.7.3), with the desired
+  velocity and acceleration [ṗ_d; ω_d], [p̈_d; ω̇_d]. Euler-angle errors (analytical Jacobian (3.66))
+  are not offered: they are singular where the Panda's hand points down (ZYZ) and, with the gains
+  that work for the quaternion error, the 1 ms PD loop on the Panda with RPY angles oscillated
+  without settling (measured).
 
-* :class:`OperationalPDGravity` — u = g(q) + J_Aᵀ K_P x̃ − J_Aᵀ K_D J_A q̇ (Eq. 8.110, Fig. 8.29).
+The laws, with errors x̃ = x_d − x_e and the task Jacobian J (rows of :class:`rigid_body.task_space.TaskSpace`):
+
+* :class:`OperationalPDGravity` — u = g(q) + Jᵀ K_P x̃ − Jᵀ K_D J q̇ − K_N q̇ (Eq. 8.110, Fig. 8.29).
 * :class:`OperationalInverseDynamics` — u = B(q) y + n(q, q̇),
-  y = J_A⁻¹ (ẍ_d + K_D x̃̇ + K_P x̃ − J̇_A q̇) (Eqs. 8.57, 8.114, Fig. 8.30).
+  y = J†(ẍ_d + K_D (ẋ_d − J q̇) + K_P x̃ − J̇ q̇) + (I − J† J) y_0 (Eqs. 8.57, 8.114, Fig. 8.30),
+  J† = J⁻¹ for a square task, the right pseudo-inverse (3.52) for a redundant one.
 
-Errors are x̃ = x_d − x_e. References are as in :mod:`controllers.joint_space` (a constant point, a
-trajectory with ``evaluate``, or a callable ``t -> (x_d, ẋ_d, ẍ_d)``) in the task components.
+Redundancy (fewer task components than joints, e.g. a 6-D pose on the 7-DOF Panda): the task does not
+fix the self-motion. The PD law adds the joint damping −K_N q̇ (``joint_damping``): it only adds
+dissipation, so the Lyapunov argument of (8.110) holds and the self-motion comes to rest. Inverse
+dynamics adds, in the null space of J, y_0 = K_q (q_0 − q) − K_N q̇ (``posture``, ``posture_stiffness``,
+``null_space_damping``), cf. (3.54): the task dynamics x̃̈ + K_D x̃̇ + K_P x̃ = 0 are untouched and the
+arm does not drift along the self-motion.
+
+References are as in :mod:`controllers.joint_space` for a position task (a constant point, a
+trajectory with ``evaluate``, or a callable ``t -> (x_d, ẋ_d, ẍ_d)``) in the task components; for a
+pose task a constant (4, 4) pose or a callable ``t -> (T_d (4, 4), v_d (6,), a_d (6,))`` (see
+:func:`as_pose_reference`).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
-Sect. 8.6, Eqs. (8.110)–(8.114), Figs. 8.29–8.30.
+Sects. 3.7.3, 8.6, Eqs. (3.85), (3.91), (8.110)–(8.114), Figs. 8.29–8.30.
 """
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 from scipy.optimize import fsolve
 
-from controllers.joint_space import _split, as_gain, as_reference
-from controllers.simulation import as_friction
+from controllers.joint_space import as_gain, as_reference
+from controllers.simulation import as_friction, per_joint
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics
-from rigid_body.kinematics import direct_kinematics, geometric_jacobian, jacobian_derivative_times_qd
 from rigid_body.robots import Robot
+from rigid_body.rotations import as_homogeneous
+from rigid_body.task_space import TaskSpace, pose_error
 from rigid_body.validation import as_vector
+
+PoseReference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
+CONTROL_ORIENTATIONS = ("none", "axis_angle", "quaternion")
 
 
 def _rows(rows: Sequence[int]) -> np.ndarray:
@@ -61,31 +83,89 @@ def task_reference(reference: Any, rows: Sequence[int]) -> Any:
     return v[r] if v.size == 3 else reference
 
 
-class _PositionTask:
-    """x_e(q) = p_e[rows], J_A = J_P[rows], J̇_A q̇ = ṗ̇_e[rows] at q̈ = 0, for one frame."""
+def as_pose_reference(reference: Any, name: str = "reference") -> PoseReference:
+    """``reference`` as ``t -> (T_d (4, 4), v_d = [ṗ_d; ω_d] (6,), a_d = [p̈_d; ω̇_d] (6,))``.
 
-    def __init__(self, robot: Robot, rows: Sequence[int], frame: str | int | None):
-        self.robot, self.rows = robot, _rows(rows)
-        self.frame = robot.ee_frame if frame is None else robot.frame(frame)
+    Accepts a constant homogeneous transform (regulation: zero velocity and acceleration), an object
+    with ``evaluate(t)`` or a callable with that signature (checked at t = 0).
+    """
+    if not (hasattr(reference, "evaluate") or callable(reference)):
+        T_d = as_homogeneous(reference, name).copy()
+        zero = np.zeros(6)
+        return lambda t: (T_d, zero, zero)
+    law = reference.evaluate if hasattr(reference, "evaluate") else reference
+    try:
+        T, v, a = law(0.0)
+        as_homogeneous(T, f"{name} pose")
+        as_vector(v, 6, f"{name} velocity")
+        as_vector(a, 6, f"{name} acceleration")
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"`{name}` must give (T_d (4, 4), v_d (6,), a_d (6,)) at t = 0: {err}") from None
+    return law
+
+
+class _Task:
+    """The controlled task of one frame: error x̃, Jacobian J and J̇q̇ from one kinematics pass
+    (:func:`rigid_body.task_space.pose_error`), and the reference in the task components."""
+
+    def __init__(self, robot: Robot, rows: Sequence[int] | None, frame: str | int | None, orientation: str,
+                 reference: Any = None):
+        if orientation not in CONTROL_ORIENTATIONS:
+            raise ValueError(f"`orientation` must be one of {CONTROL_ORIENTATIONS}, got {orientation!r}")
+        self.robot = robot
+        self.pose = orientation != "none"
+        fid = robot.frame(frame)  # resolved once (unknown frame → ValueError now)
+        if self.pose:
+            self.space = TaskSpace(fid, orientation, None if rows is None else tuple(int(r) for r in rows))
+            self.rows = np.array(self.space.selected)
+        else:
+            self.rows = _rows((0, 1, 2) if rows is None else rows)
+            self.space = TaskSpace(fid, "none", tuple(self.rows.tolist()))
         self.m = self.rows.size
+        self._T_d = np.eye(4)
+        if reference is None:
+            self.reference = None
+        elif self.pose:
+            law, r = as_pose_reference(reference), self.rows
 
-    def position(self, q: np.ndarray) -> np.ndarray:
-        return direct_kinematics(self.robot, q, self.frame)[:3, 3][self.rows]
+            def restricted(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                T, v, a = law(t)
+                return T, np.asarray(v, dtype=float)[r], np.asarray(a, dtype=float)[r]
 
-    def jacobian(self, q: np.ndarray) -> np.ndarray:
-        return geometric_jacobian(self.robot, q, self.frame)[self.rows]
+            self.reference = restricted
+        else:
+            self.reference = as_reference(task_reference(reference, self.rows), self.m)
 
-    def jacobian_derivative_times_qd(self, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        return jacobian_derivative_times_qd(self.robot, q, qd, self.frame)[self.rows]
+    def target(self, x_d: np.ndarray) -> np.ndarray:
+        """The desired pose: T_d itself, or a pose whose origin has the ``rows`` components x_d."""
+        if self.pose:
+            return x_d
+        self._T_d[self.rows, 3] = x_d
+        return self._T_d
+
+    def error(self, q: np.ndarray, x_d: np.ndarray, qd: np.ndarray | None = None):
+        """(x̃, J, J̇q̇ or None, T_e) at q (and q̇)."""
+        err = pose_error(self.robot, q, self.target(x_d), None, self.space, qd)
+        return err.e, err.J, err.Jdot_qd, err.T_e
+
+    def logged(self, x_d: np.ndarray, T_e: np.ndarray, e: np.ndarray) -> dict[str, np.ndarray]:
+        if self.pose:
+            return {"p_d": x_d[:3, 3].copy(), "p_e": T_e[:3, 3].copy(), "e": e}
+        return {"x_d": x_d, "x_e": T_e[:3, 3][self.rows], "e": e}
 
 
 SINGULAR_CONDITION = 1e10  # cond(J_A) above which the task is treated as singular
 
 
 def _solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
-    """J_A⁻¹ b for a square J_A; None at (or numerically at) a kinematic singularity, cond(J_A) > 1e10."""
+    """J_A⁻¹ b (square J_A) or the minimum-norm J_A† b = J_Aᵀ (J_A J_Aᵀ)⁻¹ b (3.52) for a redundant task;
+    None at (or numerically at) a kinematic singularity, cond(J_A) > 1e10."""
     s = np.linalg.svd(J, compute_uv=False)
-    return np.linalg.solve(J, b) if s[-1] > s[0] / SINGULAR_CONDITION else None
+    if s[-1] <= s[0] / SINGULAR_CONDITION:
+        return None
+    if J.shape[0] == J.shape[1]:
+        return np.linalg.solve(J, b)
+    return J.T @ np.linalg.solve(J @ J.T, b)
 
 
 def _singular(where: str) -> ValueError:
@@ -93,42 +173,60 @@ def _singular(where: str) -> ValueError:
                       "the task cannot be inverted")
 
 
-class OperationalPDGravity:
-    """u = g(q) + J_Aᵀ(q) K_P x̃ − J_Aᵀ(q) K_D J_A(q) q̇ (Eq. 8.110, Fig. 8.29), x̃ = x_d − x_e.
+def _nonnegative(value: Any, n: int, name: str) -> np.ndarray:
+    v = per_joint(value, n, name)
+    if np.any(v < 0):
+        raise ValueError(f"`{name}` must be non-negative, got {v}")
+    return v
 
-    For a constant x_d and J_A of full rank the equilibrium x_e = x_d is asymptotically stable
-    (Lyapunov function ½ q̇ᵀ B q̇ + ½ x̃ᵀ K_P x̃).
+
+def _check_redundancy(m: int, n: int) -> None:
+    if m > n:
+        raise ValueError(f"`rows` must select at most {n} components (one per joint), got {m}")
+
+
+class OperationalPDGravity:
+    """u = g(q) + Jᵀ(q) K_P x̃ − Jᵀ(q) K_D J(q) q̇ − K_N q̇ (Eq. 8.110, Fig. 8.29), x̃ = x_d − x_e.
+
+    For a constant x_d and J of full rank the equilibrium x̃ = 0 is asymptotically stable
+    (Lyapunov function ½ q̇ᵀ B q̇ + ½ x̃ᵀ K_P x̃ for a position task, with the orientation potential
+    of the quaternion/angle–axis error for a pose task and a scalar orientation gain).
 
     Parameters
     ----------
     robot : the controller's model (g(q) and the kinematics).
-    K_P, K_D : (m, m) gains (scalar, (m,) or matrix), positive definite.
-    reference : the desired position x_d, (m,) in the ``rows`` components or (3,) (or a trajectory,
-        see :func:`task_reference`).
-    rows : controlled position components of the frame origin (default x, y, z).
+    K_P, K_D : (m, m) gains (scalar, (m,) or matrix), positive definite (m = number of task components).
+    reference : position task: the desired position x_d, (m,) in the ``rows`` components or (3,) (or a
+        trajectory, see :func:`task_reference`); pose task: a (4, 4) pose or a pose trajectory
+        (:func:`as_pose_reference`; only T_d is used).
+    rows : controlled components: of the position (0..2, default all three) for a position task, of
+        [position; orientation] (0..5, default all six) for a pose task.
     frame : the controlled frame (default the end effector).
+    orientation : ``"none"`` (position task, default), ``"quaternion"`` (3.91) or ``"axis_angle"`` (3.85).
+    joint_damping : K_N ≥ 0 [N·m·s/rad] (scalar or (n,)), the extra term −K_N q̇ that brings the self-motion
+        of a redundant arm to rest (pure dissipation: the equilibrium and its stability are those of (8.110)).
     """
 
-    def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, rows: Sequence[int] = (0, 1, 2),
-                 frame: str | int | None = None):
+    def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, rows: Sequence[int] | None = None,
+                 frame: str | int | None = None, orientation: str = "none", joint_damping: Any = 0.0):
         self.robot, self.n = robot, robot.nv
-        self.task = _PositionTask(robot, rows, frame)
+        self.task = _Task(robot, rows, frame, orientation, reference)
         m = self.task.m
+        _check_redundancy(m, self.n)
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
-        self.reference = as_reference(task_reference(reference, rows), m)
+        self.K_N = _nonnegative(joint_damping, self.n, "joint_damping")
+        self.reference = self.task.reference
         self._log: dict[str, np.ndarray] = {}
 
     def reset(self) -> None:
         self._log = {}
 
-    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
-        q, qd = _split(x, self.n)
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        q, qd = meas.q, meas.qd
         x_d, _, _ = self.reference(t)
-        x_e = self.task.position(q)
-        J = self.task.jacobian(q)
-        e = x_d - x_e
-        u = gravity_torques(self.robot, q) + J.T @ (self.K_P @ e - self.K_D @ (J @ qd))  # Eq. (8.110)
-        self._log = {"x_d": x_d, "x_e": x_e, "e": e}
+        e, J, _, T_e = self.task.error(q, x_d)
+        u = gravity_torques(self.robot, q) + J.T @ (self.K_P @ e - self.K_D @ (J @ qd)) - self.K_N * qd  # (8.110)
+        self._log = self.task.logged(x_d, T_e, e)
         return u
 
     def log(self) -> dict[str, np.ndarray]:
@@ -136,47 +234,64 @@ class OperationalPDGravity:
 
 
 class OperationalInverseDynamics:
-    """u = B(q) y + n(q, q̇), y = J_A⁻¹(q)(ẍ_d + K_D x̃̇ + K_P x̃ − J̇_A q̇) (Eqs. 8.57, 8.114, Fig. 8.30).
+    """u = B(q) y + n(q, q̇), y = J†(ẍ_d + K_D x̃̇ + K_P x̃ − J̇ q̇) + (I − J† J) y_0 (Eqs. 8.57, 8.114, Fig. 8.30).
 
-    With a perfect model the task error obeys x̃̈ + K_D x̃̇ + K_P x̃ = 0. J_A must be square
-    (a nonredundant task: as many components as joints) and nonsingular along the motion.
+    With a perfect model the task error obeys x̃̈ + K_D x̃̇ + K_P x̃ = 0 (x̃̇ = ẋ_d − J q̇; for a pose task
+    the orientation part is ω_d − ω_e). J must have full row rank along the motion; for a redundant
+    task (fewer components than joints) J† is the right pseudo-inverse (3.52) and
+    y_0 = K_q (q_0 − q) − K_N q̇ keeps the self-motion at rest near the posture q_0.
 
     Parameters
     ----------
     robot : the controller's model (e.g. without the payload the real arm carries).
     K_P, K_D : (m, m) gains, positive definite.
-    reference : trajectory in the task components (see :func:`controllers.joint_space.as_reference`).
-    rows, frame : the task, as in :class:`OperationalPDGravity`; ``len(rows)`` must equal n.
+    reference : trajectory in the task components (position task, see
+        :func:`controllers.joint_space.as_reference`) or a pose reference (:func:`as_pose_reference`).
+    rows, frame, orientation : the task, as in :class:`OperationalPDGravity` (``"quaternion"`` or
+        ``"axis_angle"`` for a pose task: geometric Jacobian).
     viscous_friction : F_v of the model.
+    null_space_damping : K_N [1/s] (scalar or (n,)); posture : q_0 (required when K_q ≠ 0);
+        posture_stiffness : K_q [1/s²] (scalar or (n,)). Used only for a redundant task.
+
+    With the quaternion error e_O ≈ (ϑ/2) r for small angles, an orientation stiffness 2 K_P gives
+    the orientation the bandwidth of a position stiffness K_P.
     """
 
-    def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, rows: Sequence[int] = (0, 1, 2),
-                 frame: str | int | None = None, viscous_friction: Any = 0.0):
+    def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, rows: Sequence[int] | None = None,
+                 frame: str | int | None = None, viscous_friction: Any = 0.0, orientation: str = "none",
+                 null_space_damping: Any = 0.0, posture: Any = None, posture_stiffness: Any = 0.0):
         self.robot, self.n = robot, robot.nv
-        self.task = _PositionTask(robot, rows, frame)
+        self.task = _Task(robot, rows, frame, orientation, reference)
         m = self.task.m
-        if m != self.n:
-            raise ValueError(f"`rows` must select {self.n} components (J_A square, nonredundant task), got {m}")
+        _check_redundancy(m, self.n)
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
         self.Fv = as_friction(viscous_friction, self.n)
-        self.reference = as_reference(task_reference(reference, rows), m)
+        self.K_N = _nonnegative(null_space_damping, self.n, "null_space_damping")
+        self.K_q = _nonnegative(posture_stiffness, self.n, "posture_stiffness")
+        if posture is None and np.any(self.K_q > 0):
+            raise ValueError("`posture` (q_0) is required with a nonzero `posture_stiffness`")
+        self.q_0 = np.zeros(robot.nq) if posture is None else as_vector(posture, robot.nq, "posture").copy()
+        self.redundant = m < self.n
+        self.reference = self.task.reference
         self._log: dict[str, np.ndarray] = {}
 
     def reset(self) -> None:
         self._log = {}
 
-    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
-        q, qd = _split(x, self.n)
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        q, qd = meas.q, meas.qd
         x_d, xd_d, xdd_d = self.reference(t)
-        x_e = self.task.position(q)
-        J = self.task.jacobian(q)
-        e, ed = x_d - x_e, xd_d - J @ qd
-        a = xdd_d + self.K_D @ ed + self.K_P @ e - self.task.jacobian_derivative_times_qd(q, qd)
+        e, J, Jdot_qd, T_e = self.task.error(q, x_d, qd)
+        ed = xd_d - J @ qd
+        a = xdd_d + self.K_D @ ed + self.K_P @ e - Jdot_qd
         y = _solve_task(J, a)  # Eq. (8.114)
         if y is None:
             raise _singular(f"at t = {t:.6g} s, q = {q}")
+        if self.redundant:
+            y0 = self.K_q * (self.q_0 - q) - self.K_N * qd
+            y += y0 - _solve_task(J, J @ y0)                    # (I − J† J) y_0, cf. (3.54)
         u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd
-        self._log = {"x_d": x_d, "x_e": x_e, "e": e}
+        self._log = self.task.logged(x_d, T_e, e)
         return u
 
     def log(self) -> dict[str, np.ndarray]:
@@ -192,7 +307,7 @@ def operational_inverse_dynamics_steady_state(plant_robot: Robot, model_robot: R
     B̂(q) J_A⁻¹(q) K_P (x_d − x_e(q)) = g(q) − ĝ(q) (Newton iterations from ``q0``, e.g. the posture
     reached at the end of the motion).
     """
-    task = _PositionTask(model_robot, rows, frame)
+    task = _Task(model_robot, rows, frame, "none")
     n = model_robot.nv
     if task.m != n:
         raise ValueError(f"`rows` must select {n} components, got {task.m}")
@@ -201,7 +316,8 @@ def operational_inverse_dynamics_steady_state(plant_robot: Robot, model_robot: R
     start = as_vector(q0, n, "q0")
 
     def residual(q: np.ndarray) -> np.ndarray:
-        y = _solve_task(task.jacobian(q), K_P @ (x_d - task.position(q)))
+        e, J, _, _ = task.error(q, x_d)
+        y = _solve_task(J, K_P @ e)
         if y is None:
             raise _singular(f"at q = {q}")
         return inertia_matrix(model_robot, q) @ y - gravity_torques(plant_robot, q) + gravity_torques(model_robot, q)

@@ -5,7 +5,7 @@
   (3.76). The error e is the position error and one of the orientation errors of Sect. 3.7.3:
   Euler angles (analytical Jacobian), angle–axis (3.85) with (3.88)–(3.89), unit quaternion (3.91),
   (3.93). :class:`CLIK` is a discrete controller for :func:`controllers.simulation.simulate` on the
-  :class:`JointIntegrator` plant q̇ = u, whose RK4 step of a held input is exactly Euler's (3.48).
+  :class:`controllers.plants.JointIntegrator` plant q̇ = u, whose RK4 step of a held input is exactly Euler's (3.48).
 * **Two-stage CLIK** for a manipulator with a spherical wrist (Problem 3.14): position of the wrist
   point with the arm joints, then orientation with the wrist joints.
 * **Optimisation IK** (:class:`CasadiIK`): IPOPT on the symbolic kinematics of
@@ -13,6 +13,9 @@
   restarts from random seeds.
 * **Velocity QP IK** (:class:`QPVelocityIK`): one proxsuite QP per step, task error + damping,
   joint position and velocity limits.
+
+The task (:class:`rigid_body.task_space.TaskSpace`), the pose errors and the generalised inverses are
+those of :mod:`rigid_body.task_space`, shared with operational-space control.
 
 Every solver returns an :class:`IKResult`; ``success`` is True only when the final residual is below
 the tolerance, and an unreachable target gives ``success=False`` with the best residual found.
@@ -31,21 +34,14 @@ import pinocchio as pin
 
 from rigid_body.manipulability import manipulability
 from rigid_body.robots import Robot
-from rigid_body.rotations import _axis_angle_error, _orientation_error_matrix  # unvalidated kernels (hot loop)
-from rigid_body.rotations import (as_homogeneous, as_rotation, euler_rate_matrix_rpy, euler_rate_matrix_zyz,
-                                  orientation_error_axis_angle, orientation_error_quaternion, rotation_to_euler_zyz,
-                                  rotation_to_quaternion, rotation_to_rpy, wrap_angle)
+from rigid_body.rotations import as_homogeneous, as_rotation, orientation_error_axis_angle
+from rigid_body.task_space import PoseError, TaskSpace, damped_least_squares_inverse, pose_error, pose_residual
 from rigid_body.validation import as_matrix, as_vector
 
 __all__ = [
     "IKResult",
-    "damped_least_squares_inverse",
-    "weighted_pseudo_inverse",
-    "TaskSpace",
-    "pose_error",
     "CLIK",
     "TwoStageCLIK",
-    "JointIntegrator",
     "constant_pose",
     "cosine_pose_reference",
     "manipulability_objective",
@@ -58,11 +54,9 @@ __all__ = [
     "CasadiIK",
     "QPIKOptions",
     "QPVelocityIK",
-    "pose_residual",
 ]
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-ORIENTATIONS = ("none", "axis_angle", "quaternion", "euler_zyz", "rpy")
 LAWS = ("inverse", "pseudo_inverse", "dls", "transpose")
 
 
@@ -88,153 +82,6 @@ class IKResult:
 
     def __iter__(self):
         return iter((self.q, self.success))
-
-
-# --------------------------------------------------------------------------------------------
-# Generalised inverses (3.50)–(3.59)
-# --------------------------------------------------------------------------------------------
-
-def _finite_jacobian(J: Any) -> np.ndarray:
-    J = np.asarray(J, dtype=float)
-    if J.ndim != 2 or not np.isfinite(J).all():
-        raise ValueError(f"`J` must be a finite 2-D Jacobian, got shape {J.shape}")
-    return J
-
-
-def damped_least_squares_inverse(J: Any, k: float) -> np.ndarray:
-    """J* = J^T (J J^T + k² I)^{-1}, the damped least-squares inverse, Eq. (3.59) / Problem 3.10."""
-    J = _finite_jacobian(J)
-    if not (np.isfinite(k) and k >= 0):
-        raise ValueError(f"`k` must be finite and >= 0, got {k}")
-    return J.T @ np.linalg.solve(J @ J.T + k * k * np.eye(J.shape[0]), np.eye(J.shape[0]))
-
-
-def weighted_pseudo_inverse(J: Any, W: Any = None) -> np.ndarray:
-    """J† = W^{-1} J^T (J W^{-1} J^T)^{-1}, Eq. (3.50) (right pseudo-inverse (3.52) for W = I).
-
-    ValueError when J J^T is singular (J has not full row rank).
-    """
-    J = _finite_jacobian(J)
-    Wi = np.eye(J.shape[1]) if W is None else np.linalg.inv(as_matrix(W, (J.shape[1],) * 2, "W"))
-    A = J @ Wi @ J.T
-    if np.linalg.cond(A) > 1e12:
-        raise ValueError("`J` is (close to) singular: J W^-1 J^T is not invertible; use the DLS inverse")
-    return Wi @ J.T @ np.linalg.inv(A)
-
-
-# --------------------------------------------------------------------------------------------
-# Task space and pose errors (Sect. 3.7.3)
-# --------------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class TaskSpace:
-    """The controlled end-effector quantities.
-
-    Attributes
-    ----------
-    frame : the frame (name or id; None = the robot's end effector).
-    orientation : ``"none"`` (position only), ``"axis_angle"`` (3.85), ``"quaternion"`` (3.91),
-        ``"euler_zyz"`` or ``"rpy"`` (φ_d − φ_e with the analytical Jacobian (3.66)).
-    rows : indices (into the 6 components [position; orientation]) that are controlled;
-        default all 6, or the 3 position rows when ``orientation="none"``. E.g. (0, 1) for the
-        planar position of Problem 3.21, (0, 1, 2, 3) for [p; φ] of the SCARA in Problem 3.22.
-    """
-
-    frame: str | int | None = None
-    orientation: str = "axis_angle"
-    rows: tuple[int, ...] | None = None
-
-    def __post_init__(self):
-        if self.orientation not in ORIENTATIONS:
-            raise ValueError(f"`orientation` must be one of {ORIENTATIONS}, got {self.orientation!r}")
-        rows = self.selected
-        if len(rows) == 0 or len(set(rows)) != len(rows) or not all(0 <= r < 6 for r in rows):
-            raise ValueError(f"`rows` must be distinct indices in 0..5, got {self.rows}")
-        if self.orientation == "none" and any(r >= 3 for r in rows):
-            raise ValueError("`rows` may only select position rows (0..2) when orientation='none'")
-
-    @property
-    def selected(self) -> tuple[int, ...]:
-        if self.rows is not None:
-            return tuple(int(r) for r in self.rows)
-        return (0, 1, 2) if self.orientation == "none" else tuple(range(6))
-
-
-@dataclass(frozen=True)
-class PoseError:
-    """Errors and Jacobians of a task at one configuration (all restricted to the task rows).
-
-    ``e`` the error (3.68 style), ``J`` the task Jacobian (geometric or analytical),
-    ``feedforward`` the desired task velocity (ẋ_d), ``L`` the (3.87) matrix for angle–axis, else None.
-    """
-
-    e: np.ndarray
-    J: np.ndarray
-    feedforward: np.ndarray
-    L: np.ndarray | None
-    T_e: np.ndarray
-
-
-def pose_error(robot: Robot, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | None = None,
-               task: TaskSpace = TaskSpace()) -> PoseError:
-    """Position and orientation error of ``task``'s frame at ``q`` w.r.t. the desired pose ``T_d``.
-
-    ``v_d`` = [ṗ_d; ω_d] (6,) is the desired velocity (default 0); for Euler-angle errors the
-    feed-forward is [ṗ_d; T^{-1}(φ_d) ω_d] and the Jacobian is the analytical one, Eq. (3.66).
-    """
-    model, data = robot.model, robot.data
-    fid = robot.ee_frame if task.frame is None else robot.frame(task.frame)
-    J = pin.computeFrameJacobian(model, data, q, fid, LWA)          # also runs forward kinematics
-    oMf = pin.updateFramePlacement(model, data, fid)
-    R_e, p_e = oMf.rotation, oMf.translation
-    R_d, p_d = T_d[:3, :3], T_d[:3, 3]
-    v_d = np.zeros(6) if v_d is None else v_d
-    e = np.empty(6)
-    e[:3] = p_d - p_e
-    ff = v_d.copy()
-    L = None
-    kind = task.orientation
-    if kind == "axis_angle":
-        e[3:] = _axis_angle_error(R_d, R_e)                            # Eq. (3.85)
-        L = _orientation_error_matrix(R_d, R_e)                        # Eq. (3.87)
-    elif kind == "quaternion":
-        e[3:] = orientation_error_quaternion(rotation_to_quaternion(R_d), rotation_to_quaternion(R_e))  # (3.91)
-    elif kind in ("euler_zyz", "rpy"):
-        extract, T_of = ((rotation_to_euler_zyz, euler_rate_matrix_zyz) if kind == "euler_zyz"
-                         else (rotation_to_rpy, euler_rate_matrix_rpy))
-        phi_d, phi_e = extract(R_d), extract(R_e)
-        if phi_e.singular or phi_d.singular:
-            raise ValueError(f"{kind} representation singularity at the {'current' if phi_e.singular else 'desired'}"
-                             " orientation: the analytical Jacobian is not defined")
-        e[3:] = wrap_angle(phi_d.angles - phi_e.angles)
-        J = J.copy()
-        J[3:] = np.linalg.solve(T_of(phi_e.angles), J[3:])             # J_A = T_A^{-1} J, Eq. (3.66)
-        ff[3:] = np.linalg.solve(T_of(phi_d.angles), v_d[3:])          # φ̇_d = T^{-1}(φ_d) ω_d
-    else:
-        e[3:] = 0.0
-    rows = list(task.selected)
-    T_e = oMf.homogeneous
-    return PoseError(e[rows], J[rows], ff[rows], L, T_e)
-
-
-def pose_residual(T_d: np.ndarray, T_e: np.ndarray, task: TaskSpace = TaskSpace(),
-                  e: np.ndarray | None = None) -> float:
-    """The IK residual: max(‖p_d − p_e‖ over the task's position rows, orientation error).
-
-    The orientation error is the rotation angle of R_e^T R_d when the three orientation rows are
-    controlled, otherwise max |e_i| over the task's orientation rows of the error ``e`` (required then).
-    """
-    rows = task.selected
-    pos = [r for r in rows if r < 3]
-    res = float(np.linalg.norm((T_d[:3, 3] - T_e[:3, 3])[pos])) if pos else 0.0
-    ori = [i for i, r in enumerate(rows) if r >= 3]
-    if task.orientation == "none" or not ori:
-        return res
-    if len(ori) == 3:
-        return max(res, float(np.linalg.norm(pin.log3(T_e[:3, :3].T @ T_d[:3, :3]))))
-    if e is None:
-        raise ValueError("`e` is required for the residual of a partial orientation task")
-    return max(res, float(np.max(np.abs(np.asarray(e)[ori]))))
 
 
 def _gain(K: Any, m: int, name: str) -> np.ndarray:
@@ -297,7 +144,7 @@ def joint_limit_distance_gradient(robot: Robot, q: np.ndarray) -> np.ndarray:
 def manipulability_objective(robot: Robot, frame: str | int | None = None,
                              rows: tuple[int, ...] = tuple(range(6))) -> Callable[[np.ndarray], float]:
     """w(q) = √det(J J^T) (3.56) of the rows ``rows`` of the frame's Jacobian, as a function of q."""
-    fid = robot.ee_frame if frame is None else robot.frame(frame)
+    fid = robot.frame(frame)
     rows = list(rows)
     return lambda q: manipulability(pin.computeFrameJacobian(robot.model, robot.data, q, fid, LWA)[rows])
 
@@ -305,13 +152,6 @@ def manipulability_objective(robot: Robot, frame: str | int | None = None,
 # --------------------------------------------------------------------------------------------
 # CLIK as a discrete controller on the integrator plant
 # --------------------------------------------------------------------------------------------
-
-class JointIntegrator:
-    """The plant q̇ = u of a kinematic IK loop (x = q); RK4 with u held is Euler's step (3.48)."""
-
-    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        return u
-
 
 def constant_pose(T_d: Any) -> Callable[[float], tuple[np.ndarray, np.ndarray]]:
     """A reference t ↦ (T_d, 0): regulation to a fixed pose."""
@@ -554,7 +394,7 @@ class CasadiIK:
 
         self.robot = robot
         self.options = options or CasadiIKOptions()
-        self.frame = robot.ee_frame if frame is None else robot.frame(frame)
+        self.frame = robot.frame(frame)
         fk = frame_placement_function(robot, self.frame)
         o = self.options
         q = ca.SX.sym("q", robot.nq)

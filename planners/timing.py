@@ -13,7 +13,9 @@ Two layers, as in the book (Sect. 4.2, 4.3):
 Every law below but the raised cosine is a :class:`PiecewisePolynomial`.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
-Sect. 4.2 (point-to-point: (4.1)–(4.9)), Sect. 4.3 (via points: (4.10)–(4.28)).
+Sect. 4.2 (point-to-point: (4.1)–(4.9)), Sect. 4.3 (via points: (4.10)–(4.28));
+P. Corke, *Robotics, Vision and Control*, Springer 2017, Sect. 3.3.3 (``mstraj``: multi-segment
+trajectories timed by per-axis speed limits), for :func:`multi_segment_law`.
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ from typing import Any, Callable, Protocol
 import numpy as np
 from scipy.linalg import solve_banded
 
-from rigid_body.validation import as_vector
+from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
     "TimingLaw", "PiecewisePolynomial", "RaisedCosine", "Trajectory", "sample",
@@ -35,6 +37,7 @@ __all__ = [
     "via_point_velocities", "via_point_accelerations", "polynomial_sequence_law", "polynomial_sequence",
     "SplineSystem", "spline_system", "cubic_spline_law", "cubic_spline",
     "BlendCoefficients", "blend_coefficients", "linear_parabolic_blends_law", "linear_parabolic_blends",
+    "multi_segment_times", "multi_segment_law", "multi_segment",
 ]
 
 
@@ -840,3 +843,64 @@ def linear_parabolic_blends(t: Any, q: Any, blend: Any, qd_i: Any = 0.0, qd_f: A
     """Sampled :func:`linear_parabolic_blends_law`."""
     return sample(linear_parabolic_blends_law(t, q, blend, qd_i, qd_f), samples=samples, dt=dt,
                   name="linear with parabolic blends")
+
+
+# --------------------------------------------------------------------------------------------
+# Multi-segment trajectories timed by per-axis speed limits (the Toolbox's mstraj)
+# --------------------------------------------------------------------------------------------
+
+def multi_segment_times(via_points: Any, qd_max: Any, t_acc: float, *, t_i: float = 0.0) -> np.ndarray:
+    """Instants t_1, ..., t_m of the via points of :func:`multi_segment_law`.
+
+    Each segment lasts Δt_k = max(max_j |q_{k+1,j} − q_{k,j}| / q̇_max,j, t_acc): the slowest axis
+    runs at its speed limit, the others slower, so that all arrive together; a segment shorter
+    than the blend time is stretched to ``t_acc`` (blends may not overlap). The first blend starts
+    at ``t_i``, so t_1 = t_i + t_acc/2.
+    """
+    q = _as_via_points(via_points)
+    vmax = _as_value(qd_max, q.shape[1:], "qd_max")
+    if np.any(vmax <= 0):
+        raise ValueError(f"`qd_max` must be positive, got {vmax}")
+    t_acc = as_positive(t_acc, "t_acc")
+    durations = np.maximum((np.abs(np.diff(q, axis=0)) / vmax).max(axis=1), t_acc)
+    return t_i + 0.5 * t_acc + np.concatenate([[0.0], np.cumsum(durations)])
+
+
+def multi_segment_law(via_points: Any, qd_max: Any, t_acc: float, *, t_i: float = 0.0) -> PiecewisePolynomial:
+    """Linear segments through the via points, joined by parabolic blends of duration ``t_acc``,
+    each segment timed by its slowest axis (the Robotics Toolbox's ``mstraj``).
+
+    The segment times are :func:`multi_segment_times`; the law is then
+    :func:`linear_parabolic_blends_law` with those instants, blends of ``t_acc`` centred on the via
+    points and rest at both ends. It starts at q_1 at ``t_i``, ends at q_m at t_m + t_acc/2, never
+    exceeds |q̇_j| ≤ q̇_max,j (the blends move between two admissible segment velocities), and
+    passes near each interior via point: q(t_k) = q_k + (q̇_{k,k+1} − q̇_{k−1,k}) t_acc/8 (Problem 4.6).
+
+    Parameters
+    ----------
+    via_points : (m, n) positions, one row per via point (the first is the start, the last the goal),
+        m ≥ 2; or (m,) for a scalar law.
+    qd_max : scalar or (n,) positive speed limits [rad/s | m/s].
+    t_acc : blend (acceleration) time [s], the same at every via point.
+    """
+    q = _as_via_points(via_points)
+    t = multi_segment_times(q, qd_max, t_acc, t_i=t_i)
+    return linear_parabolic_blends_law(t, q[:, 0] if np.ndim(via_points) == 1 else q, t_acc)
+
+
+def multi_segment(via_points: Any, qd_max: Any, t_acc: float, *, t_i: float = 0.0, samples: int | None = None,
+                  dt: float | None = None) -> Trajectory:
+    """Sampled :func:`multi_segment_law`."""
+    return sample(multi_segment_law(via_points, qd_max, t_acc, t_i=t_i), samples=samples, dt=dt,
+                  name="multi-segment")
+
+
+def _as_via_points(via_points: Any) -> np.ndarray:
+    q = np.asarray(via_points, dtype=float)
+    if q.ndim == 1:
+        q = q[:, None]
+    if q.ndim != 2 or q.shape[0] < 2:
+        raise ValueError(f"`via_points` must have shape (m, n) with m >= 2 points, got {np.shape(via_points)}")
+    if not np.all(np.isfinite(q)):
+        raise ValueError("`via_points` must be finite")
+    return q

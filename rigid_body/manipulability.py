@@ -1,8 +1,16 @@
-"""Singularities and manipulability: rank, manipulability measure, velocity and force ellipsoids.
+"""Singularities and manipulability: rank, manipulability measures, velocity and force ellipsoids.
+
+Yoshikawa's measure w = √det(J J^T) (3.56) is kinematic; Asada's measure (:func:`asada_manipulability`)
+weighs the Jacobian with the inertia B(q). The end-effector (body) frame Jacobian lives here for now
+(:func:`jacobian_in_frame`, :func:`end_effector_jacobian`), beside the base-frame one of
+:mod:`rigid_body.kinematics`.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
-Sects. 3.3 (kinematic singularities), 3.5.1 (Eq. (3.56) w(q) = √det(J J^T)), 3.9 (manipulability
-ellipsoids, Eqs. (3.123) v^T (J J^T)^{-1} v = 1 and (3.126) γ^T (J J^T) γ = 1).
+Sects. 3.1.3 (the Jacobian in a different frame), 3.3 (kinematic singularities), 3.5.1 (Eq. (3.56)
+w(q) = √det(J J^T)), 3.9 (manipulability ellipsoids, Eqs. (3.123) v^T (J J^T)^{-1} v = 1 and
+(3.126) γ^T (J J^T) γ = 1), 7.8 (operational-space inertia B_A = (J B⁻¹ J^T)⁻¹, Eq. (7.130));
+H. Asada, "A geometrical representation of manipulator dynamics and its application to arm design",
+ASME J. Dyn. Sys. Meas. Control 105, 1983 (the generalized inertia ellipsoid).
 """
 
 from __future__ import annotations
@@ -12,11 +20,18 @@ from typing import Any
 
 import numpy as np
 
+from rigid_body.kinematics import direct_kinematics, geometric_jacobian
+from rigid_body.robots import Robot
+from rigid_body.rotations import as_rotation
+
 __all__ = [
     "singular_values",
     "jacobian_rank",
     "is_singular",
     "manipulability",
+    "asada_manipulability",
+    "jacobian_in_frame",
+    "end_effector_jacobian",
     "Ellipsoid",
     "velocity_ellipsoid",
     "force_ellipsoid",
@@ -56,6 +71,60 @@ def manipulability(J: Any) -> float:
     """w = √det(J J^T), Eq. (3.56); equal to the product of the singular values (Problem 3.8)."""
     J = _jacobian(J)
     return float(np.sqrt(max(np.linalg.det(J @ J.T), 0.0)))
+
+
+_AXES = {"all": slice(None), "trans": slice(0, 3), "rot": slice(3, 6)}
+
+
+def asada_manipulability(J: Any, B: Any, axes: str = "all") -> float:
+    """Asada's measure λ_min/λ_max of the operational-space inertia B_A = (J B⁻¹ J^T)⁻¹ (7.130), in [0, 1].
+
+    The generalized inertia ellipsoid x^T B_A x = 1 tells how uniformly the end effector can be
+    accelerated; the measure is the ratio of its smallest to largest eigenvalue (1: isotropic), as the
+    Robotics Toolbox's ``manipulability(method="asada")``. It is computed from the eigenvalues of
+    J B⁻¹ J^T (the same ratio, without inverting), so it tends to 0 at a singularity instead of failing.
+
+    ``axes``: ``"all"`` uses the rows of ``J`` as given (e.g. ``J[:2]`` for a planar arm's x, y),
+    ``"trans"`` the translational rows J[:3], ``"rot"`` the rotational rows J[3:6] of a 6-row J.
+    ``B`` is the (n, n) inertia matrix, symmetric positive definite. For a square J this equals the
+    Toolbox's J^{-T} B J^{-1}; for a J with fewer rows than joints B_A is the dynamically consistent
+    operational-space inertia (7.130), whereas the Toolbox uses pinv(J)^T B pinv(J).
+    """
+    J = _jacobian(J)
+    if axes not in _AXES:
+        raise ValueError(f"`axes` must be one of {tuple(_AXES)}, got {axes!r}")
+    if axes != "all":
+        if J.shape[0] != 6:
+            raise ValueError(f"`J` must have 6 rows [J_P; J_O] for axes={axes!r}, got shape {J.shape}")
+        J = J[_AXES[axes]]
+    B = np.asarray(B, dtype=float)
+    if B.shape != (J.shape[1], J.shape[1]) or not np.all(np.isfinite(B)):
+        raise ValueError(f"`B` must be a finite ({J.shape[1]}, {J.shape[1]}) inertia matrix, got shape {B.shape}")
+    try:
+        L = np.linalg.cholesky(0.5 * (B + B.T))
+    except np.linalg.LinAlgError:
+        raise ValueError("`B` must be symmetric positive definite") from None
+    W = np.linalg.solve(L, J.T)  # J B⁻¹ J^T = W^T W
+    lam = np.linalg.eigvalsh(W.T @ W)
+    return float(max(lam[0], 0.0) / lam[-1]) if lam[-1] > 0 else 0.0
+
+
+def jacobian_in_frame(J: Any, R: Any) -> np.ndarray:
+    """J^u = [[R^T, 0], [0, R^T]] J: the (6, n) geometric Jacobian ``J`` (base frame) expressed in the
+    frame u of orientation ``R`` = R_u (Sect. 3.1.3). With R = R_e it is the end-effector (body) frame
+    Jacobian: ``J^e q̇`` is [v_e; ω_e] in frame e (Pinocchio's ``LOCAL``; Modern Robotics' J_b, ordered [ω; v])."""
+    J = _jacobian(J)
+    if J.shape[0] != 6:
+        raise ValueError(f"`J` must have 6 rows [J_P; J_O], got shape {J.shape}")
+    Rt = as_rotation(R).T
+    return np.vstack([Rt @ J[:3], Rt @ J[3:]])
+
+
+def end_effector_jacobian(robot: Robot, q: Any, frame: str | int | None = None) -> np.ndarray:
+    """J^e(q) (6, nv): the geometric Jacobian of ``frame`` (default the end effector) expressed in that
+    frame, :func:`jacobian_in_frame` of the base-frame :func:`rigid_body.kinematics.geometric_jacobian`."""
+    T = direct_kinematics(robot, q, frame)
+    return jacobian_in_frame(geometric_jacobian(robot, q, frame), T[:3, :3])
 
 
 @dataclass(frozen=True)

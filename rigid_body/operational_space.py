@@ -10,6 +10,9 @@ end effector, through the dynamically consistent pseudo-inverse J̄_A.
   matrix of Problem 7.9; g_A = J̄_Aᵀ g = B_A J_A B⁻¹ g;
 * for square J_A these reduce to B_A = J_A⁻ᵀ B J_A⁻¹, g_A = J_A⁻ᵀ g (7.134)–(7.136), Problem 7.6.
 
+The kinematic side of the task (pose errors, J, J̇q̇ of a frame in one pass, the kinematic inverses)
+lives in :mod:`rigid_body.task_space`; this module keeps the dynamics seen in the task space.
+
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
 Eqs. (7.130)–(7.138), (7.149); solution manual, Problems 7.6, 7.9, 7.10, 7.11.
 """

@@ -7,9 +7,13 @@ Conventions (the book's):
   ``branch=+1`` picks θ ∈ (0, π) (Eq. (2.19)), ``branch=-1`` θ ∈ (−π, 0) (Eq. (2.20));
 * Roll–pitch–yaw (2.21) ``R = Rz(φ) Ry(θ) Rx(ψ)``, angles ``[φ, θ, ψ]``; ``branch=+1`` picks
   θ ∈ (−π/2, π/2) (Eq. (2.22)), ``branch=-1`` θ ∈ (π/2, 3π/2) (returned wrapped into (−π, π]);
+  the peers' other orders ``"xyz"`` (Rx Ry Rz) and ``"yxz"`` (Ry Rx Rz) through ``order=``;
 * unit quaternion ``Q = [η, εx, εy, εz]``, scalar first, as the book's ``{η, ε}`` (Pinocchio's
   ``pin.Quaternion`` coefficients are ``[x, y, z, w]``: mind the order where the two meet);
 * homogeneous transform ``T = [[R, o], [0, 1]]`` (2.42).
+
+The exponential coordinates of SO(3) and SE(3) (``exp3``/``log3``, twists, screws) live in
+:mod:`rigid_body.se3`; the projection of a nearly orthogonal matrix onto SO(3) is here.
 
 Every function validates its input: wrong shape, non-finite entries, a matrix that is not a rotation
 (orthonormal, det +1, within ``ORTHONORMAL_TOL``) or a quaternion that is not unit norm raise a
@@ -206,27 +210,82 @@ def rotation_to_euler_zxz(R: Any, branch: int = 1, tol: float = SINGULAR_TOL) ->
     return EulerResult(np.array([phi, theta, _residual_angle(R, phi, theta, "zxz")]), False)
 
 
-def rpy_to_rotation(phi: Any) -> np.ndarray:
-    """R(φ) = Rz(φ) Ry(θ) Rx(ψ) of the roll–pitch–yaw angles ``phi = [φ, θ, ψ]``, Eq. (2.21)."""
-    return _euler_to_rotation(phi, "zyx")
+RPY_ORDERS = ("zyx", "xyz", "yxz")  # the orders the peers use; "zyx" is the book's (2.21)
 
 
-def rotation_to_rpy(R: Any, branch: int = 1, tol: float = SINGULAR_TOL) -> EulerResult:
-    """Roll–pitch–yaw angles of R, Eq. (2.22) (``branch=+1``, θ ∈ (−π/2, π/2)) or (2.23) (``branch=-1``).
+def _rpy_order(order: str) -> tuple[int, int, int, int]:
+    """Axis indices (i, j, k) of R = R_i(φ) R_j(θ) R_k(ψ) and the parity ε (+1 cyclic, −1 not)."""
+    if order not in RPY_ORDERS:
+        raise ValueError(f"`order` must be one of {RPY_ORDERS}, got {order!r}")
+    i, j, k = ("xyz".index(a) for a in order)
+    return i, j, k, (1 if (j - i) % 3 == 1 else -1)
 
-    Singular when cos θ = 0 (r11 = r21 = 0): θ = ±π/2 and only φ ∓ ψ is determined; the
-    representative with ψ = 0 is returned with ``singular=True``.
+
+def _elementary_angle(M: np.ndarray, axis: int) -> float:
+    """γ of M = R_axis(γ): cos γ sits at (a, a) and sin γ at (b, a), with a, b the next two axes."""
+    a, b = (axis + 1) % 3, (axis + 2) % 3
+    return float(np.arctan2(M[b, a], M[a, a]))
+
+
+def rpy_to_rotation(phi: Any, order: str = "zyx") -> np.ndarray:
+    """R = R_a(φ) R_b(θ) R_c(ψ) of the angles ``phi = [φ, θ, ψ]``, ``order = "abc"``.
+
+    ``"zyx"`` (default) is the book's roll–pitch–yaw (2.21), R = Rz(φ) Ry(θ) Rx(ψ): ψ (yaw) about x,
+    then ϑ (pitch) about y, then φ (roll) about z, all about fixed axes. ``"xyz"`` is
+    R = Rx(φ) Ry(θ) Rz(ψ) and ``"yxz"`` R = Ry(φ) Rx(θ) Rz(ψ) (the camera-style orders of the
+    Robotics Toolbox/spatialmath, whose ``rpy2r([roll, pitch, yaw], order)`` equals
+    ``rpy_to_rotation([yaw, pitch, roll], order)``: the same product, angles listed in reverse).
     """
+    _rpy_order(order)
+    return _euler_to_rotation(phi, order)
+
+
+def rotation_to_rpy(R: Any, branch: int = 1, tol: float = SINGULAR_TOL, order: str = "zyx") -> EulerResult:
+    """Angles [φ, θ, ψ] of R = R_a(φ) R_b(θ) R_c(ψ), ``order = "abc"`` (see :func:`rpy_to_rotation`).
+
+    For ``"zyx"`` these are Eq. (2.22) (``branch=+1``, θ ∈ (−π/2, π/2)) and (2.23) (``branch=-1``,
+    θ ∈ (π/2, 3π/2), returned wrapped into (−π, π]). Every order has the same structure: with
+    (i, j, k) the axes and ε = +1 for a cyclic order (xyz), −1 otherwise (zyx, yxz),
+    r_ik = ε sin θ, the rest of row i gives |cos θ|, and column k gives φ.
+    Singular when cos θ = 0: θ = ±π/2, R = R_a(φ + ε sin θ ψ) R_b(θ) and only that sum is determined
+    (φ ∓ ψ for zyx); the representative with ψ = 0 is returned with ``singular=True``.
+    """
+    i, j, k, eps = _rpy_order(order)
     R = as_rotation(R)
     b = _branch(branch)
-    c_theta = np.hypot(R[2, 1], R[2, 2])
+    c_theta = np.hypot(R[i, i], R[i, j])
+    s_theta = eps * R[i, k]
     if c_theta < tol:
-        theta = np.copysign(np.pi / 2, -R[2, 0])
-        M = R @ rot_y(theta).T  # = Rz(φ) with ψ = 0
-        return EulerResult(np.array([np.arctan2(M[1, 0], M[0, 0]), theta, 0.0]), True)
-    phi = np.arctan2(b * R[1, 0], b * R[0, 0])
-    theta = np.arctan2(-R[2, 0], b * c_theta)
-    return EulerResult(np.array([phi, theta, _residual_angle(R, phi, theta, "zyx")]), False)
+        theta = np.copysign(np.pi / 2, s_theta)
+        M = R @ _ELEMENTARY[order[1]](theta).T  # = R_i(φ) with ψ = 0
+        return EulerResult(np.array([_elementary_angle(M, i), theta, 0.0]), True)
+    # column k = R_i(φ) (ε sin θ e_i + cos θ e_k): r_jk = −ε cos θ sin φ, r_kk = cos θ cos φ
+    phi = np.arctan2(-eps * b * R[j, k], b * R[k, k])
+    theta = np.arctan2(s_theta, b * c_theta)
+    return EulerResult(np.array([phi, theta, _residual_angle(R, phi, theta, order)]), False)
+
+
+# --------------------------------------------------------------------------------------------
+# Projection of a nearly orthogonal matrix onto SO(3)
+# --------------------------------------------------------------------------------------------
+
+def nearest_rotation(M: Any) -> np.ndarray:
+    """The rotation R closest to the (3, 3) matrix ``M`` in the Frobenius norm (orthogonal Procrustes).
+
+    With M = U Σ V^T, R = U diag(1, 1, det(U V^T)) V^T: the orthogonal polar factor, with its last
+    axis flipped when U V^T would be a reflection, so that det R = +1. Use it to re-orthonormalise a
+    rotation matrix that has drifted (integration, rounding, a measured or first-order matrix).
+    """
+    M = as_matrix(M, (3, 3), "M")
+    U, _, Vt = np.linalg.svd(M)
+    d = 1.0 if np.linalg.det(U @ Vt) > 0 else -1.0
+    return (U * [1.0, 1.0, d]) @ Vt
+
+
+def distance_from_so3(M: Any) -> float:
+    """‖M − R*‖_F, the Frobenius distance of the (3, 3) matrix ``M`` from SO(3) (R* = :func:`nearest_rotation`)."""
+    M = as_matrix(M, (3, 3), "M")
+    return float(np.linalg.norm(M - nearest_rotation(M)))
 
 
 # --------------------------------------------------------------------------------------------

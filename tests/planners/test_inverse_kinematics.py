@@ -6,14 +6,14 @@ FK(IK(T)) is always checked with Pinocchio's direct kinematics, independent of t
 import numpy as np
 import pytest
 
+from controllers.plants import JointIntegrator
 from controllers.simulation import simulate
-from planners.inverse_kinematics import (CLIK, CasadiIK, CasadiIKOptions, JointIntegrator, QPIKOptions, QPVelocityIK,
-                                         TaskSpace, constant_pose, cosine_pose_reference,
-                                         damped_least_squares_inverse, gradient_velocity, joint_limit_distance,
-                                         joint_limit_distance_gradient, pose_residual, solve_clik,
-                                         weighted_pseudo_inverse)
+from planners.inverse_kinematics import (CLIK, CasadiIK, CasadiIKOptions, QPIKOptions, QPVelocityIK,
+                                         constant_pose, cosine_pose_reference, gradient_velocity,
+                                         joint_limit_distance, joint_limit_distance_gradient, solve_clik)
 from rigid_body.kinematics import direct_kinematics
 from rigid_body.robots import load
+from rigid_body.task_space import TaskSpace, damped_least_squares_inverse, pose_residual, weighted_pseudo_inverse
 
 
 @pytest.fixture(scope="module")

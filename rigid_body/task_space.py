@@ -1,0 +1,336 @@
+"""Task space: the frame state, pose errors, kinematic inverses and operational → joint references.
+
+One home for what inverse kinematics (Sect. 3.7) and operational-space control (Sect. 8.6,
+Chapters 9–10) share:
+
+* :func:`frame_state` — (T, J, J̇q̇) of a frame in one kinematics pass: the pose T(q) (2.50), the
+  geometric Jacobian J = [J_P; J_O] (3.30, book convention = Pinocchio LOCAL_WORLD_ALIGNED) and
+  J̇(q, q̇) q̇, the frame acceleration at q̈ = 0 (second-order kinematics (3.98)).
+* :class:`TaskSpace`, :func:`pose_error`, :func:`pose_residual` — the controlled components and the
+  error e = [p_d − p_e; e_O] with an orientation error of Sect. 3.7.3: Euler angles φ_d − φ_e with the
+  analytical Jacobian J_A = T_A⁻¹(φ) J (3.66), angle–axis e_O = r sin ϑ (3.85) (with L of (3.87)) or
+  unit quaternion e_O = η_e ε_d − η_d ε_e − S(ε_d) ε_e (3.91); both of the latter with the geometric
+  Jacobian.
+* :func:`damped_least_squares_inverse` (3.59) and :func:`weighted_pseudo_inverse` (3.50)/(3.52).
+* :func:`joint_rates` — q̇ = J⁻¹ ẋ, q̈ = J⁻¹ (ẍ − J̇ q̇) (3.51 and 3.99 inverted) and
+  :func:`joint_reference`, the operational path → joint reference (q_d, q̇_d, q̈_d)(t) with a
+  closed-form inverse kinematics for q_d.
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
+Sects. 2.12, 3.1–3.7 (Eqs. (3.30), (3.50)–(3.59), (3.66), (3.84)–(3.99)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable, Sequence
+
+import numpy as np
+import pinocchio as pin
+
+from rigid_body.robots import Robot, revolute_joints
+from rigid_body.rotations import _axis_angle_error, _orientation_error_matrix  # unvalidated kernels (hot loop)
+from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz, orientation_error_quaternion,
+                                  rotation_to_euler_zyz, rotation_to_quaternion, rotation_to_rpy, wrap_angle)
+from rigid_body.validation import as_matrix, as_vector
+
+__all__ = [
+    "ORIENTATIONS",
+    "FrameState",
+    "frame_state",
+    "TaskSpace",
+    "PoseError",
+    "orientation_error",
+    "pose_error",
+    "pose_residual",
+    "damped_least_squares_inverse",
+    "weighted_pseudo_inverse",
+    "joint_rates",
+    "joint_reference",
+]
+
+LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+ORIENTATIONS = ("none", "axis_angle", "quaternion", "euler_zyz", "rpy")
+
+
+# --------------------------------------------------------------------------------------------
+# The frame state (T, J, J̇q̇) in one pass
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class FrameState:
+    """Kinematic state of a frame at (q, q̇): ``T`` (4, 4) pose in the base frame (2.50), ``J`` (6, nv)
+    geometric Jacobian [J_P; J_O] (3.30) and ``Jdot_qd`` (6,) = J̇ q̇ = [p̈; ω̇] at q̈ = 0 (the linear
+    part is the classical acceleration of the origin), None when q̇ was not given."""
+
+    T: np.ndarray
+    J: np.ndarray
+    Jdot_qd: np.ndarray | None
+
+
+def _frame_state(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray,
+                 qd: np.ndarray | None) -> FrameState:
+    """The unvalidated kernel of :func:`frame_state` (hot loops: controllers at 1 kHz, CLIK)."""
+    if qd is None:
+        pin.computeJointJacobians(model, data, q)                     # also the forward kinematics
+    else:
+        pin.forwardKinematics(model, data, q, qd, np.zeros(model.nv))
+        pin.computeJointJacobians(model, data)                        # from the placements just computed
+    T = pin.updateFramePlacement(model, data, fid).homogeneous        # a fresh array
+    J = pin.getFrameJacobian(model, data, fid, LWA)
+    if qd is None:
+        return FrameState(T, J, None)
+    a = pin.getFrameClassicalAcceleration(model, data, fid, LWA)
+    return FrameState(T, J, np.concatenate([a.linear, a.angular]))
+
+
+def frame_state(robot: Robot, q: Any, qd: Any = None, frame: str | int | None = None) -> FrameState:
+    """(T, J, J̇q̇) of ``frame`` (default the end effector) at (q, q̇) with one kinematics pass.
+
+    Equals :func:`~rigid_body.kinematics.direct_kinematics`, :func:`~rigid_body.kinematics.geometric_jacobian`
+    and :func:`~rigid_body.kinematics.jacobian_derivative_times_qd`, each of which runs its own pass.
+    """
+    q = as_vector(q, robot.nq, "q")
+    qd = None if qd is None else as_vector(qd, robot.nv, "qd")
+    return _frame_state(robot.model, robot.data, robot.frame(frame), q, qd)
+
+
+# --------------------------------------------------------------------------------------------
+# Task space and pose errors (Sect. 3.7.3)
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class TaskSpace:
+    """The controlled quantities of a frame.
+
+    Attributes
+    ----------
+    frame : the frame (name or id; None = the robot's end effector).
+    orientation : ``"none"`` (position only), ``"axis_angle"`` (3.85), ``"quaternion"`` (3.91),
+        ``"euler_zyz"`` or ``"rpy"`` (φ_d − φ_e with the analytical Jacobian (3.66)).
+    rows : indices (into the 6 components [position; orientation]) that are controlled;
+        default all 6, or the 3 position rows when ``orientation="none"``. E.g. (0, 1) for the
+        planar position of Problem 3.21, (0, 1, 2, 3) for [p; φ] of the SCARA in Problem 3.22.
+    """
+
+    frame: str | int | None = None
+    orientation: str = "axis_angle"
+    rows: tuple[int, ...] | None = None
+
+    def __post_init__(self):
+        if self.orientation not in ORIENTATIONS:
+            raise ValueError(f"`orientation` must be one of {ORIENTATIONS}, got {self.orientation!r}")
+        rows = self.selected
+        if len(rows) == 0 or len(set(rows)) != len(rows) or not all(0 <= r < 6 for r in rows):
+            raise ValueError(f"`rows` must be distinct indices in 0..5, got {self.rows}")
+        if self.orientation == "none" and any(r >= 3 for r in rows):
+            raise ValueError("`rows` may only select position rows (0..2) when orientation='none'")
+
+    @property
+    def selected(self) -> tuple[int, ...]:
+        """The controlled rows (indices into [position; orientation])."""
+        if self.rows is not None:
+            return tuple(int(r) for r in self.rows)
+        return (0, 1, 2) if self.orientation == "none" else tuple(range(6))
+
+    @property
+    def euler(self) -> bool:
+        """True for an Euler-angle orientation (analytical Jacobian), False for the geometric one."""
+        return self.orientation in ("euler_zyz", "rpy")
+
+
+@dataclass(frozen=True)
+class PoseError:
+    """Errors and Jacobians of a task at one configuration (all restricted to the task rows).
+
+    ``e`` the error (3.68 style), ``J`` the task Jacobian (geometric or analytical),
+    ``feedforward`` the desired task velocity (ẋ_d), ``L`` the (3.87) matrix for angle–axis, else None,
+    ``T_e`` the frame pose, ``Jdot_qd`` J̇q̇ of the task rows (geometric Jacobian only; None when q̇
+    was not given).
+    """
+
+    e: np.ndarray
+    J: np.ndarray
+    feedforward: np.ndarray
+    L: np.ndarray | None
+    T_e: np.ndarray
+    Jdot_qd: np.ndarray | None = None
+
+
+def orientation_error(R_d: np.ndarray, R_e: np.ndarray, orientation: str = "quaternion") -> np.ndarray:
+    """e_O (3,) of R_e w.r.t. R_d: ``"axis_angle"`` r sin ϑ (3.85), ``"quaternion"`` (3.91) with Q_d
+    and Q_e in the same hemisphere (η_d η_e + ε_dᵀ ε_e ≥ 0: e_O = r sin(ϑ/2), R_d R_eᵀ = R(ϑ, r), ϑ ≤ π),
+    ``"euler_zyz"``/``"rpy"`` φ_d − φ_e (wrapped), ``"none"`` zeros. Unvalidated rotations."""
+    if orientation == "axis_angle":
+        return _axis_angle_error(R_d, R_e)
+    if orientation == "quaternion":
+        Q_d, Q_e = rotation_to_quaternion(R_d), rotation_to_quaternion(R_e)
+        if Q_d @ Q_e < 0.0:  # same R_d, other sign: the error of the short way round, e_O = r sin(ϑ/2), ϑ ≤ π
+            Q_d = -Q_d
+        return orientation_error_quaternion(Q_d, Q_e)
+    if orientation in ("euler_zyz", "rpy"):
+        extract = rotation_to_euler_zyz if orientation == "euler_zyz" else rotation_to_rpy
+        return wrap_angle(extract(R_d).angles - extract(R_e).angles)
+    if orientation == "none":
+        return np.zeros(3)
+    raise ValueError(f"`orientation` must be one of {ORIENTATIONS}, got {orientation!r}")
+
+
+def pose_error(robot: Robot, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | None = None,
+               task: TaskSpace = TaskSpace(), qd: np.ndarray | None = None) -> PoseError:
+    """Position and orientation error of ``task``'s frame at ``q`` w.r.t. the desired pose ``T_d``.
+
+    ``v_d`` = [ṗ_d; ω_d] (6,) is the desired velocity (default 0); for Euler-angle errors the
+    feed-forward is [ṗ_d; T^{-1}(φ_d) ω_d] and the Jacobian is the analytical one, Eq. (3.66).
+    With ``qd`` the same kinematics pass also gives J̇q̇ (geometric Jacobian tasks only).
+    Unvalidated (hot loop): q (nq,), T_d (4, 4) homogeneous.
+    """
+    fid = robot.frame(task.frame)
+    if qd is not None and task.euler:
+        raise ValueError("J̇_A q̇ of an Euler-angle task is not provided: use 'axis_angle' or 'quaternion'")
+    state = _frame_state(robot.model, robot.data, fid, q, qd)
+    J, T_e = state.J, state.T
+    R_e, p_e = T_e[:3, :3], T_e[:3, 3]
+    R_d, p_d = T_d[:3, :3], T_d[:3, 3]
+    v_d = np.zeros(6) if v_d is None else v_d
+    e = np.empty(6)
+    e[:3] = p_d - p_e
+    ff = np.array(v_d, dtype=float)
+    L = None
+    kind = task.orientation
+    if kind == "axis_angle":
+        e[3:] = _axis_angle_error(R_d, R_e)                            # Eq. (3.85)
+        L = _orientation_error_matrix(R_d, R_e)                        # Eq. (3.87)
+    elif kind == "quaternion":
+        e[3:] = orientation_error(R_d, R_e, kind)                      # Eq. (3.91)
+    elif task.euler:
+        extract, T_of = ((rotation_to_euler_zyz, euler_rate_matrix_zyz) if kind == "euler_zyz"
+                         else (rotation_to_rpy, euler_rate_matrix_rpy))
+        phi_d, phi_e = extract(R_d), extract(R_e)
+        if phi_e.singular or phi_d.singular:
+            raise ValueError(f"{kind} representation singularity at the {'current' if phi_e.singular else 'desired'}"
+                             " orientation: the analytical Jacobian is not defined")
+        e[3:] = wrap_angle(phi_d.angles - phi_e.angles)
+        J = J.copy()
+        J[3:] = np.linalg.solve(T_of(phi_e.angles), J[3:])             # J_A = T_A^{-1} J, Eq. (3.66)
+        ff[3:] = np.linalg.solve(T_of(phi_d.angles), v_d[3:])          # φ̇_d = T^{-1}(φ_d) ω_d
+    else:
+        e[3:] = 0.0
+    rows = list(task.selected)
+    Jdq = None if state.Jdot_qd is None else state.Jdot_qd[rows]
+    return PoseError(e[rows], J[rows], ff[rows], L, T_e, Jdq)
+
+
+def pose_residual(T_d: np.ndarray, T_e: np.ndarray, task: TaskSpace = TaskSpace(),
+                  e: np.ndarray | None = None) -> float:
+    """The IK residual: max(‖p_d − p_e‖ over the task's position rows, orientation error).
+
+    The orientation error is the rotation angle of R_e^T R_d when the three orientation rows are
+    controlled, otherwise max |e_i| over the task's orientation rows of the error ``e`` (required then).
+    """
+    rows = task.selected
+    pos = [r for r in rows if r < 3]
+    res = float(np.linalg.norm((T_d[:3, 3] - T_e[:3, 3])[pos])) if pos else 0.0
+    ori = [i for i, r in enumerate(rows) if r >= 3]
+    if task.orientation == "none" or not ori:
+        return res
+    if len(ori) == 3:
+        return max(res, float(np.linalg.norm(pin.log3(T_e[:3, :3].T @ T_d[:3, :3]))))
+    if e is None:
+        raise ValueError("`e` is required for the residual of a partial orientation task")
+    return max(res, float(np.max(np.abs(np.asarray(e)[ori]))))
+
+
+# --------------------------------------------------------------------------------------------
+# Generalised inverses (3.50)–(3.59)
+# --------------------------------------------------------------------------------------------
+
+def _finite_jacobian(J: Any) -> np.ndarray:
+    J = np.asarray(J, dtype=float)
+    if J.ndim != 2 or not np.isfinite(J).all():
+        raise ValueError(f"`J` must be a finite 2-D Jacobian, got shape {J.shape}")
+    return J
+
+
+def damped_least_squares_inverse(J: Any, k: float) -> np.ndarray:
+    """J* = J^T (J J^T + k² I)^{-1}, the damped least-squares inverse, Eq. (3.59) / Problem 3.10."""
+    J = _finite_jacobian(J)
+    if not (np.isfinite(k) and k >= 0):
+        raise ValueError(f"`k` must be finite and >= 0, got {k}")
+    return J.T @ np.linalg.solve(J @ J.T + k * k * np.eye(J.shape[0]), np.eye(J.shape[0]))
+
+
+def weighted_pseudo_inverse(J: Any, W: Any = None) -> np.ndarray:
+    """J† = W^{-1} J^T (J W^{-1} J^T)^{-1}, Eq. (3.50) (right pseudo-inverse (3.52) for W = I).
+
+    ValueError when J J^T is singular (J has not full row rank).
+    """
+    J = _finite_jacobian(J)
+    Wi = np.eye(J.shape[1]) if W is None else np.linalg.inv(as_matrix(W, (J.shape[1],) * 2, "W"))
+    A = J @ Wi @ J.T
+    if np.linalg.cond(A) > 1e12:
+        raise ValueError("`J` is (close to) singular: J W^-1 J^T is not invertible; use the DLS inverse")
+    return Wi @ J.T @ np.linalg.inv(A)
+
+
+# --------------------------------------------------------------------------------------------
+# Operational motion → joint motion (inverse differential kinematics, (3.51), (3.99))
+# --------------------------------------------------------------------------------------------
+
+def joint_rates(robot: Robot, q: Any, xd: Any, xdd: Any, rows: Sequence[int] = tuple(range(6)),
+                frame: str | int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """q̇ = J⁻¹ ẋ (3.51 inverted) and q̈ = J⁻¹ (ẍ − J̇ q̇) (3.99) at q, J the ``rows`` of the geometric
+    Jacobian of ``frame`` (a square, non-redundant task: as many rows as joints).
+
+    ``xd``, ``xdd`` are [ṗ; ω] and [p̈; ω̇] in the ``rows`` components. ValueError at a singularity.
+    """
+    q = as_vector(q, robot.nq, "q")
+    rows = list(rows)
+    if len(rows) != robot.nv:
+        raise ValueError(f"`rows` must select {robot.nv} components (a square task Jacobian), got {len(rows)}")
+    xd, xdd = as_vector(xd, len(rows), "xd"), as_vector(xdd, len(rows), "xdd")
+    model, data, fid = robot.model, robot.data, robot.frame(frame)
+    J = _frame_state(model, data, fid, q, None).J[rows]
+    if np.linalg.cond(J) > 1e12:
+        raise ValueError(f"the task Jacobian is singular at q = {q}: J⁻¹ is not defined")
+    qd = np.linalg.solve(J, xd)
+    Jdot_qd = _frame_state(model, data, fid, q, qd).Jdot_qd[rows]    # J̇ q̇ needs the q̇ just found
+    return qd, np.linalg.solve(J, xdd - Jdot_qd)
+
+
+def joint_reference(robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.ndarray], law: Any,
+                    position_rows: Sequence[int], orientation: Sequence[float], jacobian_rows: Sequence[int],
+                    q_near: Any) -> Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Joint reference (q_d, q̇_d, q̈_d)(t) of an operational motion with constant orientation.
+
+    q_d: closed-form IK of ``[p[position_rows], *orientation]``, the solution nearest to the previous
+    one (starting from ``q_near``; revolute joints shifted by 2π to it); q̇_d, q̈_d by
+    :func:`joint_rates` with J the ``jacobian_rows`` of the geometric Jacobian — square for a
+    non-redundant task (e.g. x, y, ω_z of a planar three-link arm). ``law`` is ``t -> (p, ṗ, p̈)``.
+    """
+    rows = list(position_rows)
+    jrows = list(jacobian_rows)
+    phi = np.asarray(orientation, dtype=float)
+    n_o = phi.size
+    if len(jrows) != robot.nv or len(rows) + n_o != len(jrows):
+        raise ValueError(f"the task must be square: {len(rows)} positions + {n_o} orientations vs "
+                         f"{len(jrows)} Jacobian rows for {robot.nv} joints")
+    last = [as_vector(q_near, robot.nq, "q_near").copy()]
+    revolute = revolute_joints(robot)
+    zero = np.zeros(n_o)
+
+    def nearest(q: np.ndarray) -> np.ndarray:
+        """The 2π-equivalent of q (revolute joints only) closest to the previous reference."""
+        d = q - last[0]
+        d[..., revolute] = wrap_angle(d[..., revolute])
+        return last[0] + d
+
+    def reference(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        p, pd, pdd = (np.asarray(v, dtype=float) for v in law(t))
+        sols = nearest(np.atleast_2d(inverse_kinematics(np.concatenate([p[rows], phi]))))
+        q = sols[np.argmin(np.linalg.norm(sols - last[0], axis=1))]
+        last[0] = q
+        qd, qdd = joint_rates(robot, q, np.concatenate([pd[rows], zero]), np.concatenate([pdd[rows], zero]), jrows)
+        return q, qd, qdd
+
+    return reference

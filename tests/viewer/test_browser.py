@@ -27,7 +27,6 @@ CHROMIUM = Path("/usr/bin/chromium")
 FLAGS = ["--headless=new", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
          "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 SIZE = (640, 480)
-ROBOT_RGB = (230, 115, 25)  # viewer.geometry.SKELETON_COLOR, the colour given to the Panda too
 
 
 def _browser_or_skip():
@@ -127,7 +126,8 @@ def test_planar_arm_is_drawn_where_the_kinematics_puts_it_and_moves(page, served
     """q from [0, 0] to [π/2, 0]. The arm's plane x–y is shown vertical (gravity −y points down) and seen
     square on: the arm starts along +x (right of the base, at the centre) and ends along +y (above it)."""
     robot = load("planar_2r")
-    url = _open(page, served, robot, quintic([0.0, 0.0], [np.pi / 2, 0.0], 1.0, dt=0.01), "planar_2r")
+    url = _open(page, served, robot, quintic([0.0, 0.0], [np.pi / 2, 0.0], 1.0, dt=0.01), "planar_2r",
+                color="#e67319")
     start, end = _frame_at(page, 0.0, "planar_2r_t0"), _frame_at(page, 1.0, "planar_2r_t1")
     h, w = SIZE[1], SIZE[0]
     right = (slice(h // 2 - 20, h // 2 + 20), slice(w // 2 + 10, w))   # band along +x
@@ -136,7 +136,7 @@ def test_planar_arm_is_drawn_where_the_kinematics_puts_it_and_moves(page, served
               for k, img in (("t0", start), ("t1", end))}
     with capsys.disabled():
         print(f"\n[viewer] planar_2r orange pixels (right band, upper band): {counts}; screenshots in {_artifacts()}")
-    # the arm is a thick cylinder; what remains in the other band is the 1-px x axis of frame_0's triad
+    # the arm is a thick cylinder; what remains in the other band is the 1-px x axis of a triad
     assert counts["t0"][0] > 400 and counts["t0"][1] < 0.05 * counts["t0"][0], counts
     assert counts["t1"][1] > 400 and counts["t1"][0] < 0.05 * counts["t1"][1], counts
     _assert_offline_and_clean(page, url)

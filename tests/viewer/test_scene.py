@@ -16,7 +16,7 @@ from planners.timing import quintic
 from problems.registry import Solution
 from rigid_body.camera import PinholeCamera, project
 from rigid_body.manipulability import velocity_ellipsoid
-from rigid_body.robots import load
+from rigid_body.robots import load, robot_from_urdf_string
 from viewer import (Scene, TeachPendant, animate, arrow_transform, export_html, geometry_of, motion_of,
                     report_animations, show, skeleton_of, up_rotation)
 from viewer.scene import _decompose
@@ -40,10 +40,9 @@ def _transform(scene: Scene, path: str) -> np.ndarray:
     return np.array(matrices[-1]).reshape(4, 4).T
 
 
-def test_planar_2r_is_drawn_as_a_skeleton_whose_links_end_at_the_closed_form_tip(rng):
+def test_the_skeleton_of_planar_2r_ends_at_the_closed_form_tip(rng):
     robot = load("planar_2r")
-    assert "<visual" not in robot.urdf_xml and "<collision" not in robot.urdf_xml
-    geom = geometry_of(robot)
+    geom = skeleton_of(robot)
     assert geom.ngeoms > 0 and all(g.name.startswith(("link_", "joint_")) for g in geom.geometryObjects)
     gdata = geom.createData()
     for _ in range(5):
@@ -55,6 +54,13 @@ def test_planar_2r_is_drawn_as_a_skeleton_whose_links_end_at_the_closed_form_tip
                 for k, g in enumerate(geom.geometryObjects) if g.name.startswith("link_")]
         distances = [np.linalg.norm(e - _tip_2r(q)) for e in ends]
         assert min(distances) < 1e-12
+
+
+def test_a_urdf_without_geometry_is_drawn_as_its_skeleton():
+    xml = re.sub(r"<(visual|collision)>.*?</\1>", "", load("planar_3r").urdf_xml, flags=re.S)
+    robot = robot_from_urdf_string(xml)
+    geom = geometry_of(robot)
+    assert geom.ngeoms == skeleton_of(robot).ngeoms > 0
 
 
 def test_panda_geometry_sits_where_yourdfpy_puts_the_urdf_links(rng):
@@ -82,10 +88,10 @@ def test_panda_geometry_sits_where_yourdfpy_puts_the_urdf_links(rng):
         geometry_of(robot, "pretty")
 
 
-def test_geometry_of_prefers_the_robots_own_geometry_model():
+def test_geometry_of_prefers_the_robots_own_geometry_model(monkeypatch):
     robot = load("planar_3r")
     own = skeleton_of(robot, radius=0.05)
-    robot.visual_model = own  # what rigid_body.robots will provide
+    monkeypatch.setattr(type(robot), "visual_model", property(lambda self: own), raising=False)
     assert geometry_of(robot, "visual") is own
 
 

@@ -26,7 +26,10 @@ def motion_of(motion: Any, robot: Robot) -> tuple[np.ndarray, np.ndarray]:
         t, q = motion
     else:
         t = getattr(motion, "t", None)
-        q = getattr(motion, "q", None)
+        try:
+            q = motion.q  # a Trajectory; a SimulationResult whose plant names its states
+        except (AttributeError, KeyError):
+            q = None
         if q is None and getattr(motion, "x", None) is not None:
             x = np.asarray(motion.x, dtype=float)
             if x.ndim != 2 or x.shape[1] < robot.nq:

@@ -114,46 +114,59 @@ def _graph_path(n: int, edges: list[tuple[int, int]], weights: list[float], src:
 
 
 def prm(space: PlanningSpace, q_start: Any, q_goal: Any, rng: np.random.Generator, n_vertices: int = 50,
-        max_neighbors: int = 3, max_distance: float = 3.0) -> PlanResult:
+        max_neighbors: int = 3, max_distance: float = 3.0, max_vertices: int | None = None) -> PlanResult:
     """Probabilistic roadmap (Sect. 12.5.1, Fig. 12.10) with the query of Problem 12.7.
 
-    Learning: free configurations are drawn uniformly (colliding ones rejected); each new vertex is
-    joined to at most ``max_neighbors`` of its nearest vertices within ``max_distance`` whose local path
-    is free. Query: q_s and q_g are attached the same way and Dijkstra searches the roadmap.
+    q_s and q_g are the first two vertices; free configurations are then drawn uniformly (colliding ones
+    rejected) and each new vertex is joined to at most ``max_neighbors`` of its nearest vertices within
+    ``max_distance`` whose local path is free. After ``n_vertices`` samples, if q_s and q_g are still in
+    different components, the roadmap keeps growing (as the book prescribes) until they are joined or
+    it has ``max_vertices`` samples (default ``n_vertices``: no growth). Dijkstra then searches it.
     """
     qs, qg = _check_endpoints(space, q_start, q_goal)
     if int(n_vertices) < 1 or int(max_neighbors) < 1:
         raise ValueError(f"`n_vertices` and `max_neighbors` must be >= 1, got {n_vertices}, {max_neighbors}")
     as_positive(max_distance, "max_distance")
+    max_vertices = int(n_vertices) if max_vertices is None else int(max_vertices)
     nodes: list[np.ndarray] = []
     edges: list[tuple[int, int]] = []
     weights: list[float] = []
+    component: list[int] = []                       # union-find over the vertices
+
+    def find(i: int) -> int:
+        while component[i] != i:
+            component[i] = component[component[i]]
+            i = component[i]
+        return i
 
     def attach(q: np.ndarray) -> None:
+        k_new = len(nodes)
+        component.append(k_new)
         if nodes:
             d = space.distance(np.asarray(nodes), q)
-            order = [k for k in np.argsort(d) if d[k] <= max_distance][:max_neighbors]
-            for k in order:
+            for k in [k for k in np.argsort(d) if d[k] <= max_distance][:max_neighbors]:
                 if edge_is_free(space, nodes[k], q):
-                    edges.append((int(k), len(nodes)))
+                    edges.append((int(k), k_new))
                     weights.append(float(d[k]))
+                    component[find(int(k))] = find(k_new)
         nodes.append(q)
 
-    while len(nodes) < n_vertices:
+    attach(qs)
+    attach(qg)
+    samples = 0
+    while samples < n_vertices or (find(0) != find(1) and samples < max_vertices):
         q = space.sample(rng)
         if space.valid_many(q[None])[0]:
             attach(q)
-    attach(qs)
-    attach(qg)
-    n = len(nodes)
-    route = _graph_path(n, edges, weights, n - 2, n - 1)
+            samples += 1
+    route = _graph_path(len(nodes), edges, weights, 0, 1)
     N, E = np.asarray(nodes), np.asarray(edges, dtype=int).reshape(-1, 2)
     if route is None:
         return PlanResult(False, np.zeros((0, space.dim)), np.inf, N, E,
-                          f"q_s and q_g are in different components of the {n_vertices}-vertex roadmap")
+                          f"q_s and q_g are in different components of the {samples}-sample roadmap")
     path = N[route]
     return PlanResult(True, path, path_length(space, path), N, E,
-                      f"path of {len(route) - 1} edges through a {n_vertices}-vertex roadmap")
+                      f"path of {len(route) - 1} edges through a roadmap of {samples} samples + q_s, q_g")
 
 
 def _steer(space: PlanningSpace, a: np.ndarray, b: np.ndarray, step: float) -> np.ndarray:

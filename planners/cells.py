@@ -155,9 +155,10 @@ def _equidistant_points(triple: Sequence[tuple]) -> list[tuple[np.ndarray, float
         roots = [] if abs(qb) < 1e-14 else [-qc / qb]
     else:
         disc = qb * qb - 4 * qa * qc
-        if disc < -1e-12 * max(1.0, qb * qb):
+        if disc < -1e-9 * max(1.0, qb * qb):
             return []
-        disc = max(disc, 0.0)                          # a double root (e.g. a corner, t = 0)
+        if abs(disc) < 1e-9 * max(1.0, qb * qb):
+            disc = 0.0                                 # a double root (e.g. a corner, t = 0)
         roots = [(-qb + sgn * np.sqrt(disc)) / (2 * qa) for sgn in (1, -1)]
     return [((x0 + s * w)[:2], (x0 + s * w)[2]) for s in roots]
 

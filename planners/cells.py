@@ -341,7 +341,8 @@ def quadtree_decomposition(bounds: Sequence[float], obstacles: Sequence[Any], mi
     return _build(free)
 
 
-def channel_path(dec: CellDecomposition, q_start: Any, q_goal: Any, centroids: bool = True) -> tuple[np.ndarray, list[int]]:
+def channel_path(dec: CellDecomposition, q_start: Any, q_goal: Any,
+                 centroids: bool = True) -> tuple[np.ndarray, list[int]]:
     """Path from a channel (Sect. 12.4.1): q_s, the midpoints of the common boundaries of consecutive
     channel cells, q_g. With ``centroids`` (the fix of Problem 12.6) the centroid of every channel cell
     except c_s and c_g is inserted between its two boundary midpoints, so no edge runs along a boundary.

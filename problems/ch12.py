@@ -30,7 +30,8 @@ from matplotlib.patches import Polygon as PolygonPatch  # noqa: E402
 from planners.cells import (channel_path, gvd_nodes, polyline_clearance, quadtree_decomposition,  # noqa: E402
                             sampled_gvd, trapezoidal_decomposition, visibility_graph)
 from planners.cspace_planar import (Disc, PlanarArm, PlanarBody, PlanarCSpace, Polygon, Scene, box,  # noqa: E402
-                                    certify_motion, certify_straight_path, connected_components, densify, euclidean_distance,
+                                    certify_motion, certify_straight_path, connected_components, densify,
+                                    euclidean_distance,
                                     minkowski_c_obstacle, point_segment_distance, point_shape_distance,
                                     shapes_intersect, torus_distance, transform_shape)
 from planners.potentials import (AttractivePotential, PotentialField, RepulsivePotential,  # noqa: E402
@@ -453,9 +454,10 @@ def problem_12_7() -> Solution:
 
     Scene and parameters from the companion file s12_7: links 1 m × 0.1 m, four discs and a square,
     50 vertices (grown further, up to 200, if q_s and q_g are not yet connected), ≤ 3 neighbours within
-    C-space distance 3, distance d₃ of Problem 12.2 (C is a torus, edges may wrap). Local paths are checked every 0.01 rad; the path found is then re-sampled every
-    0.002 rad and certified free with shape-by-shape geometry (clearance at the samples against the
-    bound Σ|Δθ_i| R_i on the motion between them). RRT-Connect (+ shortcutting) is the second planner.
+    C-space distance 3, distance d₃ of Problem 12.2 (C is a torus, edges may wrap). Local paths are
+    checked every 0.01 rad; the path found is then re-sampled every 0.05 rad (bisected where
+    inconclusive) and certified free with shape-by-shape geometry (clearance at the samples against
+    the bound Σ|Δθ_i| R_i on the motion between them). RRT-Connect (+ shortcutting) is the second planner.
     """
     sol = Solution()
     space, qs, qg = scene_12_7()
@@ -469,9 +471,9 @@ def problem_12_7() -> Solution:
     sol.value("path", res.path)
     sol.value("path_length", res.length)
     sol.check_close("path starts at q_s and ends at q_g", [res.path[0], res.path[-1]], [qs, qg], atol=1e-12)
-    ok, cmin, n_eval = certify_straight_path(space, res.path, 0.01)
+    ok, cmin, n_eval = certify_straight_path(space, res.path, 0.05)
     sol.value("path_min_clearance", cmin)
-    sol.check("path certified collision-free (0.01 rad re-sampling refined by bisection, exact geometry, "
+    sol.check("path certified collision-free (0.05 rad re-sampling, bisected where inconclusive; exact geometry, "
               "motion bound Σ|Δθ_i|R_i)", ok, f"min clearance {cmin:.4f} m, {n_eval} configurations")
     wrapped = [bool(np.any(np.abs(res.nodes[j] - res.nodes[i]) > np.pi)) for i, j in res.edges]
     sol.value("roadmap_edges", len(res.edges))
@@ -485,7 +487,7 @@ def problem_12_7() -> Solution:
     L_short = path_length(space, short)
     sol.value("rrt_connect_length", rc.length)
     sol.value("rrt_connect_shortcut_length", L_short)
-    ok2 = rc.success and certify_straight_path(space, short, 0.01)[0]
+    ok2 = rc.success and certify_straight_path(space, short, 0.05)[0]
     sol.check("RRT-Connect + shortcutting: a certified path, no longer than before shortcutting",
               rc.success and ok2 and L_short <= rc.length + 1e-12, f"{rc.length:.3f} → {L_short:.3f} rad")
     fig, axes = plt.subplots(1, 2, figsize=(12, 5.5))
@@ -723,7 +725,6 @@ def problem_12_10() -> Solution:
     sol = Solution()
     single = _disc_field([[3.0, 0.0]])
     P = stationary_point(single, [3.9, 0.1])
-    eta = np.linalg.norm(P - [3, 0]) - 0.5
     sol.value("P_single", P)
     sol.check_close("single disc: ∇U(P) = 0 on the goal–centre axis, at (4, 0) (η = 0.5)", P, [4.0, 0.0], atol=1e-9)
     H = single.hessian(P)

@@ -18,9 +18,8 @@ from dataclasses import dataclass, field
 from typing import Any, Protocol, Sequence
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import dijkstra
 
+from planners.cells import shortest_path_on_graph
 from rigid_body.rotations import wrap_angle
 from rigid_body.validation import as_positive, as_vector
 
@@ -98,21 +97,6 @@ def _check_endpoints(space: PlanningSpace, q_start: Any, q_goal: Any) -> tuple[n
     return qs, qg
 
 
-def _graph_path(n: int, edges: list[tuple[int, int]], weights: list[float], src: int, dst: int) -> list[int] | None:
-    """Vertex indices of the shortest path src → dst on an undirected weighted graph (scipy Dijkstra)."""
-    if not edges:
-        return None
-    i, j = np.array(edges).T
-    G = coo_matrix((weights, (i, j)), shape=(n, n)).tocsr()
-    dist, pred = dijkstra(G, directed=False, indices=src, return_predecessors=True)
-    if not np.isfinite(dist[dst]):
-        return None
-    route = [dst]
-    while route[-1] != src:
-        route.append(int(pred[route[-1]]))
-    return route[::-1]
-
-
 def prm(space: PlanningSpace, q_start: Any, q_goal: Any, rng: np.random.Generator, n_vertices: int = 50,
         max_neighbors: int = 3, max_distance: float = 3.0, max_vertices: int | None = None) -> PlanResult:
     """Probabilistic roadmap (Sect. 12.5.1, Fig. 12.10) with the query of Problem 12.7.
@@ -159,7 +143,7 @@ def prm(space: PlanningSpace, q_start: Any, q_goal: Any, rng: np.random.Generato
         if space.valid_many(q[None])[0]:
             attach(q)
             samples += 1
-    route = _graph_path(len(nodes), edges, weights, 0, 1)
+    route = shortest_path_on_graph(len(nodes), edges, weights, 0, 1)
     N, E = np.asarray(nodes), np.asarray(edges, dtype=int).reshape(-1, 2)
     if route is None:
         return PlanResult(False, np.zeros((0, space.dim)), np.inf, N, E,
@@ -172,6 +156,23 @@ def prm(space: PlanningSpace, q_start: Any, q_goal: Any, rng: np.random.Generato
 def _steer(space: PlanningSpace, a: np.ndarray, b: np.ndarray, step: float) -> np.ndarray:
     d = float(space.distance(a, b))
     return b.copy() if d <= step else space.interpolate(a, b, np.array([step / d]))[0]
+
+
+def _extend(space: PlanningSpace, nodes: list[np.ndarray], parent: list[int], q_target: np.ndarray,
+            step: float) -> int | None:
+    """EXTEND: add q_new, ``step`` from the vertex nearest to q_target towards it, when the segment is
+    free; returns its index (None when blocked)."""
+    near = int(np.argmin(space.distance(np.asarray(nodes), q_target)))
+    q_new = _steer(space, nodes[near], q_target, step)
+    if not edge_is_free(space, nodes[near], q_new):
+        return None
+    nodes.append(q_new)
+    parent.append(near)
+    return len(nodes) - 1
+
+
+def _tree_edges(parent: Sequence[int], offset: int = 0) -> list[tuple[int, int]]:
+    return [(p + offset, k + offset) for k, p in enumerate(parent) if p >= 0]
 
 
 def _tree_path(nodes: list[np.ndarray], parent: list[int], leaf: int) -> list[np.ndarray]:
@@ -194,22 +195,15 @@ def rrt(space: PlanningSpace, q_start: Any, q_goal: Any, rng: np.random.Generato
     nodes, parent = [qs], [-1]
     for it in range(int(max_iterations)):
         q_rand = qg if rng.random() < goal_bias else space.sample(rng)
-        near = int(np.argmin(space.distance(np.asarray(nodes), q_rand)))
-        q_new = _steer(space, nodes[near], q_rand, step)
-        if not edge_is_free(space, nodes[near], q_new):
-            continue
-        nodes.append(q_new)
-        parent.append(near)
-        if float(space.distance(q_new, qg)) <= step and edge_is_free(space, q_new, qg):
+        k = _extend(space, nodes, parent, q_rand, step)
+        if k is not None and float(space.distance(nodes[k], qg)) <= step and edge_is_free(space, nodes[k], qg):
             nodes.append(qg)
-            parent.append(len(nodes) - 2)
+            parent.append(k)
             path = np.asarray(_tree_path(nodes, parent, len(nodes) - 1))
-            return PlanResult(True, path, path_length(space, path), np.asarray(nodes),
-                              np.array([(p, k) for k, p in enumerate(parent) if p >= 0]),
+            return PlanResult(True, path, path_length(space, path), np.asarray(nodes), np.array(_tree_edges(parent)),
                               f"goal reached after {it + 1} iterations, {len(nodes)} vertices")
     return PlanResult(False, np.zeros((0, space.dim)), np.inf, np.asarray(nodes),
-                      np.array([(p, k) for k, p in enumerate(parent) if p >= 0]).reshape(-1, 2),
-                      f"goal not reached in {max_iterations} iterations")
+                      np.array(_tree_edges(parent)).reshape(-1, 2), f"goal not reached in {max_iterations} iterations")
 
 
 def rrt_connect(space: PlanningSpace, q_start: Any, q_goal: Any, rng: np.random.Generator, step: float = 0.3,
@@ -224,13 +218,10 @@ def rrt_connect(space: PlanningSpace, q_start: Any, q_goal: Any, rng: np.random.
     trees = [([qs], [-1]), ([qg], [-1])]
     for it in range(int(max_iterations)):
         (na, pa), (nb, pb) = trees[it % 2], trees[(it + 1) % 2]
-        q_rand = space.sample(rng)
-        near = int(np.argmin(space.distance(np.asarray(na), q_rand)))
-        q_new = _steer(space, na[near], q_rand, step)
-        if not edge_is_free(space, na[near], q_new):
+        new = _extend(space, na, pa, space.sample(rng), step)
+        if new is None:
             continue
-        na.append(q_new)
-        pa.append(near)
+        q_new = na[new]
         k = int(np.argmin(space.distance(np.asarray(nb), q_new)))          # CONNECT the other tree
         while True:
             q_next = _steer(space, nb[k], q_new, step)
@@ -247,8 +238,7 @@ def rrt_connect(space: PlanningSpace, q_start: Any, q_goal: Any, rng: np.random.
                     path = path[::-1]
                 n_s = len(trees[0][0])
                 nodes = np.asarray(trees[0][0] + trees[1][0])
-                edges = [(p, c) for c, p in enumerate(trees[0][1]) if p >= 0]
-                edges += [(p + n_s, c + n_s) for c, p in enumerate(trees[1][1]) if p >= 0]
+                edges = _tree_edges(trees[0][1]) + _tree_edges(trees[1][1], n_s)
                 return PlanResult(True, path, path_length(space, path), nodes, np.array(edges),
                                   f"trees met after {it + 1} iterations, {len(nodes)} vertices")
     nodes = np.asarray(trees[0][0] + trees[1][0])
@@ -356,7 +346,7 @@ def unicycle_rrt(space: PlanningSpace, q_start: Any, q_goal: Any, rng: np.random
     path = N[route]
     controls = np.array([[prims[via[k]].v, prims[via[k]].omega] for k in route[1:]]).reshape(-1, 2)
     ok = bool(d_goal[leaf] <= goal_threshold)
-    edges = np.array([(p, k) for k, p in enumerate(parent) if p >= 0]).reshape(-1, 2)
+    edges = np.array(_tree_edges(parent)).reshape(-1, 2)
     msg = (f"{'reached' if ok else 'closest'} vertex at distance {d_goal[leaf]:.4g} from q_g "
            f"(threshold {goal_threshold:g}); {len(nodes)} vertices")
     return PlanResult(ok, path, path_length(space, path), N, edges, msg, controls)

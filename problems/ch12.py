@@ -108,6 +108,18 @@ def _workspace_axes(ax, bounds, title: str) -> None:
     ax.set_title(title)
 
 
+def _cspace_axes(ax, title: str) -> None:
+    ax.set_xlabel("q₁ [rad]")
+    ax.set_ylabel("q₂ [rad]")
+    ax.set_title(title)
+
+
+def _finish(sol: Solution, fig, title: str) -> None:
+    fig.suptitle(title)
+    fig.tight_layout()
+    sol.figure(fig)
+
+
 def _free_grid_2r(space_or_scene, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Free/occupied map of the 2R torus on an n × n grid over [−π, π)² (batched clearance)."""
     axis = np.linspace(-np.pi, np.pi, n, endpoint=False)
@@ -250,9 +262,7 @@ def problem_12_3() -> Solution:
         ax.set_xlabel("reference point x [m]")
         ax.set_ylabel("reference point y [m]")
         ax.legend(loc="upper left", fontsize=7)
-    fig.suptitle("Fig. S12.1 — two scenes with the same C-obstacle")
-    fig.tight_layout()
-    sol.figure(fig)
+    _finish(sol, fig, "Fig. S12.1 — two scenes with the same C-obstacle")
     return sol
 
 
@@ -301,13 +311,9 @@ def problem_12_4() -> Solution:
         ax.imshow(labels.T, origin="lower", extent=[-np.pi, np.pi, -np.pi, np.pi], cmap="Pastel1")
         w = np.mod(v + np.pi, 2 * np.pi) - np.pi
         ax.plot(w[0], w[1], "o", color=colors[name], mec="k", label=f"{name} (component {member[name]})")
-        ax.set_xlabel("q₁ [rad]")
-        ax.set_ylabel("q₂ [rad]")
-        ax.set_title("C_free components (obstacle region = 0)")
+        _cspace_axes(ax, "C_free components (obstacle region = 0)")
         ax.legend(loc="upper right", fontsize=7)
-    fig.suptitle("Fig. S12.2 — configurations in the three components of C_free")
-    fig.tight_layout()
-    sol.figure(fig)
+    _finish(sol, fig, "Fig. S12.2 — configurations in the three components of C_free")
     return sol
 
 
@@ -368,9 +374,7 @@ def problem_12_5() -> Solution:
         _workspace_axes(ax, (R.vertices[:, 0].min() - 0.3, R.vertices[:, 0].max() + 0.3,
                              R.vertices[:, 1].min() - 0.3, R.vertices[:, 1].max() + 0.3), title)
         ax.legend(loc="upper right", fontsize=7)
-    fig.suptitle("Problem 12.5 — generalised Voronoi diagrams")
-    fig.tight_layout()
-    sol.figure(fig)
+    _finish(sol, fig, "Problem 12.5 — generalised Voronoi diagrams")
     return sol
 
 
@@ -437,9 +441,7 @@ def problem_12_6() -> Solution:
         ax.plot(*qg, "k^", label="q_g")
         _workspace_axes(ax, (0, 10, 0, 10), title)
         ax.legend(loc="upper right", fontsize=7)
-    fig.suptitle("Problem 12.6 — channel-to-path extraction")
-    fig.tight_layout()
-    sol.figure(fig)
+    _finish(sol, fig, "Problem 12.6 — channel-to-path extraction")
     return sol
 
 
@@ -515,13 +517,9 @@ def problem_12_7() -> Solution:
         ax.plot(part[:, 0], part[:, 1], color="0.3", lw=3, label="solution path" if k == 0 else None)
     ax.plot(*qs, "gs", label="q_s")
     ax.plot(*qg, "r^", label="q_g")
-    ax.set_xlabel("q₁ [rad]")
-    ax.set_ylabel("q₂ [rad]")
-    ax.set_title("PRM in C (a torus; C-obstacles shaded)")
+    _cspace_axes(ax, "PRM in C (a torus; C-obstacles shaded)")
     ax.legend(loc="upper right", fontsize=7)
-    fig.suptitle("Fig. S12.3 — PRM for a 2R planar manipulator")
-    fig.tight_layout()
-    sol.figure(fig)
+    _finish(sol, fig, "Fig. S12.3 — PRM for a 2R planar manipulator")
     return sol
 
 
@@ -560,6 +558,12 @@ def problem_12_8() -> Solution:
     sol.value("path_length_workspace", float(np.sum(np.abs(res.controls[:, 0])) * delta))
     sol.check("q_g is approached but, with 3 primitives, not within 0.01 in 200 vertices (as the manual notes)",
               (not res.success) and d_end < 0.5, res.message)
+    loose = unicycle_rrt(space, qs, qg, np.random.default_rng(SEED), prims, delta, max_vertices=200,
+                         goal_threshold=0.3, goal_bias=0.2)
+    d_loose = float(space.distance(loose.path[-1], qg))
+    sol.value("vertices_with_threshold_0.3", len(loose.nodes))
+    sol.check("with an attainable threshold (0.3) the search stops at the first vertex within it",
+              loose.success and d_loose <= 0.3 and np.all(space.distance(loose.nodes[:-1], qg) > 0.3), loose.message)
     d_all = space.distance(res.nodes, qg)
     sol.check("the path ends at the tree vertex closest to q_g", abs(d_end - float(d_all.min())) < 1e-12)
     sol.check_close("path starts at q_s", res.path[0], qs, atol=1e-12)
@@ -572,7 +576,7 @@ def problem_12_8() -> Solution:
         ref = solve_ivp(unicycle, (0, delta), a, args=(v, w), method="RK45", rtol=1e-11, atol=1e-12).y[:, -1]
         err = max(err, float(np.max(np.abs(space.difference(ref, b)))))
     sol.value("max_edge_error_vs_rk45", err)
-    sol.check("every edge is one primitive over Δ: closed-form arc = RK45 integration of (11.85)'s model",
+    sol.check("every edge is one primitive over Δ: closed-form arc (exact integration (11.85)) = RK45 on the model",
               err < 1e-8, f"{err:.2g}")
     sol.check("every edge uses one of the three primitives",
               all(any(np.allclose(c, [p.v, p.omega]) for p in prims) for c in res.controls))
@@ -620,9 +624,7 @@ def problem_12_8() -> Solution:
     ax.set_zlabel("θ [rad]")
     ax.set_title("RRT in R² × SO(2)")
     ax.legend(loc="upper left", fontsize=7)
-    fig.suptitle("Fig. S12.4 — RRT with motion primitives for a unicycle")
-    fig.tight_layout()
-    sol.figure(fig)
+    _finish(sol, fig, "Fig. S12.4 — RRT with motion primitives for a unicycle")
     return sol
 
 
@@ -683,9 +685,7 @@ def problem_12_9() -> Solution:
         ax.legend(fontsize=7)
     axes[0].set_ylabel("U_a [J]")
     axes[1].set_ylabel("‖f_a‖ [N]")
-    fig.suptitle(f"Problem 12.9 — k_a = {att.k_a}, ρ = {att.rho} m, k_b = ρk_a = {att.k_b:.2f}")
-    fig.tight_layout()
-    sol.figure(fig)
+    _finish(sol, fig, f"Problem 12.9 — k_a = {att.k_a}, ρ = {att.rho} m, k_b = ρk_a = {att.k_b:.2f}")
     return sol
 
 
@@ -764,9 +764,7 @@ def problem_12_10() -> Solution:
         ax.plot([1, 5.5], [0, 0], "k:", lw=0.6, label="half-line from q_g through the centre")
         _workspace_axes(ax, (1, 5.5, -2, 2), title)
         ax.legend(loc="upper left", fontsize=7)
-    fig.suptitle("Fig. S12.5 — stationary points of U = U_a + U_r (goal at the origin)")
-    fig.tight_layout()
-    sol.figure(fig)
+    _finish(sol, fig, "Fig. S12.5 — stationary points of U = U_a + U_r (goal at the origin)")
     return sol
 
 
@@ -897,6 +895,7 @@ def problem_12_12() -> Solution:
     dev = float(np.max(np.linalg.norm(run_off.path[:n] - run_re.path[:n], axis=1)))
     sol.value("trajectory_max_deviation", dev)
     sol.value("final_position_reactive", run_re.path[-1])
+    sol.value("path_length_reactive", float(np.sum(np.linalg.norm(np.diff(run_re.path, axis=0), axis=1))))
     sol.check("both planners reach the goal", run_off.converged and run_re.converged
               and np.linalg.norm(run_re.path[-1] - goal) < 0.01, f"{run_off.message}; {run_re.message}")
     sol.check("closed-loop motions coincide within 1 cm", dev < 0.01 and abs(len(run_off.path) - len(run_re.path)) <= 2,
@@ -986,7 +985,5 @@ def problem_12_13() -> Solution:
         ax.set_ylabel("row i [cells]")
         ax.set_title(f"{adj}-adjacency")
         ax.legend(loc="lower left", fontsize=7)
-    fig.suptitle("Fig. S12.7 — navigation function and path (values = cost-to-go, unit cells)")
-    fig.tight_layout()
-    sol.figure(fig)
+    _finish(sol, fig, "Fig. S12.7 — navigation function and path (values = cost-to-go, unit cells)")
     return sol

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, Callable, Sequence
+from typing import Any, Sequence
 
 import numpy as np
 from scipy import ndimage
@@ -599,11 +599,13 @@ class PlanarCSpace:
 # The free C-space on a grid (Problem 12.4)
 # --------------------------------------------------------------------------------------------
 
-def free_grid(is_free: Callable[[np.ndarray], bool], axes: Sequence[np.ndarray]) -> np.ndarray:
-    """Boolean array of ``is_free(q)`` over the grid ``axes`` (one 1-D array per coordinate)."""
+def free_grid(space: "PlanarCSpace", axes: Sequence[np.ndarray]) -> np.ndarray:
+    """Boolean array: is the configuration at each node of the grid ``axes`` (one 1-D array of values per
+    coordinate, "ij" indexing) free? Checked in one batch with ``space.valid_many``."""
+    if len(axes) != space.dim:
+        raise ValueError(f"`axes` must give {space.dim} coordinate arrays, got {len(axes)}")
     mesh = np.meshgrid(*axes, indexing="ij")
-    Q = np.stack([m.ravel() for m in mesh], axis=1)
-    return np.array([bool(is_free(q)) for q in Q]).reshape(mesh[0].shape)
+    return space.valid_many(np.stack([m.ravel() for m in mesh], axis=1)).reshape(mesh[0].shape)
 
 
 def connected_components(free: np.ndarray, periodic: Sequence[bool] | None = None) -> tuple[np.ndarray, int]:

@@ -30,7 +30,7 @@ from matplotlib.patches import Polygon as PolygonPatch  # noqa: E402
 from planners.cells import (channel_path, gvd_nodes, polyline_clearance, quadtree_decomposition,  # noqa: E402
                             sampled_gvd, trapezoidal_decomposition, visibility_graph)
 from planners.cspace_planar import (Disc, PlanarArm, PlanarBody, PlanarCSpace, Polygon, Scene, box,  # noqa: E402
-                                    certify_motion, certify_straight_path, connected_components, densify,
+                                    certify_motion, certify_straight_path, connected_components, densify, free_grid,
                                     euclidean_distance,
                                     minkowski_c_obstacle, point_segment_distance, point_shape_distance,
                                     shapes_intersect, torus_distance, transform_shape)
@@ -120,13 +120,10 @@ def _finish(sol: Solution, fig, title: str) -> None:
     sol.figure(fig)
 
 
-def _free_grid_2r(space_or_scene, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Free/occupied map of the 2R torus on an n × n grid over [−π, π)² (batched clearance)."""
+def _torus_grid(space: PlanarCSpace, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Free map of the 2R torus on an n × n grid over [−π, π)², and the grid axis."""
     axis = np.linspace(-np.pi, np.pi, n, endpoint=False)
-    Q = np.stack(np.meshgrid(axis, axis, indexing="ij"), -1).reshape(-1, 2)
-    scene, arm = (space_or_scene.scene, space_or_scene.robot) if isinstance(space_or_scene, PlanarCSpace) \
-        else (space_or_scene, PlanarArm((1.0, 1.0), 0.1))
-    return (scene.clearance_many(arm, Q) > 0).reshape(n, n), axis
+    return free_grid(space, [axis, axis]), axis
 
 
 # --------------------------------------------------------------------------------------------
@@ -278,11 +275,12 @@ def problem_12_4() -> Solution:
     sol = Solution()
     scene = scene_12_4()
     arm = PlanarArm((1.0, 1.0), 0.1)
+    space = PlanarCSpace(arm, scene, [-np.pi, -np.pi], [np.pi, np.pi])
     q = {"q_a": np.array([np.pi / 4, np.pi / 2]), "q_b": np.array([4.12, np.pi / 6]),
          "q_c": np.array([4.12, 2.88])}
     results = {}
     for n in (160, 320):
-        free, axis = _free_grid_2r(scene, n)
+        free, axis = _torus_grid(space, n)
         labels, count = connected_components(free)
         cells = {k: tuple(np.round((np.mod(v + np.pi, 2 * np.pi) - np.pi + np.pi) / (2 * np.pi) * n).astype(int) % n)
                  for k, v in q.items()}
@@ -503,7 +501,7 @@ def problem_12_7() -> Solution:
     _workspace_axes(ax, space.scene.bounds, "stroboscopic motion")
     ax.legend(loc="upper right", fontsize=7)
     ax = axes[1]
-    free, _ = _free_grid_2r(space, 180)
+    free, _ = _torus_grid(space, 180)
     ax.imshow(~free.T, origin="lower", extent=[-np.pi, np.pi, -np.pi, np.pi], cmap="Greys", alpha=0.5)
     for i, j in res.edges:
         seg = densify(space, res.nodes[[i, j]], 0.05)

@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from planners.cspace_planar import (Disc, PlanarArm, PlanarBody, PlanarCSpace, Polygon, Scene, box,
-                                    certify_motion, certify_straight_path, connected_components,
+                                    certify_motion, certify_straight_path, connected_components, free_grid,
                                     euclidean_distance, minkowski_c_obstacle, point_shape_distance,
                                     ray_shape_distance, segment_intersects_shape, segment_shape_distance,
                                     shapes_distance, shapes_intersect, torus_distance, transform_shape)
@@ -62,11 +62,14 @@ def test_ray_distances_are_exact():
 
 
 def test_minkowski_c_obstacle_agrees_with_placement_test(rng):
-    B, O = Polygon([[0, 0], [1, 0], [0, 1]]), box(0, 0, 2, 2)
-    CO = minkowski_c_obstacle(O, B)
-    for q in rng.uniform(-2, 3, (500, 2)):
-        if point_shape_distance(CO, q) > 1e-6 or CO.contains(q, -1e-6):
-            assert CO.contains(q) == shapes_intersect(transform_shape(B, q[0], q[1], 0.0), O)
+    pairs = [(Polygon([[0, 0], [1, 0], [0, 1]]), box(0, 0, 2, 2))]
+    pairs += [(_random_convex(rng, rng.uniform(-0.3, 0.3, 2), 0.6), _random_convex(rng, [1, 1], 1.0, 6))
+              for _ in range(5)]
+    for B, O in pairs:
+        CO = minkowski_c_obstacle(O, B)
+        for q in rng.uniform(-2, 3, (300, 2)):
+            if point_shape_distance(CO, q) > 1e-6 or CO.contains(q, -1e-6):
+                assert CO.contains(q) == shapes_intersect(transform_shape(B, q[0], q[1], 0.0), O)
 
 
 @settings(max_examples=200, deadline=None)
@@ -126,6 +129,17 @@ def test_certificate_accepts_free_and_rejects_colliding_paths():
     ok, _, _ = certify_straight_path(space, [[1.0, 0.0], [-1.0, 0.0]])      # sweeps through the disc
     assert not ok
     assert certify_motion([1.0, 1.0], [1.5])[0] and not certify_motion([1.0, 1.0], [2.5])[0]
+
+
+def test_free_grid_matches_single_checks():
+    space = PlanarCSpace(PlanarArm((1.0, 1.0), 0.1), Scene([Disc([1.2, 0.4], 0.3)]), [-np.pi] * 2, [np.pi] * 2)
+    axis = np.linspace(-np.pi, np.pi, 24, endpoint=False)
+    free = free_grid(space, [axis, axis])
+    assert not free.all() and free.any()
+    assert all(free[i, j] == (space.scene.clearance(space.robot.bodies([a, b])) > 0)
+               for i, a in enumerate(axis) for j, b in enumerate(axis))
+    with pytest.raises(ValueError, match="axes"):
+        free_grid(space, [axis])
 
 
 def test_components_glue_the_torus_seams():

@@ -1,11 +1,18 @@
 """Chapter 12 problems: key numbers recomputed independently, and checks that can fail."""
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
 import problems.ch12 as ch12
 from planners.cspace_planar import euclidean_distance
 from problems.registry import solve
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
 
 
 def test_problem_12_1_dimension_is_counted_from_the_model():

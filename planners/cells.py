@@ -36,6 +36,16 @@ __all__ = [
 ]
 
 
+def _check_bounds(bounds: Sequence[float]) -> tuple[float, float, float, float]:
+    try:
+        x0, x1, y0, y1 = (float(v) for v in bounds)
+    except (TypeError, ValueError):
+        raise ValueError(f"`bounds` must be (x_min, x_max, y_min, y_max), got {bounds!r}") from None
+    if not (np.isfinite([x0, x1, y0, y1]).all() and x1 > x0 and y1 > y0):
+        raise ValueError(f"`bounds` must be finite with x_max > x_min and y_max > y_min, got {bounds!r}")
+    return x0, x1, y0, y1
+
+
 def _check_obstacles(obstacles: Sequence[Any]) -> tuple[Polygon, ...]:
     obs = tuple(obstacles)
     for k, o in enumerate(obs):
@@ -293,7 +303,7 @@ def trapezoidal_decomposition(bounds: Sequence[float], obstacles: Sequence[Any])
     """Exact decomposition of the free rectangle ``bounds`` = (x_min, x_max, y_min, y_max) into trapezoids
     (or triangles) by vertical lines through every obstacle vertex (Sect. 12.4.1)."""
     obs = _check_obstacles(obstacles)
-    x0, x1, y0, y1 = (float(v) for v in bounds)
+    x0, x1, y0, y1 = _check_bounds(bounds)
     xs = np.unique(np.concatenate([[x0, x1]] + [o.vertices[:, 0] for o in obs]))
     xs = xs[(xs >= x0) & (xs <= x1)]
     cells: list[Polygon] = []
@@ -324,7 +334,7 @@ def quadtree_decomposition(bounds: Sequence[float], obstacles: Sequence[Any], mi
     at the smallest size count as occupied, so the decomposition is conservative)."""
     obs = _check_obstacles(obstacles)
     as_positive(min_size, "min_size")
-    x0, x1, y0, y1 = (float(v) for v in bounds)
+    x0, x1, y0, y1 = _check_bounds(bounds)
     free: list[Polygon] = []
     stack = [(x0, y0, x1, y1)]
     while stack:

@@ -509,12 +509,14 @@ class PlanarBody:
         return np.array([False, False, True])
 
     def placed_parts(self, Q: Any) -> list[tuple]:
+        """Every part at the N poses Q (N, 3), batched (see :func:`batch_distance`)."""
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
         if Q.shape[-1] != 3 or not np.all(np.isfinite(Q)):
             raise ValueError(f"`q` must be finite (N, 3) poses [x, y, θ], got shape {Q.shape}")
         return [_placed(s, Q[:, :2], Q[:, 2]) for s in self.parts]
 
     def bodies(self, q: Any) -> list[Shape]:
+        """The parts occupying the workspace at the pose q = [x, y, θ], B(q)."""
         x, y, th = as_vector(q, 3, "q")
         return [transform_shape(s, x, y, th) for s in self.parts]
 
@@ -563,12 +565,15 @@ class PlanarCSpace:
         return self.robot.angular
 
     def sample(self, rng: np.random.Generator) -> np.ndarray:
+        """A configuration drawn uniformly within [lower, upper]."""
         return rng.uniform(self.lower, self.upper)
 
     def difference(self, a: Any, b: Any) -> np.ndarray:
+        """b ⊖ a: the shortest difference, angles wrapped (:func:`configuration_difference`)."""
         return configuration_difference(a, b, self.angular)
 
     def distance(self, a: Any, b: Any) -> np.ndarray:
+        """d₃ of Problem 12.2 on the angular coordinates, Euclidean on the others; broadcasts."""
         return torus_distance(a, b, self.angular)
 
     def interpolate(self, a: Any, b: Any, s: Any) -> np.ndarray:
@@ -579,11 +584,13 @@ class PlanarCSpace:
         return np.where(self.angular, wrap_angle(q), q)
 
     def in_bounds(self, Q: Any) -> np.ndarray:
+        """True for the rows of Q whose non-angular coordinates lie within [lower, upper]."""
         Q = np.atleast_2d(Q)
         lin = ~self.angular
         return np.all((Q[:, lin] >= self.lower[lin] - 1e-12) & (Q[:, lin] <= self.upper[lin] + 1e-12), axis=1)
 
     def clearance(self, Q: Any) -> np.ndarray:
+        """Distances (N,) of the robot from the obstacles at the configurations Q (N, dim)."""
         return self.scene.clearance_many(self.robot, Q)
 
     def valid_many(self, Q: Any) -> np.ndarray:
@@ -592,6 +599,7 @@ class PlanarCSpace:
         return self.in_bounds(Q) & (self.clearance(Q) > 0.0)
 
     def is_valid(self, q: Any) -> bool:
+        """Collision-free and within the ranges."""
         return bool(self.valid_many(q)[0])
 
 

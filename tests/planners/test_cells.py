@@ -61,3 +61,12 @@ def test_gvd_of_a_rectangle_is_its_medial_axis(a, b):
 def test_gvd_node_of_a_square_is_its_centre():
     nodes = gvd_nodes(box(0, 0, 2, 2))
     assert np.allclose(nodes[nodes[:, 2] > 1e-9], [[1, 1, 1]])
+
+
+def test_bad_input_names_the_argument():
+    with pytest.raises(ValueError, match="bounds"):
+        trapezoidal_decomposition((0, -1, 0, 1), [DIAMOND])
+    with pytest.raises(ValueError, match="obstacles"):
+        quadtree_decomposition((0, 10, 0, 10), [Disc([5, 5], 1)], 0.5)
+    with pytest.raises(ValueError, match="free cell"):
+        trapezoidal_decomposition((0, 10, 0, 10), [DIAMOND]).locate([6, 5])

@@ -104,3 +104,13 @@ def test_wavefront_rejects_bad_cells():
         wavefront(occ, (0, 0), adjacency=3)
     with pytest.raises(ValueError, match="start"):
         steepest_descent_path(wavefront(occ, (0, 0)), (1, 1))
+
+
+def test_reactive_force_of_a_disc_robot_uses_eta_minus_its_radius():
+    q, rho = np.array([0.0, 0.0]), 0.2
+    angles, ranges = range_scan(q, [Disc([1.5, 0.3], 0.4)], 1440, 3.0)
+    f_re = reactive_repulsive_force(q, scan_segments(q, angles, ranges), 1.0, 1.5, robot_radius=rho)
+    f_off = RepulsivePotential(Disc([1.5, 0.3], 0.4 + rho), 1.0, 1.5).force(q)   # grown obstacle, point robot
+    assert np.linalg.norm(f_re - f_off) < 0.01 * np.linalg.norm(f_off)
+    with pytest.raises(ValueError, match="touches"):
+        reactive_repulsive_force(q, scan_segments(q, angles, ranges), 1.0, 1.5, robot_radius=1.2)

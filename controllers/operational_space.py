@@ -43,7 +43,7 @@ import numpy as np
 from scipy.optimize import fsolve
 
 from controllers.joint_space import as_gain, as_reference
-from controllers.simulation import as_friction, per_joint
+from controllers.simulation import LoggedController, as_friction, per_joint
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics
 from rigid_body.robots import Robot
 from rigid_body.rotations import as_homogeneous
@@ -185,7 +185,7 @@ def _check_redundancy(m: int, n: int) -> None:
         raise ValueError(f"`rows` must select at most {n} components (one per joint), got {m}")
 
 
-class OperationalPDGravity:
+class OperationalPDGravity(LoggedController):
     """u = g(q) + Jᵀ(q) K_P x̃ − Jᵀ(q) K_D J(q) q̇ − K_N q̇ (Eq. 8.110, Fig. 8.29), x̃ = x_d − x_e.
 
     For a constant x_d and J of full rank the equilibrium x̃ = 0 is asymptotically stable
@@ -216,24 +216,18 @@ class OperationalPDGravity:
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
         self.K_N = _nonnegative(joint_damping, self.n, "joint_damping")
         self.reference = self.task.reference
-        self._log: dict[str, np.ndarray] = {}
-
-    def reset(self) -> None:
-        self._log = {}
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         q, qd = meas.q, meas.qd
         x_d, _, _ = self.reference(t)
         e, J, _, T_e = self.task.error(q, x_d)
         u = gravity_torques(self.robot, q) + J.T @ (self.K_P @ e - self.K_D @ (J @ qd)) - self.K_N * qd  # (8.110)
-        self._log = self.task.logged(x_d, T_e, e)
+        self.record(**self.task.logged(x_d, T_e, e))
         return u
 
-    def log(self) -> dict[str, np.ndarray]:
-        return self._log
 
 
-class OperationalInverseDynamics:
+class OperationalInverseDynamics(LoggedController):
     """u = B(q) y + n(q, q̇), y = J†(ẍ_d + K_D x̃̇ + K_P x̃ − J̇ q̇) + (I − J† J) y_0 (Eqs. 8.57, 8.114, Fig. 8.30).
 
     With a perfect model the task error obeys x̃̈ + K_D x̃̇ + K_P x̃ = 0 (x̃̇ = ẋ_d − J q̇; for a pose task
@@ -273,10 +267,6 @@ class OperationalInverseDynamics:
         self.q_0 = np.zeros(robot.nq) if posture is None else as_vector(posture, robot.nq, "posture").copy()
         self.redundant = m < self.n
         self.reference = self.task.reference
-        self._log: dict[str, np.ndarray] = {}
-
-    def reset(self) -> None:
-        self._log = {}
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         q, qd = meas.q, meas.qd
@@ -291,11 +281,9 @@ class OperationalInverseDynamics:
             y0 = self.K_q * (self.q_0 - q) - self.K_N * qd
             y += y0 - _solve_task(J, J @ y0)                    # (I − J† J) y_0, cf. (3.54)
         u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd
-        self._log = self.task.logged(x_d, T_e, e)
+        self.record(**self.task.logged(x_d, T_e, e))
         return u
 
-    def log(self) -> dict[str, np.ndarray]:
-        return self._log
 
 
 def operational_inverse_dynamics_steady_state(plant_robot: Robot, model_robot: Robot, K_P: Any, x_d: Any,

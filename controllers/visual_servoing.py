@@ -55,7 +55,11 @@ def planar_pose_vector(T: np.ndarray) -> np.ndarray:
 
 
 def relative_pose_vector(T_bc: np.ndarray, T_bo: np.ndarray) -> np.ndarray:
-    """x_{c,o} = [o_{c,o}^c, φ_{c,o}]: the pose of the object frame in the camera frame (4-DOF case)."""
+    """x_{c,o} = [o_{c,o}^c, φ_{c,o}]: the pose of the object frame in the camera frame (4-DOF case).
+
+    >>> relative_pose_vector(planar_pose([1, 1, 0.5, np.pi / 4]), planar_pose([1, 1, 1, np.pi / 4])).round(12)
+    array([0. , 0. , 0.5, 0. ])
+    """
     return planar_pose_vector(np.linalg.solve(T_bc, T_bo))
 
 

@@ -201,6 +201,9 @@ def point_interaction_matrix(x: float, y: float, z: float) -> np.ndarray:
     """L_s (2×6) of an image point with normalised coordinates (x, y) at depth z > 0, Eq. (10.26).
 
     Columns: camera linear velocity v_c^c then angular velocity ω_c^c (camera frame).
+
+    >>> point_interaction_matrix(0.0, 0.0, 0.5)[0]        # a point on the optical axis, 0.5 m away
+    array([-2.,  0.,  0.,  0., -1.,  0.])
     """
     if not z > 0:
         raise ValueError(f"`z` (depth of the point) must be positive, got {z}")
@@ -234,7 +237,11 @@ class SegmentFeatures:
 
 
 def segment_features(xy1: Any, xy2: Any) -> SegmentFeatures:
-    """s = [x_m, y_m, L, α] of the segment from image point ``xy1`` to ``xy2`` (normalised), Eq. (10.28)."""
+    """s = [x_m, y_m, L, α] of the segment from image point ``xy1`` to ``xy2`` (normalised), Eq. (10.28).
+
+    >>> segment_features([0.0, 0.0], [0.2, 0.0]).as_array()
+    array([0.1, 0. , 0.2, 0. ])
+    """
     p1, p2 = as_vector(xy1, 2, "xy1"), as_vector(xy2, 2, "xy2")
     d = p2 - p1
     L = float(np.hypot(d[0], d[1]))

@@ -27,7 +27,7 @@ Provenance:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable
 
@@ -332,20 +332,15 @@ def panda_modified_links(model: pin.Model) -> tuple[DHLink, ...]:
 
 def panda_links(model: pin.Model) -> tuple[DHLink, ...]:
     """The Panda's standard DH table, with the inertial data of ``model`` = ``load("panda").model``
-    (example-robot-data's URDF, fingers locked)."""
-    rows = list(PANDA_MODIFIED_DH) + [(0.0, 0.0, FLANGE)]
+    (example-robot-data's URDF, fingers locked): :func:`panda_modified_links` regrouped as above."""
+    modified = panda_modified_links(model)
     links = []
-    for i in range(7):
-        a, alpha = rows[i + 1][0], rows[i + 1][1]
+    for i, link in enumerate(modified):
+        a, alpha = (modified[i + 1].a, modified[i + 1].alpha) if i + 1 < len(modified) else (0.0, 0.0)
         T_fix = dh_transform(a, alpha, 0.0, 0.0)  # Craig frame i -> book frame i: Tx(a_i) Rx(α_i)
         R, p = T_fix[:3, :3], T_fix[:3, 3]
-        inertia = model.inertias[model.getJointId(f"panda_joint{i + 1}")]
-        lower = model.lowerPositionLimit[i]
-        upper = model.upperPositionLimit[i]
-        links.append(DHLink(
-            a=a, alpha=alpha, d=rows[i][2], mass=float(inertia.mass),
-            com=tuple(R.T @ (np.asarray(inertia.lever) - p)), inertia=R.T @ np.asarray(inertia.inertia) @ R,
-            lower=float(lower), upper=float(upper), name=f"joint_{i + 1}"))
+        links.append(replace(link, a=a, alpha=alpha, com=tuple(R.T @ (np.asarray(link.com) - p)),
+                             inertia=R.T @ np.asarray(link.inertia) @ R))
     return tuple(links)
 
 

@@ -154,6 +154,8 @@ class DHLink:
 
     def transform(self, q: float, convention: str = "standard") -> np.ndarray:
         """A_i^{i-1}(q_i) of this link: Eq. (2.52), or Craig's product with ``convention="modified"``."""
+        if convention != "standard":
+            _check_convention(convention)
         A = dh_transform if convention == "standard" else modified_dh_transform
         if self.joint == "revolute":
             return A(self.a, self.alpha, self.d, self.theta + q)

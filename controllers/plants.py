@@ -1,7 +1,7 @@
 """Every plant of rmpc's closed loops, following the contract of :mod:`controllers.simulation`.
 
 * :class:`ArmPlant` — the torque-driven arm of Fig. 8.4: x = [q (nq), v (nv)], ẋ = [v, v̇] (2 nv),
-  B(q) v̇ + C v + F_v v + g = τ − Jᵀ h_e (Eq. 7.42; nq ≠ nv moves q by ``pin.integrate``).
+  B(q) v̇ + C v + F_v v + F_s sgn(v) + g = τ − Jᵀ h_e (Eq. 7.42; nq ≠ nv moves q by ``pin.integrate``).
 * :class:`VoltageControlledArm` — the arm driven through DC servomotors by voltages (Fig. 8.3).
 * :class:`ArmInContact` — an arm whose end effector touches an environment of
   :mod:`controllers.environment`; its measurement carries the sensed wrench h_e.
@@ -32,7 +32,7 @@ import pinocchio as pin
 from controllers.independent_joint import JointDrive
 from controllers.simulation import as_friction, per_joint
 from rigid_body.actuators import DCServomotor, PIRegulator
-from rigid_body.robots import Robot
+from rigid_body.robots import JointFriction, Robot
 from rigid_body.validation import as_positive, as_vector
 
 
@@ -58,7 +58,7 @@ def frame_jacobian_and_pose(robot: Robot, q: np.ndarray, fid: int) -> tuple[np.n
 
 
 class ArmPlant:
-    """A rigid arm driven by joint torques: x = [q, v], ẋ = [v, B⁻¹(τ − C v − g − F_v v − τ_ext)].
+    """A rigid arm driven by joint torques: x = [q, v], ẋ = [v, B⁻¹(τ − C v − g − τ_f − τ_ext)].
 
     ``τ_ext = Jᵀ h_e`` is the joint torque of the external wrench (Eq. 7.42). With nq ≠ nv (continuous
     joints, a floating base) x has nq + nv entries, ẋ has 2 nv, ``integrate`` uses ``pin.integrate`` and
@@ -70,6 +70,13 @@ class ArmPlant:
     viscous_friction : F_v, scalar or (nv,) [N·m·s/rad].
     tau_max : optional actuator limits (nv,) — the commanded torque is saturated.
     external_force : optional ``(t, q, v) -> τ_ext`` (joint torques of external forces), subtracted.
+    coulomb_friction : F_s, scalar or (nv,) [N·m]: τ_f = F_v v + F_s sgn(v)
+        (:func:`rigid_body.dynamics.friction_torques`).
+    friction : a :class:`~rigid_body.robots.JointFriction` instead of the two arguments above, e.g.
+        ``robot.friction`` (the robot's published friction: DH table or URDF ``<dynamics>``).
+        By default the plant is frictionless apart from ``viscous_friction``/``coulomb_friction``.
+    friction_smoothing : ε [rad/s]: sgn(v) becomes tanh(v/ε) (0: the exact sign; a fixed RK4 step then
+        chatters around v = 0 once friction holds the arm).
     """
 
     units = ARM_UNITS
@@ -77,7 +84,9 @@ class ArmPlant:
     dexp_inverse: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None
 
     def __init__(self, robot: Robot, viscous_friction: Any = 0.0, tau_max: Any = None,
-                 external_force: Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None = None):
+                 external_force: Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None = None,
+                 coulomb_friction: Any = 0.0, friction: JointFriction | None = None,
+                 friction_smoothing: float = 0.0):
         self.robot = robot
         self.n = robot.nv
         self.nq = robot.nq
@@ -85,6 +94,20 @@ class ArmPlant:
         self.tangent_size = 2 * robot.nv
         self.state_layout = {"q": slice(0, self.nq), "qd": slice(self.nq, self.state_size)}
         self.Fv = as_friction(viscous_friction, self.n)
+        Fs = per_joint(coulomb_friction, self.n, "coulomb_friction")
+        if np.any(Fs < 0):
+            raise ValueError(f"`coulomb_friction` must be non-negative, got {Fs}")
+        if friction is not None:
+            if np.any(self.Fv) or np.any(Fs):
+                raise ValueError("give `friction` or `viscous_friction`/`coulomb_friction`, not both")
+            if not all(np.shape(v) == (self.n,) for v in (friction.viscous, friction.coulomb_positive,
+                                                         friction.coulomb_negative)):
+                raise ValueError(f"`friction` must hold ({self.n},) vectors for this robot")
+            self.Fv = np.asarray(friction.viscous, dtype=float)
+        self.friction = JointFriction(self.Fv, Fs, Fs) if friction is None else friction
+        self.friction_smoothing = as_positive(friction_smoothing, "friction_smoothing", allow_zero=True)
+        # Viscous only (the book's problems): the cheap F_v v; else friction_torques.
+        self._coulomb = bool(np.any(self.friction.coulomb_positive) or np.any(self.friction.coulomb_negative))
         self.tau_max = None if tau_max is None else as_vector(tau_max, self.n, "tau_max")
         if self.tau_max is not None and np.any(self.tau_max <= 0):
             raise ValueError(f"`tau_max` must be positive torque limits, got {self.tau_max}")
@@ -92,9 +115,10 @@ class ArmPlant:
         if self.nq != self.n:
             self.integrate = self._integrate_configuration
             self.dexp_inverse = self._dexp_inverse
-        from rigid_body.dynamics import forward_dynamics
+        from rigid_body.dynamics import forward_dynamics, friction_torques
 
         self._forward_dynamics = forward_dynamics  # called with check=False: inputs validated here
+        self._friction_torques = friction_torques
 
     def initial_state(self, q0: Any, qd0: Any = None) -> np.ndarray:
         """x0 = [q0, q̇0] (q̇0 = 0 by default)."""
@@ -127,7 +151,11 @@ class ArmPlant:
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
         q, qd = x[:nq], x[nq:]
-        tau = self.torque(u) - self.Fv * qd
+        if self._coulomb:
+            tau = self.torque(u) - self._friction_torques(self.robot, qd, self.friction_smoothing, self.friction,
+                                                          check=False)
+        else:
+            tau = self.torque(u) - self.Fv * qd
         if self.external_force is not None:
             tau = tau - self.external_force(t, q, qd)
         xd = np.empty(2 * n)

@@ -3,7 +3,8 @@
 The book's motor model (rotor i carried by link i−1, spinning at k_ri q̇_i, Sect. 7.3) is in the
 URDF as mimic joints, so CRBA/RNEA here include the k_r I_m terms of (7.32). With mimic joints
 Pinocchio refuses ABA; forward dynamics is then the Cholesky solve of B q̈ = τ − h.
-Every function copies its result out of ``robot.data``.
+Every function copies its result out of ``robot.data``. :func:`inverse_dynamics` is the rigid-body
+model; friction, F_v q̇ + F_s sgn(q̇) in (7.42), is :func:`friction_torques` (from ``robot.friction``).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
 Eqs. (7.32) B(q), (7.42) the model, (7.45) Christoffel C, (7.39) g, Sect. 7.5 Newton–Euler.
@@ -15,7 +16,7 @@ import numpy as np
 import pinocchio as pin
 from scipy.linalg import get_lapack_funcs
 
-from rigid_body.robots import Robot
+from rigid_body.robots import JointFriction, Robot
 from rigid_body.validation import as_vector
 
 
@@ -81,6 +82,24 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     qd = as_vector(qd, robot.nv, "qd")
     qdd = as_vector(qdd, robot.nv, "qdd")
     return pin.rnea(robot.model, robot.data, q, qd, qdd).copy()
+
+
+def friction_torques(robot: Robot, qd: np.ndarray, smoothing: float = 0.0,
+                     friction: JointFriction | None = None, check: bool = True) -> np.ndarray:
+    """τ_f = F_v q̇ + F_s sgn(q̇), the joint torques friction takes (link side, the friction terms of (7.42)).
+
+    With direction-dependent Coulomb data, F_s+ for q̇ > 0 and −F_s− for q̇ < 0; 0 at q̇ = 0. ``smoothing``
+    ε > 0 [rad/s] replaces sgn(q̇) by tanh(q̇/ε) (continuous, for fixed-step simulation: |q̇| ≫ ε gives the
+    Coulomb value, q̇ → 0 gives 0). ``friction`` defaults to ``robot.friction`` (DH table or URDF
+    ``<dynamics>``). The Robotics Toolbox's ``friction(qd)`` is −τ_f.
+    """
+    if check:
+        qd = as_vector(qd, robot.nv, "qd")
+        if not (np.isfinite(smoothing) and smoothing >= 0):
+            raise ValueError(f"`smoothing` must be a non-negative velocity [rad/s], got {smoothing!r}")
+    f = robot.friction if friction is None else friction
+    s = np.tanh(qd / smoothing) if smoothing > 0 else np.sign(qd)
+    return f.viscous * qd + f.coulomb_positive * np.maximum(s, 0.0) + f.coulomb_negative * np.minimum(s, 0.0)
 
 
 def reference_torque(robot: Robot, q: np.ndarray, qd: np.ndarray, qd_r: np.ndarray,

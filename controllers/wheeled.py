@@ -85,6 +85,13 @@ class _Tracking(LoggedController):
         d = float(np.hypot(e[0], e[1]))
         self.record(e=e, position_error=d, point_error=d if point_error is None else point_error)
 
+    def _reference_and_error(self, t: float, measurement: Any) -> tuple[ReferenceSample, np.ndarray]:
+        """The reference sample at t and the error (11.65) of the robot's posture, logged."""
+        ref = self.reference(t)
+        e = tracking_error(ref, *_pose(measurement))
+        self._record(e)
+        return ref, e
+
 
 class ApproximateLinearizationTracking(_Tracking):
     """Tracking by approximate linearisation (11.66)–(11.67): v = v_d cos e3 + k1 e1, ω = ω_d + k2 e2 + k3 e3.
@@ -98,9 +105,7 @@ class ApproximateLinearizationTracking(_Tracking):
         self.a, self.zeta = as_positive(a, "a"), as_positive(zeta, "zeta")
 
     def __call__(self, t: float, measurement: Any) -> np.ndarray:
-        ref = self.reference(t)
-        e = tracking_error(ref, *_pose(measurement))
-        self._record(e)
+        ref, e = self._reference_and_error(t, measurement)
         if abs(ref.v) < 1e-9:
             raise ValueError(f"approximate linearisation needs v_d ≠ 0 (gain k2 = (a² − ω_d²)/v_d), v_d = 0 at t = {t:g} s")
         k1 = k3 = 2 * self.zeta * self.a
@@ -119,9 +124,7 @@ class NonlinearTracking(_Tracking):
         self.zeta, self.b = as_positive(zeta, "zeta"), as_positive(b, "b")
 
     def __call__(self, t: float, measurement: Any) -> np.ndarray:
-        ref = self.reference(t)
-        e = tracking_error(ref, *_pose(measurement))
-        self._record(e)
+        ref, e = self._reference_and_error(t, measurement)
         k1 = k3 = 2 * self.zeta * np.sqrt(ref.omega**2 + self.b * ref.v**2)
         sinc = np.sinc(e[2] / np.pi)  # sin(e3)/e3, 1 at e3 = 0
         return np.array([ref.v * np.cos(e[2]) + k1 * e[0], ref.omega + self.b * ref.v * sinc * e[1] + k3 * e[2]])

@@ -206,7 +206,7 @@ def car_shortest_paths(cases: int = 300) -> Solution:
     sol.value("max_dubins_minus_random_length", worst_gap)
     sol.value("random_paths_that_are_optimal", f"{equal}/{cases}")
     # Tangent lengths p = √p² lose half the digits when two circles (nearly) touch: 1e-7, not 1e-15.
-    sol.check_close("every word ends at the goal (exact arcs)", worst_end, 0.0, atol=1e-7)
+    sol.check_error("every word ends at the goal (exact arcs)", worst_end, 1e-7)
     sol.check(f"Dubins length ≤ length of {cases} random feasible paths with the same end postures",
               worst_gap <= 1e-9, f"max (Dubins − random) = {worst_gap:.2e} m; equal in {equal} cases")
     sol.check("the bound is tight: some random paths are themselves optimal", equal > 0, f"{equal}/{cases}")
@@ -227,7 +227,7 @@ def car_shortest_paths(cases: int = 300) -> Solution:
         rs_vs_dubins = max(rs_vs_dubins, best - dubins_path(q_i, q_f, rho).length)
     sol.value("reeds_shepp_max_end_error", rs_end)
     sol.value("reeds_shepp_random_paths_that_are_optimal", f"{rs_equal}/{cases}")
-    sol.check_close("Reeds–Shepp: every candidate ends at the goal (exact arcs)", rs_end, 0.0, atol=1e-7)
+    sol.check_error("Reeds–Shepp: every candidate ends at the goal (exact arcs)", rs_end, 1e-7)
     sol.check(f"Reeds–Shepp length ≤ length of {cases} random forward/backward paths (and some equal)",
               rs_gap <= 1e-9 and rs_equal > 0, f"max (RS − random) = {rs_gap:.2e} m; equal in {rs_equal} cases")
     sol.check("Reeds–Shepp ≤ Dubins (forward paths are a subset)", rs_vs_dubins <= 1e-9, f"max (RS − Dubins) = {rs_vs_dubins:.2e} m")

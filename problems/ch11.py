@@ -216,7 +216,7 @@ def problem_11_3() -> Solution:
                          lambda x: np.asarray(f_g(x)[1], dtype=float).ravel(), qn)
         fd_err = max(fd_err, float(np.max(np.abs(fd - B))))
     sol.check("rank[g1, g2, [g1, g2]] = 2 at 10 random q (involutive)", all(k == 2 for k in ranks), f"ranks {ranks}")
-    sol.check_close("finite-difference bracket = sympy bracket", fd_err, 0.0, atol=1e-7)
+    sol.check_error("finite-difference bracket = sympy bracket", fd_err, 1e-7)
     th = sp.symbols("theta")
     u1, u2 = sp.Matrix([sp.cos(th), sp.sin(th), 0]), sp.Matrix([0, 0, 1])
     bu = lie_bracket_symbolic(u1, u2, [sp.Symbol("x"), sp.Symbol("y"), th])
@@ -285,7 +285,7 @@ def problem_11_5() -> Solution:
         t_err.append(float(np.linalg.norm(disp / eps**2 - bracket)))
     sol.value("epsilon", epsilons)
     sol.value("t_minus_bracket", t_err)
-    sol.check_close("simulated displacement = closed form (all ε)", max(err_closed), 0.0, atol=1e-12)
+    sol.check_error("simulated displacement = closed form (all ε)", max(err_closed), 1e-12)
     orders = np.diff(np.log(t_err)) / np.diff(np.log(epsilons))
     sol.value("convergence_order", orders)
     sol.check("‖t(ε) − [g1, g2](q0)‖ = O(ε) (slopes ≈ 1)", np.all(np.abs(orders - 1) < 0.05), f"slopes {orders}")
@@ -328,7 +328,7 @@ def problem_11_6() -> Solution:
         rolling = r * omega_i[:, None] * np.c_[np.cos(th_[1:-1]), np.sin(th_[1:-1])]
         worst = max(worst, float(np.max(np.abs(v_fd - rolling)[mid])))
     sol.value("wheel_velocity_mismatch", worst)
-    sol.check_close("simulated wheel centres roll: ṗ_i = r ω_i [cos θ, sin θ] (finite differences)", worst, 0.0, atol=1e-5)
+    sol.check_error("simulated wheel centres roll: ṗ_i = r ω_i [cos θ, sin θ] (finite differences)", worst, 1e-5)
     return sol
 
 
@@ -364,9 +364,9 @@ def problem_11_7() -> Solution:
     q = np.r_[rng.uniform(-2, 2, 3), 0.4]
     sol.check_close("model (11.19): A(q) G(q) = 0 for the constraints (11.15)–(11.16)",
                     bicycle_constraints(q, ell) @ bicycle_input_matrix(q, ell), np.zeros((2, 2)), atol=1e-15)
-    sol.check_close("C (11.7 formula) = intersection of the wheel axes", worst_C, 0.0, atol=1e-12)
-    sol.check_close("v_P ⟂ (P − C)", worst_perp, 0.0, atol=1e-12)
-    sol.check_close("|v_P| = R_P v tan φ / ℓ", worst_mag, 0.0, atol=1e-12)
+    sol.check_error("C (11.7 formula) = intersection of the wheel axes", worst_C, 1e-12)
+    sol.check_error("v_P ⟂ (P − C)", worst_perp, 1e-12)
+    sol.check_error("|v_P| = R_P v tan φ / ℓ", worst_mag, 1e-12)
     q = np.array([0.0, 0.0, 0.0, 0.5])
     sol.value("icr_example", bicycle_icr(q, ell))
     sol.check_close("body frame: C = (0, ℓ/tan φ) at θ = 0", bicycle_icr(q, ell), [0.0, ell / np.tan(0.5)], atol=1e-15)
@@ -400,9 +400,8 @@ def problem_11_8() -> Solution:
         rows = np.array([np.sin(hd) * J[i, 0] - np.cos(hd) * J[i, 1] for i, hd in enumerate(headings)])
         worst_rows = max(worst_rows, float(np.max(np.abs(rows - A))))
     sol.value("max_abs_AG", worst)
-    sol.check_close("A(q) G(q) = 0 at 20 random q (N = 3)", worst, 0.0, atol=1e-14)
-    sol.check_close("constraint rows = lateral velocities of the axle points (finite differences)", worst_rows, 0.0,
-                    atol=1e-8)
+    sol.check_error("A(q) G(q) = 0 at 20 random q (N = 3)", worst, 1e-14)
+    sol.check_error("constraint rows = lateral velocities of the axle points (finite differences)", worst_rows, 1e-8)
 
     def G(q: np.ndarray) -> np.ndarray:
         return trailer_input_matrix(q, ell, lengths)
@@ -415,7 +414,7 @@ def problem_11_8() -> Solution:
     headings = np.c_[res.x[1:-1, 3] + res.x[1:-1, 2], res.x[1:-1, 3:]]
     lateral = np.abs(np.sin(headings) * v_fd[..., 0] - np.cos(headings) * v_fd[..., 1])
     sol.value("max_lateral_velocity", float(lateral.max()))
-    sol.check_close("simulated train: no lateral slip at any wheel (6 s)", lateral.max(), 0.0, atol=1e-6)
+    sol.check_error("simulated train: no lateral slip at any wheel (6 s)", lateral.max(), 1e-6)
     fig, ax = subplots(figsize=(6.4, 4.0))
     for i, label in enumerate(["front wheel", "tricycle"] + [f"trailer {k}" for k in range(1, N + 1)]):
         ax.plot(pts[:, i, 0], pts[:, i, 1], label=label)
@@ -504,9 +503,9 @@ def problem_11_10() -> Solution:
         miss_manual = max(miss_manual, float(np.max(np.abs(_integrate_chained(wrong_path, z_i) - z_f))))
     sol.value("example_c", path.coefficients)
     sol.value("miss_with_manual_d", miss_manual)
-    sol.check_close("D = the manual's matrix (both signs of Δ)", worst_D, 0.0, atol=1e-12)
-    sol.check_close("d = corrected vector (… − z2i Δ²/2)", worst_d, 0.0, atol=1e-12)
-    sol.check_close("chained form integrated (RK4) with c = D⁻¹d reaches z_f", miss, 0.0, atol=1e-9)
+    sol.check_error("D = the manual's matrix (both signs of Δ)", worst_D, 1e-12)
+    sol.check_error("d = corrected vector (… − z2i Δ²/2)", worst_d, 1e-12)
+    sol.check_error("chained form integrated (RK4) with c = D⁻¹d reaches z_f", miss, 1e-9)
     sol.check("erratum 11.10: the manual's d3 (− z2i|Δ|) misses z_f", miss_manual > 1e-3,
               f"max |z(s_f) − z_f| = {miss_manual:.3g} with the printed d3")
     return sol
@@ -531,8 +530,8 @@ def problem_11_11() -> Solution:
         unit = unit and path.s_f == 1.0 and abs(path.inputs(0.3)[0] - De) < 1e-14
         miss = max(miss, float(np.max(np.abs(_integrate_chained(path, z_i) - z_f))))
     sol.check("s_f = 1 and ṽ1 = Δ in all four cases", unit)
-    sol.check_close("(2, 3): D = [[1, 1/2], [Δ/2, Δ/6]], d = [z2f − z2i, z3f − z3i − z2i Δ]", worst, 0.0, atol=1e-12)
-    sol.check_close("(2, 3) and (2, 4) integrated (RK4) reach z_f at s = 1", miss, 0.0, atol=1e-9)
+    sol.check_error("(2, 3): D = [[1, 1/2], [Δ/2, Δ/6]], d = [z2f − z2i, z3f − z3i − z2i Δ]", worst, 1e-12)
+    sol.check_error("(2, 3) and (2, 4) integrated (RK4) reach z_f at s = 1", miss, 1e-9)
     return sol
 
 
@@ -556,9 +555,8 @@ def problem_11_12() -> Solution:
         z3 = z_i[2] + De * (z_i[1] * s + c0 * s**2 / 2 + c1 * s**3 / 6)
         worst_formula = max(worst_formula, float(np.max(np.abs(z3 - A.z(s)[:, 2]))))
         manual_miss = max(manual_miss, abs(z_i[2] + De * (c0 / 2 + c1 / 6) - z_f[2]))
-    sol.check_close("schemes A and B: identical z(s) and geometric inputs (10 random boundary pairs)", worst, 0.0,
-                    atol=1e-12)
-    sol.check_close("z3 = z3i + Δ(z2i s + c0 s²/2 + c1 s³/6) (corrected)", worst_formula, 0.0, atol=1e-12)
+    sol.check_error("schemes A and B: identical z(s) and geometric inputs (10 random boundary pairs)", worst, 1e-12)
+    sol.check_error("z3 = z3i + Δ(z2i s + c0 s²/2 + c1 s³/6) (corrected)", worst_formula, 1e-12)
     sol.value("manual_z3_miss", manual_miss)
     sol.check("erratum 11.12: the printed z3 (without z2i Δ s) misses z3f", manual_miss > 1e-3,
               f"max |z3(1) − z3f| = {manual_miss:.3g}")
@@ -713,9 +711,9 @@ def problem_11_15() -> Solution:
         theta_dot = np.sin(ph) * (c2 * u[0] + s2 * u[1]) / ell
         phi_dot = -(c2 * np.sin(ph) / ell + s2 / b) * u[0] - (s2 * np.sin(ph) / ell - c2 / b) * u[1]
         worst_zero = max(worst_zero, float(np.max(np.abs(qd[2:] - [theta_dot, phi_dot]))))
-    sol.check_close("T(θ, φ) = ∂y/∂q G(q) (finite differences)", worst_T, 0.0, atol=1e-8)
-    sol.check_close("det T = b / cos φ (relative)", worst_det, 0.0, atol=1e-12)
-    sol.check_close("zero dynamics θ̇, φ̇ = manual's expressions", worst_zero, 0.0, atol=1e-12)
+    sol.check_error("T(θ, φ) = ∂y/∂q G(q) (finite differences)", worst_T, 1e-8)
+    sol.check_error("det T = b / cos φ (relative)", worst_det, 1e-12)
+    sol.check_error("zero dynamics θ̇, φ̇ = manual's expressions", worst_zero, 1e-12)
     near = np.linalg.cond(front_wheel_point_matrix(0.3, np.pi / 2 - 1e-7, ell, b))
     sol.check("erratum 11.15: T degenerates as |φ| → π/2 (cond > 1e6 at π/2 − 1e-7), so |φ| < π/2 strictly",
               near > 1e6, f"cond T = {near:.2e}")
@@ -819,7 +817,7 @@ def problem_11_17() -> Solution:
         v, w, Ts = rng.uniform(-2, 2), rng.uniform(-3, 3), rng.uniform(0.05, 1.0)
         res = simulate(UnicyclePlant(), lambda t, x: np.array([v, w]), (0.0, Ts), q0, h=Ts / 1000, Ts=Ts)
         worst = max(worst, float(np.max(np.abs(odometry_step(q0, v, w, Ts, "exact") - res.x[-1]))))
-    sol.check_close("exact step (11.85) = RK4 integration (10 random cases)", worst, 0.0, atol=1e-10)
+    sol.check_error("exact step (11.85) = RK4 integration (10 random cases)", worst, 1e-10)
     q0 = np.array([0.3, -0.2, 0.4])
     straight = q0 + np.array([1.5 * np.cos(0.4), 1.5 * np.sin(0.4), 0.0])
     sol.check_close("ω → 0: the exact step's limit branch gives the straight line (ω = 1e-12)",

@@ -9,6 +9,8 @@ Data: the catalogue's test examples where the manual leaves symbols (r = 0.1 m, 
 ℓ = 1 m, b = 0.5 m; N = 3 trailers); the authors' companion files for 11.13 (q_i = 0, q_f = (2, 1, π/2),
 k = 1), 11.16 (start (−1, −2, −π/2), k1 = 1, k2 = 3, 10 s) and 11.18 (start (−1, −2, −π/2), k = (1, 2.5, 3),
 10 s, T_s = 0.01 s and 0.1 s). The unicycle is integrated by RK4 with the manual's maximum step 0.01 s.
+The figure helpers :func:`draw_unicycle`, :func:`plane_axes`, :func:`time_axes`, :func:`motion_figure` serve
+the demos beyond the book too (``examples/mobile_robots.py``, which this module never imports).
 
 Errata of the manual corrected and named in the checks: 11.10 (d3 = … − z2i Δ²/2, not − z2i|Δ|), 11.12
 (z3 misses the z2i Δ s term), 11.14 (the printed closed-loop matrix is garbled), 11.15 (|φ| < π/2, not ≤).

@@ -123,6 +123,14 @@ def test_mobile_manipulator_model_dimensions_and_input_map(mobile):
     assert G.shape == (9, 8) and np.linalg.matrix_rank(G) == 8
     with pytest.raises(ValueError, match="planar root"):
         mobile_manipulator_input_matrix(load("anthropomorphic_wrist"))
+    with pytest.raises(ValueError, match="`arm`"):
+        mobile_manipulator(mobile)                       # nq ≠ nv: not an arm of revolute/prismatic joints
+    with pytest.raises(ValueError, match="`mount`"):
+        mobile_manipulator(load("anthropomorphic_wrist"), mount=[0.0, np.nan, 0.3])
+    with pytest.raises(ValueError, match="`q_arm`"):
+        MobileManipulatorPlant(mobile).initial_state([0, 0, 0], np.zeros(5))
+    with pytest.raises(ValueError, match="`method`"):
+        cw.Odometry([0, 0, 0], "midpoint")
 
 
 def test_mobile_manipulator_plant_rolls_without_sliding_and_matches_the_unicycle(mobile, rng):

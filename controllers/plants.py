@@ -8,6 +8,12 @@
 * :class:`JointDrivePlant` — one joint's electric drive M(s) of independent joint control (Sect. 8.3).
 * :class:`ServomotorPlant` — the servomotor of Fig. 5.2 (armature current, rotor, amplifier, PI).
 * :class:`JointIntegrator` — the kinematic plant q̇ = u of closed-loop inverse kinematics (Sect. 3.7).
+* Wheeled mobile robots (Chapter 11), kinematic: :class:`UnicyclePlant` (11.13) — with optional
+  wheel-speed saturation (Problem 11.9) and wheel encoders (odometry, Sect. 11.7) —,
+  :class:`BicyclePlant` (11.19)/(11.20), :class:`ChainedFormPlant` (11.25), :class:`DriftlessPlant`
+  (q̇ = G(q) u, 11.10) and :class:`MobileManipulatorPlant` (a unicycle base carrying an arm, one
+  Pinocchio model with a planar root joint). Their measurements are :class:`Posture`,
+  :class:`OdometerPosture`, :class:`BicycleState` and :class:`MobileManipulatorState`.
 
 Arm plants return an :class:`ArmMeasurement` from ``measure`` and build their state with
 ``initial_state(q0, qd0)``.
@@ -18,7 +24,8 @@ B(q) q̈ + C q̇ + F_v q̇ + g = K_r k_t R_a⁻¹ G_v v_c − K_r k_t R_a⁻¹ k
 K_r k_t R_a⁻¹ k_v K_r adds to the mechanical friction F_v, Eq. (8.6)/(8.7).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
-Sects. 3.7, 5.1, 7.2, 8.2, 8.3, 9.1; Eqs. (5.1)–(5.4), (7.42), (8.3)–(8.7), Figs. 5.2, 8.3, 8.4.
+Sects. 3.7, 5.1, 7.2, 8.2, 8.3, 9.1, 11.2–11.7; Eqs. (5.1)–(5.4), (7.42), (8.3)–(8.7), (11.10)–(11.25),
+Figs. 5.2, 8.3, 8.4.
 """
 
 from __future__ import annotations
@@ -33,7 +40,10 @@ from controllers.independent_joint import JointDrive
 from controllers.simulation import as_friction, per_joint
 from rigid_body.actuators import DCServomotor, PIRegulator
 from rigid_body.robots import JointFriction, Robot
+from rigid_body.rotations import wrap_angle
 from rigid_body.validation import as_positive, as_vector
+from rigid_body.wheeled import (chained_form_velocity, mobile_manipulator_input_matrix, saturate_wheel_speeds,
+                                unicycle_velocity)
 
 
 @dataclass(frozen=True, slots=True)
@@ -332,3 +342,177 @@ class JointIntegrator:
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return u
+
+
+# --------------------------------------------------------------------------------------------
+# Wheeled mobile robots (Chapter 11): kinematic plants
+# --------------------------------------------------------------------------------------------
+
+POSTURE_UNITS = {"x": "m", "y": "m", "theta": "rad", "p": "m", "u": "m/s, rad/s"}
+
+
+@dataclass(frozen=True, slots=True)
+class Posture:
+    """What a unicycle's sensors give: x, y [m], θ [rad]; ``p`` = (x, y)."""
+
+    x: float
+    y: float
+    theta: float
+
+    @property
+    def p(self) -> np.ndarray:
+        return np.array([self.x, self.y])
+
+
+@dataclass(frozen=True, slots=True)
+class OdometerPosture(Posture):
+    """A posture with the wheel encoders' readings: ``distance`` s = ∫v dt [m] and ``rotation``
+    ψ = ∫ω dt [rad] (not wrapped). Over a sampling interval their increments are the book's
+    v_k T_s = Δs and ω_k T_s = Δθ of odometric localisation (Sect. 11.7)."""
+
+    distance: float
+    rotation: float
+
+
+@dataclass(frozen=True, slots=True)
+class BicycleState(Posture):
+    """Measured bicycle state: the rear contact point's posture (x, y, θ) and the steering angle φ [rad]."""
+
+    phi: float
+
+
+class UnicyclePlant:
+    """The unicycle (11.13), x = (x, y, θ), u = (v, ω); θ stays wrapped into (−π, π].
+
+    ``wheel_limits = (r, d, ω_RL)`` makes it a differential drive whose wheel speeds saturate at ±ω_RL: the
+    applied (v, ω) are scaled into the admissible rhombus of Problem 11.9 keeping the curvature.
+    ``odometer=True`` adds the wheel encoders: x = (x, y, θ, s, ψ) with ṡ = v, ψ̇ = ω (applied), and the
+    measurement is an :class:`OdometerPosture`.
+    """
+
+    def __init__(self, wheel_limits: tuple[float, float, float] | None = None, odometer: bool = False):
+        if wheel_limits is not None:
+            r, d, w = wheel_limits
+            wheel_limits = (as_positive(r, "r"), as_positive(d, "d"), as_positive(w, "omega_RL"))
+        self.wheel_limits = wheel_limits
+        self.odometer = bool(odometer)
+        self.state_size = 5 if self.odometer else 3
+        self.state_layout = {"x": 0, "y": 1, "theta": 2, "p": slice(0, 2)}
+        self.units = dict(POSTURE_UNITS)
+        if self.odometer:
+            self.state_layout |= {"distance": 3, "rotation": 4}
+            self.units |= {"distance": "m", "rotation": "rad"}
+
+    def applied(self, u: np.ndarray) -> np.ndarray:
+        """The (v, ω) actually applied (saturated when the plant has wheel limits)."""
+        if self.wheel_limits is None:
+            return u
+        return np.array(saturate_wheel_speeds(u[0], u[1], *self.wheel_limits))
+
+    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        u = self.applied(u) if self.wheel_limits else u
+        qd = unicycle_velocity(x, u)
+        return np.concatenate([qd, u[:2]]) if self.odometer else qd
+
+    def integrate(self, x: np.ndarray, dx: np.ndarray, h: float) -> np.ndarray:
+        """x ⊕ h dx on R² × SO(2) (× R² for the encoders): θ wrapped into (−π, π]."""
+        y = x + h * dx
+        y[2] = wrap_angle(y[2])
+        return y
+
+    def measure(self, t: float, x: np.ndarray) -> Posture:
+        if self.odometer:
+            return OdometerPosture(float(x[0]), float(x[1]), float(x[2]), float(x[3]), float(x[4]))
+        return Posture(float(x[0]), float(x[1]), float(x[2]))
+
+
+class BicyclePlant:
+    """The bicycle, rear-wheel (11.19) or front-wheel (11.20) drive: x = (x, y, θ, φ), u = (v, ω = φ̇)."""
+
+    state_size = 4
+    state_layout = {"x": 0, "y": 1, "theta": 2, "phi": 3, "p": slice(0, 2)}
+    units = {**POSTURE_UNITS, "phi": "rad"}
+
+    def __init__(self, ell: float, drive: str = "rear"):
+        self.ell = as_positive(ell, "ell")
+        if drive not in ("rear", "front"):
+            raise ValueError(f"`drive` must be 'rear' or 'front', got {drive!r}")
+        self.drive = drive
+
+    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        th, phi, v = x[2], x[3], u[0]
+        if self.drive == "rear":
+            return np.array([v * np.cos(th), v * np.sin(th), v * np.tan(phi) / self.ell, u[1]])
+        c = np.cos(phi)
+        return np.array([v * np.cos(th) * c, v * np.sin(th) * c, v * np.sin(phi) / self.ell, u[1]])
+
+    def measure(self, t: float, x: np.ndarray) -> BicycleState:
+        return BicycleState(float(x[0]), float(x[1]), float(x[2]), float(x[3]))
+
+
+class ChainedFormPlant:
+    """The (2, n) chained form (11.25), x = z, u = (v1, v2); the measurement is z itself."""
+
+    state_layout = {"z": slice(None)}
+
+    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return chained_form_velocity(x, u)
+
+
+class DriftlessPlant:
+    """q̇ = G(q) u for any kinematic model (11.10): ``input_matrix(q) -> G`` (n, m)."""
+
+    state_layout = {"q": slice(None)}
+
+    def __init__(self, input_matrix: Callable[[np.ndarray], np.ndarray]):
+        self.input_matrix = input_matrix
+
+    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return self.input_matrix(x) @ u
+
+
+@dataclass(frozen=True, slots=True)
+class MobileManipulatorState:
+    """What a mobile manipulator's sensors give: the configuration ``q`` (nq,) of the whole model
+    (base x, y, cos θ, sin θ, then the arm's joints) and the base ``posture`` (x, y, θ)."""
+
+    q: np.ndarray
+    posture: Posture
+
+
+class MobileManipulatorPlant:
+    """A unicycle base carrying an arm, kinematic: x = q (nq = nv + 1), ẋ = v = Γ u (nv), u = (v, ω, q̇_arm).
+
+    ``robot`` is one Pinocchio model with a planar root joint (:func:`rigid_body.wheeled.mobile_manipulator`).
+    Γ = [G 0; 0 I] (:func:`rigid_body.wheeled.mobile_manipulator_input_matrix`) maps the unicycle's (v, ω)
+    to the base's body velocity (v, 0, ω) — never sideways, the no-slip constraint (11.12) — and the arm's
+    inputs to its joint velocities. The configuration moves by ``pin.integrate`` (cos θ, sin θ stay a unit
+    pair). ``input_limits`` (m,) saturates |u|.
+    """
+
+    units = {"q": "m, rad", "u": "m/s, rad/s"}
+
+    def __init__(self, robot: Robot, input_limits: Any = None):
+        self.robot, self.model = robot, robot.model
+        self.state_size, self.tangent_size = robot.nq, robot.nv
+        self.input_matrix = mobile_manipulator_input_matrix(robot)
+        self.n_inputs = self.input_matrix.shape[1]
+        self.state_layout = {"q": slice(None), "p": slice(0, 2)}
+        self.input_limits = None if input_limits is None else as_vector(input_limits, self.n_inputs, "input_limits")
+
+    def initial_state(self, base: Any, q_arm: Any) -> np.ndarray:
+        """x0 from the base posture (x, y, θ) and the arm's joint angles."""
+        x, y, th = as_vector(base, 3, "base")
+        return np.concatenate([[x, y, np.cos(th), np.sin(th)],
+                               as_vector(q_arm, self.robot.nq - 4, "q_arm")])
+
+    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        if self.input_limits is not None:
+            u = np.clip(u, -self.input_limits, self.input_limits)
+        return self.input_matrix @ u
+
+    def integrate(self, x: np.ndarray, dx: np.ndarray, h: float) -> np.ndarray:
+        return pin.integrate(self.model, x, h * dx)
+
+    def measure(self, t: float, x: np.ndarray) -> MobileManipulatorState:
+        return MobileManipulatorState(x, Posture(float(x[0]), float(x[1]), float(np.arctan2(x[3], x[2]))))

@@ -24,7 +24,8 @@ made; a failure's message says whether the solver never left its start or stalle
 a limit, a singular Jacobian) before blaming the target. Success rates measured on the Panda from
 random starts within the limits (500 reachable targets, ``benchmarks/bench_ik.py``; the seeded
 harness of ``tests/planners/ik_harness.py`` checks every reported success independently):
-:func:`solve_clik` RATE_CLIK, :class:`QPVelocityIK` RATE_QP, :class:`CasadiIK` RATE_CASADI.
+:func:`solve_clik` 196/500 (39 %), :class:`QPVelocityIK` 255/500 (51 %), :class:`CasadiIK` 486/500 (97 %,
+10 restarts); no false success.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
 Sects. 3.5 (redundancy, (3.50)–(3.59)), 3.7 (CLIK, (3.68)–(3.97)); Problems 3.10, 3.14, 3.21, 3.22.
@@ -366,7 +367,7 @@ def solve_clik(robot: Robot, T_d: Any, q0: Any, task: TaskSpace = TaskSpace(), d
     joint limits after every step (a start outside them too). ``success`` when the residual is below
     ``tol`` within the limits. A local method: it converges from a nearby guess (tracking, a previous
     solution); from an arbitrary guess on a 7-DOF arm with limits it often stalls at a joint limit
-    (measured on the Panda: RATE_CLIK reachable targets solved from random starts within the limits)
+    (measured on the Panda: 196 of 500 reachable targets solved from random starts within the limits)
     and reports it with ``success=False`` — use :class:`CasadiIK` (restarts) then.
     """
     T_d = as_homogeneous(T_d, "T_d")
@@ -440,6 +441,8 @@ class CasadiIK:
     The problem is built once; :meth:`solve` tries the initial guess, then up to ``restarts`` random
     configurations within the limits (``rng``), and stops at the first whose residual is below ``tol``.
     With a posture cost the optimum trades pose accuracy for posture, so keep its weight small.
+    Measured on the Panda with the default 10 restarts: 486 of 500 reachable targets solved from
+    random starts within the limits (~50 ms each).
     """
 
     def __init__(self, robot: Robot, frame: str | int | None = None,
@@ -546,6 +549,8 @@ class QPVelocityIK:
     min_q̇ ½ ‖J q̇ − v‖² + ½ λ ‖q̇‖²  s.t.  max(−q̇_M, (q_m − q)/Δt) ≤ q̇ ≤ min(q̇_M, (q_M − q)/Δt),
 
     with v = v_d + K e the task velocity (the CLIK velocity of (3.70) with the limits as constraints).
+    A local method like :func:`solve_clik`: from random starts within the limits of the Panda it
+    solved 255 of 500 reachable targets (the others stall with joints held at a limit).
     """
 
     def __init__(self, robot: Robot, options: QPIKOptions | None = None):

@@ -173,10 +173,8 @@ class SegmentSequence:
         if np.any(lengths == 0):
             raise ValueError("consecutive `points` must differ")
         for j, (law, L) in enumerate(zip(self.laws, lengths)):
-            s0, s1 = float(np.asarray(law(law.t_i)[0])), float(np.asarray(law(law.t_f)[0]))
-            if abs(s0) > 1e-9 * max(1.0, L) or abs(s1 - L) > 1e-9 * max(1.0, L):
-                raise ValueError(f"`laws[{j}]` must go from 0 to the segment length {L:.6g}, "
-                                 f"goes from {s0:.6g} to {s1:.6g}")
+            _law_range(law, 0.0, float(L), name=f"laws[{j}]", ends=(0.0, float(L)),
+                       what=" (from 0 to the segment length)")
         object.__setattr__(self, "points", pts)
 
     @property

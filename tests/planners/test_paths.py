@@ -69,7 +69,7 @@ def test_segment_sequence_stops_or_rounds_the_via_point():
     np.testing.assert_allclose(p[-1], pts[2], atol=1e-12)
     tr = timing.sample(overlap, samples=101)
     assert tr.q.shape == (101, 3)
-    with pytest.raises(ValueError, match="from 0 to the segment length"):
+    with pytest.raises(ValueError, match="laws\\[0\\].*the segment length"):
         paths.SegmentSequence(pts, [timing.quintic_law(0.0, 2.0, 1.0), laws[1]])
 
 
@@ -172,3 +172,13 @@ def test_circle_arguments_are_named():
         Circle(np.zeros(3), -1.0, np.eye(3))
     with pytest.raises(ValueError, match="`length`"):
         Circle(np.zeros(3), 1.0, np.eye(3), length=-2.0)
+
+
+def test_segment_sequence_refuses_an_overshooting_segment_law():
+    from planners.paths import SegmentSequence
+    from planners.timing import cubic_law
+
+    pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]]
+    ok = cubic_law(0.0, 1.0, 2.0, t_i=1.0)
+    with pytest.raises(ValueError, match=r"`laws\[0\]` must stay within \[0, 1\]"):
+        SegmentSequence(pts, [cubic_law(0.0, 1.0, 1.0, qd_i=6.0), ok])

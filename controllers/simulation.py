@@ -79,7 +79,7 @@ from typing import Any, Callable, Iterable, Mapping, Protocol
 
 import numpy as np
 
-from rigid_body.validation import as_vector
+from rigid_body.validation import as_positive, as_vector
 
 DEFAULT_BOUND = 1e12
 
@@ -135,9 +135,7 @@ class ZeroOrderHold:
     """
 
     def __init__(self, block: Callable[[float, Any], Any], Ts: float):
-        if not (np.isfinite(Ts) and Ts > 0):
-            raise ValueError(f"`Ts` must be a positive sampling period, got {Ts}")
-        self.block, self.Ts = block, float(Ts)
+        self.block, self.Ts = block, as_positive(Ts, "Ts")
         self.reset()
 
     def reset(self) -> None:
@@ -334,14 +332,14 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     ValueError : bad arguments (naming them), an ``x0`` of the wrong size, a derivative of the wrong shape.
     SimulationDiverged : when the state becomes non-finite or exceeds ``bound``, naming the time.
     """
-    t0, tf = (float(v) for v in t_span)
+    try:
+        t0, tf = (float(v) for v in t_span)
+    except (TypeError, ValueError):
+        raise ValueError(f"`t_span` must be (t_0, t_f) in seconds, got {t_span!r}") from None
     if not (np.isfinite(t0) and np.isfinite(tf) and tf > t0):
         raise ValueError(f"`t_span` must be finite with t_f > t_0, got {t_span}")
-    if not (np.isfinite(h) and h > 0):
-        raise ValueError(f"`h` must be a positive step, got {h}")
-    Ts = h if Ts is None else float(Ts)
-    if not (np.isfinite(Ts) and Ts > 0):
-        raise ValueError(f"`Ts` must be a positive sampling period, got {Ts}")
+    h = as_positive(h, "h")
+    Ts = h if Ts is None else as_positive(Ts, "Ts")
     ratio = Ts / h
     n_sub = int(round(ratio))
     if n_sub < 1 or abs(ratio - n_sub) > 1e-9 * max(1.0, ratio):

@@ -149,6 +149,7 @@ def numerical_gradient(w: Callable[[np.ndarray], float], q: np.ndarray, step: fl
                        scheme: str = "forward") -> np.ndarray:
     """∂w/∂q by forward (as the manual's 3.21) or central differences of step ``step``."""
     q = np.asarray(q, dtype=float)
+    step = as_positive(step, "step")
     g = np.empty(q.size)
     if scheme == "forward":
         w0 = w(q)
@@ -217,8 +218,7 @@ def cosine_pose_reference(p_i: Any, p_f: Any, t_f: float, phi_i: float = 0.0, ph
     ω_d = ṡ (φ_f − φ_i) axis. Returns ``t -> (T_d, v_d)``.
     """
     p_i, p_f = as_vector(p_i, 3, "p_i"), as_vector(p_f, 3, "p_f")
-    if not (np.isfinite(t_f) and t_f > 0):
-        raise ValueError(f"`t_f` must be positive, got {t_f}")
+    t_f = as_positive(t_f, "t_f")
     r = as_vector(axis, 3, "axis")
     if not np.linalg.norm(r) > 0:
         raise ValueError("`axis` must be a non-zero vector")
@@ -265,7 +265,7 @@ class CLIK:
             raise ValueError(f"a null-space `secondary` task needs a redundant law, not {law!r}")
         self.robot, self.reference, self.task, self.law = robot, reference, task, law
         self.K = _gain(K, len(task.selected), "K")
-        self.damping = float(damping)
+        self.damping = as_positive(damping, "damping", allow_zero=True)
         self.secondary = secondary
         rows = task.selected
         self._ori_rows = [i for i, r in enumerate(rows) if r >= 3]
@@ -321,7 +321,9 @@ class TwoStageCLIK:
 
     def __init__(self, robot: Robot, reference: Callable[[float], tuple[np.ndarray, np.ndarray]],
                  wrist_frame: str | int, n_arm: int = 3, K_P: Any = 500.0, K_O: Any = 500.0):
-        self.robot, self.reference, self.n_arm = robot, reference, int(n_arm)
+        self.robot, self.reference, self.n_arm = robot, reference, _count(n_arm, "n_arm", 1)
+        if self.n_arm >= robot.nv:
+            raise ValueError(f"`n_arm` must leave wrist joints: < {robot.nv}, got {n_arm}")
         self.wrist = robot.frame(wrist_frame)
         self.ee = robot.ee_frame
         self.K_P, self.K_O = _gain(K_P, 3, "K_P"), _gain(K_O, 3, "K_O")

@@ -297,3 +297,16 @@ def test_joint_integrator_with_a_size_checks_x0_and_the_controller():
         simulate(JointIntegrator(3), lambda t, q: np.zeros(1), (0.0, 0.1), np.zeros(3), h=0.01)
     with pytest.raises(ValueError, match="`n`"):
         JointIntegrator(0)
+
+
+def test_step_period_and_span_that_are_not_numbers_are_named():
+    f = lambda t, x, u: u  # noqa: E731
+    zero = lambda t, x: np.zeros(1)  # noqa: E731
+    with pytest.raises(ValueError, match="`h`"):
+        simulate(f, zero, (0, 1), [0.0], h="small")
+    with pytest.raises(ValueError, match="`Ts`"):
+        simulate(f, zero, (0, 1), [0.0], h=0.1, Ts=[0.1, 0.2])
+    with pytest.raises(ValueError, match="`t_span`"):
+        simulate(f, zero, (0, "end"), [0.0], h=0.1)
+    with pytest.raises(ValueError, match="`Ts`"):
+        ZeroOrderHold(zero, "fast")

@@ -250,3 +250,13 @@ def test_qp_ik_velocity_limit_is_checked(panda):
         QPVelocityIK(panda, QPIKOptions(velocity_limit=[1.0, 2.0]))
     with pytest.raises(ValueError, match="max_iterations"):
         QPIKOptions(max_iterations=-1)
+
+
+def test_clik_and_reference_arguments_are_named(panda):
+    with pytest.raises(ValueError, match="`damping`"):
+        CLIK(panda, constant_pose(np.eye(4)), law="dls", damping=float("nan"))
+    with pytest.raises(ValueError, match="`t_f`"):
+        cosine_pose_reference([0, 0, 0], [1, 0, 0], "one")
+    from planners.inverse_kinematics import numerical_gradient
+    with pytest.raises(ValueError, match="`step`"):
+        numerical_gradient(lambda q: 0.0, np.zeros(2), step=0.0)

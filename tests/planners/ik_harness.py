@@ -51,12 +51,14 @@ def _pose(robot, q: np.ndarray) -> pin.SE3:
 
 
 def reachable_targets(robot, n: int, seed: int) -> list[Target]:
-    """``n`` targets T_d = FK(q_source) with q_source and the start q0 drawn uniformly within the limits."""
+    """``n`` targets T_d = FK(q_source) with q_source and the start q0 drawn uniformly within the limits.
+
+    Seeded: the same ``(robot, n, seed)`` always gives the same targets, so rates can be compared."""
     rng = np.random.default_rng(seed)
-    lo, hi = robot.model.lowerPositionLimit, robot.model.upperPositionLimit
     out = []
     for _ in range(n):
-        q_source, q0 = rng.uniform(lo, hi), rng.uniform(lo, hi)
+        q_source = robot.random_configuration(rng)   # uniform within the limits (clipped to ±π)
+        q0 = robot.random_configuration(rng)
         out.append(Target(_pose(robot, q_source).homogeneous, q0, q_source))
     return out
 

@@ -384,7 +384,7 @@ def solve_clik(robot: Robot, T_d: Any, q0: Any, task: TaskSpace = TaskSpace(), d
     for it in range(max_iterations + 1):
         err = pose_error(robot, q, T_d, None, task)
         res = pose_residual(T_d, err.T_e, task, err.e)
-        if res < best:
+        if res < best or best_J is None:
             best, best_q, best_J = res, q.copy(), err.J
         if res < tol and within_limits(robot, q):
             return IKResult(q, True, it, res, note + "converged")
@@ -592,7 +592,7 @@ class QPVelocityIK:
         for it in range(o.max_iterations + 1):
             qd, err = self.step(q, T_d)
             res = pose_residual(T_d, err.T_e, o.task, err.e)
-            if res < best:
+            if res < best or best_J is None:
                 best, best_q, best_J = res, q.copy(), err.J
             if res < o.tol and within_limits(robot, q):
                 return IKResult(q, True, it, res, note + "converged")

@@ -102,6 +102,7 @@ class ArmPlant:
         self.nq = robot.nq
         self.state_size = robot.nq + robot.nv
         self.tangent_size = 2 * robot.nv
+        self.input_size = robot.nv
         self.state_layout = {"q": slice(0, self.nq), "qd": slice(self.nq, self.state_size)}
         self.Fv = as_friction(viscous_friction, self.n)
         Fs = per_joint(coulomb_friction, self.n, "coulomb_friction")
@@ -207,6 +208,7 @@ class VoltageControlledArm:
         self.arm = ArmPlant(robot, viscous_friction=viscous_friction, tau_max=tau_max)
         a = self.arm
         self.state_size, self.tangent_size, self.state_layout = a.state_size, a.tangent_size, a.state_layout
+        self.input_size = n
         self.integrate, self.measure, self.initial_state = a.integrate, a.measure, a.initial_state
         self.units = {**ARM_UNITS, "u": "V"}
 
@@ -243,6 +245,7 @@ class ArmInContact:
         self.arm = ArmPlant(robot, viscous_friction=viscous_friction, external_force=self.contact_torques)
         a = self.arm
         self.state_size, self.tangent_size, self.state_layout = a.state_size, a.tangent_size, a.state_layout
+        self.input_size = a.input_size
         self.integrate, self.initial_state = a.integrate, a.initial_state
         self.units = {**ARM_UNITS, "wrench": "N, N·m"}
 
@@ -272,6 +275,7 @@ class JointDrivePlant:
     """
 
     state_size = 2
+    input_size = (1, 2)
     state_layout = {"q": slice(0, 1), "qd": slice(1, 2)}
     units = {"q": "rad", "qd": "rad/s", "u": "V", "e": "rad"}
 
@@ -296,6 +300,7 @@ class ServomotorPlant:
     """
 
     state_size = 5
+    input_size = (1, 2)
     state_layout = {"i_a": 0, "omega": 1, "theta": 2, "v_a": 3, "q": slice(2, 3), "qd": slice(1, 2)}
     units = {"i_a": "A", "omega": "rad/s", "theta": "rad", "v_a": "V", "q": "rad", "qd": "rad/s"}
 
@@ -335,10 +340,22 @@ class ServomotorPlant:
 
 
 class JointIntegrator:
-    """The plant q̇ = u of a kinematic IK loop (x = q); RK4 with u held is Euler's step (3.48)."""
+    """The plant q̇ = u of a kinematic IK loop (x = q); RK4 with u held is Euler's step (3.48).
 
+    Its ``bound`` (500 rad, about 80 turns) stops an unstable loop early — e.g. CLIK with K·Ts > 2,
+    where the error grows by |1 − K Ts| every step — instead of returning a meaningless q ~ 1e5 rad.
+    ``n`` (optional) fixes the number of joints: the loop then checks ``x0`` and the controller's output.
+    """
+
+    bound = 500.0
     state_layout = {"q": slice(None)}
     units = {"q": "rad", "u": "rad/s"}
+
+    def __init__(self, n: int | None = None):
+        if n is not None:
+            if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+                raise ValueError(f"`n` must be a positive number of joints, got {n!r}")
+            self.state_size = self.tangent_size = self.input_size = int(n)
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return u

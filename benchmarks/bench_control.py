@@ -17,7 +17,8 @@ import pinocchio as pin
 
 from controllers.joint_space import AdaptivePayloadControl, InverseDynamicsControl, PDGravityCompensation, with_payload
 from controllers.operational_space import OperationalInverseDynamics
-from controllers.simulation import ArmPlant, rk4_step, simulate
+from controllers.plants import ArmPlant
+from controllers.simulation import rk4_step, simulate
 from planners.paths import PathLaw, Segment
 from planners.timing import quintic, trapezoidal, trapezoidal_law
 from rigid_body.robots import load
@@ -30,11 +31,12 @@ def step_costs(name: str, robot, plant_robot, controller, raw: Callable[[], obje
     n = robot.nv
     plant = ArmPlant(plant_robot, viscous_friction=1.0)
     x = np.r_[robot.configurations["neutral"] + 0.3, 0.2 * np.ones(n)]
-    u = controller(0.0, x)
+    meas = plant.measure(0.0, x)
+    u = controller(0.0, meas)
     t_raw = per_call(raw)
     t_der = per_call(lambda: plant.derivative(0.0, x, u))
     t_rk4 = per_call(lambda: rk4_step(lambda t, xi: plant.derivative(t, xi, u), 0.0, x, h))
-    t_ctl = per_call(lambda: controller(0.5, x))
+    t_ctl = per_call(lambda: controller(0.5, plant.measure(0.5, x)))
     n_sub = int(round(Ts / h))
     t_sample = t_ctl + n_sub * t_rk4
     print(f"\n{name} (n = {n}), h = {h * 1e3:g} ms, Ts = {Ts * 1e3:g} ms")

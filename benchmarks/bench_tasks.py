@@ -1,6 +1,6 @@
 """Timing of the chapter 5/6 hot loops against raw Pinocchio calls measured in the same run.
 
-Per-call times of: the servomotor plant derivative, the force-sensing arm derivative (planar 3R in
+Per-call times of: the servomotor plant derivative, the arm-in-contact derivative (planar 3R in
 contact), the peg-in-hole state-machine controller, and one simulated second of a SCARA MOVETO
 (inverse-dynamics control at 2 ms); each compared with a raw Pinocchio call on the same robot.
 """
@@ -14,9 +14,11 @@ from benchtools import per_call
 
 
 if __name__ == "__main__":
-    from controllers.tasks import (ActionExecutor, ForceSensingArm, PegInHoleController, PegInHoleTask,
-                                   SurfaceWithHole, Workcell, moveto)
-    from rigid_body.actuators import DCServomotor, PIRegulator, ServomotorPlant
+    from controllers.environment import SurfaceWithHole
+    from controllers.force import PegInHoleController, PegInHoleTask
+    from controllers.plants import ArmInContact, ServomotorPlant
+    from controllers.tasks import ActionExecutor, Workcell, moveto
+    from rigid_body.actuators import DCServomotor, PIRegulator
     from rigid_body.kinematics import inverse_kinematics_planar_3r, inverse_kinematics_scara
     from rigid_body.robots import load
 
@@ -32,7 +34,7 @@ if __name__ == "__main__":
     t_motor = per_call(lambda: plant_m.derivative(0.0, xm, um))
 
     env = SurfaceWithHole(x_hole=0.59, clearance=0.004, depth=0.05)
-    arm = ForceSensingArm(r3, env)
+    arm = ArmInContact(r3, env)
     u = np.zeros(3)
     t_arm = per_call(lambda: arm.derivative(0.0, x, u))
     ctrl = PegInHoleController(r3, PegInHoleTask(x_H=0.6))
@@ -52,7 +54,7 @@ if __name__ == "__main__":
     print(f"raw pin.computeFrameJacobian (planar 3R):  {raw_jac * 1e6:8.2f} µs")
     print(f"raw pin.rnea (planar 3R):                  {raw_rnea * 1e6:8.2f} µs")
     print(f"ServomotorPlant.derivative:                {t_motor * 1e6:8.2f} µs  ({t_motor / raw_rnea:5.1f} × rnea)")
-    print(f"ForceSensingArm.derivative (in contact):   {t_arm * 1e6:8.2f} µs  ({t_arm / raw_rnea:5.1f} × rnea)")
+    print(f"ArmInContact.derivative (in contact):      {t_arm * 1e6:8.2f} µs  ({t_arm / raw_rnea:5.1f} × rnea)")
     print(f"PegInHoleController.__call__:              {t_ctrl * 1e6:8.2f} µs  ({t_ctrl / raw_jac:5.1f} × frame Jacobian)")
     steps = simulated / 2e-3
     print(f"SCARA MOVETO: {simulated:.3f} s simulated in {wall:.3f} s wall = {wall / steps * 1e6:.1f} µs per 2 ms sample "

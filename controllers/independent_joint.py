@@ -26,6 +26,7 @@ import control
 import numpy as np
 from scipy.optimize import brentq
 
+from controllers.simulation import LoggedController
 from rigid_body.validation import as_positive
 
 
@@ -331,21 +332,10 @@ def feedforward_controller_output(drive: JointDrive, design: JointDesign,
 
 
 # ---------------------------------------------------------------------------------------------
-# A single-joint drive in the simulation loop
+# A single-joint servo in the simulation loop (its plant: controllers.plants.JointDrivePlant)
 # ---------------------------------------------------------------------------------------------
 
-class JointDrivePlant:
-    """The drive M(s) as a plant: x = [ϑ_m, ϑ̇_m], u = [v] or [v, d]; ``T_m ϑ̈ = k_m(v − (R_a/k_t) d) − ϑ̇``."""
-
-    def __init__(self, drive: JointDrive):
-        self.k_m, self.T_m, self.g = drive.k_m, drive.T_m, drive.disturbance_gain
-
-    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        d = u[1] if len(u) > 1 else 0.0
-        return np.array([x[1], (self.k_m * (u[0] - self.g * d) - x[1]) / self.T_m])
-
-
-class PositionVelocityController:
+class PositionVelocityController(LoggedController):
     """Position + velocity feedback with decentralised feedforward (Fig. 8.13), sampled with period ``Ts``.
 
     ``u = K_P k_TP (ϑ_d − ϑ) + k_TV (ϑ̇_d − ϑ̇) + ϑ̈_d/(k_m K_V)`` (feedforward terms optional) drives the
@@ -364,23 +354,21 @@ class PositionVelocityController:
         self.reset()
 
     def reset(self) -> None:
+        super().reset()
         self.integral = 0.0
-        self._e = 0.0
 
-    def __call__(self, time: float, x: np.ndarray) -> np.ndarray:
+    def __call__(self, time: float, meas: Any) -> np.ndarray:
+        theta, omega = meas.q[0], meas.qd[0]
         theta_d, omega_d, alpha_d = self.reference(time)
         d, t = self.d, self.t
-        u = d.K_P * t.k_TP * (theta_d - x[0]) + t.k_TV * ((omega_d if self.feedforward else 0.0) - x[1])
+        u = d.K_P * t.k_TP * (theta_d - theta) + t.k_TV * ((omega_d if self.feedforward else 0.0) - omega)
         if self.feedforward:
             u += alpha_d / (self.k_m * d.K_V)
         v = d.K_V * (d.T_V * u + self.integral)
         self.integral += u * self.Ts
-        self._e = theta_d - x[0]
+        self.record(e=theta_d - theta)
         dist = 0.0 if self.disturbance is None else float(self.disturbance(time))
         return np.array([v, dist])
-
-    def log(self) -> dict[str, float]:
-        return {"e": self._e}
 
 
 # ---------------------------------------------------------------------------------------------

@@ -1,9 +1,11 @@
 """Centralised joint-space motion control (Sects. 8.4–8.5): controllers for any :class:`Robot`.
 
 Each controller is a small object called by :func:`controllers.simulation.simulate` every sampling
-period with the measured state ``x = [q, q̇]``; its output (a torque, or a voltage for the
+period with the arm's measurement (``meas.q``, ``meas.qd`` of an
+:class:`~controllers.plants.ArmMeasurement`); its output (a torque, or a voltage for the
 voltage-controlled arm) is held until the next sample. Controllers that have a state (integrators,
-adaptive estimates) reset it in ``reset()``; ``log()`` returns the signals worth plotting.
+adaptive estimates) reset it in ``reset()``; ``log()`` returns the signals worth plotting
+(:class:`~controllers.simulation.LoggedController`).
 
 * :class:`PDGravityCompensation` — u = g(q) + K_P q̃ + K_D q̃̇, Eq. (8.51), Fig. 8.20.
 * :class:`ComputedTorqueFeedforward` — independent-joint P/PI servos on the motor side (Fig. 5.11)
@@ -33,7 +35,8 @@ from scipy.linalg import solve_continuous_lyapunov
 from scipy.optimize import fsolve
 
 from controllers.independent_joint import JointDesign, JointDrive, Transducers
-from controllers.simulation import as_friction, per_joint
+from controllers.plants import ArmMeasurement
+from controllers.simulation import LoggedController, as_friction, per_joint
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics, reference_torque
 from rigid_body.robots import Robot
 from rigid_body.validation import as_matrix, as_vector
@@ -114,18 +117,11 @@ def mean_diagonal_inertia(robot: Robot, configurations: np.ndarray) -> np.ndarra
     return np.mean([np.diag(inertia_matrix(robot, q)) for q in qs], axis=0)
 
 
-def _split(x: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """(q, q̇) from a measurement [q, q̇, ...] (extra entries, e.g. sensed forces, are ignored)."""
-    if len(x) < 2 * n:
-        raise ValueError(f"the measurement must start with [q, q̇] ({2 * n} values), got {len(x)}")
-    return x[:n], x[n:2 * n]
-
-
 # --------------------------------------------------------------------------------------------
 # PD control with gravity compensation (8.51)
 # --------------------------------------------------------------------------------------------
 
-class PDGravityCompensation:
+class PDGravityCompensation(LoggedController):
     """u = g(q) + K_P q̃ + K_D q̃̇ (Eq. 8.51, Fig. 8.20; with q̇_d = 0, K_D q̃̇ = −K_D q̇).
 
     For a set point the equilibrium q = q_d is globally asymptotically stable (Lyapunov function
@@ -144,28 +140,20 @@ class PDGravityCompensation:
         self.robot, self.n = robot, n
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
         self.reference = as_reference(reference, n)
-        self._log: dict[str, np.ndarray] = {}
 
-    def reset(self) -> None:
-        self._log = {}
-
-    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
-        q, qd = _split(x, self.n)
+    def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
+        q, qd = meas.q, meas.qd
         q_d, qd_d, _ = self.reference(t)
         e = q_d - q
         u = gravity_torques(self.robot, q) + self.K_P @ e + self.K_D @ (qd_d - qd)  # Eq. (8.51)
-        self._log = {"q_d": q_d, "e": e}
+        self.record(q_d=q_d, e=e)
         return u
-
-    def log(self) -> dict[str, np.ndarray]:
-        return self._log
-
 
 # --------------------------------------------------------------------------------------------
 # Independent joint servos with computed-torque feedforward (Fig. 8.19 on Fig. 5.11)
 # --------------------------------------------------------------------------------------------
 
-class ComputedTorqueFeedforward:
+class ComputedTorqueFeedforward(LoggedController):
     """Independent-joint P/PI servos with decentralised and computed-torque feedforward (Fig. 8.19).
 
     Each motor i (angle θ_mi = k_ri q_i) has the position + velocity loops of Fig. 5.11: a position
@@ -221,13 +209,13 @@ class ComputedTorqueFeedforward:
         self.reset()
 
     def reset(self) -> None:
+        super().reset()
         self._integral = np.zeros(self.n)  # ∫ e_v dt of the PI velocity controllers
         self._e_v = np.zeros(self.n)
         self._t = None
-        self._log: dict[str, np.ndarray] = {}
 
-    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
-        q, qd = _split(x, self.n)
+    def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
+        q, qd = meas.q, meas.qd
         if self._t is not None:
             self._integral = self._integral + (t - self._t) * self._e_v  # ZOH on the PI's input
         self._t = t
@@ -244,18 +232,14 @@ class ComputedTorqueFeedforward:
             B_d = inertia_matrix(self.robot, q_d)
             tau_ff = (np.diag(B_d) - self.b_bar) * qdd_d + gravity_torques(self.robot, q_d)
             v = v + self.K_pr * tau_ff
-        self._log = {"q_d": q_d, "e": q_d - q, "tau_ff": tau_ff}
+        self.record(q_d=q_d, e=q_d - q, tau_ff=tau_ff)
         return v
-
-    def log(self) -> dict[str, np.ndarray]:
-        return self._log
-
 
 # --------------------------------------------------------------------------------------------
 # Inverse dynamics control (8.57), (8.60)
 # --------------------------------------------------------------------------------------------
 
-class InverseDynamicsControl:
+class InverseDynamicsControl(LoggedController):
     """u = B(q) y + n(q, q̇), y = q̈_d + K_D q̃̇ + K_P q̃ (Eqs. 8.57, 8.60, Fig. 8.22).
 
     n(q, q̇) = C(q, q̇) q̇ + F_v q̇ + g(q). With a perfect model the error obeys q̃̈ + K_D q̃̇ + K_P q̃ = 0.
@@ -275,23 +259,15 @@ class InverseDynamicsControl:
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
         self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
-        self._log: dict[str, np.ndarray] = {}
 
-    def reset(self) -> None:
-        self._log = {}
-
-    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
-        q, qd = _split(x, self.n)
+    def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
+        q, qd = meas.q, meas.qd
         q_d, qd_d, qdd_d = self.reference(t)
         e, ed = q_d - q, qd_d - qd
         y = qdd_d + self.K_D @ ed + self.K_P @ e  # Eq. (8.60)
         u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd  # Eq. (8.57)
-        self._log = {"q_d": q_d, "e": e}
+        self.record(q_d=q_d, e=e)
         return u
-
-    def log(self) -> dict[str, np.ndarray]:
-        return self._log
-
 
 def inverse_dynamics_steady_state(plant_robot: Robot, model_robot: Robot, K_P: Any, q_d: Any,
                                   q0: Any = None) -> np.ndarray:
@@ -334,7 +310,7 @@ def lyapunov_matrix(K_P: Any, K_D: Any, P: Any = None) -> np.ndarray:
     return 0.5 * (Q + Q.T)
 
 
-class RobustControl:
+class RobustControl(LoggedController):
     """u = B̂ y + n̂, y = q̈_d + K_D q̃̇ + K_P q̃ + w, with the robust term (8.89) and a boundary layer.
 
     z = Dᵀ Q ξ (ξ = [q̃; q̃̇], D = [O; I], Q from :func:`lyapunov_matrix`);
@@ -365,10 +341,6 @@ class RobustControl:
         self._DtQ = self.Q[n:, :].copy()  # Dᵀ Q
         self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
-        self._log: dict[str, np.ndarray] = {}
-
-    def reset(self) -> None:
-        self._log = {}
 
     def robust_term(self, e: np.ndarray, ed: np.ndarray) -> np.ndarray:
         """w of Eq. (8.89) for the errors q̃, q̃̇."""
@@ -376,25 +348,21 @@ class RobustControl:
         norm = float(np.linalg.norm(z))
         return (self.rho / max(norm, self.epsilon)) * z
 
-    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
-        q, qd = _split(x, self.n)
+    def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
+        q, qd = meas.q, meas.qd
         q_d, qd_d, qdd_d = self.reference(t)
         e, ed = q_d - q, qd_d - qd
         w = self.robust_term(e, ed)
         y = qdd_d + self.K_D @ ed + self.K_P @ e + w
         u = self.B_hat @ y + self.Fv * qd + gravity_torques(self.robot, q)
-        self._log = {"q_d": q_d, "e": e, "w": w}
+        self.record(q_d=q_d, e=e, w=w)
         return u
-
-    def log(self) -> dict[str, np.ndarray]:
-        return self._log
-
 
 # --------------------------------------------------------------------------------------------
 # Adaptive control on the payload mass (8.92)–(8.98)
 # --------------------------------------------------------------------------------------------
 
-class AdaptivePayloadControl:
+class AdaptivePayloadControl(LoggedController):
     """Adaptive control (Fig. 8.26) estimating the mass m_L of a point payload at ``frame``.
 
     With q̇_r = q̇_d + Λ q̃, q̈_r = q̈_d + Λ q̃̇ and σ = q̇_r − q̇ (Eq. 8.92), the model is linear in
@@ -436,10 +404,10 @@ class AdaptivePayloadControl:
         self.reset()
 
     def reset(self) -> None:
+        super().reset()
         self.mass = self.mass0
         self._rate = 0.0
         self._t = None
-        self._log: dict[str, Any] = {}
 
     def regressor(self, q: np.ndarray, qd: np.ndarray, qd_r: np.ndarray,
                   qdd_r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -447,8 +415,8 @@ class AdaptivePayloadControl:
         tau0 = reference_torque(self.robot, q, qd, qd_r, qdd_r)
         return tau0, reference_torque(self.unit, q, qd, qd_r, qdd_r) - tau0
 
-    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
-        q, qd = _split(x, self.n)
+    def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
+        q, qd = meas.q, meas.qd
         if self._t is not None:
             self.mass += (t - self._t) * self._rate  # forward Euler of m̂̇_L
         self._t = t
@@ -460,8 +428,5 @@ class AdaptivePayloadControl:
         tau0, y_L = self.regressor(q, qd, qd_r, qdd_r)
         u = tau0 + self.mass * y_L + self.Fv * qd_r + self.K_D @ sigma  # Eq. (8.98)
         self._rate = self.gain * float(y_L @ sigma)  # π̂̇ = K_π⁻¹ Yᵀ σ
-        self._log = {"q_d": q_d, "e": e, "m_hat": self.mass}
+        self.record(q_d=q_d, e=e, m_hat=self.mass)
         return u
-
-    def log(self) -> dict[str, Any]:
-        return self._log

@@ -42,7 +42,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 from scipy.optimize import fsolve
 
-from controllers.joint_space import _split, as_gain, as_reference
+from controllers.joint_space import as_gain, as_reference
 from controllers.simulation import as_friction, per_joint
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics
 from rigid_body.kinematics import _frame
@@ -222,8 +222,8 @@ class OperationalPDGravity:
     def reset(self) -> None:
         self._log = {}
 
-    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
-        q, qd = _split(x, self.n)
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        q, qd = meas.q, meas.qd
         x_d, _, _ = self.reference(t)
         e, J, _, T_e = self.task.error(q, x_d)
         u = gravity_torques(self.robot, q) + J.T @ (self.K_P @ e - self.K_D @ (J @ qd)) - self.K_N * qd  # (8.110)
@@ -279,8 +279,8 @@ class OperationalInverseDynamics:
     def reset(self) -> None:
         self._log = {}
 
-    def __call__(self, t: float, x: np.ndarray) -> np.ndarray:
-        q, qd = _split(x, self.n)
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        q, qd = meas.q, meas.qd
         x_d, xd_d, xdd_d = self.reference(t)
         e, J, Jdot_qd, T_e = self.task.error(q, x_d, qd)
         ed = xd_d - J @ qd

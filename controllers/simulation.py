@@ -4,8 +4,60 @@ What Simulink did in the manual. A *plant* has a state ``x`` and a derivative ``
 a *controller* is called every ``Ts`` seconds with the plant's measurement and its output ``u`` is
 held constant until the next sample (zero-order hold). The plant is integrated with classical
 fourth-order Runge–Kutta at step ``h`` (the manual's "max step"); ``Ts`` must be a multiple of ``h``.
+Nothing else in rmpc integrates ODEs by hand. The plants live in :mod:`controllers.plants`.
 
-Nothing else in rmpc integrates ODEs by hand.
+The plant contract (duck-typed; only ``derivative`` is required)
+----------------------------------------------------------------
+``derivative(t, x, u) -> ẋ``
+    The state derivative, an array of the plant's tangent size. A plain function ``f(t, x, u)``
+    may stand for the whole plant.
+``integrate(x, dx, h) -> x'``
+    The state reached from ``x`` moving along the tangent vector ``dx`` for ``h``; every RK4 stage
+    uses it, so a state on a manifold works. Absent or ``None``: ``x + h·dx``. The arm plants keep
+    ``x = [q (nq), v (nv)]`` and ``ẋ = [v, v̇]`` (size 2 nv); when nq ≠ nv (continuous joints, a
+    planar or free-flyer base) the ``q`` part moves by ``pin.integrate(model, q, h·v)``.
+``dexp_inverse(x, xi, dx) -> dx'``
+    With ``integrate``, on a non-commutative manifold (a free-flyer base): the tangent vector at ``x``
+    whose flow ``integrate(x, ·)`` moves like ``dx`` (given at ``integrate(x, xi, 1)``). RK4 then
+    corrects its stages (Runge–Kutta–Munthe-Kaas) and stays fourth order; without it, stages are
+    composed as they are (exact on vector spaces and commutative groups, second order otherwise).
+    ``ArmPlant`` provides it through ``pin.dIntegrate`` when nq ≠ nv.
+``tangent_size``
+    The size of ``ẋ`` when it differs from ``len(x)`` (default ``len(x)``). ``simulate`` checks the
+    shape of the first derivative once and names the plant's derivative when it is wrong.
+``state_size``
+    The length ``x0`` must have (checked once, the error names ``x0``).
+``measure(t, x) -> measurement``
+    What the controller receives (default ``x`` itself). Arm plants return an
+    :class:`~controllers.plants.ArmMeasurement` (frozen: ``q``, ``qd``, ``wrench`` or ``None``), so a
+    controller reads ``meas.q``, ``meas.qd``, ``meas.wrench`` and never slices a flat vector; other
+    plants define their own small frozen dataclass (image features, mobile-robot postures...).
+    A measurement with ``q``/``qd`` attributes is logged automatically as ``res.q``/``res.qd``.
+``state_layout``
+    ``{name: slice or index}`` of named parts of ``x`` (e.g. ``{"q": slice(0, 2), "qd": slice(2, 4)}``):
+    ``res[name]``, ``res.q`` and ``res.qd`` read the logged states through it.
+``units``
+    ``{signal name: unit}`` used as axis labels by :meth:`SimulationResult.plot`.
+``bound``
+    The plant's own divergence bound on ``max |x_i|`` (default ``1e12``); ``simulate(..., bound=)``
+    overrides it.
+``initial_state(q0, qd0=None) -> x0``
+    On arm plants: the state at rest (or moving with ``qd0``).
+
+The controller contract
+-----------------------
+A controller is a callable ``(t, measurement) -> u``; ``reset()`` is called before the run and
+``log() -> dict`` after every call (its entries become signals of the result). Controllers derive from
+:class:`LoggedController`, which provides both: the law calls ``self.record(e=..., q_d=...)``.
+
+Multi-rate loops: ``ZeroOrderHold(block, Ts)`` runs ``block`` every ``Ts`` (a multiple of the loop's
+period) and holds its output in between — a vision loop at 40 ms inside a motion loop at 1 ms.
+``Chain(first, second, name=...)`` feeds ``first``'s output to ``second`` as the extra measurement
+attribute ``name`` (``meas.name``; every other attribute is the plant's measurement): an estimator
+at 1 ms feeding a controller at 40 ms is ``Chain(estimator, ZeroOrderHold(controller, 0.04),
+name="estimate")``: the controller reads ``meas.estimate`` and ``meas.q`` (an :class:`Augmented`
+measurement). The chain's output is the second block's; the logs of both blocks are merged. A block
+with periods inside declares them through ``periods()``; ``simulate`` checks each is a multiple of ``Ts``.
 
 >>> import numpy as np
 >>> class Decay:                       # ẋ = −x + u
@@ -18,15 +70,17 @@ True
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable, Mapping, Protocol
+from typing import Any, Callable, Iterable, Mapping, Protocol
 
 import numpy as np
 
 from rigid_body.validation import as_vector
 
+DEFAULT_BOUND = 1e12
+
 
 class Plant(Protocol):
-    """A continuous-time system: ``derivative(t, x, u) -> ẋ``; optionally ``measure(t, x)``."""
+    """A continuous-time system: ``derivative(t, x, u) -> ẋ``; the optional hooks are in the module docstring."""
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray: ...
 
@@ -45,60 +99,234 @@ class SimulationDiverged(RuntimeError):
         self.t = t
 
 
+# --------------------------------------------------------------------------------------------
+# Controllers: logging, zero-order hold, chains
+# --------------------------------------------------------------------------------------------
+
+class LoggedController:
+    """Base of the controllers: ``record(**signals)`` in the law, ``log()`` and ``reset()`` inherited.
+
+    A subclass with its own state overrides ``reset`` and calls ``super().reset()``.
+    """
+
+    _log: dict[str, Any] = {}
+
+    def record(self, **signals: Any) -> None:
+        """Keep ``signals`` as this sample's log (the loop reads them with :meth:`log`)."""
+        self._log = signals
+
+    def log(self) -> dict[str, Any]:
+        return self._log
+
+    def reset(self) -> None:
+        self._log = {}
+
+
+class ZeroOrderHold:
+    """Runs ``block`` every ``Ts`` seconds (from the first call) and holds its output in between.
+
+    ``Ts`` must be a multiple of the loop's controller period (:func:`simulate` checks it). The block's
+    log is the one of its last sample (held too).
+    """
+
+    def __init__(self, block: Callable[[float, Any], Any], Ts: float):
+        if not (np.isfinite(Ts) and Ts > 0):
+            raise ValueError(f"`Ts` must be a positive sampling period, got {Ts}")
+        self.block, self.Ts = block, float(Ts)
+        self.reset()
+
+    def reset(self) -> None:
+        self._next: float | None = None
+        self._output: Any = None
+        if hasattr(self.block, "reset"):
+            self.block.reset()
+
+    def periods(self) -> tuple[float, ...]:
+        """The sampling periods of this block and of the blocks inside it."""
+        return (self.Ts,) + tuple(getattr(self.block, "periods", tuple)())
+
+    def __call__(self, t: float, measurement: Any) -> Any:
+        if self._next is None or t >= self._next - 1e-9 * self.Ts:
+            self._output = self.block(t, measurement)
+            self._next = (t if self._next is None else self._next) + self.Ts
+        return self._output
+
+    def log(self) -> dict[str, Any]:
+        return self.block.log() if hasattr(self.block, "log") else {}
+
+
+class Augmented:
+    """A measurement with extra named entries: ``meas.name`` is the entry, any other attribute the
+    underlying measurement's (``base``)."""
+
+    __slots__ = ("base", "_extra")
+
+    def __init__(self, base: Any, **extra: Any):
+        self.base, self._extra = base, extra
+
+    def __getattr__(self, name: str) -> Any:
+        extra = object.__getattribute__(self, "_extra")
+        if name in extra:
+            return extra[name]
+        return getattr(object.__getattribute__(self, "base"), name)
+
+
+class Chain:
+    """``first`` then ``second``: ``second`` is called with the plant's measurement augmented by
+    ``first``'s output under ``name`` (see :class:`Augmented`); the chain outputs ``second``'s output.
+    The logs of both blocks are merged (``second``'s entries win on a name clash)."""
+
+    def __init__(self, first: Callable[[float, Any], Any], second: Callable[[float, Any], Any], name: str):
+        if not name.isidentifier():
+            raise ValueError(f"`name` must be an identifier (an attribute of the measurement), got {name!r}")
+        self.first, self.second, self.name = first, second, name
+
+    def reset(self) -> None:
+        for block in (self.first, self.second):
+            if hasattr(block, "reset"):
+                block.reset()
+
+    def periods(self) -> tuple[float, ...]:
+        return tuple(p for b in (self.first, self.second) for p in getattr(b, "periods", tuple)())
+
+    def __call__(self, t: float, measurement: Any) -> Any:
+        y = self.first(t, measurement)
+        return self.second(t, Augmented(measurement, **{self.name: y}))
+
+    def log(self) -> dict[str, Any]:
+        out: dict[str, Any] = {}
+        for block in (self.first, self.second):
+            if hasattr(block, "log"):
+                out.update(block.log())
+        return out
+
+
+# --------------------------------------------------------------------------------------------
+# The result
+# --------------------------------------------------------------------------------------------
+
 @dataclass(frozen=True)
 class SimulationResult:
     """Samples at the controller instants: ``t`` (N,), state ``x`` (N, nx), input ``u`` (N, nu),
-    and named signals (N, ...) logged by the controller's ``log()`` and the ``log`` callback.
+    and named signals (N, ...) logged by the controller's ``log()``, the ``log`` callback and the
+    measurement (``q``, ``qd``).
 
-    ``result["e"]`` is the signal ``e``.
+    ``result["e"]`` is the signal ``e``; ``result[name]`` also reads the plant's ``state_layout``.
+    ``result.q``, ``result.qd`` are the joint positions and velocities (N, n).
     """
 
     t: np.ndarray
     x: np.ndarray
     u: np.ndarray
     signals: dict[str, np.ndarray] = field(default_factory=dict)
+    layout: Mapping[str, Any] = field(default_factory=dict)
+    units: Mapping[str, str] = field(default_factory=dict)
 
     def __getitem__(self, name: str) -> np.ndarray:
         if name in ("t", "x", "u"):
             return getattr(self, name)
-        if name not in self.signals:
-            raise KeyError(f"no signal {name!r}; logged: {sorted(self.signals)}")
-        return self.signals[name]
+        if name in self.signals:
+            return self.signals[name]
+        if name in self.layout:
+            return self.x[:, self.layout[name]]
+        raise KeyError(f"no signal {name!r}; logged: {sorted(self.signals)}, states: {sorted(self.layout)}")
 
     def __len__(self) -> int:
         return len(self.t)
 
+    @property
+    def q(self) -> np.ndarray:
+        """Joint positions (N, nq) (from the measurement or the plant's state layout)."""
+        return self["q"]
 
-def rk4_step(f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarray, h: float) -> np.ndarray:
-    """One classical Runge–Kutta step of ẋ = f(t, x)."""
+    @property
+    def qd(self) -> np.ndarray:
+        """Joint velocities (N, nv)."""
+        return self["qd"]
+
+    def plot(self, *names: str, ax: Any = None, labels: Iterable[str] | None = None, scale: float = 1.0,
+             unit: str | None = None) -> Any:
+        """Plot the signals ``names`` (default ``"q"``) against time on ``ax`` (a new figure if None).
+
+        The y axis is labelled with the signals' names and units (``unit`` overrides, e.g. after a
+        ``scale`` of 1e3 to mm); a legend appears when more than one line is drawn. Returns ``ax``.
+        """
+        import matplotlib.pyplot as plt
+
+        names = names or ("q",)
+        if ax is None:
+            _, ax = plt.subplots()
+        lines: list[str] = []
+        for name in names:
+            y = np.asarray(self[name], dtype=float).reshape(len(self.t), -1)
+            for i in range(y.shape[1]):
+                ax.plot(self.t, scale * y[:, i])
+                lines.append(name if y.shape[1] == 1 else f"{name}{i + 1}")
+        units = {unit} if unit is not None else {self.units.get(n, "") for n in names}
+        shown = ", ".join(units - {""})
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel(", ".join(names) + (f" [{shown}]" if shown else ""))
+        if len(lines) > 1:
+            ax.legend(list(labels) if labels is not None else lines, fontsize="small")
+        return ax
+
+
+# --------------------------------------------------------------------------------------------
+# The loop
+# --------------------------------------------------------------------------------------------
+
+def rk4_step(f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarray, h: float,
+             integrate: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None,
+             dexp_inverse: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None) -> np.ndarray:
+    """One classical Runge–Kutta step of ẋ = f(t, x); ``integrate(x, dx, h)`` moves on a manifold
+    (default ``x + h·dx``) and ``dexp_inverse`` brings the stage derivatives back to the tangent space
+    at ``x`` (Runge–Kutta–Munthe-Kaas; see the plant contract)."""
     k1 = f(t, x)
-    k2 = f(t + 0.5 * h, x + 0.5 * h * k1)
-    k3 = f(t + 0.5 * h, x + 0.5 * h * k2)
-    k4 = f(t + h, x + h * k3)
-    return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    if integrate is None:
+        k2 = f(t + 0.5 * h, x + 0.5 * h * k1)
+        k3 = f(t + 0.5 * h, x + 0.5 * h * k2)
+        k4 = f(t + h, x + h * k3)
+        return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    k2 = f(t + 0.5 * h, integrate(x, k1, 0.5 * h))
+    if dexp_inverse is not None:
+        k2 = dexp_inverse(x, 0.5 * h * k1, k2)
+    k3 = f(t + 0.5 * h, integrate(x, k2, 0.5 * h))
+    if dexp_inverse is not None:
+        k3 = dexp_inverse(x, 0.5 * h * k2, k3)
+    k4 = f(t + h, integrate(x, k3, h))
+    if dexp_inverse is not None:
+        k4 = dexp_inverse(x, h * k3, k4)
+    return integrate(x, k1 + 2.0 * k2 + 2.0 * k3 + k4, h / 6.0)
+
+
+def _periods_must_divide(controller: Any, Ts: float) -> None:
+    for period in getattr(controller, "periods", tuple)():
+        ratio = period / Ts
+        if abs(ratio - round(ratio)) > 1e-9 * max(1.0, ratio) or round(ratio) < 1:
+            raise ValueError(f"`Ts` = {Ts:g} s must divide the period {period:g} s of a ZeroOrderHold block")
 
 
 def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray],
              controller: Controller | Callable[[float, Any], np.ndarray],
              t_span: tuple[float, float], x0: Any, h: float, Ts: float | None = None,
              log: Callable[[float, np.ndarray, np.ndarray], Mapping[str, Any]] | None = None,
-             bound: float = 1e12) -> SimulationResult:
+             bound: float | None = None) -> SimulationResult:
     """Simulate a sampled-data loop: RK4 plant of step ``h``, controller every ``Ts`` with ZOH.
 
     Parameters
     ----------
-    plant : object with ``derivative(t, x, u)`` (and optionally ``measure(t, x)``, default ``x``),
-        or a plain function ``f(t, x, u)``.
+    plant : object following the plant contract (module docstring), or a function ``f(t, x, u)``.
     controller : object or function ``(t, measurement) -> u``; ``reset()`` is called first if present,
         and ``log() -> dict`` after each call if present (its entries become signals).
     t_span : (t0, tf) [s].
-    x0 : initial state (nx,).
+    x0 : initial state (nx,) (``plant.initial_state(q0)`` for an arm).
     h : integration step [s]; ``Ts`` : controller period [s], a multiple of ``h`` (default ``h``).
     log : optional ``(t, x, u) -> dict`` of extra signals, evaluated at each controller sample.
-    bound : the run stops when any |x_i| exceeds this (a diverging loop).
+    bound : the run stops when any |x_i| exceeds this (default: the plant's ``bound``, else 1e12).
 
     Raises
     ------
+    ValueError : bad arguments (naming them), an ``x0`` of the wrong size, a derivative of the wrong shape.
     SimulationDiverged : when the state becomes non-finite or exceeds ``bound``, naming the time.
     """
     t0, tf = (float(v) for v in t_span)
@@ -113,8 +341,23 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     n_sub = int(round(ratio))
     if n_sub < 1 or abs(ratio - n_sub) > 1e-9 * max(1.0, ratio):
         raise ValueError(f"`Ts` must be a positive multiple of `h`, got Ts={Ts}, h={h}")
+    _periods_must_divide(controller, Ts)
+    bound = getattr(plant, "bound", DEFAULT_BOUND) if bound is None else bound
+    try:
+        bound = float(bound)
+    except (TypeError, ValueError):
+        raise ValueError(f"`bound` must be a positive number, got {bound!r}") from None
+    if not (np.isfinite(bound) and bound > 0):
+        raise ValueError(f"`bound` must be finite and positive, got {bound}")
     x = as_vector(x0, None, "x0").copy()
+    nx = getattr(plant, "state_size", None)
+    if nx is not None and x.size != nx:
+        raise ValueError(f"`x0` must have {nx} entries for {type(plant).__name__} "
+                         f"(see its initial_state), got {x.size}")
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
+    integrate = getattr(plant, "integrate", None)
+    dexp_inverse = getattr(plant, "dexp_inverse", None)
+    n_dx = getattr(plant, "tangent_size", x.size)
     measure = getattr(plant, "measure", None)
     if hasattr(controller, "reset"):
         controller.reset()
@@ -125,12 +368,18 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     xs = np.empty((n_samples, x.size))
     us: list[np.ndarray] = []
     signals: dict[str, list] = {}
+    log_q = None
     for k in range(n_samples):
         t = t0 + k * Ts
-        u = np.atleast_1d(np.asarray(controller(t, measure(t, x) if measure else x), dtype=float))
+        meas = measure(t, x) if measure else x
+        if log_q is None:
+            log_q = [name for name in ("q", "qd") if hasattr(meas, name) and name not in getattr(plant, "state_layout", {})]
+        u = np.atleast_1d(np.asarray(controller(t, meas), dtype=float))
         ts[k], xs[k] = t, x
         us.append(u)
         extra: dict[str, Any] = {}
+        for name in log_q:
+            extra[name] = getattr(meas, name)
         if controller_log is not None:
             extra.update(controller_log())
         if log is not None:
@@ -145,18 +394,26 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
         def f(tau: float, xi: np.ndarray, u: np.ndarray = u) -> np.ndarray:
             return derivative(tau, xi, u)
 
+        if k == 0:
+            shape = np.shape(f(t, x))
+            if shape != (n_dx,):
+                who = getattr(derivative, "__qualname__", "the plant's derivative")
+                raise ValueError(f"`{who}` returned shape {shape}, expected ({n_dx},) for a state of size {x.size}")
         for j in range(n_sub):
             ti = t + j * h
-            x = rk4_step(f, ti, x, h)
-            if not np.all(np.isfinite(x)):
+            x = rk4_step(f, ti, x, h, integrate, dexp_inverse)
+            peak = np.max(np.abs(x))                  # one reduction: NaN fails the comparison too
+            if not peak <= bound:
+                if np.isfinite(peak):
+                    raise SimulationDiverged(
+                        f"plant state exceeded {bound:g} at t = {ti + h:.6g} s: the loop diverges", ti + h)
                 raise SimulationDiverged(
                     f"plant state became non-finite at t = {ti + h:.6g} s (step h = {h:g} s); "
                     "the loop is unstable or the step is too large", ti + h)
-            if np.max(np.abs(x)) > bound:
-                raise SimulationDiverged(
-                    f"plant state exceeded {bound:g} at t = {ti + h:.6g} s: the loop diverges", ti + h)
     return SimulationResult(t=ts, x=xs, u=np.array(us),
-                            signals={k: np.array(v) for k, v in signals.items()})
+                            signals={k: np.array(v) for k, v in signals.items()},
+                            layout=dict(getattr(plant, "state_layout", {})),
+                            units=dict(getattr(plant, "units", {})))
 
 
 def per_joint(value: Any, n: int, name: str) -> np.ndarray:
@@ -174,43 +431,3 @@ def as_friction(viscous_friction: Any, n: int) -> np.ndarray:
     return Fv
 
 
-class ArmPlant:
-    """A rigid arm driven by joint torques: x = [q, q̇], ẋ = [q̇, B⁻¹(τ − C q̇ − g − F_v q̇ − J^T h_e)].
-
-    Parameters
-    ----------
-    robot : the :class:`~rigid_body.robots.Robot` (motors included when its URDF has them).
-    viscous_friction : F_v, scalar or (nv,) [N·m·s/rad].
-    tau_max : optional actuator limits (nv,) — the commanded torque is saturated.
-    external_force : optional ``(t, q, qd) -> tau_ext`` (joint torques of external forces), subtracted.
-    """
-
-    def __init__(self, robot: Any, viscous_friction: Any = 0.0, tau_max: Any = None,
-                 external_force: Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None = None):
-        self.robot = robot
-        self.n = robot.nv
-        self.Fv = as_friction(viscous_friction, self.n)
-        self.tau_max = None if tau_max is None else as_vector(tau_max, self.n, "tau_max")
-        if self.tau_max is not None and np.any(self.tau_max <= 0):
-            raise ValueError(f"`tau_max` must be positive torque limits, got {self.tau_max}")
-        self.external_force = external_force
-        from rigid_body.dynamics import forward_dynamics
-
-        self._forward_dynamics = forward_dynamics  # called with check=False: inputs validated here
-
-    def torque(self, u: np.ndarray) -> np.ndarray:
-        """The torque actually applied: ``u`` saturated at ±tau_max."""
-        if np.shape(u) != (self.n,):
-            raise ValueError(f"the arm needs {self.n} joint torques, got an input of shape {np.shape(u)}")
-        return u if self.tau_max is None else np.clip(u, -self.tau_max, self.tau_max)
-
-    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        n = self.n
-        q, qd = x[:n], x[n:]
-        tau = self.torque(u) - self.Fv * qd
-        if self.external_force is not None:
-            tau = tau - self.external_force(t, q, qd)
-        xd = np.empty(2 * n)
-        xd[:n] = qd
-        xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
-        return xd

@@ -1,14 +1,9 @@
 """Chapter 6: the task and action levels of the hierarchical control architecture, made executable.
 
-The task level decomposes a job into actions (6.1); the action level turns each action into motion
-primitives, choosing the frames, the path/via points and the timing laws (6.2); the primitive
-level plans and runs the motion on the arm (here: the simulation loop of
-:mod:`controllers.simulation`). Three pieces:
+The task level decomposes a job into actions (6.1) and the action level plans their paths (6.2):
+that is planning, in :mod:`planners.tasks`. Here the primitive level runs them on the arm (the
+simulation loop of :mod:`controllers.simulation`):
 
-* :func:`decompose_pick_and_place` and :func:`pick_and_place_path` — the action sequence of a
-  pick-and-place around an obstacle and its operational-space path through the intermediate
-  points C, D, E, F (Fig. S6.1), as path points (stop at D, E) or via points (overlapping
-  segments), timed with the laws of :mod:`planners.timing` on a :class:`planners.paths.SegmentSequence`.
 * :class:`ActionExecutor` — the primitives MOVETO(location, velocity), GRASP, RELEASE and
   NEW_OBJECT of the PASCAL program of 6.4, executed on a simulated arm: MOVETO solves the closed-form
   inverse kinematics, plans a joint-space quintic and tracks it with inverse-dynamics control;
@@ -16,9 +11,9 @@ level plans and runs the motion on the arm (here: the simulation loop of
   are). :func:`fill_pallet_program` is the program FILL_PALLET of 6.4. A primitive asked to do the
   impossible (unreachable location, grasp with nothing there, release with nothing held) stops the
   program with a :class:`TaskError` naming the step.
-* :class:`PegInHoleController` — the flow chart of 6.3 (Fig. S6.2) as a state machine running as
-  the controller of a planar arm with a wrist force sensor against a compliant surface with a hole
-  (:class:`SurfaceWithHole`, :class:`ForceSensingArm`).
+The peg-in-hole flow chart of 6.3 is a force controller: :class:`controllers.force.PegInHoleController`
+(the arm in contact is :class:`controllers.plants.ArmInContact`, the surface
+:class:`controllers.environment.SurfaceWithHole`).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Ch. 6
 (Sects. 6.1–6.6, Fig. 6.1), Sect. 4.4 (via points), Sects. 8.5.2, 9.x (force/position control);
@@ -31,13 +26,11 @@ from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
 import numpy as np
-import pinocchio as pin
 
 from controllers.joint_space import InverseDynamicsControl, with_payload
-from controllers.simulation import ArmPlant, simulate
-from planners.paths import SegmentSequence
-from planners.timing import cubic_law, quintic_law, trapezoidal_law
-from rigid_body.dynamics import gravity_torques
+from controllers.plants import ArmPlant
+from controllers.simulation import simulate
+from planners.timing import quintic_law
 from rigid_body.kinematics import direct_kinematics, revolute_joints
 from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
@@ -51,98 +44,6 @@ class TaskError(RuntimeError):
     def __init__(self, step: int, text: str, reason: str):
         super().__init__(f"step {step} {text}: {reason}")
         self.step, self.text, self.reason = step, text, reason
-
-
-# --------------------------------------------------------------------------------------------
-# 6.1–6.2: task decomposition and the path of a pick-and-place around an obstacle
-# --------------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class Action:
-    """One action of the task level: its name, the points it uses and how it moves."""
-
-    name: str
-    points: tuple[str, ...]
-    motion: str
-
-
-@dataclass(frozen=True)
-class PickAndPlacePlan:
-    """Intermediate points of Fig. S6.1 and the actions that use them.
-
-    C = grasp location (A), D = above A at a safe height, E = above B at the same height,
-    F = release location (B); ``actions`` is the task-level sequence of 6.1.
-    """
-
-    points: dict[str, np.ndarray]
-    actions: tuple[Action, ...]
-    safe_height: float
-
-
-def decompose_pick_and_place(A: Any, B: Any, obstacle: Any, clearance: float) -> PickAndPlacePlan:
-    """Task decomposition of 6.1 for a planar pick-and-place from A to B over a box obstacle.
-
-    ``A``, ``B`` are (x, y) on the work surface (y vertical up); ``obstacle`` = (x_min, x_max, top)
-    of a box standing on the surface between them (``top`` its upper face); ``clearance`` is the
-    safety distance. The safe height of D and E is top + clearance.
-    """
-    A, B = as_vector(A, 2, "A"), as_vector(B, 2, "B")
-    x_min, x_max, top = as_vector(obstacle, 3, "obstacle")
-    if not (x_min < x_max and clearance > 0):
-        raise ValueError(f"`obstacle` must be (x_min < x_max, top) and `clearance` > 0, got {obstacle}, {clearance}")
-    if not (A[0] < x_min and B[0] > x_max or B[0] < x_min and A[0] > x_max):
-        raise ValueError("the obstacle must stand between A and B along x (else no avoidance is needed)")
-    y_safe = top + clearance
-    if min(A[1], B[1]) >= y_safe:
-        raise ValueError("A and B are already above the obstacle")
-    points = {"C": A, "D": np.array([A[0], y_safe]), "E": np.array([B[0], y_safe]), "F": B}
-    actions = (
-        Action("approach A", ("C",), "slow, vertical end-effector orientation"),
-        Action("pick object", ("C",), "grasp at rest (null velocity and acceleration)"),
-        Action("move object avoiding obstacle", ("C", "D", "E"), "lift to D, transfer to E above the obstacle"),
-        Action("approach B", ("E", "F"), "slow descent, vertical orientation"),
-        Action("place object", ("F",), "release at rest (null velocity and acceleration)"),
-    )
-    return PickAndPlacePlan(points, actions, y_safe)
-
-
-def pick_and_place_path(plan: PickAndPlacePlan, durations: Sequence[float], via_points: bool = False,
-                        overlap: float = 0.0, middle: str = "cubic", t_i: float = 0.0) -> SegmentSequence:
-    """The operational-space motion C → D → E → F of 6.2 as a :class:`SegmentSequence` (z = 0).
-
-    Path points: segments CD and EF are timed by quintics (null velocity *and* acceleration at C and
-    F: "at least fourth order"), DE by a cubic (``middle="cubic"``) or a trapezoidal velocity profile
-    (``"trapezoidal"``), back to back, so the arm stops at D and E. Via points: the same laws, but DE
-    and EF start ``overlap`` seconds before the previous segment ends, so the path rounds D and E.
-    """
-    T1, T2, T3 = (float(v) for v in as_vector(durations, 3, "durations"))
-    if min(T1, T2, T3) <= 0:
-        raise ValueError(f"`durations` must be positive, got {durations}")
-    if via_points and not 0 < overlap < min(T1, T2, T3):
-        raise ValueError(f"`overlap` must be in (0, {min(T1, T2, T3)}) for via points, got {overlap}")
-    shift = overlap if via_points else 0.0
-    pts = np.array([np.append(plan.points[k], 0.0) for k in "CDEF"])
-    L = np.linalg.norm(np.diff(pts, axis=0), axis=1)
-    t1 = t_i + T1
-    t2 = t1 - shift + T2
-    laws = [quintic_law(0.0, L[0], t1, t_i=t_i)]
-    if middle == "cubic":
-        laws.append(cubic_law(0.0, L[1], t2, t_i=t1 - shift))
-    elif middle == "trapezoidal":
-        laws.append(trapezoidal_law(0.0, L[1], t2, 1.5 * L[1] / T2, t_i=t1 - shift))
-    else:
-        raise ValueError(f"`middle` must be 'cubic' or 'trapezoidal', got {middle!r}")
-    laws.append(quintic_law(0.0, L[2], t2 - shift + T3, t_i=t2 - shift))
-    return SegmentSequence(pts, laws)
-
-
-def distance_to_box(p: np.ndarray, obstacle: Any) -> np.ndarray:
-    """Euclidean distance of planar points p (N, 2) to the box [x_min, x_max] × (−∞, top]."""
-    x_min, x_max, top = as_vector(obstacle, 3, "obstacle")
-    p = np.atleast_2d(p)
-    dx = np.maximum(np.maximum(x_min - p[:, 0], p[:, 0] - x_max), 0.0)
-    dy = np.maximum(p[:, 1] - top, 0.0)
-    return np.hypot(dx, dy)
 
 
 # --------------------------------------------------------------------------------------------
@@ -421,217 +322,3 @@ class ActionExecutor:
                                {o.name: o.position.copy() for o in self.workcell.objects})
 
 
-# --------------------------------------------------------------------------------------------
-# 6.3: peg-in-hole with a wrist force sensor
-# --------------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class SurfaceWithHole:
-    """A compliant horizontal surface y ≤ 0 with a hole (penalty contact, frictionless).
-
-    The hole is centred at ``x_hole`` with half-width ``clearance`` (hole radius minus peg radius:
-    the peg tip is a point), ``depth`` deep. The material reacts with stiffness ``stiffness`` [N/m]
-    and damping ``damping`` [N·s/m] along the normal of the nearest face (top surface, hole walls,
-    hole bottom); it only pushes.
-    """
-
-    x_hole: float
-    clearance: float
-    depth: float
-    stiffness: float = 2e4
-    damping: float = 50.0
-
-    def force(self, p: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """Force (f_x, f_y) exerted by the environment on the peg tip at position p, velocity v."""
-        x, y = p
-        if y >= 0.0:
-            return np.zeros(2)
-        offset = x - self.x_hole
-        into_wall = abs(offset) - self.clearance
-        if into_wall <= 0.0:                                        # inside the hole opening
-            pen = -self.depth - y
-            if pen <= 0.0:
-                return np.zeros(2)
-            return np.array([0.0, max(self.stiffness * pen - self.damping * v[1], 0.0)])
-        if -y <= into_wall:                                         # on the top surface
-            return np.array([0.0, max(self.stiffness * (-y) - self.damping * v[1], 0.0)])
-        sign = np.sign(offset)                                      # against a hole wall
-        return np.array([-sign * max(self.stiffness * into_wall + self.damping * v[0] * sign, 0.0), 0.0])
-
-
-class ForceSensingArm:
-    """A planar arm in contact with an environment, with a wrist force sensor.
-
-    The plant is :class:`~controllers.simulation.ArmPlant` with the contact force on the tip frame
-    ``frame``; ``measure(t, x)`` returns ``[q, q̇, f_x, f_y]`` where f is the force exerted by the end
-    effector on the environment (the sensor's reading, Sect. 9.1 convention: h_e).
-    """
-
-    def __init__(self, robot: Robot, environment: SurfaceWithHole, viscous_friction: Any = 0.0,
-                 frame: str | int | None = None):
-        self.robot, self.env, self.frame = robot, environment, frame
-        self._fid = robot.ee_frame if frame is None else robot.frame(frame)
-        self.arm = ArmPlant(robot, viscous_friction=viscous_friction, external_force=self._joint_torques)
-
-    def contact_force(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(force of the environment on the tip (2,), J_P rows x, y (2, n))."""
-        J, T = _jacobian_and_pose(self.robot, q, self._fid)
-        J = J[:2]
-        return self.env.force(T.translation[:2], J @ qd), J
-
-    def _joint_torques(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        f, J = self.contact_force(q, qd)
-        return -J.T @ f                       # J^T h_e with h_e = −f (force of the tip on the environment)
-
-    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        return self.arm.derivative(t, x, u)
-
-    def measure(self, t: float, x: np.ndarray) -> np.ndarray:
-        n = self.robot.nv
-        f, _ = self.contact_force(x[:n], x[n:])
-        return np.concatenate([x, -f])
-
-
-def _jacobian_and_pose(robot: Robot, q: np.ndarray, fid: int) -> tuple[np.ndarray, Any]:
-    """(geometric Jacobian (6, n), pose pin.SE3) of frame ``fid`` in one Pinocchio pass (hot loops: q is
-    trusted, no validation)."""
-    J = pin.computeFrameJacobian(robot.model, robot.data, q, fid, pin.LOCAL_WORLD_ALIGNED)
-    return J, robot.data.oMf[fid].copy()
-
-
-PEG_STATES = ("approach", "descend", "search", "insert", "done")
-
-
-@dataclass(frozen=True)
-class PegInHoleTask:
-    """Data of 6.3: estimated hole abscissa ``x_H``, approach height ``dy`` (Δy), search limit ``dx``
-    (Δx), force threshold ``eps`` (ε) [N], pushing force ``f_push`` [N] during the search, insertion
-    depth ``insert_depth`` [m], speeds ``v_slow`` (descent, insertion) and ``v_search`` [m/s], duration
-    of the fast approach ``T_approach`` [s], peg orientation ``phi`` (vertical, pointing down)."""
-
-    x_H: float
-    dy: float = 0.02
-    dx: float = 0.03
-    eps: float = 3.0
-    f_push: float = 10.0
-    insert_depth: float = 0.03
-    v_slow: float = 0.02
-    v_search: float = 0.02
-    T_approach: float = 1.0
-    phi: float = -np.pi / 2
-
-
-class PegInHoleController:
-    """The flow chart of Fig. S6.2 as a state machine driving a planar arm (x, y, φ task).
-
-    States: ``approach`` (fast pure motion to (x_H, Δy)), ``descend`` (slow motion along −y until
-    y < −Δy, or a contact force |f_y| > ε), ``search`` (force/position: x position-controlled, sliding
-    at ``v_search`` and inverting when |x − x_H| > Δx; y force-controlled to −f_push; until |f_y| < ε),
-    ``insert`` (force/position: y position-controlled down to −insert_depth, x force-controlled to 0,
-    the peg orientation held), ``done``.
-
-    The control law is a task-space PD with gravity compensation and a force command,
-    ``τ = g(q) + J^T (K_P S (x_d − x) + K_D (ẋ_d − ẋ) + f_d)`` with J the (x, y, ω_z) rows of the
-    geometric Jacobian and S selecting the position-controlled directions.
-    """
-
-    def __init__(self, robot: Robot, task: PegInHoleTask, K_P: Any = (3000.0, 3000.0, 300.0),
-                 K_D: Any = (120.0, 120.0, 10.0), frame: str | int | None = None):
-        self.robot, self.task, self.frame = robot, task, frame
-        self._fid = robot.ee_frame if frame is None else robot.frame(frame)
-        self.K_P, self.K_D = as_vector(K_P, 3, "K_P"), as_vector(K_D, 3, "K_D")
-        self.n = robot.nv
-        self.reset()
-
-    def reset(self) -> None:
-        self.state = "approach"
-        self.transitions: list[tuple[float, str]] = [(0.0, "approach")]
-        self.inversions = 0
-        self._law: Any = None
-        self._t0 = 0.0
-        self._y0 = 0.0
-        self._x_ref = 0.0
-        self._direction = 1.0
-        self._last_t = 0.0
-        self._log: dict[str, Any] = {}
-
-    def _switch(self, t: float, state: str) -> None:
-        self.state, self._t0 = state, t
-        self.transitions.append((t, state))
-
-    def __call__(self, t: float, meas: np.ndarray) -> np.ndarray:
-        n, task = self.n, self.task
-        q, qd, f = meas[:n], meas[n:2 * n], meas[2 * n:2 * n + 2]
-        J, T = _jacobian_and_pose(self.robot, q, self._fid)
-        J = J[[0, 1, 5]]
-        R, p = T.rotation, T.translation
-        x = np.array([p[0], p[1], np.arctan2(R[1, 0], R[0, 0])])
-        xd = J @ qd
-        x_d, xd_d = x.copy(), np.zeros(3)
-        select = np.ones(3)
-        force = np.zeros(3)
-        if self._law is None:                       # plan the fast approach from where the arm is
-            self._law = quintic_law(x, np.array([task.x_H, task.dy, task.phi]), t + task.T_approach, t_i=t)
-        if self.state == "approach":
-            x_d, xd_d, _ = self._law(t)
-            if t >= self._law.t_f and np.linalg.norm(x[:2] - x_d[:2]) < 1e-3:
-                self._switch(t, "descend")
-                self._y0 = x[1]
-        if self.state == "descend":
-            x_d = np.array([task.x_H, self._y0 - task.v_slow * (t - self._t0), task.phi])
-            xd_d = np.array([0.0, -task.v_slow, 0.0])
-            if abs(f[1]) > task.eps:
-                self._switch(t, "search")
-                self._x_ref = x[0]
-            elif x[1] < -task.dy:
-                self._switch(t, "insert")
-                self._y0 = x[1]
-        if self.state == "search":
-            if abs(f[1]) < task.eps:
-                self._switch(t, "insert")
-                self._y0 = x[1]
-            else:
-                dt = t - self._last_t
-                if abs(self._x_ref - task.x_H) > task.dx and np.sign(self._x_ref - task.x_H) == self._direction:
-                    self._direction = -self._direction
-                    self.inversions += 1
-                self._x_ref += self._direction * task.v_search * dt
-                x_d = np.array([self._x_ref, x[1], task.phi])
-                xd_d = np.array([self._direction * task.v_search, 0.0, 0.0])
-                select = np.array([1.0, 0.0, 1.0])
-                force = np.array([0.0, -task.f_push, 0.0])
-        if self.state == "insert":
-            y_d = max(self._y0 - task.v_slow * (t - self._t0), -task.insert_depth)
-            x_d = np.array([x[0], y_d, task.phi])
-            xd_d = np.array([0.0, -task.v_slow if y_d > -task.insert_depth else 0.0, 0.0])
-            select = np.array([0.0, 1.0, 1.0])
-            if x[1] < -task.insert_depth + 1e-3:
-                self._switch(t, "done")
-                self._y0 = -task.insert_depth
-        if self.state == "done":
-            x_d = np.array([x[0], -task.insert_depth, task.phi])
-            select = np.array([0.0, 1.0, 1.0])
-        self._last_t = t
-        e = x_d - x
-        e[2] = wrap_angle(e[2])
-        wrench = self.K_P * select * e + self.K_D * (xd_d - xd) + force
-        self._log = {"x_e": x, "x_d": x_d, "f": f, "state": PEG_STATES.index(self.state)}
-        return gravity_torques(self.robot, q) + J.T @ wrench
-
-    def log(self) -> dict[str, Any]:
-        return self._log
-
-
-def run_peg_in_hole(robot: Robot, environment: SurfaceWithHole, task: PegInHoleTask, q0: Any,
-                    duration: float, Ts: float = 1e-3, h: float = 1e-3,
-                    viscous_friction: Any = 0.0) -> tuple[Any, PegInHoleController]:
-    """Simulate the peg-in-hole state machine on ``robot`` against ``environment`` from ``q0``.
-
-    Returns the :class:`~controllers.simulation.SimulationResult` (signals ``x_e``, ``x_d``, ``f``,
-    ``state``) and the controller (its ``transitions`` and ``inversions``).
-    """
-    plant = ForceSensingArm(robot, environment, viscous_friction)
-    controller = PegInHoleController(robot, task)
-    x0 = np.concatenate([as_vector(q0, robot.nq, "q0"), np.zeros(robot.nv)])
-    res = simulate(plant, controller, (0.0, duration), x0, h=h, Ts=Ts)
-    return res, controller

@@ -5,7 +5,7 @@
   (3.76). The error e is the position error and one of the orientation errors of Sect. 3.7.3:
   Euler angles (analytical Jacobian), angle–axis (3.85) with (3.88)–(3.89), unit quaternion (3.91),
   (3.93). :class:`CLIK` is a discrete controller for :func:`controllers.simulation.simulate` on the
-  :class:`JointIntegrator` plant q̇ = u, whose RK4 step of a held input is exactly Euler's (3.48).
+  :class:`controllers.plants.JointIntegrator` plant q̇ = u, whose RK4 step of a held input is exactly Euler's (3.48).
 * **Two-stage CLIK** for a manipulator with a spherical wrist (Problem 3.14): position of the wrist
   point with the arm joints, then orientation with the wrist joints.
 * **Optimisation IK** (:class:`CasadiIK`): IPOPT on the symbolic kinematics of
@@ -42,7 +42,6 @@ __all__ = [
     "IKResult",
     "CLIK",
     "TwoStageCLIK",
-    "JointIntegrator",
     "constant_pose",
     "cosine_pose_reference",
     "manipulability_objective",
@@ -153,13 +152,6 @@ def manipulability_objective(robot: Robot, frame: str | int | None = None,
 # --------------------------------------------------------------------------------------------
 # CLIK as a discrete controller on the integrator plant
 # --------------------------------------------------------------------------------------------
-
-class JointIntegrator:
-    """The plant q̇ = u of a kinematic IK loop (x = q); RK4 with u held is Euler's step (3.48)."""
-
-    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        return u
-
 
 def constant_pose(T_d: Any) -> Callable[[float], tuple[np.ndarray, np.ndarray]]:
     """A reference t ↦ (T_d, 0): regulation to a fixed pose."""

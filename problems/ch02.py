@@ -11,47 +11,36 @@ and its solution manual (Problems 2.1–2.20, Tables S2.1–S2.3, (S2.1)–(S2.7
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
+import pinocchio as pin
+from matplotlib.path import Path as PolygonPath
+from scipy.spatial import cKDTree
 
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pinocchio as pin  # noqa: E402
-from matplotlib.path import Path as PolygonPath  # noqa: E402
-from scipy.spatial import cKDTree  # noqa: E402
-
-from problems.registry import Solution, problem  # noqa: E402
-from rigid_body import rotations as rot  # noqa: E402
-from rigid_body.closed_chain import (FourLinkClosedChain, closed_chain_direct_kinematics,  # noqa: E402
+from planners.configuration_space import polyline_distance
+from problems.common import label_axes, max_error, random_quaternion, random_rotation, subplots, unit
+from problems.registry import Solution, problem
+from rigid_body import rotations as rot
+from rigid_body.closed_chain import (FourLinkClosedChain, closed_chain_direct_kinematics,
                                      closed_chain_joints, loop_constraint_residual)
-from rigid_body.dh import dh_transform  # noqa: E402
-from rigid_body.kinematics import (ELBOW_DOWN, ELBOW_UP, direct_kinematics, distinct_solutions,  # noqa: E402
+from rigid_body.dh import dh_transform
+from rigid_body.kinematics import (ELBOW_DOWN, ELBOW_UP, direct_kinematics, distinct_solutions,
                                    frame_poses, inverse_kinematics_anthropomorphic,
                                    inverse_kinematics_cylindrical, inverse_kinematics_scara, joint_arc,
                                    planar_3r_workspace_contour, workspace_points)
-from rigid_body.robots import load  # noqa: E402
-from rigid_body.trees import Humanoid, robot_from_dh_tree  # noqa: E402
+from rigid_body.robots import load
+from rigid_body.trees import Humanoid, robot_from_dh_tree
 
 N_RANDOM = 50  # random samples per closed-form check
 N_WORKSPACE = 200_000  # joint samples of the 2.17 workspace
 c, s = np.cos, np.sin
 
 
-def _max_error(pairs) -> float:
-    return max(float(np.max(np.abs(np.asarray(a, dtype=float) - np.asarray(b, dtype=float)))) for a, b in pairs)
 
 
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v)
 
 
-def _random_rotation(rng: np.random.Generator) -> np.ndarray:
-    return pin.exp3(rng.uniform(-np.pi, np.pi) * _unit(rng.normal(size=3)))
 
 
-def _random_quaternion(rng: np.random.Generator) -> np.ndarray:
-    return _unit(rng.normal(size=4))
 
 
 # --------------------------------------------------------------------------------------------
@@ -87,12 +76,12 @@ def problem_2_1() -> Solution:
         true = np.array([ph, th, ps]) if th > 0 else np.array([ph + np.pi, -th, ps + np.pi])
         inv_pairs.append((rot.wrap_angle(rot.rotation_to_euler_zxz(R, 1).angles - true), 0.0))
     sol.value("R_example", rot.euler_zxz_to_rotation([0.3, 0.5, -0.2]))
-    sol.check("zxz_matrix_matches_manual", _max_error(pairs) < 1e-12,
-              f"max |error| = {_max_error(pairs):.2e} over {N_RANDOM} random angle sets "
+    sol.check("zxz_matrix_matches_manual", max_error(pairs) < 1e-12,
+              f"max |error| = {max_error(pairs):.2e} over {N_RANDOM} random angle sets "
               "(manual erratum: third factor is R_z''(psi), printed R_z''(varphi))")
-    sol.check("inverse_matches_manual_both_ranges", _max_error(inv_pairs) < 1e-9,
-              f"theta in (0, pi) and (-pi, 0): max angle error (mod 2pi) = {_max_error(inv_pairs):.2e}")
-    sol.check("inverse_reproduces_R", _max_error(back) < 1e-12, f"max |R(phi(R)) - R| = {_max_error(back):.2e}")
+    sol.check("inverse_matches_manual_both_ranges", max_error(inv_pairs) < 1e-9,
+              f"theta in (0, pi) and (-pi, 0): max angle error (mod 2pi) = {max_error(inv_pairs):.2e}")
+    sol.check("inverse_reproduces_R", max_error(back) < 1e-12, f"max |R(phi(R)) - R| = {max_error(back):.2e}")
     return sol
 
 
@@ -119,11 +108,11 @@ def problem_2_2() -> Solution:
                 flags.append(res.singular)
                 rep.append((rot.euler_zyz_to_rotation(res.angles), R))
                 atan.append((rot.wrap_angle(res.angles[0] + sign * res.angles[2] - g), 0.0))
-    sol.check("closed_forms_theta_0_and_pi", _max_error(closed) < 1e-12, f"max |error| = {_max_error(closed):.2e}")
-    sol.check("phi_pm_psi_is_atan2(-r12, r22)", _max_error(atan) < 1e-9,
-              f"+ for theta = 0, - for theta = pi; max error (mod 2pi) = {_max_error(atan):.2e}")
+    sol.check_error("closed_forms_theta_0_and_pi", max_error(closed), 1e-12)
+    sol.check("phi_pm_psi_is_atan2(-r12, r22)", max_error(atan) < 1e-9,
+              f"+ for theta = 0, - for theta = pi; max error (mod 2pi) = {max_error(atan):.2e}")
     sol.check("singularity_flagged", all(flags), f"{sum(flags)}/{len(flags)} inverses flagged singular")
-    sol.check("representative_reproduces_R", _max_error(rep) < 1e-12, f"max |error| = {_max_error(rep):.2e}")
+    sol.check_error("representative_reproduces_R", max_error(rep), 1e-12)
     regular = rot.rotation_to_euler_zyz(rot.euler_zyz_to_rotation([0.1, 0.2, 0.3]))
     sol.check("regular_case_not_flagged", not regular.singular, "theta = 0.2 is not singular")
     return sol
@@ -151,12 +140,12 @@ def problem_2_3() -> Solution:
                 res = rot.rotation_to_rpy(R, branch)
                 flags.append(res.singular)
                 rep.append((rot.rpy_to_rotation(res.angles), R))
-    sol.check("closed_forms_theta_pm_pi_2", _max_error(closed) < 1e-12,
-              f"manual matrices and pin.rpy.rpyToMatrix: max |error| = {_max_error(closed):.2e}")
-    sol.check("psi_pm_phi_is_atan2(-r23, r22)", _max_error(atan) < 1e-9,
-              f"+ for theta = -pi/2, - for theta = pi/2; max error (mod 2pi) = {_max_error(atan):.2e}")
+    sol.check("closed_forms_theta_pm_pi_2", max_error(closed) < 1e-12,
+              f"manual matrices and pin.rpy.rpyToMatrix: max |error| = {max_error(closed):.2e}")
+    sol.check("psi_pm_phi_is_atan2(-r23, r22)", max_error(atan) < 1e-9,
+              f"+ for theta = -pi/2, - for theta = pi/2; max error (mod 2pi) = {max_error(atan):.2e}")
     sol.check("singularity_flagged", all(flags), f"{sum(flags)}/{len(flags)} inverses flagged singular")
-    sol.check("representative_reproduces_R", _max_error(rep) < 1e-12, f"max |error| = {_max_error(rep):.2e}")
+    sol.check_error("representative_reproduces_R", max_error(rep), 1e-12)
     return sol
 
 
@@ -171,7 +160,7 @@ def problem_2_4() -> Solution:
     rng = np.random.default_rng(24)
     pairs = []
     for _ in range(N_RANDOM):
-        r, th = _unit(rng.normal(size=3)), rng.uniform(-np.pi, np.pi)
+        r, th = unit(rng.normal(size=3)), rng.uniform(-np.pi, np.pi)
         al, be = np.arctan2(r[1], r[0]), np.arctan2(np.hypot(r[0], r[1]), r[2])
         product = rot.rot_z(al) @ rot.rot_y(be) @ rot.rot_z(th) @ rot.rot_y(-be) @ rot.rot_z(-al)
         ca, sa, cb, sb, ct, st = c(al), s(al), c(be), s(be), c(th), s(th)
@@ -183,9 +172,9 @@ def problem_2_4() -> Solution:
             [ca * sb * cb * (1 - ct) - sa * sb * st, sa * sb * cb * (1 - ct) + ca * sb * st, sb**2 * ct + cb**2]])
         R = rot.axis_angle_to_rotation(th, r)
         pairs += [(R, product), (R, rows), (R, pin.exp3(th * r))]
-    sol.check("rodrigues_equals_five_factor_product", _max_error(pairs) < 1e-12,
-              f"(2.25) vs (2.24), the manual's expansion and pin.exp3: max |error| = {_max_error(pairs):.2e}")
-    sol.value("R_pi_3_about_111", rot.axis_angle_to_rotation(np.pi / 3, _unit(np.ones(3))))
+    sol.check("rodrigues_equals_five_factor_product", max_error(pairs) < 1e-12,
+              f"(2.25) vs (2.24), the manual's expansion and pin.exp3: max |error| = {max_error(pairs):.2e}")
+    sol.value("R_pi_3_about_111", rot.axis_angle_to_rotation(np.pi / 3, unit(np.ones(3))))
     return sol
 
 
@@ -201,16 +190,15 @@ def problem_2_5() -> Solution:
     rng = np.random.default_rng(25)
     pairs, manual = [], []
     for _ in range(N_RANDOM):
-        R = _random_rotation(rng)
+        R = random_rotation(rng)
         th, r = rot.rotation_to_axis_angle(R)
         manual_th = np.arccos((np.trace(R) - 1) / 2)
         manual_r = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]]) / (2 * np.sin(manual_th))
         manual += [(th, manual_th), (r, manual_r), (th * r, pin.log3(R))]
         pairs.append((rot.axis_angle_to_rotation(th, r), R))
-    sol.check("general_case_matches_2_27_and_log3", _max_error(manual) < 1e-8,
-              f"max |error| = {_max_error(manual):.2e}")
+    sol.check_error("general_case_matches_2_27_and_log3", max_error(manual), 1e-8)
     pi_axes = [np.array(v, float) for v in ([0, 1, 0], [0, 1 / np.sqrt(2), 1 / np.sqrt(2)], [1, 0, 0],
-                                             [0.6, 0, -0.8])] + [_unit(rng.normal(size=3)) for _ in range(10)]
+                                             [0.6, 0, -0.8])] + [unit(rng.normal(size=3)) for _ in range(10)]
     pi_err = []
     for r in pi_axes:
         R = rot.axis_angle_to_rotation(np.pi, r)
@@ -221,7 +209,7 @@ def problem_2_5() -> Solution:
               f"{len(pi_axes)} axes incl. r_x = 0: max error {max(pi_err):.2e} (largest-diagonal column)")
     th0, r0 = rot.rotation_to_axis_angle(np.eye(3))
     sol.check("theta_zero_any_unit_axis", th0 == 0.0 and abs(np.linalg.norm(r0) - 1) < 1e-15, f"theta = {th0}")
-    sol.check("recomposition", _max_error(pairs) < 1e-12, f"max |error| = {_max_error(pairs):.2e}")
+    sol.check_error("recomposition", max_error(pairs), 1e-12)
     return sol
 
 
@@ -233,14 +221,14 @@ def problem_2_6() -> Solution:
     rng = np.random.default_rng(26)
     pairs = []
     for _ in range(N_RANDOM):
-        r, th = _unit(rng.normal(size=3)), rng.uniform(-np.pi, np.pi)
+        r, th = unit(rng.normal(size=3)), rng.uniform(-np.pi, np.pi)
         eta, eps = np.cos(th / 2), np.sin(th / 2) * r
         R = rot.quaternion_to_rotation(np.concatenate([[eta], eps]))
         pairs += [(R, rot.axis_angle_to_rotation(th, r)), (R, pin.Quaternion(eta, *eps).toRotationMatrix()),
                   (np.cos(th), 2 * eta**2 - 1), (r * np.sin(th), 2 * eta * eps),
                   (np.outer(r, r) * (1 - np.cos(th)), 2 * np.outer(eps, eps))]
-    sol.check("quaternion_matrix_equals_axis_angle", _max_error(pairs) < 1e-12,
-              f"(2.33) vs (2.25), pin.Quaternion and the three identities: max |error| = {_max_error(pairs):.2e}")
+    sol.check("quaternion_matrix_equals_axis_angle", max_error(pairs) < 1e-12,
+              f"(2.33) vs (2.25), pin.Quaternion and the three identities: max |error| = {max_error(pairs):.2e}")
     return sol
 
 
@@ -251,10 +239,10 @@ def problem_2_7() -> Solution:
     rng = np.random.default_rng(27)
     pairs = []
     for _ in range(N_RANDOM):
-        Q = _random_quaternion(rng)
+        Q = random_quaternion(rng)
         R = rot.quaternion_to_rotation(Q)
         pairs += [(R @ Q[1:], Q[1:]), (R.T @ Q[1:], Q[1:])]
-    sol.check("R_eps_equals_eps", _max_error(pairs) < 1e-12, f"max |error| = {_max_error(pairs):.2e}")
+    sol.check_error("R_eps_equals_eps", max_error(pairs), 1e-12)
     return sol
 
 
@@ -271,7 +259,7 @@ def problem_2_8() -> Solution:
     ident, book, trip, signs = [], [], [], []
     sgn = lambda x: 1.0 if x >= 0 else -1.0  # noqa: E731 (the book's sgn)
     for _ in range(N_RANDOM):
-        Q = _random_quaternion(rng)
+        Q = random_quaternion(rng)
         R = rot.quaternion_to_rotation(Q)
         eta, eps = Q[0], Q[1:]
         ident.append((np.trace(R) + 1, 6 * eta**2 + 2 * eps @ eps - 2))
@@ -288,16 +276,16 @@ def problem_2_8() -> Solution:
                                      sgn(R[0, 2] - R[2, 0]) * np.sqrt(max(R[1, 1] - R[2, 2] - R[0, 0] + 1, 0)),
                                      sgn(R[1, 0] - R[0, 1]) * np.sqrt(max(R[2, 2] - R[0, 0] - R[1, 1] + 1, 0))])
             book.append((Q_hat, np.concatenate([[0.5 * np.sqrt(np.trace(R) + 1)], e_book])))
-    near_pi = [rot.axis_angle_to_rotation(np.pi - e, _unit(rng.normal(size=3))) for e in (0.0, 1e-12, 1e-8)]
+    near_pi = [rot.axis_angle_to_rotation(np.pi - e, unit(rng.normal(size=3))) for e in (0.0, 1e-12, 1e-8)]
     trip += [(rot.quaternion_to_rotation(rot.rotation_to_quaternion(R)), R) for R in near_pi]
-    sol.check("trace_identity", _max_error(ident) < 1e-12,
-              f"tr R + 1 = 6 eta^2 + 2 eps'eps - 2 = 4 eta^2; max |error| = {_max_error(ident):.2e} "
+    sol.check("trace_identity", max_error(ident) < 1e-12,
+              f"tr R + 1 = 6 eta^2 + 2 eps'eps - 2 = 4 eta^2; max |error| = {max_error(ident):.2e} "
               "(manual erratum: LHS printed as 1/2 sqrt(r11+r22+r33+1))")
     sol.check("eta_nonnegative", all(signs), "eta >= 0 for every sample")
-    sol.check("matches_book_formula_2_34_2_35", _max_error(book) < 1e-8,
-              f"{len(book)} samples with |eta| > 0.1: max |error| = {_max_error(book):.2e}")
-    sol.check("round_trip_and_pinocchio", _max_error(trip) < 1e-12,
-              f"incl. eta ~ 0 (theta = pi - {{0, 1e-12, 1e-8}}): max |error| = {_max_error(trip):.2e}")
+    sol.check("matches_book_formula_2_34_2_35", max_error(book) < 1e-8,
+              f"{len(book)} samples with |eta| > 0.1: max |error| = {max_error(book):.2e}")
+    sol.check("round_trip_and_pinocchio", max_error(trip) < 1e-12,
+              f"incl. eta ~ 0 (theta = pi - {{0, 1e-12, 1e-8}}): max |error| = {max_error(trip):.2e}")
     return sol
 
 
@@ -312,14 +300,14 @@ def problem_2_9() -> Solution:
     rng = np.random.default_rng(29)
     pairs = []
     for _ in range(N_RANDOM):
-        Q1, Q2 = _random_quaternion(rng), _random_quaternion(rng)
+        Q1, Q2 = random_quaternion(rng), random_quaternion(rng)
         R = rot.quaternion_to_rotation(Q1) @ rot.quaternion_to_rotation(Q2)
         Q = rot.quaternion_product(Q1, Q2)
         pq = pin.Quaternion(*Q1) * pin.Quaternion(*Q2)
         pairs += [(rot.quaternion_to_rotation(Q), R), (0.25 * (np.trace(R) + 1), Q[0] ** 2),
                   (Q, [pq.w, pq.x, pq.y, pq.z])]
-    sol.check("product_is_composition", _max_error(pairs) < 1e-12,
-              f"R(Q1*Q2) = R1 R2, trace identity, pin product: max |error| = {_max_error(pairs):.2e}")
+    sol.check("product_is_composition", max_error(pairs) < 1e-12,
+              f"R(Q1*Q2) = R1 R2, trace identity, pin product: max |error| = {max_error(pairs):.2e}")
     return sol
 
 
@@ -331,10 +319,10 @@ def problem_2_10() -> Solution:
     rng = np.random.default_rng(30)
     pairs = []
     for _ in range(N_RANDOM):
-        T = rot.homogeneous_transform(_random_rotation(rng), rng.uniform(-2, 2, 3))
+        T = rot.homogeneous_transform(random_rotation(rng), rng.uniform(-2, 2, 3))
         Ti = rot.homogeneous_inverse(T)
         pairs += [(Ti, np.linalg.inv(T)), (Ti, pin.SE3(T).inverse().homogeneous), (Ti @ T, np.eye(4))]
-    sol.check("inverse_matches_linalg_and_se3", _max_error(pairs) < 1e-12, f"max |error| = {_max_error(pairs):.2e}")
+    sol.check_error("inverse_matches_linalg_and_se3", max_error(pairs), 1e-12)
     return sol
 
 
@@ -377,8 +365,8 @@ def problem_2_11() -> Solution:
                       (dh_transform(0.0, np.pi / 2, 0.0, th3), A32)]
     sol.check("loop_constraints_2_60_hold", max(residual) < 1e-12,
               f"(S2.1)-(S2.2) joints on the Pinocchio tree: max constraint residual {max(residual):.2e}")
-    sol.check("A_matrices_match_manual", _max_error(forms) < 1e-12,
-              f"A_3'^2', A_3'^0, A_1''^0, T_4^0 = A_3'^0 A_4^3' vs Pinocchio: max |error| = {_max_error(forms):.2e}")
+    sol.check("A_matrices_match_manual", max_error(forms) < 1e-12,
+              f"A_3'^2', A_3'^0, A_1''^0, T_4^0 = A_3'^0 A_4^3' vs Pinocchio: max |error| = {max_error(forms):.2e}")
     grid = np.linspace(-np.pi, np.pi, 25)
     closes = all(np.all(np.isfinite(closed_chain_joints(chain, [x, y]))) for x in grid for y in grid)
     sol.check("solution_exists_everywhere_when_a1p_plus_a1pp_le_a2p", closes,
@@ -417,8 +405,8 @@ def problem_2_12() -> Solution:
         T1, T2, T3 = frame_poses(robot, q, ["frame_1", "frame_2", "frame_3"])
         pairs += [(T3, manual), (T1, A1), (T2, np.array(A1) @ A2), (T3, np.array(A1) @ A2 @ A3),
                   (direct_kinematics(robot, q), manual)]
-    sol.check("pinocchio_equals_manual_T30", _max_error(pairs) < 1e-12,
-              f"{N_RANDOM} random q: max |error| = {_max_error(pairs):.2e}")
+    sol.check("pinocchio_equals_manual_T30", max_error(pairs) < 1e-12,
+              f"{N_RANDOM} random q: max |error| = {max_error(pairs):.2e}")
     return sol
 
 
@@ -439,8 +427,8 @@ def problem_2_13() -> Solution:
         manual = [[c(t), -s(t), 0, a1 * c(t1) + a2 * c(t1 + t2)], [s(t), c(t), 0, a1 * s(t1) + a2 * s(t1 + t2)],
                   [0, 0, 1, d3], [0, 0, 0, 1]]
         pairs.append((direct_kinematics(robot, q), manual))
-    sol.check("pinocchio_equals_S2_3", _max_error(pairs) < 1e-12, f"{N_RANDOM} random q: max |error| = "
-              f"{_max_error(pairs):.2e} (a three-link planar arm with a3 = 0, theta4 for theta3, z = d3)")
+    sol.check("pinocchio_equals_S2_3", max_error(pairs) < 1e-12, f"{N_RANDOM} random q: max |error| = "
+              f"{max_error(pairs):.2e} (a three-link planar arm with a3 = 0, theta4 for theta3, z = d3)")
     return sol
 
 
@@ -483,10 +471,10 @@ def problem_2_14() -> Solution:
         torso.append((T3, manual_T3))
         A_l, A_r = hum.hand_poses(q)
         pairs += [(T_lh, A_l), (T_rh, A_r)]
-    sol.check("torso_is_anthropomorphic_2_66", _max_error(torso) < 1e-12, f"max |error| = {_max_error(torso):.2e}")
-    sol.check("hand_poses_equal_2_78_2_79", _max_error(pairs) < 1e-12,
+    sol.check_error("torso_is_anthropomorphic_2_66", max_error(torso), 1e-12)
+    sol.check("hand_poses_equal_2_78_2_79", max_error(pairs) < 1e-12,
               f"Pinocchio tree vs T_3^0 T_t^3 T_l^t T_lh^l and T_3^0 T_t^3 T_r^t T_rh^r: max |error| = "
-              f"{_max_error(pairs):.2e} ({N_RANDOM} random q, nq = {robot.nq})")
+              f"{max_error(pairs):.2e} ({N_RANDOM} random q, nq = {robot.nq})")
     sol.value("T_lt", T_l)
     sol.value("T_rt", T_r)
     return sol
@@ -534,8 +522,8 @@ def problem_2_16() -> Solution:
     for eps in (1e-2, 1e-3, 1e-4):
         worst = dict.fromkeys(ratios, 0.0)
         for _ in range(20):
-            d = eps * _unit(rng.normal(size=3))
-            dp = eps * _unit(rng.normal(size=3))
+            d = eps * unit(rng.normal(size=3))
+            dp = eps * unit(rng.normal(size=3))
             Rx, Ry, Rz = rot.rot_x(d[0]), rot.rot_y(d[1]), rot.rot_z(d[2])
             first = np.eye(3) + rot.skew(d)  # R(dφx, dφy, dφz) of the manual
             R_of = lambda v: rot.rot_x(v[0]) @ rot.rot_y(v[1]) @ rot.rot_z(v[2])  # noqa: E731
@@ -549,15 +537,6 @@ def problem_2_16() -> Solution:
                   "max error / eps^2 at eps = 1e-2, 1e-3, 1e-4: " + ", ".join(f"{x:.3f}" for x in r))
     sol.value("error_over_eps2", {k: np.array(v) for k, v in ratios.items()})
     return sol
-
-
-def _distance_to_polyline(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    """Distance of each point (m, 2) to the closed polyline ``poly`` (k, 2)."""
-    a, b = poly[:-1], poly[1:]
-    ab = b - a
-    t = np.clip(np.einsum("mkj,kj->mk", points[:, None, :] - a[None], ab) / np.einsum("kj,kj->k", ab, ab), 0, 1)
-    closest = a[None] + t[..., None] * ab[None]
-    return np.min(np.linalg.norm(points[:, None, :] - closest, axis=2), axis=1)
 
 
 @problem("2.17", "Workspace of a three-link planar arm with joint limits", kind="numeric")
@@ -590,20 +569,20 @@ def problem_2_17() -> Solution:
         closed = np.array([a @ np.cos(cum), a @ np.sin(cum)])
         pts[name] = direct_kinematics(robot, q)[:2, 3]
         fk_pairs.append((pts[name], closed))
-    sol.check("configurations_fk_match_2_63", _max_error(fk_pairs) < 1e-12,
-              f"18 configurations: max |error| = {_max_error(fk_pairs):.2e}")
+    sol.check("configurations_fk_match_2_63", max_error(fk_pairs) < 1e-12,
+              f"18 configurations: max |error| = {max_error(fk_pairs):.2e}")
     contour = planar_3r_workspace_contour(robot)
     poly = contour.points
     samples = workspace_points(robot, N_WORKSPACE, rng)[:, :2]
     inside = PolygonPath(poly).contains_points(samples)
-    outside_dist = _distance_to_polyline(samples[~inside], poly) if np.any(~inside) else np.zeros(1)
+    outside_dist = polyline_distance(samples[~inside], poly) if np.any(~inside) else np.zeros(1)
     sol.check("samples_inside_contour_AMQRPHEDA", float(np.max(outside_dist)) < 1e-3,
               f"{int(inside.sum())}/{N_WORKSPACE} strictly inside; the others within {np.max(outside_dist):.1e} m of the "
               "contour (arc chords)")
     xs, ys = np.meshgrid(np.linspace(-1, 1, 81), np.linspace(-1, 1, 81))
     grid = np.column_stack([xs.ravel(), ys.ravel()])
     grid = grid[PolygonPath(poly).contains_points(grid)]
-    grid = grid[_distance_to_polyline(grid, poly) > 0.015]
+    grid = grid[polyline_distance(grid, poly) > 0.015]
     gap = cKDTree(samples).query(grid)[0]
     sol.check("interior_is_covered", float(np.max(gap)) < 0.015,
               f"{len(grid)} grid points inside (> 0.015 m from the contour): nearest sample within {np.max(gap):.4f} m")
@@ -616,7 +595,7 @@ def problem_2_17() -> Solution:
     radii = [np.linalg.norm(pts[k]) for k in "HEDA"]
     sol.check_close("H_E_D_A_on_one_circle", np.array(radii), np.full(4, radii[0]), atol=1e-12)
     mirrored = poly * [1.0, -1.0]
-    sym = max(float(np.max(_distance_to_polyline(mirrored, poly))), float(np.max(_distance_to_polyline(poly, mirrored))))
+    sym = max(float(np.max(polyline_distance(mirrored, poly))), float(np.max(polyline_distance(poly, mirrored))))
     mirrored_inside = PolygonPath(poly).contains_points(samples * [1.0, -1.0])
     sol.check("symmetric_about_x_axis", sym < 1e-3 and mirrored_inside.mean() == inside.mean(),
               f"Hausdorff(contour, mirror) = {sym:.1e} m; mirrored samples inside: {mirrored_inside.mean():.4f} "
@@ -626,7 +605,7 @@ def problem_2_17() -> Solution:
     sol.value("corners", {k: v for k, v in pts.items()})
     sol.value("radius_inner_circle", radii[0])
 
-    fig, ax = plt.subplots(figsize=(6.5, 6.5))
+    fig, ax = subplots(figsize=(6.5, 6.5))
     ax.plot(samples[::20, 0], samples[::20, 1], ".", ms=1, color="0.75", label="random joint samples")
     for n1, q1 in configs.items():  # all single-joint arcs between the special configurations
         for n2, q2 in configs.items():
@@ -639,11 +618,8 @@ def problem_2_17() -> Solution:
         ax.annotate(name, p, textcoords="offset points", xytext=(3, 3), fontsize=8)
         ax.plot(*p, "k.", ms=4)
     ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.legend(loc="lower left", fontsize=8)
-    fig.suptitle("Problem 2.17 / Fig. S2.4: reachable workspace of the three-link planar arm")
-    sol.figure(fig)
+    label_axes(ax, "x [m]", "y [m]", legend="lower left", grid=False, fontsize=8)
+    sol.figure(fig, "Problem 2.17 / Fig. S2.4: reachable workspace of the three-link planar arm")
     return sol
 
 
@@ -678,8 +654,8 @@ def problem_2_18() -> Solution:
                        (rot.wrap_angle(qs[2, 1] - np.arctan2(fa * p[2], -fb * rho)), 0.0),  # (S2.5)/(S2.7)
                        (rot.wrap_angle(qs[3, 1] - qs[2, 1]), 0.0)]
     sol.check("s3_zero_gives_two_solutions", set(counts) == {2}, f"distinct solutions: {sorted(set(counts))}")
-    sol.check("theta2_matches_S2_4_to_S2_7", _max_error(manual) < 1e-9,
-              f"theta2,I = theta2,III and theta2,II = theta2,IV as in (S2.4)-(S2.7): max error {_max_error(manual):.2e}")
+    sol.check("theta2_matches_S2_4_to_S2_7", max_error(manual) < 1e-9,
+              f"theta2,I = theta2,III and theta2,II = theta2,IV as in (S2.4)-(S2.7): max error {max_error(manual):.2e}")
     axis_fk, axis_th2 = [], []
     for p_z, th3 in ((a2 + a3, 0.0), (-(a2 + a3), 0.0), (a2 - a3, np.pi), (-(a2 - a3), np.pi)):
         for th1 in rng.uniform(-np.pi, np.pi, 5):
@@ -687,20 +663,20 @@ def problem_2_18() -> Solution:
             axis_fk += [(direct_kinematics(robot, qk)[:3, 3], [0, 0, p_z]) for qk in qs]
             axis_th2.append((np.abs(np.abs(qs[:, 1]) - np.pi / 2), np.zeros(4)))
             axis_fk.append((direct_kinematics(robot, [th1, np.sign(p_z) * np.pi / 2, th3])[:3, 3], [0, 0, p_z]))
-    sol.check("on_z_axis_theta1_arbitrary", _max_error(axis_fk) < 1e-12,
-              f"p_W = [0, 0, ±(a2+a3)] and [0, 0, ±|a2-a3|], 5 random theta1 each: max FK error {_max_error(axis_fk):.2e}")
-    sol.check("on_z_axis_theta2_is_pm_pi_2", _max_error(axis_th2) < 1e-12, f"max ||theta2| - pi/2| = {_max_error(axis_th2):.1e}")
+    sol.check("on_z_axis_theta1_arbitrary", max_error(axis_fk) < 1e-12,
+              f"p_W = [0, 0, ±(a2+a3)] and [0, 0, ±|a2-a3|], 5 random theta1 each: max FK error {max_error(axis_fk):.2e}")
+    sol.check("on_z_axis_theta2_is_pm_pi_2", max_error(axis_th2) < 1e-12, f"max ||theta2| - pi/2| = {max_error(axis_th2):.1e}")
     equal = load("anthropomorphic", a2=0.5, a3=0.5)
     zero = []
     for th1, th2 in rng.uniform(-np.pi, np.pi, (10, 2)):
         zero.append((direct_kinematics(equal, [th1, th2, np.pi])[:3, 3], np.zeros(3)))
         qs = inverse_kinematics_anthropomorphic([0, 0, 0], theta1=th1, theta2=th2, a2=0.5, a3=0.5)
         zero += [(direct_kinematics(equal, qk)[:3, 3], np.zeros(3)) for qk in qs]
-    sol.check("a2_eq_a3_theta1_theta2_arbitrary", _max_error(zero) < 1e-12,
-              f"a2 = a3 = 0.5, theta3 = pi: p_W = 0 for 10 random (theta1, theta2); max error {_max_error(zero):.2e}")
+    sol.check("a2_eq_a3_theta1_theta2_arbitrary", max_error(zero) < 1e-12,
+              f"a2 = a3 = 0.5, theta3 = pi: p_W = 0 for 10 random (theta1, theta2); max error {max_error(zero):.2e}")
     regular = len(distinct_solutions(inverse_kinematics_anthropomorphic([0.3, 0.2, 0.4], a2=a2, a3=a3)))
     sol.check("regular_case_four_solutions", regular == 4, f"{regular} distinct solutions at p_W = [0.3, 0.2, 0.4]")
-    sol.check("fk_of_every_solution", _max_error(fk) < 1e-12, f"max |FK(q) - p_W| = {_max_error(fk):.2e}")
+    sol.check("fk_of_every_solution", max_error(fk) < 1e-12, f"max |FK(q) - p_W| = {max_error(fk):.2e}")
     return sol
 
 
@@ -720,7 +696,7 @@ def problem_2_19() -> Solution:
         manual = [np.arctan2(-p[0], p[1]), p[2], np.hypot(p[0], p[1])]
         pairs += [(direct_kinematics(robot, q_hat)[:3, 3], p), (q_hat, manual),
                   (np.concatenate([[rot.wrap_angle(q_hat[0] - q[0])], q_hat[1:] - q[1:]]), np.zeros(3))]
-    sol.check("ik_of_fk_is_identity", _max_error(pairs) < 1e-12, f"{N_RANDOM} random q: max error {_max_error(pairs):.2e}")
+    sol.check("ik_of_fk_is_identity", max_error(pairs) < 1e-12, f"{N_RANDOM} random q: max error {max_error(pairs):.2e}")
     return sol
 
 
@@ -747,7 +723,7 @@ def problem_2_20() -> Solution:
         c2 = (px**2 + py**2 - 0.25 - 0.25) / (2 * 0.5 * 0.5)
         fk.append((np.cos(qs[:, 1]), [c2, c2]))
         fk.append((np.sign(qs[[ELBOW_UP, ELBOW_DOWN], 1]), [-1.0, 1.0]))
-    sol.check("both_branches_satisfy_fk", _max_error(fk) < 1e-10, f"max error {_max_error(fk):.2e}")
+    sol.check("both_branches_satisfy_fk", max_error(fk) < 1e-10, f"max error {max_error(fk):.2e}")
     sol.check("one_branch_returns_q", max(found) < 1e-10, f"max distance to the true q: {max(found):.2e}")
     q_up = sol.value("q_companion_example", inverse_kinematics_scara([1.0, 1.0, 0.5, np.pi / 4], a=(1.0, 1.0))[ELBOW_UP])
     sol.check_close("companion_inv_ksu_example", q_up, [np.pi / 2, -np.pi / 2, 0.5, np.pi / 4], atol=1e-12)

@@ -1,7 +1,7 @@
 """Chapter 3 — Differential kinematics and statics: Problems 3.1–3.23.
 
 Each problem builds its data, calls the library (``rigid_body.kinematics``, ``rigid_body.rotations``,
-``rigid_body.statics``, ``rigid_body.manipulability``, ``planners.inverse_kinematics``) and checks the
+``rigid_body.manipulability``, ``planners.inverse_kinematics``, ``planners.configuration_space``) and checks the
 manual's closed forms numerically at many random configurations, against an independent reference
 (finite differences, a second formula, a QP solver, brute force).
 
@@ -11,47 +11,37 @@ and its solution manual; data of 3.21/3.22 from the authors' companion files (i3
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
+import pinocchio as pin
 
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pinocchio as pin  # noqa: E402
-
-from controllers.simulation import simulate  # noqa: E402
-from planners.inverse_kinematics import (CLIK, JointIntegrator, TwoStageCLIK,  # noqa: E402
-                                         cosine_pose_reference, gradient_velocity)
-from problems.registry import Solution, problem  # noqa: E402
-from rigid_body.kinematics import (analytical_jacobian, direct_kinematics, frame_poses,  # noqa: E402
+from controllers.plants import JointIntegrator
+from controllers.simulation import simulate
+from planners.configuration_space import (planar_arm_obstacle_distance, planar_arm_obstacle_distance_gradient,
+                                           segment_chain_distance)
+from planners.inverse_kinematics import CLIK, TwoStageCLIK, cosine_pose_reference, gradient_velocity
+from problems.common import label_axes, max_error, random_quaternion, random_rotation, subplots
+from problems.registry import Solution, problem
+from rigid_body.kinematics import (analytical_jacobian, direct_kinematics, frame_poses,
                                    geometric_jacobian)
-from rigid_body.manipulability import (force_ellipsoid, jacobian_rank, manipulability, plot_ellipse,  # noqa: E402
+from rigid_body.manipulability import (force_ellipsoid, jacobian_rank, manipulability, plot_ellipse,
                                        singular_values, velocity_ellipsoid)
-from rigid_body.robots import load  # noqa: E402
-from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz,  # noqa: E402
+from rigid_body.robots import load
+from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz,
                                   euler_zyz_to_rotation, orientation_error_axis_angle,
                                   orientation_error_matrix, orientation_error_quaternion,
                                   quaternion_angular_velocity, quaternion_product, quaternion_rate,
                                   quaternion_to_rotation, rot_x, rot_y, rot_z, rotation_to_axis_angle,
                                   rotation_to_quaternion, rpy_to_rotation, skew, vee)
-from rigid_body.statics import (planar_arm_obstacle_distance, planar_arm_obstacle_distance_gradient,  # noqa: E402
-                                segment_chain_distance)
-from rigid_body.task_space import TaskSpace, damped_least_squares_inverse, weighted_pseudo_inverse  # noqa: E402
+from rigid_body.task_space import TaskSpace, damped_least_squares_inverse, weighted_pseudo_inverse
 
 N_RANDOM = 50  # random configurations per closed-form check
 H = 1e-6       # finite-difference step
 
 
-def _random_rotation(rng: np.random.Generator) -> np.ndarray:
-    return pin.exp3(rng.uniform(-np.pi, np.pi) * _unit(rng.normal(size=3)))
 
 
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v)
 
 
-def _max_error(pairs) -> float:
-    return max(float(np.max(np.abs(np.asarray(a) - np.asarray(b)))) for a, b in pairs)
 
 
 def _fd_jacobian(f, q: np.ndarray, h: float = H) -> np.ndarray:
@@ -85,13 +75,13 @@ def problem_3_1() -> Solution:
     rng = np.random.default_rng(301)
     pairs, entries = [], []
     for _ in range(N_RANDOM):
-        R, w = _random_rotation(rng), rng.normal(size=3)
+        R, w = random_rotation(rng), rng.normal(size=3)
         lhs = R @ skew(w) @ R.T
         pairs.append((lhs, skew(R @ w)))
         rows = R  # rows x^T, y^T, z^T
         entries.append((lhs, [[rows[i] @ np.cross(w, rows[j]) for j in range(3)] for i in range(3)]))
-    sol.check("R S(w) R^T == S(R w) (3.11)", _max_error(pairs) < 1e-12, f"max error {_max_error(pairs):.2e}")
-    sol.check("entries x_i^T (w × x_j) (S3.1)", _max_error(entries) < 1e-12, f"max error {_max_error(entries):.2e}")
+    sol.check("R S(w) R^T == S(R w) (3.11)", max_error(pairs) < 1e-12, f"max error {max_error(pairs):.2e}")
+    sol.check("entries x_i^T (w × x_j) (S3.1)", max_error(entries) < 1e-12, f"max error {max_error(entries):.2e}")
     return sol
 
 
@@ -116,8 +106,8 @@ def problem_3_2() -> Solution:
     fd = [(geometric_jacobian(robot, q)[:3], _fd_jacobian(lambda x: direct_kinematics(robot, x)[:3, 3], q))
           for q in qs]
     sol.value("J_at_q0", _cylindrical_J(qs[0]))
-    sol.check_close("(S3.2) == Pinocchio J (LOCAL_WORLD_ALIGNED)", _max_error(pairs), 0.0, atol=1e-12)
-    sol.check_close("J_P == finite difference of p(q)", _max_error(fd), 0.0, atol=1e-8)
+    sol.check_close("(S3.2) == Pinocchio J (LOCAL_WORLD_ALIGNED)", max_error(pairs), 0.0, atol=1e-12)
+    sol.check_close("J_P == finite difference of p(q)", max_error(fd), 0.0, atol=1e-8)
     sol.check("rows 4-5 identically zero", all(np.all(geometric_jacobian(robot, q)[3:5] == 0) for q in qs))
     return sol
 
@@ -145,7 +135,7 @@ def problem_3_3() -> Solution:
     qs = [np.array([*rng.uniform(-np.pi, np.pi, 2), rng.uniform(0, 1), rng.uniform(-np.pi, np.pi)])
           for _ in range(N_RANDOM)]
     J_closed = [np.vstack([JA[:3], np.zeros((2, 4)), JA[3]]) for JA in (_scara_JA(q, a1, a2) for q in qs)]
-    sol.check_close("geometric J == closed form", _max_error(
+    sol.check_close("geometric J == closed form", max_error(
         [(geometric_jacobian(robot, q), J) for q, J in zip(qs, J_closed)]), 0.0, atol=1e-12)
 
     def x_of(q):
@@ -153,9 +143,9 @@ def problem_3_3() -> Solution:
         x[3] = q[0] + q[1] + q[3] + np.angle(np.exp(1j * (x[3] - q[0] - q[1] - q[3])))  # unwrapped φ
         return x
 
-    fd = _max_error([(_fd_jacobian(x_of, q), _scara_JA(q, a1, a2)) for q in qs])
+    fd = max_error([(_fd_jacobian(x_of, q), _scara_JA(q, a1, a2)) for q in qs])
     sol.check_close("(S3.3) == finite-difference dx/dq", fd, 0.0, atol=1e-8)
-    ana = _max_error([(analytical_jacobian(robot, q, "rpy")[[0, 1, 2, 3]], _scara_JA(q, a1, a2)) for q in qs])
+    ana = max_error([(analytical_jacobian(robot, q, "rpy")[[0, 1, 2, 3]], _scara_JA(q, a1, a2)) for q in qs])
     sol.check_close("(S3.3) == analytical_jacobian(rpy) rows [p; phi]", ana, 0.0, atol=1e-12)
     sol.value("J_A_at_q0", _scara_JA(qs[0], a1, a2))
     return sol
@@ -184,7 +174,7 @@ def problem_3_4() -> Solution:
                          [1, 1, 1]])
 
     JA = [geometric_jacobian(robot, q)[[0, 1, 5]] for q in qs]
-    sol.check_close("Pinocchio J rows [x, y, wz] == (3.35)", _max_error(zip(JA, map(JA_closed, qs))), 0.0, atol=1e-12)
+    sol.check_close("Pinocchio J rows [x, y, wz] == (3.35)", max_error(zip(JA, map(JA_closed, qs))), 0.0, atol=1e-12)
     _det_check(sol, "det J_A == a1 a2 sin(q2)", [np.linalg.det(J) for J in JA], [a[0] * a[1] * np.sin(q[1]) for q in qs])
     ranks_sing = [jacobian_rank(geometric_jacobian(robot, np.array([q[0], th2, q[2]]))[[0, 1, 5]])
                   for q in qs[:10] for th2 in (0.0, np.pi)]
@@ -210,8 +200,8 @@ def problem_3_5() -> Solution:
                          [0, -s2 * d3, c2], [0, -s1, 0], [0, c1, 0], [1, 0, 0]])
 
     Js = [geometric_jacobian(robot, q) for q in qs]
-    sol.check_close("Pinocchio J == closed form", _max_error(zip(Js, map(J_closed, qs))), 0.0, atol=1e-12)
-    fd = _max_error([(J[:3], _fd_jacobian(lambda x: direct_kinematics(robot, x)[:3, 3], q)) for J, q in zip(Js, qs)])
+    sol.check_close("Pinocchio J == closed form", max_error(zip(Js, map(J_closed, qs))), 0.0, atol=1e-12)
+    fd = max_error([(J[:3], _fd_jacobian(lambda x: direct_kinematics(robot, x)[:3, 3], q)) for J, q in zip(Js, qs)])
     sol.check_close("J_P == dp/dq (finite differences)", fd, 0.0, atol=1e-8)
     _det_check(sol, "det J_P == -d3^2 sin(th2)", [np.linalg.det(J[:3]) for J in Js], [-q[2] ** 2 * np.sin(q[1]) for q in qs])
     sing = [jacobian_rank(geometric_jacobian(robot, np.array(q))[:3]) for q in ([0.3, 0.0, 0.5], [0.3, np.pi, 0.5], [0.3, 0.7, 0.0])]
@@ -455,7 +445,7 @@ def problem_3_15() -> Solution:
     for k in (200.0, 400.0):
         res = simulate(JointIntegrator(), CLIK(robot, ref, task, K=k, law="transpose"), (0.0, 1.5), q0, h=1e-3)
         e = np.linalg.norm(res["e"], axis=1)
-        sigma = [singular_values(geometric_jacobian(robot, q)[:2])[-1] for q in res.x[::50]]
+        sigma = [singular_values(geometric_jacobian(robot, q)[:2])[-1] for q in res.q[::50]]
         bound = speed / (k * min(sigma) ** 2)
         steady = e[res.t > 0.5].max()
         finals.append(steady)
@@ -477,7 +467,7 @@ def problem_3_16() -> Solution:
     rng = np.random.default_rng(316)
     errs, errs_vee = [], []
     for _ in range(N_RANDOM):
-        R_d, R_e = _random_rotation(rng), _random_rotation(rng)
+        R_d, R_e = random_rotation(rng), random_rotation(rng)
         theta, r = rotation_to_axis_angle(R_d @ R_e.T)
         e_O = orientation_error_axis_angle(R_d, R_e)
         errs.append(np.max(np.abs(np.sin(theta) * r - e_O)))
@@ -496,7 +486,7 @@ def problem_3_17() -> Solution:
     rng = np.random.default_rng(317)
     errs, errs_L = [], []
     for _ in range(N_RANDOM):
-        R_d0, R_e0, w_d, w = _random_rotation(rng), _random_rotation(rng), rng.normal(size=3), rng.normal(size=3)
+        R_d0, R_e0, w_d, w = random_rotation(rng), random_rotation(rng), rng.normal(size=3), rng.normal(size=3)
 
         def e_of(t):
             return orientation_error_axis_angle(pin.exp3(w_d * t) @ R_d0, pin.exp3(w * t) @ R_e0)
@@ -511,9 +501,6 @@ def problem_3_17() -> Solution:
     return sol
 
 
-def _random_quaternion(rng) -> np.ndarray:
-    Q = _unit(rng.normal(size=4))
-    return Q if Q[0] >= 0 else -Q
 
 
 @problem("3.18", "Angular velocity from unit-quaternion rates", kind="derivation")
@@ -526,7 +513,7 @@ def problem_3_18() -> Solution:
     rng = np.random.default_rng(318)
     e9, e12, e13 = [], [], []
     for _ in range(N_RANDOM):
-        Q = _random_quaternion(rng)
+        Q = random_quaternion(rng, positive_scalar=True)
         eta, eps = Q[0], Q[1:]
         S39 = (2 * eta**2 - 1) * np.eye(3) + 2 * np.outer(eps, eps) + 2 * eta * skew(eps)
         e9.append(np.max(np.abs(S39 - quaternion_to_rotation(Q))))
@@ -554,11 +541,11 @@ def problem_3_19() -> Solution:
     rng = np.random.default_rng(319)
     errs = []
     for _ in range(N_RANDOM):
-        Q, w = _random_quaternion(rng), rng.normal(size=3)
+        Q, w = random_quaternion(rng, positive_scalar=True), rng.normal(size=3)
         eta_w_eps = np.concatenate([[-Q[1:] @ w], Q[0] * w + np.cross(w, Q[1:])])  # [0, w] * Q
         errs.append(np.max(np.abs(quaternion_rate(Q, w) - 0.5 * eta_w_eps)))
     sol.check_close("(3.94)-(3.95) == 1/2 [0, w] * Q", max(errs), 0.0, atol=1e-14)
-    Q0, w = _random_quaternion(rng), np.array([0.3, -1.2, 0.8])
+    Q0, w = random_quaternion(rng, positive_scalar=True), np.array([0.3, -1.2, 0.8])
     res = simulate(lambda t, x, u: quaternion_rate(x / np.linalg.norm(x), w), lambda t, x: np.zeros(1),
                    (0.0, 2.0), Q0, h=1e-3)
     R_end = quaternion_to_rotation(res.x[-1] / np.linalg.norm(res.x[-1]))
@@ -580,7 +567,7 @@ def problem_3_20() -> Solution:
     rng = np.random.default_rng(320)
     errs, errs97 = [], []
     for _ in range(N_RANDOM):
-        Q, Q_d, w, w_d = _random_quaternion(rng), _random_quaternion(rng), rng.normal(size=3), rng.normal(size=3)
+        Q, Q_d, w, w_d = random_quaternion(rng, positive_scalar=True), random_quaternion(rng, positive_scalar=True), rng.normal(size=3), rng.normal(size=3)
 
         def V(t, w=w):
             q = Q + t * quaternion_rate(Q, w)
@@ -602,19 +589,17 @@ def problem_3_20() -> Solution:
 # --------------------------------------------------------------------------------------------
 
 def _history_figure(title: str, res, error_panels: list[tuple[str, np.ndarray]]):
-    fig, axes = plt.subplots(2, 2, figsize=(10, 6.5))
+    fig, axes = subplots(2, 2, figsize=(10, 6.5))
     axes[0, 0].plot(res.t, res.x)
-    axes[0, 0].set(title="joint positions", xlabel="t [s]", ylabel="q [rad | m]")
+    label_axes(axes[0, 0], "t [s]", "q [rad | m]", title="joint positions", legend=False)
     axes[0, 0].legend([f"q{i + 1}" for i in range(res.x.shape[1])], fontsize="small")
     axes[0, 1].plot(res.t, res.u)
-    axes[0, 1].set(title="joint velocities", xlabel="t [s]", ylabel="qdot [rad/s | m/s]")
+    label_axes(axes[0, 1], "t [s]", "qdot [rad/s | m/s]", title="joint velocities", legend=False)
     for ax, (label, y) in zip(axes[1], error_panels):
         ax.plot(res.t, y)
-        ax.set(title=label, xlabel="t [s]")
-        ax.grid(True)
+        label_axes(ax, "t [s]", title=label, legend=False)
     fig.suptitle(title)
-    fig.tight_layout()
-    return fig
+    return fig  # laid out by Solution.figure
 
 
 @problem("3.21", "CLIK with pseudo-inverse and obstacle avoidance on a three-link planar arm", kind="simulation")
@@ -698,7 +683,7 @@ def problem_3_22() -> Solution:
                                    [("||e_P|| [m]", e_P), ("|e_phi| [rad]", e_phi)]))
         sol.value(f"max_position_error_{law}", float(e_P.max()))
         sol.value(f"max_orientation_error_{law}", float(e_phi.max()))
-        sol.value(f"q_final_{law}", res.x[-1])
+        sol.value(f"q_final_{law}", res.q[-1])
     (rA, ePA, eoA), (rB, ePB, eoB) = out["inverse"], out["transpose"]
     eA, eB = max(ePA.max(), eoA.max()), max(ePB.max(), eoB.max())
     sol.check("(A) tracking satisfactory (max error < 1e-4)", eA < 1e-4, f"max error {eA:.2e}")
@@ -708,10 +693,10 @@ def problem_3_22() -> Solution:
               f"max error B {eB:.2e} vs A {eA:.2e}")
     sol.check("(B) steady state satisfactory (final error < 1e-8)", max(ePB[-1], eoB[-1]) < 1e-8,
               f"final {max(ePB[-1], eoB[-1]):.1e}")
-    sol.check_close("both end at the same configuration", rA.x[-1], rB.x[-1], atol=1e-6)
-    sol.check_close("final q (indicative [2.21430, -1.28700, 0.5, 0.64350])", rA.x[-1],
+    sol.check_close("both end at the same configuration", rA.q[-1], rB.q[-1], atol=1e-6)
+    sol.check_close("final q (indicative [2.21430, -1.28700, 0.5, 0.64350])", rA.q[-1],
                     [2.21430, -1.28700, 0.5, 0.64350], atol=1e-4)
-    s2 = np.abs(np.sin(rA.x[:, 1]))
+    s2 = np.abs(np.sin(rA.q[:, 1]))
     sol.check("J_A non-singular along the path (|sin th2| > 0.85; the catalogue guessed 0.9)", s2.min() > 0.85, f"min |sin th2| = {s2.min():.3f}")
     return sol
 
@@ -746,7 +731,7 @@ def problem_3_23() -> Solution:
     sol.check_close("eigenvalues reciprocal", max(eig_err), 0.0, atol=1e-9)
     sol.check_close("semi-axes sigma_i (velocity) and 1/sigma_i (force); cores (3.123)/(3.126)", max(semi_err), 0.0,
                     atol=1e-9)
-    fig, ax = plt.subplots(figsize=(7, 5))
+    fig, ax = subplots(figsize=(7, 5))
     for q1, q2 in ((np.pi / 6, np.pi / 2), (np.pi / 3, 2 * np.pi / 3), (-np.pi / 8, np.pi / 3)):
         q = np.array([q1, q2])
         pts = np.array([P[:2, 3] for P in frame_poses(robot, q, ["frame_0", "frame_1", "frame_2"])])
@@ -754,7 +739,7 @@ def problem_3_23() -> Solution:
         ax.plot(pts[:, 0], pts[:, 1], "k-o", lw=2)
         plot_ellipse(ax, velocity_ellipsoid(J), pts[-1], color="tab:blue")
         plot_ellipse(ax, force_ellipsoid(J), pts[-1], color="tab:red", ls="--")
-    ax.set(aspect="equal", xlabel="x [m]", ylabel="y [m]", title="velocity (solid) and force (dashed) ellipses")
-    fig.suptitle("Problem 3.23 — manipulability ellipsoids of the two-link arm")
-    sol.figure(fig)
+    ax.set_aspect("equal")
+    label_axes(ax, "x [m]", "y [m]", title="velocity (solid) and force (dashed) ellipses", legend=False, grid=False)
+    sol.figure(fig, "Problem 3.23 — manipulability ellipsoids of the two-link arm")
     return sol

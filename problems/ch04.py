@@ -12,15 +12,11 @@ Eqs. (4.1)–(4.44), and its solution manual (Problems 4.1–4.8, (S4.1)–(S4.4
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from planners import paths, timing  # noqa: E402
-from problems.registry import Solution, problem  # noqa: E402
+from planners import paths, timing
+from problems.common import label_axes, subplots
+from problems.registry import Solution, problem
 
 TS = 0.01  # sample time of the companion files' plots [s]
 
@@ -28,19 +24,14 @@ TS = 0.01  # sample time of the companion files' plots [s]
 def _figure(tr: timing.Trajectory, title: str, columns: list[int] | None = None,
             labels: list[str] | None = None, names: tuple[str, str, str] = ("position", "velocity", "acceleration")):
     """Position, velocity, acceleration of the chosen columns of a trajectory, one axis each."""
-    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(6.4, 6.4))
+    fig, axes = subplots(3, 1, sharex=True, figsize=(6.4, 6.4))
     columns = list(range(tr.n)) if columns is None else columns
     for ax, y, name in zip(axes, (tr.q, tr.qd, tr.qdd), names):
         for j, col in enumerate(columns):
             ax.plot(tr.t, y[:, col], label=None if labels is None else labels[j])
-        ax.set_ylabel(name)
-        ax.grid(True, alpha=0.3)
-    if labels is not None:
-        axes[0].legend(loc="best", fontsize="small")
-    axes[-1].set_xlabel("t [s]")
+        label_axes(ax, "t [s]" if ax is axes[-1] else None, name, legend=labels is not None and ax is axes[0])
     fig.suptitle(title)
-    fig.tight_layout()
-    return fig
+    return fig  # laid out by Solution.figure
 
 
 def _derivative_errors(law, t: np.ndarray, h: float = 1e-6) -> tuple[float, float]:

@@ -12,14 +12,16 @@ and its solution manual.
 from __future__ import annotations
 
 import control
-import matplotlib.pyplot as plt
 import numpy as np
 import pinocchio as pin
 import sympy as sp
+from matplotlib.figure import Figure
 
+from controllers.plants import ServomotorPlant
 from controllers.simulation import simulate
+from problems.common import label_axes, max_relative_error, subplots
 from problems.registry import Solution, problem
-from rigid_body.actuators import (DCServomotor, HydraulicMotor, ServomotorPlant, design_pi_current_loop,
+from rigid_body.actuators import (DCServomotor, HydraulicMotor, design_pi_current_loop,
                                   frequency_samples, hydraulic_transfer_functions,
                                   servomotor_transfer_functions)
 from rigid_body.camera import PinholeCamera, project_from_robot
@@ -40,8 +42,6 @@ def _random_motor(rng: np.random.Generator, **overrides: float) -> DCServomotor:
     return DCServomotor(**p)
 
 
-def _max_rel(a: np.ndarray, b: np.ndarray) -> float:
-    return float(np.max(np.abs(a - b) / np.maximum(np.abs(b), 1e-300)))
 
 
 @problem("5.1", "Steady state and transfer functions of the velocity- and torque-controlled servomotor",
@@ -76,23 +76,23 @@ def problem_5_1() -> Solution:
         den = 1 + m3.kv * m3.kt / (m3.Ra * load_)
         manual_v = (K * m3.kt / (m3.Ra * load_)) / den
         manual_c = -(1 / load_) / den
-        worst_53 = max(worst_53, _max_rel(frequency_samples(tf.velocity_input, w), manual_v),
-                       _max_rel(frequency_samples(tf.velocity_load, w), manual_c))
+        worst_53 = max(worst_53, max_relative_error(frequency_samples(tf.velocity_input, w), manual_v),
+                       max_relative_error(frequency_samples(tf.velocity_load, w), manual_c))
         # ... and its F_m → 0 form, exact at F_m = 0
         m0 = _random_motor(rng, La=0.0, Fm=0.0)
         tf0 = servomotor_transfer_functions(m0, K)
         Tm = m0.Ra * m0.Im / (m0.kv * m0.kt)
         worst_53_approx = max(worst_53_approx,
-                              _max_rel(frequency_samples(tf0.velocity_input, w), (K / m0.kv) / (1 + s * Tm)),
-                              _max_rel(frequency_samples(tf0.velocity_load, w),
+                              max_relative_error(frequency_samples(tf0.velocity_input, w), (K / m0.kv) / (1 + s * Tm)),
+                              max_relative_error(frequency_samples(tf0.velocity_load, w),
                                        -(m0.Ra / (m0.kv * m0.kt)) / (1 + s * Tm)))
         # Fig. 5.4: torque-controlled generator, high-gain current loop
         m4 = _random_motor(rng, La=0.0, ki=rng.uniform(0.5, 2))
         tf4 = servomotor_transfer_functions(m4, 1e8)
         manual4_v = (m4.kt / (m4.ki * m4.Fm)) / (1 + s * m4.Im / m4.Fm)
         manual4_c = -(1 / m4.Fm) / (1 + s * m4.Im / m4.Fm)
-        worst_54 = max(worst_54, _max_rel(frequency_samples(tf4.velocity_input, w[:40]), manual4_v[:40]),
-                       _max_rel(frequency_samples(tf4.velocity_load, w[:40]), manual4_c[:40]))
+        worst_54 = max(worst_54, max_relative_error(frequency_samples(tf4.velocity_input, w[:40]), manual4_v[:40]),
+                       max_relative_error(frequency_samples(tf4.velocity_load, w[:40]), manual4_c[:40]))
     sol.check("steady state (k_i = 0): K v'_c = (F_m R_a/k_t + k_v) ω_m", worst_ss < 1e-12,
               f"max relative error {worst_ss:.2e} over 5 random motors")
     sol.check("steady state (k_i ≠ 0): K v'_c = ((R_a + K k_i)/k_t) c_m + k_v ω_m", worst_cm < 1e-12,
@@ -134,20 +134,18 @@ def problem_5_1() -> Solution:
     return sol
 
 
-def _servomotor_figure(title: str, runs: list[tuple[str, np.ndarray, np.ndarray, np.ndarray]]) -> plt.Figure:
-    fig, axes = plt.subplots(len(runs), 2, figsize=(9, 3.2 * len(runs)), squeeze=False)
+def _servomotor_figure(title: str, runs: list[tuple[str, np.ndarray, np.ndarray, np.ndarray]]) -> Figure:
+    fig, axes = subplots(len(runs), 2, figsize=(9, 3.2 * len(runs)), squeeze=False)
     for row, (label, t, i_a, omega) in zip(axes, runs):
         row[0].plot(t * 1e3, i_a)
         row[0].set_ylabel("current [A]")
         row[1].plot(t * 1e3, omega)
         row[1].set_ylabel("velocity [rad/s]")
         for ax in row:
-            ax.set_xlabel("t [ms]")
             ax.set_title(label, fontsize="small")
-            ax.grid(True, alpha=0.3)
+            label_axes(ax, "t [ms]", legend=False)
     fig.suptitle(title)
-    fig.tight_layout()
-    return fig
+    return fig  # laid out by Solution.figure
 
 
 @problem("5.2", "Current and velocity step response of a DC servomotor", kind="simulation")
@@ -164,7 +162,7 @@ def problem_5_2() -> Solution:
     m = DCServomotor(**MOTOR_52)
     res = simulate(ServomotorPlant(m, 1.0), lambda t, x: np.array([1.0, 0.0]), (0.0, 0.2), ServomotorPlant.x0,
                    h=1e-4)
-    t, i_a, omega = res.t, res.x[:, 0], res.x[:, 1]
+    t, i_a, omega = res.t, res["i_a"], res["omega"]
     omega_ss = sol.value("omega_ss", float(omega[-1]))
     i_ss = sol.value("i_ss", float(i_a[-1]))
     sol.value("omega_peak", float(omega.max()))
@@ -186,7 +184,7 @@ def problem_5_2() -> Solution:
               f"max |difference| = {err:.2e} (RK4, h = 0.1 ms)")
     fast = simulate(ServomotorPlant(DCServomotor(**{**MOTOR_52, "Tv": 0.0}), 1.0),
                     lambda t, x: np.array([1.0, 0.0]), (0.0, 0.2), ServomotorPlant.x0, h=1e-4)
-    dev = float(np.max(np.abs(fast.x[:, 1] - omega)))
+    dev = float(np.max(np.abs(fast["omega"] - omega)))
     sol.check("the amplifier time constant (0.1 ms) has no appreciable effect", dev < 0.05 * omega_ss,
               f"max velocity difference with T_v = 0: {dev:.3g} rad/s")
     sol.figure(_servomotor_figure("Fig. S5.2 — step response of the DC servomotor (k_i = 0)",
@@ -219,7 +217,7 @@ def problem_5_3() -> Solution:
     sol.check_close("... and a 1 % settling time 4.6/(ζω_n) = 2 ms", 4.6 / (z * wn), t_s, atol=1e-12)
     lib = servomotor_transfer_functions(DCServomotor(**{**MOTOR_52, "Tv": 0.0, "kv": 1e-12}, ki=1.0), pi)
     manual = (1 + 1j * OMEGA * T_I) / (1 + 1j * OMEGA * a1 - OMEGA**2 * a2)
-    err = _max_rel(frequency_samples(lib.current_input, OMEGA), manual)
+    err = max_relative_error(frequency_samples(lib.current_input, OMEGA), manual)
     sol.check("current loop I_a/V'_c (block reduction, Ω_m ≈ 0, T_v = 0) = manual's transfer function",
               err < 1e-6, f"max relative error {err:.2e}")
     info = control.step_info(lib.current_input, SettlingTimeThreshold=0.01)
@@ -233,7 +231,7 @@ def problem_5_3() -> Solution:
     fast = simulate(plant, step, (0.0, 5e-3), plant.x0, h=5e-7, Ts=1e-5)
     slow = simulate(plant, step, (0.0, 1.0), plant.x0, h=1e-4)
     ref = simulate(ServomotorPlant(DCServomotor(**MOTOR_52), 1.0), step, (0.0, 1.0), plant.x0, h=1e-4)
-    t, i_a = fast.t, fast.x[:, 0]
+    t, i_a = fast.t, fast["i_a"]
     after = t > 2.5e-3
     sol.check("current settled: |i_a − 1| < 0.01 after 2.5 ms", np.max(np.abs(i_a[after] - 1)) < 0.01,
               f"max |i_a − 1| after 2.5 ms = {np.max(np.abs(i_a[after] - 1)):.4f} A")
@@ -242,7 +240,7 @@ def problem_5_3() -> Solution:
     sol.value("simulated_current_overshoot_percent", float(100 * (i_a.max() - 1.0)))
     sol.check("simulated current = python-control step response", np.max(np.abs(ref_i - i_a)) < 1e-4,
               f"max |difference| = {np.max(np.abs(ref_i - i_a)):.2e} A")
-    omega = slow.x[:, 1]
+    omega = slow["omega"]
     tau_m = m.Im / m.Fm
     sol.value("omega_final", float(omega[-1]))
     sol.check_close("ω(1 s) → k_t/(k_i F_m) = 20 rad/s", omega[-1], m.kt / (m.ki * m.Fm), atol=0.1)
@@ -253,14 +251,14 @@ def problem_5_3() -> Solution:
     def rise(y: np.ndarray, tt: np.ndarray) -> float:
         return float(tt[np.argmax(y >= 0.632 * y[-1])])
 
-    r3, r2 = rise(omega, slow.t), rise(ref.x[:, 1], ref.t)
+    r3, r2 = rise(omega, slow.t), rise(ref["omega"], ref.t)
     sol.check("velocity slowed down with respect to Fig. S5.2", r3 > 5 * r2,
               f"63 % rise time {r3 * 1e3:.1f} ms (PI current loop) vs {r2 * 1e3:.1f} ms (Problem 5.2)")
     sol.value("v_a_final", float(plant.armature_voltage(slow.x[-1], 1.0)))
     sol.figure(_servomotor_figure("Fig. S5.4 — servomotor with PI current loop",
-                                  [("current transient (h = 0.5 µs)", t, i_a, fast.x[:, 1]),
-                                   ("velocity (h = 0.1 ms); dashed: Problem 5.2", slow.t, slow.x[:, 0], omega)]))
-    sol.figures[-1].axes[3].plot(ref.t * 1e3, ref.x[:, 1], "--", color="gray")
+                                  [("current transient (h = 0.5 µs)", t, i_a, fast["omega"]),
+                                   ("velocity (h = 0.1 ms); dashed: Problem 5.2", slow.t, slow["i_a"], omega)]))
+    sol.figures[-1].axes[3].plot(ref.t * 1e3, ref["omega"], "--", color="gray")
     return sol
 
 
@@ -284,8 +282,8 @@ def problem_5_4() -> Solution:
         common = 1 + p.Fm / kk * (1 + s * p.Im / p.Fm) * chamber
         manual_v = (p.kx * p.Gs / (p.kr * p.kq)) / (s * (1 + s * p.Ts) * common)
         manual_c = -(chamber / kk) / (s * common)
-        worst_v = max(worst_v, _max_rel(frequency_samples(G_v, OMEGA[:45]), manual_v))
-        worst_c = max(worst_c, _max_rel(frequency_samples(G_c, OMEGA[:45]), manual_c))
+        worst_v = max(worst_v, max_relative_error(frequency_samples(G_v, OMEGA[:45]), manual_v))
+        worst_c = max(worst_c, max_relative_error(frequency_samples(G_c, OMEGA[:45]), manual_c))
     sol.check("Θ_m/V_c = (k_x G_s/(k_r k_q))/(s(1+sT_s)(1 + F_m/(k_t k_r k_q)(1+sI_m/F_m)(1+k_r k_l+s k_r k_c)))",
               worst_v < 1e-8, f"max relative error {worst_v:.2e}")
     sol.check("Θ_m/C_r = −((1+k_r k_l+s k_r k_c)/(k_t k_r k_q))/(s(1 + ...))", worst_c < 1e-8,

@@ -13,12 +13,15 @@ and Sect. 4.4; solution manual, Problems 6.1–6.4 (Figs. S6.1, S6.2).
 
 from __future__ import annotations
 
-import matplotlib.pyplot as plt
 import numpy as np
 
-from controllers.tasks import (PEG_STATES, ActionExecutor, ExecutionOptions, PegInHoleTask, Step, SurfaceWithHole, TaskError, Workcell,
-                               decompose_pick_and_place, distance_to_box, fill_pallet_program, moveto,
-                               pick_and_place_path, run_peg_in_hole)
+from controllers.environment import SurfaceWithHole
+from controllers.force import PEG_STATES, PegInHoleTask, run_peg_in_hole
+from controllers.tasks import (ActionExecutor, ExecutionOptions, Step, TaskError, Workcell, fill_pallet_program,
+                               moveto)
+from planners.configuration_space import distance_to_box
+from planners.tasks import decompose_pick_and_place, pick_and_place_path
+from problems.common import subplots, label_axes
 from problems.registry import Solution, problem
 from rigid_body.kinematics import inverse_kinematics_planar_3r, inverse_kinematics_scara
 from rigid_body.robots import load
@@ -162,7 +165,7 @@ def problem_6_2() -> Solution:
         sol.check(f"{label} executed on the simulated planar arm: tracking error < 1 mm, clear of the obstacle, "
                   f"within the joint limits", err < 1e-3 and d_run >= 0.5 * CLEARANCE and within,
                   f"max |p − p_d| = {err * 1e3:.3f} mm, min distance {d_run:.4f} m, joint limits respected: {within}")
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    fig, (ax, ax2) = subplots(1, 2, figsize=(11, 4.2))
     x0, x1, top = OBSTACLE
     ax.fill([x0, x1, x1, x0], [TABLE, TABLE, top, top], color="0.7", label="obstacle")
     ax.axhline(TABLE, color="k", lw=0.8)
@@ -173,19 +176,13 @@ def problem_6_2() -> Solution:
         ax.plot(*p, "ko")
         ax.annotate(k, p, textcoords="offset points", xytext=(5, 5))
     ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.legend(fontsize="small", loc="lower center")
+    label_axes(ax, "x [m]", "y [m]", legend="lower center", grid=False)
     for label, style in (("path points (cubic DE)", "b-"), ("path points (trapezoidal DE)", "g-."),
                          ("via points", "r--")):
         tr = results[label][1]
         ax2.plot(tr.t, np.linalg.norm(tr.qd, axis=1), style, label=label)
-    ax2.set_xlabel("t [s]")
-    ax2.set_ylabel("|ṗ| [m/s]")
-    ax2.grid(True, alpha=0.3)
-    ax2.legend(fontsize="small")
-    fig.suptitle("Fig. S6.1 — pick-and-place around an obstacle: path points vs via points")
-    sol.figure(fig)
+    label_axes(ax2, "t [s]", "|ṗ| [m/s]", legend=True)
+    sol.figure(fig, "Fig. S6.1 — pick-and-place around an obstacle: path points vs via points")
     return sol
 
 
@@ -208,13 +205,13 @@ def problem_6_3() -> Solution:
     robot = load("planar_3r")
     task = PegInHoleTask(x_H=0.6)
     q0 = inverse_kinematics_planar_3r(np.array([0.55, 0.15, task.phi]))[0]       # elbow up, within the limits
-    fig, axes = plt.subplots(3, 2, figsize=(11, 7), sharex="col")
+    fig, axes = subplots(3, 2, figsize=(11, 7), sharex="col")
     for col, (label, offset, duration) in enumerate((("hole 12 mm left of x_H", -0.012, 7.0),
                                                     ("hole within the clearance of x_H", 0.002, 4.0))):
         env = SurfaceWithHole(x_hole=task.x_H + offset, clearance=0.004, depth=0.05)
         res, ctrl = run_peg_in_hole(robot, env, task, q0, duration)
         states = [s for _, s in ctrl.transitions]
-        q = res.x[:, :robot.nq]
+        q = res.q
         sol.check(f"{label}: the motion respects the joint limits of the arm (Problem 2.17)",
                   bool(np.all(q >= robot.lower) and np.all(q <= robot.upper)),
                   f"q ranges {np.round(q.min(axis=0), 3).tolist()} … {np.round(q.max(axis=0), 3).tolist()}")
@@ -239,23 +236,18 @@ def problem_6_3() -> Solution:
                   f"final tip ({x_e[-1, 0]:.4f}, {x_e[-1, 1]:.4f}) m; hole at x = {env.x_hole:.4f} ± {env.clearance} m")
         axes[0, col].plot(res.t, x_e[:, 0] * 1e3, label="x")
         axes[0, col].axhline(env.x_hole * 1e3, color="k", ls=":", label="hole centre")
-        axes[0, col].set_ylabel("x [mm]")
         axes[0, col].set_title(label, fontsize="small")
-        axes[0, col].legend(fontsize="x-small")
+        label_axes(axes[0, col], None, "x [mm]", legend=True, grid=False, fontsize="x-small")
         axes[1, col].plot(res.t, x_e[:, 1] * 1e3)
-        axes[1, col].set_ylabel("y [mm]")
+        label_axes(axes[1, col], None, "y [mm]", legend=False, grid=False)
         axes[2, col].plot(res.t, f[:, 1], label="f_y")
         axes[2, col].plot(res.t, f[:, 0], label="f_x")
-        axes[2, col].set_ylabel("force [N]")
-        axes[2, col].set_xlabel("t [s]")
-        axes[2, col].legend(fontsize="x-small")
+        label_axes(axes[2, col], "t [s]", "force [N]", legend=True, grid=False, fontsize="x-small")
         for t_s, s in ctrl.transitions[1:]:
             for ax in axes[:, col]:
                 ax.axvline(t_s, color="0.6", lw=0.7)
             axes[1, col].annotate(s, (t_s, axes[1, col].get_ylim()[1]), fontsize="x-small", rotation=90, va="top")
-    fig.suptitle("Fig. S6.2 as a state machine — peg-in-hole with a wrist force sensor")
-    fig.tight_layout()
-    sol.figure(fig)
+    sol.figure(fig, "Fig. S6.2 as a state machine — peg-in-hole with a wrist force sensor")
     return sol
 
 
@@ -324,21 +316,16 @@ def problem_6_4() -> Solution:
     sol.check("grasp with nothing there → TaskError naming the step", messages[1].startswith("step 2 GRASP")
               and "nothing to grasp" in messages[1], messages[1])
 
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
+    fig, (ax, ax2) = subplots(1, 2, figsize=(11, 4.5))
     ax.plot(record.p[:, 0], record.p[:, 1], lw=0.6, label="end-effector path (top view)")
     ax.plot(slots[:, 0], slots[:, 1], "s", mfc="none", ms=12, color="0.5", label="pallet slots")
     ax.plot(placed[:, 0], placed[:, 1], "r.", label="objects placed")
     ax.plot(*CONVEYOR[:2], "g^", ms=10, label="conveyor")
     ax.plot(*HOME[:2], "k*", ms=10, label="home")
     ax.set_aspect("equal")
-    ax.set_xlabel("x₀ [m]")
-    ax.set_ylabel("y₀ [m]")
-    ax.legend(fontsize="x-small")
+    label_axes(ax, "x₀ [m]", "y₀ [m]", legend=True, grid=False, fontsize="x-small")
     ax2.plot(record.t, record.p[:, 2])
     ax2.invert_yaxis()
-    ax2.set_xlabel("t [s]")
-    ax2.set_ylabel("z₀ [m] (down)")
-    ax2.grid(True, alpha=0.3)
-    fig.suptitle("6.4 — FILL_PALLET on the simulated SCARA")
-    sol.figure(fig)
+    label_axes(ax2, "t [s]", "z₀ [m] (down)", legend=False)
+    sol.figure(fig, "6.4 — FILL_PALLET on the simulated SCARA")
     return sol

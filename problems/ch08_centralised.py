@@ -20,19 +20,19 @@ from __future__ import annotations
 
 from typing import Any
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 from controllers.independent_joint import JointDrive, bandwidth, design_position_velocity
 from controllers.joint_space import (AdaptivePayloadControl, ComputedTorqueFeedforward, InverseDynamicsControl,
                                      PDGravityCompensation, RobustControl, inverse_dynamics_steady_state,
-                                     lyapunov_matrix, mean_diagonal_inertia, with_payload)
+                                     lyapunov_matrix, mean_diagonal_inertia)
 from controllers.operational_space import (OperationalInverseDynamics, OperationalPDGravity,
                                            operational_inverse_dynamics_steady_state)
-from controllers.plants import VoltageControlledArm
-from controllers.simulation import ArmPlant, SimulationResult, simulate
+from controllers.plants import ArmPlant, VoltageControlledArm
+from controllers.simulation import SimulationResult, simulate
 from planners.paths import PathLaw, Segment
-from planners.timing import quintic, trapezoidal, trapezoidal_law
+from planners.timing import trapezoidal, trapezoidal_law
+from problems.common import label_axes, subplots
 from problems.registry import Solution, problem
 from rigid_body.dynamics import inertia_matrix
 from rigid_body.kinematics import ELBOW_UP, direct_kinematics, inverse_kinematics_planar_2r
@@ -74,17 +74,11 @@ def _plot_pair(axes: Any, t: np.ndarray, y: np.ndarray, ylabel: str, labels=("jo
         for j, ax in enumerate(axes):
             ax.plot(t, reference[:, j], "k--", lw=1, label="desired")
             ax.plot(t, y[:, j], "C0-", label="actual")
-            ax.set_ylabel(f"{ylabel} {labels[j]}")
-            ax.grid(True, alpha=0.3)
-        axes[0].legend(loc="best", fontsize="small")
-        axes[-1].set_xlabel("t [s]")
+            label_axes(ax, "t [s]" if j == len(axes) - 1 else None, f"{ylabel} {labels[j]}", legend=j == 0)
         return
     axes.plot(t, y[:, 0], "C0-", label=labels[0])
     axes.plot(t, y[:, 1], "C1--", label=labels[1])
-    axes.set_ylabel(ylabel)
-    axes.set_xlabel("t [s]")
-    axes.grid(True, alpha=0.3)
-    axes.legend(loc="best", fontsize="small")
+    label_axes(axes, "t [s]", ylabel, legend=True)
 
 
 # --------------------------------------------------------------------------------------------
@@ -109,7 +103,7 @@ def problem_8_10() -> Solution:
         q0 = q_d - 0.1
         res = simulate(plant, PDGravityCompensation(arm, K_P, K_D, q_d), (0.0, t_end), np.r_[q0, 0.0, 0.0],
                        h=T_C, Ts=T_C)
-        q, qd, e = res.x[:, :2], res.x[:, 2:], res["e"]
+        q, qd, e = res.q, res.qd, res["e"]
         sol.value(f"q_d_{k}", q_d)
         sol.value(f"q0_{k}", q0)
         sol.value(f"q_final_{k}", q[-1])
@@ -123,10 +117,9 @@ def problem_8_10() -> Solution:
         sol.check(f"Lyapunov function decreasing (posture {k})", np.all(rises <= 1e-6 * V[0]),
                   f"max increase per sample {rises.max():.2e} <= 1e-6 V(0) = {1e-6 * V[0]:.2e}; "
                   f"V(0) = {V[0]:.4g}, V(end) = {V[-1]:.2e}")
-        fig, axes = plt.subplots(2, 1, sharex=True, figsize=(6.4, 4.8))
+        fig, axes = subplots(2, 1, sharex=True, figsize=(6.4, 4.8))
         _plot_pair(axes, res.t, q, "q [rad],", reference=np.tile(q_d, (len(res.t), 1)))
-        fig.suptitle(f"Fig. S8.{8 + k}: PD + gravity compensation, q_d = [{q_d[0]:.4f}, {q_d[1]:.4f}]")
-        sol.figure(fig)
+        sol.figure(fig, f"Fig. S8.{8 + k}: PD + gravity compensation, q_d = [{q_d[0]:.4f}, {q_d[1]:.4f}]")
     return sol
 
 
@@ -173,7 +166,7 @@ def problem_8_11() -> Solution:
     sol.check_close("voltage-to-torque gain and electrical damping (Fig. 8.3)",
                     np.r_[plant.voltage_gain, plant.electrical_damping], [20, 20, 4000, 4000], atol=1e-9)
     tra = _tra_4()
-    x0 = np.r_[Q_I, 0.0, 0.0]
+    x0 = plant.initial_state(Q_I)
     runs: dict[tuple[int, bool], SimulationResult] = {}
     for k, (zeta, omega_n, expect, omega_3) in enumerate(((0.5, 5.0, (5.0, 10.0, 50.0), 6.36),
                                                           (0.8, 10.0, (6.25, 32.0, 200.0), 8.71)), start=1):
@@ -200,15 +193,13 @@ def problem_8_11() -> Solution:
                   f"max |q~| {err[k, True].max():.2e} with vs {err[k, False].max():.2e} without")
     sol.check("second gains track considerably better", err[2, True].max() < 0.5 * err[1, True].max(),
               f"max |q~|: {err[2, True].max():.2e} (ω_n = 10) vs {err[1, True].max():.2e} (ω_n = 5)")
-    fig, axes = plt.subplots(2, 2, sharex=True, figsize=(9, 5.5))
+    fig, axes = subplots(2, 2, sharex=True, figsize=(9, 5.5))
     for k in (1, 2):
         r = runs[k, True]
         _plot_pair(axes[0, k - 1], r.t, r["tau"], "τ [N·m]")
         _plot_pair(axes[1, k - 1], r.t, r["e"], "q~ [rad]")
         axes[0, k - 1].set_title(("K_P = 5, K_V = 10", "K_P = 6.25, K_V = 32")[k - 1])
-    fig.suptitle("Fig. S8.12: computed-torque feedforward + independent joint PV control")
-    fig.tight_layout()
-    sol.figure(fig)
+    sol.figure(fig, "Fig. S8.12: computed-torque feedforward + independent joint PV control")
     return sol
 
 
@@ -252,14 +243,12 @@ def problem_8_12() -> Solution:
     sol.check_close("fixed point ≈ its linearisation K_P⁻¹ B̂⁻¹ Δg_L", e_ss, linear, rtol=0.02)
     sol.check("not compensated: degraded transient", np.abs(rn["e"]).max() > 5e-3,
               f"max |q~| = {np.abs(rn['e']).max():.2e} > 5e-3 (vs {np.abs(rc['e']).max():.2e} compensated)")
-    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
+    fig, axes = subplots(1, 2, figsize=(9, 3.6))
     _plot_pair(axes[0], rn.t, rn["e"], "q~ [rad]")
     _plot_pair(axes[1], rc.t, rc["e"], "q~ [rad]")
     axes[0].set_title("payload not compensated")
     axes[1].set_title("payload compensated")
-    fig.suptitle("Fig. S8.14: joint-space inverse dynamics control")
-    fig.tight_layout()
-    sol.figure(fig)
+    sol.figure(fig, "Fig. S8.14: joint-space inverse dynamics control")
     return sol
 
 
@@ -307,11 +296,10 @@ def problem_8_13() -> Solution:
     tv = sol.value("torque_total_variation", np.abs(np.diff(runs[rho].u, axis=0)).sum(axis=0))
     sol.value("torque_total_variation_without_robust_term", np.abs(np.diff(runs[0.0].u, axis=0)).sum(axis=0))
     r = runs[rho]
-    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
+    fig, axes = subplots(1, 2, figsize=(9, 3.6))
     _plot_pair(axes[0], r.t, r.u, "τ [N·m]")
     _plot_pair(axes[1], r.t, r["e"], "q~ [rad]")
     fig.suptitle(f"Fig. S8.16: joint-space robust control (ρ = 70, ε = 0.001; torque total variation {tv.max():.3g} N·m)")
-    fig.tight_layout()
     sol.figure(fig)
     return sol
 
@@ -367,17 +355,12 @@ def problem_8_14() -> Solution:
     sol.value("m_hat_final_gain_0.005", float(wrong[-1]))
     sol.check("erratum: k_π must divide (gain 1/0.005)", abs(wrong[-1]) < 0.1 * M_L,
               f"with gain 0.005 the estimate only reaches {wrong[-1]:.4f} kg; with 1/0.005 it reaches {m_hat[-1]:.4f} kg")
-    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
+    fig, axes = subplots(1, 2, figsize=(9, 3.6))
     _plot_pair(axes[0], res.t, res["e"], "q~ [rad]")
     axes[1].plot(res.t, m_hat, "C0-", label="estimate")
     axes[1].axhline(M_L, color="k", ls="--", lw=1, label="true")
-    axes[1].set_ylabel("m_L [kg]")
-    axes[1].set_xlabel("t [s]")
-    axes[1].legend(loc="best", fontsize="small")
-    axes[1].grid(True, alpha=0.3)
-    fig.suptitle("Fig. S8.18: joint-space adaptive control")
-    fig.tight_layout()
-    sol.figure(fig)
+    label_axes(axes[1], "t [s]", "m_L [kg]", legend=True)
+    sol.figure(fig, "Fig. S8.18: joint-space adaptive control")
     return sol
 
 
@@ -401,16 +384,15 @@ def problem_8_15() -> Solution:
         sol.check_close(f"initial posture {k} = companion's inv_k2u(p_d − 0.1)", q0, expected_q0[k - 1], atol=1e-5)
         res = simulate(plant, OperationalPDGravity(armL, 16250.0, 3250.0, p_d, rows=(0, 1)), (0.0, T_D),
                        np.r_[q0, 0.0, 0.0], h=T_C, Ts=T_C)
-        p = _tip(armL, res.x[:, :2])
+        p = _tip(armL, res.q)
         err = np.abs(p[-1] - p_d).max()
         sol.value(f"p_final_{k}", p[-1])
-        sol.value(f"q_final_{k}", res.x[-1, :2])
+        sol.value(f"q_final_{k}", res.q[-1])
         sol.check(f"tip position {k} reached", err < 1e-5,
                   f"|p_d − p(t_d)|_inf = {err:.2e} < 1e-5 m (|x~| at 1 s: {np.abs(res['e'][_at(res, 1.0)]).max():.2e})")
-        fig, axes = plt.subplots(2, 1, sharex=True, figsize=(6.4, 4.8))
+        fig, axes = subplots(2, 1, sharex=True, figsize=(6.4, 4.8))
         _plot_pair(axes, res.t, p, "p [m],", labels=("x", "y"), reference=np.tile(p_d, (len(res.t), 1)))
-        fig.suptitle(f"Fig. S8.{19 + k}: operational-space PD + gravity, p_d = [{p_d[0]}, {p_d[1]}] m")
-        sol.figure(fig)
+        sol.figure(fig, f"Fig. S8.{19 + k}: operational-space PD + gravity, p_d = [{p_d[0]}, {p_d[1]}] m")
     return sol
 
 
@@ -447,99 +429,17 @@ def problem_8_16() -> Solution:
     rc, rn = runs["compensated"], runs["not_compensated"]
     sol.check("compensated: excellent tracking", np.abs(rc["e"]).max() < 1e-3 and np.abs(rc["e"][_at(rc, 2.0)]).max() < 1e-6,
               f"max |x~| = {np.abs(rc['e']).max():.2e} < 1e-3 m, |x~(2 s)| = {np.abs(rc['e'][_at(rc, 2.0)]).max():.2e} < 1e-6")
-    q_ss = operational_inverse_dynamics_steady_state(armL, arm, 100.0, p_f[:2], rn.x[-1, :2], rows=(0, 1))
+    q_ss = operational_inverse_dynamics_steady_state(armL, arm, 100.0, p_f[:2], rn.q[-1], rows=(0, 1))
     e_ss = sol.value("steady_state_error_fixed_point", p_f[:2] - direct_kinematics(armL, q_ss)[:2, 3])
     sol.check_close("not compensated: steady state = fixed point of B̂ J⁻¹ K_P x~ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5)
     sol.check_close("fixed point vs the catalogue's s2 < 0 value (−2.82e-3, 6.39e-3) m", e_ss, [-2.82e-3, 6.39e-3],
                     atol=1e-5)
     sol.check("not compensated: degraded transient", np.abs(rn["e"]).max() > 5e-3,
               f"max |x~| = {np.abs(rn['e']).max():.2e} > 5e-3 (vs {np.abs(rc['e']).max():.2e} compensated)")
-    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
+    fig, axes = subplots(1, 2, figsize=(9, 3.6))
     _plot_pair(axes[0], rn.t, rn["e"], "x~ [m]", labels=("x", "y"))
     _plot_pair(axes[1], rc.t, rc["e"], "x~ [m]", labels=("x", "y"))
     axes[0].set_title("payload not compensated")
     axes[1].set_title("payload compensated")
-    fig.suptitle("Fig. S8.23: operational-space inverse dynamics control")
-    fig.tight_layout()
-    sol.figure(fig)
-    return sol
-
-
-# --------------------------------------------------------------------------------------------
-# Beyond the book: the same joint-space schemes on a UR5
-# --------------------------------------------------------------------------------------------
-
-def ur5_joint_space_control(payload: float = 5.0, t_f: float = 1.5, omega_n: float = 20.0) -> Solution:
-    """PD + gravity, inverse dynamics and adaptive-on-payload control of a UR5 (example-robot-data).
-
-    The UR5 carries ``payload`` kg at ``tool0`` (its rated payload is 5 kg) that the controllers' model
-    does not know; the joints track a quintic (4.3) from q_i = [0, −π/2, π/2, 0, π/2, 0] over t_f, and
-    the plant saturates the torques at the URDF effort limits (150 N·m shoulder/elbow, 28 N·m wrist).
-    Gains are scaled by the diagonal inertia at q_i so that every joint has ω_n, ζ = 1 (PD + gravity:
-    K_P = ω_n² diag B, K_D = 2ω_n diag B; inverse dynamics: K_P = ω_n² I, K_D = 2ω_n I; adaptive:
-    Λ = 10 I, K_D = 20 diag B, k_π⁻¹ = 20). A faster motion (t_f/3) shows the saturation at work.
-    Not a problem of the book: an unregistered companion to 8.10, 8.12 and 8.14.
-    """
-    sol = Solution(id="ur5", title="UR5: joint-space control with an unknown payload", kind="simulation")
-    ur5 = load("ur5")
-    real = with_payload(ur5, payload)
-    tau_max = sol.value("tau_max", np.array(ur5.model.effortLimit))
-    q_i = np.array([0.0, -np.pi / 2, np.pi / 2, 0.0, np.pi / 2, 0.0])
-    q_f = q_i + np.array([np.pi / 2, np.pi / 4, -np.pi / 3, np.pi / 4, -np.pi / 4, np.pi / 2])
-    B_d = np.diag(inertia_matrix(real, q_i))
-    plant = ArmPlant(real, tau_max=tau_max)
-    x0 = np.r_[q_i, np.zeros(6)]
-
-    def run(ctrl: Any, duration: float) -> SimulationResult:
-        return simulate(plant, ctrl, (0.0, duration + 1.0), x0, h=T_C, Ts=T_C,
-                        log=lambda t, x, u: {"tau": plant.torque(u)})
-
-    tra = quintic(q_i, q_f, t_f, dt=T_C)
-    runs = {
-        "PD + gravity": run(PDGravityCompensation(ur5, omega_n**2 * B_d, 2 * omega_n * B_d, tra), t_f),
-        "inverse dynamics (no payload model)": run(InverseDynamicsControl(ur5, omega_n**2, 2 * omega_n, tra), t_f),
-        "inverse dynamics (payload known)": run(InverseDynamicsControl(real, omega_n**2, 2 * omega_n, tra), t_f),
-        "adaptive on the payload": run(AdaptivePayloadControl(ur5, 20 * B_d, 10.0, 20.0, tra), t_f),
-    }
-    for name, r in runs.items():
-        sol.value(f"max_error {name}", float(np.abs(r["e"]).max()))
-        sol.value(f"final_error {name}", float(np.abs(r["e"][-1]).max()))
-        sol.value(f"peak_torque_ratio {name}", np.abs(r["tau"]).max(axis=0) / tau_max)
-        sol.check(f"{name}: applied torques within the effort limits", np.all(np.abs(r["tau"]) <= tau_max + 1e-12),
-                  f"peak |τ|/τ_max = {np.max(np.abs(r['tau']) / tau_max):.2f}")
-    adaptive = runs["adaptive on the payload"]
-    sol.value("m_hat_final", float(adaptive["m_hat"][-1]))
-    sol.check("adaptive: payload estimate converges", abs(adaptive["m_hat"][-1] - payload) < 0.02 * payload,
-              f"m̂_L = {adaptive['m_hat'][-1]:.4f} kg vs {payload} kg")
-    e = {name: np.abs(r["e"][-1]).max() for name, r in runs.items()}
-    sol.check("unknown payload: inverse dynamics keeps a steady-state error, adaptation removes it",
-              e["inverse dynamics (no payload model)"] > 1e-3 and e["adaptive on the payload"] < 1e-5
-              and e["inverse dynamics (payload known)"] < 1e-6,
-              f"final |q~|: {e['inverse dynamics (no payload model)']:.2e} (no payload model), "
-              f"{e['adaptive on the payload']:.2e} (adaptive), {e['inverse dynamics (payload known)']:.2e} (known)")
-    fast = run(InverseDynamicsControl(real, omega_n**2, 2 * omega_n, quintic(q_i, q_f, t_f / 3, dt=T_C)), t_f / 3)
-    saturated = float(np.mean(np.any(np.abs(fast.u) > tau_max, axis=1)))
-    sol.value("fast_saturated_fraction", saturated)
-    sol.value("fast_final_error", float(np.abs(fast["e"][-1]).max()))
-    sol.check("fast motion: saturation active, target still reached", saturated > 0 and np.abs(fast["e"][-1]).max() < 1e-4,
-              f"{100 * saturated:.1f} % of the samples saturate; final |q~| = {np.abs(fast['e'][-1]).max():.2e}")
-    fig, axes = plt.subplots(2, 2, sharex=True, figsize=(10, 6))
-    for ax, (name, r) in zip(axes.flat, runs.items()):
-        ax.plot(r.t, r["e"])
-        ax.set_title(name, fontsize="medium")
-        ax.set_ylabel("q~ [rad]")
-        ax.grid(True, alpha=0.3)
-    for ax in axes[1]:
-        ax.set_xlabel("t [s]")
-    axes[0, 0].legend([f"joint {j + 1}" for j in range(6)], fontsize="x-small", ncol=2)
-    fig.suptitle(f"UR5, unknown {payload:g} kg payload, quintic in {t_f:g} s, torques saturated at the URDF limits")
-    fig.tight_layout()
-    sol.figure(fig)
-    fig2, ax = plt.subplots(figsize=(6.4, 3.2))
-    ax.plot(fast.t, fast["tau"] / tau_max)
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("τ / τ_max")
-    ax.grid(True, alpha=0.3)
-    fig2.suptitle(f"UR5, inverse dynamics along the quintic in {t_f / 3:g} s: saturated torques")
-    sol.figure(fig2)
+    sol.figure(fig, "Fig. S8.23: operational-space inverse dynamics control")
     return sol

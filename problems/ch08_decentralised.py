@@ -13,19 +13,20 @@ and its solution manual.
 from __future__ import annotations
 
 import control
-import matplotlib.pyplot as plt
 import numpy as np
 import sympy as sp
 
-from controllers.independent_joint import (JointDesign, JointDrive, JointDrivePlant, PositionVelocityController,
+from controllers.independent_joint import (JointDesign, JointDrive, PositionVelocityController,
                                            Transducers, acceleration_filter, bandwidth, damping_of_complex_poles,
                                            design_position_feedback, design_position_velocity,
                                            design_position_velocity_acceleration, feedforward_controller_output,
                                            feedforward_reference, feedforward_tracking, inertia_bounds,
                                            position_feedback, position_velocity_acceleration_feedback,
                                            position_velocity_feedback)
+from controllers.plants import JointDrivePlant
 from controllers.simulation import simulate
 from planners.timing import trapezoidal_law
+from problems.common import subplots, label_axes
 from problems.registry import Solution, problem
 from rigid_body.actuators import frequency_samples
 from rigid_body.dynamics import inertia_matrix
@@ -222,7 +223,7 @@ def problem_8_4() -> Solution:
               larger > K_P, f"K_P(ζ = 0.36) = {larger:.4g} > K_P(ζ = 0.4) = {K_P:.4g}")
     sol.check("poor disturbance rejection: X_R = K_P ≪ 1 and T_R = T_P = 72 s", design.X_R < 0.01 and
               np.isclose(design.T_R, 72.0), f"X_R = {design.X_R:.4g}, T_R = {design.T_R:.4g} s")
-    fig, ax = plt.subplots(figsize=(6, 5))
+    fig, ax = subplots(figsize=(6, 5))
     full = control.root_locus_map(L, gains=np.logspace(-5, 1, 800))
     for branch in full.loci.T:
         ax.plot(branch.real, branch.imag, "b-", lw=1)
@@ -234,12 +235,8 @@ def problem_8_4() -> Solution:
     ax.plot(-ZETA * ray, np.sqrt(1 - ZETA**2) * ray, "g--", lw=0.8, label="ζ = 0.4")
     ax.set_xlim(-0.2, 0.02)
     ax.set_ylim(-0.25, 0.25)
-    ax.set_xlabel("Re")
-    ax.set_ylabel("Im")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize="small")
-    fig.suptitle("Fig. S8.4 — root locus of position feedback control (gain K' = 20 K_P)")
-    sol.figure(fig)
+    label_axes(ax, "Re", "Im", legend=True)
+    sol.figure(fig, "Fig. S8.4 — root locus of position feedback control (gain K' = 20 K_P)")
     return sol
 
 
@@ -278,20 +275,16 @@ def problem_8_5() -> Solution:
     res = simulate(JointDrivePlant(drive), ctrl, (0.0, 2.0), [0.0, 0.0], h=2.5e-4, Ts=1e-3)
     t_after = res.t[res.t >= step_time] - step_time
     ref = control.forced_response(design.closed_loop.disturbance, t_after, np.ones_like(t_after)).outputs
-    theta = res.x[res.t >= step_time, 0]
+    theta = res.q[res.t >= step_time, 0]
     err = float(np.max(np.abs(theta - ref)))
     sol.value("disturbance_peak", float(np.max(np.abs(theta))))
     sol.check("simulated disturbance response (1 ms sampling) ≈ python-control's Θ_m/D step response",
               err < 0.05 * np.max(np.abs(ref)), f"max |difference| = {err:.2e} rad, peak {np.max(np.abs(ref)):.2e} rad")
-    fig, ax = plt.subplots(figsize=(7, 3.5))
-    ax.plot(res.t, res.x[:, 0] * 1e3, label="simulated (Ts = 1 ms)")
+    fig, ax = subplots(figsize=(7, 3.5))
+    ax.plot(res.t, res.q[:, 0] * 1e3, label="simulated (Ts = 1 ms)")
     ax.plot(t_after + step_time, ref * 1e3, "--", label="Θ_m/D step (python-control)")
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("ϑ_m [mrad]")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize="small")
-    fig.suptitle("8.5 — position + velocity feedback: response to a unit disturbance step")
-    sol.figure(fig)
+    label_axes(ax, "t [s]", "ϑ_m [mrad]", legend=True)
+    sol.figure(fig, "8.5 — position + velocity feedback: response to a unit disturbance step")
     return sol
 
 
@@ -393,15 +386,11 @@ def problem_8_7() -> Solution:
     sol.value("max_error_feedback_only", e_no)
     sol.check("sampled simulation: feedforward reduces the tracking error by more than 20×", e_ff < e_no / 20,
               f"max |ϑ_d − ϑ_m| = {e_ff:.2e} rad with feedforward vs {e_no:.2e} rad without")
-    fig, ax = plt.subplots(figsize=(7, 3.5))
+    fig, ax = subplots(figsize=(7, 3.5))
     for ff, style in ((True, "-"), (False, "--")):
         ax.plot(runs[ff].t, runs[ff]["e"] * 1e3, style, label="with feedforward" if ff else "feedback only")
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("ϑ_d − ϑ_m [mrad]")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize="small")
-    fig.suptitle("8.7 — decentralised feedforward on a trapezoidal move (position + velocity feedback)")
-    sol.figure(fig)
+    label_axes(ax, "t [s]", "ϑ_d − ϑ_m [mrad]", legend=True)
+    sol.figure(fig, "8.7 — decentralised feedforward on a trapezoidal move (position + velocity feedback)")
     return sol
 
 

@@ -66,10 +66,27 @@ class Solution:
         max_err = float(np.max(err)) if err.size else 0.0
         return self.check(name, ok, f"max |error| = {max_err:.3g} (atol {atol:g}, rtol {rtol:g})")
 
-    def figure(self, fig: Any) -> Any:
-        """Attach a matplotlib figure (give it a title or ``fig.canvas.manager`` label) and return it."""
+    def check_error(self, name: str, error: float, tol: float) -> bool:
+        """Record that an error measure (e.g. the largest difference from an independent reference over
+        many samples) is below ``tol``; NaN fails."""
+        error = float(error)
+        return self.check(name, error < tol, f"max |error| = {error:.2g} (< {tol:g})")
+
+    def figure(self, fig: Any, title: str | None = None, tight: bool = True) -> Any:
+        """The figure epilogue: give ``fig`` its title (``suptitle``, also its file name in a report),
+        lay it out (``tight_layout``) and attach it; returns it."""
+        if title is not None:
+            fig.suptitle(title)
+        if tight:
+            fig.tight_layout()
         self.figures.append(fig)
         return fig
+
+    def _repr_html_(self) -> str:
+        """Jupyter's view: title, values table, checks (✔/✘), figures inline as PNG."""
+        from problems.report import inline_html
+
+        return inline_html(self)
 
 
 @dataclass(frozen=True)

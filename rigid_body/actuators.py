@@ -8,7 +8,7 @@ built independently so that each checks the other:
 
 * :func:`servomotor_transfer_functions`: python-control transfer functions obtained by block
   reduction of Fig. 5.2 (``control.feedback`` on the blocks);
-* :class:`ServomotorPlant`: the same equations written as a state-space ODE
+* :class:`controllers.plants.ServomotorPlant`: the same equations written as a state-space ODE
   ``derivative(t, x, u)`` for :func:`controllers.simulation.simulate`.
 
 The hydraulic motor with servovalve and distributor of Sect. 5.1 is given as transfer functions by
@@ -153,49 +153,6 @@ def design_pi_current_loop(motor: DCServomotor, zeta: float, settling_time: floa
         raise ValueError(f"settling time {settling_time} s is too slow for a PI with T_I > 0 "
                          f"(R_a/L_a = {motor.Ra / motor.La:g} 1/s already damps more)")
     return PIRegulator(K_I, T_I), omega_n
-
-
-class ServomotorPlant:
-    """The servomotor of Fig. 5.2 as a plant for :func:`controllers.simulation.simulate`.
-
-    State ``x = [i_a, ω_m, ϑ_m, v_a, z]``: armature current, rotor velocity and angle, amplifier output
-    (a first-order lag of T_v; when T_v = 0 it follows its input and its state stays 0), and the
-    integral of the current error (used by a PI regulator). Input ``u = [v'_c, c_r]`` (or just v'_c).
-    """
-
-    def __init__(self, motor: DCServomotor, regulator: PIRegulator | float = 1.0):
-        if motor.La <= 0:
-            raise ValueError("`motor.La` must be > 0 to simulate the armature current dynamics")
-        self.motor = motor
-        if isinstance(regulator, PIRegulator):
-            self._KP, self._KI = regulator.K * regulator.T, regulator.K
-        else:
-            self._KP, self._KI = as_positive(regulator, "regulator"), 0.0
-
-    x0 = np.zeros(5)          # the motor at rest (read-only; simulate() copies it)
-    x0.setflags(write=False)
-
-    def regulator_output(self, x: np.ndarray, v_c: float) -> float:
-        """v_c of the regulator: C_i applied to the current error, cf. (S5.5)."""
-        e = v_c - self.motor.ki * x[0]
-        return self._KP * e + self._KI * x[4]
-
-    def armature_voltage(self, x: np.ndarray, v_c: float) -> float:
-        """v_a: the amplifier output."""
-        m = self.motor
-        return x[3] if m.Tv > 0 else m.Gv * self.regulator_output(x, v_c)
-
-    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        m = self.motor
-        v_c = float(u[0])
-        c_r = float(u[1]) if len(u) > 1 else 0.0
-        i_a, omega = x[0], x[1]
-        e = v_c - m.ki * i_a
-        v_a = self.armature_voltage(x, v_c)
-        di = (v_a - m.Ra * i_a - m.kv * omega) / m.La               # (5.1)–(5.2)
-        domega = (m.kt * i_a - m.Fm * omega - c_r) / m.Im         # (5.3)–(5.4)
-        dva = (m.Gv * (self._KP * e + self._KI * x[4]) - x[3]) / m.Tv if m.Tv > 0 else 0.0
-        return np.array([di, domega, omega, dva, e])
 
 
 @dataclass(frozen=True)

@@ -4,10 +4,11 @@ import control
 import numpy as np
 import pytest
 
-from controllers.independent_joint import (JointDrive, JointDrivePlant, PositionVelocityController, Transducers,
+from controllers.independent_joint import (JointDrive, PositionVelocityController, Transducers,
                                            bandwidth, design_position_feedback, design_position_velocity,
                                            design_position_velocity_acceleration, inertia_bounds, position_feedback,
                                            position_velocity_acceleration_feedback, position_velocity_feedback)
+from controllers.plants import JointDrivePlant
 from controllers.simulation import simulate
 
 DRIVE = JointDrive(I=6.0, Ra=0.3, kt=0.5, kv=0.5, Fm=0.001)

@@ -9,8 +9,8 @@ from controllers.joint_space import (AdaptivePayloadControl, ComputedTorqueFeedf
                                      PDGravityCompensation, RobustControl, as_gain, as_reference,
                                      inverse_dynamics_steady_state, lyapunov_matrix, mean_diagonal_inertia,
                                      with_payload)
-from controllers.plants import VoltageControlledArm
-from controllers.simulation import ArmPlant, simulate
+from controllers.plants import ArmMeasurement, ArmPlant, VoltageControlledArm
+from controllers.simulation import simulate
 from planners.timing import quintic, trapezoidal
 from rigid_body.dynamics import coriolis_matrix, gravity_torques, inertia_matrix
 from rigid_body.robots import load
@@ -65,7 +65,7 @@ def test_pd_gravity_law_is_eq_8_51(arm, rng):
     ctrl = PDGravityCompensation(arm, 3750.0, 750.0, q_d)
     for _ in range(5):
         q, qd = rng.uniform(-np.pi, np.pi, 2), rng.uniform(-1, 1, 2)
-        u = ctrl(0.0, np.r_[q, qd])
+        u = ctrl(0.0, ArmMeasurement(q, qd))
         np.testing.assert_allclose(u, arm2.gravity(q) + 3750.0 * (q_d - q) - 750.0 * qd, atol=1e-8)
 
 
@@ -73,8 +73,8 @@ def test_pd_gravity_regulates_posture_of_8_10(arm):
     q_d = np.array([-np.pi, -3 * np.pi / 4])
     res = simulate(ArmPlant(arm, viscous_friction=100.0), PDGravityCompensation(arm, 3750.0, 750.0, q_d),
                    (0.0, 5.0), np.r_[q_d - 0.1, 0, 0], h=1e-3, Ts=1e-3)
-    assert np.abs(res.x[-1, :2] - q_d).max() < 1e-4
-    assert np.abs(res.x[-1, 2:]).max() < 1e-3
+    assert np.abs(res.q[-1] - q_d).max() < 1e-4
+    assert np.abs(res.qd[-1]).max() < 1e-3
 
 
 def test_inverse_dynamics_torque_is_model_7_82(arm_loaded, rng):
@@ -85,7 +85,7 @@ def test_inverse_dynamics_torque_is_model_7_82(arm_loaded, rng):
         q_d, qd_d, qdd_d = tra.evaluate(t)
         y = qdd_d + 16.0 * (qd_d - qd) + 100.0 * (q_d - q)
         expected = arm2.inertia(q, M_L) @ y + arm2.coriolis(q, qd, M_L) @ qd + 100.0 * qd + arm2.gravity(q, M_L)
-        np.testing.assert_allclose(ctrl(t, np.r_[q, qd]), expected, atol=1e-8)
+        np.testing.assert_allclose(ctrl(t, ArmMeasurement(q, qd)), expected, atol=1e-8)
 
 
 def test_inverse_dynamics_with_exact_model_follows_linear_error_dynamics(arm_loaded):
@@ -98,7 +98,7 @@ def test_inverse_dynamics_with_exact_model_follows_linear_error_dynamics(arm_loa
                    (0.0, 1.0), np.r_[q_d - e0, 0, 0], h=1e-4, Ts=1e-4)
     t = res.t[:, None]
     e_exact = e0 * (1 + 10 * t) * np.exp(-10 * t)
-    np.testing.assert_allclose(q_d - res.x[:, :2], e_exact, atol=2e-5)  # ZOH: O(T_s ω_n) of 0.05
+    np.testing.assert_allclose(q_d - res.q, e_exact, atol=2e-5)  # ZOH: O(T_s ω_n) of 0.05
 
 
 def test_inverse_dynamics_steady_state_solves_the_fixed_point(arm, arm_loaded):
@@ -180,7 +180,7 @@ def test_computed_torque_feedforward_holds_a_posture_against_gravity(arm_loaded)
     ctrl = ComputedTorqueFeedforward(arm_loaded, q_d, 100.0, drives, designs)
     plant = VoltageControlledArm(arm_loaded, 100.0, drives, viscous_friction=100.0)
     x = np.r_[q_d, 0.0, 0.0]
-    v = ctrl(0.0, x)
+    v = ctrl(0.0, plant.measure(0.0, x))
     np.testing.assert_allclose(plant.torque(x, v), arm2.gravity(q_d, M_L), atol=1e-9)
     np.testing.assert_allclose(plant.derivative(0.0, x, v), 0.0, atol=1e-9)
     with pytest.raises(ValueError, match="drives"):
@@ -198,10 +198,10 @@ def test_voltage_controlled_arm_torque_is_eq_8_3(arm):
     np.testing.assert_allclose(qdd, arm2.forward_dynamics(x[:2], x[2:], tau), atol=1e-9)
 
 
-def test_controllers_reject_short_measurements_and_non_finite_references(arm):
+def test_short_initial_states_and_non_finite_references_are_rejected(arm):
     ctrl = PDGravityCompensation(arm, 3750.0, 750.0, [0.0, 0.0])
-    with pytest.raises(ValueError, match=r"\[q, q̇\] \(4 values\), got 3"):
-        ctrl(0.0, np.zeros(3))
+    with pytest.raises(ValueError, match=r"`x0` must have 4 entries for ArmPlant"):
+        simulate(ArmPlant(arm), ctrl, (0.0, 0.1), np.zeros(3), h=1e-3)
     with pytest.raises(ValueError, match="`reference` must be finite"):
         InverseDynamicsControl(arm, 100.0, 16.0, lambda t: (np.array([np.nan, 0.0]), np.zeros(2), np.zeros(2)))
 

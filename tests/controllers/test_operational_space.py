@@ -7,7 +7,8 @@ import pytest
 from tests import two_link_closed_form as arm2
 from controllers.operational_space import (OperationalInverseDynamics, OperationalPDGravity,
                                            operational_inverse_dynamics_steady_state, task_reference)
-from controllers.simulation import ArmPlant, simulate
+from controllers.plants import ArmMeasurement, ArmPlant
+from controllers.simulation import simulate
 from planners.paths import PathLaw, Segment
 from planners.timing import trapezoidal_law
 from rigid_body.dynamics import forward_dynamics
@@ -30,7 +31,7 @@ def test_pd_gravity_law_is_eq_8_110(arm_loaded, rng):
         q, qd = rng.uniform(-np.pi, np.pi, 2), rng.uniform(-1, 1, 2)
         J = arm2.jacobian(q)
         expected = arm2.gravity(q, M_L) + J.T @ (16250.0 * (p_d - arm2.tip(q)) - 3250.0 * J @ qd)
-        np.testing.assert_allclose(ctrl(0.0, np.r_[q, qd]), expected, atol=1e-7)
+        np.testing.assert_allclose(ctrl(0.0, ArmMeasurement(q, qd)), expected, atol=1e-7)
 
 
 def test_inverse_dynamics_imposes_the_task_acceleration(arm_loaded, rng):
@@ -40,7 +41,7 @@ def test_inverse_dynamics_imposes_the_task_acceleration(arm_loaded, rng):
     for t in (0.1, 0.5, 0.9):
         q = np.array([1.2, -2.2]) + rng.uniform(-0.2, 0.2, 2)
         qd = rng.uniform(-1, 1, 2)
-        u = ctrl(t, np.r_[q, qd])
+        u = ctrl(t, ArmMeasurement(q, qd))
         qdd = arm2.forward_dynamics(q, qd, u - 100.0 * qd, M_L)
         acc = arm2.jacobian(q) @ qdd + arm2.jacobian_derivative_times_qd(q, qd)
         x_d, xd_d, xdd_d = (v[:2] for v in law(t))
@@ -53,7 +54,7 @@ def test_pd_gravity_reaches_a_tip_position(arm_loaded):
     res = simulate(ArmPlant(arm_loaded, viscous_friction=100.0),
                    OperationalPDGravity(arm_loaded, 16250.0, 3250.0, p_d, rows=(0, 1)),
                    (0.0, 2.5), np.r_[0.73453, -2.54990, 0, 0], h=1e-3, Ts=1e-3)
-    np.testing.assert_allclose(arm2.tip(res.x[-1, :2]), p_d, atol=1e-5)
+    np.testing.assert_allclose(arm2.tip(res.q[-1]), p_d, atol=1e-5)
 
 
 def test_steady_state_fixed_point_residual(arm_loaded):
@@ -77,14 +78,14 @@ def test_bad_task_definitions_raise(arm_loaded):
         OperationalPDGravity(arm_loaded, 1.0, 1.0, [0.5, 0.5], rows=(0, 4))
     ctrl = OperationalInverseDynamics(arm_loaded, 100.0, 16.0, [0.5, 0.5], rows=(0, 1))
     with pytest.raises(ValueError, match="singular"):
-        ctrl(0.0, np.array([0.3, 0.0, 0.0, 0.0]))  # stretched arm: J singular
+        ctrl(0.0, ArmMeasurement(np.array([0.3, 0.0]), np.zeros(2)))  # stretched arm: J singular
 
 
 def test_nearly_singular_jacobian_raises_instead_of_huge_torques(arm_loaded):
     ctrl = OperationalInverseDynamics(arm_loaded, 100.0, 16.0, [0.5, 0.5], rows=(0, 1))
     with pytest.raises(ValueError, match="J_A is singular at t = 0 s"):
-        ctrl(0.0, np.array([0.3, 1e-14, 0.0, 0.0]))  # numerically stretched: cond(J) ~ 1e14
-    assert np.all(np.isfinite(ctrl(0.0, np.array([0.3, 1e-3, 0.0, 0.0]))))  # near the singularity, not at it
+        ctrl(0.0, ArmMeasurement(np.array([0.3, 1e-14]), np.zeros(2)))  # numerically stretched: cond(J) ~ 1e14
+    assert np.all(np.isfinite(ctrl(0.0, ArmMeasurement(np.array([0.3, 1e-3]), np.zeros(2)))))  # near the singularity, not at it
     arm = load("planar_2r")
     with pytest.raises(ValueError, match="J_A is singular at q"):
         operational_inverse_dynamics_steady_state(arm_loaded, arm, 100.0, [2.0, 0.0], [0.0, 0.0], rows=(0, 1))

@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from controllers.simulation import ArmPlant, SimulationDiverged, simulate
+from controllers.plants import ArmPlant
+from controllers.simulation import Chain, LoggedController, SimulationDiverged, ZeroOrderHold, simulate
 from rigid_body.dynamics import gravity_torques, inertia_matrix
 from rigid_body.robots import load
 
@@ -131,3 +132,99 @@ def test_arm_plant_validates_friction_limits_and_input_size():
     np.testing.assert_allclose(plant.torque(np.array([20.0, -3.0])), [10.0, -3.0])
     with pytest.raises(ValueError, match="needs 2 joint torques"):
         simulate(plant, lambda t, x: np.zeros(3), (0.0, 0.01), [0.0, 0.0, 0.0, 0.0], h=1e-3)
+
+
+# --------------------------------------------------------------------------------------------
+# The contract: validation, multi-rate blocks, logging, named states, plots
+# --------------------------------------------------------------------------------------------
+
+def test_bound_derivative_shape_and_x0_are_validated():
+    f = lambda t, x, u: u  # noqa: E731
+    zero = lambda t, x: np.zeros(1)  # noqa: E731
+    for bad in (float("nan"), -1.0, 0.0, float("inf"), "big"):
+        with pytest.raises(ValueError, match="`bound`"):
+            simulate(f, zero, (0, 1), [0.0], h=0.1, bound=bad)
+
+    class Wrong:
+        def derivative(self, t, x, u):
+            return np.zeros(3)
+
+    with pytest.raises(ValueError, match=r"`.*Wrong.derivative` returned shape \(3,\), expected \(2,\)"):
+        simulate(Wrong(), lambda t, x: np.zeros(1), (0, 1), [0.0, 0.0], h=0.1)
+    with pytest.raises(ValueError, match=r"`x0` must have 4 entries for ArmPlant"):
+        simulate(ArmPlant(load("planar_2r")), lambda t, m: np.zeros(2), (0, 1), [0.0, 0.0], h=0.1)
+
+
+def test_plant_bound_is_honoured_and_overridden():
+    class Growing:
+        bound = 2.0
+
+        def derivative(self, t, x, u):
+            return x
+
+    with pytest.raises(SimulationDiverged, match="exceeded 2") as info:
+        simulate(Growing(), lambda t, x: np.zeros(1), (0.0, 5.0), [1.0], h=1e-3)
+    assert info.value.t == pytest.approx(np.log(2.0), abs=2e-3)  # x = e^t reaches 2 at ln 2
+    res = simulate(Growing(), lambda t, x: np.zeros(1), (0.0, 1.0), [1.0], h=1e-3, bound=10.0)
+    assert res.x[-1, 0] == pytest.approx(np.e, rel=1e-9)
+
+
+class _Estimator(LoggedController):
+    def __call__(self, t, x):
+        self.record(estimate=x[0])
+        return x[0]
+
+
+class _Regulator(LoggedController):
+    def __call__(self, t, meas):
+        u = 1.0 + meas.estimate
+        self.record(command=u)
+        return np.array([u])
+
+
+def test_two_discrete_blocks_at_different_periods_over_one_plant():
+    """ẋ = u, loop at 10 ms; an estimator at 20 ms (x̂ = x sampled) feeds a regulator at 40 ms
+    (u = 1 + x̂). By hand: u = 1 on [0, 0.04), x̂ = x(0.04) = 0.04 → u = 1.04 on [0.04, 0.08), ..."""
+    loop = Chain(ZeroOrderHold(_Estimator(), 0.02), ZeroOrderHold(_Regulator(), 0.04), name="estimate")
+    res = simulate(lambda t, x, u: u, loop, (0.0, 0.08), [0.0], h=0.01, Ts=0.01)
+    x_hand = [0.0, 0.01, 0.02, 0.03, 0.04, 0.0504, 0.0608, 0.0712, 0.0816]
+    est_hand = [0.0, 0.0, 0.02, 0.02, 0.04, 0.04, 0.0608, 0.0608, 0.0816]
+    u_hand = [1.0, 1.0, 1.0, 1.0, 1.04, 1.04, 1.04, 1.04, 1.0816]
+    np.testing.assert_allclose(res.x[:, 0], x_hand, atol=1e-12)
+    np.testing.assert_allclose(res["estimate"], est_hand, atol=1e-12)
+    np.testing.assert_allclose(res["command"], u_hand, atol=1e-12)
+    np.testing.assert_allclose(res.u[:, 0], u_hand, atol=1e-12)
+    with pytest.raises(ValueError, match="`Ts` = 0.03 s must divide the period 0.02 s"):
+        simulate(lambda t, x, u: u, loop, (0.0, 0.08), [0.0], h=0.01, Ts=0.03)
+    with pytest.raises(ValueError, match="`Ts`"):
+        ZeroOrderHold(_Estimator(), 0.0)
+    with pytest.raises(ValueError, match="`name`"):
+        Chain(_Estimator(), _Regulator(), name="not a name")
+
+
+def test_logged_controller_resets_its_log():
+    c = _Estimator()
+    assert c.log() == {}
+    c(0.0, np.array([3.0]))
+    assert c.log() == {"estimate": 3.0}
+    c.reset()
+    assert c.log() == {}
+
+
+def test_named_states_and_plot_labels():
+    robot = load("planar_2r")
+    plant = ArmPlant(robot)
+    x0 = plant.initial_state([0.3, -0.4])
+    np.testing.assert_array_equal(x0, [0.3, -0.4, 0.0, 0.0])
+    with pytest.raises(ValueError, match="`qd0`"):
+        plant.initial_state([0.3, -0.4], [1.0])
+    res = simulate(plant, lambda t, m: gravity_torques(robot, m.q), (0.0, 0.1), x0, h=1e-3, Ts=1e-2)
+    np.testing.assert_allclose(res.q, np.tile([0.3, -0.4], (11, 1)), atol=1e-9)  # gravity compensated: rest
+    np.testing.assert_allclose(res.qd, 0.0, atol=1e-9)
+    ax = res.plot("q")
+    assert ax.get_ylabel() == "q [rad]" and ax.get_xlabel() == "t [s]"
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["q1", "q2"]
+    ax = simulate(lambda t, x, u: u, lambda t, x: np.ones(1), (0, 1), [0.0], h=0.1).plot("x")
+    assert ax.get_legend() is None and ax.get_ylabel() == "x"
+    with pytest.raises(KeyError, match="no signal 'q'"):
+        simulate(lambda t, x, u: u, lambda t, x: np.ones(1), (0, 1), [0.0], h=0.1).q

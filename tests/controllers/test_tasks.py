@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 
-from controllers.tasks import (ActionExecutor, Step, SurfaceWithHole, TaskError, Workcell, decompose_pick_and_place,
-                               fill_pallet_program, joint_reference, moveto, pick_and_place_path)
+from controllers.tasks import ActionExecutor, Step, TaskError, Workcell, fill_pallet_program, moveto
+from planners.tasks import decompose_pick_and_place, pick_and_place_path
+from rigid_body.task_space import joint_reference
 from rigid_body.kinematics import direct_kinematics, inverse_kinematics_planar_3r, inverse_kinematics_scara
 from rigid_body.robots import load
 
@@ -45,22 +46,6 @@ def test_step_validation():
         moveto(HOME, 0.0)
 
 
-def test_surface_with_hole_forces():
-    env = SurfaceWithHole(x_hole=0.0, clearance=0.01, depth=0.05, stiffness=1e4, damping=0.0)
-    assert np.allclose(env.force(np.array([0.1, 0.01]), np.zeros(2)), 0)             # above: free
-    assert np.allclose(env.force(np.array([0.1, -0.001]), np.zeros(2)), [0, 10.0])    # top face pushes up
-    assert np.allclose(env.force(np.array([0.005, -0.02]), np.zeros(2)), 0)           # inside the hole
-    assert np.allclose(env.force(np.array([0.012, -0.02]), np.zeros(2)), [-20.0, 0])  # right wall pushes left
-    assert np.allclose(env.force(np.array([-0.012, -0.02]), np.zeros(2)), [20.0, 0])
-    assert np.allclose(env.force(np.array([0.0, -0.051]), np.zeros(2)), [0, 10.0])    # bottom
-
-
-def test_pick_and_place_path_validation():
-    plan = decompose_pick_and_place((0.3, -0.3), (0.7, -0.3), (0.45, 0.55, -0.1), 0.05)
-    with pytest.raises(ValueError, match="`overlap`"):
-        pick_and_place_path(plan, (1, 1, 1), via_points=True, overlap=2.0)
-    with pytest.raises(ValueError, match="between A and B"):
-        decompose_pick_and_place((0.3, -0.3), (0.4, -0.3), (0.45, 0.55, -0.1), 0.05)
 
 
 def test_joint_reference_is_consistent_with_finite_differences():

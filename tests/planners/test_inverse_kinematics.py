@@ -6,8 +6,9 @@ FK(IK(T)) is always checked with Pinocchio's direct kinematics, independent of t
 import numpy as np
 import pytest
 
+from controllers.plants import JointIntegrator
 from controllers.simulation import simulate
-from planners.inverse_kinematics import (CLIK, CasadiIK, CasadiIKOptions, JointIntegrator, QPIKOptions, QPVelocityIK,
+from planners.inverse_kinematics import (CLIK, CasadiIK, CasadiIKOptions, QPIKOptions, QPVelocityIK,
                                          constant_pose, cosine_pose_reference, gradient_velocity,
                                          joint_limit_distance, joint_limit_distance_gradient, solve_clik)
 from rigid_body.kinematics import direct_kinematics

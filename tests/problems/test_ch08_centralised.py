@@ -1,8 +1,8 @@
-"""Chapter 8, centralised control: registration, and the UR5 companion (not a registered problem)."""
+"""Chapter 8, centralised control: registration and the companion design data."""
 
 import numpy as np
 
-from problems.ch08_centralised import motor_side_inertias, ur5_joint_space_control
+from problems.ch08_centralised import motor_side_inertias
 from problems.registry import all_problems
 
 
@@ -16,11 +16,3 @@ def test_motor_side_inertias_of_the_companion_design():
     """I1 = (10 + 50·0.25 + 0.01 + 5·1)/100² + 0.01, I2 = (10 + 50·0.25 + 10·1)/100² + 0.01."""
     np.testing.assert_allclose(motor_side_inertias(10.0), [0.012751, 0.01325], atol=1e-12)
 
-
-def test_ur5_joint_space_control_with_unknown_payload():
-    sol = ur5_joint_space_control()
-    failed = [(c.name, c.detail) for c in sol.checks if not c.passed]
-    assert not failed, failed
-    assert abs(sol.values["m_hat_final"] - 5.0) < 0.1
-    assert sol.values["fast_saturated_fraction"] > 0
-    assert len(sol.figures) == 2

@@ -4,8 +4,9 @@ import control
 import numpy as np
 import pytest
 
+from controllers.plants import ServomotorPlant
 from controllers.simulation import simulate
-from rigid_body.actuators import (DCServomotor, HydraulicMotor, PIRegulator, ServomotorPlant, design_pi_current_loop,
+from rigid_body.actuators import (DCServomotor, HydraulicMotor, PIRegulator, design_pi_current_loop,
                                   frequency_samples, hydraulic_transfer_functions, servomotor_transfer_functions)
 
 MOTOR = dict(Ra=0.2, La=2e-3, kt=0.2, kv=0.2, Im=0.0014, Fm=0.01, Gv=1.0, Tv=1e-4)

@@ -1,0 +1,71 @@
+"""A solution renders itself (Jupyter), the report module, the shared figure helpers, no backend at import."""
+
+import base64
+import subprocess
+import sys
+
+import numpy as np
+
+from problems.common import label_axes, subplots
+from problems.registry import Solution
+from problems.report import solution_dict, solution_html
+
+
+def _solution() -> Solution:
+    sol = Solution(id="0.1", title="A <small> test", kind="numeric")
+    sol.value("K_P", np.array([1.0, 2.5]))
+    sol.check_close("passes", 1.0, 1.0)
+    sol.check("fails", False, "on purpose")
+    fig, ax = subplots(figsize=(3, 2))
+    ax.plot([0, 1], [0, 1], label="a")
+    ax.plot([0, 1], [1, 0], label="b")
+    label_axes(ax, "t [s]", "q [rad]")
+    sol.figure(fig, "a figure")
+    return sol
+
+
+def test_repr_html_has_title_values_checks_and_inline_png():
+    sol = _solution()
+    text = sol._repr_html_()
+    assert "0.1 — A &lt;small&gt; test" in text                      # title, escaped
+    assert "<th>K_P</th>" in text and "[1.0, 2.5]" in text            # values table
+    assert "✔ <b>passes</b>" in text and "✘ <b>fails</b>" in text     # checks with pass/fail
+    assert 'class="fail"' in text                                     # one check failed → section fails
+    src = text.split('src="data:image/png;base64,')[1].split('"')[0]
+    assert base64.b64decode(src)[:8] == b"\x89PNG\r\n\x1a\n"           # a real PNG, inline
+
+
+def test_report_section_links_figure_files():
+    sol = _solution()
+    d = solution_dict(sol, ["0_1_1.png"]) | {"passed": False, "seconds": 0.5}
+    text = solution_html(d, ["figures/0_1_1.png"])
+    assert '<img src="figures/0_1_1.png"' in text and "[numeric, 0.5 s]" in text
+
+
+def test_label_axes_adds_a_legend_only_for_several_lines():
+    fig, (a, b) = subplots(1, 2)
+    a.plot([0, 1], label="one")
+    b.plot([0, 1], label="one")
+    b.plot([1, 0], label="two")
+    label_axes(a, "t [s]", "y [m]")
+    label_axes(b, "t [s]", "y [m]")
+    assert a.get_legend() is None and b.get_legend() is not None
+    assert a.get_xlabel() == "t [s]" and b.get_ylabel() == "y [m]"
+
+
+def test_chapter_modules_leave_the_backend_alone():
+    """Importing every chapter module must not pick a matplotlib backend (that is a notebook's choice;
+    python-control imports pyplot, which leaves the choice open until a figure is shown)."""
+    code = ("import matplotlib; from problems.registry import load_all; load_all(); "
+            "print(matplotlib.rcParams._get_backend_or_none())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         env={"PATH": "", "PYTHONPATH": ":".join(sys.path)}).stdout.split()
+    assert out == ["None"]
+
+
+def test_check_error_fails_above_the_tolerance_and_on_nan():
+    sol = Solution()
+    assert sol.check_error("small", 1e-13, 1e-12)
+    assert not sol.check_error("large", 2e-12, 1e-12)
+    assert not sol.check_error("nan", float("nan"), 1.0)
+    assert [c.passed for c in sol.checks] == [True, False, False] and "2e-12" in sol.checks[1].detail

@@ -1,5 +1,14 @@
 """Force control: tasks where the end effector touches the environment (Ch. 9; Problem 6.3).
 
+* :class:`HybridForceMotionControl` — hybrid force/motion control on a compliant environment
+  (Sect. 9.7.1): inverse dynamics with α = S_v α_ν + Ĉ' S_f f_λ (9.77), the PI velocity law (9.80) on
+  ν = S_v† v_e and the PD force law (9.81)/(9.84) on λ = S_f† h_e.
+* :class:`ForceWithInnerLoop` — force control with an inner position loop (Fig. 9.8; with a PI C_F
+  and a motion reference, parallel force/position control, Sect. 9.4.3) or an inner velocity loop
+  (Fig. 9.9).
+* Compliance control is :class:`~controllers.operational_space.OperationalPDGravity` in contact and
+  impedance control :class:`~controllers.operational_space.OperationalInverseDynamics` with a desired
+  inertia (and the sensed wrench); their closed forms are in :mod:`controllers.force_laws`.
 * :class:`PegInHoleController` — the hybrid force/position law of the peg-in-hole task of 6.3 (flow
   chart of Fig. S6.2 as a state machine): τ = g(q) + Jᵀ (K_P S (x_d − x) + K_D (ẋ_d − ẋ) + f_d), with S
   selecting the position-controlled directions and f_d the commanded force along the others.
@@ -16,18 +25,22 @@ References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Sprin
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
 from controllers.environment import SurfaceWithHole
+from controllers.joint_space import as_gain, as_reference
+from controllers.operational_space import _check_redundancy, _nonnegative, _singular, _solve_task
 from controllers.plants import ArmInContact, ArmMeasurement, frame_jacobian_and_pose
-from controllers.simulation import LoggedController, SimulationResult, simulate
+from controllers.simulation import LoggedController, SimulationResult, as_friction, simulate
 from planners.timing import quintic_law
-from rigid_body.dynamics import gravity_torques
+from rigid_body.dynamics import gravity_torques, inverse_dynamics
+from rigid_body.kinematics import _frame
 from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
-from rigid_body.validation import as_vector
+from rigid_body.task_space import _frame_state, selection_projection, selection_pseudo_inverse
+from rigid_body.validation import as_matrix, as_vector
 
 
 PEG_STATES = ("approach", "descend", "search", "insert", "done")
@@ -162,3 +175,208 @@ def run_peg_in_hole(robot: Robot, environment: SurfaceWithHole, task: PegInHoleT
     controller = PegInHoleController(robot, task)
     res = simulate(plant, controller, (0.0, duration), plant.initial_state(q0), h=h, Ts=Ts)
     return res, controller
+
+
+# --------------------------------------------------------------------------------------------
+# The laws of Chapter 9 on any arm: inverse dynamics in the task rows of one frame
+# --------------------------------------------------------------------------------------------
+
+class _ContactTask:
+    """The rows of one frame's twist/wrench a force law works in: (J, J̇q̇, T_e) in one pass, the
+    sensed wrench in those rows, and the inverse-dynamics step u = B y + n + F_v q̇ + Jᵀ h_e with
+    y = J†(a − J̇ q̇) (+ null-space damping −K_N q̇ for a redundant arm)."""
+
+    def __init__(self, robot: Robot, rows: Sequence[int] | None, frame: str | int | None,
+                 viscous_friction: Any, null_space_damping: Any):
+        self.robot, self.n = robot, robot.nv
+        self.fid = _frame(robot, frame)
+        self.rows = np.arange(6) if rows is None else np.asarray(rows, dtype=int).ravel()
+        if (self.rows.size == 0 or len(set(self.rows.tolist())) != self.rows.size
+                or np.any((self.rows < 0) | (self.rows > 5))):
+            raise ValueError(f"`rows` must be distinct twist components in 0..5, got {rows!r}")
+        self.m = self.rows.size
+        _check_redundancy(self.m, self.n)
+        self.Fv = as_friction(viscous_friction, self.n)
+        self.K_N = _nonnegative(null_space_damping, self.n, "null_space_damping")
+        self.redundant = self.m < self.n
+
+    def state(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(J, J̇q̇, T_e) of the task rows."""
+        st = _frame_state(self.robot.model, self.robot.data, self.fid, q, qd)
+        return st.J[self.rows], st.Jdot_qd[self.rows], st.T
+
+    def wrench(self, meas: Any) -> np.ndarray:
+        w = getattr(meas, "wrench", None)
+        if w is None:
+            raise ValueError("a force controller needs a force sensor: the plant's measurement has no "
+                             "`wrench` (use controllers.plants.ArmInContact)")
+        return w[self.rows]
+
+    def torques(self, t: float, q: np.ndarray, qd: np.ndarray, J: np.ndarray, a: np.ndarray,
+                h: np.ndarray) -> np.ndarray:
+        """u = B(q) y + n(q, q̇) + Jᵀ h_e with v̇_e = a (inverse dynamics in the task space)."""
+        y = _solve_task(J, a)
+        if y is None:
+            raise _singular(f"at t = {t:.6g} s, q = {q}")
+        if self.redundant:
+            y0 = -self.K_N * qd
+            y += y0 - _solve_task(J, J @ y0)
+        return inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd + J.T @ h
+
+
+def _velocity_reference(reference: Any, k: int) -> Callable[[float], tuple[np.ndarray, np.ndarray]]:
+    """``t -> (ν_d, ν̇_d)`` from a constant ν_d (k,) or such a callable (checked at t = 0)."""
+    if not callable(reference):
+        nu = as_vector(reference, k, "velocity_reference").copy()
+        zero = np.zeros(k)
+        return lambda t: (nu, zero)
+    try:
+        nu, nud = reference(0.0)
+        as_vector(np.reshape(nu, -1), k, "ν_d")
+        as_vector(np.reshape(nud, -1), k, "ν̇_d")
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"`velocity_reference` must give (ν_d ({k},), ν̇_d ({k},)) at t = 0: {err}") from None
+    return lambda t: tuple(np.reshape(np.asarray(v, dtype=float), k) for v in reference(t))
+
+
+class HybridForceMotionControl(LoggedController):
+    """Hybrid force/motion control on a compliant environment (Sect. 9.7.1, Example 9.4).
+
+    Inverse dynamics u = B y + n + Jᵀ h_e, y = J⁻¹(α − J̇ q̇) makes v̇_e = α, and
+    α = S_v α_ν + Ĉ' S_f f_λ (9.77) with
+    α_ν = ν̇_d + K_Pν (ν_d − ν) + K_Iν ∫(ν_d − ν) (9.80), ν = S_v† v_e (weight K̂), and
+    f_λ = λ̈_d + K_Dλ (λ̇_d − λ̇) + K_Pλ (λ_d − λ) (9.81), λ = S_f† h_e (weight Ĉ) from the force sensor
+    and λ̇ = (S_fᵀ Ĉ' S_f)⁻¹ S_fᵀ v_e from the motion (the deflection rate over the estimated compliance).
+    With the true compliance the loops are ν̇ = α_ν and λ̈ = f_λ; with an estimate ĉ = l_f c the force loop
+    is λ̈ + K_Dλ λ̇ + l_f K_Pλ λ = l_f K_Pλ λ_d ((9.84)–(9.85), Problem 9.10;
+    :func:`controllers.force_laws.force_loop_parameters`).
+
+    Parameters
+    ----------
+    robot : the controller's model.
+    S_f, S_v : (m, k_f), (m, m − k_f) selection matrices in the base frame (rows of the task twist),
+        e.g. from :func:`rigid_body.task_space.selection_matrices` with the constraint frame's rotation.
+    force_reference : λ_d: a constant (k_f,), or a trajectory/callable ``t -> (λ_d, λ̇_d, λ̈_d)``.
+    velocity_reference : ν_d: a constant or a callable ``t -> (ν_d, ν̇_d)`` ((m − k_f,) each).
+    K_Pnu, K_Inu, K_Dlambda, K_Plambda : gains (scalars, vectors or matrices), K_Pν, K_Iν, K_Pλ positive definite.
+    compliance : Ĉ (m, m), the estimated environment compliance: weight of S_f† (9.55).
+    stiffness : K̂ (m, m), weight of S_v† (default Ĉ⁻¹).
+    compliance_prime : Ĉ' (m, m), the compliance of the force-controlled subspace (default (I − P_v) Ĉ).
+    rows, frame : the task rows of the frame's twist (default all six) and the frame (default ee).
+    viscous_friction, null_space_damping : as in :class:`~controllers.operational_space.OperationalInverseDynamics`.
+    """
+
+    def __init__(self, robot: Robot, S_f: Any, S_v: Any, force_reference: Any, velocity_reference: Any,
+                 K_Pnu: Any, K_Inu: Any, K_Dlambda: Any, K_Plambda: Any, compliance: Any, stiffness: Any = None,
+                 compliance_prime: Any = None, rows: Sequence[int] | None = None, frame: str | int | None = None,
+                 viscous_friction: Any = 0.0, null_space_damping: Any = 0.0):
+        self.task = task = _ContactTask(robot, rows, frame, viscous_friction, null_space_damping)
+        m = task.m
+        S_f, S_v = np.asarray(S_f, dtype=float), np.asarray(S_v, dtype=float)
+        S_f, S_v = (S.reshape(-1, 1) if S.ndim == 1 else S for S in (S_f, S_v))
+        if S_f.ndim != 2 or S_v.ndim != 2 or S_f.shape[0] != m or S_v.shape[0] != m or S_f.shape[1] + S_v.shape[1] != m:
+            raise ValueError(f"`S_f`, `S_v` must be (m, k) and (m, m − k) with m = {m} task rows, "
+                             f"got {S_f.shape} and {S_v.shape}")
+        if np.abs(S_f.T @ S_v).max() > 1e-9:
+            raise ValueError("`S_f` and `S_v` must be reciprocal: S_fᵀ S_v = 0")
+        self.S_f, self.S_v = S_f, S_v
+        k_f, k_v = S_f.shape[1], S_v.shape[1]
+        C = as_matrix(compliance, (m, m), "compliance")
+        K = np.linalg.inv(C) if stiffness is None else as_matrix(stiffness, (m, m), "stiffness")
+        self.S_f_dagger = selection_pseudo_inverse(S_f, C)     # λ = S_f† h_e, Eq. (9.55)
+        self.S_v_dagger = selection_pseudo_inverse(S_v, K)     # ν = S_v† v_e
+        P_v = selection_projection(S_v, K)
+        C1 = (np.eye(m) - P_v) @ C if compliance_prime is None else as_matrix(compliance_prime, (m, m), "compliance_prime")
+        self.C_prime_S_f = C1 @ S_f
+        self.G_f = np.linalg.solve(S_f.T @ C1 @ S_f, S_f.T)     # λ̇ = G_f v_e
+        self.K_Pnu, self.K_Inu = as_gain(K_Pnu, k_v, "K_Pnu"), as_gain(K_Inu, k_v, "K_Inu")
+        self.K_Plambda = as_gain(K_Plambda, k_f, "K_Plambda")
+        K_D = np.asarray(K_Dlambda, dtype=float)
+        self.K_Dlambda = as_gain(K_D, k_f, "K_Dlambda") if np.any(K_D) else np.zeros((k_f, k_f))
+        self.force_reference = as_reference(force_reference, k_f, "force_reference")
+        self.velocity_reference = _velocity_reference(velocity_reference, k_v)
+        self.reset()
+
+    def reset(self) -> None:
+        super().reset()
+        self._integral = np.zeros(self.S_v.shape[1])
+        self._t_last: float | None = None
+
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        task = self.task
+        q, qd = meas.q, meas.qd
+        h = task.wrench(meas)
+        J, Jdot_qd, T_e = task.state(q, qd)
+        v_e = J @ qd
+        nu, lam, lam_dot = self.S_v_dagger @ v_e, self.S_f_dagger @ h, self.G_f @ v_e
+        nu_d, nud_d = self.velocity_reference(t)
+        lam_d, lamd_d, lamdd_d = self.force_reference(t)
+        if self._t_last is not None:
+            self._integral += (t - self._t_last) * (nu_d - nu)   # ∫(ν_d − ν), forward Euler at the samples
+        self._t_last = t
+        alpha_nu = nud_d + self.K_Pnu @ (nu_d - nu) + self.K_Inu @ self._integral            # (9.80)
+        f_lambda = lamdd_d + self.K_Dlambda @ (lamd_d - lam_dot) + self.K_Plambda @ (lam_d - lam)  # (9.81)
+        alpha = self.S_v @ alpha_nu + self.C_prime_S_f @ f_lambda                              # (9.77)
+        u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
+        self.record(nu=nu, nu_d=nu_d, lam=lam, lam_d=lam_d, h_e=h, p_e=T_e[:3, 3].copy())
+        return u
+
+
+FORCE_LOOPS = ("position", "velocity")
+
+
+class ForceWithInnerLoop(LoggedController):
+    """Force control through a motion loop closed by inverse dynamics (Sect. 9.4), x_F = C_F (f_d − f_e):
+
+    * ``inner="position"`` (Fig. 9.8): y = J⁻¹ M_d⁻¹(−K_D ẋ_e + K_P (x_d + x_F − x_e) − M_d J̇ q̇), at rest
+      x_e = x_d + C_F (K (x_r − x_e) + f_d) (Problem 9.4), f_e = f_d only with integral action in C_F.
+      With a PI C_F this is parallel force/position control (Sect. 9.4.3): the force loop prevails
+      along the constrained directions (f_e = f_d) and x̃ → 0 along the free ones;
+    * ``inner="velocity"`` (Fig. 9.9): y = J⁻¹ M_d⁻¹(−K_D ẋ_e + K_P x_F − M_d J̇ q̇): f_e = f_d at rest
+      already with a proportional C_F;
+    with u = B y + n + Jᵀ h_e. C_F = K_F + K_I/s (``K_I=0``: proportional). Positions are the frame's
+    origin in the ``rows`` components (default x, y, z); ``reference`` x_d (constant or trajectory),
+    ``force_reference`` f_d (constant or ``t -> (f_d, ḟ_d, f̈_d)``).
+    """
+
+    def __init__(self, robot: Robot, K_P: Any, K_D: Any, inertia: Any, K_F: Any, reference: Any,
+                 force_reference: Any, K_I: Any = 0.0, inner: str = "position", rows: Sequence[int] = (0, 1, 2),
+                 frame: str | int | None = None, viscous_friction: Any = 0.0, null_space_damping: Any = 0.0):
+        if inner not in FORCE_LOOPS:
+            raise ValueError(f"`inner` must be one of {FORCE_LOOPS}, got {inner!r}")
+        self.inner = inner
+        self.task = task = _ContactTask(robot, rows, frame, viscous_friction, null_space_damping)
+        if np.any(task.rows > 2):
+            raise ValueError(f"`rows` must select position components 0..2, got {rows!r}")
+        m = task.m
+        self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
+        self.M_d_inv = np.linalg.inv(as_gain(inertia, m, "inertia"))
+        self.K_F = as_gain(K_F, m, "K_F")
+        K_I = np.asarray(K_I, dtype=float)
+        self.K_I = as_gain(K_I, m, "K_I") if np.any(K_I) else None
+        self.reference = as_reference(reference, m)
+        self.force_reference = as_reference(force_reference, m, "force_reference")
+        self.reset()
+
+    def reset(self) -> None:
+        super().reset()
+        self._integral = np.zeros(self.task.m)
+        self._t_last: float | None = None
+
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        task = self.task
+        q, qd = meas.q, meas.qd
+        f = task.wrench(meas)
+        J, Jdot_qd, T_e = task.state(q, qd)
+        x_e, xd_e = T_e[task.rows, 3], J @ qd
+        x_d, _, _ = self.reference(t)
+        f_d = self.force_reference(t)[0]
+        if self._t_last is not None and self.K_I is not None:
+            self._integral += (t - self._t_last) * (f_d - f)
+        self._t_last = t
+        x_F = self.K_F @ (f_d - f) + (0.0 if self.K_I is None else self.K_I @ self._integral)  # (9.41)
+        w = self.K_P @ (x_d + x_F - x_e) if self.inner == "position" else self.K_P @ x_F
+        a = self.M_d_inv @ (w - self.K_D @ xd_e)
+        u = task.torques(t, q, qd, J, a - Jdot_qd, f)
+        self.record(x_e=x_e, x_d=x_d, x_F=x_F, f_e=f, f_d=f_d)
+        return u

@@ -20,7 +20,7 @@ The laws, with errors x̃ = x_d − x_e and the task Jacobian J (rows of :class:
   J† = J⁻¹ for a square task, the right pseudo-inverse (3.52) for a redundant one. With a desired
   inertia M_d it is **impedance control** (Sect. 9.3, Eq. 9.28), with the sensed wrench too the
   linear impedance of Eqs. (9.30)–(9.31). (PD + gravity, in contact, is compliance control,
-  Sect. 9.2: its rest is :func:`controllers.force_laws.compliance_equilibrium`.)
+  Sect. 9.2: its rest is :func:`controllers.force.compliance_equilibrium`.)
 
 Redundancy (fewer task components than joints, e.g. a 6-D pose on the 7-DOF Panda): the task does not
 fix the self-motion. The PD law adds the joint damping −K_N q̇ (``joint_damping``): it only adds
@@ -263,7 +263,7 @@ class OperationalInverseDynamics:
     force_feedback : with the sensed wrench h_e (``meas.wrench``, its ``rows`` components),
         u = B y + n + Jᵀ h_e, y = J† M_d⁻¹(M_d ẍ_d + K_D x̃̇ + K_P x̃ − M_d J̇ q̇ − h_e) (Eqs. 9.30–9.31): the
         linear impedance M_d x̃̈ + K_D x̃̇ + K_P x̃ = h_e. The impedance of one axis against a spring of
-        stiffness k has ω_n, ζ of :func:`controllers.force_laws.impedance_parameters`.
+        stiffness k has ω_n, ζ of :func:`controllers.force.impedance_parameters`.
 
     With the quaternion error e_O ≈ (ϑ/2) r for small angles, an orientation stiffness 2 K_P gives
     the orientation the bandwidth of a position stiffness K_P.

@@ -30,10 +30,9 @@ import pinocchio as pin
 import sympy as sp
 
 from controllers.environment import CompliantPlane
-from controllers.force import ForceWithInnerLoop, HybridForceMotionControl
-from controllers.force_laws import (compliance_equilibrium, constrained_stiffness, fit_second_order,
-                                    force_loop_parameters, impedance_parameters, inner_position_loop_equilibrium,
-                                    pi_velocity_parameters)
+from controllers.force import (ForceWithInnerLoop, HybridForceMotionControl, compliance_equilibrium,
+                               constrained_stiffness, fit_second_order, force_loop_parameters,
+                               impedance_parameters, inner_position_loop_equilibrium, pi_velocity_parameters)
 from controllers.operational_space import OperationalInverseDynamics, OperationalPDGravity
 from controllers.plants import ArmInContact
 from controllers.simulation import SimulationResult, simulate

@@ -9,6 +9,11 @@
 * Compliance control is :class:`~controllers.operational_space.OperationalPDGravity` in contact and
   impedance control :class:`~controllers.operational_space.OperationalInverseDynamics` with a desired
   inertia (and the sensed wrench).
+* :class:`PegInHoleController` — the hybrid force/position law of the peg-in-hole task of 6.3 (flow
+  chart of Fig. S6.2 as a state machine): τ = g(q) + Jᵀ (K_P S (x_d − x) + K_D (ẋ_d − ẋ) + f_d), with S
+  selecting the position-controlled directions and f_d the commanded force along the others.
+* :class:`PegInHoleTask` — the data of 6.3; :func:`run_peg_in_hole` runs it on an
+  :class:`~controllers.plants.ArmInContact` against a :class:`~controllers.environment.SurfaceWithHole`.
 
 The closed forms of these laws:
 
@@ -21,11 +26,6 @@ The closed forms of these laws:
   with an estimated compliance (Eqs. (9.84)–(9.85)), and of the PI velocity loop (9.80).
 * :func:`constrained_stiffness` — K' = S_f (S_fᵀ C S_f)⁻¹ S_fᵀ, Eq. (9.70) (= P_f K, Problem 9.6).
 * :func:`fit_second_order` — ω_n, ζ measured on a transient from rest (the check of the simulations).
-* :class:`PegInHoleController` — the hybrid force/position law of the peg-in-hole task of 6.3 (flow
-  chart of Fig. S6.2 as a state machine): τ = g(q) + Jᵀ (K_P S (x_d − x) + K_D (ẋ_d − ẋ) + f_d), with S
-  selecting the position-controlled directions and f_d the commanded force along the others.
-* :class:`PegInHoleTask` — the data of 6.3; :func:`run_peg_in_hole` runs it on an
-  :class:`~controllers.plants.ArmInContact` against a :class:`~controllers.environment.SurfaceWithHole`.
 
 The controllers read the sensed wrench ``meas.wrench`` (h_e, exerted by the end effector on the
 environment, Sect. 9.1) of the :class:`~controllers.plants.ArmMeasurement`.

@@ -15,13 +15,13 @@ from typing import Callable
 import numpy as np
 import pinocchio as pin
 
-from controllers.joint_space import AdaptivePayloadControl, InverseDynamicsControl, PDGravityCompensation, with_payload
+from controllers.joint_space import AdaptivePayloadControl, InverseDynamicsControl, PDGravityCompensation
 from controllers.operational_space import OperationalInverseDynamics
 from controllers.plants import ArmPlant
 from controllers.simulation import rk4_step, simulate
 from planners.paths import PathLaw, Segment
 from planners.timing import quintic, trapezoidal, trapezoidal_law
-from rigid_body.robots import load
+from rigid_body.robots import load, with_payload
 
 from benchtools import per_call
 

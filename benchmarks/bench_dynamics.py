@@ -3,7 +3,7 @@ dynamics with and without motor (mimic) joints.
 
 Per-call times [µs] and ratios against the raw Pinocchio call measured in the same run, on
 ``planar_2r`` (with motors), ``anthropomorphic_wrist`` (6R) and the Panda (7R, standard DH table of
-``urdf.panda_dh``). Run: ``python benchmarks/bench_dynamics.py``.
+``rigid_body.book_robots``). Run: ``python benchmarks/bench_dynamics.py``.
 """
 
 from __future__ import annotations
@@ -16,10 +16,8 @@ import pinocchio as pin
 from rigid_body import dynamics as dyn
 from rigid_body import lagrange as lg
 from rigid_body import newton_euler as ne
-from rigid_body.dh import robot_from_dh
-from rigid_body.robots import load
-from urdf.book_robots import book_robot_spec
-from urdf.panda_dh import panda_links, panda_tool
+from rigid_body.book_robots import book_robot_spec, panda_links, panda_tool
+from rigid_body.robots import load, robot_from_dh
 
 from benchtools import per_call
 
@@ -33,7 +31,7 @@ def main() -> None:
     cases = [("planar_2r", load("planar_2r"), lg.serial_model(book_robot_spec("planar_2r"))),
              ("anthropomorphic_wrist", load("anthropomorphic_wrist"),
               lg.serial_model(book_robot_spec("anthropomorphic_wrist"))),
-             ("panda", load("panda"), lg.serial_model(panda_links()))]
+             ("panda", load("panda"), lg.serial_model(panda_links(load("panda").model)))]
     for name, robot, model in cases:
         q = robot.random_configuration(rng)
         qd, qdd = rng.normal(size=(2, robot.nv))
@@ -69,7 +67,7 @@ def main() -> None:
     row("dynamics.forward_dynamics, mimic rotors (CRBA+chol)",
         per_call(lambda: dyn.forward_dynamics(with_motors, q, qd, tau), 20000), t_aba)
     print("forward dynamics, Panda DH table without and with rotors (I_m = 1e-4 kg·m², k_r = 100)")
-    links = panda_links()
+    links = panda_links(load("panda").model)
     plain = robot_from_dh(links, tool=panda_tool())
     motors = robot_from_dh([dataclasses.replace(l, motor_inertia=1e-4, motor_mass=0.5, gear_ratio=100.0) for l in links],
                            tool=panda_tool())

@@ -50,7 +50,6 @@ from controllers.plants import ArmInContact, ArmMeasurement, frame_jacobian_and_
 from controllers.simulation import LoggedController, SimulationResult, as_friction, simulate
 from planners.timing import quintic_law
 from rigid_body.dynamics import gravity_torques, inverse_dynamics
-from rigid_body.kinematics import _frame
 from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
 from rigid_body.task_space import _frame_state, selection_projection, selection_pseudo_inverse
@@ -77,7 +76,7 @@ class PegInHoleController(LoggedController):
     def __init__(self, robot: Robot, task: PegInHoleTask, K_P: Any = (3000.0, 3000.0, 300.0),
                  K_D: Any = (120.0, 120.0, 10.0), frame: str | int | None = None):
         self.robot, self.task, self.frame = robot, task, frame
-        self._fid = robot.ee_frame if frame is None else robot.frame(frame)
+        self._fid = robot.frame(frame)
         self.K_P, self.K_D = as_vector(K_P, 3, "K_P"), as_vector(K_D, 3, "K_D")
         self.n = robot.nv
         self.reset()
@@ -315,7 +314,7 @@ class _ContactTask:
     def __init__(self, robot: Robot, rows: Sequence[int] | None, frame: str | int | None,
                  viscous_friction: Any, null_space_damping: Any):
         self.robot, self.n = robot, robot.nv
-        self.fid = _frame(robot, frame)
+        self.fid = robot.frame(frame)
         self.rows = np.arange(6) if rows is None else np.asarray(rows, dtype=int).ravel()
         if (self.rows.size == 0 or len(set(self.rows.tolist())) != self.rows.size
                 or np.any((self.rows < 0) | (self.rows > 5))):

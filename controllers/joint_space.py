@@ -30,7 +30,6 @@ from __future__ import annotations
 from typing import Any, Callable, Sequence
 
 import numpy as np
-import pinocchio as pin
 from scipy.linalg import solve_continuous_lyapunov
 from scipy.optimize import fsolve
 
@@ -38,7 +37,7 @@ from controllers.independent_joint import JointDesign, JointDrive, Transducers
 from controllers.plants import ArmMeasurement
 from controllers.simulation import LoggedController, as_friction, per_joint
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics, reference_torque
-from rigid_body.robots import Robot
+from rigid_body.robots import Robot, with_payload
 from rigid_body.validation import as_matrix, as_vector
 
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
@@ -89,24 +88,6 @@ def as_gain(K: Any, n: int, name: str) -> np.ndarray:
     if not np.all(np.isfinite(M)) or np.min(np.linalg.eigvalsh(0.5 * (M + M.T))) <= 0:
         raise ValueError(f"`{name}` must be a finite positive definite gain, got {K!r}")
     return M
-
-
-def with_payload(robot: Robot, mass: float, frame: str | int | None = None) -> Robot:
-    """A copy of ``robot`` carrying a point mass ``mass`` [kg] at the origin of ``frame`` (default ee).
-
-    The mass is added to the inertia of the body that carries the frame, so B(q), C(q, q̇) and g(q)
-    of the copy are those of the arm with the payload (Sect. 7.2.2, a concentrated load).
-    """
-    if not (np.isfinite(mass) and mass >= 0):
-        raise ValueError(f"`mass` must be a non-negative payload [kg], got {mass!r}")
-    fid = robot.ee_frame if frame is None else robot.frame(frame)
-    model = robot.model.copy()
-    f = model.frames[fid]
-    model.inertias[f.parentJoint] = model.inertias[f.parentJoint] + pin.Inertia(
-        float(mass), f.placement.translation.copy(), np.zeros((3, 3)))
-    return Robot(name=f"{robot.name}+{mass:g}kg", model=model, data=model.createData(),
-                 ee_frame=robot.ee_frame, urdf_path=None, urdf_xml=robot.urdf_xml,
-                 configurations=dict(robot.configurations))
 
 
 def mean_diagonal_inertia(robot: Robot, configurations: np.ndarray) -> np.ndarray:

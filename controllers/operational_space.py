@@ -46,9 +46,8 @@ import numpy as np
 from scipy.optimize import fsolve
 
 from controllers.joint_space import as_gain, as_reference
-from controllers.simulation import as_friction, per_joint
+from controllers.simulation import LoggedController, as_friction, per_joint
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics
-from rigid_body.kinematics import _frame
 from rigid_body.robots import Robot
 from rigid_body.rotations import as_homogeneous
 from rigid_body.task_space import TaskSpace, pose_error
@@ -118,7 +117,7 @@ class _Task:
             raise ValueError(f"`orientation` must be one of {CONTROL_ORIENTATIONS}, got {orientation!r}")
         self.robot = robot
         self.pose = orientation != "none"
-        fid = _frame(robot, frame)  # resolved once (unknown frame → ValueError now)
+        fid = robot.frame(frame)  # resolved once (unknown frame → ValueError now)
         if self.pose:
             self.space = TaskSpace(fid, orientation, None if rows is None else tuple(int(r) for r in rows))
             self.rows = np.array(self.space.selected)
@@ -189,7 +188,7 @@ def _check_redundancy(m: int, n: int) -> None:
         raise ValueError(f"`rows` must select at most {n} components (one per joint), got {m}")
 
 
-class OperationalPDGravity:
+class OperationalPDGravity(LoggedController):
     """u = g(q) + Jᵀ(q) K_P x̃ − Jᵀ(q) K_D J(q) q̇ − K_N q̇ (Eq. 8.110, Fig. 8.29), x̃ = x_d − x_e.
 
     For a constant x_d and J of full rank the equilibrium x̃ = 0 is asymptotically stable
@@ -220,24 +219,18 @@ class OperationalPDGravity:
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
         self.K_N = _nonnegative(joint_damping, self.n, "joint_damping")
         self.reference = self.task.reference
-        self._log: dict[str, np.ndarray] = {}
-
-    def reset(self) -> None:
-        self._log = {}
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         q, qd = meas.q, meas.qd
         x_d, _, _ = self.reference(t)
         e, J, _, T_e = self.task.error(q, x_d)
         u = gravity_torques(self.robot, q) + J.T @ (self.K_P @ e - self.K_D @ (J @ qd)) - self.K_N * qd  # (8.110)
-        self._log = self.task.logged(x_d, T_e, e)
+        self.record(**self.task.logged(x_d, T_e, e))
         return u
 
-    def log(self) -> dict[str, np.ndarray]:
-        return self._log
 
 
-class OperationalInverseDynamics:
+class OperationalInverseDynamics(LoggedController):
     """u = B(q) y + n(q, q̇), y = J†(ẍ_d + K_D x̃̇ + K_P x̃ − J̇ q̇) + (I − J† J) y_0 (Eqs. 8.57, 8.114, Fig. 8.30).
 
     With a perfect model the task error obeys x̃̈ + K_D x̃̇ + K_P x̃ = 0 (x̃̇ = ẋ_d − J q̇; for a pose task
@@ -256,7 +249,6 @@ class OperationalInverseDynamics:
     viscous_friction : F_v of the model.
     null_space_damping : K_N [1/s] (scalar or (n,)); posture : q_0 (required when K_q ≠ 0);
         posture_stiffness : K_q [1/s²] (scalar or (n,)). Used only for a redundant task.
-
     inertia : M_d, the desired inertia of an **impedance** (Sect. 9.3): y = J†(ẍ_d + M_d⁻¹(K_D x̃̇ + K_P x̃)
         − J̇ q̇), so that (free motion) M_d x̃̈ + K_D x̃̇ + K_P x̃ = 0 — and in contact
         M_d x̃̈ + K_D x̃̇ + K_P x̃ = M_d B_A⁻¹(q) h_A, a configuration-dependent impedance (Eq. 9.28).
@@ -290,10 +282,6 @@ class OperationalInverseDynamics:
         if inertia is None and self.force_feedback:
             raise ValueError("`force_feedback` needs the impedance's desired `inertia` M_d")
         self.M_d_inv = None if inertia is None else np.linalg.inv(as_gain(inertia, m, "inertia"))
-        self._log: dict[str, np.ndarray] = {}
-
-    def reset(self) -> None:
-        self._log = {}
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         q, qd = meas.q, meas.qd
@@ -313,10 +301,11 @@ class OperationalInverseDynamics:
             y0 = self.K_q * (self.q_0 - q) - self.K_N * qd
             y += y0 - _solve_task(J, J @ y0)                    # (I − J† J) y_0, cf. (3.54)
         u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd
-        self._log = self.task.logged(x_d, T_e, e)
         if self.force_feedback:
             u += J.T @ h                                        # + Jᵀ h_e, Eq. (9.30)
-            self._log["h_e"] = meas.wrench
+            self.record(**self.task.logged(x_d, T_e, e), h_e=meas.wrench)
+        else:
+            self.record(**self.task.logged(x_d, T_e, e))
         return u
 
     def _sensed_wrench(self, meas: Any) -> np.ndarray:
@@ -325,9 +314,6 @@ class OperationalInverseDynamics:
             raise ValueError("impedance control with force feedback needs a force sensor: the plant's "
                              "measurement has no `wrench` (use controllers.plants.ArmInContact)")
         return wrench[self.task.rows]
-
-    def log(self) -> dict[str, np.ndarray]:
-        return self._log
 
 
 def operational_inverse_dynamics_steady_state(plant_robot: Robot, model_robot: Robot, K_P: Any, x_d: Any,

@@ -201,7 +201,7 @@ class ArmInContact:
         if not callable(getattr(environment, "wrench", None)):
             raise ValueError("`environment` must have a method wrench(T_e, v_e) -> h_e (6,)")
         self.robot, self.environment, self.frame = robot, environment, frame
-        self._fid = robot.ee_frame if frame is None else robot.frame(frame)
+        self._fid = robot.frame(frame)
         self.arm = ArmPlant(robot, viscous_friction=viscous_friction, external_force=self.contact_torques)
         a = self.arm
         self.state_size, self.tangent_size, self.state_layout = a.state_size, a.tangent_size, a.state_layout

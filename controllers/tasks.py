@@ -27,12 +27,12 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from controllers.joint_space import InverseDynamicsControl, with_payload
+from controllers.joint_space import InverseDynamicsControl
 from controllers.plants import ArmPlant
 from controllers.simulation import simulate
 from planners.timing import quintic_law
-from rigid_body.kinematics import direct_kinematics, revolute_joints
-from rigid_body.robots import Robot
+from rigid_body.kinematics import direct_kinematics
+from rigid_body.robots import Robot, revolute_joints, with_payload
 from rigid_body.rotations import wrap_angle
 from rigid_body.task_space import joint_reference
 from rigid_body.validation import as_vector

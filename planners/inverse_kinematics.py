@@ -144,7 +144,7 @@ def joint_limit_distance_gradient(robot: Robot, q: np.ndarray) -> np.ndarray:
 def manipulability_objective(robot: Robot, frame: str | int | None = None,
                              rows: tuple[int, ...] = tuple(range(6))) -> Callable[[np.ndarray], float]:
     """w(q) = √det(J J^T) (3.56) of the rows ``rows`` of the frame's Jacobian, as a function of q."""
-    fid = robot.ee_frame if frame is None else robot.frame(frame)
+    fid = robot.frame(frame)
     rows = list(rows)
     return lambda q: manipulability(pin.computeFrameJacobian(robot.model, robot.data, q, fid, LWA)[rows])
 
@@ -394,7 +394,7 @@ class CasadiIK:
 
         self.robot = robot
         self.options = options or CasadiIKOptions()
-        self.frame = robot.ee_frame if frame is None else robot.frame(frame)
+        self.frame = robot.frame(frame)
         fk = frame_placement_function(robot, self.frame)
         o = self.options
         q = ca.SX.sym("q", robot.nq)

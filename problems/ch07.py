@@ -7,7 +7,7 @@ forms are compared with them at random states.
 
 Data:
 
-* The two-link arm (Sect. 7.3.2) is ``urdf.book_robots.planar_2r``, confirmed by the authors'
+* The two-link arm (Sect. 7.3.2) is ``rigid_body.book_robots.planar_2r``, confirmed by the authors'
   ``param.m``: a = 1 m, ℓ = 0.5 m, m_ℓ = 50 kg, I_ℓ = 10 kg·m², k_r = 100, m_m = 5 kg, I_m = 0.01 kg·m²,
   g = 9.81 m/s² along −y₀.
 * The minimum parameters use the manual's (S7.2)/(S7.3) bookkeeping (π'₂ = 97.5, Ī₁ without I_m2).
@@ -34,7 +34,8 @@ from problems.registry import Solution, problem
 from rigid_body import dynamics as dyn
 from rigid_body import lagrange as lg
 from rigid_body import newton_euler as ne
-from rigid_body.dh import DHLink, robot_from_dh
+from rigid_body.book_robots import cartesian_skew, planar_2r, planar_3r, planar_pr
+from rigid_body.dh import G, DHLink
 from rigid_body.kinematics import ELBOW_DOWN, direct_kinematics, geometric_jacobian, inverse_kinematics_planar_2r
 from rigid_body.operational_space import (dynamic_manipulability, dynamic_manipulability_ellipsoid,
                                           dynamically_consistent_inverse, minimum_norm_torque,
@@ -44,9 +45,8 @@ from rigid_body.manipulability import plot_ellipse
 from rigid_body.regressor import (identify, minimum_parameters, payload_link_parameters,
                                   pr_minimum_parameters, pr_regressor, stack_regressor, two_link_parameters,
                                   two_link_regressor, two_link_textbook_parameters, two_link_textbook_regressor)
-from rigid_body.robots import load
+from rigid_body.robots import load, robot_from_dh
 from rigid_body.task_space import joint_rates
-from urdf.book_robots import G, cartesian_skew, planar_2r, planar_3r, planar_pr
 
 N_STATES = 20  # random states per closed-form comparison
 
@@ -82,7 +82,7 @@ def _arm2_closed_form(s: dict, q) -> tuple[np.ndarray, float, np.ndarray]:
 def problem_7_1() -> Solution:
     """Lagrange model of the Cartesian arm of Fig. 7.3 with joint axis 2 at π/4 to axis 1 (Fig. S7.1).
 
-    The arm is ``urdf.book_robots.cartesian_skew``: z₀ = [0 0 1], z₁ = [1/√2 0 1/√2], g₀ = [0 0 −g],
+    The arm is ``rigid_body.book_robots.cartesian_skew``: z₀ = [0 0 1], z₁ = [1/√2 0 1/√2], g₀ = [0 0 −g],
     rotor i on axis i at the origin of frame i−1. The manual's link and motor Jacobians
     (7.16)–(7.29), B (7.32), C = O and g (7.39) are checked against the library's Lagrange model
     and against Pinocchio. The masses, rotor inertias and gear ratios are symbols in the manual;
@@ -431,7 +431,7 @@ def _pr_symbols(links) -> dict:
 def problem_7_5() -> Solution:
     """Lagrange model of the PR arm of Fig. S7.2; then a tip payload m_L and a minimum parameterisation.
 
-    The arm is ``urdf.book_robots.planar_pr`` (z₁ = y₀, g₀ = [−g 0 0]) with motors added. Its link
+    The arm is ``rigid_body.book_robots.planar_pr`` (z₁ = y₀, g₀ = [−g 0 0]) with motors added. Its link
     data and motors are drawn at random, because the manual's are symbols. Checked against the
     library's Lagrange model and Pinocchio: the manual's Jacobians, B, the Christoffel symbols
     (only c122 ≠ 0), N = Ḃ − 2C (skew), g, (S7.4)–(S7.5), the payload-modified parameters and the

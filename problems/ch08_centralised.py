@@ -37,8 +37,9 @@ from problems.registry import Solution, problem
 from rigid_body.dynamics import inertia_matrix
 from rigid_body.kinematics import ELBOW_UP, direct_kinematics, inverse_kinematics_planar_2r
 from rigid_body.regressor import minimum_parameters, two_link_reference_regressor
+from rigid_body.book_robots import planar_2r
+from rigid_body.dh import G
 from rigid_body.robots import Robot, load
-from urdf.book_robots import G, planar_2r
 
 T_C = 1e-3            # controller sampling period [s]
 T_D = 2.5             # simulated time of the authors' runs [s]

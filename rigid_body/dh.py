@@ -27,6 +27,8 @@ from typing import Any, Iterable, Mapping, Sequence
 import numpy as np
 
 JOINT_TYPES = ("revolute", "prismatic")
+G = 9.81  # m/s², the book's gravitational acceleration (one constant for every model and problem)
+GRAVITY = (0.0, 0.0, -G)  # g₀ in the base frame of a robot whose z₀ points up
 
 
 def dh_transform(a: float, alpha: float, d: float, theta: float) -> np.ndarray:
@@ -80,10 +82,25 @@ class DHLink:
             raise ValueError(f"DH link `com` must have shape (3,), got {np.shape(self.com)}")
         if self.inertia is not None and np.asarray(self.inertia, dtype=float).shape != (3, 3):
             raise ValueError(f"DH link `inertia` must have shape (3, 3), got {np.shape(self.inertia)}")
+        Im = np.asarray(self.motor_inertia, dtype=float)
+        if Im.shape not in ((), (3, 3)):
+            raise ValueError(f"DH link `motor_inertia` must be a scalar or (3, 3), got shape {Im.shape}")
+        if not np.all(np.isfinite(Im)):
+            raise ValueError(f"DH link `motor_inertia` must be finite, got {self.motor_inertia!r}")
 
     @property
     def has_motor(self) -> bool:
         return bool(np.any(np.asarray(self.motor_inertia) != 0) or self.motor_mass != 0)
+
+    @property
+    def rotor_inertia(self) -> np.ndarray:
+        """The rotor's (3, 3) inertia tensor in its frame (z = spin axis), Sect. 7.3.
+
+        A scalar ``motor_inertia`` I_m is the moment about the spin axis, the transverse moments being 0
+        as in the book: diag(0, 0, I_m); a (3, 3) value is returned as given.
+        """
+        Im = np.asarray(self.motor_inertia, dtype=float)
+        return np.diag([0.0, 0.0, float(Im)]) if Im.shape == () else Im.copy()
 
     def transform(self, q: float) -> np.ndarray:
         """A_i^{i-1}(q_i) of this link, Eq. (2.52)."""
@@ -135,25 +152,51 @@ def _inertial(mass: float, com: Any, inertia: Any, origin_rot: np.ndarray | None
     return yourdfpy.Inertial(mass=float(mass), origin=origin, inertia=np.asarray(inertia, dtype=float))
 
 
-def _rotor_inertia(motor_inertia: Any) -> np.ndarray:
-    """A scalar I_m is the rotor's moment about its spin axis (z); transverse moments 0 as in the book."""
-    Im = np.asarray(motor_inertia, dtype=float)
-    if Im.shape == ():
-        return np.diag([0.0, 0.0, float(Im)])
-    if Im.shape != (3, 3):
-        raise ValueError(f"`motor_inertia` must be a scalar or (3, 3), got shape {Im.shape}")
-    return Im
+def _shapes(*shapes: tuple[str, tuple[float, ...], np.ndarray]) -> dict:
+    """``visuals`` and ``collisions`` of a yourdfpy Link: the same simple shapes for drawing and collision checking.
+
+    Each shape is ``("cylinder", (radius, length), origin)`` (axis z of ``origin``) or ``("box", size, origin)``.
+    """
+    import yourdfpy
+
+    visuals, collisions = [], []
+    grey = yourdfpy.Material(name="rmpc_grey", color=yourdfpy.Color(rgba=np.array([0.6, 0.6, 0.65, 1.0])))
+    for kind, size, origin in shapes:
+        geometry = (yourdfpy.Geometry(cylinder=yourdfpy.Cylinder(radius=size[0], length=size[1])) if kind == "cylinder"
+                    else yourdfpy.Geometry(box=yourdfpy.Box(size=np.asarray(size, dtype=float))))
+        visuals.append(yourdfpy.Visual(origin=origin, geometry=geometry, material=grey))
+        collisions.append(yourdfpy.Collision(name=None, origin=origin, geometry=geometry))
+    return dict(visuals=visuals, collisions=collisions)
+
+
+def _link_shapes(link: DHLink, radius: float) -> list[tuple[str, tuple[float, ...], np.ndarray]]:
+    """Body i drawn in its joint frame: a cylinder on the joint axis z_{i−1}, then the link as cylinders along
+    the DH offset d_i (along z) and the length a_i (along x, at height d_i), up to the origin of frame i."""
+    shapes = [("cylinder", (1.3 * radius, 4.0 * radius), np.eye(4))]
+    d = link.d if link.joint == "revolute" else 0.0
+    if abs(d) > 1e-9:
+        shapes.append(("cylinder", (radius, abs(d)), dh_transform(0.0, 0.0, d / 2, 0.0)))
+    if abs(link.a) > 1e-9:
+        along_x = dh_transform(0.0, 0.0, d, 0.0) @ dh_transform(link.a / 2, 0.0, 0.0, 0.0)
+        along_x[:3, :3] = [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]  # Ry(π/2): the cylinder's z along x
+        shapes.append(("cylinder", (radius, abs(link.a)), along_x))
+    return shapes
 
 
 def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_robot",
-                 payload: float = 0.0, tool: np.ndarray | None = None) -> str:
-    """URDF text of a serial DH arm, with link inertias, rotors on ``<mimic>`` joints and a payload.
+                 tool: np.ndarray | None = None) -> str:
+    """URDF text of a serial DH arm, with link inertias, rotors on ``<mimic>`` joints and simple shapes.
+
+    Every body gets the same ``<visual>`` and ``<collision>`` shapes (drawing and collision checking):
+    a cylinder on its joint axis, cylinders along d_i and a_i, and a box for the gripper at ``ee``; their
+    radius scales with the arm's size. They carry no mass: the dynamics is the table's.
+
+    A payload is not part of the arm's file: :func:`rigid_body.robots.with_payload` adds it to a model.
 
     Parameters
     ----------
     links : DH table, one entry per joint (see :class:`DHLink`).
     name : the robot's name.
-    payload : point mass [kg] at the origin of the last DH frame (link ``payload``).
     tool : optional (4, 4) constant transform from the last DH frame to the end-effector frame ``ee``;
         identity by default (``ee`` coincides with ``frame_n``).
     """
@@ -161,9 +204,8 @@ def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_ro
     from lxml import etree
 
     links = as_links(links)
-    if not np.isfinite(payload) or payload < 0:
-        raise ValueError(f"`payload` must be a non-negative mass, got {payload!r}")
     eye = np.eye(4)
+    radius = 0.02 * max(sum(abs(link.a) + abs(link.d) for link in links), 0.5)
     robot = yourdfpy.Robot(name=name)
     robot.links.append(yourdfpy.Link(name="frame_0"))
     mimics: dict[str, tuple[str, float]] = {}
@@ -181,7 +223,7 @@ def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_ro
         else:
             origin = dh_transform(0.0, 0.0, link.d, link.theta)
             fixed = dh_transform(link.a, link.alpha, 0.0, 0.0)
-        robot.links.append(yourdfpy.Link(name=body))
+        robot.links.append(yourdfpy.Link(name=body, **_shapes(*_link_shapes(link, radius))))
         robot.joints.append(yourdfpy.Joint(
             name=link.name or f"joint_{i}", type=link.joint, parent=parent, child=body,
             origin=origin, axis=np.array([0.0, 0.0, 1.0]), limit=limit))
@@ -194,7 +236,7 @@ def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_ro
             rotor = f"rotor_{i}"
             robot.links.append(yourdfpy.Link(
                 name=rotor, inertial=_inertial(max(link.motor_mass, 1e-12), np.zeros(3),
-                                               _rotor_inertia(link.motor_inertia))))
+                                               link.rotor_inertia)))
             rotor_joint = f"rotor_{i}_joint"
             robot.joints.append(yourdfpy.Joint(
                 name=rotor_joint, type="revolute", parent=parent, child=rotor, origin=eye.copy(),
@@ -204,14 +246,11 @@ def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_ro
                                      offset=0.0)))
             mimics[rotor_joint] = (link.name or f"joint_{i}", float(link.gear_ratio))
     n = len(links)
-    if payload > 0:
-        robot.links.append(yourdfpy.Link(name="payload", inertial=_inertial(payload, np.zeros(3), None)))
-        robot.joints.append(yourdfpy.Joint(name="payload_fixed", type="fixed", parent=f"frame_{n}",
-                                           child="payload", origin=eye.copy()))
     tool = eye.copy() if tool is None else np.asarray(tool, dtype=float)
     if tool.shape != (4, 4):
         raise ValueError(f"`tool` must have shape (4, 4), got {tool.shape}")
-    robot.links.append(yourdfpy.Link(name="ee"))
+    gripper = dh_transform(0.0, 0.0, radius, 0.0)
+    robot.links.append(yourdfpy.Link(name="ee", **_shapes(("box", (2 * radius, 5 * radius, 2 * radius), gripper))))
     robot.joints.append(yourdfpy.Joint(name="ee_fixed", type="fixed", parent=f"frame_{n}", child="ee",
                                        origin=tool))
     urdf = yourdfpy.URDF(robot=robot, build_scene_graph=False, load_meshes=False)
@@ -223,18 +262,3 @@ def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_ro
             etree.SubElement(joint, "mimic", attrib={"joint": target, "multiplier": repr(multiplier),
                                                      "offset": "0.0"})
     return etree.tostring(root, pretty_print=True, xml_declaration=True, encoding="utf-8").decode()
-
-
-def robot_from_dh(links: Sequence[DHLink | Mapping[str, Any]], gravity: Any = (0.0, 0.0, -9.81),
-                  name: str = "dh_robot", payload: float = 0.0, tool: np.ndarray | None = None):
-    """Build a :class:`rigid_body.robots.Robot` from a DH table (through its URDF, with mimic rotors).
-
-    >>> import numpy as np
-    >>> arm = robot_from_dh([dict(a=1.0), dict(a=1.0)])
-    >>> arm.model.nq
-    2
-    """
-    from rigid_body.robots import robot_from_urdf_string
-
-    xml = urdf_from_dh(links, name=name, payload=payload, tool=tool)
-    return robot_from_urdf_string(xml, gravity=gravity, name=name)

@@ -13,11 +13,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Sequence
 
 import numpy as np
 import pinocchio as pin
 
-from rigid_body.dh import dh_chain
+from rigid_body.book_robots import book_robot_spec
+from rigid_body.dh import DHLink, as_links, dh_chain
 from rigid_body.robots import Robot
 from rigid_body.rotations import (as_homogeneous, as_rotation, euler_rate_matrix_rpy, euler_rate_matrix_zyz, rot_z,
                                   rotation_to_euler_zyz, rotation_to_rpy, wrap_angle)
@@ -26,14 +28,10 @@ from rigid_body.validation import as_vector
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 
-def _frame(robot: Robot, frame: str | int | None) -> int:
-    return robot.ee_frame if frame is None else robot.frame(frame)
-
-
 def direct_kinematics(robot: Robot, q: np.ndarray, frame: str | int | None = None) -> np.ndarray:
     """T_e^0(q): (4, 4) pose of ``frame`` (default the end effector) in the base frame, Eq. (2.50)."""
     q = as_vector(q, robot.nq, "q")
-    fid = _frame(robot, frame)
+    fid = robot.frame(frame)
     pin.forwardKinematics(robot.model, robot.data, q)
     return pin.updateFramePlacement(robot.model, robot.data, fid).homogeneous.copy()
 
@@ -48,7 +46,7 @@ def frame_poses(robot: Robot, q: np.ndarray, frames: list[str | int]) -> list[np
 def geometric_jacobian(robot: Robot, q: np.ndarray, frame: str | int | None = None) -> np.ndarray:
     """J(q) = [J_P; J_O], (6, nv): book convention (Pinocchio LOCAL_WORLD_ALIGNED), Eq. (3.30)."""
     q = as_vector(q, robot.nq, "q")
-    fid = _frame(robot, frame)
+    fid = robot.frame(frame)
     return pin.computeFrameJacobian(robot.model, robot.data, q, fid, LWA).copy()
 
 
@@ -60,7 +58,7 @@ def jacobian_derivative_times_qd(robot: Robot, q: np.ndarray, qd: np.ndarray,
     """
     q = as_vector(q, robot.nq, "q")
     qd = as_vector(qd, robot.nv, "qd")
-    fid = _frame(robot, frame)
+    fid = robot.frame(frame)
     model, data = robot.model, robot.data
     pin.forwardKinematics(model, data, q, qd, np.zeros(model.nv))
     pin.updateFramePlacements(model, data)
@@ -105,35 +103,55 @@ def analytical_jacobian(robot: Robot, q: np.ndarray, representation: str = "zyz"
 # --------------------------------------------------------------------------------------------
 # Closed-form inverse kinematics (Sect. 2.12)
 # --------------------------------------------------------------------------------------------
-# Link lengths are read from the book robot's DH table (``urdf.book_robots``): every function takes
-# the same keyword parameters as ``load(name, **params)``, so ``load("anthropomorphic", a2=0.6)``
-# and ``inverse_kinematics_anthropomorphic(p, a2=0.6)`` describe the same arm. Each returns a
-# (k, n) array of solutions, one per row, revolute angles wrapped into (−π, π]. Before returning,
-# every solution is checked against the DH product (2.52): a pose that cannot be reached raises a
-# ValueError that says so, and a solution is never returned with a residual above IK_TOL.
+# Each solver takes the arm's geometry as a DH table ``links`` (a user's arm of the same structure:
+# the book's joint types and twists α, zero offsets θ, and zero lengths where the book's arm has them;
+# the free lengths are read from the table). Without ``links`` it uses the book's table
+# (:mod:`rigid_body.book_robots`) with the same keyword parameters as ``load(name, **params)``, so
+# ``load("anthropomorphic", a2=0.6)`` and ``inverse_kinematics_anthropomorphic(p, a2=0.6)`` describe the
+# same arm. Each returns a (k, n) array of solutions, one per row, revolute angles wrapped into (−π, π].
+# Before returning, every solution is checked against the DH product (2.52): a pose that cannot be
+# reached raises a ValueError that says so, and a solution is never returned with a residual above IK_TOL.
 
 IK_TOL = 1e-9  # max pose residual of a returned closed-form solution [m, rad]
 ELBOW_UP, ELBOW_DOWN = 0, 1  # row order of the planar/SCARA solutions: s2 < 0 first, then s2 > 0
+_HALF_PI = np.pi / 2
 
 
 @lru_cache(maxsize=64)
 def _cached_book_links(name: str, items: tuple) -> tuple:
-    from urdf.book_robots import book_robot_spec
-
     return book_robot_spec(name, **dict(items)).links
 
 
-def _book_links(name: str, params: dict) -> tuple:
-    """The DH table of book robot ``name`` with ``params`` (cached when the values are hashable)."""
+def _arm_links(links: Sequence[DHLink | dict] | None, book: str, params: dict) -> tuple[DHLink, ...]:
+    """``links`` as DHLinks, or the DH table of book robot ``book`` with ``params`` (cached when hashable)."""
+    if links is not None:
+        if params:
+            raise ValueError(f"give either `links` or the book table's parameters {sorted(params)}, not both")
+        return tuple(as_links(links))
     try:
-        return _cached_book_links(name, tuple(sorted(params.items())))
+        return _cached_book_links(book, tuple(sorted(params.items())))
     except TypeError:  # unhashable values (lists, arrays), or bad parameters: build it (and raise) uncached
-        from urdf.book_robots import book_robot_spec
-
-        return book_robot_spec(name, **params).links
+        return book_robot_spec(book, **params).links
 
 
-def _prismatic_in_range(value: float, link, name: str, robot: str) -> float:
+def _book_structure(links: tuple[DHLink, ...], book: str, robot: str) -> tuple[DHLink, ...]:
+    """Check that ``links`` has the structure of the book's ``book`` arm: same joint types and twists α,
+    zero offsets θ, and zero a_i / d_i wherever the book's table has zero (ValueError naming ``links``)."""
+    ref = _cached_book_links(book, ())
+    if len(links) != len(ref):
+        raise ValueError(f"`links` must be the {len(ref)}-joint DH table of a {robot}, got {len(links)} links")
+    for i, (link, r) in enumerate(zip(links, ref), start=1):
+        bad = [f"joint {link.joint!r} (expected {r.joint!r})"] if link.joint != r.joint else []
+        bad += [f"{k} = {getattr(link, k):.6g} (expected {getattr(r, k):.6g})" for k in ("alpha", "theta")
+                if abs(getattr(link, k) - getattr(r, k)) > 1e-12]
+        bad += [f"{k} = {getattr(link, k):.6g} (expected 0)" for k in ("a", "d")
+                if getattr(r, k) == 0 and getattr(link, k) != 0 and not (k == "d" and link.joint == "prismatic")]
+        if bad:
+            raise ValueError(f"`links` is not a {robot}: link {i} has {', '.join(bad)}")
+    return links
+
+
+def _prismatic_in_range(value: float, link: DHLink, name: str, robot: str) -> float:
     lo = -np.inf if link.lower is None else link.lower
     hi = np.inf if link.upper is None else link.upper
     if not lo - IK_TOL <= value <= hi + IK_TOL:
@@ -142,7 +160,8 @@ def _prismatic_in_range(value: float, link, name: str, robot: str) -> float:
     return float(np.clip(value, lo, hi))
 
 
-def _checked(links, qs: np.ndarray, T_target: np.ndarray, mask: np.ndarray, robot: str) -> np.ndarray:
+def _checked(links: Sequence[DHLink], qs: np.ndarray, T_target: np.ndarray, mask: np.ndarray,
+             robot: str) -> np.ndarray:
     """Keep the DH-product check honest: every returned row reproduces the entries of ``T_target`` in ``mask``."""
     for q in qs:
         T = dh_chain(links, q)[-1]
@@ -159,33 +178,39 @@ def _snap_cosine(c: float) -> float:
     return float(np.sign(c)) if 1.0 - abs(c) < 1e-12 else c
 
 
-def _two_link(px: float, py: float, a1: float, a2: float, robot: str) -> np.ndarray:
+def _two_link(px: float, py: float, a1: float, a2: float, robot: str, origin: str = "joint 1",
+              theta1: float = 0.0) -> np.ndarray:
     """(θ1, θ2) of a two-link planar arm reaching (px, py), Eqs. (2.91)–(2.92): rows [s2 < 0, s2 > 0].
 
     c2 = (px² + py² − a1² − a2²)/(2 a1 a2), s2 = ∓√(1 − c2²), θ2 = Atan2(s2, c2) and
     θ1 = Atan2((a1 + a2 c2) py − a2 s2 px, (a1 + a2 c2) px + a2 s2 py) (the book's s1, c1 times the
-    positive px² + py²; at px = py = 0 with a1 = a2, θ1 is arbitrary and 0 is returned).
+    positive px² + py²; at px = py = 0 with a1 = a2, θ1 is arbitrary and ``theta1`` is returned).
     """
     c2 = (px**2 + py**2 - a1**2 - a2**2) / (2.0 * a1 * a2)
     if abs(c2) > 1.0 + 1e-12:
         r = np.hypot(px, py)
-        raise ValueError(f"point unreachable by the {robot}: distance {r:.6g} m from joint 1 is outside "
+        raise ValueError(f"point unreachable by the {robot}: distance {r:.6g} m from {origin} is outside "
                          f"[|a1 - a2|, a1 + a2] = [{abs(a1 - a2):.6g}, {a1 + a2:.6g}] m")
     c2 = _snap_cosine(c2)
     out = []
     for s2 in (-np.sqrt(1.0 - c2**2), np.sqrt(1.0 - c2**2)):
         k1, k2 = a1 + a2 * c2, a2 * s2
-        out.append([np.arctan2(k1 * py - k2 * px, k1 * px + k2 * py), np.arctan2(s2, c2)])
+        if abs(k1) < 1e-12 and abs(k2) < 1e-12 and abs(px) < 1e-12 and abs(py) < 1e-12:
+            t1 = float(theta1)  # a1 = a2 and p = 0: θ1 arbitrary
+        else:
+            t1 = np.arctan2(k1 * py - k2 * px, k1 * px + k2 * py)
+        out.append([t1, np.arctan2(s2, c2)])
     return np.array(out)
 
 
-def inverse_kinematics_planar_2r(p: np.ndarray, **params) -> np.ndarray:
+def inverse_kinematics_planar_2r(p: np.ndarray, links: Sequence[DHLink | dict] | None = None,
+                                 **params) -> np.ndarray:
     """Both solutions q = [θ1, θ2] of the two-link planar arm reaching ``p = [px, py]``, Sect. 2.12.1.
 
     Rows: ``[ELBOW_UP, ELBOW_DOWN]`` = [s2 < 0, s2 > 0] (the companion files' "elbow-up" is s2 < 0).
-    ``params`` are those of ``urdf.book_robots.planar_2r`` (``a``), as for ``load("planar_2r", ...)``.
+    ``links``: the arm's DH table (link lengths a1, a2); default the book's ``planar_2r`` with ``params`` (``a``).
     """
-    links = _book_links("planar_2r", params)
+    links = _book_structure(_arm_links(links, "planar_2r", params), "planar_2r", "two-link planar arm")
     px, py = as_vector(p, 2, "p")
     qs = _two_link(px, py, links[0].a, links[1].a, "two-link planar arm")
     T = np.eye(4)
@@ -195,13 +220,15 @@ def inverse_kinematics_planar_2r(p: np.ndarray, **params) -> np.ndarray:
     return _checked(links, qs, T, mask, "two-link planar arm")
 
 
-def inverse_kinematics_planar_3r(x: np.ndarray, **params) -> np.ndarray:
+def inverse_kinematics_planar_3r(x: np.ndarray, links: Sequence[DHLink | dict] | None = None,
+                                 **params) -> np.ndarray:
     """Both solutions q = [θ1, θ2, θ3] of the three-link planar arm for ``x = [px, py, φ]``, Sect. 2.12.1.
 
     p_W = p − a3 [cφ, sφ] (2.91)–(2.92), (θ1, θ2) as for the two-link arm, θ3 = φ − θ1 − θ2.
-    Rows ``[ELBOW_UP, ELBOW_DOWN]`` = [s2 < 0, s2 > 0]. ``params``: those of ``planar_3r`` (``a``).
+    Rows ``[ELBOW_UP, ELBOW_DOWN]`` = [s2 < 0, s2 > 0]. ``links``: the arm's DH table; default the
+    book's ``planar_3r`` with ``params`` (``a``).
     """
-    links = _book_links("planar_3r", params)
+    links = _book_structure(_arm_links(links, "planar_3r", params), "planar_3r", "three-link planar arm")
     px, py, phi = as_vector(x, 3, "x")
     a1, a2, a3 = (link.a for link in links)
     q12 = _two_link(px - a3 * np.cos(phi), py - a3 * np.sin(phi), a1, a2, "three-link planar arm")
@@ -212,13 +239,14 @@ def inverse_kinematics_planar_3r(x: np.ndarray, **params) -> np.ndarray:
     return _checked(links, qs, T, np.ones((4, 4), bool), "three-link planar arm")
 
 
-def inverse_kinematics_scara(x: np.ndarray, **params) -> np.ndarray:
+def inverse_kinematics_scara(x: np.ndarray, links: Sequence[DHLink | dict] | None = None, **params) -> np.ndarray:
     """Both solutions q = [θ1, θ2, d3, θ4] of the SCARA of Table S2.3 for ``x = [px, py, pz, φ]`` (Problem 2.20).
 
     In DH frame 0 (z₀ down): (θ1, θ2) as for the two-link arm, d3 = pz, θ4 = φ − θ1 − θ2 with
-    φ = Atan2(r21, r11). Rows ``[ELBOW_UP, ELBOW_DOWN]`` = [s2 < 0, s2 > 0]. ``params``: those of ``scara``.
+    φ = Atan2(r21, r11). Rows ``[ELBOW_UP, ELBOW_DOWN]`` = [s2 < 0, s2 > 0]. ``links``: the arm's DH
+    table (a1, a2, the range of d3); default the book's ``scara`` with ``params``.
     """
-    links = _book_links("scara", params)
+    links = _book_structure(_arm_links(links, "scara", params), "scara", "SCARA")
     px, py, pz, phi = as_vector(x, 4, "x")
     q12 = _two_link(px, py, links[0].a, links[1].a, "SCARA")
     d3 = _prismatic_in_range(pz, links[2], "d3", "SCARA")
@@ -229,13 +257,15 @@ def inverse_kinematics_scara(x: np.ndarray, **params) -> np.ndarray:
     return _checked(links, qs, T, np.ones((4, 4), bool), "SCARA")
 
 
-def inverse_kinematics_cylindrical(p: np.ndarray, **params) -> np.ndarray:
+def inverse_kinematics_cylindrical(p: np.ndarray, links: Sequence[DHLink | dict] | None = None,
+                                   **params) -> np.ndarray:
     """q = [θ1, d2, d3] of the cylindrical arm of Table S2.2 reaching ``p`` (Problem 2.19), shape (1, 3).
 
     From p = [−d3 s1, d3 c1, d2] (Problem 2.12): θ1 = Atan2(−px, py), d3 = √(px² + py²) (the d3 ≥ 0
-    branch), d2 = pz; d2 and d3 must lie in their joint ranges. ``params``: those of ``cylindrical``.
+    branch), d2 = pz; d2 and d3 must lie in their joint ranges. ``links``: the arm's DH table; default
+    the book's ``cylindrical`` with ``params``.
     """
-    links = _book_links("cylindrical", params)
+    links = _book_structure(_arm_links(links, "cylindrical", params), "cylindrical", "cylindrical arm")
     px, py, pz = as_vector(p, 3, "p")
     d3 = _prismatic_in_range(np.hypot(px, py), links[2], "d3", "cylindrical arm")
     d2 = _prismatic_in_range(pz, links[1], "d2", "cylindrical arm")
@@ -247,14 +277,16 @@ def inverse_kinematics_cylindrical(p: np.ndarray, **params) -> np.ndarray:
     return _checked(links, qs, T, mask, "cylindrical arm")
 
 
-def inverse_kinematics_spherical(p: np.ndarray, **params) -> np.ndarray:
+def inverse_kinematics_spherical(p: np.ndarray, links: Sequence[DHLink | dict] | None = None,
+                                 **params) -> np.ndarray:
     """Both solutions q = [θ1, θ2, d3] of the spherical arm reaching ``p``, Sect. 2.12.3; shape (2, 3).
 
     From p = [c1 s2 d3 − s1 d2, s1 s2 d3 + c1 d2, c2 d3]: d3 = √(‖p‖² − d2²) (d3 ≥ 0),
     s2 d3 = ±√(px² + py² − d2²) =: ±A, θ2 = Atan2(±A, pz), and [px, py] = Rz(θ1) [±A, d2] gives
-    θ1 = Atan2(py, px) − Atan2(d2, ±A). ``params``: those of ``spherical`` (``d2``, ``d3_range``).
+    θ1 = Atan2(py, px) − Atan2(d2, ±A). ``links``: the arm's DH table (d2, the range of d3); default the
+    book's ``spherical`` with ``params`` (``d2``, ``d3_range``).
     """
-    links = _book_links("spherical", params)
+    links = _book_structure(_arm_links(links, "spherical", params), "spherical", "spherical arm")
     px, py, pz = as_vector(p, 3, "p")
     d2 = links[1].d
     rho2 = px**2 + py**2 - d2**2
@@ -272,50 +304,77 @@ def inverse_kinematics_spherical(p: np.ndarray, **params) -> np.ndarray:
     return _checked(links, qs, T, mask, "spherical arm")
 
 
-def _anthropomorphic(p: np.ndarray, a2: float, a3: float, theta1: float, theta2: float, robot: str) -> np.ndarray:
-    """The four solutions [θ1, θ2, θ3] of the anthropomorphic arm's wrist position, Sect. 2.12.4.
+def _arm_structure(links: Sequence[DHLink], robot: str, wrist: bool) -> None:
+    """The anthropomorphic class: revolute, a1 = 0, α1 = ±π/2, α2 = 0 (and α3 = ±π/2 before a wrist); with a
+    spherical wrist also a4 = a5 = a6 = 0, d5 = 0, α4 = ±π/2, α5 = −α4, α6 = 0 (ValueError naming ``links``)."""
+    n = 6 if wrist else 3
+    if len(links) != n or any(l.joint != "revolute" for l in links):
+        raise ValueError(f"`links` must be the DH table of a {robot}: {n} revolute joints, got "
+                         f"{[l.joint for l in links]}")
+    rules = [(links[0].a == 0, "a1 = 0"), (abs(abs(links[0].alpha) - _HALF_PI) < 1e-12, "α1 = ±π/2"),
+             (abs(links[1].alpha) < 1e-12, "α2 = 0"), (links[1].a > 0, "a2 > 0")]
+    if wrist:
+        rules += [(abs(abs(links[2].alpha) - _HALF_PI) < 1e-12, "α3 = ±π/2"),
+                  (links[3].a == links[4].a == links[5].a == links[4].d == 0, "a4 = a5 = a6 = d5 = 0"),
+                  (abs(abs(links[3].alpha) - _HALF_PI) < 1e-12 and abs(links[4].alpha + links[3].alpha) < 1e-12,
+                   "α4 = ±π/2, α5 = −α4"), (abs(links[5].alpha) < 1e-12, "α6 = 0")]
+    broken = [text for ok, text in rules if not ok]
+    if broken:
+        raise ValueError(f"`links` is not a {robot}: it needs {', '.join(broken)}")
 
-    c3 = (‖p‖² − a2² − a3²)/(2 a2 a3) (2.103), θ3,I = Atan2(s3, c3), θ3,II = −θ3,I (2.104);
-    θ1,I = Atan2(py, px) (2.109), θ1,II = θ1,I + π (2.110); θ2 from the planar two-link arm in the
-    plane of θ1 with horizontal coordinate ±√(px² + py²) (2.105)–(2.108). Rows are the book's
-    combinations (θ1,I, θ2,I, θ3,I), (θ1,I, θ2,III, θ3,II), (θ1,II, θ2,II, θ3,I), (θ1,II, θ2,IV, θ3,II):
-    shoulder right/left × elbow up/down. Singular cases (Problem 2.18): at s3 = 0 rows coincide
-    pairwise; at px = py = 0, θ1 is arbitrary (``theta1`` is used); with a2 = a3 and p = 0, θ2 too
-    (``theta2`` is used).
+
+def _arm_position(p: np.ndarray, links: Sequence[DHLink], d4: float, theta1: float, theta2: float,
+                  robot: str) -> np.ndarray:
+    """The four (θ1, θ2, θ3) joint angles (offsets θ_i included) placing the point ``d4`` along z3 from frame 3
+    of an anthropomorphic-class arm at ``p`` (the wrist centre; with d4 = 0, the origin of frame 3), Sect. 2.12.4.
+
+    With σ1 = sign α1, d = d2 + d3 (shoulder offset) and v = Rz(θ3) [a3, −σ3 d4] (σ3 = sign α3) the elbow
+    link as a vector in frame 2, the point is p = Rz(θ1) [X, −σ1 d, σ1 Y + d1] with [X, Y] the tip of the
+    planar two-link arm (a2, ‖v‖) of angles θ2, θ3 + φ, φ = Atan2(−σ3 d4, a3). Hence
+    X = ±√(px² + py² − d²) (shoulder right/left), θ1 = Atan2(py, px) + Atan2(σ1 d, X), and (θ2, θ3 + φ)
+    from (2.91)–(2.92) (elbow up/down). For the book's arm (d1 = d = d4 = 0) these are (2.103)–(2.110).
+    Rows: (shoulder right, elbow up), (right, down), (left, up), (left, down). Singular cases
+    (Problem 2.18): px = py = 0 (with d = 0) leaves θ1 free (``theta1``); a2 = ‖v‖ with p on the shoulder
+    leaves θ2 free (``theta2``).
     """
+    l1, l2, l3 = links[:3]
+    s1, s3 = np.sign(l1.alpha), np.sign(l3.alpha)
+    d, a2, a3 = l2.d + l3.d, l2.a, l3.a
     px, py, pz = p
-    c3 = (px**2 + py**2 + pz**2 - a2**2 - a3**2) / (2.0 * a2 * a3)
-    if abs(c3) > 1.0 + 1e-12:
-        raise ValueError(f"point unreachable by the {robot}: distance {np.linalg.norm(p):.6g} m from the "
-                         f"shoulder is outside [|a2 - a3|, a2 + a3] = [{abs(a2 - a3):.6g}, {a2 + a3:.6g}] m")
-    c3 = _snap_cosine(c3)
-    s3 = np.sqrt(1.0 - c3**2)
-    rho = np.hypot(px, py)
-    th1 = np.arctan2(py, px) if rho > 1e-12 else float(theta1)
+    Y = s1 * (pz - l1.d)
+    rho2 = px**2 + py**2 - d**2
+    if rho2 < -1e-12:
+        raise ValueError(f"point unreachable by the {robot}: its distance {np.hypot(px, py):.6g} m from the z0 "
+                         f"axis is smaller than the shoulder offset d2 + d3 = {abs(d):g} m")
+    X = np.sqrt(max(rho2, 0.0))
+    L, phi = np.hypot(a3, d4), np.arctan2(-s3 * d4, a3)
     out = []
-    for t1, h in ((th1, rho), (th1 + np.pi, -rho)):
-        for s in (s3, -s3):
-            k1, k2 = a2 + a3 * c3, a3 * s
-            if abs(h) < 1e-12 and abs(pz) < 1e-12 and abs(k1) < 1e-12 and abs(k2) < 1e-12:
-                t2 = float(theta2)  # a2 = a3, p = 0: θ2 arbitrary
-            else:
-                t2 = np.arctan2(k1 * pz - k2 * h, k1 * h + k2 * pz)
-            out.append([t1, t2, np.arctan2(s, c3)])
-    return wrap_angle(np.array(out))
+    for h in (X, -X):
+        if X < 1e-12 and d == 0:
+            t1 = float(theta1) + (np.pi if h is not X else 0.0)  # on the z0 axis: θ1 arbitrary
+        else:
+            t1 = np.arctan2(py, px) + np.arctan2(s1 * d, h)
+        elbow = _two_link(h, Y, a2, L, robot, "the shoulder", theta2)[::-1]  # elbow up (s > 0) first
+        for t2, t3 in elbow:
+            out.append([t1, t2, t3 - phi])
+    return wrap_angle(np.array(out) - np.array([l1.theta, l2.theta, l3.theta]))
 
 
 def inverse_kinematics_anthropomorphic(p: np.ndarray, theta1: float = 0.0, theta2: float = 0.0,
-                                       **params) -> np.ndarray:
+                                       links: Sequence[DHLink | dict] | None = None, **params) -> np.ndarray:
     """The four solutions q = [θ1, θ2, θ3] of the anthropomorphic arm reaching ``p``, Sect. 2.12.4; (4, 3).
 
     Rows: (shoulder right, elbow up), (shoulder right, elbow down), (shoulder left, elbow up),
     (shoulder left, elbow down) — the book's I–IV combinations. In the singular cases of Problem 2.18
     rows coincide (s3 = 0) and the undetermined angles take the values ``theta1`` (px = py = 0) and
-    ``theta2`` (a2 = a3, p = 0). ``params``: those of ``anthropomorphic`` (``a2``, ``a3``).
+    ``theta2`` (a2 = a3, p = 0). ``links``: the arm's DH table (the class of :func:`_arm_position`:
+    a1 = 0, α1 = ±π/2, α2 = 0, offsets d1, d2 + d3 allowed); default the book's ``anthropomorphic``
+    with ``params`` (``a2``, ``a3``).
     """
-    links = _book_links("anthropomorphic", params)
+    links = _arm_links(links, "anthropomorphic", params)
+    _arm_structure(links, "anthropomorphic arm", wrist=False)
     p = as_vector(p, 3, "p")
-    qs = _anthropomorphic(p, links[1].a, links[2].a, theta1, theta2, "anthropomorphic arm")
+    qs = _arm_position(p, links, 0.0, theta1, theta2, "anthropomorphic arm")
     T = np.eye(4)
     T[:3, 3] = p
     mask = np.zeros((4, 4), bool)
@@ -323,20 +382,24 @@ def inverse_kinematics_anthropomorphic(p: np.ndarray, theta1: float = 0.0, theta
     return _checked(links, qs, T, mask, "anthropomorphic arm")
 
 
-def _spherical_wrist(R_36: np.ndarray) -> np.ndarray:
-    """[θ4, θ5, θ6] of a spherical wrist with R_6^3 = Rz(θ4) Ry(θ5) Rz(θ6): ZYZ angles, both branches (2.19)–(2.20)."""
-    return np.array([rotation_to_euler_zyz(R_36, branch).angles for branch in (1, -1)])
+def _spherical_wrist(R_36: np.ndarray, sigma4: float = -1.0) -> np.ndarray:
+    """[θ4, θ5, θ6] of a spherical wrist (α4 = σ4 π/2, α5 = −α4, α6 = 0) with orientation R_6^3, both branches.
+
+    R_6^3 = Rz(θ4) Rx(α4) Rz(θ5) Rx(−α4) Rz(θ6) = Rz(θ4) Ry(−σ4 θ5) Rz(θ6): the ZYZ angles (2.19)–(2.20)
+    of R_6^3 with the middle one times −σ4 (the book's wrist has σ4 = −1, Sect. 2.12.5)."""
+    return np.array([rotation_to_euler_zyz(R_36, branch).angles for branch in (1, -1)]) * [1.0, -sigma4, 1.0]
 
 
-def inverse_kinematics_spherical_wrist(R: np.ndarray, **params) -> np.ndarray:
+def inverse_kinematics_spherical_wrist(R: np.ndarray, links: Sequence[DHLink | dict] | None = None,
+                                       **params) -> np.ndarray:
     """Both solutions q = [θ4, θ5, θ6] of the spherical wrist with orientation ``R`` = R_6^3, Sect. 2.12.5; (2, 3).
 
     R_6^3 = Rz(θ4) Ry(θ5) Rz(θ6) (the DH table (0, −π/2, 0, θ4), (0, π/2, 0, θ5), (0, 0, d6, θ6)), so the
     angles are the ZYZ Euler angles of R: θ5 ∈ (0, π) in the first row, (−π, 0) in the second. At
     θ5 = 0 or π (singular wrist) only θ4 ± θ6 is determined; both rows are then the representative θ6 = 0.
-    ``params``: those of ``spherical_wrist`` (``d6``).
+    ``links``: the wrist's DH table (``d6``); default the book's ``spherical_wrist`` with ``params``.
     """
-    links = _book_links("spherical_wrist", params)
+    links = _book_structure(_arm_links(links, "spherical_wrist", params), "spherical_wrist", "spherical wrist")
     R = as_rotation(R, "R")
     qs = _spherical_wrist(R)
     T = np.eye(4)
@@ -345,7 +408,34 @@ def inverse_kinematics_spherical_wrist(R: np.ndarray, **params) -> np.ndarray:
     return _checked(links, qs, T, np.ones((4, 4), bool), "spherical wrist")
 
 
+def inverse_kinematics_6r_spherical_wrist(T: np.ndarray, links: Sequence[DHLink | dict], theta1: float = 0.0,
+                                          theta2: float = 0.0) -> np.ndarray:
+    """The eight solutions q = [θ1, ..., θ6] of a 6R arm with a spherical wrist for the pose ``T``; (8, 6).
+
+    The class of the Puma 560 and of the book's anthropomorphic arm with spherical wrist (Sect. 2.12,
+    kinematic decoupling): a1 = 0, α1 = ±π/2, α2 = 0, α3 = ±π/2, a4 = a5 = a6 = d5 = 0, α4 = ±π/2,
+    α5 = −α4, α6 = 0; link lengths a2, a3, d4, d6, offsets d1, d2, d3 and joint offsets θ_i are free.
+    p_W = p_e − d6 a_e (2.93) gives four (θ1, θ2, θ3) (:func:`_arm_position`); for each, R_6^3 =
+    (R_3^0)^T R_e and the wrist gives two (θ4, θ5, θ6). Rows: arm solution (shoulder right/left × elbow
+    up/down) × wrist branch. Every row is checked by the DH product; unreachable → ValueError.
+    """
+    links = tuple(as_links(links))
+    robot = "6R arm with spherical wrist"
+    _arm_structure(links, robot, wrist=True)
+    T = as_homogeneous(T, "T")
+    p_W = T[:3, 3] - links[5].d * T[:3, 2]  # Eq. (2.93)
+    arm = _arm_position(p_W, links, links[3].d, theta1, theta2, robot)
+    offsets = np.array([l.theta for l in links[3:]])
+    qs = []
+    for q_arm in arm:
+        R_30 = dh_chain(links[:3], q_arm)[-1][:3, :3]
+        for q_wrist in _spherical_wrist(R_30.T @ T[:3, :3], np.sign(links[3].alpha)):
+            qs.append(np.concatenate([q_arm, wrap_angle(q_wrist - offsets)]))
+    return _checked(links, np.array(qs), T, np.ones((4, 4), bool), robot)
+
+
 def inverse_kinematics_anthropomorphic_wrist(T: np.ndarray, theta1: float = 0.0, theta2: float = 0.0,
+                                             links: Sequence[DHLink | dict] | None = None,
                                              **params) -> np.ndarray:
     """The eight solutions q = [θ1, ..., θ6] of the anthropomorphic arm with spherical wrist for the pose ``T``; (8, 6).
 
@@ -353,20 +443,11 @@ def inverse_kinematics_anthropomorphic_wrist(T: np.ndarray, theta1: float = 0.0,
     p_W = [c1 (a2 c2 + d4 s23), s1 (a2 c2 + d4 s23), a2 s2 − d4 c23] is the anthropomorphic arm's with
     a3 = d4 and θ3 − π/2, giving four (θ1, θ2, θ3); for each, R_6^3 = (R_3^0)^T R_e and the wrist gives
     two (θ4, θ5, θ6). Rows: arm solution k (order of :func:`inverse_kinematics_anthropomorphic`) × wrist
-    branch (θ5 > 0, θ5 < 0). ``params``: those of ``anthropomorphic_wrist`` (``a2``, ``d4``, ``d6``).
+    branch (θ5 > 0, θ5 < 0). The special case of :func:`inverse_kinematics_6r_spherical_wrist`;
+    ``links`` default: the book's ``anthropomorphic_wrist`` with ``params`` (``a2``, ``d4``, ``d6``).
     """
-    links = _book_links("anthropomorphic_wrist", params)
-    T = as_homogeneous(T, "T")
-    a2, d4, d6 = links[1].a, links[3].d, links[5].d
-    p_W = T[:3, 3] - d6 * T[:3, 2]  # Eq. (2.93)
-    arm = _anthropomorphic(p_W, a2, d4, theta1, theta2, "anthropomorphic arm with spherical wrist")
-    arm[:, 2] = wrap_angle(arm[:, 2] + np.pi / 2)
-    qs = []
-    for q_arm in arm:
-        R_30 = dh_chain(links[:3], q_arm)[-1][:3, :3]
-        for q_wrist in _spherical_wrist(R_30.T @ T[:3, :3]):
-            qs.append(np.concatenate([q_arm, q_wrist]))
-    return _checked(links, np.array(qs), T, np.ones((4, 4), bool), "anthropomorphic arm with spherical wrist")
+    return inverse_kinematics_6r_spherical_wrist(T, _arm_links(links, "anthropomorphic_wrist", params),
+                                                 theta1, theta2)
 
 
 def distinct_solutions(qs: np.ndarray, atol: float = 1e-9) -> np.ndarray:
@@ -394,7 +475,7 @@ def workspace_points(robot: Robot, n: int, rng: np.random.Generator, frame: str 
         raise ValueError(f"`n` must be a positive number of samples, got {n!r}")
     if not isinstance(rng, np.random.Generator):
         raise ValueError(f"`rng` must be a numpy Generator (np.random.default_rng(seed)), got {type(rng).__name__}")
-    fid = _frame(robot, frame)
+    fid = robot.frame(frame)
     qs = rng.uniform(robot.lower, robot.upper, size=(int(n), robot.nq))
     out = np.empty((int(n), 3))
     for k, q in enumerate(qs):
@@ -410,7 +491,7 @@ def joint_arc(robot: Robot, q_start: np.ndarray, joint: int, q_end: float, n: in
     q_end = float(as_vector(q_end, 1, "q_end")[0])
     if not 0 <= joint < robot.nq:
         raise ValueError(f"`joint` must be in [0, {robot.nq - 1}], got {joint}")
-    fid = _frame(robot, frame)
+    fid = robot.frame(frame)
     out = np.empty((n, 3))
     for k, value in enumerate(np.linspace(q_start[joint], q_end, n)):
         q = q_start.copy()

@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from rigid_body.dh import DHLink, as_links
+from rigid_body.dh import GRAVITY, DHLink, as_links
 from rigid_body.validation import as_vector
 
 
@@ -61,12 +61,9 @@ class SerialModel:
         return len(self.links)
 
 
-def _rotor_tensor(motor_inertia: Any, i: int) -> np.ndarray:
-    Im = np.asarray(motor_inertia, dtype=float)
-    if Im.shape == ():
-        return np.diag([0.0, 0.0, float(Im)])
-    if Im.shape != (3, 3):
-        raise ValueError(f"link {i}: `motor_inertia` must be a scalar or (3, 3), got shape {Im.shape}")
+def _rotor_tensor(link: DHLink, i: int) -> np.ndarray:
+    """The rotor's inertia (:attr:`DHLink.rotor_inertia`), which this formulation needs axisymmetric."""
+    Im = link.rotor_inertia
     axisym = np.diag([Im[0, 0], Im[0, 0], Im[2, 2]])
     if not np.allclose(Im, axisym, atol=1e-12 * max(1.0, np.abs(Im).max())):
         raise ValueError(f"link {i}: the rotor inertia must be axisymmetric about its spin axis z, "
@@ -80,7 +77,7 @@ def serial_model(links: Any, gravity: Any = None, payload: float | None = None) 
     Parameters
     ----------
     links : a DH table (sequence of :class:`~rigid_body.dh.DHLink` or dicts) or a
-        ``urdf.book_robots.BookRobot`` (its links, gravity and payload are used).
+        ``rigid_body.book_robots.BookRobot`` (its links, gravity and payload are used).
     gravity : g₀ (3,) [m/s²] in frame 0; default the book robot's, else (0, 0, −9.81).
     payload : point mass [kg] at the origin of frame n; default the book robot's, else 0.
     """
@@ -89,7 +86,7 @@ def serial_model(links: Any, gravity: Any = None, payload: float | None = None) 
         payload = links.payload if payload is None else payload
         links = links.links
     links = tuple(as_links(links))
-    gravity = as_vector((0.0, 0.0, -9.81) if gravity is None else gravity, 3, "gravity")
+    gravity = as_vector(GRAVITY if gravity is None else gravity, 3, "gravity")
     payload = 0.0 if payload is None else float(payload)
     if not np.isfinite(payload) or payload < 0:
         raise ValueError(f"`payload` must be a non-negative mass, got {payload!r}")
@@ -103,7 +100,7 @@ def serial_model(links: Any, gravity: Any = None, payload: float | None = None) 
         mass=np.array([l.mass for l in links]), com=np.array([l.com for l in links], dtype=float),
         inertia=inertia, revolute=np.array([l.joint == "revolute" for l in links]),
         motor_mass=np.array([l.motor_mass if l.has_motor else 0.0 for l in links]),
-        motor_inertia=np.array([_rotor_tensor(l.motor_inertia, i + 1) for i, l in enumerate(links)]),
+        motor_inertia=np.array([_rotor_tensor(l, i + 1) for i, l in enumerate(links)]),
         gear_ratio=np.array([l.gear_ratio if l.has_motor else 0.0 for l in links]))
 
 
@@ -175,7 +172,7 @@ def body_jacobians(model: SerialModel, q: Any) -> list[Body]:
 def inertia_matrix(model: SerialModel, q: Any) -> np.ndarray:
     """B(q) (n, n), Eq. (7.32), from the link and motor Jacobians.
 
-    >>> from urdf.book_robots import planar_2r
+    >>> from rigid_body.book_robots import planar_2r
     >>> inertia_matrix(serial_model(planar_2r()), [0.0, 0.0]).round(4).tolist()   # Sect. 7.3.2 arm
     [[250.01, 48.5], [48.5, 122.5]]
     """

@@ -171,7 +171,7 @@ def inverse_dynamics(model: SerialModel, q: Any, qd: Any, qdd: Any, f_tip: Any =
     """τ (n,) by the recursive Newton–Euler algorithm (7.107)–(7.114); see :func:`newton_euler`.
 
     >>> from rigid_body.lagrange import serial_model
-    >>> from urdf.book_robots import planar_2r
+    >>> from rigid_body.book_robots import planar_2r
     >>> inverse_dynamics(serial_model(planar_2r()), [0, 0], [0, 0], [0, 0]).round(4).tolist()  # g(q), (7.82)
     [1030.05, 245.25]
     """

@@ -23,10 +23,9 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from rigid_body.dh import DHLink, as_links
+from rigid_body.dh import G, DHLink, as_links
 from rigid_body.validation import as_vector
 
-G = 9.81
 CONVENTIONS = ("manual", "companion")
 
 
@@ -43,9 +42,9 @@ def _zz_inertia(inertia: Any) -> float:
     return 0.0 if inertia is None else float(np.asarray(inertia, dtype=float)[2, 2])
 
 
-def _motor_zz(motor_inertia: Any) -> float:
-    Im = np.asarray(motor_inertia, dtype=float)
-    return float(Im) if Im.shape == () else float(Im[2, 2])
+def _motor_zz(link: DHLink) -> float:
+    """I_m: the rotor's moment about its spin axis (:attr:`DHLink.rotor_inertia`)."""
+    return float(link.rotor_inertia[2, 2])
 
 
 # --------------------------------------------------------------------------------------------
@@ -127,7 +126,7 @@ def two_link_parameters(links: Sequence[DHLink | Any], payload: float = 0.0,
                         convention: str = "manual") -> TwoLinkParameters:
     """Augmented-link parameters (7.83) from the DH table of a two-link planar arm with motors.
 
-    ``links`` is the two-row DH table (e.g. ``urdf.book_robots.planar_2r().links``); link i's centre of
+    ``links`` is the two-row DH table (e.g. ``rigid_body.book_robots.planar_2r().links``); link i's centre of
     mass must lie on the x axis of frame i (planar arm) and ``payload`` is a point mass at the tip.
     """
     _check_convention(convention)
@@ -140,11 +139,11 @@ def two_link_parameters(links: Sequence[DHLink | Any], payload: float = 0.0,
     if not np.isfinite(payload) or payload < 0:
         raise ValueError(f"`payload` must be a non-negative mass, got {payload!r}")
     l1, l2 = links
-    Im2 = _motor_zz(l2.motor_inertia)
+    Im2 = _motor_zz(l2)
     I1 = _zz_inertia(l1.inertia) + l1.mass * l1.com[0] ** 2 + (Im2 if convention == "companion" else 0.0)
     return TwoLinkParameters(
         a1=l1.a, a2=l2.a,
-        m1=l1.mass + l2.motor_mass, m1_lC1=l1.mass * l1.com[0], I1=I1, Im1=_motor_zz(l1.motor_inertia),
+        m1=l1.mass + l2.motor_mass, m1_lC1=l1.mass * l1.com[0], I1=I1, Im1=_motor_zz(l1),
         m2=l2.mass + payload, m2_lC2=l2.mass * l2.com[0], I2=_zz_inertia(l2.inertia) + l2.mass * l2.com[0] ** 2,
         Im2=Im2, k_r1=l1.gear_ratio, k_r2=l2.gear_ratio)
 
@@ -168,7 +167,7 @@ def minimum_parameters(links: Sequence[DHLink | Any], payload: float = 0.0,
                        convention: str = "manual") -> np.ndarray:
     """π' (5,) of a two-link planar arm given its DH table (S7.2); see :func:`two_link_parameters`.
 
-    >>> from urdf.book_robots import planar_2r
+    >>> from rigid_body.book_robots import planar_2r
     >>> minimum_parameters(planar_2r().links).round(4).tolist()
     [80.0, 97.5, 25.0, -2.5, 0.01]
     """
@@ -233,7 +232,7 @@ def pr_regressor(q: Any, qd: Any, qdd: Any, g: float = G) -> np.ndarray:
 
 
 def pr_minimum_parameters(links: Sequence[DHLink | Any], payload: float = 0.0) -> np.ndarray:
-    """π' (3,) of the PR arm from its DH table (``urdf.book_robots.planar_pr``) and a tip payload.
+    """π' (3,) of the PR arm from its DH table (``rigid_body.book_robots.planar_pr``) and a tip payload.
 
     With m'ℓ2 = mℓ2 + m_L, ℓ'2 = (mℓ2 ℓ2 + m_L a2)/m'ℓ2 and I'ℓ2 = Iℓ2 + mℓ2(ℓ'2 − ℓ2)² + m_L(a2 − ℓ'2)²:
     π'₁ = mℓ1 + m_m2 + m'ℓ2 + k_r1² I_m1, π'₂ = m'ℓ2 ℓ'2, π'₃ = I'ℓ2 + m'ℓ2 ℓ'2² + k_r2² I_m2.
@@ -245,9 +244,9 @@ def pr_minimum_parameters(links: Sequence[DHLink | Any], payload: float = 0.0) -
         raise ValueError(f"`payload` must be a non-negative mass, got {payload!r}")
     m2p, ell2p, I2p = payload_link_parameters(l2.mass, l2.a + l2.com[0], _zz_inertia(l2.inertia), l2.a, payload)
     return np.array([
-        l1.mass + l2.motor_mass + m2p + l1.gear_ratio**2 * _motor_zz(l1.motor_inertia),
+        l1.mass + l2.motor_mass + m2p + l1.gear_ratio**2 * _motor_zz(l1),
         m2p * ell2p,
-        I2p + m2p * ell2p**2 + l2.gear_ratio**2 * _motor_zz(l2.motor_inertia),
+        I2p + m2p * ell2p**2 + l2.gear_ratio**2 * _motor_zz(l2),
     ])
 
 

@@ -1,23 +1,32 @@
-"""Robots: a Pinocchio model + data + named frames + the URDF it came from, and ``load()``.
+"""Robots: a Pinocchio model + data + named frames + geometry + the URDF it came from, and ``load()``.
 
-``load("planar_2r")`` loads one of the book's robots from ``urdf/`` (regenerated from its DH table
-when a parameter is changed: ``load("planar_2r", payload=10.0)``), ``load("panda")`` one of the
-robots shipped by the ``example-robot-data`` wheel, ``load("path/to/robot.urdf")`` any URDF file.
+``load("planar_2r")`` loads one of the book's robots from ``urdf/`` (rebuilt from its DH table in
+:mod:`rigid_body.book_robots` when a parameter is changed: ``load("planar_2r", a=(1.0, 0.8))``),
+``load("panda")`` one of the robots shipped by the ``example-robot-data`` wheel, ``load("path/to/robot.urdf")``
+any URDF file. ``load(..., payload=m)`` adds a point mass at the end effector of any of them
+(:func:`with_payload`). :func:`robot_from_dh` builds a Robot from any DH table.
 """
 
 from __future__ import annotations
 
 import difflib
 import os
+import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 import pinocchio as pin
 
-URDF_DIR = Path(__file__).resolve().parent.parent / "urdf"
+from rigid_body.book_robots import BOOK_ROBOTS, URDF_DIR, book_robot_spec
+from rigid_body.dh import GRAVITY, DHLink, urdf_from_dh
+
+__all__ = [
+    "Robot", "load", "available", "with_payload", "robot_from_dh", "robot_from_urdf_string",
+    "example_robot_data_dir", "joint_kind", "revolute_joints", "model_frame_id", "URDF_DIR", "EXAMPLE_ROBOTS",
+]
 
 # example-robot-data: name → (urdf file relative to robots/, end-effector frame); the Panda's
 # gripper fingers are locked at 0 so that ``load("panda")`` is the 7-DOF arm.
@@ -30,11 +39,58 @@ EXAMPLE_ROBOTS: dict[str, tuple[str, str]] = {
     "z1": ("z1_description/urdf/z1.urdf", "link06"),
     "double_pendulum": ("double_pendulum_description/urdf/double_pendulum_simple.urdf", "link2"),
 }
+LOCKED_JOINTS: dict[str, tuple[str, ...]] = {"panda": ("panda_finger_joint1", "panda_finger_joint2")}
+
+Geometry = tuple[pin.GeometryModel, pin.GeometryModel]  # (collision, visual)
+_AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
+
+
+def model_frame_id(model: pin.Model, frame: str | int | np.integer) -> int:
+    """The id of ``frame`` in ``model``, checked: an integer id in [0, nframes) or an existing frame name.
+
+    Pinocchio's bindings do not check ids (an id out of range reads garbage), so every frame argument
+    goes through here. ValueError names ``frame`` and the valid range, or the nearest frame names.
+    """
+    if isinstance(frame, (int, np.integer)) and not isinstance(frame, bool):
+        if not 0 <= frame < model.nframes:
+            raise ValueError(f"`frame` id {frame} out of range [0, {model.nframes}) of model {model.name!r}")
+        return int(frame)
+    if not isinstance(frame, str):
+        raise ValueError(f"`frame` must be a frame name or an integer id, got {frame!r}")
+    if not model.existFrame(frame):
+        near = difflib.get_close_matches(frame, [f.name for f in model.frames], n=5)
+        raise ValueError(f"`frame`: model {model.name!r} has no frame {frame!r}; nearest: {near}")
+    return model.getFrameId(frame)
+
+
+def joint_kind(model: pin.Model, i: int) -> tuple[str, np.ndarray | None]:
+    """Kind of joint ``i`` — ``"revolute"``, ``"prismatic"``, ``"revolute_unbounded"``, ``"mimic"``
+    or ``"universe"`` — and its unit axis in the joint frame (None for the last two).
+
+    Raises ValueError for the joint types the book's arms do not have (free-flyer, spherical, ...).
+    """
+    if i == 0:
+        return "universe", None
+    jmodel = model.joints[i]
+    name = jmodel.shortname().replace("JointModel", "")
+    if name == "Mimic":
+        return "mimic", None
+    if name in ("RX", "RY", "RZ"):
+        return "revolute", _AXES[name[1]].copy()
+    if name in ("PX", "PY", "PZ"):
+        return "prismatic", _AXES[name[1]].copy()
+    if name in ("RUBX", "RUBY", "RUBZ"):
+        return "revolute_unbounded", _AXES[name[3]].copy()
+    if name == "RevoluteUnaligned":
+        return "revolute", np.asarray(jmodel.extract().axis, dtype=float).copy()
+    if name == "PrismaticUnaligned":
+        return "prismatic", np.asarray(jmodel.extract().axis, dtype=float).copy()
+    raise ValueError(f"joint {model.names[i]!r} of type {name} is not supported (revolute and prismatic joints only)")
 
 
 @dataclass
 class Robot:
-    """A Pinocchio model with its data, end-effector frame and source URDF.
+    """A Pinocchio model with its data, end-effector frame, geometry and source URDF.
 
     Attributes
     ----------
@@ -44,6 +100,9 @@ class Robot:
     urdf_path : the URDF file, or None for a model built in memory.
     urdf_xml : the URDF text the model was built from.
     configurations : named joint configurations (e.g. ``"neutral"``).
+    geometry_loader : builds ``(collision, visual)`` geometry models on first use (meshes take ~0.5 s).
+    collision_model, visual_model : ``pin.GeometryModel`` of the URDF's ``<collision>`` / ``<visual>``
+        shapes, empty when the URDF has none.
     """
 
     name: str
@@ -53,6 +112,7 @@ class Robot:
     urdf_path: Path | None = None
     urdf_xml: str = ""
     configurations: dict[str, np.ndarray] = field(default_factory=dict)
+    geometry_loader: Callable[[], Geometry] | None = field(default=None, repr=False)
 
     @property
     def nq(self) -> int:
@@ -63,21 +123,33 @@ class Robot:
         return self.model.nv
 
     has_mimic: bool = field(init=False)
+    _geometry: Geometry | None = field(init=False, default=None, repr=False)
 
     def __post_init__(self) -> None:
         # True when the model has mimic joints (the book's rotors): ABA is then unavailable.
         self.has_mimic = len(getattr(self.model, "mimicking_joints", ())) > 0
 
     def frame_id(self, name: str) -> int:
-        """Id of the frame ``name``; ValueError listing the frames when it does not exist."""
-        if not self.model.existFrame(name):
-            names = [f.name for f in self.model.frames]
-            near = difflib.get_close_matches(name, names, n=5)
-            raise ValueError(f"robot {self.name!r} has no frame {name!r}; nearest: {near}")
-        return self.model.getFrameId(name)
+        """Id of the frame ``name``; ValueError with the nearest frame names when it does not exist."""
+        return model_frame_id(self.model, name)
 
-    def frame(self, name_or_id: str | int) -> int:
-        return name_or_id if isinstance(name_or_id, (int, np.integer)) else self.frame_id(name_or_id)
+    def frame(self, frame: str | int | np.integer | None = None) -> int:
+        """Id of ``frame`` (a name or an id, checked); None means the end effector."""
+        return self.ee_frame if frame is None else model_frame_id(self.model, frame)
+
+    def _geometry_models(self) -> Geometry:
+        if self._geometry is None:
+            empty = (pin.GeometryModel(), pin.GeometryModel())
+            self._geometry = self.geometry_loader() if self.geometry_loader is not None else empty
+        return self._geometry
+
+    @property
+    def collision_model(self) -> pin.GeometryModel:
+        return self._geometry_models()[0]
+
+    @property
+    def visual_model(self) -> pin.GeometryModel:
+        return self._geometry_models()[1]
 
     @property
     def lower(self) -> np.ndarray:
@@ -94,15 +166,14 @@ class Robot:
         return rng.uniform(lo, hi)
 
 
-LOCKED_JOINTS: dict[str, tuple[str, ...]] = {"panda": ("panda_finger_joint1", "panda_finger_joint2")}
-
-
 def _build(xml: str, gravity: Any | None, name: str, ee: str | None, path: Path | None,
-           lock: tuple[str, ...] = ()) -> Robot:
+           lock: tuple[str, ...] = (), package_dirs: Sequence[str] = ()) -> Robot:
+    """The Robot of URDF text ``xml``: rotors kept as mimic joints, joints ``lock`` fixed at 0 (model and geometry)."""
     model = pin.buildModelFromXML(xml, mimic=not lock)
-    if lock:
-        ids = [model.getJointId(j) for j in lock if model.existJointName(j)]
-        model = pin.buildReducedModel(model, ids, pin.neutral(model))
+    lock_ids = [model.getJointId(j) for j in lock if model.existJointName(j)]
+    full_model = model
+    if lock_ids:
+        model = pin.buildReducedModel(full_model, lock_ids, pin.neutral(full_model))
     model.name = name
     if gravity is not None:
         g = np.asarray(gravity, dtype=float)
@@ -113,21 +184,82 @@ def _build(xml: str, gravity: Any | None, name: str, ee: str | None, path: Path 
         ee = "ee" if model.existFrame("ee") else model.frames[len(model.frames) - 1].name
     if not model.existFrame(ee):
         raise ValueError(f"robot {name!r}: end-effector frame {ee!r} not found")
+
+    def geometry() -> Geometry:
+        dirs = [str(d) for d in package_dirs]
+        col, vis = (pin.buildGeomFromUrdfString(full_model, xml, kind, package_dirs=dirs)
+                    for kind in (pin.GeometryType.COLLISION, pin.GeometryType.VISUAL))
+        if lock_ids:  # the locked joints' bodies are merged into their parents: so are their shapes
+            _, (col, vis) = pin.buildReducedModel(full_model, [col, vis], lock_ids, pin.neutral(full_model))
+        return col, vis
+
     robot = Robot(name=name, model=model, data=model.createData(), ee_frame=model.getFrameId(ee),
-                  urdf_path=path, urdf_xml=xml)
+                  urdf_path=path, urdf_xml=xml, geometry_loader=geometry)
     robot.configurations["neutral"] = pin.neutral(model)
     return robot
 
 
-def robot_from_urdf_string(xml: str, gravity: Any | None = (0.0, 0.0, -9.81), name: str | None = None,
+def robot_from_urdf_string(xml: str, gravity: Any | None = GRAVITY, name: str | None = None,
                            ee: str | None = None) -> Robot:
     """Build a Robot from URDF text, keeping ``<mimic>`` joints (the book's rotors)."""
     if name is None:
-        import re
-
         match = re.search(r'<robot[^>]*name="([^"]+)"', xml)
         name = match.group(1) if match else "robot"
     return _build(xml, gravity, name, ee, None)
+
+
+def robot_from_dh(links: Sequence[DHLink | Mapping[str, Any]], gravity: Any = GRAVITY,
+                  name: str = "dh_robot", payload: float = 0.0, tool: np.ndarray | None = None) -> Robot:
+    """A Robot from a DH table (through its URDF, :func:`rigid_body.dh.urdf_from_dh`, with mimic rotors).
+
+    ``payload`` is a point mass [kg] at the origin of the last DH frame (:func:`with_payload`); ``tool``
+    the constant transform from the last DH frame to the end-effector frame ``ee``.
+
+    >>> arm = robot_from_dh([dict(a=1.0), dict(a=1.0)])
+    >>> arm.model.nq
+    2
+    """
+    xml = urdf_from_dh(links, name=name, tool=tool)
+    robot = _build(xml, gravity, name, "ee", None)
+    return _with_dh_payload(robot, payload)
+
+
+def _with_dh_payload(robot: Robot, payload: float) -> Robot:
+    """A DH robot with its payload at the origin of the last DH frame (the book's tip load)."""
+    if payload == 0:
+        return robot
+    last = max(int(f.name[6:]) for f in robot.model.frames if re.fullmatch(r"frame_\d+", f.name))
+    return with_payload(robot, payload, f"frame_{last}")
+
+
+def with_payload(robot: Robot, mass: float, frame: str | int | None = None) -> Robot:
+    """A copy of ``robot`` carrying a point mass ``mass`` [kg] at the origin of ``frame`` (default the end effector).
+
+    The mass is added to the inertia of the body that carries the frame, so B(q), C(q, q̇) and g(q)
+    of the copy are those of the arm with the payload (Sect. 7.2.2, a concentrated load). Works on
+    any Robot (the book's, example-robot-data's, a URDF file's); the geometry is shared.
+    """
+    if not (np.ndim(mass) == 0 and np.isfinite(mass) and mass >= 0):
+        raise ValueError(f"`mass` must be a non-negative payload [kg], got {mass!r}")
+    fid = robot.frame(frame)
+    model = robot.model.copy()
+    f = model.frames[fid]
+    model.inertias[f.parentJoint] = model.inertias[f.parentJoint] + pin.Inertia(
+        float(mass), f.placement.translation.copy(), np.zeros((3, 3)))
+    loaded = Robot(name=f"{robot.name}+{mass:g}kg", model=model, data=model.createData(),
+                   ee_frame=robot.ee_frame, urdf_path=None, urdf_xml=robot.urdf_xml,
+                   configurations=dict(robot.configurations), geometry_loader=robot._geometry_models)
+    return loaded
+
+
+def revolute_joints(robot: Robot) -> np.ndarray:
+    """Boolean mask (nq,) of the configuration entries that are revolute angles (defined modulo 2π)."""
+    mask = np.zeros(robot.nq, dtype=bool)
+    for i in range(1, robot.model.njoints):
+        kind, _ = joint_kind(robot.model, i)
+        if kind == "revolute":
+            mask[robot.model.joints[i].idx_q] = True
+    return mask
 
 
 def example_robot_data_dir() -> Path:
@@ -146,46 +278,50 @@ def _load_example_robot(name: str) -> Robot:
     path = root / rel
     if not path.is_file():
         raise FileNotFoundError(f"example-robot-data has no {rel} (looked in {root})")
-    xml = path.read_text()
-    # Mesh paths (package://example-robot-data/robots/...) are not needed for kinematics/dynamics.
-    return _build(xml, (0.0, 0.0, -9.81), name, ee, path, LOCKED_JOINTS.get(name, ()))
+    # Meshes are package://example-robot-data/robots/...: the package directory is the ``share`` above it.
+    return _build(path.read_text(), GRAVITY, name, ee, path, LOCKED_JOINTS.get(name, ()),
+                  package_dirs=(root.parent.parent,))
 
 
 def available() -> list[str]:
     """Names accepted by :func:`load`: the book's robots and the example-robot-data robots."""
-    from urdf.book_robots import BOOK_ROBOTS
-
     return sorted(BOOK_ROBOTS) + sorted(EXAMPLE_ROBOTS)
 
 
-def load(name_or_path: str | os.PathLike, **params: Any) -> Robot:
+def load(name_or_path: str | os.PathLike, payload: float = 0.0, **params: Any) -> Robot:
     """Load a robot by name (book or example-robot-data) or from a URDF path.
 
-    Keyword parameters change the book robot's data (``payload``, link lengths ``a``, ...) and
-    regenerate it from its DH table; without them the committed URDF file in ``urdf/`` is used.
+    ``payload`` [kg] is a point mass at the end effector (for the book's robots: the origin of the last
+    DH frame), added by :func:`with_payload`. Other keyword parameters change the book robot's data
+    (link lengths ``a``, ...) and rebuild it from its DH table; without them the committed URDF file
+    in ``urdf/`` is used.
 
     >>> load("planar_2r").model.nq
     2
     """
-    from urdf.book_robots import BOOK_ROBOTS, book_robot_spec
-
     key = str(name_or_path)
     if key in BOOK_ROBOTS:
-        spec = book_robot_spec(key, **params)
+        spec = book_robot_spec(key, payload=payload, **params)
         path = URDF_DIR / f"{key}.urdf"
         if not params and path.is_file():
-            return _build(path.read_text(), spec.gravity, key, "ee", path)
-        return _build(spec.urdf(), spec.gravity, key, "ee", None)
+            robot = _build(path.read_text(), spec.gravity, key, "ee", path)
+        else:
+            robot = _build(spec.urdf(), spec.gravity, key, "ee", None)
+        return _with_dh_payload(robot, spec.payload)
     if params:
         raise TypeError(f"parameters {sorted(params)} are only accepted for the book's robots")
     if key in EXAMPLE_ROBOTS:
-        return _load_example_robot(key)
-    path = Path(key)
-    if path.suffix == ".urdf" or os.sep in key:
-        if not path.is_file():
-            raise FileNotFoundError(f"no URDF file at {path}")
-        return _build(path.read_text(), (0.0, 0.0, -9.81), path.stem, None, path)
-    names = available()
-    near = difflib.get_close_matches(key, names, n=3)
-    hint = f" Did you mean {', '.join(near)}?" if near else ""
-    raise ValueError(f"unknown robot {key!r}.{hint} Available: {', '.join(names)}, or a path to a .urdf file")
+        robot = _load_example_robot(key)
+    else:
+        path = Path(key)
+        if path.suffix == ".urdf" or os.sep in key:
+            if not path.is_file():
+                raise FileNotFoundError(f"no URDF file at {path}")
+            robot = _build(path.read_text(), GRAVITY, path.stem, None, path, package_dirs=(path.parent,))
+        else:
+            names = available()
+            near = difflib.get_close_matches(key, names, n=3)
+            hint = f" Did you mean {', '.join(near)}?" if near else ""
+            raise ValueError(f"unknown robot {key!r}.{hint} Available: {', '.join(names)}, "
+                             "or a path to a .urdf file")
+    return with_payload(robot, payload) if payload else robot

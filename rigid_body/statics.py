@@ -1,11 +1,12 @@
-"""Statics: kineto-statics duality and wrench mapping between frames.
+"""Statics: kineto-statics duality (τ = J^T γ).
 
 Conventions: a wrench ``γ = [f; μ]`` (6,) is a force f and a moment μ about the frame origin, both
 in the frame's coordinates; the book's geometric Jacobian maps it to joint torques τ = J^T γ.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
-Sect. 3.8 (Eqs. (3.111) τ = J^T γ_e, (3.116)–(3.117) wrench transformation).
-The distance of an arm from an obstacle (Problem 3.9) lives in :mod:`planners.configuration_space`.
+Sect. 3.8 (Eq. (3.111) τ = J^T γ_e; the wrench transformation (3.116)–(3.117) is
+:func:`rigid_body.sensors.wrench_transform`). The distance of an arm from an obstacle (Problem 3.9)
+lives in :mod:`planners.configuration_space`.
 """
 
 from __future__ import annotations
@@ -14,13 +15,10 @@ from typing import Any
 
 import numpy as np
 
-from rigid_body.sensors import wrench_transform
-from rigid_body.validation import as_matrix, as_vector
+from rigid_body.validation import as_vector
 
 __all__ = [
     "joint_torques",
-    "wrench_transform",
-    "transform_wrench",
 ]
 
 
@@ -35,11 +33,3 @@ def joint_torques(J: Any, gamma: Any) -> np.ndarray:
     return J.T @ as_vector(gamma, J.shape[0], "gamma")
 
 
-def transform_wrench(T_cb: Any, gamma_b: Any) -> np.ndarray:
-    """γ_c = W γ_b: the wrench at frame b (in b) as the equivalent wrench at frame c (in c), Eq. (3.116).
-
-    ``T_cb`` is the (4, 4) pose of b in c; W = [[R, O], [S(r) R, R]] is
-    :func:`rigid_body.sensors.wrench_transform` (the transpose of the velocity map: duality).
-    """
-    T = as_matrix(T_cb, (4, 4), "T_cb")
-    return wrench_transform(T[:3, :3], T[:3, 3]) @ as_vector(gamma_b, 6, "gamma_b")

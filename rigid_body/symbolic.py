@@ -28,8 +28,9 @@ import casadi as ca
 import numpy as np
 import pinocchio as pin
 
+from rigid_body.robots import joint_kind, model_frame_id
+
 __all__ = [
-    "joint_kind",
     "joint_transform",
     "joint_placements",
     "frame_placement",
@@ -50,43 +51,11 @@ def _model(robot_or_model: Any) -> pin.Model:
 
 
 def _frame_id(robot_or_model: Any, frame: str | int | None) -> int:
-    model = _model(robot_or_model)
+    if hasattr(robot_or_model, "frame"):
+        return robot_or_model.frame(frame)
     if frame is None:
-        if not hasattr(robot_or_model, "ee_frame"):
-            raise ValueError("`frame` is required when a bare pin.Model is given")
-        return int(robot_or_model.ee_frame)
-    if isinstance(frame, (int, np.integer)):
-        if not 0 <= frame < model.nframes:
-            raise ValueError(f"`frame` id {frame} out of range [0, {model.nframes})")
-        return int(frame)
-    if not model.existFrame(frame):
-        raise ValueError(f"model {model.name!r} has no frame {frame!r}")
-    return model.getFrameId(frame)
-
-
-def joint_kind(model: pin.Model, i: int) -> tuple[str, np.ndarray | None]:
-    """Kind of joint ``i`` — ``"revolute"``, ``"prismatic"``, ``"revolute_unbounded"``, ``"mimic"``
-    or ``"universe"`` — and its unit axis in the joint frame (None for the last two).
-
-    Raises ValueError for joint types this module does not support (free-flyer, spherical, ...).
-    """
-    if i == 0:
-        return "universe", None
-    jmodel = model.joints[i]
-    name = jmodel.shortname().replace("JointModel", "")
-    if name == "Mimic":
-        return "mimic", None
-    if name in ("RX", "RY", "RZ"):
-        return "revolute", _AXES[name[1]]
-    if name in ("PX", "PY", "PZ"):
-        return "prismatic", _AXES[name[1]]
-    if name in ("RUBX", "RUBY", "RUBZ"):
-        return "revolute_unbounded", _AXES[name[3]]
-    if name == "RevoluteUnaligned":
-        return "revolute", np.asarray(jmodel.extract().axis, dtype=float).copy()
-    if name == "PrismaticUnaligned":
-        return "prismatic", np.asarray(jmodel.extract().axis, dtype=float).copy()
-    raise ValueError(f"joint {model.names[i]!r} of type {name} is not supported by rigid_body.symbolic")
+        raise ValueError("`frame` is required when a bare pin.Model is given")
+    return model_frame_id(_model(robot_or_model), frame)
 
 
 def _axis_rotation(axis: np.ndarray, c: Any, s: Any) -> ca.SX:

@@ -33,8 +33,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 import pinocchio as pin
 
-from rigid_body.kinematics import _frame, revolute_joints
-from rigid_body.robots import Robot
+from rigid_body.robots import Robot, revolute_joints
 from rigid_body.rotations import _axis_angle_error, _orientation_error_matrix  # unvalidated kernels (hot loop)
 from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz, orientation_error_quaternion,
                                   rotation_to_euler_zyz, rotation_to_quaternion, rotation_to_rpy, wrap_angle)
@@ -104,7 +103,7 @@ def frame_state(robot: Robot, q: Any, qd: Any = None, frame: str | int | None = 
     """
     q = as_vector(q, robot.nq, "q")
     qd = None if qd is None else as_vector(qd, robot.nv, "qd")
-    return _frame_state(robot.model, robot.data, _frame(robot, frame), q, qd)
+    return _frame_state(robot.model, robot.data, robot.frame(frame), q, qd)
 
 
 # --------------------------------------------------------------------------------------------
@@ -197,7 +196,7 @@ def pose_error(robot: Robot, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | N
     With ``qd`` the same kinematics pass also gives J̇q̇ (geometric Jacobian tasks only).
     Unvalidated (hot loop): q (nq,), T_d (4, 4) homogeneous.
     """
-    fid = _frame(robot, task.frame)
+    fid = robot.frame(task.frame)
     if qd is not None and task.euler:
         raise ValueError("J̇_A q̇ of an Euler-angle task is not provided: use 'axis_angle' or 'quaternion'")
     state = _frame_state(robot.model, robot.data, fid, q, qd)
@@ -301,7 +300,7 @@ def joint_rates(robot: Robot, q: Any, xd: Any, xdd: Any, rows: Sequence[int] = t
     if len(rows) != robot.nv:
         raise ValueError(f"`rows` must select {robot.nv} components (a square task Jacobian), got {len(rows)}")
     xd, xdd = as_vector(xd, len(rows), "xd"), as_vector(xdd, len(rows), "xdd")
-    model, data, fid = robot.model, robot.data, _frame(robot, frame)
+    model, data, fid = robot.model, robot.data, robot.frame(frame)
     J = _frame_state(model, data, fid, q, None).J[rows]
     if np.linalg.cond(J) > 1e12:
         raise ValueError(f"the task Jacobian is singular at q = {q}: J⁻¹ is not defined")

@@ -18,7 +18,7 @@ from typing import Any, Sequence
 import numpy as np
 import pinocchio as pin
 
-from rigid_body.dh import DHLink, as_links, dh_chain, urdf_from_dh
+from rigid_body.dh import GRAVITY, DHLink, as_links, dh_chain, urdf_from_dh
 from rigid_body.robots import Robot, robot_from_urdf_string
 from rigid_body.rotations import as_homogeneous
 from rigid_body.validation import as_vector
@@ -78,7 +78,7 @@ def urdf_tree_from_dh(branches: Sequence[DHBranch], name: str = "dh_tree") -> st
 
 
 def robot_from_dh_tree(branches: Sequence[DHBranch], name: str = "dh_tree", ee: str | None = None,
-                       gravity: Any = (0.0, 0.0, -9.81)) -> Robot:
+                       gravity: Any = GRAVITY) -> Robot:
     """A :class:`Robot` of a tree of DH chains (``ee`` defaults to the last branch's ``ee``)."""
     xml = urdf_tree_from_dh(branches, name)
     return robot_from_urdf_string(xml, gravity=gravity, name=name, ee=ee or f"{branches[-1].prefix}ee")

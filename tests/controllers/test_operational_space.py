@@ -180,7 +180,7 @@ def test_pose_inverse_dynamics_imposes_the_task_acceleration(panda, rng):
                                       null_space_damping=5.0, posture=Q0_PANDA, posture_stiffness=9.0)
     for t in (0.2, 0.6):
         q, qd = Q0_PANDA + rng.uniform(-0.1, 0.1, 7), rng.uniform(-0.5, 0.5, 7)
-        qdd = forward_dynamics(panda, q, qd, ctrl(t, np.r_[q, qd]))
+        qdd = forward_dynamics(panda, q, qd, ctrl(t, ArmMeasurement(q, qd)))
         h = 1e-6
         J = geometric_jacobian(panda, q)
         Jdot_qd = (geometric_jacobian(panda, q + h * qd) - geometric_jacobian(panda, q - h * qd)) @ qd / (2 * h)

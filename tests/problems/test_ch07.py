@@ -8,7 +8,7 @@ from problems.registry import solve
 from rigid_body.dynamics import inverse_dynamics
 from rigid_body.regressor import minimum_parameters, two_link_regressor
 from rigid_body.robots import load
-from urdf.book_robots import planar_2r
+from rigid_body.book_robots import planar_2r
 
 
 def test_example_7_2_trajectories_start_and_stop_at_rest():

@@ -4,10 +4,11 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from rigid_body.dh import DHLink, as_links, dh_chain, dh_transform, robot_from_dh
+from rigid_body.dh import DHLink, as_links, dh_chain, dh_transform
+from rigid_body.robots import robot_from_dh
 from rigid_body.kinematics import frame_poses
 from rigid_body.robots import load
-from urdf.book_robots import BOOK_ROBOTS, book_robot_spec
+from rigid_body.book_robots import BOOK_ROBOTS, book_robot_spec
 
 
 def _rz(t):

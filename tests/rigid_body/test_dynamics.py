@@ -74,7 +74,7 @@ def test_reference_torque_is_B_qdd_r_plus_C_qd_r_plus_g(mL, rng):
         expected = B_closed(q, mL) @ qdd_r + C_closed(q, qd, mL) @ qd_r + g_closed(q, mL)
         np.testing.assert_allclose(reference_torque(robot, q, qd, qd_r, qdd_r), expected, atol=1e-9)
     from rigid_body import lagrange as lg
-    from urdf.book_robots import anthropomorphic_wrist
+    from rigid_body.book_robots import anthropomorphic_wrist
     spatial, model = load("anthropomorphic_wrist"), lg.serial_model(anthropomorphic_wrist())
     q = spatial.random_configuration(rng)
     qd, qd_r, qdd_r = rng.normal(size=(3, spatial.nv))

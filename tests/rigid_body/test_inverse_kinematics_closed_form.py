@@ -168,6 +168,66 @@ def test_anthropomorphic_wrist_ik_eight_solutions():
             assert contains(qs, q, list(range(6)))
 
 
+# Puma 560, standard DH (Corke's table: a2 = 0.4318 between joints 2 and 3, a3 = 0.0203, shoulder offset d3).
+PUMA_560 = [dict(alpha=np.pi / 2), dict(a=0.4318), dict(a=0.0203, d=0.15005, alpha=-np.pi / 2),
+            dict(d=0.4318, alpha=np.pi / 2), dict(alpha=-np.pi / 2), dict()]
+
+
+def random_6r_spherical_wrist(rng):
+    """A random arm of the Puma class: offsets d1, d2, d3, lengths a2, a3, d4, d6, twist signs, joint offsets θ_i."""
+    s1, s3, s4 = rng.choice([-1.0, 1.0], 3)
+    th = rng.uniform(-1.0, 1.0, 6)
+    return [dict(d=rng.uniform(0.1, 0.4), alpha=s1 * np.pi / 2, theta=th[0]),
+            dict(a=rng.uniform(0.3, 0.6), d=rng.uniform(-0.2, 0.2), theta=th[1]),
+            dict(a=rng.uniform(-0.1, 0.1), d=rng.uniform(-0.2, 0.2), alpha=s3 * np.pi / 2, theta=th[2]),
+            dict(d=rng.uniform(0.3, 0.6), alpha=s4 * np.pi / 2, theta=th[3]),
+            dict(alpha=-s4 * np.pi / 2, theta=th[4]), dict(d=rng.uniform(0.05, 0.2), theta=th[5])]
+
+
+@pytest.mark.parametrize("arm", ["puma560", "random"])
+def test_6r_spherical_wrist_ik_eight_solutions_by_pinocchio(arm):
+    """Pinocchio's direct kinematics on the URDF built from the table is the reference (the solver checks the DH
+    product itself): 8 distinct solutions reproduce the pose and the generating q is among them."""
+    from rigid_body.robots import robot_from_dh
+
+    rng = np.random.default_rng(11)
+    for _ in range(3 if arm == "random" else 1):
+        links = PUMA_560 if arm == "puma560" else random_6r_spherical_wrist(rng)
+        robot = robot_from_dh(links)
+        for _ in range(10):
+            q = rng.uniform(-np.pi, np.pi, 6)
+            T = fk(robot, q)
+            qs = kin.inverse_kinematics_6r_spherical_wrist(T, links)
+            assert qs.shape == (8, 6) and len(kin.distinct_solutions(qs, atol=1e-6)) == 8
+            for qk in qs:
+                np.testing.assert_allclose(fk(robot, qk), T, atol=1e-9)
+            assert contains(qs, q, list(range(6)))
+
+
+def test_anthropomorphic_wrist_is_the_6r_solver_on_the_book_table():
+    from rigid_body.book_robots import anthropomorphic_wrist
+
+    T = fk(load("anthropomorphic_wrist"), np.array([0.3, -0.5, 0.9, 0.2, 0.7, -1.1]))
+    np.testing.assert_array_equal(kin.inverse_kinematics_anthropomorphic_wrist(T),
+                                  kin.inverse_kinematics_6r_spherical_wrist(T, anthropomorphic_wrist().links))
+
+
+def test_closed_forms_take_a_users_dh_table():
+    links = [dict(a=0.8), dict(a=0.3)]
+    from rigid_body.robots import robot_from_dh
+
+    robot = robot_from_dh(links)
+    q = np.array([0.4, -1.2])
+    qs = kin.inverse_kinematics_planar_2r(fk(robot, q)[:2, 3], links=links)
+    assert contains(qs, q, [0, 1])
+    with pytest.raises(ValueError, match="`links` is not a two-link planar arm: link 2 has alpha"):
+        kin.inverse_kinematics_planar_2r([0.5, 0.5], links=[dict(a=0.8), dict(a=0.3, alpha=0.2)])
+    with pytest.raises(ValueError, match="either `links` or"):
+        kin.inverse_kinematics_planar_2r([0.5, 0.5], links=links, a=(1.0, 1.0))
+    with pytest.raises(ValueError, match="`links` is not a 6R arm with spherical wrist: it needs .*α5 = −α4"):
+        kin.inverse_kinematics_6r_spherical_wrist(np.eye(4), PUMA_560[:4] + [dict(alpha=np.pi / 2), dict()])
+
+
 @pytest.mark.parametrize("call, message", [
     (lambda: kin.inverse_kinematics_planar_2r([3.0, 0.0]), "unreachable"),
     (lambda: kin.inverse_kinematics_planar_3r([1.2, 0.0, 0.0]), "unreachable"),
@@ -179,6 +239,7 @@ def test_anthropomorphic_wrist_ik_eight_solutions():
     (lambda: kin.inverse_kinematics_anthropomorphic_wrist(np.diag([1.0, 1.0, 1.0, 1.0]) + np.eye(4, k=3) * 2.0),
      "unreachable"),
     (lambda: kin.inverse_kinematics_spherical_wrist(np.ones((3, 3))), "`R`"),
+    (lambda: kin.inverse_kinematics_6r_spherical_wrist(np.eye(4) + np.eye(4, k=3) * 2.0, PUMA_560), "unreachable"),
     (lambda: kin.inverse_kinematics_planar_2r([1.0, np.nan]), "`p` must be finite"),
 ])
 def test_unreachable_or_bad_poses_raise(call, message):

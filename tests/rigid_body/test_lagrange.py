@@ -9,10 +9,10 @@ import pytest
 from rigid_body import dynamics as dyn
 from rigid_body import lagrange as lg
 from rigid_body import newton_euler as ne
-from rigid_body.dh import DHLink, robot_from_dh
+from rigid_body.book_robots import BOOK_ROBOTS
+from rigid_body.dh import DHLink
 from rigid_body.kinematics import geometric_jacobian
-from rigid_body.robots import load
-from urdf.book_robots import BOOK_ROBOTS
+from rigid_body.robots import load, robot_from_dh
 
 
 def random_arm(rng, n=6, prismatic=(2,), tensors=True):
@@ -94,7 +94,7 @@ def test_inertia_derivatives_match_finite_differences_and_skew_symmetry():
 def test_newton_euler_recursion_of_problem_7_8():
     """PR arm: intermediate quantities of the manual's solution of 7.8 (frames of Fig. S7.2)."""
     rng = np.random.default_rng(3)
-    from urdf.book_robots import planar_pr
+    from rigid_body.book_robots import planar_pr
     spec = planar_pr()
     model = lg.serial_model(spec)
     m2, a2 = spec.links[1].mass, spec.links[1].a
@@ -126,10 +126,10 @@ def test_bad_input():
 def test_panda_standard_dh_table_reproduces_example_robot_data():
     """The Panda converted from Craig's modified DH: kinematics and dynamics equal load("panda")."""
     from rigid_body.kinematics import direct_kinematics
-    from urdf.panda_dh import panda_links, panda_tool
+    from rigid_body.book_robots import panda_links, panda_tool
 
     rng = np.random.default_rng(4)
-    links = panda_links()
+    links = panda_links(load("panda").model)
     panda, from_dh, model = load("panda"), robot_from_dh(links, tool=panda_tool()), lg.serial_model(links)
     for _ in range(3):
         q = panda.random_configuration(rng)

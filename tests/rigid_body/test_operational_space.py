@@ -8,7 +8,7 @@ from rigid_body.operational_space import (dynamic_manipulability, dynamic_manipu
                                           dynamically_consistent_inverse, minimum_norm_torque,
                                           minimum_norm_torque_qp, operational_space_inertia,
                                           operational_space_inertia_rate, operational_space_model)
-from urdf.book_robots import planar_2r, planar_3r
+from rigid_body.book_robots import planar_2r, planar_3r
 
 
 def arm_state(spec, rng, r=2):

@@ -5,14 +5,14 @@ import dataclasses
 import numpy as np
 import pytest
 
-from rigid_body.dh import robot_from_dh
+from rigid_body.robots import robot_from_dh
 from rigid_body.dynamics import inverse_dynamics
 from rigid_body import lagrange as lg
 from rigid_body.regressor import (identify, minimum_parameters, payload_link_parameters, pr_minimum_parameters,
                                   pr_regressor, stack_regressor, two_link_parameters, two_link_reference_regressor,
                                   two_link_regressor, two_link_textbook_parameters, two_link_textbook_regressor)
 from rigid_body.robots import load
-from urdf.book_robots import planar_2r, planar_pr
+from rigid_body.book_robots import planar_2r, planar_pr
 
 
 @pytest.mark.parametrize("convention", ["manual", "companion"])

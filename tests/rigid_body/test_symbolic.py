@@ -5,9 +5,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from rigid_body.robots import load
-from rigid_body.symbolic import (frame_placement_function, geometric_jacobian_function, joint_kind,
-                                 pose_function)
+from rigid_body.robots import joint_kind, load
+from rigid_body.symbolic import frame_placement_function, geometric_jacobian_function, pose_function
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 

@@ -13,7 +13,7 @@ from rigid_body.dynamics import inertia_matrix
 from rigid_body.kinematics import frame_poses
 from rigid_body.rotations import rot_x
 from rigid_body.trees import DHBranch, Humanoid, robot_from_dh_tree, urdf_tree_from_dh
-from urdf.book_robots import planar_2r
+from rigid_body.book_robots import planar_2r
 
 
 def test_humanoid_hand_poses_equal_the_matrix_products():

@@ -7,14 +7,14 @@ import yourdfpy
 
 from rigid_body.kinematics import frame_poses
 from rigid_body.robots import URDF_DIR, load
-from urdf.book_robots import BOOK_ROBOTS, write_all
+from rigid_body.book_robots import BOOK_ROBOTS, write_all
 
 
 @pytest.mark.parametrize("name", sorted(BOOK_ROBOTS))
 def test_committed_urdf_equals_regenerated(name, tmp_path):
     write_all(tmp_path)
     assert (tmp_path / f"{name}.urdf").read_text() == (URDF_DIR / f"{name}.urdf").read_text(), (
-        f"urdf/{name}.urdf is stale: run `python -m urdf.book_robots`")
+        f"urdf/{name}.urdf is stale: run `python -m rigid_body.book_robots`")
 
 
 def test_motor_rotors_are_written_as_mimic_joints():

@@ -1,7 +1,9 @@
 """The book's robots as data: DH tables (Siciliano et al. 2009), inertial and motor data, gravity.
 
-Every ``urdf/<name>.urdf`` file is generated from these tables by ``python -m urdf.book_robots``
-(a test regenerates them and compares). All parameters are in SI units: m, rad, kg, kg·m².
+Every ``urdf/<name>.urdf`` file is generated from these tables by ``python -m rigid_body.book_robots``
+(a test regenerates them and compares); ``urdf/`` holds those generated files only. All parameters are
+in SI units: m, rad, kg, kg·m². A table's ``payload`` is not written into the file:
+``load(name, payload=m)`` adds it to the model (:func:`rigid_body.robots.with_payload`).
 
 Provenance:
 
@@ -17,6 +19,8 @@ Provenance:
 * ``planar_3r``: Fig. 2.20 arm; a = (0.5, 0.3, 0.2) and the joint limits of Problem 2.17.
 * ``cartesian_skew``: the two-link Cartesian arm of Problem 7.1 (joint 2 axis at π/4 to joint 1).
 * ``planar_pr``: the prismatic–revolute arm of Problems 7.5/7.8 (z₁ = y₀, gravity along −x₀).
+* The Franka Emika Panda as a standard DH table (:func:`panda_links`), a reference for the dynamics:
+  see the section at the end.
 """
 
 from __future__ import annotations
@@ -27,10 +31,14 @@ from typing import Any, Callable
 
 import numpy as np
 
-from rigid_body.dh import DHLink, urdf_from_dh
+import pinocchio as pin
 
-G = 9.81  # m/s², the book's value
-HERE = Path(__file__).resolve().parent
+from rigid_body.dh import G, DHLink, dh_transform, urdf_from_dh
+
+# The generated URDF files: ``urdf/`` beside the packages in a source tree (and an editable install),
+# ``rigid_body/urdf/`` (package data) in an installed wheel.
+_SOURCE_URDF_DIR = Path(__file__).resolve().parent.parent / "urdf"
+URDF_DIR = _SOURCE_URDF_DIR if _SOURCE_URDF_DIR.is_dir() else Path(__file__).resolve().parent / "urdf"
 
 
 def rod_inertia(mass: float, length: float, axis: int = 0) -> np.ndarray:
@@ -51,7 +59,8 @@ class BookRobot:
     payload: float = 0.0
 
     def urdf(self) -> str:
-        return urdf_from_dh(self.links, name=self.name, payload=self.payload)
+        """The arm's URDF text (the payload is added to the model by ``load``, not written into the file)."""
+        return urdf_from_dh(self.links, name=self.name)
 
 
 def planar_2r(a: Any = (1.0, 1.0), l: Any = (0.5, 0.5), m_l: Any = (50.0, 50.0), I_l: Any = (10.0, 10.0),
@@ -200,7 +209,7 @@ def book_robot_spec(name: str, **params: Any) -> BookRobot:
         raise TypeError(f"book robot {name!r}: {exc}") from None
 
 
-def write_all(directory: Path = HERE) -> list[Path]:
+def write_all(directory: Path = _SOURCE_URDF_DIR) -> list[Path]:
     """Regenerate every ``urdf/<name>.urdf`` from its table."""
     paths = []
     for name in BOOK_ROBOTS:
@@ -208,6 +217,62 @@ def write_all(directory: Path = HERE) -> list[Path]:
         path.write_text(book_robot_spec(name).urdf())
         paths.append(path)
     return paths
+
+
+# --------------------------------------------------------------------------------------------
+# The Franka Emika Panda
+# --------------------------------------------------------------------------------------------
+# The Franka Emika Panda as a standard DH table (the book's convention), for the dynamics references.
+#
+# Franka publishes the Panda's kinematics in Craig's modified DH convention, with rows
+# (a_{i−1}, α_{i−1}, d_i) and θ_i = q_i. The joint frames of example-robot-data's ``panda.urdf`` are
+# those Craig frames. Craig's product Π Rx(α_{i−1}) Tx(a_{i−1}) Rz(θ_i) Tz(d_i) regroups into the
+# book's A_i = Rz(θ_i) Tz(d_i) Tx(a_i) Rx(α_i) (2.52), with (a_i, α_i) taken from Craig's next row:
+# the book's frame i is Craig's frame i times Tx(a_i) Rx(α_i). The base frames coincide.
+#
+# Inertial data come from the example-robot-data URDF as Pinocchio parses it: one lumped body per
+# joint, in Craig's frame i. The hand and the locked fingers are merged into link 7. They are moved
+# into the book's frame i here. The flange and hand, Tz(0.107) Rz(−π/4), form the tool.
+#
+# References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Sect. 2.8.2;
+# Franka Control Interface documentation (robot kinematics, modified DH parameters).
+
+# Craig rows (a_{i-1} [m], α_{i-1} [rad], d_i [m]) of joints 1..7, then the flange (d = 0.107 m).
+PANDA_MODIFIED_DH = (
+    (0.0, 0.0, 0.333),
+    (0.0, -np.pi / 2, 0.0),
+    (0.0, np.pi / 2, 0.316),
+    (0.0825, np.pi / 2, 0.0),
+    (-0.0825, -np.pi / 2, 0.384),
+    (0.0, np.pi / 2, 0.0),
+    (0.088, np.pi / 2, 0.0),
+)
+FLANGE = 0.107
+HAND_ROTATION = -np.pi / 4
+
+
+def panda_tool() -> np.ndarray:
+    """Frame 7 → ``panda_hand``: Tz(0.107) Rz(−π/4)."""
+    return dh_transform(0.0, 0.0, FLANGE, HAND_ROTATION)
+
+
+def panda_links(model: pin.Model) -> tuple[DHLink, ...]:
+    """The Panda's standard DH table, with the inertial data of ``model`` = ``load("panda").model``
+    (example-robot-data's URDF, fingers locked)."""
+    rows = list(PANDA_MODIFIED_DH) + [(0.0, 0.0, FLANGE)]
+    links = []
+    for i in range(7):
+        a, alpha = rows[i + 1][0], rows[i + 1][1]
+        T_fix = dh_transform(a, alpha, 0.0, 0.0)  # Craig frame i -> book frame i: Tx(a_i) Rx(α_i)
+        R, p = T_fix[:3, :3], T_fix[:3, 3]
+        inertia = model.inertias[model.getJointId(f"panda_joint{i + 1}")]
+        lower = model.lowerPositionLimit[i]
+        upper = model.upperPositionLimit[i]
+        links.append(DHLink(
+            a=a, alpha=alpha, d=rows[i][2], mass=float(inertia.mass),
+            com=tuple(R.T @ (np.asarray(inertia.lever) - p)), inertia=R.T @ np.asarray(inertia.inertia) @ R,
+            lower=float(lower), upper=float(upper), name=f"joint_{i + 1}"))
+    return tuple(links)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,1206 @@
+"""Chapter 11 — Mobile robots: Problems 11.1–11.18.
+
+Models and their derivations (11.1–11.9) are checked numerically at random configurations (A(q) G(q) = 0,
+Lie brackets by finite differences against sympy, the centre of rotation built as the intersection of the
+wheel axes); the planners (11.10–11.13) against the manual's closed forms and against the chained form or the
+unicycle integrated by :func:`controllers.simulation.simulate`; the controllers (11.14–11.18) in closed loop.
+
+Data: the catalogue's test examples where the manual leaves symbols (r = 0.1 m, d = 0.5 m, ω_RL = 10 rad/s;
+ℓ = 1 m, b = 0.5 m; N = 3 trailers); the authors' companion files for 11.13 (q_i = 0, q_f = (2, 1, π/2),
+k = 1), 11.16 (start (−1, −2, −π/2), k1 = 1, k2 = 3, 10 s) and 11.18 (start (−1, −2, −π/2), k = (1, 2.5, 3),
+10 s, T_s = 0.01 s and 0.1 s). The unicycle is integrated by RK4 with the manual's maximum step 0.01 s.
+
+Errata of the manual corrected and named in the checks: 11.10 (d3 = … − z2i Δ²/2, not − z2i|Δ|), 11.12
+(z3 misses the z2i Δ s term), 11.14 (the printed closed-loop matrix is garbled), 11.15 (|φ| < π/2, not ≤).
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Chapter 11,
+Eqs. (11.1)–(11.85); solution manual, Problems 11.1–11.18, Figs. S11.1–S11.6.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import sympy as sp  # noqa: E402
+from scipy.linalg import expm  # noqa: E402
+
+from controllers.simulation import SimulationDiverged, SimulationResult, simulate  # noqa: E402
+from controllers.wheeled import (BicycleInputOutputTracking, BicyclePlant, CartesianRegulator,  # noqa: E402
+                                 ChainedFormPlant, ChainedFormTracking, DriftlessPlant, OdometricRegulator,
+                                 PostureRegulator, UnicyclePlant, odometry_step)
+from planners.wheeled import (chained_form_interpolation, chained_form_system, cartesian_polynomial_path,  # noqa: E402
+                              parameterised_inputs, parameterised_path, uniform_time_scaling)
+from problems.registry import Solution, problem  # noqa: E402
+from rigid_body.wheeled import (accessibility_rank, bicycle_constraints, bicycle_icr,  # noqa: E402
+                                bicycle_input_matrix, differential_drive_admissible, differential_drive_limits,
+                                differential_drive_velocities, differential_drive_wheel_speeds,
+                                front_wheel_point, front_wheel_point_matrix, lie_bracket, lie_bracket_symbolic,
+                                null_space, trailer_angle_indices, trailer_axle_midpoints,
+                                trailer_configuration_size, trailer_constraints, trailer_input_matrix,
+                                unicycle_arc, unicycle_input_matrix)
+
+H = 0.01          # the manual's maximum integration step for the unicycle [s]
+SEED = 11         # random configurations of the derivation checks
+Q0_COMPANION = np.array([-1.0, -2.0, -np.pi / 2])  # start of i11_16 and i11_18
+
+
+def _rng() -> np.random.Generator:
+    return np.random.default_rng(SEED)
+
+
+def _column(G: Any, j: int):
+    """The j-th input vector field q ↦ G(q)[:, j] of an input-matrix function."""
+    return lambda q: G(q)[:, j]
+
+
+def _draw_unicycle(ax: Any, x: float, y: float, th: float, size: float = 0.12, color: str = "k") -> None:
+    """A triangle pointing along θ at (x, y)."""
+    c, s = np.cos(th), np.sin(th)
+    pts = np.array([[1.0, 0.0], [-0.6, 0.5], [-0.6, -0.5], [1.0, 0.0]]) * size
+    ax.plot(x + c * pts[:, 0] - s * pts[:, 1], y + s * pts[:, 0] + c * pts[:, 1], color=color, lw=1)
+
+
+def _path_axes(ax: Any) -> None:
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(True, alpha=0.3)
+
+
+def _time_axes(ax: Any, t: np.ndarray, series: list[tuple[np.ndarray, str]], ylabel: str, title: str = "") -> None:
+    """Signals against time, the first solid and the others dashed, with a legend."""
+    for k, (y, label) in enumerate(series):
+        ax.plot(t, y, "-" if k == 0 else "--", label=label)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel(ylabel)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize="small")
+    if title:
+        ax.set_title(title)
+
+
+def _inputs_axes(ax: Any, t: np.ndarray, u: np.ndarray, title: str = "") -> None:
+    _time_axes(ax, t, [(u[:, 0], "v [m/s]"), (u[:, 1], "ω [rad/s]")], "v [m/s], ω [rad/s]", title)
+
+
+# --------------------------------------------------------------------------------------------
+# 11.1–11.9: models
+# --------------------------------------------------------------------------------------------
+
+@problem("11.1", "Generalised coordinates of a tricycle with N trailers", kind="derivation")
+def problem_11_1() -> Solution:
+    """Configuration of a tricycle pulling N trailers: q = [x, y, φ, θ0, θ1, …, θN] ∈ R² × SO(2)^{N+2}.
+
+    Checked for N = 0…4: the coordinates are independent and sufficient — the Jacobian of the positions and
+    headings of every body (front wheel, tricycle, trailers; by finite differences) has full rank N + 4 — and
+    the N + 2 rolling constraints of 11.8 are independent, leaving 2 velocity directions (v and φ̇).
+    """
+    sol = Solution()
+    rng = _rng()
+    ranks, dims, constraint_ranks = [], [], []
+    for N in range(5):
+        n = trailer_configuration_size(N)
+        lengths = rng.uniform(0.5, 1.5, N)
+        q = rng.uniform(-1.0, 1.0, n)
+
+        def bodies(q: np.ndarray) -> np.ndarray:  # every axle point, front-wheel heading θ0 + φ, every θ_i
+            return np.r_[trailer_axle_midpoints(q, 1.0, lengths).ravel(), q[3] + q[2], q[3:]]
+
+        eps = 1e-6
+        J = np.column_stack([(bodies(q + eps * e) - bodies(q - eps * e)) / (2 * eps) for e in np.eye(n)])
+        ranks.append(int(np.linalg.matrix_rank(J, tol=1e-8)))
+        dims.append(n)
+        constraint_ranks.append(int(np.linalg.matrix_rank(trailer_constraints(q, 1.0, lengths))))
+    sol.value("N", list(range(5)))
+    sol.value("dimension", dims)
+    sol.value("angle_indices_N3", trailer_angle_indices(3))
+    sol.check_close("dim C = N + 4 (x, y and N + 2 angles)", dims, [N + 4 for N in range(5)], atol=0)
+    sol.check_close("coordinates independent: rank ∂(positions, headings)/∂q = N + 4 (finite differences)",
+                    ranks, dims, atol=0)
+    sol.check_close("N + 2 independent constraints ⇒ n − k = 2 admissible directions", np.subtract(dims, constraint_ranks),
+                    [2] * 5, atol=0)
+    return sol
+
+
+def _three_wheel_A(q: np.ndarray, ell: float, r: float) -> np.ndarray:
+    """The 3×6 constraint matrix of Problem 11.2 (three wheels at 120°, catalogue's transcription)."""
+    c, s, a = np.cos(q[2]), np.sin(q[2]), np.sqrt(3) / 2
+    return np.array([[a * c - s / 2, c / 2 + a * s, ell, r, 0, 0],
+                     [s, -c, ell, 0, r, 0],
+                     [-a * c - s / 2, c / 2 - a * s, ell, 0, 0, r]])
+
+
+@problem("11.2", "Partial integrability of three Pfaffian constraints (q ∈ R⁶)", kind="derivation")
+def problem_11_2() -> Solution:
+    """Three wheels at 120° (q = [x, y, θ, φ1, φ2, φ3]): adding the constraints gives 3ℓθ̇ + r Σ φ̇_i = 0.
+
+    Hence θ = −(r/3ℓ)(φ1 + φ2 + φ3) + c: one combination is integrable. Checked with sympy (the row sum has
+    no x, y terms), by simulating random admissible motions (the invariant stays constant) and by the
+    accessibility rank: 5 = n − 1, i.e. exactly one of the three constraints is holonomic.
+    """
+    sol = Solution()
+    q3, ell_s, r_s = sp.symbols("q3 ell r", positive=True)
+    c, s, a = sp.cos(q3), sp.sin(q3), sp.sqrt(3) / 2
+    A_sym = sp.Matrix([[a * c - s / 2, c / 2 + a * s, ell_s, r_s, 0, 0],
+                       [s, -c, ell_s, 0, r_s, 0],
+                       [-a * c - s / 2, c / 2 - a * s, ell_s, 0, 0, r_s]])
+    row_sum = sp.simplify(A_sym[0, :] + A_sym[1, :] + A_sym[2, :])
+    sol.value("row_sum", str(list(row_sum)))
+    sol.check("sympy: row sum = [0, 0, 3ℓ, r, r, r]", row_sum == sp.Matrix([[0, 0, 3 * ell_s, r_s, r_s, r_s]]),
+              str(list(row_sum)))
+
+    ell, r = 0.3, 0.05
+    rng = _rng()
+
+    def G(q: np.ndarray) -> np.ndarray:  # wheel rates from the body velocity: a smooth basis of N(A)
+        return np.vstack([np.eye(3), -_three_wheel_A(q, ell, r)[:, :3] / r])
+
+    q = rng.normal(size=6)
+    sol.check_close("A(q) G(q) = 0 at a random q", _three_wheel_A(q, ell, r) @ G(q), np.zeros((3, 3)), atol=1e-14)
+    freq = rng.uniform(0.5, 2.0, 3)
+    res = simulate(DriftlessPlant(G), lambda t, q: np.sin(freq * t + np.arange(3)), (0.0, 5.0), q, h=1e-3, Ts=1e-3)
+    invariant = res.x[:, 2] + r / (3 * ell) * res.x[:, 3:].sum(axis=1)
+    sol.value("invariant_drift", float(np.ptp(invariant)))
+    sol.value("orientation_change", float(np.ptp(res.x[:, 2])))
+    sol.check("q3 + (r/3ℓ)(q4 + q5 + q6) constant along random admissible motions (5 s)",
+              np.ptp(invariant) < 1e-9 and np.ptp(res.x[:, 2]) > 0.1,
+              f"drift {np.ptp(invariant):.1e} while θ varies by {np.ptp(res.x[:, 2]):.2f} rad")
+    fields = [_column(G, j) for j in range(3)]
+    rank = accessibility_rank(fields, q, depth=3)
+    sol.value("accessibility_rank", rank)
+    sol.check("partially integrable: dim Δ_A = 5 = n − 1 (one holonomic constraint, not three)", rank == 5,
+              f"rank {rank} with brackets up to depth 3")
+    return sol
+
+
+@problem("11.3", "A single Pfaffian constraint satisfying (11.9) gives an involutive distribution", kind="derivation")
+def problem_11_3() -> Solution:
+    """g_j = γ(−a_{j+1} e_1 + a_1 e_{j+1}) span N(aᵀ); under (11.9) (γa is a gradient) [g_i, g_j] ∈ span{g}.
+
+    Checked with sympy for γa = ∇h, h = q1 q2 + sin q3, γ = 1 + q1²: the bracket equals the manual's
+    expression ∂(γa3)/∂q1 g1 − ∂(γa2)/∂q1 g2 + ∂(γa1)/∂q1 (a3 g1 + a2 g2)/a1; rank[g1, g2, [g1, g2]] = 2 at
+    random points (also with finite-difference brackets); the unicycle constraint gives rank 3 (not involutive).
+    """
+    sol = Solution()
+    q = sp.symbols("q1:4")
+    gamma = 1 + q[0] ** 2
+    h = q[0] * q[1] + sp.sin(q[2])
+    a = [sp.diff(h, qi) / gamma for qi in q]   # a = ∇h/γ, so γa is a gradient: (11.9) holds
+    g1 = sp.Matrix([-gamma * a[1], gamma * a[0], 0])
+    g2 = sp.Matrix([-gamma * a[2], 0, gamma * a[0]])
+    br = lie_bracket_symbolic(g1, g2, q)
+    ga = [gamma * ai for ai in a]
+
+    def d(f: Any, i: int) -> Any:
+        return sp.diff(f, q[i])
+
+    printed = sp.Matrix([d(ga[1], 0) * ga[2] - d(ga[2], 0) * ga[1] + (d(ga[2], 1) - d(ga[1], 2)) * ga[0],
+                         d(ga[0], 2) * ga[0] - d(ga[0], 0) * ga[2],
+                         d(ga[0], 0) * ga[1] - d(ga[0], 1) * ga[0]])     # the manual's bracket vector
+    combination = d(ga[2], 0) * g1 - d(ga[1], 0) * g2 + d(ga[0], 0) * (a[2] * g1 + a[1] * g2) / a[0]
+    sol.value("bracket_g1_g2", str(list(br)))
+    sol.check("sympy: the manual's vector = its linear combination of g1, g2 (uses (11.9))",
+              sp.simplify(printed - combination) == sp.zeros(3, 1))
+    sol.check("erratum 11.3: the printed vector is [g2, g1] = −[g1, g2] in the book's convention "
+              "[g1, g2] = (∂g2/∂q) g1 − (∂g1/∂q) g2; so [g1, g2] = −(combination), still in span{g1, g2}",
+              sp.simplify(br + printed) == sp.zeros(3, 1) and sp.simplify(br - printed) != sp.zeros(3, 1),
+              f"[g1, g2] = {list(br)}")
+    aT = sp.Matrix([a])
+    sol.check("sympy: aᵀ g1 = aᵀ g2 = 0", sp.simplify(aT * g1)[0] == 0 and sp.simplify(aT * g2)[0] == 0)
+
+    f_g = sp.lambdify([q], [g1, g2, br], "numpy")
+    rng = _rng()
+    ranks, fd_err = [], 0.0
+    for _ in range(10):
+        qn = rng.uniform(0.2, 1.5, 3)
+        G1, G2, B = (np.asarray(v, dtype=float).ravel() for v in f_g(qn))
+        ranks.append(int(np.linalg.matrix_rank(np.column_stack([G1, G2, B]), tol=1e-9)))
+        fd = lie_bracket(lambda x: np.asarray(f_g(x)[0], dtype=float).ravel(),
+                         lambda x: np.asarray(f_g(x)[1], dtype=float).ravel(), qn)
+        fd_err = max(fd_err, float(np.max(np.abs(fd - B))))
+    sol.check("rank[g1, g2, [g1, g2]] = 2 at 10 random q (involutive)", all(k == 2 for k in ranks), f"ranks {ranks}")
+    sol.check_close("finite-difference bracket = sympy bracket", fd_err, 0.0, atol=1e-7)
+    th = sp.symbols("theta")
+    u1, u2 = sp.Matrix([sp.cos(th), sp.sin(th), 0]), sp.Matrix([0, 0, 1])
+    bu = lie_bracket_symbolic(u1, u2, [sp.Symbol("x"), sp.Symbol("y"), th])
+    rank_u = sp.Matrix.hstack(u1, u2, bu).rank(simplify=True)
+    sol.check("negative case: unicycle [g1, g2] = [sin θ, −cos θ, 0], rank 3 (not involutive)",
+              rank_u == 3 and sp.simplify(bu - sp.Matrix([sp.sin(th), -sp.cos(th), 0])) == sp.zeros(3, 1), str(list(bu)))
+    return sol
+
+
+@problem("11.4", "Pfaffian constraints with a constant matrix are holonomic", kind="derivation")
+def problem_11_4() -> Solution:
+    """Constant Aᵀ ⇒ constant g_j ⇒ [g_i, g_j] = 0 and dim Δ_A = m = n − k < n: not controllable, holonomic.
+
+    Checked for random constant A (k = 2, n = 5): the accessibility rank (finite-difference brackets to depth
+    3) stays m = 3 and equals the rank of the linear controllability matrix (D.15) of q̇ = G u; the unicycle,
+    whose A depends on q, reaches rank 3 > m = 2.
+    """
+    sol = Solution()
+    rng = _rng()
+    k, n = 2, 5
+    A = rng.normal(size=(k, n))
+    G = null_space(A)
+    m = G.shape[1]
+    fields = [lambda q, j=j: G[:, j] for j in range(m)]
+    rank = accessibility_rank(fields, rng.normal(size=n), depth=3)
+    sol.value("m", m)
+    sol.value("accessibility_rank", rank)
+    sol.check_close("A G = 0", A @ G, np.zeros((k, m)), atol=1e-14)
+    sol.check("dim Δ_A = m = n − k = 3 < 5 (brackets vanish)", rank == m == n - k, f"rank {rank}, m {m}")
+    ctrb = np.linalg.matrix_rank(np.hstack([G, np.zeros((n, n)) @ G]))  # [B, AB] with A = 0 (driftless linear)
+    sol.check("linear rank condition (D.15): rank[B AB …] = m < n", ctrb == m, f"rank {ctrb}")
+    unicycle = [_column(unicycle_input_matrix, 0), _column(unicycle_input_matrix, 1)]
+    r_u = accessibility_rank(unicycle, rng.normal(size=3), depth=2)
+    sol.check("contrast: the unicycle (non-constant A) has dim Δ_A = 3 > m = 2", r_u == 3, f"rank {r_u}")
+    return sol
+
+
+def _four_piece(theta0: float, eps: float, h: float) -> SimulationResult:
+    """The unicycle under (1, 0), (0, 1), (−1, 0), (0, −1), each for ε (Problem 11.5), from (0, 0, θ0)."""
+    pieces = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])
+    return simulate(UnicyclePlant(), lambda t, x: pieces[min(int(round(t / eps)), 3)], (0.0, 4 * eps),
+                    [0.0, 0.0, theta0], h=h, Ts=eps)
+
+
+@problem("11.5", "Net unicycle displacement of a four-piece input sequence and the Lie bracket", kind="derivation")
+def problem_11_5() -> Solution:
+    """Inputs (v, ω) = (1, 0), (0, 1), (−1, 0), (0, −1), each for ε, from q0 = (x0, y0, θ0):
+
+    q(4ε) − q0 = [ε cos θ0 − ε cos(θ0 + ε), ε sin θ0 − ε sin(θ0 + ε), 0] = ε² t with t → [sin θ0, −cos θ0, 0]
+    = [g1, g2](q0) as ε → 0. The unicycle is simulated (RK4) and compared with the closed form; the limit is
+    compared with the bracket by finite differences and by sympy.
+    """
+    sol = Solution()
+    theta0 = 0.7
+    bracket = np.array([np.sin(theta0), -np.cos(theta0), 0.0])
+    fd = lie_bracket(_column(unicycle_input_matrix, 0), _column(unicycle_input_matrix, 1), [0.3, -0.2, theta0])
+    sol.check_close("finite-difference [g1, g2](q0) = [sin θ0, −cos θ0, 0]", fd, bracket, atol=1e-9)
+    err_closed, t_err = [], []
+    epsilons = [0.2, 0.1, 0.05, 0.025]
+    for eps in epsilons:
+        res = _four_piece(theta0, eps, eps / 200)
+        disp = res.x[-1] - res.x[0]
+        closed = np.array([eps * np.cos(theta0) - eps * np.cos(theta0 + eps),
+                           eps * np.sin(theta0) - eps * np.sin(theta0 + eps), 0.0])
+        err_closed.append(float(np.max(np.abs(disp - closed))))
+        t_err.append(float(np.linalg.norm(disp / eps**2 - bracket)))
+    sol.value("epsilon", epsilons)
+    sol.value("t_minus_bracket", t_err)
+    sol.check_close("simulated displacement = closed form (all ε)", max(err_closed), 0.0, atol=1e-12)
+    orders = np.diff(np.log(t_err)) / np.diff(np.log(epsilons))
+    sol.value("convergence_order", orders)
+    sol.check("‖t(ε) − [g1, g2](q0)‖ = O(ε) (slopes ≈ 1)", np.all(np.abs(orders - 1) < 0.05), f"slopes {orders}")
+    return sol
+
+
+@problem("11.6", "The differential-drive relations (11.14)", kind="derivation")
+def problem_11_6() -> Solution:
+    """v = r(ω_R + ω_L)/2 and ω = r(ω_R − ω_L)/d from the rolling wheel centres and ṗ_R = ṗ_L + S(ω)(p_R − p_L).
+
+    Checked: sympy solves (S11.2) for ω uniquely; a simulated robot driven by (11.14) moves its wheel centres
+    p_{R,L} = p ± (d/2)[sin θ, −cos θ] (finite differences) exactly as rolling wheels, ṗ_i = r ω_i [cos θ, sin θ].
+    """
+    sol = Solution()
+    r_s, d_s, wR, wL, th, w = sp.symbols("r d omega_R omega_L theta omega", real=True)
+    n = sp.Matrix([sp.cos(th), sp.sin(th)])
+    S = sp.Matrix([[0, -w], [w, 0]])
+    eqs = r_s * wR * n - (r_s * wL * n + S * sp.Matrix([d_s * sp.sin(th), -d_s * sp.cos(th)]))
+    roots = sp.solve(list(eqs), w, dict=True)
+    sol.check("sympy: (S11.2) has the unique solution ω = r(ω_R − ω_L)/d",
+              len(roots) == 1 and sp.simplify(roots[0][w] - r_s * (wR - wL) / d_s) == 0, str(roots))
+
+    r, d = 0.1, 0.5
+    rng = _rng()
+    wheel = rng.uniform(-5, 5, (4, 2))
+    h = 1e-3
+
+    def drive(t: float, x: np.ndarray) -> np.ndarray:
+        wr, wl = wheel[min(int(t), 3)]
+        return np.array(differential_drive_velocities(wr, wl, r, d), dtype=float)
+
+    res = simulate(UnicyclePlant(), drive, (0.0, 4.0 - h), rng.normal(size=3), h=h, Ts=h)
+    x, y, th_ = res.x.T
+    worst = 0.0
+    for side, sign, col in (("R", 1.0, 0), ("L", -1.0, 1)):
+        p = np.c_[x + sign * d / 2 * np.sin(th_), y - sign * d / 2 * np.cos(th_)]
+        v_fd = (p[2:] - p[:-2]) / (2 * h)
+        omega_i = wheel[np.minimum(res.t[1:-1].astype(int), 3), col]
+        mid = (res.t[1:-1] % 1.0 > 2 * h) & (res.t[1:-1] % 1.0 < 1 - 2 * h)  # away from input switches
+        rolling = r * omega_i[:, None] * np.c_[np.cos(th_[1:-1]), np.sin(th_[1:-1])]
+        worst = max(worst, float(np.max(np.abs(v_fd - rolling)[mid])))
+    sol.value("wheel_velocity_mismatch", worst)
+    sol.check_close("simulated wheel centres roll: ṗ_i = r ω_i [cos θ, sin θ] (finite differences)", worst, 0.0, atol=1e-5)
+    return sol
+
+
+@problem("11.7", "Bicycle: instantaneous centre of rotation and body angular velocity", kind="derivation")
+def problem_11_7() -> Solution:
+    """C = (x − ℓ sin θ / tan φ, y + ℓ cos θ / tan φ); ω_body = v tan φ / ℓ; v_P = R_P v tan φ / ℓ for any P.
+
+    Checked at random states: C equals the intersection of the rear-axle line and the front-wheel axis (line
+    intersection); every body point's velocity from the rigid motion (11.19) is ⟂ (P − C) with |v_P| = R_P |ω|.
+    """
+    sol = Solution()
+    rng = _rng()
+    ell = 1.0
+    worst_C, worst_perp, worst_mag = 0.0, 0.0, 0.0
+    for _ in range(20):
+        x, y, th = rng.uniform(-2, 2, 3)
+        phi = rng.uniform(0.1, 1.2) * rng.choice([-1, 1])
+        v = rng.uniform(-2, 2)
+        q = np.array([x, y, th, phi])
+        C = bicycle_icr(q, ell)
+        # Intersection of rear axle (through (x, y), direction ⟂ θ) and front axle (through front wheel, ⟂ θ + φ).
+        front = np.array([x + ell * np.cos(th), y + ell * np.sin(th)])
+        d_r, d_f = np.array([-np.sin(th), np.cos(th)]), np.array([-np.sin(th + phi), np.cos(th + phi)])
+        lam = np.linalg.solve(np.column_stack([d_r, -d_f]), front - np.array([x, y]))
+        worst_C = max(worst_C, float(np.max(np.abs(np.array([x, y]) + lam[0] * d_r - C))))
+        qd = bicycle_input_matrix(q, ell) @ np.array([v, 0.0])
+        omega = qd[2]
+        P = np.array([x, y]) + rng.uniform(-1, 2, 2)
+        vP = qd[:2] + omega * np.array([-(P[1] - y), P[0] - x])  # ṗ + ω × (P − p)
+        R_P = np.linalg.norm(P - C)
+        worst_perp = max(worst_perp, abs(float(vP @ (P - C))))
+        worst_mag = max(worst_mag, abs(np.linalg.norm(vP) - R_P * abs(v * np.tan(phi) / ell)))
+    q = np.r_[rng.uniform(-2, 2, 3), 0.4]
+    sol.check_close("model (11.19): A(q) G(q) = 0 for the constraints (11.15)–(11.16)",
+                    bicycle_constraints(q, ell) @ bicycle_input_matrix(q, ell), np.zeros((2, 2)), atol=1e-15)
+    sol.check_close("C (11.7 formula) = intersection of the wheel axes", worst_C, 0.0, atol=1e-12)
+    sol.check_close("v_P ⟂ (P − C)", worst_perp, 0.0, atol=1e-12)
+    sol.check_close("|v_P| = R_P v tan φ / ℓ", worst_mag, 0.0, atol=1e-12)
+    q = np.array([0.0, 0.0, 0.0, 0.5])
+    sol.value("icr_example", bicycle_icr(q, ell))
+    sol.check_close("body frame: C = (0, ℓ/tan φ) at θ = 0", bicycle_icr(q, ell), [0.0, ell / np.tan(0.5)], atol=1e-15)
+    return sol
+
+
+@problem("11.8", "Kinematic model of a tricycle with N trailers", kind="derivation")
+def problem_11_8() -> Solution:
+    """N + 2 constraints (front wheel, rear axle, each trailer axle) and q̇ = g1(q) v + g2 ω with the manual's G.
+
+    Checked for N = 3 at random q and random lengths: A(q) G(q) = 0 and rank G = 2; the constraint rows equal
+    the ones obtained by differentiating the axle positions (finite differences); and a simulated train under
+    random inputs has no lateral velocity at any axle.
+    """
+    sol = Solution()
+    rng = _rng()
+    N, ell = 3, 1.0
+    lengths = rng.uniform(0.5, 1.5, N)
+    worst, worst_rows = 0.0, 0.0
+    for _ in range(20):
+        q = rng.uniform(-1.0, 1.0, N + 4)
+        A, G = trailer_constraints(q, ell, lengths), trailer_input_matrix(q, ell, lengths)
+        worst = max(worst, float(np.max(np.abs(A @ G))))
+        assert np.linalg.matrix_rank(G) == 2
+        # Rows from the geometry: lateral velocity of each axle point, n_i^⊥ · ∂p_i/∂q, by finite differences.
+        eps = 1e-6
+        J = [(trailer_axle_midpoints(q + eps * e, ell, lengths) - trailer_axle_midpoints(q - eps * e, ell, lengths))
+             / (2 * eps) for e in np.eye(N + 4)]
+        J = np.stack(J, axis=-1)  # (N+2, 2, n)
+        headings = np.r_[q[3] + q[2], q[3:]]
+        rows = np.array([np.sin(hd) * J[i, 0] - np.cos(hd) * J[i, 1] for i, hd in enumerate(headings)])
+        worst_rows = max(worst_rows, float(np.max(np.abs(rows - A))))
+    sol.value("max_abs_AG", worst)
+    sol.check_close("A(q) G(q) = 0 at 20 random q (N = 3)", worst, 0.0, atol=1e-14)
+    sol.check_close("constraint rows = lateral velocities of the axle points (finite differences)", worst_rows, 0.0,
+                    atol=1e-8)
+
+    def G(q: np.ndarray) -> np.ndarray:
+        return trailer_input_matrix(q, ell, lengths)
+
+    h = 1e-3
+    res = simulate(DriftlessPlant(G), lambda t, q: np.array([1.0 + 0.5 * np.sin(t), 0.8 * np.cos(1.3 * t) - 0.5 * q[2]]),
+                   (0.0, 6.0), np.r_[0.0, 0.0, 0.2, 0.0, 0.1, -0.1, 0.05], h=h, Ts=h)
+    pts = np.array([trailer_axle_midpoints(q, ell, lengths) for q in res.x])
+    v_fd = (pts[2:] - pts[:-2]) / (2 * h)
+    headings = np.c_[res.x[1:-1, 3] + res.x[1:-1, 2], res.x[1:-1, 3:]]
+    lateral = np.abs(np.sin(headings) * v_fd[..., 0] - np.cos(headings) * v_fd[..., 1])
+    sol.value("max_lateral_velocity", float(lateral.max()))
+    sol.check_close("simulated train: no lateral slip at any wheel (6 s)", lateral.max(), 0.0, atol=1e-6)
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    for i, label in enumerate(["front wheel", "tricycle"] + [f"trailer {k}" for k in range(1, N + 1)]):
+        ax.plot(pts[:, i, 0], pts[:, i, 1], label=label)
+    _path_axes(ax)
+    ax.legend(loc="best", fontsize="small")
+    ax.set_title("Tricycle with 3 trailers (Problem 11.8)")
+    sol.figure(fig)
+    return sol
+
+
+@problem("11.9", "Admissible (v, ω) of a differential drive with wheel-speed bound ω_RL", kind="derivation")
+def problem_11_9() -> Solution:
+    """|2v ∓ dω|/(2r) ≤ ω_RL: a rhombus with vertices v = ±r ω_RL and ω = ±2r ω_RL/d.
+
+    Example r = 0.1 m, d = 0.5 m, ω_RL = 10 rad/s ⇒ v_max = 1 m/s, ω_max = 4 rad/s. Checked: the inverse of
+    (11.14) against a numerical solve; the rhombus predicate against the wheel-speed check on random samples.
+    """
+    sol = Solution()
+    r, d, w_RL = 0.1, 0.5, 10.0
+    v_max, w_max = differential_drive_limits(r, d, w_RL)
+    sol.value("v_max", v_max)
+    sol.value("omega_max", w_max)
+    sol.check_close("v_max = r ω_RL = 1 m/s, ω_max = 2r ω_RL/d = 4 rad/s", [v_max, w_max], [1.0, 4.0], atol=1e-15)
+    rng = _rng()
+    v, w = rng.uniform(-1.5, 1.5, 2000), rng.uniform(-6, 6, 2000)
+    M = np.array([[r / 2, r / 2], [r / d, -r / d]])  # (11.14): [v, ω] = M [ω_R, ω_L]
+    wheels = np.linalg.solve(M, np.vstack([v, w]))
+    wR, wL = differential_drive_wheel_speeds(v, w, r, d)
+    sol.check_close("ω_R = (2v + dω)/(2r), ω_L = (2v − dω)/(2r) (vs numerical inverse of (11.14))",
+                    np.vstack([wR, wL]), wheels, atol=1e-12)
+    feasible = np.max(np.abs(wheels), axis=0) <= w_RL
+    predicate = differential_drive_admissible(v, w, r, d, w_RL)
+    sol.check("rhombus predicate = wheel-speed check on 2000 random (v, ω)", np.array_equal(feasible, predicate),
+              f"{int(feasible.sum())} feasible samples, disagreements {int(np.sum(feasible != predicate))}")
+    fig, ax = plt.subplots(figsize=(5.0, 4.0))
+    ax.fill([v_max, 0, -v_max, 0], [0, w_max, 0, -w_max], alpha=0.3, label="admissible")
+    ax.plot(v[~feasible], w[~feasible], "x", ms=2, color="C3", label="a wheel exceeds ω_RL")
+    ax.set_xlabel("v [m/s]")
+    ax.set_ylabel("ω [rad/s]")
+    ax.legend(loc="upper right", fontsize="small")
+    ax.set_title("Admissible velocities of a differential drive (Problem 11.9)")
+    ax.grid(True, alpha=0.3)
+    sol.figure(fig)
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 11.10–11.13: planning
+# --------------------------------------------------------------------------------------------
+
+def _integrate_chained(path: Any, z_i: np.ndarray) -> np.ndarray:
+    """The chained form driven by the path's geometric inputs (s as time, evaluated at every RK4 stage) and
+    integrated by simulate: z(s_f)."""
+    plant = ChainedFormPlant()
+    h = path.s_f / 1000
+
+    def driven(s: float, z: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return plant.derivative(s, z, path.inputs(s))
+
+    res = simulate(driven, lambda s, z: np.zeros(2), (0.0, path.s_f), z_i, h=h, Ts=path.s_f)
+    return res.x[-1]
+
+
+@problem("11.10", "Parameterised-input planning for the (2, 4) chained form", kind="derivation")
+def problem_11_10() -> Solution:
+    """ṽ1 = sgn Δ, ṽ2 = c0 + c1 s + c2 s², s ∈ [0, |Δ|]: z(s_f) = z_f gives D c = d (11.50).
+
+    D = [[|Δ|, Δ²/2, |Δ|³/3], [sgnΔ Δ²/2, Δ³/6, sgnΔ Δ⁴/12], [|Δ|³/6, Δ⁴/24, |Δ|⁵/60]],
+    d = [z2f − z2i, z3f − z3i − z2i Δ, z4f − z4i − z3i Δ − z2i Δ²/2].
+    Erratum: the manual prints the last term of d3 as − z2i|Δ|; the correct − z2i Δ²/2 is shown by integrating
+    the chained form (RK4) with the coefficients from either d.
+    """
+    sol = Solution()
+    rng = _rng()
+    worst_D, worst_d, miss, miss_manual = 0.0, 0.0, 0.0, 0.0
+    for sign in (1.0, -1.0, 1.0, -1.0):
+        z_i, z_f = rng.normal(size=4), rng.normal(size=4)
+        z_f[0] = z_i[0] + sign * rng.uniform(0.5, 2.0)
+        D, d = chained_form_system(z_i, z_f)
+        De = z_f[0] - z_i[0]
+        A, sg = abs(De), np.sign(De)
+        D_book = np.array([[A, De**2 / 2, A**3 / 3], [sg * De**2 / 2, De**3 / 6, sg * De**4 / 12],
+                           [A**3 / 6, De**4 / 24, A**5 / 60]])
+        d_correct = np.array([z_f[1] - z_i[1], z_f[2] - z_i[2] - z_i[1] * De,
+                              z_f[3] - z_i[3] - z_i[2] * De - z_i[1] * De**2 / 2])
+        d_manual = d_correct + np.array([0.0, 0.0, z_i[1] * De**2 / 2 - z_i[1] * A])
+        worst_D = max(worst_D, float(np.max(np.abs(D - D_book))))
+        worst_d = max(worst_d, float(np.max(np.abs(d - d_correct))))
+        path = parameterised_inputs(z_i, z_f)
+        miss = max(miss, float(np.max(np.abs(_integrate_chained(path, z_i) - z_f))))
+        wrong_path = parameterised_path(z_i, De, np.linalg.solve(D_book, d_manual))
+        miss_manual = max(miss_manual, float(np.max(np.abs(_integrate_chained(wrong_path, z_i) - z_f))))
+    sol.value("example_c", path.coefficients)
+    sol.value("miss_with_manual_d", miss_manual)
+    sol.check_close("D = the manual's matrix (both signs of Δ)", worst_D, 0.0, atol=1e-12)
+    sol.check_close("d = corrected vector (… − z2i Δ²/2)", worst_d, 0.0, atol=1e-12)
+    sol.check_close("chained form integrated (RK4) with c = D⁻¹d reaches z_f", miss, 0.0, atol=1e-9)
+    sol.check("erratum 11.10: the manual's d3 (− z2i|Δ|) misses z_f", miss_manual > 1e-3,
+              f"max |z(s_f) − z_f| = {miss_manual:.3g} with the printed d3")
+    return sol
+
+
+@problem("11.11", "Parameterised inputs with s_f = 1", kind="derivation")
+def problem_11_11() -> Solution:
+    """ṽ1 = Δ (instead of sgn Δ) makes z1 reach z1f at s = 1; for (2, 3): D = [[1, 1/2], [Δ/2, Δ/6]],
+    d = [z2f − z2i, z3f − z3i − z2i Δ]. Checked against the manual's D, d and by integrating (2, 3) and (2, 4).
+    """
+    sol = Solution()
+    rng = _rng()
+    worst, miss, unit = 0.0, 0.0, True
+    for n in (3, 4, 3, 4):
+        z_i, z_f = rng.normal(size=n), rng.normal(size=n)
+        D, d = chained_form_system(z_i, z_f, unit_interval=True)
+        De = z_f[0] - z_i[0]
+        if n == 3:
+            worst = max(worst, float(np.max(np.abs(D - [[1, 0.5], [De / 2, De / 6]]))),
+                        float(np.max(np.abs(d - [z_f[1] - z_i[1], z_f[2] - z_i[2] - z_i[1] * De]))))
+        path = parameterised_inputs(z_i, z_f, unit_interval=True)
+        unit = unit and path.s_f == 1.0 and abs(path.inputs(0.3)[0] - De) < 1e-14
+        miss = max(miss, float(np.max(np.abs(_integrate_chained(path, z_i) - z_f))))
+    sol.check("s_f = 1 and ṽ1 = Δ in all four cases", unit)
+    sol.check_close("(2, 3): D = [[1, 1/2], [Δ/2, Δ/6]], d = [z2f − z2i, z3f − z3i − z2i Δ]", worst, 0.0, atol=1e-12)
+    sol.check_close("(2, 3) and (2, 4) integrated (RK4) reach z_f at s = 1", miss, 0.0, atol=1e-9)
+    return sol
+
+
+@problem("11.12", "Parameterised inputs and interpolating polynomials give the same (2, 3) path", kind="derivation")
+def problem_11_12() -> Solution:
+    """Scheme A (ṽ1 = Δ, ṽ2 = c0 + c1 s) and scheme B (z1 linear, z3 the cubic meeting z3 and z3'/z1' = z2 at
+    both ends) give identical z(s): z3 = z3i + Δ(z2i s + c0 s²/2 + c1 s³/6) is a cubic, and it is unique.
+
+    Erratum: the manual's z3 = z3i + Δ(c0 s²/2 + c1 s³/6) omits the z2i Δ s term (it misses z3f when z2i ≠ 0).
+    """
+    sol = Solution()
+    rng = _rng()
+    s = np.linspace(0.0, 1.0, 201)
+    worst, worst_formula, manual_miss = 0.0, 0.0, 0.0
+    for _ in range(10):
+        z_i, z_f = rng.normal(size=3), rng.normal(size=3)
+        A, B = parameterised_inputs(z_i, z_f, unit_interval=True), chained_form_interpolation(z_i, z_f)
+        worst = max(worst, float(np.max(np.abs(A.z(s) - B.z(s)))), float(np.max(np.abs(A.inputs(s) - B.inputs(s)))))
+        c0, c1 = A.coefficients
+        De = z_f[0] - z_i[0]
+        z3 = z_i[2] + De * (z_i[1] * s + c0 * s**2 / 2 + c1 * s**3 / 6)
+        worst_formula = max(worst_formula, float(np.max(np.abs(z3 - A.z(s)[:, 2]))))
+        manual_miss = max(manual_miss, abs(z_i[2] + De * (c0 / 2 + c1 / 6) - z_f[2]))
+    sol.check_close("schemes A and B: identical z(s) and geometric inputs (10 random boundary pairs)", worst, 0.0,
+                    atol=1e-12)
+    sol.check_close("z3 = z3i + Δ(z2i s + c0 s²/2 + c1 s³/6) (corrected)", worst_formula, 0.0, atol=1e-12)
+    sol.value("manual_z3_miss", manual_miss)
+    sol.check("erratum 11.12: the printed z3 (without z2i Δ s) misses z3f", manual_miss > 1e-3,
+              f"max |z3(1) − z3f| = {manual_miss:.3g}")
+    return sol
+
+
+@problem("11.13", "Cartesian-polynomial parking manoeuvre of the unicycle and a feasible timing law", kind="programming")
+def problem_11_13() -> Solution:
+    """Cubic path (11.52) from q_i = (0, 0, 0) to q_f = (2, 1, π/2) with k_i = k_f = 1 (companion s11_13).
+
+    α, β by (11.53); geometric inputs by flatness (11.45)–(11.47): with s = t, max|ω| = 10 rad/s; the uniform
+    scaling s = t/T with T = 10 s (11.54)–(11.55) restores feasibility (bounds inferred: |ω| ≤ 1 rad/s,
+    |v| ≤ 0.5 m/s). Fig. S11.1: path and geometric inputs. The unicycle driven open loop by the scaled inputs
+    (RK4) reaches q_f.
+    """
+    sol = Solution()
+    q_i, q_f = np.zeros(3), np.array([2.0, 1.0, np.pi / 2])
+    path = cartesian_polynomial_path(q_i, q_f, 1.0, 1.0)
+    sol.value("alpha_x", float(path.alpha[0]))
+    sol.value("beta_x", float(path.beta[0]))
+    sol.value("alpha_y", float(path.alpha[1]))
+    sol.value("beta_y", float(path.beta[1]))
+    s = np.linspace(0.0, 1.0, 100001)
+    p, dp, _ = path(s)
+    theta, v, w = path.geometric_inputs(s)
+    sol.value("max_v", float(np.max(np.abs(v))))
+    sol.value("max_omega", float(np.max(np.abs(w))))
+    sol.value("s_at_max_v", float(s[np.argmax(v)]))
+    sol.check_close("boundary positions p(0) = (0, 0), p(1) = (2, 1)", [p[0], p[-1]], [q_i[:2], q_f[:2]], atol=1e-14)
+    sol.check_close("boundary headings Atan2(y', x') = 0, π/2 and speeds ṽ(0) = k_i, ṽ(1) = k_f",
+                    [theta[0], theta[-1], v[0], v[-1]], [0.0, np.pi / 2, 1.0, 1.0], atol=1e-14)
+    sol.check_close("manual: max|ω̃| = 10 rad/s with s = t", float(np.max(np.abs(w))), 10.0, atol=1e-6)
+    sol.check_close("max ṽ = 3.0275 m/s (catalogue's reference value)", float(np.max(v)), 3.0275, atol=1e-3)
+    fd_theta = np.gradient(np.unwrap(theta), s)
+    sol.check_close("ω̃ = dθ/ds (finite differences of the heading)", fd_theta[1:-1], w[1:-1], atol=1e-4)
+    T = uniform_time_scaling(path, v_max=0.5, omega_max=1.0)
+    sol.value("T", T)
+    sol.check_close("uniform scaling: T = 10 s (set by ω̃)", T, 10.0, atol=1e-9)
+    sol.value("max_v_scaled", float(np.max(np.abs(v)) / T))
+    sol.value("max_omega_scaled", float(np.max(np.abs(w)) / T))
+    sol.check("after scaling: max|v| ≤ 0.31 m/s and max|ω| ≤ 1 rad/s",
+              np.max(np.abs(v)) / T <= 0.31 and np.max(np.abs(w)) / T <= 1.0 + 1e-9)
+
+    def inputs(t: float, x: Any) -> np.ndarray:
+        _, vs, ws = path.geometric_inputs(min((t + H / 2) / T, 1.0))  # midpoint of the hold interval
+        return np.array([vs / T, ws / T])
+
+    res = simulate(UnicyclePlant(), inputs, (0.0, T), q_i, h=H / 10, Ts=H)
+    err = res.x[-1] - q_f
+    sol.value("open_loop_final_error", err)
+    sol.check_close("unicycle driven by the scaled inputs (RK4) reaches q_f", err, np.zeros(3), atol=1e-4)
+
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    ax1.plot(p[:, 0], p[:, 1], label="planned path")
+    ax1.plot(res.x[:, 0], res.x[:, 1], "--", label="unicycle (open loop)")
+    for sk in np.linspace(0, 1, 6):
+        k = int(sk * (len(s) - 1))
+        _draw_unicycle(ax1, p[k, 0], p[k, 1], theta[k])
+    _path_axes(ax1)
+    ax1.legend(loc="best", fontsize="small")
+    ax1.set_title("Cartesian path")
+    ax2.plot(s, v, label="ṽ(s) [m]")
+    ax2.plot(s, w, "--", label="ω̃(s) [rad]")
+    ax2.set_xlabel("s [-]")
+    ax2.set_ylabel("geometric inputs ṽ [m], ω̃ [rad]")
+    ax2.grid(True, alpha=0.3)
+    ax2.legend(loc="best", fontsize="small")
+    ax2.set_title("Geometric inputs")
+    fig.suptitle("Fig. S11.1 — parking manoeuvre by Cartesian polynomials")
+    fig.tight_layout()
+    sol.figure(fig)
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 11.14–11.18: control
+# --------------------------------------------------------------------------------------------
+
+@problem("11.14", "Linearisation-based tracking for the (2, 3) chained form", kind="derivation")
+def problem_11_14() -> Solution:
+    """ė1 = u1, ė2 = u2, ė3 = v1d e2 + z2d u1 − e2 u1; u1 = −k1 e1, u2 = −k2 e2 − (k3/v1d) e3.
+
+    Closed loop [[−k1, 0, 0], [0, −k2, −k3/v1d], [−k1 z2d, v1d, 0]] (erratum: the manual's matrix is garbled),
+    p(λ) = (λ + k1)(λ² + k2 λ + k3). Checked with sympy, and by simulating the chained form with v1d = 1,
+    z2d = 0.5, k = (1, 2, 1) from a small error: e(t) follows the linear prediction exp(A_cl t) e(0).
+    """
+    sol = Solution()
+    e1, e2, e3, u1, u2, v1d, z2d, k1, k2, k3, lam = sp.symbols("e1 e2 e3 u1 u2 v1d z2d k1 k2 k3 lambda")
+    z2 = z2d - e2
+    v1 = v1d - u1
+    e3dot = z2d * v1d - z2 * v1
+    sol.check("sympy: ė3 = v1d e2 + z2d u1 − e2 u1", sp.expand(e3dot - (v1d * e2 + z2d * u1 - e2 * u1)) == 0)
+    f = sp.Matrix([u1, u2, e3dot]).subs({u1: -k1 * e1, u2: -k2 * e2 - k3 / v1d * e3})
+    A_cl = f.jacobian([e1, e2, e3]).subs({e1: 0, e2: 0, e3: 0})
+    A_book = sp.Matrix([[-k1, 0, 0], [0, -k2, -k3 / v1d], [-k1 * z2d, v1d, 0]])
+    sol.check("sympy: linearised closed-loop matrix = [[−k1,0,0],[0,−k2,−k3/v1d],[−k1 z2d, v1d, 0]] (erratum 11.14)",
+              sp.simplify(A_cl - A_book) == sp.zeros(3, 3), str(A_cl.tolist()))
+    p = sp.factor(A_cl.charpoly(lam).as_expr())
+    sol.value("characteristic_polynomial", str(p))
+    sol.check("sympy: p(λ) = (λ + k1)(λ² + k2 λ + k3), independent of v1d, z2d",
+              sp.expand(p - (lam + k1) * (lam**2 + k2 * lam + k3)) == 0, str(p))
+
+    k = (1.0, 2.0, 1.0)
+    vd, zd2 = 1.0, 0.5
+    z3d0 = 0.2
+
+    def reference(t: float) -> tuple[np.ndarray, np.ndarray]:
+        return np.array([t, zd2, z3d0 + zd2 * vd * t]), np.array([vd, 0.0])
+
+    e0 = np.array([0.02, -0.03, 0.02])
+    h = 1e-3
+    res = simulate(ChainedFormPlant(), ChainedFormTracking(reference, *k), (0.0, 8.0),
+                   reference(0.0)[0] - e0, h=h, Ts=h)
+    A_num = np.array([[-k[0], 0, 0], [0, -k[1], -k[2] / vd], [-k[0] * zd2, vd, 0]])
+    Phi = expm(A_num * h)  # e(t_{k+1}) = Φ e(t_k) for the linearised loop
+    predicted = np.empty_like(res["e"])
+    predicted[0] = e0
+    for j in range(1, len(predicted)):
+        predicted[j] = Phi @ predicted[j - 1]
+    dev = float(np.max(np.abs(res["e"] - predicted)))
+    sol.value("final_error", res["e"][-1])
+    sol.value("max_deviation_from_linear_prediction", dev)
+    sol.check("error → 0 (|e(8 s)| < 1e-2 |e(0)|)", np.linalg.norm(res["e"][-1]) < 1e-2 * np.linalg.norm(e0),
+              f"|e(8)| = {np.linalg.norm(res['e'][-1]):.2e}")
+    sol.check("simulated error follows exp(A_cl t) e(0) up to O(|e0|²) (nonlinear term e2 u1)",
+              dev < 5 * np.linalg.norm(e0) ** 2, f"max deviation {dev:.2e}, |e0|² = {np.linalg.norm(e0) ** 2:.1e}")
+    # Footnote: for the unicycle (11.23)–(11.24) the reference has ω_d = v1d constant, v_d = z3d v1d linear in t.
+    v_unicycle = [reference(t)[1][1] + reference(t)[0][2] * vd for t in (0.0, 1.0, 2.0)]
+    sol.check_close("footnote: ω_d constant, v_d = v2d + z3d v1d grows linearly (Archimedean spiral)",
+                    np.diff(v_unicycle), [zd2 * vd**2] * 2, atol=1e-14)
+    return sol
+
+
+@problem("11.15", "Input–output linearisation of the bicycle with a point on the front-wheel line", kind="derivation")
+def problem_11_15() -> Solution:
+    """y = [x + ℓ cos θ + b cos(θ+φ), y + ℓ sin θ + b sin(θ+φ)], ẏ = T(θ, φ)[v, ω]ᵀ, det T = b/cos φ.
+
+    With [v, ω] = T⁻¹ u: ẏ = u and the zero dynamics of θ, φ as in the manual; u = ẏ_d + K(y_d − y) gives
+    decoupled exponential convergence. Checked: T against finite differences of y along the bicycle's fields;
+    det T; the manual's θ̇, φ̇ expressions against G T⁻¹ u; a circle tracked with ℓ = 1 m, b = 0.5 m whose error
+    follows e_i(0) exp(−k_i t). Erratum: T is singular at |φ| = π/2, so the condition is |φ| < π/2 (not ≤).
+    """
+    sol = Solution()
+    rng = _rng()
+    ell, b = 1.0, 0.5
+    worst_T, worst_det, worst_zero = 0.0, 0.0, 0.0
+    eps = 1e-6
+    for _ in range(20):
+        q = np.r_[rng.uniform(-2, 2, 3), rng.uniform(-1.3, 1.3)]
+        G = bicycle_input_matrix(q, ell)
+        T = front_wheel_point_matrix(q[2], q[3], ell, b)
+        T_fd = np.column_stack([(front_wheel_point(q + eps * g, ell, b) - front_wheel_point(q - eps * g, ell, b)) / (2 * eps)
+                                for g in G.T])
+        worst_T = max(worst_T, float(np.max(np.abs(T - T_fd))))
+        worst_det = max(worst_det, abs(np.linalg.det(T) - b / np.cos(q[3])) / abs(b / np.cos(q[3])))
+        u = rng.normal(size=2)
+        qd = G @ np.linalg.solve(T, u)
+        th, ph = q[2], q[3]
+        c2, s2 = np.cos(th + ph), np.sin(th + ph)
+        theta_dot = np.sin(ph) * (c2 * u[0] + s2 * u[1]) / ell
+        phi_dot = -(c2 * np.sin(ph) / ell + s2 / b) * u[0] - (s2 * np.sin(ph) / ell - c2 / b) * u[1]
+        worst_zero = max(worst_zero, float(np.max(np.abs(qd[2:] - [theta_dot, phi_dot]))))
+    sol.check_close("T(θ, φ) = ∂y/∂q G(q) (finite differences)", worst_T, 0.0, atol=1e-8)
+    sol.check_close("det T = b / cos φ (relative)", worst_det, 0.0, atol=1e-12)
+    sol.check_close("zero dynamics θ̇, φ̇ = manual's expressions", worst_zero, 0.0, atol=1e-12)
+    near = np.linalg.cond(front_wheel_point_matrix(0.3, np.pi / 2 - 1e-7, ell, b))
+    sol.check("erratum 11.15: T degenerates as |φ| → π/2 (cond > 1e6 at π/2 − 1e-7), so |φ| < π/2 strictly",
+              near > 1e6, f"cond T = {near:.2e}")
+
+    R, Om = 2.0, 0.25  # circle of radius 2 m at 0.25 rad/s
+
+    def reference(t: float) -> tuple[np.ndarray, np.ndarray]:
+        return (R * np.array([np.cos(Om * t), np.sin(Om * t)]),
+                R * Om * np.array([-np.sin(Om * t), np.cos(Om * t)]))
+
+    k = (1.0, 2.0)
+    q0 = np.array([R - ell - b + 0.3, -0.2, np.pi / 2 - 0.3, 0.1])
+    h = 1e-3
+    res = simulate(BicyclePlant(ell), BicycleInputOutputTracking(ell, b, reference, *k), (0.0, 6.0), q0, h=h, Ts=h)
+    e = res["e"]
+    predicted = e[0] * np.exp(-np.outer(res.t, k))
+    dev = float(np.max(np.abs(e - predicted)))
+    sol.value("initial_error", e[0])
+    sol.value("final_error", e[-1])
+    sol.check("circle tracked: e_i(t) = e_i(0) exp(−k_i t) (decoupled, up to the 1 ms hold)",
+              dev < 2e-3 * np.max(np.abs(e[0])), f"max deviation {dev:.2e} m, |e(0)| = {np.max(np.abs(e[0])):.2f} m")
+    sol.check("|φ| stays < π/2 along the run", np.max(np.abs(res.x[:, 3])) < np.pi / 2,
+              f"max |φ| = {np.max(np.abs(res.x[:, 3])):.3f} rad")
+    return sol
+
+
+def _motion_figure(res: SimulationResult, title: str, label: str, estimate: np.ndarray | None = None) -> Any:
+    """Cartesian motion (with the odometric estimate as dots) and the velocity inputs (Figs. S11.3, S11.5, S11.6)."""
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    a1.plot(res.x[:, 0], res.x[:, 1], label=label)
+    if estimate is not None:
+        step = max(1, len(res.t) // 60)
+        a1.plot(estimate[::step, 0], estimate[::step, 1], ".", ms=3, label="odometric estimate")
+    for k in range(0, len(res.t), max(1, len(res.t) // 10)):
+        _draw_unicycle(a1, *res.x[k], size=0.08)
+    _path_axes(a1)
+    a1.legend(loc="best", fontsize="small")
+    a1.set_title("Cartesian motion")
+    _inputs_axes(a2, res.t, res.u, "Velocity inputs")
+    fig.suptitle(title)
+    fig.tight_layout()
+    return fig
+
+
+def _regulate(controller: Any, q0: Any, t_end: float = 10.0) -> SimulationResult:
+    return simulate(UnicyclePlant(), controller, (0.0, t_end), q0, h=H, Ts=H)
+
+
+@problem("11.16", "Cartesian regulator modified to allow backward motion", kind="simulation")
+def problem_11_16() -> Solution:
+    """v = k1 nᵀe_p (S11.4); ω = k2 γ if nᵀe_p > 0, else k2(γ − sign(γ)π) (S11.6): the robot aligns with e_p or
+    with −e_p, and reaches the origin backwards when the initial pointing error is obtuse.
+
+    Companion i11_16: k1 = 1, k2 = 3, start (−1, −2, −π/2) (nᵀe_p = −2 < 0, obtuse), 10 s. Checked: backward
+    motion throughout (v ≤ 0) to the origin, while the original law (11.78)–(11.79) turns around and drives
+    forward; from an acute start (−1, −1, π/4) both laws give the same trajectory. Figs. S11.2 (the two laws
+    from the obtuse start; the manual's S11.2 is the Simulink diagram) and S11.3.
+    """
+    sol = Solution()
+    k1, k2 = 1.0, 3.0
+    mod = _regulate(CartesianRegulator(k1, k2, backward=True), Q0_COMPANION)
+    orig = _regulate(CartesianRegulator(k1, k2), Q0_COMPANION)
+    n_e0 = -(Q0_COMPANION[0] * np.cos(Q0_COMPANION[2]) + Q0_COMPANION[1] * np.sin(Q0_COMPANION[2]))
+    sol.value("n_T_e_p_initial", float(n_e0))
+    sol.check_close("obtuse start: nᵀe_p(0) = −2", n_e0, -2.0, atol=1e-12)
+    sol.value("max_v_modified", float(mod.u[:, 0].max()))
+    sol.value("max_v_original", float(orig.u[:, 0].max()))
+    sol.value("final_distance_modified", float(np.hypot(*mod.x[-1, :2])))
+    sol.check("modified law: v ≤ 0 throughout (backward motion)", mod.u[:, 0].max() <= 1e-12,
+              f"max v = {mod.u[:, 0].max():.2e} m/s")
+    # With v ≤ 0 and the pointing error aligned, ρ̇ = −k1 ρ cos²(…) ⇒ ρ(t) ≤ ρ0 e^{...}: check against e^{−k1 t}
+    # once aligned: nᵀe_p = −ρ cos(γ − π) … the distance decays at least like the aligned rate.
+    rho = np.hypot(mod.x[:, 0], mod.x[:, 1])
+    sol.check("modified law reaches the origin: ‖p(10 s)‖ < 1e-3 m, ρ non-increasing",
+              rho[-1] < 1e-3 and np.all(np.diff(rho) <= 1e-12), f"‖p(10)‖ = {rho[-1]:.2e} m")
+    sol.check("original law turns around and drives forward (max v > 0.5 m/s)", orig.u[:, 0].max() > 0.5,
+              f"max v = {orig.u[:, 0].max():.2f} m/s")
+    acute = np.array([-1.0, -1.0, np.pi / 4])
+    a_mod, a_orig = _regulate(CartesianRegulator(k1, k2, True), acute), _regulate(CartesianRegulator(k1, k2), acute)
+    sol.check_close("acute start: identical trajectories with both laws", a_mod.x, a_orig.x, atol=0.0)
+
+    fig1, ax = plt.subplots(figsize=(6.0, 5.0))
+    ax.plot(orig.x[:, 0], orig.x[:, 1], label="original (11.78)–(11.79)")
+    ax.plot(mod.x[:, 0], mod.x[:, 1], "--", label="modified (S11.4), (S11.6)")
+    _draw_unicycle(ax, *Q0_COMPANION)
+    _path_axes(ax)
+    ax.legend(loc="best", fontsize="small")
+    ax.set_title("Fig. S11.2 (here) — the two regulators from an obtuse start")
+    sol.figure(fig1)
+    sol.figure(_motion_figure(mod, "Fig. S11.3 — modified Cartesian regulator, k1 = 1, k2 = 3", "modified regulator"))
+    return sol
+
+
+@problem("11.17", "Exact odometric integration (11.85) for piecewise-constant inputs", kind="derivation")
+def problem_11_17() -> Solution:
+    """θ(t) = θ_k + ω_k(t − t_k), x(t) = x_k + (v_k/ω_k)(sin θ(t) − sin θ_k), y(t) = y_k − (v_k/ω_k)(cos θ(t) − cos θ_k).
+
+    Checked against the unicycle integrated by RK4 (h = T_s/1000) for random (v, ω, T_s); the ω → 0 branch
+    against the straight-line limit; and the local errors of Euler (11.83) O(T_s²) and Runge–Kutta (11.84)
+    O(T_s³) against the exact step.
+    """
+    sol = Solution()
+    rng = _rng()
+    worst = 0.0
+    for _ in range(10):
+        q0 = rng.normal(size=3)
+        v, w, Ts = rng.uniform(-2, 2), rng.uniform(-3, 3), rng.uniform(0.05, 1.0)
+        res = simulate(UnicyclePlant(), lambda t, x: np.array([v, w]), (0.0, Ts), q0, h=Ts / 1000, Ts=Ts)
+        worst = max(worst, float(np.max(np.abs(odometry_step(q0, v, w, Ts, "exact") - res.x[-1]))))
+    sol.check_close("exact step (11.85) = RK4 integration (10 random cases)", worst, 0.0, atol=1e-10)
+    q0 = np.array([0.3, -0.2, 0.4])
+    straight = q0 + np.array([1.5 * np.cos(0.4), 1.5 * np.sin(0.4), 0.0])
+    sol.check_close("ω → 0: the exact step's limit branch gives the straight line (ω = 1e-12)",
+                    odometry_step(q0, 1.5, 1e-12, 1.0, "exact"), straight, atol=1e-11)
+    sol.check_close("near the branch switch (ω = 1e-5) the arc formula agrees with the chord (RK) step to O((ωT)²)",
+                    odometry_step(q0, 1.5, 1e-5, 1.0, "exact"), odometry_step(q0, 1.5, 1e-5, 1.0, "runge_kutta"),
+                    atol=1e-10)
+    Tss = np.array([0.2, 0.1, 0.05])
+    errs = {m: [np.linalg.norm(odometry_step(q0, 1.0, 2.0, T, m)[:2] - odometry_step(q0, 1.0, 2.0, T, "exact")[:2])
+                for T in Tss] for m in ("euler", "runge_kutta")}
+    orders = {m: float(np.mean(np.diff(np.log(e)) / np.diff(np.log(Tss)))) for m, e in errs.items()}
+    sol.value("local_error_order", orders)
+    sol.check("local error orders: Euler ≈ 2, Runge–Kutta ≈ 3",
+              abs(orders["euler"] - 2) < 0.1 and abs(orders["runge_kutta"] - 3) < 0.1, str(orders))
+    return sol
+
+
+K_POSTURE = (1.0, 2.5, 3.0)   # i11_18
+T_REGULATION = 10.0           # i11_18
+
+
+def posture_with_odometry(Ts: float, q0: Any = Q0_COMPANION, t_end: float = T_REGULATION,
+                          gains: tuple[float, float, float] = K_POSTURE) -> SimulationResult:
+    """Posture regulation (11.81)–(11.82) fed by Runge–Kutta odometry (11.84) of period T_s (Problem 11.18).
+
+    The unicycle is integrated by RK4 with h = T_s/⌈T_s/0.01⌉ ≤ 0.01 s (the manual's maximum step); samples at
+    k T_s ≤ t_end. Raises SimulationDiverged when the loop leaves |x_i| < 1e3.
+    """
+    n_sub = int(np.ceil(Ts / H - 1e-9))
+    return simulate(UnicyclePlant(), OdometricRegulator(PostureRegulator(*gains), q0), (0.0, t_end), q0,
+                    h=Ts / n_sub, Ts=Ts, bound=1e3)
+
+
+def posture_at(res: SimulationResult, t: float) -> np.ndarray:
+    """The posture at t ≥ the last sample: the last command is held, so the robot runs an exact arc (11.85)."""
+    return unicycle_arc(res.x[-1], res.u[-1, 0], res.u[-1, 1], t - res.t[-1])
+
+
+def final_distance(Ts: float, t_end: float = T_REGULATION) -> float:
+    """‖p(t_end)‖ of the 11.18 loop with odometry period T_s (inf when the loop diverges)."""
+    try:
+        return float(np.hypot(*posture_at(posture_with_odometry(Ts, t_end=t_end), t_end)[:2]))
+    except SimulationDiverged:
+        return float("inf")
+
+
+@problem("11.18", "Posture regulation with Runge–Kutta odometric localisation", kind="simulation")
+def problem_11_18() -> Solution:
+    """Posture regulator (11.81)–(11.82) acting on the odometric estimate (11.84) (Fig. S11.4).
+
+    Companion i11_18: k = (1, 2.5, 3), start (−1, −2, −π/2), 10 s, T_s = 0.01 s (Fig. S11.5) and 0.1 s
+    (Fig. S11.6). Both converge; at 0.1 s the estimate is less accurate (the final distance is the odometric
+    error). For larger T_s the final error grows and the loop eventually diverges: the T_s above which
+    ‖p(10 s)‖ > 1e-2 m is found by bisection (Fig. S11.4 here: final distance against T_s). When T_s does not
+    divide 10 s, the posture at 10 s is the exact arc (11.85) from the last sample under the held command.
+    """
+    sol = Solution()
+    runs = {}
+    for Ts, fig_name in ((0.01, "Fig. S11.5"), (0.1, "Fig. S11.6")):
+        res = posture_with_odometry(Ts)
+        runs[Ts] = res
+        dist = float(np.hypot(*res.x[-1, :2]))
+        est = float(np.linalg.norm(res["q_hat"][-1, :2]))
+        sol.value(f"final_distance_Ts_{Ts:g}", dist)
+        sol.value(f"final_heading_Ts_{Ts:g}", float(res.x[-1, 2]))
+        sol.value(f"final_odometry_error_Ts_{Ts:g}", float(res["odometry_error"][-1]))
+        sol.check(f"T_s = {Ts:g} s: estimate regulated to the origin (‖p̂(10 s)‖ < 1e-3 m)", est < 1e-3,
+                  f"‖p̂‖ = {est:.2e} m")
+        sol.check(f"T_s = {Ts:g} s: final distance ≈ odometric error (the regulator converged on the estimate)",
+                  abs(dist - res["odometry_error"][-1]) < 1e-3, f"‖p‖ = {dist:.2e}, error {res['odometry_error'][-1]:.2e} m")
+        sol.figure(_motion_figure(res, f"{fig_name} — posture regulation with Runge–Kutta odometry, T_s = {Ts:g} s",
+                                  "unicycle", estimate=res["q_hat"]))
+    d01, d1 = sol.values["final_distance_Ts_0.01"], sol.values["final_distance_Ts_0.1"]
+    sol.check("T_s = 0.01 s: ‖p(10 s)‖ < 1e-3 m and |θ| < 1e-2 rad",
+              d01 < 1e-3 and abs(sol.values["final_heading_Ts_0.01"]) < 1e-2, f"‖p‖ = {d01:.2e} m")
+    sol.check("T_s = 0.1 s: ‖p(10 s)‖ < 2e-2 m, less accurate than 0.01 s", d1 < 2e-2 and d1 > d01, f"‖p‖ = {d1:.2e} m")
+    # Odometry alone over the same inputs (open loop, exact step per sample) predicts the same error: the
+    # localisation error, not the regulator, sets the final distance.
+    res = runs[0.1]
+    q_exact = res.x[0].copy()
+    for u in res.u[:-1]:
+        q_exact = odometry_step(q_exact, u[0], u[1], 0.1, "exact")
+    sol.check_close("exact arc integration (11.85) of the logged inputs = the simulated unicycle (T_s = 0.1 s)",
+                    q_exact[:2], res.x[-1, :2], atol=1e-6)
+
+    grid = np.array([0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0])
+    finals = np.array([final_distance(Ts) for Ts in grid])
+    sol.value("Ts_grid", grid)
+    sol.value("final_distance_grid", finals)
+    sol.check("final error increases with T_s up to 0.5 s (degradation)", np.all(np.diff(finals[:7]) > 0),
+              str(np.round(finals, 4)))
+    sol.check("large T_s destabilises the loop: ‖p‖ > 1 m (or divergence) at T_s = 1 s", finals[-1] > 1.0,
+              f"‖p‖ = {finals[-1]:.3g} m")
+    lo, hi = 0.1, 0.2  # ‖p‖ < 1e-2 at 0.1, > 1e-2 at 0.2 (grid above)
+    if not (final_distance(lo) < 1e-2 < final_distance(hi)):
+        sol.check("bisection bracket [0.1, 0.2] s valid", False)
+        return sol
+    while hi - lo > 1e-4:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if final_distance(mid) <= 1e-2 else (lo, mid)
+    sol.value("Ts_threshold", 0.5 * (lo + hi))
+    sol.check("bisection: ‖p(10 s)‖ crosses 1e-2 m between 0.1 and 0.2 s",
+              final_distance(lo) <= 1e-2 < final_distance(hi), f"T_s* = {0.5 * (lo + hi):.4f} s")
+
+    fig, ax = plt.subplots(figsize=(6.0, 4.0))
+    ax.semilogy(grid, np.minimum(finals, 1e3), "o-", label="‖p(t_f)‖")
+    ax.axhline(1e-2, color="k", ls=":", label="1e-2 m")
+    ax.axvline(0.5 * (lo + hi), color="C3", ls="--", label=f"T_s* = {0.5 * (lo + hi):.3f} s")
+    ax.set_xlabel("odometry sampling period T_s [s]")
+    ax.set_ylabel("final distance ‖p‖ [m]")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(loc="best", fontsize="small")
+    ax.set_title("Final error against T_s (replaces the Simulink diagram S11.4)")
+    sol.figure(fig)
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# Beyond the book (companions, not registered problems; shown in the chapter notebook)
+# --------------------------------------------------------------------------------------------
+
+def _settling_time(t: np.ndarray, err: np.ndarray, tol: float) -> float:
+    """First time after which ``err`` stays below ``tol`` (inf if it never does)."""
+    above = np.nonzero(err >= tol)[0]
+    if above.size == 0:
+        return float(t[0])
+    return float(t[above[-1] + 1]) if above[-1] + 1 < len(t) else float("inf")
+
+
+def tracking_comparison(t_end: float = 30.0) -> Solution:
+    """The three unicycle trackers of Sect. 11.6.1 on one figure-eight with the same initial error.
+
+    Reference: Gerono figure-eight, a = 2 m, period 30 s (|v_d| ≤ 0.59 m/s). Start 0.3 m off in x and y and
+    0.4 rad off in heading. Gains: approximate linearisation a = 1, ζ = 0.7; nonlinear ζ = 0.7, b = 4;
+    input–output linearisation of B at b = 0.1 m, k = 1 (the error of B is the one it controls). Table:
+    settling time (error of the controlled point < 1 cm for good), peak |v|, |ω| and the final error.
+    """
+    from controllers.wheeled import ApproximateLinearizationTracking, InputOutputTracking, NonlinearTracking
+    from planners.wheeled import FigureEight
+
+    sol = Solution()
+    ref = FigureEight(a=2.0, T=30.0)
+    r0 = ref(0.0)
+    q0 = np.r_[r0.p + [0.3, -0.3], r0.theta + 0.4]
+    laws = {"approximate linearisation": ApproximateLinearizationTracking(ref, a=1.0, zeta=0.7),
+            "nonlinear": NonlinearTracking(ref, zeta=0.7, b=4.0),
+            "input-output linearisation (b = 0.1 m)": InputOutputTracking(ref, b=0.1, k1=1.0)}
+    table, runs = {}, {}
+    for name, law in laws.items():
+        res = simulate(UnicyclePlant(), law, (0.0, t_end), q0, h=H, Ts=H)
+        runs[name] = res
+        err = res["point_error"]
+        row = {"settling_time": _settling_time(res.t, err, 1e-2), "peak_abs_v": float(np.max(np.abs(res.u[:, 0]))),
+               "peak_abs_omega": float(np.max(np.abs(res.u[:, 1]))), "final_error": float(err[-1])}
+        table[name] = row
+        sol.check(f"{name}: the controlled point converges (error < 1e-3 m at {t_end:g} s, settles within 15 s)",
+                  row["final_error"] < 1e-3 and row["settling_time"] < 15.0,
+                  f"final {row['final_error']:.1e} m, settling {row['settling_time']:.2f} s")
+    sol.value("table", table)
+    io = runs["input-output linearisation (b = 0.1 m)"]
+    pred = io["point_error"][0] * np.exp(-io.t)
+    sol.check("input–output law: the error of B decays as e^{−k t} (k = 1)",
+              np.max(np.abs(io["point_error"] - pred)) < 1e-2 * io["point_error"][0],
+              f"max deviation {np.max(np.abs(io['point_error'] - pred)):.1e} m")
+    sol.check("input–output law: the robot itself stays within b of the reference once B has converged",
+              io["position_error"][-1] <= 0.1 + 1e-3, f"‖p_d − p‖ = {io['position_error'][-1]:.3f} m")
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    tt = np.linspace(0, 30, 601)
+    pr = np.array([ref(t).p for t in tt])
+    a1.plot(pr[:, 0], pr[:, 1], "k:", label="reference")
+    for k, (name, res) in enumerate(runs.items()):
+        a1.plot(res.x[:, 0], res.x[:, 1], color=f"C{k}", label=name)
+        a2.semilogy(res.t, np.maximum(res["point_error"], 1e-12), color=f"C{k}", label=name)
+    _path_axes(a1)
+    a1.legend(loc="best", fontsize="x-small")
+    a1.set_title("Figure-eight tracking")
+    a2.set_xlabel("t [s]")
+    a2.set_ylabel("error of the controlled point [m]")
+    a2.grid(True, which="both", alpha=0.3)
+    a2.legend(loc="best", fontsize="x-small")
+    a2.set_title("Tracking error")
+    fig.tight_layout()
+    sol.figure(fig)
+    return sol
+
+
+def parallel_parking(ell: float = 2.5, phi_max: float = 0.6, T: float = 15.0) -> Solution:
+    """Parallel parking of a car-like robot (rear-drive bicycle (11.19), wheelbase ℓ = 2.5 m, |φ| ≤ 0.6 rad).
+
+    Plan: the cubic Cartesian path (11.52) run backwards from (0, 0, 0) to (−7, −2.5, 0) (a bay 2.5 m to the
+    side), its k chosen to minimise the peak steering angle (tan φ = ℓ κ), along a quintic timing law s(t) so
+    the car starts and stops at rest, T = 15 s. Track: nonlinear unicycle law (ζ = 0.7, b = 2) on the rear
+    axle, its ω turned into a steering angle clipped to ±φ_max, steering rate φ̇ = 5(φ_d − φ). The car starts
+    0.2 m and 0.05 rad off.
+    """
+    from controllers.wheeled import BicycleTracking, NonlinearTracking
+    from planners.timing import quintic_law
+    from planners.wheeled import TimeScaledPath, max_steering_angle, steering_feasible_path
+
+    sol = Solution()
+    q_i, q_f = np.zeros(3), np.array([-7.0, -2.5, 0.0])
+    path = steering_feasible_path(q_i, q_f, ell, phi_max, forward=False)
+    sol.value("k", path.k_i)
+    sol.value("planned_max_phi", max_steering_angle(path, ell))
+    sol.check("planned path respects the steering bound", max_steering_angle(path, ell) <= phi_max,
+              f"max |φ| = {max_steering_angle(path, ell):.3f} ≤ {phi_max} rad")
+    ref = TimeScaledPath(path, law=quintic_law(0.0, 1.0, T))
+    ctrl = BicycleTracking(NonlinearTracking(ref, zeta=0.7, b=2.0), ell, phi_max, k_phi=5.0)
+    x0 = np.array([0.1, 0.2, 0.05, 0.0])
+    res = simulate(BicyclePlant(ell), ctrl, (0.0, T + 3.0), x0, h=H, Ts=H)
+    final = res.x[-1, :3] - q_f
+    sol.value("final_posture_error", final)
+    sol.value("closed_loop_max_phi", float(np.max(np.abs(res.x[:, 3]))))
+    sol.check("parked: final position error < 2 cm and heading error < 0.02 rad",
+              np.hypot(*final[:2]) < 0.02 and abs(final[2]) < 0.02, f"error {np.round(final, 4)}")
+    sol.check("closed loop keeps |φ| ≤ φ_max", np.max(np.abs(res.x[:, 3])) <= phi_max + 1e-9,
+              f"max |φ| = {np.max(np.abs(res.x[:, 3])):.3f} rad")
+    sol.check("the manoeuvre is made in reverse (v ≤ 0 after the first second)", np.max(res.u[res.t > 1.0, 0]) <= 1e-6,
+              f"max v = {np.max(res.u[res.t > 1.0, 0]):.2e} m/s")
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.0))
+    pp, _, _ = path(np.linspace(0, 1, 300))
+    a1.plot(pp[:, 0], pp[:, 1], "k:", label="planned rear-axle path")
+    a1.plot(res.x[:, 0], res.x[:, 1], label="car (closed loop)")
+    for k in range(0, len(res.t), 300):
+        _draw_unicycle(a1, *res.x[k, :3], size=0.4)
+    _path_axes(a1)
+    a1.legend(loc="best", fontsize="small")
+    a1.set_title("Parallel parking (reverse)")
+    a2.axhline(-phi_max, color="k", ls=":", lw=1)
+    a2.axhline(phi_max, color="k", ls=":", lw=1)
+    _time_axes(a2, res.t, [(res.u[:, 0], "v [m/s]"), (res.x[:, 3], "φ [rad] (dotted: ±φ_max)")], "v [m/s], φ [rad]",
+               "Driving velocity and steering angle")
+    fig.tight_layout()
+    sol.figure(fig)
+    return sol
+
+
+def wheel_saturation(t_end: float = 20.0) -> Solution:
+    """Posture regulation (11.81)–(11.82) of a differential drive whose wheels saturate at ω_RL (Problem 11.9).
+
+    r = 0.1 m, d = 0.5 m, ω_RL = 10 rad/s (|v| ≤ 1 m/s, |ω| ≤ 4 rad/s); the commands are scaled into the
+    admissible rhombus keeping the curvature. From the companion start the regulator asks for more than the
+    wheels give; the loop still converges, later than without the bound.
+    """
+    sol = Solution()
+    limits = (0.1, 0.5, 10.0)
+    plant = UnicyclePlant(wheel_limits=limits)
+    reg = PostureRegulator(*K_POSTURE)
+    res = simulate(plant, reg, (0.0, t_end), Q0_COMPANION, h=H, Ts=H, log=lambda t, x, u: {"applied": plant.applied(u)})
+    free = simulate(UnicyclePlant(), reg, (0.0, t_end), Q0_COMPANION, h=H, Ts=H)
+    wR, wL = differential_drive_wheel_speeds(res.u[:, 0], res.u[:, 1], *limits[:2])
+    aR, aL = differential_drive_wheel_speeds(res["applied"][:, 0], res["applied"][:, 1], *limits[:2])
+    peak_cmd, peak_applied = float(np.max(np.abs([wR, wL]))), float(np.max(np.abs([aR, aL])))
+    sol.value("peak_commanded_wheel_speed", peak_cmd)
+    sol.value("peak_applied_wheel_speed", peak_applied)
+    sol.check("saturation is active: commanded wheel speeds exceed ω_RL", peak_cmd > limits[2], f"{peak_cmd:.2f} rad/s")
+    sol.check("applied wheel speeds within ±ω_RL", peak_applied <= limits[2] + 1e-9, f"{peak_applied:.3f} rad/s")
+    dist = np.hypot(res.x[:, 0], res.x[:, 1])
+    dist_free = np.hypot(free.x[:, 0], free.x[:, 1])
+    ts, ts_free = _settling_time(res.t, dist, 1e-2), _settling_time(free.t, dist_free, 1e-2)
+    sol.value("time_to_1cm", ts)
+    sol.value("time_to_1cm_unsaturated", ts_free)
+    sol.check("the saturated loop still converges (‖p‖ < 1 cm), later than the unsaturated one",
+              dist[-1] < 1e-2 and ts > ts_free, f"{ts:.2f} s vs {ts_free:.2f} s")
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.0))
+    a1.plot(free.x[:, 0], free.x[:, 1], label="no wheel bound")
+    a1.plot(res.x[:, 0], res.x[:, 1], "--", label="|ω_R|, |ω_L| ≤ 10 rad/s")
+    _path_axes(a1)
+    a1.legend(loc="best", fontsize="small")
+    a1.set_title("Posture regulation")
+    _time_axes(a2, res.t, [(aR, "ω_R applied"), (aL, "ω_L applied")], "wheel speed [rad/s]", "Saturated wheel speeds")
+    fig.tight_layout()
+    sol.figure(fig)
+    return sol
+
+
+def car_shortest_paths(cases: int = 300) -> Solution:
+    """Shortest paths of a car with turning radius ρ: Dubins (forward only) and Reeds–Shepp (both ways).
+
+    Closed forms: straight ahead (length d), the U-turn to (0, 2ρ, π) (πρ), straight back (d for Reeds–Shepp).
+    Every candidate's end posture, by exact integration of its arcs (11.85), is the goal. Optimality: random
+    paths of curvature ≤ 1/ρ (1–5 random arcs and straights; forward only for Dubins, either way for
+    Reeds–Shepp) are never shorter than the closed-form shortest path between their end postures, and many
+    are themselves optimal (equal); Reeds–Shepp is never longer than Dubins.
+    """
+    from planners.wheeled import (DubinsPath, ReedsSheppPath, dubins_path, dubins_paths, reeds_shepp_path,
+                                  reeds_shepp_paths)
+
+    sol = Solution()
+    rho = 1.0
+    sol.check_close("straight ahead: length = distance", dubins_path([0, 0, 0], [4, 0, 0], rho).length, 4.0, atol=1e-12)
+    sol.check_close("U-turn to (0, 2ρ, π): length = πρ", dubins_path([0, 0, 0], [0, 2, np.pi], rho).length, np.pi,
+                    atol=1e-12)
+    sol.check_close("Reeds–Shepp straight back: length = distance",
+                    reeds_shepp_path([0, 0, 0], [-3, 0, 0], rho).length, 3.0, atol=1e-12)
+    rng = _rng()
+    worst_end, worst_gap, equal = 0.0, -np.inf, 0
+    for _ in range(cases):
+        q_i = rng.uniform(-3, 3, 3)
+        n_seg = int(rng.integers(2, 6))
+        word = "".join(rng.choice(list("LSR"), n_seg))
+        seg = rng.uniform(0.05, 2.0, n_seg)
+        random_path = DubinsPath(q_i, rho, word, seg)  # any sequence of primitives: a feasible path
+        q_f = random_path.end()
+        for p in dubins_paths(q_i, q_f, rho):
+            e = p.end() - q_f
+            worst_end = max(worst_end, float(np.max(np.abs(np.r_[e[:2], np.angle(np.exp(1j * e[2]))]))))
+        gap = dubins_path(q_i, q_f, rho).length - random_path.length
+        worst_gap = max(worst_gap, gap)
+        equal += abs(gap) < 1e-9
+    sol.value("max_end_error", worst_end)
+    sol.value("max_dubins_minus_random_length", worst_gap)
+    sol.value("random_paths_that_are_optimal", f"{equal}/{cases}")
+    # Tangent lengths p = √p² lose half the digits when two circles (nearly) touch: 1e-7, not 1e-15.
+    sol.check_close("every word ends at the goal (exact arcs)", worst_end, 0.0, atol=1e-7)
+    sol.check(f"Dubins length ≤ length of {cases} random feasible paths with the same end postures",
+              worst_gap <= 1e-9, f"max (Dubins − random) = {worst_gap:.2e} m; equal in {equal} cases")
+    sol.check("the bound is tight: some random paths are themselves optimal", equal > 0, f"{equal}/{cases}")
+
+    rs_end, rs_gap, rs_equal, rs_vs_dubins = 0.0, -np.inf, 0, -np.inf
+    for _ in range(cases):
+        q_i = rng.uniform(-3, 3, 3)
+        n_seg = int(rng.integers(1, 6))
+        random_path = ReedsSheppPath(q_i, rho, "".join(rng.choice(list("LSR"), n_seg)),
+                                     rng.uniform(0.05, 2.0, n_seg) * rng.choice([-1.0, 1.0], n_seg))
+        q_f = random_path.end()
+        for p in reeds_shepp_paths(q_i, q_f, rho):
+            e = p.end() - q_f
+            rs_end = max(rs_end, float(np.max(np.abs(np.r_[e[:2], np.angle(np.exp(1j * e[2]))]))))
+        best = reeds_shepp_path(q_i, q_f, rho).length
+        rs_gap = max(rs_gap, best - random_path.length)
+        rs_equal += abs(best - random_path.length) < 1e-9
+        rs_vs_dubins = max(rs_vs_dubins, best - dubins_path(q_i, q_f, rho).length)
+    sol.value("reeds_shepp_max_end_error", rs_end)
+    sol.value("reeds_shepp_random_paths_that_are_optimal", f"{rs_equal}/{cases}")
+    sol.check_close("Reeds–Shepp: every candidate ends at the goal (exact arcs)", rs_end, 0.0, atol=1e-7)
+    sol.check(f"Reeds–Shepp length ≤ length of {cases} random forward/backward paths (and some equal)",
+              rs_gap <= 1e-9 and rs_equal > 0, f"max (RS − random) = {rs_gap:.2e} m; equal in {rs_equal} cases")
+    sol.check("Reeds–Shepp ≤ Dubins (forward paths are a subset)", rs_vs_dubins <= 1e-9, f"max (RS − Dubins) = {rs_vs_dubins:.2e} m")
+    fig, ax = plt.subplots(figsize=(6, 5))
+    q_i, q_f = np.array([0.0, 0.0, 0.0]), np.array([1.0, 1.5, np.pi])
+    for p in dubins_paths(q_i, q_f, rho):
+        xy = p.sample(0.02)
+        ax.plot(xy[:, 0], xy[:, 1], lw=2.5 if p is dubins_paths(q_i, q_f, rho)[0] else 1,
+                label=f"{p.word}: {p.length:.2f} m")
+    _draw_unicycle(ax, *q_i, size=0.2)
+    _draw_unicycle(ax, *q_f, size=0.2)
+    _path_axes(ax)
+    ax.legend(loc="best", fontsize="small")
+    rs = reeds_shepp_path(q_i, q_f, rho)
+    xy = rs.sample(0.02)
+    ax.plot(xy[:, 0], xy[:, 1], "k--", lw=2, label=f"Reeds–Shepp {rs.word}: {rs.length:.2f} m")
+    ax.set_title("Dubins words and the Reeds–Shepp path, (0, 0, 0) → (1, 1.5, π), ρ = 1 m")
+    sol.figure(fig)
+    return sol

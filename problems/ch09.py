@@ -24,13 +24,11 @@ from __future__ import annotations
 
 from typing import Any, Callable
 
-import matplotlib.pyplot as plt
 import numpy as np
 import pinocchio as pin
 import sympy as sp
-from scipy.signal import lsim
 
-from controllers.environment import CompliantPlane, SteppedPlane
+from controllers.environment import CompliantPlane
 from controllers.force import (ForceWithInnerLoop, HybridForceMotionControl, compliance_equilibrium,
                                constrained_stiffness, fit_second_order, force_loop_parameters,
                                impedance_parameters, inner_position_loop_equilibrium, pi_velocity_parameters)
@@ -38,13 +36,13 @@ from controllers.operational_space import OperationalInverseDynamics, Operationa
 from controllers.plants import ArmInContact
 from controllers.simulation import SimulationResult, simulate
 from planners.paths import PathLaw, Segment
-from planners.inverse_kinematics import solve_clik
-from planners.timing import quintic_law, trapezoidal_law
+from planners.timing import trapezoidal_law
+from problems.common import label_axes, max_abs_error, subplots
 from problems.registry import Solution, problem
-from rigid_body.kinematics import ELBOW_UP, direct_kinematics, inverse_kinematics_planar_2r
+from rigid_body.kinematics import ELBOW_UP, inverse_kinematics_planar_2r
 from rigid_body.robots import Robot, load
-from rigid_body.rotations import euler_rate_matrix_zyz, homogeneous_transform, rot_y, rotation_to_euler_zyz, skew
-from rigid_body.task_space import (TaskSpace, relative_euler_rate, relative_position_rate, selection_matrices,
+from rigid_body.rotations import euler_rate_matrix_zyz, rotation_to_euler_zyz, skew
+from rigid_body.task_space import (relative_euler_rate, relative_position_rate, selection_matrices,
                                    selection_projection, selection_pseudo_inverse)
 
 T_C = 1e-3             # controller sampling period = integration step [s]
@@ -82,10 +80,6 @@ def _held(law: Callable[[float], Any]) -> Callable[[float], Any]:
 def _in_constraint_frame(v: np.ndarray) -> np.ndarray:
     """Planar vectors (N, 2 or more) in the rotated base frame: R_cᵀ v."""
     return np.asarray(v)[:, :2] @ R_C
-
-
-def _max_err(a: Any, b: Any) -> float:
-    return float(np.max(np.abs(np.asarray(a, dtype=float) - np.asarray(b, dtype=float))))
 
 
 def _random_spd(rng: np.random.Generator, n: int) -> np.ndarray:
@@ -151,13 +145,13 @@ def problem_9_1() -> Solution:
 
         (p_plus, a_plus), (p_minus, a_minus) = rel(t + h), rel(t - h)
         fd_p, fd_phi = (p_plus - p_minus) / (2 * h), (a_plus - a_minus) / (2 * h)
-        err_p.append(_max_err(relative_position_rate(R_d, o_d, od_d, w_d, o_e, od_e), fd_p))
-        err_phi.append(_max_err(relative_euler_rate(R_d, w_d, R_e, w_e), fd_phi))
+        err_p.append(max_abs_error(relative_position_rate(R_d, o_d, od_d, w_d, o_e, od_e), fd_p))
+        err_phi.append(max_abs_error(relative_euler_rate(R_d, w_d, R_e, w_e), fd_phi))
         # (S9.2): Ṙ_dᵀ = −S(ω^d_d) R_dᵀ, against the difference quotient of R_dᵀ
         Rdot_T = (desired(t + h)[0].T - desired(t - h)[0].T) / (2 * h)
-        err_S92.append(_max_err(Rdot_T, -skew(R_d.T @ w_d) @ R_d.T))
+        err_S92.append(max_abs_error(Rdot_T, -skew(R_d.T @ w_d) @ R_d.T))
         printed = R_d.T @ (od_e - od_d) - Rdot_T @ (o_e - o_d)      # the manual's (S9.1)
-        err_printed.append(_max_err(printed, fd_p))
+        err_printed.append(max_abs_error(printed, fd_p))
     sol.value("max_error_9_10", max(err_p))
     sol.value("max_error_9_11", max(err_phi))
     sol.check("(9.10) matches central differences of R_dᵀ(o_e − o_d) (20 random motions)", max(err_p) < 1e-6,
@@ -201,7 +195,7 @@ def problem_9_2() -> Solution:
         M = np.block([[np.eye(6), -K_P], [np.eye(6), K]])
         direct = np.linalg.solve(M, np.r_[np.zeros(6), K @ dx_rd])
         h_e, dx_ed = compliance_equilibrium(K_P, K, dx_rd)
-        errs.append(_max_err(np.r_[h_e, dx_ed], direct) / max(1.0, np.abs(direct).max()))
+        errs.append(max_abs_error(np.r_[h_e, dx_ed], direct) / max(1.0, np.abs(direct).max()))
     sol.value("max_relative_error", max(errs))
     sol.check("(9.22)–(9.23) = direct solution of {h = K_P dx_ed, h = K (dx_rd − dx_ed)}, K of rank 1..6",
               max(errs) < 1e-10, f"max relative error {max(errs):.2e} < 1e-10")
@@ -297,25 +291,18 @@ def problem_9_3() -> Solution:
     sol.value("omega_zeta_x_measured", np.array(fit_x))
     sol.check_close("ω_n, ζ along x_c measured on a 2 cm offset run", fit_x, [w_x, z_x], rtol=0.01)
 
-    fig, axes = plt.subplots(2, 2, sharex=True, figsize=(10, 6))
+    fig, axes = subplots(2, 2, sharex=True, figsize=(10, 6))
     for row, (e, f, names) in enumerate(((e_base, res["h_e"][:, :2], ("x", "y")), (e_c, f_c, ("x_c", "y_c")))):
         for j, style in enumerate(("C0-", "C1--")):
             axes[row, 0].plot(res.t, e[:, j], style, label=f"x̃ along {names[j]}")
             axes[row, 1].plot(res.t, f[:, j], style, label=f"f along {names[j]}")
-        axes[row, 0].set_ylabel("position error [m]")
-        axes[row, 1].set_ylabel("contact force [N]")
         axes[row, 0].set_ylim(-0.06, 0.06)
         axes[row, 1].set_ylim(-550, 550)
-        for ax in axes[row]:
-            ax.grid(True, alpha=0.3)
-            ax.legend(loc="best", fontsize="small")
-    for ax in axes[1]:
-        ax.set_xlabel("t [s]")
-    axes[0, 0].set_title("base frame")
-    axes[1, 0].set_title("rotated base frame")
-    fig.suptitle("Fig. S9.2: impedance control against the compliant plane")
-    fig.tight_layout()
-    sol.figure(fig)
+        frame = "base frame" if row == 0 else "rotated base frame"
+        xlabel = "t [s]" if row == 1 else None
+        label_axes(axes[row, 0], xlabel, "position error [m]", title=frame)
+        label_axes(axes[row, 1], xlabel, "contact force [N]", title=frame)
+    sol.figure(fig, "Fig. S9.2: impedance control against the compliant plane")
     return sol
 
 
@@ -358,16 +345,12 @@ def problem_9_4() -> Solution:
     sol.check("proportional C_F: the force error does not vanish", abs((f_rest - f_d) @ n) > 1.0,
               f"f_e·y_c = {f_rest @ n:.3f} N vs f_d = {f_d @ n:.1f} N (simulated {p_run['f_e'][-1] @ n:.3f} N)")
     sol.check_close("PI C_F: f_e → f_d [N]", pi_run["f_e"][-1], f_d, atol=0.05)
-    fig, ax = plt.subplots(figsize=(6.4, 3.4))
+    fig, ax = subplots(figsize=(6.4, 3.4))
     for name, r in runs.items():
         ax.plot(r.t, r["f_e"] @ n, label=f"{name} force regulator")
     ax.axhline(f_d @ n, color="k", ls=":", label="f_d")
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("f_e along y_c [N]")
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize="small")
-    fig.suptitle("Force control with inner position loop (Fig. 9.8) on the compliant plane")
-    sol.figure(fig)
+    label_axes(ax, "t [s]", "f_e along y_c [N]")
+    sol.figure(fig, "Force control with inner position loop (Fig. 9.8) on the compliant plane")
     return sol
 
 
@@ -394,7 +377,7 @@ def problem_9_5() -> Solution:
         lam = selection_pseudo_inverse(S_f, W) @ h_e
         L = np.linalg.cholesky(W)                 # W = L Lᵀ: ‖ε‖²_W = ‖Lᵀ ε‖²
         lam_ls = np.linalg.lstsq(L.T @ S_f, L.T @ h_e, rcond=None)[0]
-        err_ls.append(_max_err(lam, lam_ls))
+        err_ls.append(max_abs_error(lam, lam_ls))
         grad.append(float(np.abs(-S_f.T @ W @ (h_e - S_f @ lam)).max()))
         g = lambda l: 0.5 * (h_e - S_f @ l) @ W @ (h_e - S_f @ l)
         worse += sum(g(lam + 1e-3 * rng.standard_normal(m)) < g(lam) for _ in range(50))
@@ -423,10 +406,10 @@ def problem_9_6() -> Solution:
         S_f = rng.standard_normal((6, m))
         K1 = constrained_stiffness(S_f, C)
         P_f = selection_projection(S_f, C)
-        err.append(_max_err(K1, P_f @ K) / np.abs(K1).max())
-        idem.append(_max_err(P_f @ P_f, P_f))
+        err.append(max_abs_error(K1, P_f @ K) / np.abs(K1).max())
+        idem.append(max_abs_error(P_f @ P_f, P_f))
         ranks.append(int(np.linalg.matrix_rank(K1, tol=1e-9 * np.abs(K1).max())) == m)
-        psd.append(_max_err(K1, K1.T) < 1e-9 * np.abs(K1).max() and np.linalg.eigvalsh(K1).min() > -1e-9 * np.abs(K1).max())
+        psd.append(max_abs_error(K1, K1.T) < 1e-9 * np.abs(K1).max() and np.linalg.eigvalsh(K1).min() > -1e-9 * np.abs(K1).max())
     sol.value("max_relative_error", max(err))
     sol.check("K' of (9.70) = P_f K", max(err) < 1e-10, f"max relative error {max(err):.1e}")
     sol.check("P_f is a projection: P_f² = P_f", max(idem) < 1e-10, f"max error {max(idem):.1e}")
@@ -541,7 +524,7 @@ def problem_9_9() -> Solution:
         got_v = selection_pseudo_inverse(S_v, R_C @ K @ R_C.T)
         ref_f = np.array([[(C[0, 1] - C[1, 1]) / C[1, 1], (C[0, 1] + C[1, 1]) / C[1, 1]]]) / np.sqrt(2)
         ref_v = np.array([[(K[0, 0] - K[0, 1]) / K[0, 0], (K[0, 0] + K[0, 1]) / K[0, 0]]]) / np.sqrt(2)
-        errs.append(max(_max_err(got_f, ref_f), _max_err(got_v, ref_v)))
+        errs.append(max(max_abs_error(got_f, ref_f), max_abs_error(got_v, ref_v)))
     sol.value("max_numeric_error", max(errs))
     sol.check("numeric S_f†, S_v† (9.55) = the closed forms (10 random SPD C^c, K^c)", max(errs) < 1e-12,
               f"max error {max(errs):.1e}")
@@ -631,32 +614,23 @@ def problem_9_10() -> Solution:
               lam.min() < lam_x.min() - 1.0 and abs(lam_x[-1] - LAMBDA_D) < 0.5,
               f"peaks {lam.min():.2f} N (ĉ₂₂⁻¹ = 4e3) vs {lam_x.min():.2f} N (exact)")
 
-    fig, axes = plt.subplots(2, 1, sharex=True, figsize=(6.4, 5.0))
+    fig, axes = subplots(2, 1, sharex=True, figsize=(6.4, 5.0))
     axes[0].plot(res.t, e_nu, label="ĉ₂₂⁻¹ = 4·10³ N/m")
     axes[0].plot(exact.t, exact["nu_d"][:, 0] - exact["nu"][:, 0], "--", label="exact stiffness")
-    axes[0].set_ylabel("velocity error along x_c [m/s]")
     axes[1].plot(res.t, lam, label="ĉ₂₂⁻¹ = 4·10³ N/m")
     axes[1].plot(exact.t, lam_x, "--", label="exact stiffness")
     axes[1].axhline(LAMBDA_D, color="k", ls=":", lw=1, label="λ_d")
-    axes[1].set_ylabel("contact force along y_c [N]")
-    axes[1].set_xlabel("t [s]")
-    for ax in axes:
-        ax.grid(True, alpha=0.3)
-        ax.legend(loc="best", fontsize="small")
-    fig.suptitle("Fig. S9.5: hybrid force/motion control")
-    sol.figure(fig)
-    fig2, ax = plt.subplots(figsize=(5.0, 5.0))
+    label_axes(axes[0], None, "velocity error along x_c [m/s]")
+    label_axes(axes[1], "t [s]", "contact force along y_c [N]")
+    sol.figure(fig, "Fig. S9.5: hybrid force/motion control")
+    fig2, ax = subplots(figsize=(5.0, 5.0))
     ax.plot(res["p_e"][:, 0], res["p_e"][:, 1], "C0-", label="end-effector path")
     s = np.linspace(-0.1, 0.4, 2)
     plane = O_R[:, None] + R_C[:, :1] * s
     ax.plot(plane[0], plane[1], "k--", label="plane at rest")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
     ax.set_aspect("equal")
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize="small")
-    fig2.suptitle("Fig. S9.6: tip path and undeformed plane")
-    sol.figure(fig2)
+    label_axes(ax, "x [m]", "y [m]")
+    sol.figure(fig2, "Fig. S9.6: tip path and undeformed plane")
     return sol
 
 
@@ -711,9 +685,9 @@ def problem_9_11() -> Solution:
     e = np.array([r_d(t)[0] for t in res.t]) - r
     e0, ed0 = e[0], r_d(0.0)[1] - 0.0
     predicted = (e0 + (ed0 + 5.0 * e0) * res.t) * np.exp(-5.0 * res.t)
-    sol.value("max_deviation_from_closed_loop", _max_err(e, predicted))
-    sol.check("r̃(t) = solution of r̃̈ + K_Dr r̃̇ + K_Pr r̃ = 0 (sampled law, 1 ms)", _max_err(e, predicted) < 2e-3,
-              f"max |r̃ − r̃_pred| = {_max_err(e, predicted):.1e} m (r̃₀ = {e0:.2f} m, r̃̇₀ = {ed0:.2f} m/s)")
+    sol.value("max_deviation_from_closed_loop", max_abs_error(e, predicted))
+    sol.check("r̃(t) = solution of r̃̈ + K_Dr r̃̇ + K_Pr r̃ = 0 (sampled law, 1 ms)", max_abs_error(e, predicted) < 2e-3,
+              f"max |r̃ − r̃_pred| = {max_abs_error(e, predicted):.1e} m (r̃₀ = {e0:.2f} m, r̃̇₀ = {ed0:.2f} m/s)")
     sol.check("r → r_d", abs(e[-1]) < 1e-4, f"|r̃(3 s)| = {abs(e[-1]):.1e} m")
     sol.check("the constraint holds: ‖p‖ = ρ", np.abs(np.hypot(res.x[:, 0], res.x[:, 1]) - rho).max() < 1e-6,
               f"max |‖p‖ − ρ| = {np.abs(np.hypot(res.x[:, 0], res.x[:, 1]) - rho).max():.1e} m")
@@ -723,191 +697,3 @@ def problem_9_11() -> Solution:
     return sol
 
 
-
-# --------------------------------------------------------------------------------------------
-# Beyond the book: the Panda against a wall, impedance and hybrid force/motion control
-# --------------------------------------------------------------------------------------------
-
-PANDA_TOOL = "panda_hand_tcp"
-WALL_STIFFNESS, WALL_DAMPING, WALL_FRICTION = 2e4, 200.0, 0.3   # [N/m], [N·s/m], Coulomb μ
-SLIP_VELOCITY = 0.01        # friction regularisation [m/s]: below it friction is a damper μN/v_s, which must
-                            # stay non-stiff for RK4 at 1 ms on the tool's few-kg task-space inertia
-F_PUSH = 20.0               # the force held on the wall [N]
-SLIDE, STEP_AT, STEP_DEPTH = 0.2, 0.1, 0.01   # sliding length, edge along the slide, recess depth [m]
-T_PANDA = 3.5               # simulated time [s]: approach 0–1 s, slide 1–3 s (quintic), hold
-
-
-def _panda_wall_scene() -> dict[str, Any]:
-    """The Panda's tool (``panda_hand_tcp``) pointing along +x₀ at p₀ = [0.59, −0.1, 0.45] m, 1 cm from a
-    wall x₀ = 0.6 m (outward normal n = −x₀) that steps back by 1 cm 0.1 m further along +y₀."""
-    panda = load("panda")
-    R0, p0 = rot_y(np.pi / 2), np.array([0.59, -0.1, 0.45])
-    q_ready = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
-    ik = solve_clik(panda, homogeneous_transform(R0, p0), q_ready, TaskSpace(PANDA_TOOL, "axis_angle"))
-    if not ik.success:
-        raise RuntimeError(f"no Panda posture at the start pose: {ik.message}")
-    n, t1 = np.array([-1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
-    wall = SteppedPlane([0.6, p0[1], p0[2]], n, t1, STEP_AT, STEP_DEPTH, WALL_STIFFNESS, WALL_DAMPING,
-                        friction=WALL_FRICTION, slip_velocity=SLIP_VELOCITY)
-    R_c = np.column_stack([t1, np.cross(n, t1), n])       # x_c along the slide, z_c the wall's outward normal
-    return dict(panda=panda, q0=ik.q, R0=R0, p0=p0, n=n, t1=t1, wall=wall, R_c=R_c,
-                slide=quintic_law(0.0, SLIDE, 3.0, t_i=1.0))
-
-
-def _panda_hybrid(scene: dict[str, Any]) -> SimulationResult:
-    """Hybrid force/motion control: λ along n (λ_d = −20 N), PI velocity on the other 5 twist components
-    (slide along +y₀, no rotation). Gains: k_Pλ = 400, k_Dλ = 32 (ω = 20 rad/s, ζ = 0.8 with the stiffness
-    known), k_Pν = 16, k_Iν = 100; in free space the force loop approaches at ĉ k_Pλ |λ_d| / k_Dλ."""
-    S_f, S_v = selection_matrices(("x", "y", "rx", "ry", "rz"), scene["R_c"])
-    slide = scene["slide"]
-
-    def nu_reference(t: float) -> tuple[np.ndarray, np.ndarray]:
-        _, sd, sdd = slide(t)
-        return np.array([sd, 0.0, 0.0, 0.0, 0.0]), np.array([sdd, 0.0, 0.0, 0.0, 0.0])
-
-    panda = scene["panda"]
-    ctrl = HybridForceMotionControl(panda, S_f, S_v, [-F_PUSH], nu_reference, 16.0, 100.0, 32.0, 400.0,
-                                    compliance=np.eye(6) / WALL_STIFFNESS, frame=PANDA_TOOL, null_space_damping=10.0)
-    plant = ArmInContact(panda, scene["wall"], frame=PANDA_TOOL)
-    return simulate(plant, ctrl, (0.0, T_PANDA), plant.initial_state(scene["q0"]), h=T_C, Ts=T_C)
-
-
-PANDA_IMPEDANCE = dict(M_d=np.r_[5.0, 5.0, 5.0, 0.5, 0.5, 0.5], K_P=np.r_[1000.0, 1000.0, 1000.0, 100.0, 100.0, 100.0],
-                       K_D=np.r_[400.0, 400.0, 400.0, 15.0, 15.0, 15.0])
-
-
-def _panda_impedance(scene: dict[str, Any], depth: float) -> SimulationResult:
-    """Impedance control with force feedback (9.30)–(9.31) on the full pose (quaternion error): the
-    reference approaches to ``depth`` behind the wall in 1 s, then slides along +y₀."""
-    p0, n, t1, R0, slide = scene["p0"], scene["n"], scene["t1"], scene["R0"], scene["slide"]
-    gap = float(n @ (p0 - scene["wall"].point))
-    approach = quintic_law(0.0, gap + depth, 1.0)
-
-    def reference(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        a, ad, add = approach(t)
-        s, sd, sdd = slide(t)
-        v, acc = np.zeros(6), np.zeros(6)
-        v[:3], acc[:3] = -ad * n + sd * t1, -add * n + sdd * t1
-        return homogeneous_transform(R0, p0 - a * n + s * t1), v, acc
-
-    panda = scene["panda"]
-    g = PANDA_IMPEDANCE
-    ctrl = OperationalInverseDynamics(panda, g["K_P"], g["K_D"], reference, frame=PANDA_TOOL, orientation="quaternion",
-                                      inertia=g["M_d"], force_feedback=True, null_space_damping=10.0,
-                                      posture=scene["q0"], posture_stiffness=0.0)
-    plant = ArmInContact(panda, scene["wall"], frame=PANDA_TOOL)
-    return simulate(plant, ctrl, (0.0, T_PANDA), plant.initial_state(scene["q0"]), h=T_C, Ts=T_C)
-
-
-def _orientation_error(panda: Robot, qs: np.ndarray, R0: np.ndarray) -> np.ndarray:
-    """Rotation angle [rad] of R_eᵀ R_0 along the run."""
-    return np.array([np.linalg.norm(pin.log3(direct_kinematics(panda, q, PANDA_TOOL)[:3, :3].T @ R0)) for q in qs])
-
-
-def panda_wall_contact() -> Solution:
-    """The Panda's tool approaches a wall, pushes on it with 20 N, slides 0.2 m along it against Coulomb
-    friction (μ = 0.3) with its orientation held, and passes an edge where the wall steps back by 1 cm:
-    contact is lost and regained. Impedance control (9.30)–(9.31) and hybrid force/motion control
-    (9.77)–(9.81) on the same scene (a unilateral compliant wall, k = 2·10⁴ N/m, d = 200 N·s/m).
-
-    Not a problem of the book: an unregistered companion to 9.3 and 9.10 on a real 7-DOF arm.
-    """
-    sol = Solution(id="panda-wall", title="Panda: impedance and hybrid force/motion control on a wall",
-                   kind="simulation")
-    scene = _panda_wall_scene()
-    panda, n, t1 = scene["panda"], scene["n"], scene["t1"]
-    k = WALL_STIFFNESS
-    hyb = _panda_hybrid(scene)
-    K_Pi = PANDA_IMPEDANCE["K_P"][0]
-    k_series = K_Pi * k / (K_Pi + k)                         # active stiffness in series with the wall
-    depth = F_PUSH / k_series                                # reference behind the wall for 20 N at rest
-    imp = _panda_impedance(scene, depth)
-    runs = {"hybrid": hyb, "impedance": imp}
-    t = hyb.t
-    f_n = {name: -(r["h_e"][:, :3] @ n) for name, r in runs.items()}          # pushing force [N] ≥ 0
-    slide_pos = {name: r["p_e"] @ t1 - scene["p0"] @ t1
-                 for name, r in runs.items()}
-    ori = {name: _orientation_error(panda, r.q[::10], scene["R0"]) for name, r in runs.items()}
-
-    # hybrid: the force is held, lost at the edge, regained at the predicted instant
-    cruise = (t > 1.3) & (t < 1.9)
-    fh = f_n["hybrid"]
-    sol.value("hybrid_force_error_sliding", float(np.abs(fh[cruise] - F_PUSH).max()))
-    sol.check("hybrid: 20 N held while sliding against friction (t ∈ [1.3, 1.9] s)", np.abs(fh[cruise] - F_PUSH).max() < 0.5,
-              f"max |f_n − 20| = {np.abs(fh[cruise] - F_PUSH).max():.3f} N")
-    lost = np.flatnonzero(fh == 0.0)
-    lost = lost[t[lost] > 1.0]
-    t_lost, t_back = float(t[lost[0]]), float(t[lost[-1] + 1])
-    sol.value("hybrid_contact_lost_at", t_lost)
-    sol.value("hybrid_contact_regained_at", t_back)
-    t_edge = float(t[np.argmax(slide_pos["hybrid"] > STEP_AT)])
-    v_approach = F_PUSH / k * 400.0 / 32.0                   # ĉ k_Pλ |λ_d| / k_Dλ
-    gap = STEP_DEPTH - F_PUSH / k                            # from the deflected surface to the recess
-    t_pred = t_edge + gap / v_approach + 1.0 / 32.0          # + the lag 1/k_Dλ of the approach velocity
-    sol.check("hybrid: contact lost at the edge", abs(t_lost - t_edge) < 0.01, f"lost at {t_lost:.3f} s, edge at {t_edge:.3f} s")
-    sol.check("hybrid: contact regained after gap/(ĉ k_Pλ|λ_d|/k_Dλ) + 1/k_Dλ", abs(t_back - t_pred) < 0.03,
-              f"regained at {t_back:.3f} s, predicted {t_pred:.3f} s (approach speed {v_approach * 1e3:.1f} mm/s)")
-    sol.check_close("hybrid: final force −20 N", fh[-1], F_PUSH, atol=0.1)
-    sol.check_close("hybrid: slid 0.2 m", slide_pos["hybrid"][-1], SLIDE, atol=1e-3)
-    sol.value("hybrid_max_orientation_error", float(ori["hybrid"].max()))
-    sol.check("hybrid: orientation held", ori["hybrid"].max() < 5e-3, f"max angle {ori['hybrid'].max():.1e} rad")
-    h_t = hyb["h_e"][cruise, :3] - np.outer(hyb["h_e"][cruise, :3] @ n, n)
-    sol.value("hybrid_friction_force_sliding", float(np.linalg.norm(h_t, axis=1).mean()))   # ≈ μ f_n = 6 N
-
-    # impedance: force set by the stiffnesses in series; lower after the step; friction lag along the slide
-    fi = f_n["impedance"]
-    before = (t > 1.3) & (t < 1.9)
-    after_force = k_series * (depth - STEP_DEPTH)
-    sol.value("impedance_force_before_step", float(fi[before].mean()))
-    sol.value("impedance_force_after_step", float(fi[-1]))
-    sol.check("impedance: f = k_P k/(k_P + k) d = 20 N on the wall while sliding",
-              np.abs(fi[before] - F_PUSH).max() < 0.5, f"f_n ∈ [{fi[before].min():.2f}, {fi[before].max():.2f}] N")
-    sol.check_close("impedance: after the step the same law gives k_P k/(k_P + k)(d − 1 cm) [N]", fi[-1], after_force, atol=0.1)
-    sol.check("impedance: contact lost at the edge and regained", np.any(fi[(t > 2.0) & (t < 2.5)] == 0.0) and fi[-1] > 0,
-              f"zero-force samples after the edge: {int(np.sum(fi[t > 1.0] == 0.0))}")
-    # along the slide the tool lags behind the reference by the impedance's response to the friction force:
-    # m_d x̃̈ + k_D x̃̇ + k_P x̃ = h_t, integrated separately (scipy lsim) from the measured h_t
-    e_slide = imp["e"][:, :3] @ t1
-    h_slide = imp["h_e"][:, :3] @ t1
-    g = PANDA_IMPEDANCE
-    _, e_pred, _ = lsim(([1.0], [g["M_d"][0], g["K_D"][0], K_Pi]), h_slide, t)
-    dev = float(np.abs(e_slide - e_pred).max())
-    sol.value("impedance_friction_lag_max", float(np.abs(e_slide).max()))
-    sol.check("impedance: the lag along the slide is the impedance's response to friction, m_d x̃̈ + k_D x̃̇ + k_P x̃ = h_t",
-              dev < 2e-4 and np.abs(e_slide).max() > 3e-3,
-              f"max deviation {dev * 1e3:.3f} mm on a lag of up to {np.abs(e_slide).max() * 1e3:.2f} mm "
-              f"(steady value μ f_n / k_P = {WALL_FRICTION * F_PUSH / K_Pi * 1e3:.1f} mm)")
-    sol.value("impedance_max_orientation_error", float(ori["impedance"].max()))
-    sol.check("impedance: orientation held", ori["impedance"].max() < 5e-3, f"max angle {ori['impedance'].max():.1e} rad")
-
-    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7, 7.5))
-    for name, style in (("hybrid", "C0-"), ("impedance", "C1--")):
-        axes[0].plot(t, f_n[name], style, label=name)
-        axes[1].plot(t, slide_pos[name], style, label=name)
-        axes[2].plot(t[::10], ori[name] * 1e3, style, label=name)
-    axes[0].axhline(F_PUSH, color="k", ls=":", lw=1, label="20 N")
-    axes[1].plot(t, [scene["slide"](ti)[0] for ti in t], "k:", lw=1, label="reference")
-    axes[1].axhline(STEP_AT, color="0.5", lw=0.8, label="edge of the step")
-    axes[0].set_ylabel("force on the wall [N]")
-    axes[1].set_ylabel("tool along the slide [m]")
-    axes[2].set_ylabel("orientation error [mrad]")
-    axes[2].set_xlabel("t [s]")
-    for ax in axes:
-        ax.grid(True, alpha=0.3)
-        ax.legend(loc="best", fontsize="small")
-    fig.suptitle("Panda on a stepped wall with friction: impedance vs hybrid force/motion control")
-    fig.tight_layout()
-    sol.figure(fig)
-    fig2, ax = plt.subplots(figsize=(6.4, 3.4))
-    for name, style in (("hybrid", "C0-"), ("impedance", "C1--")):
-        r = runs[name]
-        ax.plot(r["p_e"][:, 1], r["p_e"][:, 0] * 1e3, style, label=name)
-    y = np.array([scene["p0"][1] - 0.02, scene["p0"][1] + STEP_AT, scene["p0"][1] + STEP_AT, scene["p0"][1] + 0.25])
-    ax.plot(y, np.array([600.0, 600.0, 610.0, 610.0]), "k--", label="wall at rest")
-    ax.set_xlabel("y [m]")
-    ax.set_ylabel("x [mm]")
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize="small")
-    fig2.suptitle("Tool path (top view) and the stepped wall")
-    sol.figure(fig2)
-    return sol

@@ -53,7 +53,7 @@ from rigid_body.dynamics import gravity_torques, inverse_dynamics
 from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
 from rigid_body.task_space import _frame_state, selection_projection, selection_pseudo_inverse
-from rigid_body.validation import as_matrix, as_positive, as_vector
+from rigid_body.validation import as_matrix, as_positive, as_square_matrix, as_vector
 
 
 PEG_STATES = ("approach", "descend", "search", "insert", "done")
@@ -194,15 +194,6 @@ def run_peg_in_hole(robot: Robot, environment: SurfaceWithHole, task: PegInHoleT
 # Closed forms: equilibria and closed-loop dynamics (Sects. 9.2–9.7)
 # --------------------------------------------------------------------------------------------
 
-def _square(M: Any, n: int, name: str) -> np.ndarray:
-    M = np.asarray(M, dtype=float)
-    if M.ndim == 0:
-        return float(M) * np.eye(n)
-    if M.ndim == 1:
-        return np.diag(as_vector(M, n, name))
-    return as_matrix(M, (n, n), name)
-
-
 def compliance_equilibrium(K_P: Any, K: Any, dx_rd: Any) -> tuple[np.ndarray, np.ndarray]:
     """(h_e, dx_{e,d}) at the rest of compliance control: h_e = (I + K K_P⁻¹)⁻¹ K dx_{r,d} (9.22) and
     dx_{e,d} = K_P⁻¹ h_e (9.23), from h_e = K_P dx_{e,d} (9.20) and h_e = K dx_{r,e} (9.21).
@@ -212,7 +203,7 @@ def compliance_equilibrium(K_P: Any, K: Any, dx_rd: Any) -> tuple[np.ndarray, np
     """
     dx = as_vector(dx_rd, None, "dx_rd")
     m = dx.size
-    K_P, K = _square(K_P, m, "K_P"), _square(K, m, "K")
+    K_P, K = as_square_matrix(K_P, m, "K_P"), as_square_matrix(K, m, "K")
     if np.linalg.cond(K_P) > 1e12:
         raise ValueError("`K_P` must be invertible (an active stiffness in every direction)")
     K_Pinv = np.linalg.inv(K_P)
@@ -229,7 +220,7 @@ def inner_position_loop_equilibrium(x_d: Any, x_r: Any, K: Any, C_F: Any, f_d: A
     x_d = as_vector(x_d, None, "x_d")
     m = x_d.size
     x_r, f_d = as_vector(x_r, m, "x_r"), as_vector(f_d, m, "f_d")
-    K, C_F = _square(K, m, "K"), _square(C_F, m, "C_F")
+    K, C_F = as_square_matrix(K, m, "K"), as_square_matrix(C_F, m, "C_F")
     return np.linalg.solve(np.eye(m) + C_F @ K, x_d + C_F @ (K @ x_r + f_d))
 
 
@@ -349,6 +340,25 @@ class _ContactTask:
         return inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd + J.T @ h
 
 
+class _Integral:
+    """∫ e dt of a sampled signal by forward Euler at the controller's instants (reset to 0)."""
+
+    def __init__(self, size: int):
+        self.size = size
+        self.reset()
+
+    def reset(self) -> None:
+        self.value = np.zeros(self.size)
+        self._t_last: float | None = None
+
+    def update(self, t: float, e: np.ndarray) -> np.ndarray:
+        """Add e (held since the last sample) over t − t_last; the integral up to t."""
+        if self._t_last is not None:
+            self.value += (t - self._t_last) * e
+        self._t_last = t
+        return self.value
+
+
 def _velocity_reference(reference: Any, k: int) -> Callable[[float], tuple[np.ndarray, np.ndarray]]:
     """``t -> (ν_d, ν̇_d)`` from a constant ν_d (k,) or such a callable (checked at t = 0)."""
     if not callable(reference):
@@ -424,8 +434,7 @@ class HybridForceMotionControl(LoggedController):
 
     def reset(self) -> None:
         super().reset()
-        self._integral = np.zeros(self.S_v.shape[1])
-        self._t_last: float | None = None
+        self._integral = _Integral(self.S_v.shape[1])
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         task = self.task
@@ -436,10 +445,8 @@ class HybridForceMotionControl(LoggedController):
         nu, lam, lam_dot = self.S_v_dagger @ v_e, self.S_f_dagger @ h, self.G_f @ v_e
         nu_d, nud_d = self.velocity_reference(t)
         lam_d, lamd_d, lamdd_d = self.force_reference(t)
-        if self._t_last is not None:
-            self._integral += (t - self._t_last) * (nu_d - nu)   # ∫(ν_d − ν), forward Euler at the samples
-        self._t_last = t
-        alpha_nu = nud_d + self.K_Pnu @ (nu_d - nu) + self.K_Inu @ self._integral            # (9.80)
+        integral = self._integral.update(t, nu_d - nu)                                        # ∫(ν_d − ν)
+        alpha_nu = nud_d + self.K_Pnu @ (nu_d - nu) + self.K_Inu @ integral                   # (9.80)
         f_lambda = lamdd_d + self.K_Dlambda @ (lamd_d - lam_dot) + self.K_Plambda @ (lam_d - lam)  # (9.81)
         alpha = self.S_v @ alpha_nu + self.C_prime_S_f @ f_lambda                              # (9.77)
         u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
@@ -485,8 +492,7 @@ class ForceWithInnerLoop(LoggedController):
 
     def reset(self) -> None:
         super().reset()
-        self._integral = np.zeros(self.task.m)
-        self._t_last: float | None = None
+        self._integral = _Integral(self.task.m)
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         task = self.task
@@ -496,10 +502,9 @@ class ForceWithInnerLoop(LoggedController):
         x_e, xd_e = T_e[task.rows, 3], J @ qd
         x_d, _, _ = self.reference(t)
         f_d = self.force_reference(t)[0]
-        if self._t_last is not None and self.K_I is not None:
-            self._integral += (t - self._t_last) * (f_d - f)
-        self._t_last = t
-        x_F = self.K_F @ (f_d - f) + (0.0 if self.K_I is None else self.K_I @ self._integral)  # (9.41)
+        x_F = self.K_F @ (f_d - f)                                                          # (9.41)
+        if self.K_I is not None:
+            x_F = x_F + self.K_I @ self._integral.update(t, f_d - f)
         w = self.K_P @ (x_d + x_F - x_e) if self.inner == "position" else self.K_P @ x_F
         a = self.M_d_inv @ (w - self.K_D @ xd_e)
         u = task.torques(t, q, qd, J, a - Jdot_qd, f)

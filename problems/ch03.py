@@ -651,6 +651,9 @@ def problem_3_21() -> Solution:
               v1 >= 5 * v0 and np.argmax(np.linalg.norm(res1.u, axis=1)) < 50,
               f"max ||qdot|| {v1:.2f} rad/s at t = {res1.t[np.argmax(np.linalg.norm(res1.u, axis=1))]:.3f} s "
               f"vs {v0:.2f} rad/s")
+    sol.animation(robot, res1, "k0 = 35: the arm keeps clear of the obstacle", speed=0.5,
+                  overlays=lambda s: (s.polyline("path", np.array([p_i, p_f]), radius=0.005),
+                                      s.cylinder("obstacle", [*o, 0.0], R, 0.02, color="#d62728")))
     return sol
 
 
@@ -698,6 +701,8 @@ def problem_3_22() -> Solution:
                     [2.21430, -1.28700, 0.5, 0.64350], atol=1e-4)
     s2 = np.abs(np.sin(rA.q[:, 1]))
     sol.check("J_A non-singular along the path (|sin th2| > 0.85; the catalogue guessed 0.9)", s2.min() > 0.85, f"min |sin th2| = {s2.min():.3f}")
+    sol.animation(robot, rA, "(A) Jacobian-inverse CLIK along the segment", speed=0.5,
+                  overlays=lambda s: s.polyline("path", np.array([[0.7, 0.0, 0.0], [0.0, 0.8, 0.5]]), radius=0.005))
     return sol
 
 

@@ -299,6 +299,8 @@ def problem_6_4() -> Solution:
               f"min distance between objects {gaps.min():.3f} m")
     sol.check_close("end effector back home at the end", record.p[-1], HOME[:3], atol=1e-3)
     sol.check("the gripper is empty at the end", cell.held is None, "")
+    sol.animation(robot, record, "FILL_PALLET on the SCARA", speed=4.0,
+                  overlays=lambda s: s.points("slots", slots, size=0.03))
 
     # Impossible requests stop the program naming the step.
     messages = []

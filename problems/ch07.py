@@ -655,6 +655,7 @@ def problem_7_7() -> Solution:
         label_axes(ax, "t [s]", "joint torque [N·m]", legend=True, fontsize="x-small")
         fig.suptitle(f"Problem 7.7 — Fig. {titles[name]}\ntip force f = [500, 500] N", fontsize="medium")
         sol.figure(fig)
+    sol.animation(robot, trajectories["tra_3"][:2], "trajectory 3: straight tip path", speed=0.5)
     t, q, qd, qdd = trajectories["tra_2"]
     durations = [abs(d) / 5.0 + 0.15 for d in inverse_kinematics_planar_2r([1.8, 0.0])[ELBOW_DOWN] - q_i]
     sol.value("tra_2_durations", np.array(durations))

@@ -120,6 +120,8 @@ def problem_8_10() -> Solution:
                   f"V(0) = {V[0]:.4g}, V(end) = {V[-1]:.2e}")
         fig, axes = subplots(2, 1, sharex=True, figsize=(6.4, 4.8))
         _plot_pair(axes, res.t, q, "q [rad],", reference=np.tile(q_d, (len(res.t), 1)))
+        if k == 1:
+            sol.animation(arm, res, f"PD + gravity compensation to q_d = [{q_d[0]:.4f}, {q_d[1]:.4f}]")
         sol.figure(fig, f"Fig. S8.{8 + k}: PD + gravity compensation, q_d = [{q_d[0]:.4f}, {q_d[1]:.4f}]")
     return sol
 
@@ -182,6 +184,7 @@ def problem_8_11() -> Solution:
             runs[k, ff] = simulate(plant, ctrl, (0.0, T_D), x0, h=T_C, Ts=T_C,
                                    log=lambda t, x, u: {"tau": plant.torque(x, u)})
     err = {key: np.abs(r["e"]).max(axis=0) for key, r in runs.items()}
+    sol.animation(armL, runs[1, True], "gains 1, computed-torque feedforward, payload 10 kg")
     for k in (1, 2):
         sol.value(f"max_error_{k}", err[k, True])
         sol.value(f"max_error_no_feedforward_{k}", err[k, False])
@@ -230,6 +233,7 @@ def problem_8_12() -> Solution:
         sol.value(f"max_error_{name}", np.abs(runs[name]["e"]).max(axis=0))
         sol.value(f"final_error_{name}", runs[name]["e"][-1])
     rc, rn = runs["compensated"], runs["not_compensated"]
+    sol.animation(armL, rc, "inverse dynamics control, payload compensated")
     sol.check("compensated: excellent tracking", np.abs(rc["e"]).max() < 1e-3 and np.abs(rc["e"][_at(rc, 2.0)]).max() < 1e-6,
               f"max |q~| = {np.abs(rc['e']).max():.2e} < 1e-3, |q~(2 s)| = {np.abs(rc['e'][_at(rc, 2.0)]).max():.2e} < 1e-6")
     q_ss = inverse_dynamics_steady_state(armL, arm, K_P, Q_F)
@@ -289,6 +293,7 @@ def problem_8_13() -> Solution:
         runs[r] = simulate(plant, RobustControl(armL, B_bar, K_P, K_D, tra, r, eps, viscous_friction=F_V),
                            (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C)
     e_r, e_0 = np.abs(runs[rho]["e"]).max(axis=0), np.abs(runs[0.0]["e"]).max(axis=0)
+    sol.animation(armL, runs[rho], "robust control")
     sol.value("max_error", e_r)
     sol.value("max_error_without_robust_term", e_0)
     sol.check("errors bounded despite the model mismatch", e_r.max() < 1e-2, f"max |q~| = {e_r.max():.2e} < 1e-2 rad")
@@ -345,6 +350,7 @@ def problem_8_14() -> Solution:
               f"max deviation {worst:.2e} over 20 random (q, q̇, q̇_r, q̈_r); with the printed y'13: {printed:.3g}")
     res = simulate(plant, ctrl, (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C)
     m_hat = res["m_hat"]
+    sol.animation(armL, res, "adaptive control")
     sol.value("m_hat_final", float(m_hat[-1]))
     sol.value("m_hat_at_1s", float(m_hat[_at(res, 1.0)]))
     e = sol.value("max_error", np.abs(res["e"]).max(axis=0))
@@ -387,6 +393,9 @@ def problem_8_15() -> Solution:
                        np.r_[q0, 0.0, 0.0], h=T_C, Ts=T_C)
         p = _tip(armL, res.q)
         err = np.abs(p[-1] - p_d).max()
+        if k == 1:
+            sol.animation(armL, res, "operational-space PD + gravity to p_d = [0.5, 0.5] m",
+                          overlays=lambda s, p_d=p_d: s.sphere("p_d", [*p_d, 0.0], 0.03, color="#2ca02c"))
         sol.value(f"p_final_{k}", p[-1])
         sol.value(f"q_final_{k}", res.q[-1])
         sol.check(f"tip position {k} reached", err < 1e-5,
@@ -427,6 +436,8 @@ def problem_8_16() -> Solution:
         runs[name] = simulate(plant, ctrl, (0.0, T_D), np.r_[q0, 0.0, 0.0], h=T_C, Ts=T_C)
         sol.value(f"max_error_{name}", np.abs(runs[name]["e"]).max(axis=0))
         sol.value(f"final_error_{name}", runs[name]["e"][-1])
+    sol.animation(armL, runs["compensated"], "operational-space inverse dynamics along the segment, compensated",
+                  overlays=lambda s: s.polyline("path", np.array([p_i, p_f]), radius=0.005))
     rc, rn = runs["compensated"], runs["not_compensated"]
     sol.check("compensated: excellent tracking", np.abs(rc["e"]).max() < 1e-3 and np.abs(rc["e"][_at(rc, 2.0)]).max() < 1e-6,
               f"max |x~| = {np.abs(rc['e']).max():.2e} < 1e-3 m, |x~(2 s)| = {np.abs(rc['e'][_at(rc, 2.0)]).max():.2e} < 1e-6")

@@ -38,6 +38,7 @@ class Solution:
     values: dict[str, Any] = field(default_factory=dict)
     checks: list[Check] = field(default_factory=list)
     figures: list[Any] = field(default_factory=list)  # matplotlib Figure objects
+    animations: list[dict[str, Any]] = field(default_factory=list)  # 3-D animations for the report (viewer/)
 
     @property
     def passed(self) -> bool:
@@ -65,6 +66,12 @@ class Solution:
         ok = bool(np.all(np.isfinite(a)) and np.all(err <= atol + rtol * np.abs(e)))
         max_err = float(np.max(err)) if err.size else 0.0
         return self.check(name, ok, f"max |error| = {max_err:.3g} (atol {atol:g}, rtol {rtol:g})")
+
+    def animation(self, robot: Any, motion: Any, title: str = "", **options: Any) -> None:
+        """Attach a 3-D animation of ``robot`` along ``motion`` (a SimulationResult, a Trajectory or
+        ``(t, q)``); the report exports it with ``viewer.report_animations``. ``options`` go to
+        ``viewer.animate`` (``speed``, ``overlays=lambda scene: ...``, ``tracks``)."""
+        self.animations.append({"robot": robot, "motion": motion, "title": title, **options})
 
     def check_error(self, name: str, error: float, tol: float) -> bool:
         """Record that an error measure (e.g. the largest difference from an independent reference over

@@ -101,11 +101,23 @@ def _html_value(value: Any) -> str:
     return html.escape(text)
 
 
-def solution_html(d: dict, figure_sources: Iterable[str] = ()) -> str:
+def _animations(sol: Any, out: Path) -> list[str]:
+    """The problem's 3-D animations (``Solution.animation``) exported under ``out/animations/``, as
+    ``<iframe>`` snippets; none when the optional viewer (meshcat) is not installed."""
+    if not getattr(sol, "animations", None):
+        return []
+    try:
+        from viewer import report_animations
+    except ImportError:
+        return []
+    return report_animations(sol, out)
+
+
+def solution_html(d: dict, figure_sources: Iterable[str] = (), extras: Iterable[str] = ()) -> str:
     """One problem as an HTML ``<section>``: title, values table, checks (✔/✘ with detail), figures.
 
     ``d`` is a :func:`solution_dict` (plus ``passed``/``seconds`` in a report); ``figure_sources``
-    are the ``src`` of the images (file names or ``data:`` URLs).
+    are the ``src`` of the images (file names or ``data:`` URLs); ``extras`` more HTML (animations).
     """
     passed = d.get("passed", bool(d["checks"]) and all(c["passed"] for c in d["checks"]))
     status = "pass" if passed else "fail"
@@ -126,6 +138,7 @@ def solution_html(d: dict, figure_sources: Iterable[str] = ()) -> str:
     parts.append("</ul>")
     for src in figure_sources:
         parts.append(f'<img src="{html.escape(src)}" alt="figure" style="max-width:520px;margin:4px">')
+    parts.extend(extras)  # HTML snippets, e.g. the 3-D animations
     parts.append("</section>")
     return "\n".join(parts)
 
@@ -182,16 +195,17 @@ def write_report(problems: list, out: Path) -> list[dict]:
             sol = prob.solve()
             figures = save_figures(sol, fig_dir)
             data = solution_dict(sol, figures)
+            animations = _animations(sol, out)
             passed = sol.passed
         except Exception:  # a crashing problem is reported as failed, the report goes on
             data = {"id": prob.id, "title": prob.title, "kind": prob.kind, "values": {},
                     "checks": [{"name": "solve", "passed": False, "detail": traceback.format_exc()}],
                     "figures": []}
-            passed = False
+            passed, animations = False, []
         data["seconds"] = round(time.time() - t0, 3)
         data["passed"] = passed
         summary.append(data)
-        rows.append(solution_html(data, [f"figures/{f}" for f in data["figures"]]))
+        rows.append(solution_html(data, [f"figures/{f}" for f in data["figures"]], animations))
         if not sys.stderr.isatty():
             print(f"{prob.id:>6} {'PASS' if passed else 'FAIL'} {data['seconds']:7.2f}s  {prob.title}",
                   file=sys.stderr)

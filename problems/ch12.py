@@ -1,0 +1,987 @@
+"""Chapter 12 — Motion planning: Problems 12.1–12.13 (Figs. S12.1–S12.7).
+
+Each problem builds its scene, calls the planners (``planners.cspace_planar``, ``planners.cells``,
+``planners.sampling``, ``planners.potentials``) and checks the result against an independent
+reference: closed forms evaluated separately, a second algorithm (brute-force lifts on the torus,
+scipy's Dijkstra, membership by sampling, a 2-D root finder against a scalar brentq), and, for every
+planned path, a collision certificate on a dense re-sampling (clearance at the samples against a bound
+on how far the robot moves between them).
+
+Scenes: 12.7, 12.8 and 12.13 from the authors' companion files (s12_7, s12_8, s12_13); 12.3, 12.6,
+12.10, 12.11 from the catalogue's constructed examples; 12.4, 12.5 and 12.12 defined here (the book's
+figures are not transcribed). Errata: 12.2 (the √2π claim), 12.10 (the single-disc point is a saddle),
+12.11 (the sign of the force balance).
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Chapter 12,
+and its solution manual.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.patches import Circle  # noqa: E402
+from matplotlib.patches import Polygon as PolygonPatch  # noqa: E402
+
+from planners.cells import (channel_path, gvd_nodes, polyline_clearance, quadtree_decomposition,  # noqa: E402
+                            sampled_gvd, trapezoidal_decomposition, visibility_graph)
+from planners.cspace_planar import (Disc, PlanarArm, PlanarBody, PlanarCSpace, Polygon, Scene, box,  # noqa: E402
+                                    certify_motion, certify_straight_path, connected_components, densify, free_grid,
+                                    euclidean_distance,
+                                    minkowski_c_obstacle, point_segment_distance, point_shape_distance,
+                                    shapes_intersect, torus_distance, transform_shape)
+from planners.potentials import (AttractivePotential, PotentialField, RepulsivePotential,  # noqa: E402
+                                 gradient_descent, range_scan, reactive_repulsive_force, scan_segments,
+                                 stationary_point, steepest_descent_path, wavefront, grid_path_length)
+from planners.sampling import (MotionPrimitive, path_length, prm, rrt_connect, shortcut,  # noqa: E402
+                               unicycle_arc, unicycle_rrt)
+from problems.registry import Solution, problem  # noqa: E402
+
+SEED = 12  # one seed for every randomised problem
+
+
+# --------------------------------------------------------------------------------------------
+# Scenes
+# --------------------------------------------------------------------------------------------
+
+def scene_12_7() -> tuple[PlanarCSpace, np.ndarray, np.ndarray]:
+    """Companion s12_7: 2R arm (links 1 m × 0.1 m + joint discs), four discs and a square; q_s, q_g."""
+    obstacles = [Disc([-0.8, 1.2], 0.2), Disc([-1.2, -0.9], 0.3), Disc([1.3, 1.5], 0.2), Disc([-1.2, 0.9], 0.3),
+                 Polygon([[0, 0.5], [0.5, 0.5], [0.5, 1], [0, 1]])]
+    space = PlanarCSpace(PlanarArm((1.0, 1.0), 0.1), Scene(obstacles, (-2.2, 2.2, -2.2, 2.2)),
+                         [-np.pi, -np.pi], [np.pi, np.pi], resolution=0.01)
+    return space, np.array([-np.pi / 4, 3 * np.pi / 4]), np.array([5 * np.pi / 8, -np.pi / 2])
+
+
+def scene_12_8() -> tuple[PlanarCSpace, np.ndarray, np.ndarray]:
+    """Companion s12_8: triangular unicycle (+ a 0.03 m disc), four discs and three squares; q_s, q_g."""
+    obstacles = [Disc([-2, -0.9], 0.3), Disc([0.8, 1.5], 0.2), Disc([0, -1], 0.3), Disc([-2, 0.9], 0.3),
+                 box(0, 0, 0.5, 1), box(0, -3, 0.5, -2.5), box(2, -1, 2.5, -0.5)]
+    body = PlanarBody((Polygon([[-0.1, -0.2], [-0.1, 0.2], [0.5, 0.0]]), Disc([0.0, 0.0], 0.03)))
+    space = PlanarCSpace(body, Scene(obstacles, (-5, 5, -5, 5)), [-5, -5, -np.pi], [5, 5, np.pi], resolution=0.01)
+    return space, np.array([-3.0, 0.0, 0.0]), np.array([3.0, -3.5, 0.0])
+
+
+def scene_12_4() -> Scene:
+    """Defined here (Fig. 12.4 is not transcribed): two small discs near the base of the 2R arm of
+    12.7, at 0.6 m and polar angles 3.55 and 4.70 rad. Link 1 cannot pass them and link 2, folded back,
+    cannot either: C_free splits into three components."""
+    pol = lambda r, a: [r * np.cos(a), r * np.sin(a)]  # noqa: E731
+    return Scene([Disc(pol(0.6, 3.55), 0.12), Disc(pol(0.6, 4.70), 0.12)], (-2.2, 2.2, -2.2, 2.2))
+
+
+SCENE_12_13 = np.array([[0, 0, 1, 1, 1, 0, 0],
+                        [1, 0, 1, 0, 0, 0, 0],
+                        [0, 0, 1, 0, 0, 0, 0],
+                        [0, 0, 0, 0, 1, 0, 0],
+                        [0, 0, 0, 0, 1, 0, 0],
+                        [0, 0, 1, 0, 1, 0, 0],
+                        [0, 0, 1, 0, 1, 0, 0]], dtype=bool)   # companion s12_13, 1 = obstacle
+
+
+# --------------------------------------------------------------------------------------------
+# Drawing and verification helpers
+# --------------------------------------------------------------------------------------------
+
+def draw_shapes(ax, shapes, **kw) -> None:
+    """Draw discs and polygons on a matplotlib Axes."""
+    kw = {"facecolor": "0.6", "edgecolor": "k", "lw": 0.8} | kw
+    for k, s in enumerate(shapes):
+        if k == 1:
+            kw.pop("label", None)   # one legend entry per call
+        if isinstance(s, Disc):
+            ax.add_patch(Circle(s.center, s.radius, **kw))
+        else:
+            ax.add_patch(PolygonPatch(s.vertices, closed=True, **kw))
+
+
+def _workspace_axes(ax, bounds, title: str) -> None:
+    ax.set_xlim(bounds[0], bounds[1])
+    ax.set_ylim(bounds[2], bounds[3])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(title)
+
+
+def _cspace_axes(ax, title: str) -> None:
+    ax.set_xlabel("q₁ [rad]")
+    ax.set_ylabel("q₂ [rad]")
+    ax.set_title(title)
+
+
+def _finish(sol: Solution, fig, title: str) -> None:
+    fig.suptitle(title)
+    fig.tight_layout()
+    sol.figure(fig)
+
+
+def _torus_grid(space: PlanarCSpace, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Free map of the 2R torus on an n × n grid over [−π, π)², and the grid axis."""
+    axis = np.linspace(-np.pi, np.pi, n, endpoint=False)
+    return free_grid(space, [axis, axis]), axis
+
+
+# --------------------------------------------------------------------------------------------
+# 12.1–12.4: configuration space
+# --------------------------------------------------------------------------------------------
+
+@problem("12.1", "Configuration space of a unicycle carrying a 6R manipulator", kind="derivation")
+def problem_12_1() -> Solution:
+    """Give the configuration space of a mobile manipulator: a unicycle carrying a six-revolute arm.
+
+    The model is built, not typed: a Pinocchio planar joint (x, y, θ0 — the unicycle's posture in
+    R² × SO(2), nq = 4 as (x, y, cos θ0, sin θ0), nv = 3) carrying the book's six-joint anthropomorphic
+    arm with spherical wrist (``urdf/anthropomorphic_wrist.urdf``) through ``pin.appendModel``.
+    dim C = nv, the number of independent coordinates; the manual's answer is
+    q = [x y θ0 θ1 … θ6], C = R² × SO(2)⁷, dimension 9.
+    """
+    import pinocchio as pin
+
+    from rigid_body.robots import load
+
+    sol = Solution()
+    base = pin.Model()
+    base.addJoint(0, pin.JointModelPlanar(), pin.SE3.Identity(), "unicycle")
+    base.addFrame(pin.Frame("platform", 1, 0, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
+    arm = load("anthropomorphic_wrist")
+    model = pin.appendModel(base, arm.model, base.getFrameId("platform"), pin.SE3.Identity())
+    dim = sol.value("dim_C", int(model.nv))
+    sol.value("nq", int(model.nq))
+    kinds = [j.shortname() for j in model.joints[1:]]
+    sol.value("joints", kinds)
+    n_so2 = sum(k.startswith("JointModelR") for k in kinds) + sum(k == "JointModelPlanar" for k in kinds)
+    n_r = 2 * sum(k == "JointModelPlanar" for k in kinds)
+    sol.value("structure", f"R^{n_r} x SO(2)^{n_so2}")
+    sol.check("dim C = 9 (manual: q = [x y θ0 θ1 … θ6])", dim == 9, f"nv = {dim}")
+    sol.check("C = R² × SO(2)⁷: 2 translations and 7 angles", (n_r, n_so2) == (2, 7), sol.values["structure"])
+    rng = np.random.default_rng(SEED)
+    q0, q1 = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq)), None
+    q1 = pin.integrate(model, q0, rng.normal(size=model.nv))
+    sol.check("tangent of C has dimension 9: pin.difference returns 9 numbers",
+              pin.difference(model, q0, q1).size == 9)
+    sol.check("nq − (one unit-norm constraint (cos θ0, sin θ0)) = 9",
+              model.nq - 1 == dim and abs(np.hypot(q1[2], q1[3]) - 1) < 1e-12, f"nq = {model.nq}")
+    return sol
+
+
+@problem("12.2", "A C-space distance for the 2R arm that respects the torus", kind="derivation")
+def problem_12_2() -> Solution:
+    """Define a configuration-space distance for the 2R arm consistent with the torus topology of C.
+
+    Manual: Δ_i = min(|q_{i,A} − q_{i,B}|, 2π − |q_{i,A} − q_{i,B}|), d₃ = √(Δ1² + Δ2²). Checked against
+    a second algorithm (the smallest Euclidean distance over the lifts q_B + 2πk, k ∈ {−1, 0, 1}²) and
+    for the metric properties at random pairs. **Erratum:** the manual says d₃ = d₂ "whenever the
+    Euclidean distance is not larger than √2π"; false — Δq = (1.2π, 0) has d₂ = 3.770 < √2π = 4.443 but
+    d₃ = 2.513. The correct condition is |Δq_1| ≤ π and |Δq_2| ≤ π.
+    """
+    sol = Solution()
+    rng = np.random.default_rng(SEED)
+    A = rng.uniform(0, 2 * np.pi, (2000, 2))
+    B = rng.uniform(0, 2 * np.pi, (2000, 2))
+    C = rng.uniform(0, 2 * np.pi, (2000, 2))
+    d3 = torus_distance(A, B)
+    lifts = np.array([[i, j] for i in (-1, 0, 1) for j in (-1, 0, 1)]) * 2 * np.pi
+    brute = np.min(np.linalg.norm(B[:, None, :] + lifts[None] - A[:, None, :], axis=-1), axis=1)
+    sol.check_close("d₃ = min over the lifts q_B + 2πk of ‖q_A − q_B − 2πk‖ (2000 pairs)", d3, brute, atol=1e-12)
+    sol.check("symmetric", np.allclose(d3, torus_distance(B, A), atol=1e-12))
+    sol.check("triangle inequality d₃(A,C) ≤ d₃(A,B) + d₃(B,C)",
+              np.all(torus_distance(A, C) <= d3 + torus_distance(B, C) + 1e-12))
+    k = rng.integers(-3, 4, (2000, 2)) * 2 * np.pi
+    sol.check("invariant to q ↦ q + 2πk", np.allclose(torus_distance(A + k, B), d3, atol=1e-9))
+    d2 = euclidean_distance(A, B)
+    sol.check("d₃ ≤ d₂", np.all(d3 <= d2 + 1e-12))
+    inside = np.all(np.abs(A - B) <= np.pi, axis=1)
+    sol.check("d₃ = d₂ exactly when |Δq_i| ≤ π for both joints",
+              np.allclose(d3[inside], d2[inside], atol=1e-12) and np.all(d3[~inside] < d2[~inside]))
+    # the erratum: a counterexample to the manual's √2π condition
+    qa, qb = np.array([0.0, 0.0]), np.array([1.2 * np.pi, 0.0])
+    c2, c3 = float(euclidean_distance(qa, qb)), float(torus_distance(qa, qb))
+    sol.value("counterexample_dq", qb - qa)
+    sol.value("counterexample_d2", c2)
+    sol.value("counterexample_d3", c3)
+    sol.check("erratum: d₂ = 3.770 ≤ √2π = 4.443 yet d₃ = 2.513 ≠ d₂ (the manual's claim is false)",
+              c2 <= np.sqrt(2) * np.pi and abs(c3 - 0.8 * np.pi) < 1e-12 and c3 < c2 - 1,
+              f"d₂ = {c2:.4f}, √2π = {np.sqrt(2) * np.pi:.4f}, d₃ = {c3:.4f}")
+    share = float(np.mean(d3[d2 <= np.sqrt(2) * np.pi] < d2[d2 <= np.sqrt(2) * np.pi] - 1e-12))
+    sol.value("share_of_pairs_violating_claim", share)
+    sol.check("the claim fails for a sizeable share of random pairs with d₂ ≤ √2π", share > 0.1, f"{share:.1%}")
+    sol.check("what is true: d₂ ≤ π implies d₃ = d₂", np.allclose(d3[d2 <= np.pi], d2[d2 <= np.pi], atol=1e-12))
+    return sol
+
+
+@problem("12.3", "Two different scenes with the same C-obstacle (translating robots)", kind="derivation")
+def problem_12_3() -> Solution:
+    """Find two robot/obstacle pairs, robots free to translate only, that give the same C-obstacle.
+
+    Scene 1: triangle B1 = {(0,0), (1,0), (0,1)} and square O1 = [0, 2]²; scene 2: unit square B2 and
+    pentagon O2 = {(0,1), (1,0), (2,0), (2,2), (0,2)} (reference point at the robots' origin). Both
+    give CO = O ⊕ (−B) = the pentagon {(−1,0), (0,−1), (2,−1), (2,2), (−1,2)} (Fig. S12.1). Checked by
+    a second method: a configuration q is in CO iff the robot placed at q touches the obstacle,
+    sampled at random points.
+    """
+    sol = Solution()
+    scenes = [(Polygon([[0, 0], [1, 0], [0, 1]]), box(0, 0, 2, 2)),
+              (box(0, 0, 1, 1), Polygon([[0, 1], [1, 0], [2, 0], [2, 2], [0, 2]]))]
+    COs = [minkowski_c_obstacle(O, B) for B, O in scenes]
+    key = lambda P: np.array(sorted(map(tuple, np.round(P.vertices, 12))))  # noqa: E731
+    sol.value("CO_vertices", key(COs[0]))
+    sol.check("both scenes give the same C-obstacle (same vertex set)",
+              key(COs[0]).shape == key(COs[1]).shape and np.allclose(key(COs[0]), key(COs[1])))
+    expected = np.array(sorted([(-1, 0), (0, -1), (2, -1), (2, 2), (-1, 2)]), dtype=float)
+    sol.check_close("CO = pentagon {(−1,0), (0,−1), (2,−1), (2,2), (−1,2)} (constructed by hand)",
+                    key(COs[0]), expected, atol=1e-12)
+    rng = np.random.default_rng(SEED)
+    Qs = rng.uniform(-2, 3, (1500, 2))
+    for k, ((B, O), CO) in enumerate(zip(scenes, COs), start=1):
+        far = np.array([point_shape_distance(CO, q) > 1e-6 or CO.contains(q, -1e-6) for q in Qs])
+        touch = np.array([shapes_intersect(transform_shape(B, q[0], q[1], 0.0), O) for q in Qs[far]])
+        sol.check(f"scene {k}: q ∈ CO ⟺ B(q) ∩ O ≠ ∅ at {far.sum()} random q",
+                  np.array_equal(touch, CO.contains(Qs[far])))
+    fig, axes = plt.subplots(2, 2, figsize=(9, 8))
+    for row, ((B, O), CO) in enumerate(zip(scenes, COs)):
+        ax = axes[row, 0]
+        draw_shapes(ax, [O], facecolor="0.6", label="obstacle O")
+        for v in O.vertices:       # the growing procedure: −B placed at every vertex of O
+            draw_shapes(ax, [Polygon(v - B.vertices)], facecolor="none", edgecolor="tab:blue", lw=0.5, ls="--")
+        draw_shapes(ax, [Polygon(B.vertices + [-1.8, -1.8])], facecolor="tab:blue", alpha=0.7, label="robot B")
+        ax.plot(-1.8, -1.8, "k+", label="reference point")
+        _workspace_axes(ax, (-2.5, 3, -2.5, 3), f"scene {row + 1}: robot and obstacle")
+        ax.legend(loc="upper left", fontsize=7)
+        ax = axes[row, 1]
+        draw_shapes(ax, [CO], facecolor="tab:red", alpha=0.4, label="C-obstacle CO")
+        draw_shapes(ax, [O], facecolor="0.6", alpha=0.6, label="O")
+        _workspace_axes(ax, (-2.5, 3, -2.5, 3), f"scene {row + 1}: C-obstacle O ⊕ (−B)")
+        ax.set_xlabel("reference point x [m]")
+        ax.set_ylabel("reference point y [m]")
+        ax.legend(loc="upper left", fontsize=7)
+    _finish(sol, fig, "Fig. S12.1 — two scenes with the same C-obstacle")
+    return sol
+
+
+@problem("12.4", "Three configurations of the 2R arm in disjoint components of C_free", kind="numeric")
+def problem_12_4() -> Solution:
+    """Find configurations in each of the three disjoint components of C_free of a 2R arm (Fig. 12.4).
+
+    Manual: q_a = [π/4, π/2], q_b = [4.12, π/6], q_c = [4.12, 2.88] rad. Fig. 12.4's obstacles are not
+    transcribed, so the scene is defined here (:func:`scene_12_4`) such that its C_free has three
+    components. C_free is rasterised on the torus and labelled (scipy.ndimage.label plus the seams
+    q_i = ±π glued); the count and the three memberships are confirmed on a grid twice as fine.
+    """
+    sol = Solution()
+    scene = scene_12_4()
+    arm = PlanarArm((1.0, 1.0), 0.1)
+    space = PlanarCSpace(arm, scene, [-np.pi, -np.pi], [np.pi, np.pi])
+    q = {"q_a": np.array([np.pi / 4, np.pi / 2]), "q_b": np.array([4.12, np.pi / 6]),
+         "q_c": np.array([4.12, 2.88])}
+    results = {}
+    for n in (160, 320):
+        free, axis = _torus_grid(space, n)
+        labels, count = connected_components(free)
+        cells = {k: tuple(np.round((np.mod(v + np.pi, 2 * np.pi) - np.pi + np.pi) / (2 * np.pi) * n).astype(int) % n)
+                 for k, v in q.items()}
+        results[n] = (count, {k: int(labels[c]) for k, c in cells.items()}, labels, axis)
+    count, member, labels, axis = results[320]
+    sol.value("components", count)
+    sol.value("labels", member)
+    clear = {k: float(scene.clearance(arm.bodies(v))) for k, v in q.items()}
+    sol.value("clearance", clear)
+    sol.check("C_free has exactly 3 components (0.02 rad and 0.04 rad grids agree)",
+              count == 3 and results[160][0] == 3, f"{results[160][0]}, {count}")
+    sol.check("q_a, q_b, q_c are free (exact geometry)", min(clear.values()) > 0, str(clear))
+    sol.check("q_a, q_b, q_c lie in three different components (both grids)",
+              all(len(set(r[1].values())) == 3 and 0 not in r[1].values() for r in results.values()),
+              f"{results[160][1]}, {member}")
+    fig, axes = plt.subplots(3, 2, figsize=(9, 12))
+    colors = {"q_a": "tab:blue", "q_b": "tab:orange", "q_c": "tab:green"}
+    for row, (name, v) in enumerate(q.items()):
+        ax = axes[row, 0]
+        draw_shapes(ax, scene.obstacles, label="obstacles")
+        draw_shapes(ax, arm.bodies(v), facecolor=colors[name], alpha=0.8)
+        ax.plot(*arm.joint_positions(v).T, "k.-", lw=0.8, label=f"{name} = [{v[0]:.2f}, {v[1]:.2f}] rad")
+        _workspace_axes(ax, scene.bounds, f"posture {name}")
+        ax.legend(loc="upper right", fontsize=7)
+        ax = axes[row, 1]
+        ax.imshow(labels.T, origin="lower", extent=[-np.pi, np.pi, -np.pi, np.pi], cmap="Pastel1")
+        w = np.mod(v + np.pi, 2 * np.pi) - np.pi
+        ax.plot(w[0], w[1], "o", color=colors[name], mec="k", label=f"{name} (component {member[name]})")
+        _cspace_axes(ax, "C_free components (obstacle region = 0)")
+        ax.legend(loc="upper right", fontsize=7)
+    _finish(sol, fig, "Fig. S12.2 — configurations in the three components of C_free")
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 12.5–12.6: roadmaps and cells
+# --------------------------------------------------------------------------------------------
+
+@problem("12.5", "A naive algorithm for the generalised Voronoi diagram", kind="derivation")
+def problem_12_5() -> Solution:
+    """Sketch an algorithm for the generalised Voronoi diagram of a bounded polygonal set.
+
+    The manual's algorithm (equidistance curves of vertex/side pairs, their intersections, discard
+    those outside, with unequal characteristic distances or with clearance ≠ that distance) is
+    :func:`planners.cells.gvd_nodes`. On the rectangle [0, a] × [0, b], a > b, the GVD is the medial
+    axis: the nodes are (b/2, b/2) and (a − b/2, b/2) (plus the corners, clearance 0). The diagram is
+    also sampled with scipy's Voronoi of boundary points: every ridge must lie on the medial axis.
+    """
+    sol = Solution()
+    a, b = 4.0, 1.5
+    K = box(0, 0, a, b)
+    nodes = gvd_nodes(K)
+    inner = nodes[nodes[:, 2] > 1e-9]
+    sol.value("nodes", inner[:, :2])
+    sol.check_close("nodes (b/2, b/2), (a − b/2, b/2), clearance b/2", inner,
+                    [[b / 2, b / 2, b / 2], [a - b / 2, b / 2, b / 2]], atol=1e-9)
+    corners = nodes[nodes[:, 2] <= 1e-9, :2]
+    sol.check_close("the other nodes are the four corners (clearance 0)",
+                    np.array(sorted(map(tuple, np.round(corners, 9) + 0.0))),
+                    np.array(sorted(map(tuple, K.vertices))), atol=1e-9)
+    segs = sampled_gvd(K, spacing=0.02)
+    P = segs.reshape(-1, 2)
+    x, y = P[:, 0], P[:, 1]
+    on_spine = np.abs(y - b / 2) + np.maximum(0, np.maximum(b / 2 - x, x - (a - b / 2)))
+    on_diag = np.minimum.reduce([np.abs(y - x), np.abs(y - (b - x)), np.abs(y - (x - a + b)), np.abs(y - (a - x))])
+    err = float(np.max(np.minimum(on_spine, on_diag)))
+    sol.value("sampled_gvd_max_distance_from_medial_axis", err)
+    sol.check("sampled GVD (scipy Voronoi, 0.02 m) lies on the medial axis within 0.02", err < 0.02, f"{err:.3g} m")
+    # a room with an obstacle: the GVD around it
+    room, hole = box(0, 0, 10, 6), Polygon([[4, 2], [6.5, 2.5], [5, 4]])
+    nodes2 = gvd_nodes(room, [hole])
+    segs2 = sampled_gvd(room, [hole], spacing=0.05)
+    feats = [(p, q) for poly in (room, hole) for p, q in zip(*poly.edges)]
+    mids = segs2.mean(axis=1)
+    d = np.sort(np.array([[float(point_segment_distance(m, p, q)) for p, q in feats] for m in mids]), axis=1)
+    gap = float(np.max(d[:, 1] - d[:, 0]))
+    sol.check("room + obstacle: every sampled GVD point has two nearest sides equally far (± 0.05)",
+              gap < 0.05, f"max difference {gap:.3g} m")
+    sol.value("room_nodes", nodes2[nodes2[:, 2] > 1e-9, :2])
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    for ax, (R, H, S, N, title) in zip(axes, [(K, [], segs, nodes, "rectangle: GVD = medial axis"),
+                                             (room, [hole], segs2, nodes2, "room with an obstacle")]):
+        draw_shapes(ax, [R], facecolor="none")
+        draw_shapes(ax, H)
+        for s in S:
+            ax.plot(s[:, 0], s[:, 1], "tab:blue", lw=1)
+        ax.plot([], [], "tab:blue", label="sampled GVD (scipy Voronoi)")
+        ax.plot(N[N[:, 2] > 1e-9, 0], N[N[:, 2] > 1e-9, 1], "ro", label="nodes (naive algorithm)")
+        _workspace_axes(ax, (R.vertices[:, 0].min() - 0.3, R.vertices[:, 0].max() + 0.3,
+                             R.vertices[:, 1].min() - 0.3, R.vertices[:, 1].max() + 0.3), title)
+        ax.legend(loc="upper right", fontsize=7)
+    _finish(sol, fig, "Problem 12.5 — generalised Voronoi diagrams")
+    return sol
+
+
+@problem("12.6", "Channel-to-path extraction in cell decomposition: the flaw and its fix", kind="derivation")
+def problem_12_6() -> Solution:
+    """Show that extracting a path from a channel through the midpoints of the common boundaries only
+    can give a path touching an obstacle, and fix it.
+
+    Scene [D]: workspace [0, 10]², diamond {(5,5), (6,4), (7,5), (6,6)}, start above it (5.5, 7), goal
+    below (5.5, 3). The trapezoidal decomposition's channel is above → left cell → below; the midpoint path
+    (5, 7.5) → (5, 2.5) runs along the cell boundary x = 5 through the vertex (5, 5): clearance 0. The fix
+    (manual): insert the centroid of every channel cell except c_s and c_g — here (2.5, 5) — and the
+    clearance becomes positive. An approximate (quadtree) decomposition and the visibility graph give
+    comparisons; the visibility-graph length 2√(0.5² + 2²) is the shortest possible.
+    """
+    sol = Solution()
+    diamond = Polygon([[5, 5], [6, 4], [7, 5], [6, 6]])
+    qs, qg = np.array([5.5, 7.0]), np.array([5.5, 3.0])
+    dec = trapezoidal_decomposition((0, 10, 0, 10), [diamond])
+    naive, chan = channel_path(dec, qs, qg, centroids=False)
+    fixed, _ = channel_path(dec, qs, qg, centroids=True)
+    sol.value("cells", len(dec.cells))
+    sol.value("channel", chan)
+    sol.value("midpoint_path", naive)
+    sol.value("fixed_path", fixed)
+    c_naive, c_fixed = polyline_clearance(naive, [diamond]), polyline_clearance(fixed, [diamond])
+    sol.value("clearance_midpoint_path", c_naive)
+    sol.value("clearance_fixed_path", c_fixed)
+    sol.check("channel has 3 cells: above, left, below", len(chan) == 3, str(chan))
+    sol.check_close("midpoint path: q_s, (5, 7.5), (5, 2.5), q_g", naive, [qs, [5, 7.5], [5, 2.5], qg], atol=1e-9)
+    sol.check("midpoint path touches the obstacle's leftmost vertex (clearance 0)", c_naive == 0.0, f"{c_naive}")
+    sol.check_close("fixed path has 5 vertices, the left cell's centroid (2.5, 5) inserted", fixed,
+                    [qs, [5, 7.5], [2.5, 5], [5, 2.5], qg], atol=1e-9)
+    # closed forms: the new edges pass (5, 5) at 2.5/√2; the path's clearance is then set by q_s, q_g
+    d_vertex = min(float(point_segment_distance([5, 5], a, b)) for a, b in zip(fixed[1:-2], fixed[2:-1]))
+    sol.check_close("fixed path: the edges through the centroid pass the vertex (5, 5) at 2.5/√2 = 1.768 m",
+                    d_vertex, 2.5 / np.sqrt(2), atol=1e-12)
+    sol.check_close("fixed path clearance = distance of q_s from the vertex (6, 6) = √1.25 = 1.118 m",
+                    c_fixed, np.sqrt(1.25), atol=1e-12)
+    quad = quadtree_decomposition((0, 10, 0, 10), [diamond], min_size=0.25)
+    qpath, qchan = channel_path(quad, qs, qg)
+    c_quad = polyline_clearance(qpath, [diamond])
+    sol.value("quadtree_cells", len(quad.cells))
+    sol.check("approximate (quadtree) decomposition: the fixed extraction gives a free path", c_quad > 0, f"{c_quad:.3g} m")
+    vis = visibility_graph(qs, qg, [diamond])
+    sol.value("visibility_length", vis.length)
+    sol.check_close("visibility graph: shortest path via (5, 5), length 2√(0.5² + 2²)", vis.length,
+                    2 * np.hypot(0.5, 2), atol=1e-12)
+    lengths = [float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1))) for p in (fixed, qpath)]
+    sol.value("cell_path_lengths", lengths)
+    sol.check("the cell paths are no shorter than the visibility path", min(lengths) >= vis.length - 1e-12)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 5))
+    for ax, d, paths, title in [(axes[0], dec, [(naive, "r--", "midpoints only (clearance 0)"),
+                                                (fixed, "g-", "with cell centroids (fix)"),
+                                                (vis.path, "b:", "visibility graph")], "trapezoidal decomposition"),
+                                (axes[1], quad, [(qpath, "g-", "quadtree channel path")], "approximate (quadtree)")]:
+        draw_shapes(ax, d.cells, facecolor="none", edgecolor="0.7", lw=0.5)
+        draw_shapes(ax, [diamond])
+        for k in (chan if d is dec else qchan):
+            draw_shapes(ax, [d.cells[k]], facecolor="tab:olive", alpha=0.2, edgecolor="none")
+        for p, style, label in paths:
+            ax.plot(p[:, 0], p[:, 1], style, marker=".", label=label)
+        ax.plot(*qs, "ks", label="q_s")
+        ax.plot(*qg, "k^", label="q_g")
+        _workspace_axes(ax, (0, 10, 0, 10), title)
+        ax.legend(loc="upper right", fontsize=7)
+    _finish(sol, fig, "Problem 12.6 — channel-to-path extraction")
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 12.7–12.8: sampling-based planners
+# --------------------------------------------------------------------------------------------
+
+@problem("12.7", "PRM planner for a planar manipulator (2R example)", kind="programming")
+def problem_12_7() -> Solution:
+    """Write a PRM planner for planar manipulators; plan for a 2R arm from q_s = [−π/4, 3π/4] to
+    q_g = [5π/8, −π/2] rad (Fig. S12.3).
+
+    Scene and parameters from the companion file s12_7: links 1 m × 0.1 m, four discs and a square,
+    50 vertices (grown further, up to 200, if q_s and q_g are not yet connected), ≤ 3 neighbours within
+    C-space distance 3, distance d₃ of Problem 12.2 (C is a torus, edges may wrap). Local paths are
+    checked every 0.01 rad; the path found is then re-sampled every 0.05 rad (bisected where
+    inconclusive) and certified free with shape-by-shape geometry (clearance at the samples against
+    the bound Σ|Δθ_i| R_i on the motion between them). RRT-Connect (+ shortcutting) is the second planner.
+    """
+    sol = Solution()
+    space, qs, qg = scene_12_7()
+    res = prm(space, qs, qg, np.random.default_rng(SEED), n_vertices=50, max_neighbors=3, max_distance=3.0,
+              max_vertices=200)
+    sol.value("roadmap_vertices", len(res.nodes))
+    sol.value("message", res.message)
+    sol.check("PRM finds a path", res.success, res.message)
+    if not res.success:
+        return sol
+    sol.value("path", res.path)
+    sol.value("path_length", res.length)
+    sol.check_close("path starts at q_s and ends at q_g", [res.path[0], res.path[-1]], [qs, qg], atol=1e-12)
+    ok, cmin, n_eval = certify_straight_path(space, res.path, 0.05)
+    sol.value("path_min_clearance", cmin)
+    sol.check("path certified collision-free (0.05 rad re-sampling, bisected where inconclusive; exact geometry, "
+              "motion bound Σ|Δθ_i|R_i)", ok, f"min clearance {cmin:.4f} m, {n_eval} configurations")
+    wrapped = [bool(np.any(np.abs(res.nodes[j] - res.nodes[i]) > np.pi)) for i, j in res.edges]
+    sol.value("roadmap_edges", len(res.edges))
+    sol.value("wrapping_edges", int(sum(wrapped)))
+    sol.check("C is treated as a torus: some roadmap edges cross q_i = ±π", sum(wrapped) > 0, f"{sum(wrapped)} edges")
+    d_seg = torus_distance(res.path[:-1], res.path[1:])
+    sol.check_close("path length = Σ d₃ over its edges (each ≤ 3)", res.length, float(d_seg.sum()), atol=1e-12)
+    sol.check("every edge within the neighbour distance 3", np.all(d_seg <= 3.0 + 1e-12))
+    rc = rrt_connect(space, qs, qg, np.random.default_rng(SEED), step=0.3)
+    short = shortcut(space, rc.path, np.random.default_rng(SEED), attempts=200) if rc.success else rc.path
+    L_short = path_length(space, short)
+    sol.value("rrt_connect_length", rc.length)
+    sol.value("rrt_connect_shortcut_length", L_short)
+    ok2 = rc.success and certify_straight_path(space, short, 0.05)[0]
+    sol.check("RRT-Connect + shortcutting: a certified path, no longer than before shortcutting",
+              rc.success and ok2 and L_short <= rc.length + 1e-12, f"{rc.length:.3f} → {L_short:.3f} rad")
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5.5))
+    ax = axes[0]
+    draw_shapes(ax, space.scene.obstacles, label="obstacles")
+    Q = densify(space, res.path, 0.25)
+    for k, q in enumerate(Q):  # stroboscopic
+        draw_shapes(ax, space.robot.bodies(q), facecolor=plt.cm.viridis(k / len(Q)), alpha=0.35, lw=0.3)
+    ax.plot([], [], "s", color=plt.cm.viridis(0.0), label="start")
+    ax.plot([], [], "s", color=plt.cm.viridis(1.0), label="goal")
+    _workspace_axes(ax, space.scene.bounds, "stroboscopic motion")
+    ax.legend(loc="upper right", fontsize=7)
+    ax = axes[1]
+    free, _ = _torus_grid(space, 180)
+    ax.imshow(~free.T, origin="lower", extent=[-np.pi, np.pi, -np.pi, np.pi], cmap="Greys", alpha=0.5)
+    for i, j in res.edges:
+        seg = densify(space, res.nodes[[i, j]], 0.05)
+        jumps = np.flatnonzero(np.any(np.abs(np.diff(seg, axis=0)) > np.pi, axis=1)) + 1
+        for part in np.split(seg, jumps):
+            ax.plot(part[:, 0], part[:, 1], color="tab:blue", lw=0.6)
+    ax.plot(res.nodes[:, 0], res.nodes[:, 1], ".", color="tab:blue", label="roadmap")
+    P = densify(space, res.path, 0.02)
+    jumps = np.flatnonzero(np.any(np.abs(np.diff(P, axis=0)) > np.pi, axis=1)) + 1
+    for k, part in enumerate(np.split(P, jumps)):
+        ax.plot(part[:, 0], part[:, 1], color="0.3", lw=3, label="solution path" if k == 0 else None)
+    ax.plot(*qs, "gs", label="q_s")
+    ax.plot(*qg, "r^", label="q_g")
+    _cspace_axes(ax, "PRM in C (a torus; C-obstacles shaded)")
+    ax.legend(loc="upper right", fontsize=7)
+    _finish(sol, fig, "Fig. S12.3 — PRM for a 2R planar manipulator")
+    return sol
+
+
+def _arc_samples(q: np.ndarray, v: float, omega: float, delta: float, h: float) -> np.ndarray:
+    n = max(int(np.ceil(delta / h)), 1)
+    return unicycle_arc(q, v, omega, np.linspace(0.0, delta, n + 1))
+
+
+@problem("12.8", "RRT for a unicycle with motion primitives", kind="programming")
+def problem_12_8() -> Solution:
+    """Write an RRT planner for the unicycle using motion primitives; plan from q_s = [−3, 0, 0] to
+    q_g = [3, −3.5, 0] [m, m, rad] (Fig. S12.4).
+
+    Companion data (s12_8): triangular robot, four discs and three squares, primitives (v, ω) = (1, 0),
+    (1, ±1.3) held for Δ = 0.9 s, 200 vertices, goal threshold 0.01, goal bias 0.2. The arcs are the
+    unicycle's exact closed-form motion (checked against scipy's RK45 integration of the kinematic
+    model). With a finite set of primitives q_g is generally not reached exactly (the manual says so):
+    the tree stops at 200 vertices and the path ends at the vertex closest to q_g in the R² × SO(2)
+    distance; the path is certified collision-free along the arcs.
+    """
+    from scipy.integrate import solve_ivp
+
+    sol = Solution()
+    space, qs, qg = scene_12_8()
+    prims = [MotionPrimitive(1.0, 0.0), MotionPrimitive(1.0, 1.3), MotionPrimitive(1.0, -1.3)]
+    delta = 0.9
+    res = unicycle_rrt(space, qs, qg, np.random.default_rng(SEED), prims, delta, max_vertices=200,
+                       goal_threshold=0.01, goal_bias=0.2)
+    d_end = float(space.distance(res.path[-1], qg))
+    sol.value("message", res.message)
+    sol.value("vertices", len(res.nodes))
+    sol.value("path", res.path)
+    sol.value("controls", res.controls)
+    sol.value("final_distance_to_goal", d_end)
+    sol.value("final_position_error", float(np.linalg.norm(res.path[-1][:2] - qg[:2])))
+    sol.value("path_length_workspace", float(np.sum(np.abs(res.controls[:, 0])) * delta))
+    sol.check("q_g is approached but, with 3 primitives, not within 0.01 in 200 vertices (as the manual notes)",
+              (not res.success) and d_end < 0.5, res.message)
+    loose = unicycle_rrt(space, qs, qg, np.random.default_rng(SEED), prims, delta, max_vertices=200,
+                         goal_threshold=0.3, goal_bias=0.2)
+    d_loose = float(space.distance(loose.path[-1], qg))
+    sol.value("vertices_with_threshold_0.3", len(loose.nodes))
+    sol.check("with an attainable threshold (0.3) the search stops at the first vertex within it",
+              loose.success and d_loose <= 0.3 and np.all(space.distance(loose.nodes[:-1], qg) > 0.3), loose.message)
+    d_all = space.distance(res.nodes, qg)
+    sol.check("the path ends at the tree vertex closest to q_g", abs(d_end - float(d_all.min())) < 1e-12)
+    sol.check_close("path starts at q_s", res.path[0], qs, atol=1e-12)
+
+    def unicycle(t, x, v, w):
+        return [v * np.cos(x[2]), v * np.sin(x[2]), w]
+
+    err = 0.0
+    for a, b, (v, w) in zip(res.path[:-1], res.path[1:], res.controls):
+        ref = solve_ivp(unicycle, (0, delta), a, args=(v, w), method="RK45", rtol=1e-11, atol=1e-12).y[:, -1]
+        err = max(err, float(np.max(np.abs(space.difference(ref, b)))))
+    sol.value("max_edge_error_vs_rk45", err)
+    sol.check("every edge is one primitive over Δ: closed-form arc (exact integration (11.85)) = RK45 on the model",
+              err < 1e-8, f"{err:.2g}")
+    sol.check("every edge uses one of the three primitives",
+              all(any(np.allclose(c, [p.v, p.omega]) for p in prims) for c in res.controls))
+    h = 0.005
+    samples, bounds = [], []
+    r_body = space.robot.radius()
+    for a, (v, w) in zip(res.path[:-1], res.controls):
+        arc = _arc_samples(a, v, w, delta, h)
+        samples.append(arc if not samples else arc[1:])
+        bounds += [(abs(v) + abs(w) * r_body) * delta / (len(arc) - 1)] * (len(arc) - 1)
+    S = np.vstack(samples)
+    c = np.array([space.scene.clearance(space.robot.bodies(q)) for q in S])
+    ok, margin = certify_motion(c, np.array(bounds))
+    sol.value("path_min_clearance", float(c.min()))
+    sol.check("path certified collision-free along the arcs (5 ms samples, exact geometry, motion bound)",
+              ok, f"min clearance {c.min():.4f} m, margin {margin:.4f} m")
+    fig = plt.figure(figsize=(12, 5.5))
+    ax = fig.add_subplot(1, 2, 1)
+    draw_shapes(ax, space.scene.obstacles, label="obstacles")
+    for i, j in res.edges:
+        k = j  # child vertex: find the primitive that created it
+        arc = None
+        for p in prims:
+            cand = unicycle_arc(res.nodes[i], p.v, p.omega, delta)
+            if np.allclose(space.difference(cand, res.nodes[k]), 0, atol=1e-9):
+                arc = _arc_samples(res.nodes[i], p.v, p.omega, delta, 0.05)
+                break
+        if arc is not None:
+            ax.plot(arc[:, 0], arc[:, 1], color="tab:blue", lw=0.5)
+    ax.plot([], [], color="tab:blue", lw=0.5, label="RRT (projection)")
+    for q in S[:: max(len(S) // 25, 1)]:
+        draw_shapes(ax, space.robot.bodies(q), facecolor="tab:orange", alpha=0.5, lw=0.3)
+    ax.plot(S[:, 0], S[:, 1], "k", lw=1.5, label="solution path")
+    draw_shapes(ax, space.robot.bodies(qg), facecolor="0.85", alpha=0.9, lw=0.5)
+    ax.plot(*qg[:2], "r^", label="q_g")
+    _workspace_axes(ax, (-4.5, 4.5, -4.5, 3), "stroboscopic motion and the tree")
+    ax.legend(loc="upper right", fontsize=7)
+    ax = fig.add_subplot(1, 2, 2, projection="3d")
+    ax.scatter(res.nodes[:, 0], res.nodes[:, 1], res.nodes[:, 2], s=3, color="tab:blue", label="RRT vertices")
+    ax.plot(S[:, 0], S[:, 1], np.where(np.abs(np.diff(S[:, 2], prepend=S[0, 2])) > np.pi, np.nan, S[:, 2]),
+            color="0.3", lw=2.5, label="solution path")
+    ax.scatter(*qg, color="r", marker="^", label="q_g")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("θ [rad]")
+    ax.set_title("RRT in R² × SO(2)")
+    ax.legend(loc="upper left", fontsize=7)
+    _finish(sol, fig, "Fig. S12.4 — RRT with motion primitives for a unicycle")
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 12.9–12.13: artificial potentials and navigation functions
+# --------------------------------------------------------------------------------------------
+
+@problem("12.9", "Paraboloid + cone attractive potential: continuity of the force at ρ", kind="derivation")
+def problem_12_9() -> Solution:
+    """Combine the paraboloidal (‖e‖ ≤ ρ) and conical (‖e‖ > ρ) attractive potentials so that the
+    attractive force is continuous; give k_b.
+
+    Solved symbolically (sympy): k_a ρ = k_b, i.e. k_b = ρ k_a (manual). Checked numerically across the
+    sphere ‖e‖ = ρ in random directions. Note: as written (k_b‖e‖ outside) U jumps by ½k_aρ² at ρ; the
+    library uses k_b‖e‖ − ½k_aρ² outside, continuous, with the same force.
+    """
+    import sympy as sp
+
+    sol = Solution()
+    k_a, k_b, rho = sp.symbols("k_a k_b rho", positive=True)
+    e = sp.symbols("e", positive=True)   # ‖e‖
+    f_in = sp.diff(sp.Rational(1, 2) * k_a * e ** 2, e)
+    f_out = sp.diff(k_b * e, e)
+    k_b_sol = sp.solve(sp.Eq(f_in.subs(e, rho), f_out.subs(e, rho)), k_b)
+    sol.value("k_b", str(k_b_sol[0]))
+    sol.check("sympy: force magnitudes equal at ‖e‖ = ρ ⟺ k_b = ρ k_a", len(k_b_sol) == 1
+              and sp.simplify(k_b_sol[0] - rho * k_a) == 0, str(k_b_sol))
+    jump = sp.simplify((k_b * e).subs({k_b: rho * k_a, e: rho}) - (sp.Rational(1, 2) * k_a * e ** 2).subs(e, rho))
+    sol.value("potential_jump_without_offset", str(jump))
+    att = AttractivePotential([1.0, -2.0], k_a=2.0, rho=0.7)
+    rng = np.random.default_rng(SEED)
+    u = rng.normal(size=(200, 2))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    eps = 1e-9
+    q_in, q_out = att.goal - (att.rho - eps) * u, att.goal - (att.rho + eps) * u
+    df = float(np.max(np.abs(att.force(q_in) - att.force(q_out))))
+    dU = float(np.max(np.abs(att.potential(q_in) - att.potential(q_out))))
+    sol.check("force continuous across ‖e‖ = ρ (200 directions)", df < 1e-7, f"max jump {df:.2g}")
+    sol.check("potential continuous with the offset −½k_aρ²", dU < 1e-7, f"max jump {dU:.2g}")
+    sol.check_close("without the offset U would jump by ½k_aρ² = 0.49 (sympy: ρ²k_a/2)",
+                    float(jump.subs({k_a: 2.0, rho: 0.7})), 0.5 * 2.0 * 0.7 ** 2, atol=1e-12)
+    qs = att.goal - np.linspace(0, 2, 401)[:, None] * u[0]
+    h = 1e-6
+    fd = np.array([-(att.potential(qs + d) - att.potential(qs - d)) / (2 * h) for d in np.eye(2) * h]).T
+    good = np.abs(np.linalg.norm(qs - att.goal, axis=1) - att.rho) > 1e-4
+    good &= np.linalg.norm(qs - att.goal, axis=1) > 1e-4
+    sol.check_close("force = −∇U (finite differences, both regions)", att.force(qs[good]), fd[good], atol=1e-6)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+    r = np.linspace(0, 2, 401)
+    q_line = att.goal - r[:, None] * u[0]
+    axes[0].plot(r, att.potential(q_line), label="U_a (combined, continuous)")
+    axes[0].plot(r, 0.5 * att.k_a * r ** 2, "--", label="paraboloid ½k_a‖e‖²")
+    axes[0].plot(r, att.k_b * r, ":", label="cone k_b‖e‖ (manual)")
+    axes[1].plot(r, np.linalg.norm(att.force(q_line), axis=1), label="‖f_a‖")
+    for ax in axes:
+        ax.axvline(att.rho, color="0.6", lw=0.8, label="ρ")
+        ax.set_xlabel("‖e‖ [m]")
+        ax.legend(fontsize=7)
+    axes[0].set_ylabel("U_a [J]")
+    axes[1].set_ylabel("‖f_a‖ [N]")
+    _finish(sol, fig, f"Problem 12.9 — k_a = {att.k_a}, ρ = {att.rho} m, k_b = ρk_a = {att.k_b:.2f}")
+    return sol
+
+
+def _disc_field(centers, radius=0.5, k_a=1.0, k_r=1.0, eta0=1.0) -> PotentialField:
+    return PotentialField(AttractivePotential([0.0, 0.0], k_a),
+                          tuple(RepulsivePotential(Disc(c, radius), k_r, eta0) for c in centers))
+
+
+def _hessian_closed_form(q, centers, radius, k_a, k_r, eta0) -> np.ndarray:
+    """∇²U at q for the paraboloid + discs (γ = 2), in closed form: with U_r = φ(η), η = ‖q − c‖ − ρ,
+    ∇²U_r = φ''(η) n nᵀ + φ'(η)(I − n nᵀ)/‖q − c‖; φ' = −k_r(1/η − 1/η₀)/η², φ'' = k_r/η⁴ + 2k_r(1/η − 1/η₀)/η³."""
+    H = k_a * np.eye(2)
+    for c in centers:
+        d = np.asarray(q) - c
+        r = np.linalg.norm(d)
+        eta = r - radius
+        if eta > eta0:
+            continue
+        n = d / r
+        p1 = -k_r * (1 / eta - 1 / eta0) / eta ** 2
+        p2 = k_r / eta ** 4 + 2 * k_r * (1 / eta - 1 / eta0) / eta ** 3
+        H += p2 * np.outer(n, n) + p1 * (np.eye(2) - np.outer(n, n)) / r
+    return H
+
+
+@problem("12.10", "Attractive + repulsive potentials create local minima (and saddles)", kind="derivation")
+def problem_12_10() -> Solution:
+    """Show that superposing attractive and repulsive potentials can create local minima.
+
+    Manual: on the half-line from q_g through the obstacle centre U → ∞ at both ends, so ∇U = 0 at some
+    P, "a local minimum also in the direction AB". **Erratum:** for a circular obstacle that transversal
+    argument is wrong and P is a saddle: goal at the origin, disc (3, 0) radius 0.5, k_a = k_r = η₀ = 1
+    gives P = (4, 0) with Hessian eigenvalues −3 (tangential, −k_a D/(ρ + η)) and +33. True local
+    minima need several (or non-convex) obstacles: discs at (3, ±0.8) give a minimum at ≈ (3.669, 0),
+    U ≈ 7.4399, where gradient descent from (3.67, 0.05) stops instead of reaching the goal (Fig. S12.5).
+    """
+    sol = Solution()
+    single = _disc_field([[3.0, 0.0]])
+    P = stationary_point(single, [3.9, 0.1])
+    sol.value("P_single", P)
+    sol.check_close("single disc: ∇U(P) = 0 on the goal–centre axis, at (4, 0) (η = 0.5)", P, [4.0, 0.0], atol=1e-9)
+    H = single.hessian(P)
+    H_cf = _hessian_closed_form(P, [[3.0, 0.0]], 0.5, 1.0, 1.0, 1.0)
+    sol.check_close("Hessian: finite differences of the force = closed form", H, H_cf, atol=1e-5)
+    ev = np.linalg.eigvalsh(H_cf)
+    sol.value("eig_single", ev)
+    sol.check_close("eigenvalues −k_a D/(ρ + η) = −3 (tangential) and +33 (radial)", ev, [-3.0, 33.0], atol=1e-9)
+    sol.check("erratum: the single-disc stationary point is a saddle (indefinite Hessian), not a minimum",
+              ev[0] < 0 < ev[1])
+    double = _disc_field([[3.0, 0.8], [3.0, -0.8]])
+    M = stationary_point(double, [3.67, 0.02])
+    U_M = float(double.potential(M))
+    ev2 = np.linalg.eigvalsh(_hessian_closed_form(M, [[3.0, 0.8], [3.0, -0.8]], 0.5, 1.0, 1.0, 1.0))
+    sol.value("minimum_two_discs", M)
+    sol.value("U_minimum", U_M)
+    sol.value("eig_two_discs", ev2)
+    sol.check_close("two discs: stationary point ≈ (3.669, 0), U ≈ 7.4399", [M[0], M[1], U_M],
+                    [3.669, 0.0, 7.4399], atol=1e-3)
+    sol.check("two discs: positive-definite Hessian ⇒ a true local minimum", ev2[0] > 0, f"{ev2}")
+    run = gradient_descent(double.force, [3.67, 0.05], step=0.01, tol=1e-8)
+    sol.check("gradient descent from (3.67, 0.05) is trapped there, not at the goal",
+              run.converged and np.linalg.norm(run.path[-1] - M) < 1e-6 and np.linalg.norm(run.path[-1]) > 3,
+              run.message)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.8))
+    X, Y = np.meshgrid(np.linspace(1, 5.5, 300), np.linspace(-2, 2, 260))
+    for ax, field, pts, title, centers in [
+            (axes[0], single, [(P, "rx", "saddle P")], "one disc: P is a saddle", [[3, 0]]),
+            (axes[1], double, [(M, "g*", "local minimum")], "two discs: a true local minimum", [[3, 0.8], [3, -0.8]])]:
+        U = field.potential(np.stack([X, Y], -1))
+        ax.contour(X, Y, np.minimum(U, 12), levels=40, linewidths=0.6)
+        draw_shapes(ax, [Disc(c, 0.5) for c in centers])
+        for p, style, label in pts:
+            ax.plot(*p, style, ms=10, label=label)
+        if field is double:
+            ax.plot(run.path[:, 0], run.path[:, 1], "k.-", ms=2, label="gradient descent")
+        ax.plot([1, 5.5], [0, 0], "k:", lw=0.6, label="half-line from q_g through the centre")
+        _workspace_axes(ax, (1, 5.5, -2, 2), title)
+        ax.legend(loc="upper left", fontsize=7)
+    _finish(sol, fig, "Fig. S12.5 — stationary points of U = U_a + U_r (goal at the origin)")
+    return sol
+
+
+@problem("12.11", "Potential field with three circular obstacles: the saddle points", kind="derivation")
+def problem_12_11() -> Solution:
+    """Point robot, goal at the origin, three circular obstacles: write U_t and f_t and locate the
+    saddle points.
+
+    Data (defined here, the textbook's values are not given): centres (3, 0), (0, 4), (−3, −3), radii
+    0.5, k_a = k_r = 1, η₀ = 1, γ = 2. With non-overlapping ranges of influence each saddle lies on the
+    ray from the goal through C_i, beyond the obstacle, where f_a + f_{r,i} = 0:
+    k_a(D_i + ρ_i + η) = (k_r/η²)(1/η − 1/η₀) (solved by brentq) — and checked as zeros of the full 2-D
+    force (scipy root). **Sign erratum:** the manual's balance −k_a[x y]ᵀ = (k_r/η²)(…)∇η has no solution
+    there (both sides point in opposite directions); the correct balance is k_a[x y]ᵀ = (k_r/η²)(…)∇η.
+    """
+    from scipy.optimize import brentq
+
+    sol = Solution()
+    centers = np.array([[3.0, 0.0], [0.0, 4.0], [-3.0, -3.0]])
+    rho, k_a, k_r, eta0 = 0.5, 1.0, 1.0, 1.0
+    field = _disc_field(centers, rho, k_a, k_r, eta0)
+    saddles, residual_manual = [], []
+    for c in centers:
+        D = np.linalg.norm(c)
+        g = lambda eta: k_a * (D + rho + eta) - k_r / eta ** 2 * (1 / eta - 1 / eta0)  # noqa: E731
+        eta = brentq(g, 1e-3, eta0)
+        q = c / D * (D + rho + eta)
+        saddles.append(q)
+        manual = lambda eta: -k_a * (D + rho + eta) - k_r / eta ** 2 * (1 / eta - 1 / eta0)  # noqa: E731
+        etas = np.linspace(1e-3, eta0, 2000)
+        residual_manual.append(bool(np.all(manual(etas) < 0)))
+    saddles = np.array(saddles)
+    sol.value("saddles", saddles)
+    f_norm = np.linalg.norm(field.force(saddles), axis=1)
+    sol.check("‖f_t‖ < 1e-9 at the three points (the other obstacles out of range)", np.all(f_norm < 1e-9),
+              f"{f_norm}")
+    roots = np.array([stationary_point(field, q + [0.05, -0.05]) for q in saddles])
+    sol.check_close("2-D root finder on f_t (from perturbed seeds) finds the same points", roots, saddles, atol=1e-9)
+    eig = np.array([np.linalg.eigvalsh(_hessian_closed_form(q, centers, rho, k_a, k_r, eta0)) for q in saddles])
+    sol.value("hessian_eigenvalues", eig)
+    sol.check("each is a saddle: one negative, one positive Hessian eigenvalue", np.all((eig[:, 0] < 0) & (eig[:, 1] > 0)))
+    sol.check("they lie on the rays from the goal through the centres, beyond the obstacles",
+              np.allclose(np.cross(saddles, centers), 0, atol=1e-12)
+              and np.all(np.linalg.norm(saddles, axis=1) > np.linalg.norm(centers, axis=1) + rho))
+    sol.check("sign erratum: the manual's balance −k_a q = (k_r/η²)(1/η − 1/η₀)∇η has no root on the ray",
+              all(residual_manual))
+    rng = np.random.default_rng(SEED)
+    Q = rng.uniform(-5, 5, (400, 2))
+    eta_all = np.linalg.norm(Q[:, None] - centers[None], axis=-1) - rho
+    Q = Q[np.all(eta_all > 0.1, axis=1)]
+    h = 1e-6
+    fd = np.array([-(field.potential(Q + d) - field.potential(Q - d)) / (2 * h) for d in np.eye(2) * h]).T
+    sol.check_close(f"analytic f_t = −∇U_t (finite differences, {len(Q)} random points)", field.force(Q), fd,
+                    atol=1e-4, rtol=1e-6)
+    fig, ax = plt.subplots(figsize=(6.5, 6))
+    X, Y = np.meshgrid(np.linspace(-5, 5, 300), np.linspace(-5, 6, 330))
+    U = field.potential(np.stack([X, Y], -1))
+    ax.contour(X, Y, np.minimum(U, 25), levels=50, linewidths=0.5)
+    draw_shapes(ax, [Disc(c, rho) for c in centers], label="obstacles")
+    ax.plot(saddles[:, 0], saddles[:, 1], "rx", ms=10, label="saddle points")
+    ax.plot(0, 0, "g*", ms=12, label="goal")
+    _workspace_axes(ax, (-5, 5, -5, 6), "Problem 12.11 — U_t and its saddle points")
+    ax.legend(loc="lower right", fontsize=7)
+    sol.figure(fig)
+    return sol
+
+
+@problem("12.12", "Reactive potential-field planning from laser range data", kind="derivation")
+def problem_12_12() -> Solution:
+    """Explain how to plan on line with artificial potentials from a rotating laser range finder.
+
+    The attractive term is the off-line one; the repulsive forces (12.15) use η_i and ∇η_i read from the
+    scan, one per perceived (convex) obstacle, with η₀ = R. Scene defined here: three convex polygons,
+    a point robot, a 720-ray scanner of range R = 3 m. Checks: the reactive repulsive force matches the
+    exact off-line one within 2 % (angular resolution) wherever an obstacle is within R, and the two
+    closed-loop motions q_{k+1} = q_k + T f(q_k) coincide within 1 cm (Fig. S12.6).
+    """
+    sol = Solution()
+    R, n_rays = 3.0, 720
+    obstacles = [Polygon([[2, 1.0], [3.2, 0.6], [3.5, 2.0], [2.4, 2.3]]),
+                 Polygon([[4.5, -2.2], [6.0, -1.8], [5.6, -0.6], [4.4, -0.9]]),
+                 Polygon([[7.0, 1.2], [8.3, 1.0], [8.0, 2.6]])]
+    goal = np.array([12.0, 0.5])
+    k_a, k_r, eta0 = 1.0, 0.5, R
+    att = AttractivePotential(goal, k_a, rho=1.0)
+    offline = PotentialField(att, tuple(RepulsivePotential(o, k_r, eta0) for o in obstacles))
+
+    def reactive_force(q):
+        angles, ranges = range_scan(q, obstacles, n_rays, R)
+        return att.force(q) + reactive_repulsive_force(q, scan_segments(q, angles, ranges), k_r, eta0)
+
+    rng = np.random.default_rng(SEED)
+    pts = rng.uniform([0, -3], [10, 3], (300, 2))
+    keep = []
+    for q in pts:
+        d = [float(RepulsivePotential(o).eta(q)[0]) for o in obstacles]
+        if min(d) > 0.3 and min(d) < R:
+            keep.append(q)
+    keep = np.array(keep)
+    rel, ratio = [], []
+    d_alpha = 2 * np.pi / n_rays
+    F = lambda eta: k_r / eta ** 2 * (1 / eta - 1 / eta0)                       # (12.15), γ = 2  # noqa: E731
+    dF = lambda eta: k_r * (3 / eta ** 4 - 2 / (eta ** 3 * eta0))               # |dF/dη|  # noqa: E731
+    for q in keep:
+        f_off = offline.force(q) - att.force(q)
+        angles, ranges = range_scan(q, obstacles, n_rays, R)
+        f_re = reactive_repulsive_force(q, scan_segments(q, angles, ranges), k_r, eta0)
+        etas = np.array([float(RepulsivePotential(o).eta(q)[0]) for o in obstacles])
+        etas = etas[etas <= eta0]
+        # first-order resolution bound: the closest point is missed by ≤ η Δα sideways (η error ≤ η Δα)
+        # and the direction by ≤ Δα
+        bound = float(np.sum((dF(etas) * etas + F(etas)) * d_alpha))
+        err = float(np.linalg.norm(f_re - f_off))
+        rel.append(err / max(np.linalg.norm(f_off), 1e-12))
+        ratio.append(err / bound)
+    rel, ratio = np.array(rel), np.array(ratio)
+    sol.value("relative_force_error_median", float(np.median(rel)))
+    sol.value("relative_force_error_max", float(rel.max()))
+    sol.check(f"reactive repulsive force within 2 % of the off-line force at 90 % of {len(keep)} positions "
+              "within R", np.quantile(rel, 0.9) < 0.02, f"90th percentile {np.quantile(rel, 0.9):.2%}, "
+              f"median {np.median(rel):.2%}, max {rel.max():.2%}")
+    sol.check("everywhere within the angular-resolution bound Σ(|F'(η)|η + F(η))Δα, Δα = 2π/720",
+              ratio.max() <= 1.0, f"max error/bound {ratio.max():.2f}")
+    q0 = np.array([0.0, 0.8])
+    run_off = gradient_descent(offline.force, q0, step=0.02, tol=1e-3, max_iterations=3000, max_move=0.05)
+    run_re = gradient_descent(reactive_force, q0, step=0.02, tol=1e-3, max_iterations=3000, max_move=0.05)
+    n = min(len(run_off.path), len(run_re.path))
+    dev = float(np.max(np.linalg.norm(run_off.path[:n] - run_re.path[:n], axis=1)))
+    sol.value("trajectory_max_deviation", dev)
+    sol.value("final_position_reactive", run_re.path[-1])
+    sol.value("path_length_reactive", float(np.sum(np.linalg.norm(np.diff(run_re.path, axis=0), axis=1))))
+    sol.check("both planners reach the goal", run_off.converged and run_re.converged
+              and np.linalg.norm(run_re.path[-1] - goal) < 0.01, f"{run_off.message}; {run_re.message}")
+    sol.check("closed-loop motions coincide within 1 cm", dev < 0.01 and abs(len(run_off.path) - len(run_re.path)) <= 2,
+              f"max deviation {dev * 1000:.2f} mm")
+    clear = min(float(RepulsivePotential(o).eta(run_re.path)[0].min()) for o in obstacles)
+    sol.check("the reactive motion never touches an obstacle", clear > 0, f"min distance {clear:.3f} m")
+    fig, ax = plt.subplots(figsize=(10, 5))
+    draw_shapes(ax, obstacles, facecolor="0.75", label="obstacles")
+    qk = run_re.path[len(run_re.path) // 6]
+    angles, ranges = range_scan(qk, obstacles, n_rays, R)
+    ax.add_patch(Circle(qk, R, fill=False, ls=":", color="0.5"))
+    hits = np.isfinite(ranges)
+    P = qk + ranges[hits, None] * np.column_stack([np.cos(angles[hits]), np.sin(angles[hits])])
+    ax.plot(P[:, 0], P[:, 1], "r.", ms=2, label=f"laser returns at one instant (R = {R} m)")
+    ax.plot(run_off.path[:, 0], run_off.path[:, 1], "b-", lw=2, label="off-line potential")
+    ax.plot(run_re.path[:, 0], run_re.path[:, 1], "y--", lw=1.5, label="reactive (from the scan)")
+    ax.plot(*goal, "g*", ms=12, label="goal")
+    _workspace_axes(ax, (-0.5, 11, -3.5, 4), "Fig. S12.6 — reactive planning with a laser range finder")
+    ax.legend(loc="lower left", fontsize=7)
+    sol.figure(fig)
+    return sol
+
+
+@problem("12.13", "Wavefront navigation function on a grid: 1- vs 2-adjacency", kind="programming")
+def problem_12_13() -> Solution:
+    """Write a navigation-function planner on a grid (wavefront from the goal, cost = distance between
+    cell centres) with 1- or 2-adjacency; compare the paths (Fig. S12.7).
+
+    Grid, start (1, 1) and goal (7, 7) from the companion file s12_13. The navigation function is
+    checked against scipy's Dijkstra on the grid graph; the path descends it strictly from the start to
+    the goal. Manual: the 2-adjacency path is shorter, the 1-adjacency one at most √2 times longer in the
+    same homotopy class; 2-adjacency paths may graze C-obstacles.
+    """
+    from scipy.sparse import lil_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    sol = Solution()
+    occ = SCENE_12_13
+    start, goal = (0, 0), (6, 6)                 # cells (1, 1) and (7, 7), 1-based in the manual
+    results = {}
+    for adj in (1, 2):
+        V = wavefront(occ, goal, adj)
+        path = steepest_descent_path(V, start, adj)
+        L = grid_path_length(path)
+        n_r, n_c = occ.shape
+        G = lil_matrix((occ.size, occ.size))
+        steps = [(0, 1), (1, 0)] + ([(1, 1), (1, -1)] if adj == 2 else [])
+        for i in range(n_r):
+            for j in range(n_c):
+                for di, dj in steps:
+                    a, b = i + di, j + dj
+                    if 0 <= a < n_r and 0 <= b < n_c and not occ[i, j] and not occ[a, b]:
+                        G[i * n_c + j, a * n_c + b] = np.hypot(di, dj)
+        ref = dijkstra(G.tocsr(), directed=False, indices=goal[0] * n_c + goal[1]).reshape(occ.shape)
+        ref[occ] = np.inf
+        results[adj] = (V, path, L)
+        sol.value(f"navigation_function_{adj}adj", V)
+        sol.value(f"path_{adj}adj", path + 1)
+        sol.value(f"length_{adj}adj", L)
+        sol.check(f"{adj}-adjacency: wavefront = Dijkstra cost-to-go on every cell (∞ on obstacles)",
+                  np.array_equal(np.isinf(V), np.isinf(ref)) and np.allclose(V[np.isfinite(V)], ref[np.isfinite(ref)]))
+        steps_ok = np.all(np.abs(np.diff(path, axis=0)).max(axis=1) == 1) and (
+            adj == 2 or np.all(np.abs(np.diff(path, axis=0)).sum(axis=1) == 1))
+        sol.check(f"{adj}-adjacency: path from (1,1) to (7,7) through free {4 * adj}-neighbours, V strictly decreasing",
+                  tuple(path[0]) == start and tuple(path[-1]) == goal and steps_ok
+                  and not occ[tuple(path.T)].any() and np.all(np.diff(V[tuple(path.T)]) < 0))
+        sol.check_close(f"{adj}-adjacency: path length = the optimum V(start)", L, V[start], atol=1e-12)
+    L1, L2 = results[1][2], results[2][2]
+    sol.check("2-adjacency path shorter; L₂ ≤ L₁ ≤ √2 L₂", L2 < L1 <= np.sqrt(2) * L2 + 1e-12,
+              f"L₁ = {L1:.4f}, L₂ = {L2:.4f}, ratio {L1 / L2:.4f}")
+    p2 = results[2][1]
+    diag = np.abs(np.diff(p2, axis=0)).sum(axis=1) == 2
+    graze = [bool(occ[a[0], b[1]] or occ[b[0], a[1]]) for a, b, d in zip(p2[:-1], p2[1:], diag) if d]
+    sol.value("diagonal_moves_grazing_obstacles", int(sum(graze)))
+    sol.check("2-adjacency path grazes a C-obstacle (a diagonal step past an obstacle corner)", any(graze))
+    fig, axes = plt.subplots(1, 2, figsize=(11, 5.2))
+    for ax, adj in zip(axes, (1, 2)):
+        V, path, L = results[adj]
+        ax.imshow(occ, cmap="Greys", origin="upper", extent=[0.5, 7.5, 7.5, 0.5])
+        for (i, j), v in np.ndenumerate(V):
+            if np.isfinite(v):
+                ax.text(j + 1, i + 1, f"{v:.1f}", ha="center", va="center", fontsize=7)
+        ax.plot(path[:, 1] + 1, path[:, 0] + 1, "r-o", ms=4, label=f"path, length {L:.3f}")
+        ax.plot(start[1] + 1, start[0] + 1, "gs", ms=10, alpha=0.5, label="start (1, 1)")
+        ax.plot(goal[1] + 1, goal[0] + 1, "b^", ms=10, alpha=0.5, label="goal (7, 7)")
+        ax.set_xlabel("column j [cells]")
+        ax.set_ylabel("row i [cells]")
+        ax.set_title(f"{adj}-adjacency")
+        ax.legend(loc="lower left", fontsize=7)
+    _finish(sol, fig, "Fig. S12.7 — navigation function and path (values = cost-to-go, unit cells)")
+    return sol

@@ -1,0 +1,20 @@
+"""3-D views and animations of rmpc's robots on Pinocchio's ``MeshcatVisualizer``.
+
+Imported by notebooks, examples and the report — never by ``rigid_body``, ``planners`` or
+``controllers``.
+
+>>> from rigid_body.robots import load
+>>> robot = load("planar_2r")
+>>> scene = show(robot, [0.3, -0.6])          # inline in a notebook; scene.save("pose.html")
+>>> from planners.timing import quintic
+>>> traj = quintic([0.0, 0.0], [1.0, -1.0], 1.0, dt=0.01)
+>>> path = export_html(robot, traj, "/tmp/rmpc-doctest-2r.html")   # one offline HTML file
+"""
+
+from viewer.animation import animate, default_camera, export_html, motion_of, report_animations, show, up_rotation
+from viewer.geometry import geometry_of, skeleton_of
+from viewer.pendant import TeachPendant
+from viewer.scene import Scene, arrow_transform
+
+__all__ = ["Scene", "TeachPendant", "animate", "arrow_transform", "default_camera", "export_html", "geometry_of",
+           "motion_of", "report_animations", "show", "skeleton_of", "up_rotation"]

@@ -3,6 +3,8 @@
 * :class:`HybridForceMotionControl` — hybrid force/motion control on a compliant environment
   (Sect. 9.7.1): inverse dynamics with α = S_v α_ν + Ĉ' S_f f_λ (9.77), the PI velocity law (9.80) on
   ν = S_v† v_e and the PD force law (9.81)/(9.84) on λ = S_f† h_e.
+* :class:`AdmittanceControl` — the impedance realised through an inner position loop (admittance,
+  Fig. 9.7): the compliant frame from M_d z̈ + K_D ż + K_P z = h_e, tracked by inverse dynamics.
 * :class:`ForceWithInnerLoop` — force control with an inner position loop (Fig. 9.8; with a PI C_F
   and a motion reference, parallel force/position control, Sect. 9.4.3) or an inner velocity loop
   (Fig. 9.9).
@@ -509,4 +511,56 @@ class ForceWithInnerLoop(LoggedController):
         a = self.M_d_inv @ (w - self.K_D @ xd_e)
         u = task.torques(t, q, qd, J, a - Jdot_qd, f)
         self.record(x_e=x_e, x_d=x_d, x_F=x_F, f_e=f, f_d=f_d)
+        return u
+
+
+class AdmittanceControl(LoggedController):
+    """Impedance through an inner position loop — admittance control (Sect. 9.3, Fig. 9.7).
+
+    The compliant frame x_t = x_d − z obeys the desired impedance driven by the sensed force,
+    M_d z̈ + K_D z ż + K_P z = h_e (integrated at the controller's samples, semi-implicit Euler), and
+    a stiff inverse-dynamics position loop tracks it:
+    u = B y + n + Jᵀ h_e, y = J⁻¹(ẍ_t + K_Dp (ẋ_t − ẋ_e) + K_Pp (x_t − x_e) − J̇ q̇).
+    With a fast inner loop the end effector shows the impedance M_d, K_D, K_P (Eqs. 9.30–9.31)
+    while the motion loop rejects the arm's own disturbances (e.g. friction) with K_Pp, K_Dp.
+
+    Position task: the ``rows`` (0..2) of the frame's origin; ``reference`` x_d (constant or trajectory).
+    """
+
+    def __init__(self, robot: Robot, inertia: Any, K_D: Any, K_P: Any, K_Dp: Any, K_Pp: Any, reference: Any,
+                 rows: Sequence[int] = (0, 1, 2), frame: str | int | None = None, viscous_friction: Any = 0.0,
+                 null_space_damping: Any = 0.0):
+        self.task = task = _ContactTask(robot, rows, frame, viscous_friction, null_space_damping)
+        if np.any(task.rows > 2):
+            raise ValueError(f"`rows` must select position components 0..2, got {rows!r}")
+        m = task.m
+        self.M_d_inv = np.linalg.inv(as_gain(inertia, m, "inertia"))
+        self.K_D, self.K_P = as_gain(K_D, m, "K_D"), as_gain(K_P, m, "K_P")
+        self.K_Dp, self.K_Pp = as_gain(K_Dp, m, "K_Dp"), as_gain(K_Pp, m, "K_Pp")
+        self.reference = as_reference(reference, m)
+        self.reset()
+
+    def reset(self) -> None:
+        super().reset()
+        self._z, self._zd = np.zeros(self.task.m), np.zeros(self.task.m)
+        self._t_last: float | None = None
+
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        task = self.task
+        q, qd = meas.q, meas.qd
+        h = task.wrench(meas)
+        zdd = self.M_d_inv @ (h - self.K_D @ self._zd - self.K_P @ self._z)       # the admittance
+        if self._t_last is not None:
+            dt = t - self._t_last
+            self._zd = self._zd + dt * zdd
+            self._z = self._z + dt * self._zd
+            zdd = self.M_d_inv @ (h - self.K_D @ self._zd - self.K_P @ self._z)
+        self._t_last = t
+        x_d, xd_d, xdd_d = self.reference(t)
+        x_t, xd_t, xdd_t = x_d - self._z, xd_d - self._zd, xdd_d - zdd              # the compliant frame
+        J, Jdot_qd, T_e = task.state(q, qd)
+        x_e = T_e[task.rows, 3]
+        a = xdd_t + self.K_Dp @ (xd_t - J @ qd) + self.K_Pp @ (x_t - x_e)
+        u = task.torques(t, q, qd, J, a - Jdot_qd, h)
+        self.record(x_e=x_e, x_d=x_d, x_t=x_t, e=x_d - x_e, h_e=h)
         return u

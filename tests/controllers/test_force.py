@@ -109,3 +109,20 @@ def test_force_control_with_inner_velocity_loop_reaches_f_d_with_a_proportional_
     np.testing.assert_allclose(res["f_e"][-1], f_d, atol=0.05)
     with pytest.raises(ValueError, match="`inner`"):
         ForceWithInnerLoop(arm, 1.0, 1.0, 1.0, 1.0, [0.0, 0.0], [0.0, 0.0], inner="admittance", rows=(0, 1))
+
+
+def test_admittance_control_shows_the_impedance_of_9_3():
+    """Admittance (inner position loop, stiff) with the impedance of 9.3 held at p_i: the same rest
+    force −250 N as impedance control, k_y k_P/(k_P + k_y)(y_d − y_r), and no error along x_c."""
+    from controllers.force import AdmittanceControl
+
+    arm, plant = _arm_on_plane()
+    p_i = np.array([1.0 + 0.1 * np.sqrt(2.0), 0.0])
+    q0 = inverse_kinematics_planar_2r(p_i)[ELBOW_UP]
+    ctrl = AdmittanceControl(arm, 100.0, 1600.0, 5000.0, 2 * 50.0, 50.0**2, p_i, rows=(0, 1), viscous_friction=100.0)
+    res = simulate(plant, ctrl, (0.0, 1.5), plant.initial_state(q0), h=1e-3, Ts=1e-3)
+    f_c = res["h_e"][-1] @ R_C
+    np.testing.assert_allclose(f_c, [0.0, -250.0], atol=0.5)
+    np.testing.assert_allclose(res["e"][-1] @ R_C, [0.0, -0.05], atol=2e-4)
+    with pytest.raises(ValueError, match="`rows`"):
+        AdmittanceControl(arm, 1.0, 1.0, 1.0, 1.0, 1.0, [0.0, 0.0, 0.0, 0.0], rows=(0, 1, 3))

@@ -43,3 +43,13 @@ def as_positive(value: Any, name: str, allow_zero: bool = False) -> float:
         kind = "non-negative" if allow_zero else "positive"
         raise ValueError(f"`{name}` must be a finite {kind} number, got {v}")
     return v
+
+
+def as_square_matrix(x: Any, n: int, name: str) -> np.ndarray:
+    """A finite (n, n) matrix from a scalar (x I), a vector (diag x) or an (n, n) array; ValueError naming ``name``."""
+    m = np.asarray(x, dtype=float)
+    if m.ndim == 0:
+        return float(as_vector(m, 1, name)[0]) * np.eye(n)
+    if m.ndim == 1:
+        return np.diag(as_vector(m, n, name))
+    return as_matrix(m, (n, n), name)

@@ -23,7 +23,7 @@ from rigid_body.dh import DHLink, as_links, dh_chain
 from rigid_body.robots import Robot
 from rigid_body.rotations import (as_homogeneous, as_rotation, euler_rate_matrix_rpy, euler_rate_matrix_zyz, rot_z,
                                   rotation_to_euler_zyz, rotation_to_rpy, wrap_angle)
-from rigid_body.validation import as_count, as_scalar, as_vector
+from rigid_body.validation import as_count, as_scalar, as_tolerance, as_vector
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -477,7 +477,9 @@ def inverse_kinematics_anthropomorphic_wrist(T: np.ndarray, theta1: float = 0.0,
 
 
 def distinct_solutions(qs: np.ndarray, atol: float = 1e-9) -> np.ndarray:
-    """The distinct rows of a solution array (angles compared modulo 2π), in their first order."""
+    """The distinct rows of a solution array (angles compared modulo 2π, within ``atol`` in (0, 1e-3]), in their
+    first order."""
+    atol = as_tolerance(atol, "atol")
     qs = np.atleast_2d(np.asarray(qs, dtype=float))
     keep: list[np.ndarray] = []
     for q in qs:

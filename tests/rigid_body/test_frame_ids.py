@@ -18,7 +18,7 @@ from rigid_body import symbolic
 from rigid_body.camera import PinholeCamera, project_from_robot
 from rigid_body.manipulability import end_effector_jacobian
 from rigid_body.robots import load, model_frame_id, with_payload
-from rigid_body.task_space import frame_state, joint_rates
+from rigid_body.task_space import TaskSpace, frame_state, joint_rates, pose_error
 
 ARM = load("planar_2r")
 WRIST = load("anthropomorphic_wrist")
@@ -45,6 +45,7 @@ CALLS = {
     "Robot.frame": (ARM, lambda f: ARM.frame(f)),
     "model_frame_id": (ARM, lambda f: model_frame_id(ARM.model, f)),
     "frame_state": (ARM, lambda f: frame_state(ARM, Q, QD, frame=f).T),
+    "TaskSpace (pose_error)": (ARM, lambda f: pose_error(ARM, Q, np.eye(4), task=TaskSpace(f, "none")).e),
     "joint_rates": (ARM, lambda f: joint_rates(ARM, Q, [0.1, 0.0], [0.0, 0.0], rows=(0, 1), frame=f)[0]),
     "project_from_robot": (ARM, lambda f: project_from_robot(PinholeCamera(500.0, 500.0), ARM, Q,
                                                              [3.0, 0.5, 2.0], frame=f).p_c),

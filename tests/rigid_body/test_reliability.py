@@ -284,3 +284,17 @@ def test_messages_name_the_argument():
         kin.workspace_points(robot, 0, np.random.default_rng(0))
     with pytest.raises(ValueError, match="`n`"):
         kin.workspace_points(robot, 2.5, np.random.default_rng(0))
+
+
+@pytest.mark.parametrize("tol", [10.0, 0.0, -1e-9, np.nan])
+def test_rank_and_distinct_solution_tolerances_are_bounded(tol):
+    from rigid_body.manipulability import is_singular, jacobian_rank
+
+    J = np.array([[1.0, 0.0], [0.0, 1e-6]])
+    with pytest.raises(ValueError, match="`tol`"):
+        jacobian_rank(J, tol)  # tol = 10 called every Jacobian rank 0, a negative tol full rank
+    with pytest.raises(ValueError, match="`tol`"):
+        is_singular(J, tol)
+    with pytest.raises(ValueError, match="`atol`"):
+        kin.distinct_solutions(np.zeros((2, 2)), atol=tol)
+    assert jacobian_rank(J, 1e-9) == 2 and jacobian_rank(J, 1e-5) == 1  # σ = (1, 1e-6)

@@ -138,6 +138,17 @@ class Robot:
         # True when the model has mimic joints (the book's rotors): ABA is then unavailable.
         self.has_mimic = len(getattr(self.model, "mimicking_joints", ())) > 0
 
+    def __getstate__(self) -> dict:  # copy.deepcopy: the calling thread's data, not the thread-local store
+        state = {k: v for k, v in self.__dict__.items() if k != "_local"}
+        state["data"] = self.data
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        state = dict(state)
+        data = state.pop("data")
+        self.__dict__.update(state)
+        self.data = data
+
     def frame_id(self, name: str) -> int:
         """Id of the frame ``name``; ValueError with the nearest frame names when it does not exist."""
         return model_frame_id(self.model, name)

@@ -298,3 +298,13 @@ def test_rank_and_distinct_solution_tolerances_are_bounded(tol):
     with pytest.raises(ValueError, match="`atol`"):
         kin.distinct_solutions(np.zeros((2, 2)), atol=tol)
     assert jacobian_rank(J, 1e-9) == 2 and jacobian_rank(J, 1e-5) == 1  # σ = (1, 1e-6)
+
+
+def test_a_deep_copy_has_its_own_model_and_data():
+    import copy
+
+    robot = load("planar_2r")
+    twin = copy.deepcopy(robot)
+    assert twin.model is not robot.model and twin.data is not robot.data
+    q = np.array([0.4, -0.2])
+    np.testing.assert_allclose(kin.direct_kinematics(twin, q), dh_chain(planar_2r().links, q)[-1], atol=1e-12)

@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 from planners.cells import channel_path, gvd_nodes, trapezoidal_decomposition
-from planners.cspace_planar import Disc, Polygon, box
+from planners.configuration_space import Disc, Polygon, box
 from planners.potentials import (AttractivePotential, PotentialField, RepulsivePotential, gradient_descent,
                                  wavefront)
 from planners.sampling import MotionPrimitive, prm, rrt, rrt_connect, unicycle_rrt

@@ -23,7 +23,7 @@ from typing import Any, Sequence
 import numpy as np
 from scipy.optimize import root
 
-from planners.cspace_planar import Disc, Shape, ray_shape_distance
+from planners.configuration_space import Disc, Shape, project_on_segments, ray_shape_distance
 from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
@@ -107,9 +107,7 @@ def closest_point(shape: Shape, p: Any) -> np.ndarray:
         n = np.linalg.norm(d, axis=-1, keepdims=True)
         return shape.center + shape.radius * d / np.where(n > 0, n, 1.0)
     a, b = shape.edges
-    e = b - a
-    s = np.clip(np.einsum("...kj,kj->...k", p[..., None, :] - a, e) / np.einsum("kj,kj->k", e, e), 0.0, 1.0)
-    c = a + s[..., None] * e                                               # (..., k, 2)
+    c = project_on_segments(p[..., None, :], a, b)[1]                     # (..., k, 2)
     k = np.argmin(np.linalg.norm(p[..., None, :] - c, axis=-1), axis=-1)
     return np.take_along_axis(c, k[..., None, None], axis=-2)[..., 0, :]
 
@@ -271,10 +269,7 @@ def reactive_repulsive_force(position: Any, segments: Sequence[np.ndarray], k_r:
     f = np.zeros(2)
     for seg in segments:
         a, b = (seg[:-1], seg[1:]) if len(seg) > 1 else (seg, seg)
-        e = b - a
-        ee = np.einsum("ij,ij->i", e, e)
-        s = np.clip(np.einsum("ij,ij->i", p - a, e) / np.where(ee > 0, ee, 1.0), 0.0, 1.0)
-        c = a + s[:, None] * e
+        c = project_on_segments(p, a, b)[1]
         d = np.linalg.norm(p - c, axis=1)
         k = int(np.argmin(d))
         eta = d[k] - robot_radius

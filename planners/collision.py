@@ -28,6 +28,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
+from rigid_body.robots import example_robot_data_dir
 from rigid_body.validation import as_positive, as_vector
 
 __all__ = ["Box", "CollisionChecker", "UrdfCSpace", "example_robot_srdf", "bisection_order"]
@@ -56,10 +57,7 @@ class Box:
 
 def example_robot_srdf(robot_name: str) -> Path | None:
     """The SRDF example-robot-data ships for ``robot_name`` (e.g. ``panda``), or None."""
-    import example_robot_data
-
-    root = Path(example_robot_data.getModelPath(f"{robot_name}_description/srdf/{robot_name}.srdf", False))
-    path = root / f"{robot_name}_description" / "srdf" / f"{robot_name}.srdf"
+    path = example_robot_data_dir() / f"{robot_name}_description" / "srdf" / f"{robot_name}.srdf"
     return path if path.is_file() else None
 
 
@@ -125,10 +123,10 @@ class CollisionChecker:
             geom.addAllCollisionPairs()
             if srdf is not None:
                 pin.removeCollisionPairs(self.model, geom, str(srdf))
-            for pair in list(geom.collisionPairs):
-                i, j = pair.first, pair.second
+            pairs = [(p.first, p.second) for p in geom.collisionPairs]   # copies: removal shifts the vector
+            for i, j in pairs:
                 if i >= n_robot or j >= n_robot or self._adjacent(parents[i], parents[j]):
-                    geom.removeCollisionPair(pair)
+                    geom.removeCollisionPair(pin.CollisionPair(i, j))
         else:
             geom.removeAllCollisionPairs()
         self.n_self_pairs = len(geom.collisionPairs)

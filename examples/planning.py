@@ -32,9 +32,9 @@ from rigid_body.robots import Robot, load
 from rigid_body.validation import as_positive
 
 __all__ = ["Scenario", "TimedMotion", "panda_shelf", "anthropomorphic_pillar", "plan", "time_path",
-           "recheck", "plan_and_time", "box_overlays", "end_effector_path", "planning_demo"]
+           "recheck", "recheck_path", "plan_and_time", "box_overlays", "end_effector_path", "planning_demo"]
 
-RESOLUTION = 0.05        # local-path check step of the planners [rad, max-norm]
+RESOLUTION = 0.05        # local-path check step of the planners [rad, Euclidean]
 RECHECK_STEP = 0.005     # fine grid of the independent re-check [rad, max-norm]
 
 
@@ -123,10 +123,30 @@ def recheck(checker: CollisionChecker, law: Callable[[Any], tuple], step: float 
     Q = np.reshape(law(fine)[0], (fine.size, -1))
     if np.abs(np.diff(Q, axis=0)).max() > step:
         raise RuntimeError("re-check grid coarser than `step` (refine the sampling)")
-    for tk, qk in zip(fine, Q):
-        if checker.in_collision_pairwise(qk):
-            return False, len(Q), float(tk)
-    return True, len(Q), float("nan")
+    k = _first_contact(checker, Q)
+    return k is None, len(Q), float("nan") if k is None else float(fine[k])
+
+
+def _first_contact(checker: CollisionChecker, Q: np.ndarray) -> int | None:
+    """Index of the first row of Q in contact by the pairwise narrow phase, or None."""
+    for k, q in enumerate(Q):
+        if checker.in_collision_pairwise(q):
+            return k
+    return None
+
+
+def recheck_path(checker: CollisionChecker, path: Any, step: float = RECHECK_STEP) -> tuple[bool, int]:
+    """Independent re-check of a planned polyline in C: each straight segment sampled so that no joint
+    moves more than ``step`` rad, every sample tested with the pairwise narrow phase.
+    Returns (collision-free, samples checked)."""
+    as_positive(step, "step")
+    P = np.asarray(path, dtype=float)
+    pieces = [P[:1]]
+    for a, b in zip(P[:-1], P[1:]):
+        n = max(int(np.ceil(np.abs(b - a).max() / step)), 1)
+        pieces.append(a + np.linspace(0.0, 1.0, n + 1)[1:, None] * (b - a))
+    Q = np.vstack(pieces)
+    return _first_contact(checker, Q) is None, len(Q)
 
 
 @dataclass

@@ -11,8 +11,8 @@ a Pinocchio ``GeometryModel``) and boxes added as ``coal.Box`` geometry objects 
   in front of the exact narrow phase, and the pairwise check (every active pair) kept as the reference.
 * :class:`UrdfCSpace` — the planners' space protocol (:class:`planners.sampling.PlanningSpace`) on the
   joint box [q_min, q_max]: a uniform sampler, the Euclidean distance, straight interpolation and
-  validity; local paths are checked every ``resolution`` rad (max-norm), bisection order, stopping at
-  the first collision.
+  validity; local paths are checked every ``resolution`` rad, in bisection order, stopping at the
+  first collision.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Sect. 12.2
 (C-obstacles of an articulated robot), Sect. 12.5 (sampling-based planning and its collision checker).
@@ -188,7 +188,7 @@ class UrdfCSpace:
     """The configuration space of a URDF robot among boxes, as the sampling planners see it.
 
     ``lower``/``upper`` default to the robot's joint limits; ``resolution`` [rad] is the largest
-    max-norm step between two checked configurations of a straight local path. Implements
+    (Euclidean) step between two checked configurations of a straight local path. Implements
     :class:`planners.sampling.PlanningSpace` and its optional ``all_valid`` (stops at the first
     collision, in :func:`bisection_order`).
     """
@@ -243,10 +243,11 @@ class UrdfCSpace:
         return all(self.is_valid(Q[k]) for k in bisection_order(len(Q)))
 
     def local_path(self, a: Any, b: Any, resolution: float | None = None) -> np.ndarray:
-        """Configurations of the segment a → b, end points included, at most ``resolution`` apart (max-norm)."""
+        """Configurations of the segment a → b, end points included: ⌈‖b − a‖ / resolution⌉ equal steps
+        (as OMPL's discrete motion validator does with the same resolution)."""
         a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
         h = self.resolution if resolution is None else as_positive(resolution, "resolution")
-        n = max(int(np.ceil(np.max(np.abs(b - a)) / h)), 1)
+        n = max(int(np.ceil(float(self.distance(a, b)) / h)), 1)
         return self.interpolate(a, b, np.linspace(0.0, 1.0, n + 1))
 
     def segment_is_free(self, a: Any, b: Any) -> bool:

@@ -27,7 +27,7 @@ from planners.configuration_space import Disc, Shape, project_on_segments, ray_s
 from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
-    "attractive_paraboloid", "attractive_cone", "AttractivePotential", "RepulsivePotential",
+    "attractive_paraboloid", "attractive_cone", "AttractivePotential", "repulsive_magnitude", "RepulsivePotential",
     "PotentialField", "DescentResult", "gradient_descent", "stationary_point",
     "closest_point", "range_scan", "scan_segments", "reactive_repulsive_force",
     "arm_joint_forces", "wavefront", "steepest_descent_path", "grid_path_length",
@@ -112,6 +112,18 @@ def closest_point(shape: Shape, p: Any) -> np.ndarray:
     return np.take_along_axis(c, k[..., None, None], axis=-2)[..., 0, :]
 
 
+def repulsive_magnitude(eta: Any, k_r: float, eta0: float, gamma: float = 2.0) -> np.ndarray:
+    """‖f_r‖ = (k_r/η²)(1/η − 1/η₀)^{γ−1} for 0 < η ≤ η₀, 0 beyond η₀, NaN in contact (η ≤ 0), Eq. (12.15).
+
+    >>> float(repulsive_magnitude(0.5, k_r=1.0, eta0=1.0))
+    4.0
+    """
+    eta = np.asarray(eta, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mag = k_r / eta ** 2 * (1.0 / eta - 1.0 / eta0) ** (gamma - 1.0)                 # (12.15)
+    return np.where(eta <= 0, np.nan, np.where(eta <= eta0, mag, 0.0))
+
+
 @dataclass(frozen=True)
 class RepulsivePotential:
     """Repulsive potential of one convex obstacle, Sect. 12.6.2.
@@ -150,10 +162,7 @@ class RepulsivePotential:
 
     def force(self, q: Any) -> np.ndarray:
         eta, grad = self.eta(q)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            mag = self.k_r / eta ** 2 * (1.0 / eta - 1.0 / self.eta0) ** (self.gamma - 1.0)   # (12.15)
-        mag = np.where(eta <= 0, np.nan, np.where(eta <= self.eta0, mag, 0.0))
-        return mag[..., None] * grad
+        return repulsive_magnitude(eta, self.k_r, self.eta0, self.gamma)[..., None] * grad
 
 
 @dataclass(frozen=True)
@@ -275,8 +284,7 @@ def reactive_repulsive_force(position: Any, segments: Sequence[np.ndarray], k_r:
         eta = d[k] - robot_radius
         if eta <= 0:
             raise ValueError(f"the robot at {p} touches a perceived obstacle (η = {eta:.3g})")
-        if eta <= eta0:
-            f += k_r / eta ** 2 * (1 / eta - 1 / eta0) ** (gamma - 1) * (p - c[k]) / d[k]
+        f += float(repulsive_magnitude(eta, k_r, eta0, gamma)) * (p - c[k]) / d[k]
     return f
 
 

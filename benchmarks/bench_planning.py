@@ -164,6 +164,7 @@ def panda_vs_ompl(n_queries: int = N_QUERIES, step: float = 0.5) -> None:
           f"local paths every {space.resolution} rad")
     print(f"  {'planner':18s} {'success':>8s} {'re-check':>9s} {'median t':>10s} {'median CPU':>11s} "
           f"{'calls/plan':>11s} {'median length':>14s}")
+    failures = []
     for name, plan in planners.items():
         ok, free, times, cpus, calls, lengths = 0, 0, [], [], [], []
         for k, (qs, qg) in enumerate(queries):
@@ -178,9 +179,15 @@ def panda_vs_ompl(n_queries: int = N_QUERIES, step: float = 0.5) -> None:
             ok += 1
             lengths.append(path_length(space, path))
             ends = np.allclose(path[0], qs) and np.allclose(path[-1], qg)
-            free += ends and recheck_path(checker, path)[0]
+            clear = recheck_path(checker, path)[0]
+            free += ends and clear
+            if not (ends and clear):
+                failures.append(f"{name}, query {k}: " + ("wrong end points" if not ends else
+                                "a contact between states its checker accepted (re-check grid 5 mrad)"))
         print(f"  {name:18s} {ok:4d}/{len(queries):<3d} {free:5d}/{ok:<3d} {np.median(times) * 1e3:8.1f} ms "
               f"{np.median(cpus) * 1e3:8.1f} ms {np.median(calls):11.0f} {np.median(lengths):14.2f}")
+    for f in failures:
+        print(f"  re-check failed: {f}")
 
 
 def _ours(space, qs, qg, seed, step):

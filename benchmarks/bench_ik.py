@@ -4,22 +4,28 @@ Times one CLIK step (pose error + Jacobian + pseudo-inverse law, Sect. 3.7), one
 solve of a random reachable pose (restarts included), and one proxsuite QP velocity-IK step, each
 with its ratio to one ``pin.computeFrameJacobian`` call measured in the same run.
 
-Run: ``python benchmarks/bench_ik.py``.
+Then the success rates of every solver (reported successes verified independently) on the seeded
+reachable targets of ``tests/planners/ik_harness.py``: poses of random configurations within the
+limits, each solver started from another random configuration within the limits.
+
+Run: ``python benchmarks/bench_ik.py [N_TARGETS]`` (default 500) from the repository root.
 """
 
 from __future__ import annotations
 
+import sys
 import time
 
 import numpy as np
 import pinocchio as pin
 
-from planners.inverse_kinematics import CLIK, CasadiIK, QPVelocityIK, constant_pose
+from planners.inverse_kinematics import CLIK, CasadiIK, QPVelocityIK, constant_pose, solve_clik
 from rigid_body.kinematics import direct_kinematics
 from rigid_body.robots import load
 from rigid_body.task_space import TaskSpace
 
 from benchtools import per_call
+from tests.planners.ik_harness import reachable_targets, run_solver
 
 
 def main() -> None:
@@ -53,5 +59,21 @@ def main() -> None:
         print(f"{name:42s} {t * 1e6:10.1f} us {t / t_jac:10.1f}x")
 
 
+def success_rates(n: int = 500, seed: int = 1) -> None:
+    """Every solver on the same ``n`` reachable Panda targets; false successes must be 0."""
+    robot = load("panda")
+    targets = reachable_targets(robot, n, seed)
+    casadi, qp = CasadiIK(robot), QPVelocityIK(robot)
+    solvers = {
+        "solve_clik": lambda r, T, q0: solve_clik(r, T, q0),
+        "QPVelocityIK": lambda r, T, q0: qp.solve(T, q0),
+        "CasadiIK": lambda r, T, q0: casadi.solve(T, q0, rng=np.random.default_rng(0)),
+    }
+    print(f"\nsuccess rates, {n} reachable Panda targets from random starts within the limits (tol 1e-6)")
+    for name, solver in solvers.items():
+        print(run_solver(robot, solver, targets, 1e-6, name), flush=True)
+
+
 if __name__ == "__main__":
     main()
+    success_rates(int(sys.argv[1]) if len(sys.argv) > 1 else 500)

@@ -1,13 +1,19 @@
 """Every plant of rmpc's closed loops, following the contract of :mod:`controllers.simulation`.
 
 * :class:`ArmPlant` — the torque-driven arm of Fig. 8.4: x = [q (nq), v (nv)], ẋ = [v, v̇] (2 nv),
-  B(q) v̇ + C v + F_v v + g = τ − Jᵀ h_e (Eq. 7.42; nq ≠ nv moves q by ``pin.integrate``).
+  B(q) v̇ + C v + F_v v + F_s sgn(v) + g = τ − Jᵀ h_e (Eq. 7.42; nq ≠ nv moves q by ``pin.integrate``).
 * :class:`VoltageControlledArm` — the arm driven through DC servomotors by voltages (Fig. 8.3).
 * :class:`ArmInContact` — an arm whose end effector touches an environment of
   :mod:`controllers.environment`; its measurement carries the sensed wrench h_e.
 * :class:`JointDrivePlant` — one joint's electric drive M(s) of independent joint control (Sect. 8.3).
 * :class:`ServomotorPlant` — the servomotor of Fig. 5.2 (armature current, rotor, amplifier, PI).
 * :class:`JointIntegrator` — the kinematic plant q̇ = u of closed-loop inverse kinematics (Sect. 3.7).
+* Wheeled mobile robots (Chapter 11), kinematic: :class:`UnicyclePlant` (11.13) — with optional
+  wheel-speed saturation (Problem 11.9) and wheel encoders (odometry, Sect. 11.7) —,
+  :class:`BicyclePlant` (11.19)/(11.20), :class:`ChainedFormPlant` (11.25), :class:`DriftlessPlant`
+  (q̇ = G(q) u, 11.10) and :class:`MobileManipulatorPlant` (a unicycle base carrying an arm, one
+  Pinocchio model with a planar root joint). Their measurements are :class:`Posture`,
+  :class:`OdometerPosture`, :class:`BicycleState` and :class:`MobileManipulatorState`.
 
 Arm plants return an :class:`ArmMeasurement` from ``measure`` and build their state with
 ``initial_state(q0, qd0)``.
@@ -18,7 +24,8 @@ B(q) q̈ + C q̇ + F_v q̇ + g = K_r k_t R_a⁻¹ G_v v_c − K_r k_t R_a⁻¹ k
 K_r k_t R_a⁻¹ k_v K_r adds to the mechanical friction F_v, Eq. (8.6)/(8.7).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
-Sects. 3.7, 5.1, 7.2, 8.2, 8.3, 9.1; Eqs. (5.1)–(5.4), (7.42), (8.3)–(8.7), Figs. 5.2, 8.3, 8.4.
+Sects. 3.7, 5.1, 7.2, 8.2, 8.3, 9.1, 11.2–11.7; Eqs. (5.1)–(5.4), (7.42), (8.3)–(8.7), (11.10)–(11.25),
+Figs. 5.2, 8.3, 8.4.
 """
 
 from __future__ import annotations
@@ -32,8 +39,11 @@ import pinocchio as pin
 from controllers.independent_joint import JointDrive
 from controllers.simulation import as_friction, per_joint
 from rigid_body.actuators import DCServomotor, PIRegulator
-from rigid_body.robots import Robot
+from rigid_body.robots import JointFriction, Robot
+from rigid_body.rotations import wrap_angle
 from rigid_body.validation import as_positive, as_vector
+from rigid_body.wheeled import (chained_form_velocity, mobile_manipulator_input_matrix, saturate_wheel_speeds,
+                                unicycle_velocity)
 
 
 @dataclass(frozen=True, slots=True)
@@ -58,7 +68,7 @@ def frame_jacobian_and_pose(robot: Robot, q: np.ndarray, fid: int) -> tuple[np.n
 
 
 class ArmPlant:
-    """A rigid arm driven by joint torques: x = [q, v], ẋ = [v, B⁻¹(τ − C v − g − F_v v − τ_ext)].
+    """A rigid arm driven by joint torques: x = [q, v], ẋ = [v, B⁻¹(τ − C v − g − τ_f − τ_ext)].
 
     ``τ_ext = Jᵀ h_e`` is the joint torque of the external wrench (Eq. 7.42). With nq ≠ nv (continuous
     joints, a floating base) x has nq + nv entries, ẋ has 2 nv, ``integrate`` uses ``pin.integrate`` and
@@ -70,6 +80,13 @@ class ArmPlant:
     viscous_friction : F_v, scalar or (nv,) [N·m·s/rad].
     tau_max : optional actuator limits (nv,) — the commanded torque is saturated.
     external_force : optional ``(t, q, v) -> τ_ext`` (joint torques of external forces), subtracted.
+    coulomb_friction : F_s, scalar or (nv,) [N·m]: τ_f = F_v v + F_s sgn(v)
+        (:func:`rigid_body.dynamics.friction_torques`).
+    friction : a :class:`~rigid_body.robots.JointFriction` instead of the two arguments above, e.g.
+        ``robot.friction`` (the robot's published friction: DH table or URDF ``<dynamics>``).
+        By default the plant is frictionless apart from ``viscous_friction``/``coulomb_friction``.
+    friction_smoothing : ε [rad/s]: sgn(v) becomes tanh(v/ε) (0: the exact sign; a fixed RK4 step then
+        chatters around v = 0 once friction holds the arm).
     """
 
     units = ARM_UNITS
@@ -77,14 +94,31 @@ class ArmPlant:
     dexp_inverse: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None
 
     def __init__(self, robot: Robot, viscous_friction: Any = 0.0, tau_max: Any = None,
-                 external_force: Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None = None):
+                 external_force: Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None = None,
+                 coulomb_friction: Any = 0.0, friction: JointFriction | None = None,
+                 friction_smoothing: float = 0.0):
         self.robot = robot
         self.n = robot.nv
         self.nq = robot.nq
         self.state_size = robot.nq + robot.nv
         self.tangent_size = 2 * robot.nv
+        self.input_size = robot.nv
         self.state_layout = {"q": slice(0, self.nq), "qd": slice(self.nq, self.state_size)}
         self.Fv = as_friction(viscous_friction, self.n)
+        Fs = per_joint(coulomb_friction, self.n, "coulomb_friction")
+        if np.any(Fs < 0):
+            raise ValueError(f"`coulomb_friction` must be non-negative, got {Fs}")
+        if friction is not None:
+            if np.any(self.Fv) or np.any(Fs):
+                raise ValueError("give `friction` or `viscous_friction`/`coulomb_friction`, not both")
+            if not all(np.shape(v) == (self.n,) for v in (friction.viscous, friction.coulomb_positive,
+                                                         friction.coulomb_negative)):
+                raise ValueError(f"`friction` must hold ({self.n},) vectors for this robot")
+            self.Fv = np.asarray(friction.viscous, dtype=float)
+        self.friction = JointFriction(self.Fv, Fs, Fs) if friction is None else friction
+        self.friction_smoothing = as_positive(friction_smoothing, "friction_smoothing", allow_zero=True)
+        # Viscous only (the book's problems): the cheap F_v v; else friction_torques.
+        self._coulomb = bool(np.any(self.friction.coulomb_positive) or np.any(self.friction.coulomb_negative))
         self.tau_max = None if tau_max is None else as_vector(tau_max, self.n, "tau_max")
         if self.tau_max is not None and np.any(self.tau_max <= 0):
             raise ValueError(f"`tau_max` must be positive torque limits, got {self.tau_max}")
@@ -92,9 +126,10 @@ class ArmPlant:
         if self.nq != self.n:
             self.integrate = self._integrate_configuration
             self.dexp_inverse = self._dexp_inverse
-        from rigid_body.dynamics import forward_dynamics
+        from rigid_body.dynamics import forward_dynamics, friction_torques
 
         self._forward_dynamics = forward_dynamics  # called with check=False: inputs validated here
+        self._friction_torques = friction_torques
 
     def initial_state(self, q0: Any, qd0: Any = None) -> np.ndarray:
         """x0 = [q0, q̇0] (q̇0 = 0 by default)."""
@@ -127,7 +162,11 @@ class ArmPlant:
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
         q, qd = x[:nq], x[nq:]
-        tau = self.torque(u) - self.Fv * qd
+        if self._coulomb:
+            tau = self.torque(u) - self._friction_torques(self.robot, qd, self.friction_smoothing, self.friction,
+                                                          check=False)
+        else:
+            tau = self.torque(u) - self.Fv * qd
         if self.external_force is not None:
             tau = tau - self.external_force(t, q, qd)
         xd = np.empty(2 * n)
@@ -169,6 +208,7 @@ class VoltageControlledArm:
         self.arm = ArmPlant(robot, viscous_friction=viscous_friction, tau_max=tau_max)
         a = self.arm
         self.state_size, self.tangent_size, self.state_layout = a.state_size, a.tangent_size, a.state_layout
+        self.input_size = n
         self.integrate, self.measure, self.initial_state = a.integrate, a.measure, a.initial_state
         self.units = {**ARM_UNITS, "u": "V"}
 
@@ -205,6 +245,7 @@ class ArmInContact:
         self.arm = ArmPlant(robot, viscous_friction=viscous_friction, external_force=self.contact_torques)
         a = self.arm
         self.state_size, self.tangent_size, self.state_layout = a.state_size, a.tangent_size, a.state_layout
+        self.input_size = a.input_size
         self.integrate, self.initial_state = a.integrate, a.initial_state
         self.units = {**ARM_UNITS, "wrench": "N, N·m"}
 
@@ -234,6 +275,7 @@ class JointDrivePlant:
     """
 
     state_size = 2
+    input_size = (1, 2)
     state_layout = {"q": slice(0, 1), "qd": slice(1, 2)}
     units = {"q": "rad", "qd": "rad/s", "u": "V", "e": "rad"}
 
@@ -258,6 +300,7 @@ class ServomotorPlant:
     """
 
     state_size = 5
+    input_size = (1, 2)
     state_layout = {"i_a": 0, "omega": 1, "theta": 2, "v_a": 3, "q": slice(2, 3), "qd": slice(1, 2)}
     units = {"i_a": "A", "omega": "rad/s", "theta": "rad", "v_a": "V", "q": "rad", "qd": "rad/s"}
 
@@ -297,10 +340,196 @@ class ServomotorPlant:
 
 
 class JointIntegrator:
-    """The plant q̇ = u of a kinematic IK loop (x = q); RK4 with u held is Euler's step (3.48)."""
+    """The plant q̇ = u of a kinematic IK loop (x = q); RK4 with u held is Euler's step (3.48).
 
+    Its ``bound`` (500 rad, about 80 turns) stops an unstable loop early — e.g. CLIK with K·Ts > 2,
+    where the error grows by |1 − K Ts| every step — instead of returning a meaningless q ~ 1e5 rad.
+    ``n`` (optional) fixes the number of joints: the loop then checks ``x0`` and the controller's output.
+    """
+
+    bound = 500.0
     state_layout = {"q": slice(None)}
     units = {"q": "rad", "u": "rad/s"}
 
+    def __init__(self, n: int | None = None):
+        if n is not None:
+            if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+                raise ValueError(f"`n` must be a positive number of joints, got {n!r}")
+            self.state_size = self.tangent_size = self.input_size = int(n)
+
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return u
+
+
+# --------------------------------------------------------------------------------------------
+# Wheeled mobile robots (Chapter 11): kinematic plants
+# --------------------------------------------------------------------------------------------
+
+POSTURE_UNITS = {"x": "m", "y": "m", "theta": "rad", "p": "m", "u": "m/s, rad/s"}
+
+
+@dataclass(frozen=True, slots=True)
+class Posture:
+    """What a unicycle's sensors give: x, y [m], θ [rad]; ``p`` = (x, y)."""
+
+    x: float
+    y: float
+    theta: float
+
+    @property
+    def p(self) -> np.ndarray:
+        return np.array([self.x, self.y])
+
+
+@dataclass(frozen=True, slots=True)
+class OdometerPosture(Posture):
+    """A posture with the wheel encoders' readings: ``distance`` s = ∫v dt [m] and ``rotation``
+    ψ = ∫ω dt [rad] (not wrapped). Over a sampling interval their increments are the book's
+    v_k T_s = Δs and ω_k T_s = Δθ of odometric localisation (Sect. 11.7)."""
+
+    distance: float
+    rotation: float
+
+
+@dataclass(frozen=True, slots=True)
+class BicycleState(Posture):
+    """Measured bicycle state: the rear contact point's posture (x, y, θ) and the steering angle φ [rad]."""
+
+    phi: float
+
+
+class UnicyclePlant:
+    """The unicycle (11.13), x = (x, y, θ), u = (v, ω); θ stays wrapped into (−π, π].
+
+    ``wheel_limits = (r, d, ω_RL)`` makes it a differential drive whose wheel speeds saturate at ±ω_RL: the
+    applied (v, ω) are scaled into the admissible rhombus of Problem 11.9 keeping the curvature.
+    ``odometer=True`` adds the wheel encoders: x = (x, y, θ, s, ψ) with ṡ = v, ψ̇ = ω (applied), and the
+    measurement is an :class:`OdometerPosture`.
+    """
+
+    def __init__(self, wheel_limits: tuple[float, float, float] | None = None, odometer: bool = False):
+        if wheel_limits is not None:
+            r, d, w = wheel_limits
+            wheel_limits = (as_positive(r, "r"), as_positive(d, "d"), as_positive(w, "omega_RL"))
+        self.wheel_limits = wheel_limits
+        self.odometer = bool(odometer)
+        self.state_size = 5 if self.odometer else 3
+        self.state_layout = {"x": 0, "y": 1, "theta": 2, "p": slice(0, 2)}
+        self.units = dict(POSTURE_UNITS)
+        if self.odometer:
+            self.state_layout |= {"distance": 3, "rotation": 4}
+            self.units |= {"distance": "m", "rotation": "rad"}
+
+    def applied(self, u: np.ndarray) -> np.ndarray:
+        """The (v, ω) actually applied (saturated when the plant has wheel limits)."""
+        if self.wheel_limits is None:
+            return u
+        return np.array(saturate_wheel_speeds(u[0], u[1], *self.wheel_limits))
+
+    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        u = self.applied(u) if self.wheel_limits else u
+        qd = unicycle_velocity(x, u)
+        return np.concatenate([qd, u[:2]]) if self.odometer else qd
+
+    def integrate(self, x: np.ndarray, dx: np.ndarray, h: float) -> np.ndarray:
+        """x ⊕ h dx on R² × SO(2) (× R² for the encoders): θ wrapped into (−π, π]."""
+        y = x + h * dx
+        y[2] = wrap_angle(y[2])
+        return y
+
+    def measure(self, t: float, x: np.ndarray) -> Posture:
+        if self.odometer:
+            return OdometerPosture(float(x[0]), float(x[1]), float(x[2]), float(x[3]), float(x[4]))
+        return Posture(float(x[0]), float(x[1]), float(x[2]))
+
+
+class BicyclePlant:
+    """The bicycle, rear-wheel (11.19) or front-wheel (11.20) drive: x = (x, y, θ, φ), u = (v, ω = φ̇)."""
+
+    state_size = 4
+    state_layout = {"x": 0, "y": 1, "theta": 2, "phi": 3, "p": slice(0, 2)}
+    units = {**POSTURE_UNITS, "phi": "rad"}
+
+    def __init__(self, ell: float, drive: str = "rear"):
+        self.ell = as_positive(ell, "ell")
+        if drive not in ("rear", "front"):
+            raise ValueError(f"`drive` must be 'rear' or 'front', got {drive!r}")
+        self.drive = drive
+
+    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        th, phi, v = x[2], x[3], u[0]
+        if self.drive == "rear":
+            return np.array([v * np.cos(th), v * np.sin(th), v * np.tan(phi) / self.ell, u[1]])
+        c = np.cos(phi)
+        return np.array([v * np.cos(th) * c, v * np.sin(th) * c, v * np.sin(phi) / self.ell, u[1]])
+
+    def measure(self, t: float, x: np.ndarray) -> BicycleState:
+        return BicycleState(float(x[0]), float(x[1]), float(x[2]), float(x[3]))
+
+
+class ChainedFormPlant:
+    """The (2, n) chained form (11.25), x = z, u = (v1, v2); the measurement is z itself."""
+
+    state_layout = {"z": slice(None)}
+
+    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return chained_form_velocity(x, u)
+
+
+class DriftlessPlant:
+    """q̇ = G(q) u for any kinematic model (11.10): ``input_matrix(q) -> G`` (n, m)."""
+
+    state_layout = {"q": slice(None)}
+
+    def __init__(self, input_matrix: Callable[[np.ndarray], np.ndarray]):
+        self.input_matrix = input_matrix
+
+    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return self.input_matrix(x) @ u
+
+
+@dataclass(frozen=True, slots=True)
+class MobileManipulatorState:
+    """What a mobile manipulator's sensors give: the configuration ``q`` (nq,) of the whole model
+    (base x, y, cos θ, sin θ, then the arm's joints) and the base ``posture`` (x, y, θ)."""
+
+    q: np.ndarray
+    posture: Posture
+
+
+class MobileManipulatorPlant:
+    """A unicycle base carrying an arm, kinematic: x = q (nq = nv + 1), ẋ = v = Γ u (nv), u = (v, ω, q̇_arm).
+
+    ``robot`` is one Pinocchio model with a planar root joint (:func:`rigid_body.wheeled.mobile_manipulator`).
+    Γ = [G 0; 0 I] (:func:`rigid_body.wheeled.mobile_manipulator_input_matrix`) maps the unicycle's (v, ω)
+    to the base's body velocity (v, 0, ω) — never sideways, the no-slip constraint (11.12) — and the arm's
+    inputs to its joint velocities. The configuration moves by ``pin.integrate`` (cos θ, sin θ stay a unit
+    pair). ``input_limits`` (m,) saturates |u|.
+    """
+
+    units = {"q": "m, rad", "u": "m/s, rad/s"}
+
+    def __init__(self, robot: Robot, input_limits: Any = None):
+        self.robot, self.model = robot, robot.model
+        self.state_size, self.tangent_size = robot.nq, robot.nv
+        self.input_matrix = mobile_manipulator_input_matrix(robot)
+        self.n_inputs = self.input_matrix.shape[1]
+        self.state_layout = {"q": slice(None), "p": slice(0, 2)}
+        self.input_limits = None if input_limits is None else as_vector(input_limits, self.n_inputs, "input_limits")
+
+    def initial_state(self, base: Any, q_arm: Any) -> np.ndarray:
+        """x0 from the base posture (x, y, θ) and the arm's joint angles."""
+        x, y, th = as_vector(base, 3, "base")
+        return np.concatenate([[x, y, np.cos(th), np.sin(th)],
+                               as_vector(q_arm, self.robot.nq - 4, "q_arm")])
+
+    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        if self.input_limits is not None:
+            u = np.clip(u, -self.input_limits, self.input_limits)
+        return self.input_matrix @ u
+
+    def integrate(self, x: np.ndarray, dx: np.ndarray, h: float) -> np.ndarray:
+        return pin.integrate(self.model, x, h * dx)
+
+    def measure(self, t: float, x: np.ndarray) -> MobileManipulatorState:
+        return MobileManipulatorState(x, Posture(float(x[0]), float(x[1]), float(np.arctan2(x[3], x[2]))))

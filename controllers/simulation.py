@@ -27,6 +27,10 @@ The plant contract (duck-typed; only ``derivative`` is required)
     shape of the first derivative once and names the plant's derivative when it is wrong.
 ``state_size``
     The length ``x0`` must have (checked once, the error names ``x0``).
+``input_size``
+    The length of ``u`` (an int, or a tuple of the accepted lengths): the controller's first output
+    is checked against it once, so a scalar voltage for a two-joint arm is an error rather than
+    broadcast to both joints.
 ``measure(t, x) -> measurement``
     What the controller receives (default ``x`` itself). Arm plants return an
     :class:`~controllers.plants.ArmMeasurement` (frozen: ``q``, ``qd``, ``wrench`` or ``None``), so a
@@ -39,8 +43,9 @@ The plant contract (duck-typed; only ``derivative`` is required)
 ``units``
     ``{signal name: unit}`` used as axis labels by :meth:`SimulationResult.plot`.
 ``bound``
-    The plant's own divergence bound on ``max |x_i|`` (default ``1e12``); ``simulate(..., bound=)``
-    overrides it.
+    The plant's own divergence bound on ``max |x_i|`` (default ``1e12``; the kinematic
+    :class:`~controllers.plants.JointIntegrator` uses a few hundred rad); ``simulate(..., bound=)``
+    overrides it. The loop's only per-step check is one reduction ``max |x_i| <= bound``.
 ``initial_state(q0, qd0=None) -> x0``
     On arm plants: the state at rest (or moving with ``qd0``).
 
@@ -74,7 +79,7 @@ from typing import Any, Callable, Iterable, Mapping, Protocol
 
 import numpy as np
 
-from rigid_body.validation import as_vector
+from rigid_body.validation import as_positive, as_vector
 
 DEFAULT_BOUND = 1e12
 
@@ -130,9 +135,7 @@ class ZeroOrderHold:
     """
 
     def __init__(self, block: Callable[[float, Any], Any], Ts: float):
-        if not (np.isfinite(Ts) and Ts > 0):
-            raise ValueError(f"`Ts` must be a positive sampling period, got {Ts}")
-        self.block, self.Ts = block, float(Ts)
+        self.block, self.Ts = block, as_positive(Ts, "Ts")
         self.reset()
 
     def reset(self) -> None:
@@ -329,26 +332,27 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     ValueError : bad arguments (naming them), an ``x0`` of the wrong size, a derivative of the wrong shape.
     SimulationDiverged : when the state becomes non-finite or exceeds ``bound``, naming the time.
     """
-    t0, tf = (float(v) for v in t_span)
+    try:
+        t0, tf = (float(v) for v in t_span)
+    except (TypeError, ValueError):
+        raise ValueError(f"`t_span` must be (t_0, t_f) in seconds, got {t_span!r}") from None
     if not (np.isfinite(t0) and np.isfinite(tf) and tf > t0):
         raise ValueError(f"`t_span` must be finite with t_f > t_0, got {t_span}")
-    if not (np.isfinite(h) and h > 0):
-        raise ValueError(f"`h` must be a positive step, got {h}")
-    Ts = h if Ts is None else float(Ts)
-    if not (np.isfinite(Ts) and Ts > 0):
-        raise ValueError(f"`Ts` must be a positive sampling period, got {Ts}")
+    h = as_positive(h, "h")
+    Ts = h if Ts is None else as_positive(Ts, "Ts")
     ratio = Ts / h
     n_sub = int(round(ratio))
     if n_sub < 1 or abs(ratio - n_sub) > 1e-9 * max(1.0, ratio):
         raise ValueError(f"`Ts` must be a positive multiple of `h`, got Ts={Ts}, h={h}")
     _periods_must_divide(controller, Ts)
+    bound_name = "bound" if bound is not None else f"{type(plant).__name__}.bound"
     bound = getattr(plant, "bound", DEFAULT_BOUND) if bound is None else bound
     try:
         bound = float(bound)
     except (TypeError, ValueError):
-        raise ValueError(f"`bound` must be a positive number, got {bound!r}") from None
+        raise ValueError(f"`{bound_name}` must be a positive number, got {bound!r}") from None
     if not (np.isfinite(bound) and bound > 0):
-        raise ValueError(f"`bound` must be finite and positive, got {bound}")
+        raise ValueError(f"`{bound_name}` must be finite and positive, got {bound}")
     x = as_vector(x0, None, "x0").copy()
     nx = getattr(plant, "state_size", None)
     if nx is not None and x.size != nx:
@@ -359,6 +363,8 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     dexp_inverse = getattr(plant, "dexp_inverse", None)
     n_dx = getattr(plant, "tangent_size", x.size)
     measure = getattr(plant, "measure", None)
+    n_u = getattr(plant, "input_size", None)
+    n_u = None if n_u is None else tuple(np.atleast_1d(n_u).tolist())
     if hasattr(controller, "reset"):
         controller.reset()
     controller_log = getattr(controller, "log", None)
@@ -375,6 +381,11 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
         if log_q is None:
             log_q = [name for name in ("q", "qd") if hasattr(meas, name) and name not in getattr(plant, "state_layout", {})]
         u = np.atleast_1d(np.asarray(controller(t, meas), dtype=float))
+        if k == 0 and n_u is not None and (u.ndim != 1 or u.size not in n_u):
+            who = getattr(controller, "__qualname__", type(controller).__name__)
+            sizes = " or ".join(map(str, n_u))
+            raise ValueError(f"the controller `{who}` output shape {u.shape} at t = {t:g} s; "
+                             f"{type(plant).__name__} takes an input u of size {sizes}")
         ts[k], xs[k] = t, x
         us.append(u)
         extra: dict[str, Any] = {}

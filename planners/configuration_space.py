@@ -150,8 +150,7 @@ def segment_chain_distance(points: Any, center: Any, radius: float) -> ObstacleD
     """
     P = _as_polyline(points, "points")
     o = as_vector(center, 2, "center")
-    if not (np.isfinite(radius) and radius >= 0):
-        raise ValueError(f"`radius` must be finite and >= 0, got {radius}")
+    radius = as_positive(radius, "radius", allow_zero=True)
     closest, s, d = (v[0] for v in closest_points_on_polyline(o[None], P))
     i = int(np.argmin(d))
     return ObstacleDistance(float(d[i] - radius), i, float(s[i]), closest[i].copy())   # (S3.4)

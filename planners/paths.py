@@ -35,7 +35,7 @@ from rigid_body.rotations import (
     quaternion_to_rotation,
     rotation_to_axis_angle,
 )
-from rigid_body.validation import as_vector
+from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
     "Path", "Segment", "Circle", "circle_through", "SegmentSequence", "PathLaw", "path_trajectory",
@@ -49,6 +49,10 @@ class Path(Protocol):
     length: float
 
     def __call__(self, s: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
+
+
+def _is_nan(x: Any) -> bool:
+    return isinstance(x, (float, np.floating)) and np.isnan(x)
 
 
 def _column(s: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -105,12 +109,9 @@ class Circle:
     def __post_init__(self) -> None:
         object.__setattr__(self, "center", as_vector(self.center, 3, "center"))
         object.__setattr__(self, "R", as_rotation(self.R, "R"))
-        if not (np.isfinite(self.radius) and self.radius > 0):
-            raise ValueError(f"`radius` must be positive, got {self.radius}")
-        length = 2.0 * np.pi * self.radius if np.isnan(self.length) else float(self.length)
-        if not (np.isfinite(length) and length > 0):
-            raise ValueError(f"`length` must be a positive arc length, got {self.length}")
-        object.__setattr__(self, "radius", float(self.radius))
+        radius = as_positive(self.radius, "radius")
+        length = 2.0 * np.pi * radius if _is_nan(self.length) else as_positive(self.length, "length")
+        object.__setattr__(self, "radius", radius)
         object.__setattr__(self, "length", length)
 
     def __call__(self, s: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -172,10 +173,8 @@ class SegmentSequence:
         if np.any(lengths == 0):
             raise ValueError("consecutive `points` must differ")
         for j, (law, L) in enumerate(zip(self.laws, lengths)):
-            s0, s1 = float(np.asarray(law(law.t_i)[0])), float(np.asarray(law(law.t_f)[0]))
-            if abs(s0) > 1e-9 * max(1.0, L) or abs(s1 - L) > 1e-9 * max(1.0, L):
-                raise ValueError(f"`laws[{j}]` must go from 0 to the segment length {L:.6g}, "
-                                 f"goes from {s0:.6g} to {s1:.6g}")
+            _law_range(law, 0.0, float(L), name=f"laws[{j}]", ends=(0.0, float(L)),
+                       what=" (from 0 to the segment length)")
         object.__setattr__(self, "points", pts)
 
     @property
@@ -200,6 +199,25 @@ class SegmentSequence:
         return p, pd, pdd
 
 
+def _law_range(timing: TimingLaw, lo: float, hi: float, name: str = "timing",
+               ends: tuple[float, float] | None = None, what: str = "") -> None:
+    """Check that the scalar law ``timing`` stays within [lo, hi] on [t_i, t_f] (201 samples, ends
+    included) and, with ``ends``, starts and ends at those values: ValueError naming ``name``.
+    A law leaving the range would extrapolate the path or the rotation past its end points."""
+    t_i, t_f = float(timing.t_i), float(timing.t_f)
+    if np.ndim(timing(t_i)[0]) != 0:
+        raise ValueError(f"`{name}` must be a scalar law (built from scalar boundary values)")
+    values = np.asarray(timing(np.linspace(t_i, t_f, 201))[0], dtype=float)
+    slack = 1e-9 * max(1.0, abs(hi - lo))
+    if not np.all(np.isfinite(values)) or values.min() < lo - slack or values.max() > hi + slack:
+        raise ValueError(f"`{name}` must stay within [{lo:.6g}, {hi:.6g}]{what} on [t_i, t_f] = [{t_i:g}, {t_f:g}], "
+                         f"goes from {values.min():.6g} to {values.max():.6g}")
+    if ends is not None:
+        for which, v, want in (("start", values[0], ends[0]), ("end", values[-1], ends[1])):
+            if abs(v - want) > slack:
+                raise ValueError(f"`{name}` must {which} at {want:g}, {which}s at {v:.6g}")
+
+
 class _TimedByLaw:
     """Start and end times of an object timed by its scalar law ``self.timing``."""
 
@@ -222,11 +240,7 @@ class PathLaw(_TimedByLaw):
     timing: TimingLaw
 
     def __post_init__(self) -> None:
-        if np.ndim(self.timing(self.timing.t_i)[0]) != 0:
-            raise ValueError("`timing` must be a scalar law s(t) (built from scalar boundary values)")
-        s_end = float(self.timing(self.timing.t_f)[0])
-        if s_end > self.path.length * (1 + 1e-9) + 1e-12:
-            raise ValueError(f"`timing` ends at s = {s_end:.6g}, beyond the path length {self.path.length:.6g}")
+        _law_range(self.timing, 0.0, float(self.path.length), what=" (s from 0 to the path length)")
 
     def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         s, sd, sdd = self.timing(t)
@@ -250,7 +264,7 @@ class AngleAxisInterpolation(_TimedByLaw):
     """R(t) = R_i R^i(ϑ(t) θ_f, r^i), Sect. 4.5: rotate about the fixed axis of R_i^T R_f.
 
     ``timing`` is a scalar law σ(t) from 0 to 1 (the fraction of the angle θ_f ∈ [0, π] of
-    R_i^T R_f = R(θ_f, r^i), (2.26)–(2.27)). Calling it gives (R (…, 3, 3), ω, ω̇) with
+    R_i^T R_f = R(θ_f, r^i), (2.26)–(2.27)), staying within [0, 1] (ValueError otherwise). Calling it gives (R (…, 3, 3), ω, ω̇) with
     ω = σ̇ θ_f R_i r^i and ω̇ = σ̈ θ_f R_i r^i in the base frame.
     """
 
@@ -261,6 +275,7 @@ class AngleAxisInterpolation(_TimedByLaw):
     axis: np.ndarray = field(init=False)  # r^i, in the frame of R_i
 
     def __post_init__(self) -> None:
+        _law_range(self.timing, 0.0, 1.0, ends=(0.0, 1.0))
         R_i, R_f = as_rotation(self.R_i, "R_i"), as_rotation(self.R_f, "R_f")
         theta, r = rotation_to_axis_angle(R_i.T @ R_f)
         object.__setattr__(self, "R_i", R_i)
@@ -280,10 +295,14 @@ def slerp(Q_i: Any, Q_f: Any, sigma: float) -> np.ndarray:
     """Spherical linear interpolation of unit quaternions {η, ε}, σ ∈ [0, 1], on the shorter arc.
 
     Q(σ) = sin((1 − σ)Ω)/sin Ω Q_i + sin(σΩ)/sin Ω Q_f, cos Ω = Q_i·Q_f ≥ 0 (Q_f flipped if needed).
+    σ outside [0, 1] would extrapolate past Q_i or Q_f: ValueError.
     """
     Q_i = as_unit_quaternion(Q_i, "Q_i")
     Q_f = as_unit_quaternion(Q_f, "Q_f")
     sigma = float(as_vector(sigma, 1, "sigma")[0])
+    if not -1e-12 <= sigma <= 1 + 1e-12:
+        raise ValueError(f"`sigma` must be in [0, 1], got {sigma}")
+    sigma = min(max(sigma, 0.0), 1.0)
     d = float(Q_i @ Q_f)
     if d < 0:
         Q_f, d = -Q_f, -d
@@ -298,7 +317,7 @@ def slerp(Q_i: Any, Q_f: Any, sigma: float) -> np.ndarray:
 class Slerp(_TimedByLaw):
     """Quaternion interpolation Q(t) = slerp(Q_i, Q_f, σ(t)) timed by a scalar law σ: 0 → 1.
 
-    Calling it gives (Q (…, 4) scalar-first, ω, ω̇). Slerp rotates about the fixed axis of
+    Calling it gives (Q (…, 4) scalar-first, ω, ω̇); σ must stay within [0, 1] (ValueError otherwise). Slerp rotates about the fixed axis of
     Q_i^{-1} * Q_f at constant rate per unit σ: ω = σ̇ θ_f R_i r, the angle θ_f = 2Ω.
     """
 
@@ -309,6 +328,7 @@ class Slerp(_TimedByLaw):
     omega_axis: np.ndarray = field(init=False)  # unit axis in the base frame
 
     def __post_init__(self) -> None:
+        _law_range(self.timing, 0.0, 1.0, ends=(0.0, 1.0))
         Q_i, Q_f = as_unit_quaternion(self.Q_i, "Q_i"), as_unit_quaternion(self.Q_f, "Q_f")
         if Q_i @ Q_f < 0:
             Q_f = -Q_f

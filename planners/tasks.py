@@ -21,7 +21,7 @@ import numpy as np
 
 from planners.paths import SegmentSequence
 from planners.timing import cubic_law, quintic_law, trapezoidal_law
-from rigid_body.validation import as_vector
+from rigid_body.validation import as_positive, as_vector
 
 __all__ = ["Action", "PickAndPlacePlan", "decompose_pick_and_place", "pick_and_place_path"]
 
@@ -57,8 +57,9 @@ def decompose_pick_and_place(A: Any, B: Any, obstacle: Any, clearance: float) ->
     """
     A, B = as_vector(A, 2, "A"), as_vector(B, 2, "B")
     x_min, x_max, top = as_vector(obstacle, 3, "obstacle")
-    if not (x_min < x_max and clearance > 0):
-        raise ValueError(f"`obstacle` must be (x_min < x_max, top) and `clearance` > 0, got {obstacle}, {clearance}")
+    clearance = as_positive(clearance, "clearance")
+    if not x_min < x_max:
+        raise ValueError(f"`obstacle` must be (x_min < x_max, top), got {obstacle}")
     if not (A[0] < x_min and B[0] > x_max or B[0] < x_min and A[0] > x_max):
         raise ValueError("the obstacle must stand between A and B along x (else no avoidance is needed)")
     y_safe = top + clearance

@@ -72,12 +72,13 @@ def _as_value(x: Any, shape: tuple[int, ...] | None, name: str) -> np.ndarray:
     return v
 
 
-def _as_duration(t_i: float, t_f: float) -> float:
-    if not (np.isfinite(t_i) and np.isfinite(t_f)):
-        raise ValueError(f"`t_i` and `t_f` must be finite, got {t_i}, {t_f}")
+def _as_interval(t_i: Any, t_f: Any) -> tuple[float, float, float]:
+    """(t_i, t_f, T = t_f − t_i) as finite floats with t_f > t_i; ValueError naming the argument."""
+    t_i = float(as_vector(t_i, 1, "t_i")[0])
+    t_f = float(as_vector(t_f, 1, "t_f")[0])
     if not t_f > t_i:
         raise ValueError(f"`t_f` must be greater than `t_i`, got t_i = {t_i}, t_f = {t_f}")
-    return float(t_f - t_i)
+    return t_i, t_f, t_f - t_i
 
 
 def _as_times(t: Any, name: str = "t", minimum: int = 2) -> np.ndarray:
@@ -260,7 +261,7 @@ def polynomial_law(t_i: float, t_f: float, start: tuple, end: tuple) -> Piecewis
     ``start`` and ``end`` are (q, q̇) for a cubic, Eq. (4.1)–(4.2), and (q, q̇, q̈) for a quintic,
     Eq. (4.3); each entry a scalar or an (n,) vector.
     """
-    T = _as_duration(t_i, t_f)
+    t_i, t_f, T = _as_interval(t_i, t_f)
     m = len(start)
     if len(end) != m or m not in (2, 3):
         raise ValueError("`start` and `end` must both be (q, qd) or (q, qd, qdd)")
@@ -302,7 +303,7 @@ def quintic_law(q_i: Any, q_f: Any, t_f: float, qd_i: Any = 0.0, qd_f: Any = 0.0
 
 def trapezoidal_limits(q_i: Any, q_f: Any, t_f: float, t_i: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Admissible cruise speeds |q̇_c| in (|Δq|/T, 2|Δq|/T] for a trapezoid of duration T, Eq. (4.8)."""
-    T = _as_duration(t_i, t_f)
+    t_i, t_f, T = _as_interval(t_i, t_f)
     dq = np.abs(_as_value(q_f, None, "q_f") - _as_value(q_i, None, "q_i"))
     return dq / T, 2.0 * dq / T
 
@@ -354,7 +355,7 @@ def trapezoidal_law(q_i: Any, q_f: Any, t_f: float, qd_c: Any, *, t_i: float = 0
     ------
     ValueError naming the joint and the admissible range of ``qd_c``.
     """
-    T = _as_duration(t_i, t_f)
+    t_i, t_f, T = _as_interval(t_i, t_f)
     qi = _as_value(q_i, None, "q_i")
     qf = _as_value(q_f, qi.shape, "q_f")
     vc = np.abs(_as_value(qd_c, qi.shape, "qd_c"))
@@ -387,7 +388,7 @@ def trapezoidal_acceleration_law(q_i: Any, q_f: Any, t_f: float, qdd_c: Any, *,
 
     Needs |q̈_c| ≥ 4|Δq|/T² (equality: triangular profile); ValueError with that bound otherwise.
     """
-    T = _as_duration(t_i, t_f)
+    t_i, t_f, T = _as_interval(t_i, t_f)
     qi = _as_value(q_i, None, "q_i")
     qf = _as_value(q_f, qi.shape, "q_f")
     a = np.abs(_as_value(qdd_c, qi.shape, "qdd_c"))
@@ -407,10 +408,10 @@ def trapezoidal_acceleration_law(q_i: Any, q_f: Any, t_f: float, qdd_c: Any, *,
 
 def raised_cosine_law(q_i: Any, q_f: Any, t_f: float, *, t_i: float = 0.0) -> RaisedCosine:
     """The law with velocity profile k (1 − cos(a t)), a = 2π/T: Problem 4.2."""
-    _as_duration(t_i, t_f)
+    t_i, t_f, _ = _as_interval(t_i, t_f)
     qi = _as_value(q_i, None, "q_i")
     qf = _as_value(q_f, qi.shape, "q_f")
-    return RaisedCosine(qi, qf, float(t_i), float(t_f))
+    return RaisedCosine(qi, qf, t_i, t_f)
 
 
 # --------------------------------------------------------------------------------------------
@@ -497,11 +498,12 @@ def sample(law: Callable[[Any], tuple], *, samples: int | None = None, dt: float
     else:
         t_i, t_f = float(law.t_i), float(law.t_f)
         if dt is not None:
-            if not (np.isfinite(dt) and dt > 0):
-                raise ValueError(f"`dt` must be positive, got {dt}")
+            dt = as_positive(dt, "dt")
             m = int(np.floor((t_f - t_i) / dt + 1e-9))
             t = t_i + dt * np.arange(m + 1)
         else:
+            if samples is not None and (isinstance(samples, bool) or not isinstance(samples, (int, np.integer))):
+                raise ValueError(f"`samples` must be an integer, got {samples!r}")
             samples = 501 if samples is None else int(samples)
             if samples < 2:
                 raise ValueError(f"`samples` must be at least 2, got {samples}")
@@ -784,6 +786,14 @@ class BlendCoefficients:
     b: np.ndarray
 
 
+def _as_blend(blend: Any, N: int) -> np.ndarray:
+    """Blend durations Δt'_k: a scalar (the same at every point) or (N,), finite and positive."""
+    d = np.full(N, as_positive(blend, "blend")) if np.ndim(blend) == 0 else as_vector(blend, N, "blend")
+    if np.any(d <= 0):
+        raise ValueError(f"`blend` durations must be positive, got {d}")
+    return d
+
+
 def linear_parabolic_blends_law(t: Any, q: Any, blend: Any, qd_i: Any = 0.0,
                                 qd_f: Any = 0.0) -> PiecewisePolynomial:
     """Linear segments joined by parabolic blends of duration Δt'_k centred on the points t_k.
@@ -798,10 +808,7 @@ def linear_parabolic_blends_law(t: Any, q: Any, blend: Any, qd_i: Any = 0.0,
     q = _as_points(q, t.size)
     N = t.size
     shape = q.shape[1:]
-    d = as_vector(np.broadcast_to(np.asarray(blend, dtype=float), (N,)) if np.ndim(blend) == 0 else blend,
-                  N, "blend")
-    if np.any(d <= 0):
-        raise ValueError(f"`blend` durations must be positive, got {d}")
+    d = _as_blend(blend, N)
     gaps = np.diff(t) - 0.5 * (d[:-1] + d[1:])
     if np.any(gaps < -1e-12):
         k = int(np.argmax(gaps < -1e-12))
@@ -828,7 +835,7 @@ def blend_coefficients(t: Any, q: Any, blend: Any, qd_i: Any = 0.0, qd_f: Any = 
     q = _as_points(q, t.size)
     N = t.size
     shape = q.shape[1:]
-    d = np.broadcast_to(np.asarray(blend, dtype=float), (N,)).reshape((N,) + (1,) * len(shape))
+    d = _as_blend(blend, N).reshape((N,) + (1,) * len(shape))
     v = np.concatenate([_as_value(qd_i, shape, "qd_i")[None],
                         np.diff(q, axis=0) / np.diff(t).reshape((-1,) + (1,) * len(shape)),
                         _as_value(qd_f, shape, "qd_f")[None]])  # q̇_{k−1,k}, k = 1..N+1
@@ -862,6 +869,7 @@ def multi_segment_times(via_points: Any, qd_max: Any, t_acc: float, *, t_i: floa
     if np.any(vmax <= 0):
         raise ValueError(f"`qd_max` must be positive, got {vmax}")
     t_acc = as_positive(t_acc, "t_acc")
+    t_i = float(as_vector(t_i, 1, "t_i")[0])
     durations = np.maximum((np.abs(np.diff(q, axis=0)) / vmax).max(axis=1), t_acc)
     return t_i + 0.5 * t_acc + np.concatenate([[0.0], np.cumsum(durations)])
 

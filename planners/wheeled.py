@@ -348,21 +348,22 @@ _TURN = {"L": 1.0, "S": 0.0, "R": -1.0}
 
 
 @dataclass(frozen=True)
-class DubinsPath:
-    """A Dubins path: a word of three segments (L left arc, R right arc, S straight) with lengths in units of ρ."""
+class CarPath:
+    """A path of a car of turning radius ρ: a word of primitives (L left arc, R right arc, S straight) with
+    signed lengths in units of ρ (arc angles [rad] for L/R, length/ρ for S; negative: backwards)."""
 
     q_i: np.ndarray
     rho: float
     word: str
-    segments: np.ndarray  # (3,) normalised lengths (arc angles [rad] for L/R, length/ρ for S)
+    segments: np.ndarray
 
     @property
     def length(self) -> float:
         """Path length [m]."""
-        return float(self.rho * np.sum(self.segments))
+        return float(self.rho * np.sum(np.abs(self.segments)))
 
     def end(self) -> np.ndarray:
-        """The final posture, by exact integration of the three primitives (11.85)."""
+        """The final posture, by exact integration of the primitives (11.85)."""
         return self.sample(np.inf)[-1]
 
     def sample(self, step: float) -> np.ndarray:
@@ -370,12 +371,16 @@ class DubinsPath:
         q = self.q_i.copy()
         out = [q]
         for kind, length in zip(self.word, self.segments):
-            L = length * self.rho
+            L, v = abs(length) * self.rho, float(np.sign(length))
             n = 1 if not np.isfinite(step) else max(1, int(np.ceil(L / step)))
-            for _ in range(n):  # unit speed: v = 1, ω = ±1/ρ or 0
-                q = unicycle_arc(q, 1.0, _TURN[kind] / self.rho, L / n)
+            for _ in range(n):  # speed ±1: v = ±1, ω = ±1/ρ or 0
+                q = unicycle_arc(q, v, v * _TURN[kind] / self.rho, L / n)
                 out.append(q)
         return np.array(out)
+
+
+class DubinsPath(CarPath):
+    """A Dubins path: a word of three forward segments (non-negative lengths in units of ρ)."""
 
 
 def _mod2pi(a: float) -> float:
@@ -452,35 +457,8 @@ def dubins_path(q_i: Any, q_f: Any, rho: float) -> DubinsPath:
 # Reeds–Shepp shortest paths of the car that moves forward and backward (turning radius ρ)
 # --------------------------------------------------------------------------------------------
 
-@dataclass(frozen=True)
-class ReedsSheppPath:
+class ReedsSheppPath(CarPath):
     """A Reeds–Shepp path: segments (L, R, S) with signed lengths in units of ρ (negative: backwards)."""
-
-    q_i: np.ndarray
-    rho: float
-    word: str
-    segments: np.ndarray
-
-    @property
-    def length(self) -> float:
-        """Path length [m]."""
-        return float(self.rho * np.sum(np.abs(self.segments)))
-
-    def end(self) -> np.ndarray:
-        """The final posture, by exact integration of the primitives (11.85)."""
-        return self.sample(np.inf)[-1]
-
-    def sample(self, step: float) -> np.ndarray:
-        """(N, 3) postures every ``step`` metres of arc length (and at the segment ends)."""
-        q = self.q_i.copy()
-        out = [q]
-        for kind, length in zip(self.word, self.segments):
-            L, v = abs(length) * self.rho, float(np.sign(length))
-            n = 1 if not np.isfinite(step) else max(1, int(np.ceil(L / step)))
-            for _ in range(n):
-                q = unicycle_arc(q, v, v * _TURN[kind] / self.rho, L / n)
-                out.append(q)
-        return np.array(out)
 
 
 def _pi_mod(a: float) -> float:

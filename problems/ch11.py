@@ -9,6 +9,8 @@ Data: the catalogue's test examples where the manual leaves symbols (r = 0.1 m, 
 ℓ = 1 m, b = 0.5 m; N = 3 trailers); the authors' companion files for 11.13 (q_i = 0, q_f = (2, 1, π/2),
 k = 1), 11.16 (start (−1, −2, −π/2), k1 = 1, k2 = 3, 10 s) and 11.18 (start (−1, −2, −π/2), k = (1, 2.5, 3),
 10 s, T_s = 0.01 s and 0.1 s). The unicycle is integrated by RK4 with the manual's maximum step 0.01 s.
+The figure helpers :func:`draw_unicycle`, :func:`plane_axes`, :func:`time_axes`, :func:`motion_figure` serve
+the demos beyond the book too (``examples/mobile_robots.py``, which this module never imports).
 
 Errata of the manual corrected and named in the checks: 11.10 (d3 = … − z2i Δ²/2, not − z2i|Δ|), 11.12
 (z3 misses the z2i Δ s term), 11.14 (the printed closed-loop matrix is garbled), 11.15 (|φ| < π/2, not ≤).
@@ -21,22 +23,18 @@ from __future__ import annotations
 
 from typing import Any
 
-import matplotlib
+import numpy as np
+import sympy as sp
+from scipy.linalg import expm
 
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import sympy as sp  # noqa: E402
-from scipy.linalg import expm  # noqa: E402
-
-from controllers.simulation import SimulationDiverged, SimulationResult, simulate  # noqa: E402
-from controllers.wheeled import (BicycleInputOutputTracking, BicyclePlant, CartesianRegulator,  # noqa: E402
-                                 ChainedFormPlant, ChainedFormTracking, DriftlessPlant, OdometricRegulator,
-                                 PostureRegulator, UnicyclePlant, odometry_step)
-from planners.wheeled import (chained_form_interpolation, chained_form_system, cartesian_polynomial_path,  # noqa: E402
+from controllers.plants import BicyclePlant, ChainedFormPlant, DriftlessPlant, UnicyclePlant
+from controllers.simulation import Chain, SimulationDiverged, SimulationResult, ZeroOrderHold, simulate
+from controllers.wheeled import (BicycleInputOutputTracking, CartesianRegulator, ChainedFormTracking, Odometry,
+                                 PostureRegulator, odometry_step)
+from planners.wheeled import (chained_form_interpolation, chained_form_system, cartesian_polynomial_path,
                               parameterised_inputs, parameterised_path, uniform_time_scaling)
-from problems.registry import Solution, problem  # noqa: E402
+from problems.common import label_axes, subplots
+from problems.registry import Solution, problem
 from rigid_body.wheeled import (accessibility_rank, bicycle_constraints, bicycle_icr,  # noqa: E402
                                 bicycle_input_matrix, differential_drive_admissible, differential_drive_limits,
                                 differential_drive_velocities, differential_drive_wheel_speeds,
@@ -59,34 +57,29 @@ def _column(G: Any, j: int):
     return lambda q: G(q)[:, j]
 
 
-def _draw_unicycle(ax: Any, x: float, y: float, th: float, size: float = 0.12, color: str = "k") -> None:
+def draw_unicycle(ax: Any, x: float, y: float, th: float, size: float = 0.12, color: str = "k") -> None:
     """A triangle pointing along θ at (x, y)."""
     c, s = np.cos(th), np.sin(th)
     pts = np.array([[1.0, 0.0], [-0.6, 0.5], [-0.6, -0.5], [1.0, 0.0]]) * size
     ax.plot(x + c * pts[:, 0] - s * pts[:, 1], y + s * pts[:, 0] + c * pts[:, 1], color=color, lw=1)
 
 
-def _path_axes(ax: Any) -> None:
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
+def plane_axes(ax: Any, title: str | None = None, **legend: Any) -> Any:
+    """The epilogue of a motion in the plane: x, y [m] at equal scale (see :func:`problems.common.label_axes`)."""
     ax.set_aspect("equal", adjustable="datalim")
-    ax.grid(True, alpha=0.3)
+    return label_axes(ax, "x [m]", "y [m]", title=title, **legend)
 
 
-def _time_axes(ax: Any, t: np.ndarray, series: list[tuple[np.ndarray, str]], ylabel: str, title: str = "") -> None:
-    """Signals against time, the first solid and the others dashed, with a legend."""
+def time_axes(ax: Any, t: np.ndarray, series: list[tuple[np.ndarray, str]], ylabel: str,
+              title: str | None = None) -> Any:
+    """Signals against time, the first solid and the others dashed, labelled (a legend for two or more)."""
     for k, (y, label) in enumerate(series):
         ax.plot(t, y, "-" if k == 0 else "--", label=label)
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel(ylabel)
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize="small")
-    if title:
-        ax.set_title(title)
+    return label_axes(ax, "t [s]", ylabel, title=title)
 
 
-def _inputs_axes(ax: Any, t: np.ndarray, u: np.ndarray, title: str = "") -> None:
-    _time_axes(ax, t, [(u[:, 0], "v [m/s]"), (u[:, 1], "ω [rad/s]")], "v [m/s], ω [rad/s]", title)
+def _inputs_axes(ax: Any, t: np.ndarray, u: np.ndarray, title: str | None = None) -> Any:
+    return time_axes(ax, t, [(u[:, 0], "v [m/s]"), (u[:, 1], "ω [rad/s]")], "v [m/s], ω [rad/s]", title)
 
 
 # --------------------------------------------------------------------------------------------
@@ -225,7 +218,7 @@ def problem_11_3() -> Solution:
                          lambda x: np.asarray(f_g(x)[1], dtype=float).ravel(), qn)
         fd_err = max(fd_err, float(np.max(np.abs(fd - B))))
     sol.check("rank[g1, g2, [g1, g2]] = 2 at 10 random q (involutive)", all(k == 2 for k in ranks), f"ranks {ranks}")
-    sol.check_close("finite-difference bracket = sympy bracket", fd_err, 0.0, atol=1e-7)
+    sol.check_error("finite-difference bracket = sympy bracket", fd_err, 1e-7)
     th = sp.symbols("theta")
     u1, u2 = sp.Matrix([sp.cos(th), sp.sin(th), 0]), sp.Matrix([0, 0, 1])
     bu = lie_bracket_symbolic(u1, u2, [sp.Symbol("x"), sp.Symbol("y"), th])
@@ -294,7 +287,7 @@ def problem_11_5() -> Solution:
         t_err.append(float(np.linalg.norm(disp / eps**2 - bracket)))
     sol.value("epsilon", epsilons)
     sol.value("t_minus_bracket", t_err)
-    sol.check_close("simulated displacement = closed form (all ε)", max(err_closed), 0.0, atol=1e-12)
+    sol.check_error("simulated displacement = closed form (all ε)", max(err_closed), 1e-12)
     orders = np.diff(np.log(t_err)) / np.diff(np.log(epsilons))
     sol.value("convergence_order", orders)
     sol.check("‖t(ε) − [g1, g2](q0)‖ = O(ε) (slopes ≈ 1)", np.all(np.abs(orders - 1) < 0.05), f"slopes {orders}")
@@ -337,7 +330,7 @@ def problem_11_6() -> Solution:
         rolling = r * omega_i[:, None] * np.c_[np.cos(th_[1:-1]), np.sin(th_[1:-1])]
         worst = max(worst, float(np.max(np.abs(v_fd - rolling)[mid])))
     sol.value("wheel_velocity_mismatch", worst)
-    sol.check_close("simulated wheel centres roll: ṗ_i = r ω_i [cos θ, sin θ] (finite differences)", worst, 0.0, atol=1e-5)
+    sol.check_error("simulated wheel centres roll: ṗ_i = r ω_i [cos θ, sin θ] (finite differences)", worst, 1e-5)
     return sol
 
 
@@ -373,9 +366,9 @@ def problem_11_7() -> Solution:
     q = np.r_[rng.uniform(-2, 2, 3), 0.4]
     sol.check_close("model (11.19): A(q) G(q) = 0 for the constraints (11.15)–(11.16)",
                     bicycle_constraints(q, ell) @ bicycle_input_matrix(q, ell), np.zeros((2, 2)), atol=1e-15)
-    sol.check_close("C (11.7 formula) = intersection of the wheel axes", worst_C, 0.0, atol=1e-12)
-    sol.check_close("v_P ⟂ (P − C)", worst_perp, 0.0, atol=1e-12)
-    sol.check_close("|v_P| = R_P v tan φ / ℓ", worst_mag, 0.0, atol=1e-12)
+    sol.check_error("C (11.7 formula) = intersection of the wheel axes", worst_C, 1e-12)
+    sol.check_error("v_P ⟂ (P − C)", worst_perp, 1e-12)
+    sol.check_error("|v_P| = R_P v tan φ / ℓ", worst_mag, 1e-12)
     q = np.array([0.0, 0.0, 0.0, 0.5])
     sol.value("icr_example", bicycle_icr(q, ell))
     sol.check_close("body frame: C = (0, ℓ/tan φ) at θ = 0", bicycle_icr(q, ell), [0.0, ell / np.tan(0.5)], atol=1e-15)
@@ -409,9 +402,8 @@ def problem_11_8() -> Solution:
         rows = np.array([np.sin(hd) * J[i, 0] - np.cos(hd) * J[i, 1] for i, hd in enumerate(headings)])
         worst_rows = max(worst_rows, float(np.max(np.abs(rows - A))))
     sol.value("max_abs_AG", worst)
-    sol.check_close("A(q) G(q) = 0 at 20 random q (N = 3)", worst, 0.0, atol=1e-14)
-    sol.check_close("constraint rows = lateral velocities of the axle points (finite differences)", worst_rows, 0.0,
-                    atol=1e-8)
+    sol.check_error("A(q) G(q) = 0 at 20 random q (N = 3)", worst, 1e-14)
+    sol.check_error("constraint rows = lateral velocities of the axle points (finite differences)", worst_rows, 1e-8)
 
     def G(q: np.ndarray) -> np.ndarray:
         return trailer_input_matrix(q, ell, lengths)
@@ -424,14 +416,12 @@ def problem_11_8() -> Solution:
     headings = np.c_[res.x[1:-1, 3] + res.x[1:-1, 2], res.x[1:-1, 3:]]
     lateral = np.abs(np.sin(headings) * v_fd[..., 0] - np.cos(headings) * v_fd[..., 1])
     sol.value("max_lateral_velocity", float(lateral.max()))
-    sol.check_close("simulated train: no lateral slip at any wheel (6 s)", lateral.max(), 0.0, atol=1e-6)
-    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    sol.check_error("simulated train: no lateral slip at any wheel (6 s)", lateral.max(), 1e-6)
+    fig, ax = subplots(figsize=(6.4, 4.0))
     for i, label in enumerate(["front wheel", "tricycle"] + [f"trailer {k}" for k in range(1, N + 1)]):
         ax.plot(pts[:, i, 0], pts[:, i, 1], label=label)
-    _path_axes(ax)
-    ax.legend(loc="best", fontsize="small")
-    ax.set_title("Tricycle with 3 trailers (Problem 11.8)")
-    sol.figure(fig)
+    plane_axes(ax)
+    sol.figure(fig, "Tricycle with 3 trailers (Problem 11.8)")
     return sol
 
 
@@ -459,15 +449,11 @@ def problem_11_9() -> Solution:
     predicate = differential_drive_admissible(v, w, r, d, w_RL)
     sol.check("rhombus predicate = wheel-speed check on 2000 random (v, ω)", np.array_equal(feasible, predicate),
               f"{int(feasible.sum())} feasible samples, disagreements {int(np.sum(feasible != predicate))}")
-    fig, ax = plt.subplots(figsize=(5.0, 4.0))
+    fig, ax = subplots(figsize=(5.0, 4.0))
     ax.fill([v_max, 0, -v_max, 0], [0, w_max, 0, -w_max], alpha=0.3, label="admissible")
     ax.plot(v[~feasible], w[~feasible], "x", ms=2, color="C3", label="a wheel exceeds ω_RL")
-    ax.set_xlabel("v [m/s]")
-    ax.set_ylabel("ω [rad/s]")
-    ax.legend(loc="upper right", fontsize="small")
-    ax.set_title("Admissible velocities of a differential drive (Problem 11.9)")
-    ax.grid(True, alpha=0.3)
-    sol.figure(fig)
+    label_axes(ax, "v [m/s]", "ω [rad/s]", legend="upper right")
+    sol.figure(fig, "Admissible velocities of a differential drive (Problem 11.9)")
     return sol
 
 
@@ -519,9 +505,9 @@ def problem_11_10() -> Solution:
         miss_manual = max(miss_manual, float(np.max(np.abs(_integrate_chained(wrong_path, z_i) - z_f))))
     sol.value("example_c", path.coefficients)
     sol.value("miss_with_manual_d", miss_manual)
-    sol.check_close("D = the manual's matrix (both signs of Δ)", worst_D, 0.0, atol=1e-12)
-    sol.check_close("d = corrected vector (… − z2i Δ²/2)", worst_d, 0.0, atol=1e-12)
-    sol.check_close("chained form integrated (RK4) with c = D⁻¹d reaches z_f", miss, 0.0, atol=1e-9)
+    sol.check_error("D = the manual's matrix (both signs of Δ)", worst_D, 1e-12)
+    sol.check_error("d = corrected vector (… − z2i Δ²/2)", worst_d, 1e-12)
+    sol.check_error("chained form integrated (RK4) with c = D⁻¹d reaches z_f", miss, 1e-9)
     sol.check("erratum 11.10: the manual's d3 (− z2i|Δ|) misses z_f", miss_manual > 1e-3,
               f"max |z(s_f) − z_f| = {miss_manual:.3g} with the printed d3")
     return sol
@@ -546,8 +532,8 @@ def problem_11_11() -> Solution:
         unit = unit and path.s_f == 1.0 and abs(path.inputs(0.3)[0] - De) < 1e-14
         miss = max(miss, float(np.max(np.abs(_integrate_chained(path, z_i) - z_f))))
     sol.check("s_f = 1 and ṽ1 = Δ in all four cases", unit)
-    sol.check_close("(2, 3): D = [[1, 1/2], [Δ/2, Δ/6]], d = [z2f − z2i, z3f − z3i − z2i Δ]", worst, 0.0, atol=1e-12)
-    sol.check_close("(2, 3) and (2, 4) integrated (RK4) reach z_f at s = 1", miss, 0.0, atol=1e-9)
+    sol.check_error("(2, 3): D = [[1, 1/2], [Δ/2, Δ/6]], d = [z2f − z2i, z3f − z3i − z2i Δ]", worst, 1e-12)
+    sol.check_error("(2, 3) and (2, 4) integrated (RK4) reach z_f at s = 1", miss, 1e-9)
     return sol
 
 
@@ -571,9 +557,8 @@ def problem_11_12() -> Solution:
         z3 = z_i[2] + De * (z_i[1] * s + c0 * s**2 / 2 + c1 * s**3 / 6)
         worst_formula = max(worst_formula, float(np.max(np.abs(z3 - A.z(s)[:, 2]))))
         manual_miss = max(manual_miss, abs(z_i[2] + De * (c0 / 2 + c1 / 6) - z_f[2]))
-    sol.check_close("schemes A and B: identical z(s) and geometric inputs (10 random boundary pairs)", worst, 0.0,
-                    atol=1e-12)
-    sol.check_close("z3 = z3i + Δ(z2i s + c0 s²/2 + c1 s³/6) (corrected)", worst_formula, 0.0, atol=1e-12)
+    sol.check_error("schemes A and B: identical z(s) and geometric inputs (10 random boundary pairs)", worst, 1e-12)
+    sol.check_error("z3 = z3i + Δ(z2i s + c0 s²/2 + c1 s³/6) (corrected)", worst_formula, 1e-12)
     sol.value("manual_z3_miss", manual_miss)
     sol.check("erratum 11.12: the printed z3 (without z2i Δ s) misses z3f", manual_miss > 1e-3,
               f"max |z3(1) − z3f| = {manual_miss:.3g}")
@@ -626,25 +611,17 @@ def problem_11_13() -> Solution:
     sol.value("open_loop_final_error", err)
     sol.check_close("unicycle driven by the scaled inputs (RK4) reaches q_f", err, np.zeros(3), atol=1e-4)
 
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(10, 4))
     ax1.plot(p[:, 0], p[:, 1], label="planned path")
     ax1.plot(res.x[:, 0], res.x[:, 1], "--", label="unicycle (open loop)")
     for sk in np.linspace(0, 1, 6):
         k = int(sk * (len(s) - 1))
-        _draw_unicycle(ax1, p[k, 0], p[k, 1], theta[k])
-    _path_axes(ax1)
-    ax1.legend(loc="best", fontsize="small")
-    ax1.set_title("Cartesian path")
+        draw_unicycle(ax1, p[k, 0], p[k, 1], theta[k])
+    plane_axes(ax1, "Cartesian path")
     ax2.plot(s, v, label="ṽ(s) [m]")
     ax2.plot(s, w, "--", label="ω̃(s) [rad]")
-    ax2.set_xlabel("s [-]")
-    ax2.set_ylabel("geometric inputs ṽ [m], ω̃ [rad]")
-    ax2.grid(True, alpha=0.3)
-    ax2.legend(loc="best", fontsize="small")
-    ax2.set_title("Geometric inputs")
-    fig.suptitle("Fig. S11.1 — parking manoeuvre by Cartesian polynomials")
-    fig.tight_layout()
-    sol.figure(fig)
+    label_axes(ax2, "s [-]", "geometric inputs ṽ [m], ω̃ [rad]", title="Geometric inputs")
+    sol.figure(fig, "Fig. S11.1 — parking manoeuvre by Cartesian polynomials")
     return sol
 
 
@@ -736,9 +713,9 @@ def problem_11_15() -> Solution:
         theta_dot = np.sin(ph) * (c2 * u[0] + s2 * u[1]) / ell
         phi_dot = -(c2 * np.sin(ph) / ell + s2 / b) * u[0] - (s2 * np.sin(ph) / ell - c2 / b) * u[1]
         worst_zero = max(worst_zero, float(np.max(np.abs(qd[2:] - [theta_dot, phi_dot]))))
-    sol.check_close("T(θ, φ) = ∂y/∂q G(q) (finite differences)", worst_T, 0.0, atol=1e-8)
-    sol.check_close("det T = b / cos φ (relative)", worst_det, 0.0, atol=1e-12)
-    sol.check_close("zero dynamics θ̇, φ̇ = manual's expressions", worst_zero, 0.0, atol=1e-12)
+    sol.check_error("T(θ, φ) = ∂y/∂q G(q) (finite differences)", worst_T, 1e-8)
+    sol.check_error("det T = b / cos φ (relative)", worst_det, 1e-12)
+    sol.check_error("zero dynamics θ̇, φ̇ = manual's expressions", worst_zero, 1e-12)
     near = np.linalg.cond(front_wheel_point_matrix(0.3, np.pi / 2 - 1e-7, ell, b))
     sol.check("erratum 11.15: T degenerates as |φ| → π/2 (cond > 1e6 at π/2 − 1e-7), so |φ| < π/2 strictly",
               near > 1e6, f"cond T = {near:.2e}")
@@ -765,21 +742,17 @@ def problem_11_15() -> Solution:
     return sol
 
 
-def _motion_figure(res: SimulationResult, title: str, label: str, estimate: np.ndarray | None = None) -> Any:
+def motion_figure(res: SimulationResult, label: str, estimate: np.ndarray | None = None) -> Any:
     """Cartesian motion (with the odometric estimate as dots) and the velocity inputs (Figs. S11.3, S11.5, S11.6)."""
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (a1, a2) = subplots(1, 2, figsize=(10, 4))
     a1.plot(res.x[:, 0], res.x[:, 1], label=label)
     if estimate is not None:
         step = max(1, len(res.t) // 60)
         a1.plot(estimate[::step, 0], estimate[::step, 1], ".", ms=3, label="odometric estimate")
     for k in range(0, len(res.t), max(1, len(res.t) // 10)):
-        _draw_unicycle(a1, *res.x[k], size=0.08)
-    _path_axes(a1)
-    a1.legend(loc="best", fontsize="small")
-    a1.set_title("Cartesian motion")
+        draw_unicycle(a1, *res.x[k, :3], size=0.08)
+    plane_axes(a1, "Cartesian motion", legend=True)
     _inputs_axes(a2, res.t, res.u, "Velocity inputs")
-    fig.suptitle(title)
-    fig.tight_layout()
     return fig
 
 
@@ -820,15 +793,13 @@ def problem_11_16() -> Solution:
     a_mod, a_orig = _regulate(CartesianRegulator(k1, k2, True), acute), _regulate(CartesianRegulator(k1, k2), acute)
     sol.check_close("acute start: identical trajectories with both laws", a_mod.x, a_orig.x, atol=0.0)
 
-    fig1, ax = plt.subplots(figsize=(6.0, 5.0))
+    fig1, ax = subplots(figsize=(6.0, 5.0))
     ax.plot(orig.x[:, 0], orig.x[:, 1], label="original (11.78)–(11.79)")
     ax.plot(mod.x[:, 0], mod.x[:, 1], "--", label="modified (S11.4), (S11.6)")
-    _draw_unicycle(ax, *Q0_COMPANION)
-    _path_axes(ax)
-    ax.legend(loc="best", fontsize="small")
-    ax.set_title("Fig. S11.2 (here) — the two regulators from an obtuse start")
-    sol.figure(fig1)
-    sol.figure(_motion_figure(mod, "Fig. S11.3 — modified Cartesian regulator, k1 = 1, k2 = 3", "modified regulator"))
+    draw_unicycle(ax, *Q0_COMPANION)
+    plane_axes(ax)
+    sol.figure(fig1, "Fig. S11.2 (here) — the two regulators from an obtuse start")
+    sol.figure(motion_figure(mod, "modified regulator"), "Fig. S11.3 — modified Cartesian regulator, k1 = 1, k2 = 3")
     return sol
 
 
@@ -848,7 +819,7 @@ def problem_11_17() -> Solution:
         v, w, Ts = rng.uniform(-2, 2), rng.uniform(-3, 3), rng.uniform(0.05, 1.0)
         res = simulate(UnicyclePlant(), lambda t, x: np.array([v, w]), (0.0, Ts), q0, h=Ts / 1000, Ts=Ts)
         worst = max(worst, float(np.max(np.abs(odometry_step(q0, v, w, Ts, "exact") - res.x[-1]))))
-    sol.check_close("exact step (11.85) = RK4 integration (10 random cases)", worst, 0.0, atol=1e-10)
+    sol.check_error("exact step (11.85) = RK4 integration (10 random cases)", worst, 1e-10)
     q0 = np.array([0.3, -0.2, 0.4])
     straight = q0 + np.array([1.5 * np.cos(0.4), 1.5 * np.sin(0.4), 0.0])
     sol.check_close("ω → 0: the exact step's limit branch gives the straight line (ω = 1e-12)",
@@ -871,20 +842,25 @@ T_REGULATION = 10.0           # i11_18
 
 
 def posture_with_odometry(Ts: float, q0: Any = Q0_COMPANION, t_end: float = T_REGULATION,
-                          gains: tuple[float, float, float] = K_POSTURE) -> SimulationResult:
-    """Posture regulation (11.81)–(11.82) fed by Runge–Kutta odometry (11.84) of period T_s (Problem 11.18).
+                          gains: tuple[float, float, float] = K_POSTURE, method: str = "runge_kutta") -> SimulationResult:
+    """Posture regulation (11.81)–(11.82) fed by odometric localisation (11.84) of period T_s (Problem 11.18).
 
-    The unicycle is integrated by RK4 with h = T_s/⌈T_s/0.01⌉ ≤ 0.01 s (the manual's maximum step); samples at
-    k T_s ≤ t_end. Raises SimulationDiverged when the loop leaves |x_i| < 1e3.
+    Two blocks at two rates (Fig. S11.4): the :class:`~controllers.wheeled.Odometry` block reads the wheel
+    encoders every T_s and holds its estimate; the regulator runs every T_s/n, n = ⌈T_s/0.01⌉ (at most the
+    manual's 0.01 s), on the held estimate. The unicycle is integrated by RK4 with that step. Raises
+    SimulationDiverged when the loop leaves |x_i| < 1e3.
     """
     n_sub = int(np.ceil(Ts / H - 1e-9))
-    return simulate(UnicyclePlant(), OdometricRegulator(PostureRegulator(*gains), q0), (0.0, t_end), q0,
-                    h=Ts / n_sub, Ts=Ts, bound=1e3)
+    period = Ts / n_sub
+    controller = Chain(ZeroOrderHold(Odometry(q0, method), Ts), PostureRegulator(*gains, feedback="estimate"),
+                       name="estimate")
+    return simulate(UnicyclePlant(odometer=True), controller, (0.0, t_end), np.r_[q0, 0.0, 0.0],
+                    h=period, Ts=period, bound=1e3)
 
 
 def posture_at(res: SimulationResult, t: float) -> np.ndarray:
     """The posture at t ≥ the last sample: the last command is held, so the robot runs an exact arc (11.85)."""
-    return unicycle_arc(res.x[-1], res.u[-1, 0], res.u[-1, 1], t - res.t[-1])
+    return unicycle_arc(res.x[-1, :3], res.u[-1, 0], res.u[-1, 1], t - res.t[-1])
 
 
 def final_distance(Ts: float, t_end: float = T_REGULATION) -> float:
@@ -899,11 +875,13 @@ def final_distance(Ts: float, t_end: float = T_REGULATION) -> float:
 def problem_11_18() -> Solution:
     """Posture regulator (11.81)–(11.82) acting on the odometric estimate (11.84) (Fig. S11.4).
 
-    Companion i11_18: k = (1, 2.5, 3), start (−1, −2, −π/2), 10 s, T_s = 0.01 s (Fig. S11.5) and 0.1 s
-    (Fig. S11.6). Both converge; at 0.1 s the estimate is less accurate (the final distance is the odometric
-    error). For larger T_s the final error grows and the loop eventually diverges: the T_s above which
-    ‖p(10 s)‖ > 1e-2 m is found by bisection (Fig. S11.4 here: final distance against T_s). When T_s does not
-    divide 10 s, the posture at 10 s is the exact arc (11.85) from the last sample under the held command.
+    Companion i11_18: k = (1, 2.5, 3), start (−1, −2, −π/2), 10 s, odometry period T_s = 0.01 s (Fig. S11.5)
+    and 0.1 s (Fig. S11.6); the regulator runs at T_s/⌈T_s/0.01 s⌉ on the estimate held between odometry
+    samples, and the odometry integrates the wheel encoders' increments Δs, Δθ. Both converge; at 0.1 s the
+    estimate is less accurate (the final distance is the odometric error). For larger T_s the final error
+    grows and the loop eventually diverges: the T_s above which ‖p(10 s)‖ > 1e-2 m is found by bisection
+    (Fig. S11.4 here: final distance against T_s). When the loop period does not divide 10 s, the posture at
+    10 s is the exact arc (11.85) from the last sample under the held command.
     """
     sol = Solution()
     runs = {}
@@ -912,27 +890,35 @@ def problem_11_18() -> Solution:
         runs[Ts] = res
         dist = float(np.hypot(*res.x[-1, :2]))
         est = float(np.linalg.norm(res["q_hat"][-1, :2]))
+        odo_error = float(np.hypot(*(res.x[-1, :2] - res["q_hat"][-1, :2])))
         sol.value(f"final_distance_Ts_{Ts:g}", dist)
         sol.value(f"final_heading_Ts_{Ts:g}", float(res.x[-1, 2]))
-        sol.value(f"final_odometry_error_Ts_{Ts:g}", float(res["odometry_error"][-1]))
+        sol.value(f"final_odometry_error_Ts_{Ts:g}", odo_error)
         sol.check(f"T_s = {Ts:g} s: estimate regulated to the origin (‖p̂(10 s)‖ < 1e-3 m)", est < 1e-3,
                   f"‖p̂‖ = {est:.2e} m")
         sol.check(f"T_s = {Ts:g} s: final distance ≈ odometric error (the regulator converged on the estimate)",
-                  abs(dist - res["odometry_error"][-1]) < 1e-3, f"‖p‖ = {dist:.2e}, error {res['odometry_error'][-1]:.2e} m")
-        sol.figure(_motion_figure(res, f"{fig_name} — posture regulation with Runge–Kutta odometry, T_s = {Ts:g} s",
-                                  "unicycle", estimate=res["q_hat"]))
+                  abs(dist - odo_error) < 1e-3, f"‖p‖ = {dist:.2e}, error {odo_error:.2e} m")
+        sol.figure(motion_figure(res, "unicycle", estimate=res["q_hat"]),
+                   f"{fig_name} — posture regulation with Runge–Kutta odometry, T_s = {Ts:g} s")
     d01, d1 = sol.values["final_distance_Ts_0.01"], sol.values["final_distance_Ts_0.1"]
     sol.check("T_s = 0.01 s: ‖p(10 s)‖ < 1e-3 m and |θ| < 1e-2 rad",
               d01 < 1e-3 and abs(sol.values["final_heading_Ts_0.01"]) < 1e-2, f"‖p‖ = {d01:.2e} m")
     sol.check("T_s = 0.1 s: ‖p(10 s)‖ < 2e-2 m, less accurate than 0.01 s", d1 < 2e-2 and d1 > d01, f"‖p‖ = {d1:.2e} m")
-    # Odometry alone over the same inputs (open loop, exact step per sample) predicts the same error: the
-    # localisation error, not the regulator, sets the final distance.
+    # The simulated unicycle against the exact arcs (11.85) of the logged (held) inputs, step by step.
     res = runs[0.1]
-    q_exact = res.x[0].copy()
-    for u in res.u[:-1]:
-        q_exact = odometry_step(q_exact, u[0], u[1], 0.1, "exact")
+    q_exact = res.x[0, :3].copy()
+    for dt, u in zip(np.diff(res.t), res.u[:-1]):
+        q_exact = odometry_step(q_exact, u[0], u[1], dt, "exact")
     sol.check_close("exact arc integration (11.85) of the logged inputs = the simulated unicycle (T_s = 0.1 s)",
                     q_exact[:2], res.x[-1, :2], atol=1e-6)
+    # The odometry block against the encoders' increments done by hand, (11.84) at every 0.1 s sample.
+    q_hat = res.x[0, :3].copy()
+    for k in range(10, len(res.t), 10):
+        ds, dpsi = res["distance"][k] - res["distance"][k - 10], res["rotation"][k] - res["rotation"][k - 10]
+        q_hat = np.array([q_hat[0] + ds * np.cos(q_hat[2] + dpsi / 2), q_hat[1] + ds * np.sin(q_hat[2] + dpsi / 2),
+                          q_hat[2] + dpsi])
+    sol.check_close("odometry block = (11.84) on the encoder increments Δs, Δθ (T_s = 0.1 s, final p̂)",
+                    q_hat[:2], res["q_hat"][-1, :2], atol=1e-12)
 
     grid = np.array([0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0])
     finals = np.array([final_distance(Ts) for Ts in grid])
@@ -953,254 +939,10 @@ def problem_11_18() -> Solution:
     sol.check("bisection: ‖p(10 s)‖ crosses 1e-2 m between 0.1 and 0.2 s",
               final_distance(lo) <= 1e-2 < final_distance(hi), f"T_s* = {0.5 * (lo + hi):.4f} s")
 
-    fig, ax = plt.subplots(figsize=(6.0, 4.0))
+    fig, ax = subplots(figsize=(6.0, 4.0))
     ax.semilogy(grid, np.minimum(finals, 1e3), "o-", label="‖p(t_f)‖")
     ax.axhline(1e-2, color="k", ls=":", label="1e-2 m")
     ax.axvline(0.5 * (lo + hi), color="C3", ls="--", label=f"T_s* = {0.5 * (lo + hi):.3f} s")
-    ax.set_xlabel("odometry sampling period T_s [s]")
-    ax.set_ylabel("final distance ‖p‖ [m]")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(loc="best", fontsize="small")
-    ax.set_title("Final error against T_s (replaces the Simulink diagram S11.4)")
-    sol.figure(fig)
-    return sol
-
-
-# --------------------------------------------------------------------------------------------
-# Beyond the book (companions, not registered problems; shown in the chapter notebook)
-# --------------------------------------------------------------------------------------------
-
-def _settling_time(t: np.ndarray, err: np.ndarray, tol: float) -> float:
-    """First time after which ``err`` stays below ``tol`` (inf if it never does)."""
-    above = np.nonzero(err >= tol)[0]
-    if above.size == 0:
-        return float(t[0])
-    return float(t[above[-1] + 1]) if above[-1] + 1 < len(t) else float("inf")
-
-
-def tracking_comparison(t_end: float = 30.0) -> Solution:
-    """The three unicycle trackers of Sect. 11.6.1 on one figure-eight with the same initial error.
-
-    Reference: Gerono figure-eight, a = 2 m, period 30 s (|v_d| ≤ 0.59 m/s). Start 0.3 m off in x and y and
-    0.4 rad off in heading. Gains: approximate linearisation a = 1, ζ = 0.7; nonlinear ζ = 0.7, b = 4;
-    input–output linearisation of B at b = 0.1 m, k = 1 (the error of B is the one it controls). Table:
-    settling time (error of the controlled point < 1 cm for good), peak |v|, |ω| and the final error.
-    """
-    from controllers.wheeled import ApproximateLinearizationTracking, InputOutputTracking, NonlinearTracking
-    from planners.wheeled import FigureEight
-
-    sol = Solution()
-    ref = FigureEight(a=2.0, T=30.0)
-    r0 = ref(0.0)
-    q0 = np.r_[r0.p + [0.3, -0.3], r0.theta + 0.4]
-    laws = {"approximate linearisation": ApproximateLinearizationTracking(ref, a=1.0, zeta=0.7),
-            "nonlinear": NonlinearTracking(ref, zeta=0.7, b=4.0),
-            "input-output linearisation (b = 0.1 m)": InputOutputTracking(ref, b=0.1, k1=1.0)}
-    table, runs = {}, {}
-    for name, law in laws.items():
-        res = simulate(UnicyclePlant(), law, (0.0, t_end), q0, h=H, Ts=H)
-        runs[name] = res
-        err = res["point_error"]
-        row = {"settling_time": _settling_time(res.t, err, 1e-2), "peak_abs_v": float(np.max(np.abs(res.u[:, 0]))),
-               "peak_abs_omega": float(np.max(np.abs(res.u[:, 1]))), "final_error": float(err[-1])}
-        table[name] = row
-        sol.check(f"{name}: the controlled point converges (error < 1e-3 m at {t_end:g} s, settles within 15 s)",
-                  row["final_error"] < 1e-3 and row["settling_time"] < 15.0,
-                  f"final {row['final_error']:.1e} m, settling {row['settling_time']:.2f} s")
-    sol.value("table", table)
-    io = runs["input-output linearisation (b = 0.1 m)"]
-    pred = io["point_error"][0] * np.exp(-io.t)
-    sol.check("input–output law: the error of B decays as e^{−k t} (k = 1)",
-              np.max(np.abs(io["point_error"] - pred)) < 1e-2 * io["point_error"][0],
-              f"max deviation {np.max(np.abs(io['point_error'] - pred)):.1e} m")
-    sol.check("input–output law: the robot itself stays within b of the reference once B has converged",
-              io["position_error"][-1] <= 0.1 + 1e-3, f"‖p_d − p‖ = {io['position_error'][-1]:.3f} m")
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
-    tt = np.linspace(0, 30, 601)
-    pr = np.array([ref(t).p for t in tt])
-    a1.plot(pr[:, 0], pr[:, 1], "k:", label="reference")
-    for k, (name, res) in enumerate(runs.items()):
-        a1.plot(res.x[:, 0], res.x[:, 1], color=f"C{k}", label=name)
-        a2.semilogy(res.t, np.maximum(res["point_error"], 1e-12), color=f"C{k}", label=name)
-    _path_axes(a1)
-    a1.legend(loc="best", fontsize="x-small")
-    a1.set_title("Figure-eight tracking")
-    a2.set_xlabel("t [s]")
-    a2.set_ylabel("error of the controlled point [m]")
-    a2.grid(True, which="both", alpha=0.3)
-    a2.legend(loc="best", fontsize="x-small")
-    a2.set_title("Tracking error")
-    fig.tight_layout()
-    sol.figure(fig)
-    return sol
-
-
-def parallel_parking(ell: float = 2.5, phi_max: float = 0.6, T: float = 15.0) -> Solution:
-    """Parallel parking of a car-like robot (rear-drive bicycle (11.19), wheelbase ℓ = 2.5 m, |φ| ≤ 0.6 rad).
-
-    Plan: the cubic Cartesian path (11.52) run backwards from (0, 0, 0) to (−7, −2.5, 0) (a bay 2.5 m to the
-    side), its k chosen to minimise the peak steering angle (tan φ = ℓ κ), along a quintic timing law s(t) so
-    the car starts and stops at rest, T = 15 s. Track: nonlinear unicycle law (ζ = 0.7, b = 2) on the rear
-    axle, its ω turned into a steering angle clipped to ±φ_max, steering rate φ̇ = 5(φ_d − φ). The car starts
-    0.2 m and 0.05 rad off.
-    """
-    from controllers.wheeled import BicycleTracking, NonlinearTracking
-    from planners.timing import quintic_law
-    from planners.wheeled import TimeScaledPath, max_steering_angle, steering_feasible_path
-
-    sol = Solution()
-    q_i, q_f = np.zeros(3), np.array([-7.0, -2.5, 0.0])
-    path = steering_feasible_path(q_i, q_f, ell, phi_max, forward=False)
-    sol.value("k", path.k_i)
-    sol.value("planned_max_phi", max_steering_angle(path, ell))
-    sol.check("planned path respects the steering bound", max_steering_angle(path, ell) <= phi_max,
-              f"max |φ| = {max_steering_angle(path, ell):.3f} ≤ {phi_max} rad")
-    ref = TimeScaledPath(path, law=quintic_law(0.0, 1.0, T))
-    ctrl = BicycleTracking(NonlinearTracking(ref, zeta=0.7, b=2.0), ell, phi_max, k_phi=5.0)
-    x0 = np.array([0.1, 0.2, 0.05, 0.0])
-    res = simulate(BicyclePlant(ell), ctrl, (0.0, T + 3.0), x0, h=H, Ts=H)
-    final = res.x[-1, :3] - q_f
-    sol.value("final_posture_error", final)
-    sol.value("closed_loop_max_phi", float(np.max(np.abs(res.x[:, 3]))))
-    sol.check("parked: final position error < 2 cm and heading error < 0.02 rad",
-              np.hypot(*final[:2]) < 0.02 and abs(final[2]) < 0.02, f"error {np.round(final, 4)}")
-    sol.check("closed loop keeps |φ| ≤ φ_max", np.max(np.abs(res.x[:, 3])) <= phi_max + 1e-9,
-              f"max |φ| = {np.max(np.abs(res.x[:, 3])):.3f} rad")
-    sol.check("the manoeuvre is made in reverse (v ≤ 0 after the first second)", np.max(res.u[res.t > 1.0, 0]) <= 1e-6,
-              f"max v = {np.max(res.u[res.t > 1.0, 0]):.2e} m/s")
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.0))
-    pp, _, _ = path(np.linspace(0, 1, 300))
-    a1.plot(pp[:, 0], pp[:, 1], "k:", label="planned rear-axle path")
-    a1.plot(res.x[:, 0], res.x[:, 1], label="car (closed loop)")
-    for k in range(0, len(res.t), 300):
-        _draw_unicycle(a1, *res.x[k, :3], size=0.4)
-    _path_axes(a1)
-    a1.legend(loc="best", fontsize="small")
-    a1.set_title("Parallel parking (reverse)")
-    a2.axhline(-phi_max, color="k", ls=":", lw=1)
-    a2.axhline(phi_max, color="k", ls=":", lw=1)
-    _time_axes(a2, res.t, [(res.u[:, 0], "v [m/s]"), (res.x[:, 3], "φ [rad] (dotted: ±φ_max)")], "v [m/s], φ [rad]",
-               "Driving velocity and steering angle")
-    fig.tight_layout()
-    sol.figure(fig)
-    return sol
-
-
-def wheel_saturation(t_end: float = 20.0) -> Solution:
-    """Posture regulation (11.81)–(11.82) of a differential drive whose wheels saturate at ω_RL (Problem 11.9).
-
-    r = 0.1 m, d = 0.5 m, ω_RL = 10 rad/s (|v| ≤ 1 m/s, |ω| ≤ 4 rad/s); the commands are scaled into the
-    admissible rhombus keeping the curvature. From the companion start the regulator asks for more than the
-    wheels give; the loop still converges, later than without the bound.
-    """
-    sol = Solution()
-    limits = (0.1, 0.5, 10.0)
-    plant = UnicyclePlant(wheel_limits=limits)
-    reg = PostureRegulator(*K_POSTURE)
-    res = simulate(plant, reg, (0.0, t_end), Q0_COMPANION, h=H, Ts=H, log=lambda t, x, u: {"applied": plant.applied(u)})
-    free = simulate(UnicyclePlant(), reg, (0.0, t_end), Q0_COMPANION, h=H, Ts=H)
-    wR, wL = differential_drive_wheel_speeds(res.u[:, 0], res.u[:, 1], *limits[:2])
-    aR, aL = differential_drive_wheel_speeds(res["applied"][:, 0], res["applied"][:, 1], *limits[:2])
-    peak_cmd, peak_applied = float(np.max(np.abs([wR, wL]))), float(np.max(np.abs([aR, aL])))
-    sol.value("peak_commanded_wheel_speed", peak_cmd)
-    sol.value("peak_applied_wheel_speed", peak_applied)
-    sol.check("saturation is active: commanded wheel speeds exceed ω_RL", peak_cmd > limits[2], f"{peak_cmd:.2f} rad/s")
-    sol.check("applied wheel speeds within ±ω_RL", peak_applied <= limits[2] + 1e-9, f"{peak_applied:.3f} rad/s")
-    dist = np.hypot(res.x[:, 0], res.x[:, 1])
-    dist_free = np.hypot(free.x[:, 0], free.x[:, 1])
-    ts, ts_free = _settling_time(res.t, dist, 1e-2), _settling_time(free.t, dist_free, 1e-2)
-    sol.value("time_to_1cm", ts)
-    sol.value("time_to_1cm_unsaturated", ts_free)
-    sol.check("the saturated loop still converges (‖p‖ < 1 cm), later than the unsaturated one",
-              dist[-1] < 1e-2 and ts > ts_free, f"{ts:.2f} s vs {ts_free:.2f} s")
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.0))
-    a1.plot(free.x[:, 0], free.x[:, 1], label="no wheel bound")
-    a1.plot(res.x[:, 0], res.x[:, 1], "--", label="|ω_R|, |ω_L| ≤ 10 rad/s")
-    _path_axes(a1)
-    a1.legend(loc="best", fontsize="small")
-    a1.set_title("Posture regulation")
-    _time_axes(a2, res.t, [(aR, "ω_R applied"), (aL, "ω_L applied")], "wheel speed [rad/s]", "Saturated wheel speeds")
-    fig.tight_layout()
-    sol.figure(fig)
-    return sol
-
-
-def car_shortest_paths(cases: int = 300) -> Solution:
-    """Shortest paths of a car with turning radius ρ: Dubins (forward only) and Reeds–Shepp (both ways).
-
-    Closed forms: straight ahead (length d), the U-turn to (0, 2ρ, π) (πρ), straight back (d for Reeds–Shepp).
-    Every candidate's end posture, by exact integration of its arcs (11.85), is the goal. Optimality: random
-    paths of curvature ≤ 1/ρ (1–5 random arcs and straights; forward only for Dubins, either way for
-    Reeds–Shepp) are never shorter than the closed-form shortest path between their end postures, and many
-    are themselves optimal (equal); Reeds–Shepp is never longer than Dubins.
-    """
-    from planners.wheeled import (DubinsPath, ReedsSheppPath, dubins_path, dubins_paths, reeds_shepp_path,
-                                  reeds_shepp_paths)
-
-    sol = Solution()
-    rho = 1.0
-    sol.check_close("straight ahead: length = distance", dubins_path([0, 0, 0], [4, 0, 0], rho).length, 4.0, atol=1e-12)
-    sol.check_close("U-turn to (0, 2ρ, π): length = πρ", dubins_path([0, 0, 0], [0, 2, np.pi], rho).length, np.pi,
-                    atol=1e-12)
-    sol.check_close("Reeds–Shepp straight back: length = distance",
-                    reeds_shepp_path([0, 0, 0], [-3, 0, 0], rho).length, 3.0, atol=1e-12)
-    rng = _rng()
-    worst_end, worst_gap, equal = 0.0, -np.inf, 0
-    for _ in range(cases):
-        q_i = rng.uniform(-3, 3, 3)
-        n_seg = int(rng.integers(2, 6))
-        word = "".join(rng.choice(list("LSR"), n_seg))
-        seg = rng.uniform(0.05, 2.0, n_seg)
-        random_path = DubinsPath(q_i, rho, word, seg)  # any sequence of primitives: a feasible path
-        q_f = random_path.end()
-        for p in dubins_paths(q_i, q_f, rho):
-            e = p.end() - q_f
-            worst_end = max(worst_end, float(np.max(np.abs(np.r_[e[:2], np.angle(np.exp(1j * e[2]))]))))
-        gap = dubins_path(q_i, q_f, rho).length - random_path.length
-        worst_gap = max(worst_gap, gap)
-        equal += abs(gap) < 1e-9
-    sol.value("max_end_error", worst_end)
-    sol.value("max_dubins_minus_random_length", worst_gap)
-    sol.value("random_paths_that_are_optimal", f"{equal}/{cases}")
-    # Tangent lengths p = √p² lose half the digits when two circles (nearly) touch: 1e-7, not 1e-15.
-    sol.check_close("every word ends at the goal (exact arcs)", worst_end, 0.0, atol=1e-7)
-    sol.check(f"Dubins length ≤ length of {cases} random feasible paths with the same end postures",
-              worst_gap <= 1e-9, f"max (Dubins − random) = {worst_gap:.2e} m; equal in {equal} cases")
-    sol.check("the bound is tight: some random paths are themselves optimal", equal > 0, f"{equal}/{cases}")
-
-    rs_end, rs_gap, rs_equal, rs_vs_dubins = 0.0, -np.inf, 0, -np.inf
-    for _ in range(cases):
-        q_i = rng.uniform(-3, 3, 3)
-        n_seg = int(rng.integers(1, 6))
-        random_path = ReedsSheppPath(q_i, rho, "".join(rng.choice(list("LSR"), n_seg)),
-                                     rng.uniform(0.05, 2.0, n_seg) * rng.choice([-1.0, 1.0], n_seg))
-        q_f = random_path.end()
-        for p in reeds_shepp_paths(q_i, q_f, rho):
-            e = p.end() - q_f
-            rs_end = max(rs_end, float(np.max(np.abs(np.r_[e[:2], np.angle(np.exp(1j * e[2]))]))))
-        best = reeds_shepp_path(q_i, q_f, rho).length
-        rs_gap = max(rs_gap, best - random_path.length)
-        rs_equal += abs(best - random_path.length) < 1e-9
-        rs_vs_dubins = max(rs_vs_dubins, best - dubins_path(q_i, q_f, rho).length)
-    sol.value("reeds_shepp_max_end_error", rs_end)
-    sol.value("reeds_shepp_random_paths_that_are_optimal", f"{rs_equal}/{cases}")
-    sol.check_close("Reeds–Shepp: every candidate ends at the goal (exact arcs)", rs_end, 0.0, atol=1e-7)
-    sol.check(f"Reeds–Shepp length ≤ length of {cases} random forward/backward paths (and some equal)",
-              rs_gap <= 1e-9 and rs_equal > 0, f"max (RS − random) = {rs_gap:.2e} m; equal in {rs_equal} cases")
-    sol.check("Reeds–Shepp ≤ Dubins (forward paths are a subset)", rs_vs_dubins <= 1e-9, f"max (RS − Dubins) = {rs_vs_dubins:.2e} m")
-    fig, ax = plt.subplots(figsize=(6, 5))
-    q_i, q_f = np.array([0.0, 0.0, 0.0]), np.array([1.0, 1.5, np.pi])
-    for p in dubins_paths(q_i, q_f, rho):
-        xy = p.sample(0.02)
-        ax.plot(xy[:, 0], xy[:, 1], lw=2.5 if p is dubins_paths(q_i, q_f, rho)[0] else 1,
-                label=f"{p.word}: {p.length:.2f} m")
-    _draw_unicycle(ax, *q_i, size=0.2)
-    _draw_unicycle(ax, *q_f, size=0.2)
-    _path_axes(ax)
-    ax.legend(loc="best", fontsize="small")
-    rs = reeds_shepp_path(q_i, q_f, rho)
-    xy = rs.sample(0.02)
-    ax.plot(xy[:, 0], xy[:, 1], "k--", lw=2, label=f"Reeds–Shepp {rs.word}: {rs.length:.2f} m")
-    ax.set_title("Dubins words and the Reeds–Shepp path, (0, 0, 0) → (1, 1.5, π), ρ = 1 m")
-    sol.figure(fig)
+    label_axes(ax, "odometry sampling period T_s [s]", "final distance ‖p‖ [m]")
+    sol.figure(fig, "Final error against T_s (replaces the Simulink diagram S11.4)")
     return sol

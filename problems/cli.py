@@ -1,6 +1,9 @@
 """The ``rmpc`` command line: ``rmpc list``, ``rmpc solve ID [--json] [--figures DIR]``, ``rmpc report``.
 
-Exit codes: 0 every check passed, 1 a check failed, 2 bad input (unknown id, bad arguments).
+Exit codes: 0 every check passed, 1 a check failed (or a problem raised), 2 bad input (unknown id or
+chapter, an output directory that cannot be written, bad arguments) — reported in one line on stderr,
+checked before any problem is solved. A reader closing the pipe (``rmpc list | head -1``) ends the
+command quietly.
 This module parses the arguments; the JSON and the HTML report are built by :mod:`problems.report`.
 """
 
@@ -8,13 +11,34 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
+import tempfile
 from pathlib import Path
 
 from problems.registry import all_problems, get
 from problems.report import save_figures, solution_dict, to_json, write_report
 
 __all__ = ["main", "to_json"]
+
+
+class BadInput(Exception):
+    """A command-line input that makes the command impossible: exit 2 with its message on one line."""
+
+
+def writable_directory(path: str, option: str) -> Path:
+    """``path`` as a directory that exists (created if needed) and accepts a file; BadInput naming
+    ``option`` otherwise (a regular file in the way, no permission, read-only file system)."""
+    directory = Path(path)
+    if directory.exists() and not directory.is_dir():
+        raise BadInput(f"{option} {path}: is not a directory")
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=directory):
+            pass
+    except OSError as exc:
+        raise BadInput(f"{option} {path}: cannot write there ({exc.strerror or exc})") from None
+    return directory
 
 
 def cmd_list(args: argparse.Namespace) -> int:
@@ -27,10 +51,17 @@ def cmd_solve(args: argparse.Namespace) -> int:
     try:
         prob = get(args.id)
     except KeyError as exc:
-        print(f"rmpc: {exc.args[0]}", file=sys.stderr)
-        return 2
-    sol = prob.solve()
-    figures = save_figures(sol, Path(args.figures)) if args.figures else None
+        raise BadInput(exc.args[0]) from None
+    fig_dir = writable_directory(args.figures, "--figures") if args.figures else None
+    try:
+        sol = prob.solve()
+    except Exception as exc:  # a crashing problem is a failure, told in one line
+        print(f"rmpc: problem {prob.id} raised {type(exc).__name__}: {exc}", file=sys.stderr)
+        return 1
+    try:
+        figures = save_figures(sol, fig_dir) if fig_dir is not None else None
+    except OSError as exc:
+        raise BadInput(f"--figures {args.figures}: cannot write the figures ({exc.strerror or exc})") from None
     if args.json:
         print(json.dumps(solution_dict(sol, figures)))
     else:
@@ -48,9 +79,17 @@ def cmd_solve(args: argparse.Namespace) -> int:
 def cmd_report(args: argparse.Namespace) -> int:
     problems = all_problems()
     if args.chapter:
+        chapters = sorted({p.chapter for p in problems})
+        unknown = sorted(set(args.chapter) - set(chapters))
+        if unknown:
+            raise BadInput(f"no problem in chapter {', '.join(map(str, unknown))} "
+                           f"(chapters: {', '.join(map(str, chapters))})")
         problems = [p for p in problems if p.chapter in args.chapter]
-    out = Path(args.out)
-    summary = write_report(problems, out)
+    out = writable_directory(args.out, "--out")
+    try:
+        summary = write_report(problems, out)
+    except OSError as exc:
+        raise BadInput(f"--out {args.out}: cannot write the report ({exc.strerror or exc})") from None
     print(f"report written to {out / 'index.html'}")
     failed = [d["id"] for d in summary if not d["passed"]]
     if failed:
@@ -79,7 +118,17 @@ def main(argv: list[str] | None = None) -> int:
     import matplotlib
 
     matplotlib.use("Agg")  # the CLI draws into files only (chapter modules never pick a backend)
-    return args.func(args)
+    try:
+        code = args.func(args)
+        sys.stdout.flush()
+    except BadInput as exc:
+        print(f"rmpc: {exc}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:  # the reader stopped reading (`rmpc list | head -1`): end quietly
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # so that the final flush at exit does not raise again
+        return 141  # 128 + SIGPIPE, the shell's convention
+    return code
 
 
 if __name__ == "__main__":

@@ -19,13 +19,15 @@ Provenance:
 * ``planar_3r``: Fig. 2.20 arm; a = (0.5, 0.3, 0.2) and the joint limits of Problem 2.17.
 * ``cartesian_skew``: the two-link Cartesian arm of Problem 7.1 (joint 2 axis at π/4 to joint 1).
 * ``planar_pr``: the prismatic–revolute arm of Problems 7.5/7.8 (z₁ = y₀, gravity along −x₀).
-* The Franka Emika Panda as a standard DH table (:func:`panda_links`), a reference for the dynamics:
-  see the section at the end.
+* The Franka Emika Panda as a standard DH table (:func:`panda_links`), a reference for the dynamics,
+  and as its published modified DH table (:func:`panda_modified_links`): see the Panda section.
+* ``puma560`` (not one of the book's robots, ``load("puma560")``): the Unimation Puma 560 of the
+  Robotics Toolbox (Corke & Armstrong-Hélouvry 1994), see :func:`puma560`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable
 
@@ -33,7 +35,7 @@ import numpy as np
 
 import pinocchio as pin
 
-from rigid_body.dh import G, DHLink, dh_transform, urdf_from_dh
+from rigid_body.dh import G, DHLink, dh_transform, joint_friction_from_motor, urdf_from_dh
 
 # The generated URDF files: ``urdf/`` beside the packages in a source tree (and an editable install),
 # ``rigid_body/urdf/`` (package data) in an installed wheel.
@@ -51,16 +53,19 @@ def rod_inertia(mass: float, length: float, axis: int = 0) -> np.ndarray:
 
 @dataclass(frozen=True)
 class BookRobot:
-    """A book robot's DH table, gravity (in the URDF root frame = DH frame 0) and payload."""
+    """A book robot's DH table, gravity (in the URDF root frame = DH frame 0) and payload; its motor model
+    (``"rotors"``, the book's, or ``"armature"``) and named joint configurations."""
 
     name: str
     links: tuple[DHLink, ...]
     gravity: tuple[float, float, float]
     payload: float = 0.0
+    motors: str = "rotors"
+    configurations: dict[str, tuple[float, ...]] = field(default_factory=dict)
 
     def urdf(self) -> str:
         """The arm's URDF text (the payload is added to the model by ``load``, not written into the file)."""
-        return urdf_from_dh(self.links, name=self.name)
+        return urdf_from_dh(self.links, name=self.name, motors=self.motors)
 
 
 def planar_2r(a: Any = (1.0, 1.0), l: Any = (0.5, 0.5), m_l: Any = (50.0, 50.0), I_l: Any = (10.0, 10.0),
@@ -185,6 +190,60 @@ def planar_pr(a2: float = 0.5, l2: float = 0.25, m_l: Any = (10.0, 5.0), I_l2: f
     return BookRobot("planar_pr", links, (-G, 0.0, 0.0), payload)
 
 
+# --------------------------------------------------------------------------------------------
+# The Unimation Puma 560
+# --------------------------------------------------------------------------------------------
+# Standard DH table, link masses, centres of mass and inertias (about the com, in DH frame i), motor
+# inertias J_m, gear ratios G and motor-side friction (viscous B, Coulomb Tc for q̇ > 0 and q̇ < 0) as in
+# the Robotics Toolbox's Puma560 model, from P. Corke and B. Armstrong-Hélouvry, "A search for consensus
+# among model parameters reported for the PUMA 560 robot", IEEE ICRA 1994. Link 1 has m = 0 but
+# I_yy = 0.35 kg·m² (its inertia about the joint-1 axis, y1 = z0): kept. The Toolbox's recent versions put
+# the shoulder d1 = 0.672 m above the mounting surface; here d1 = 0 (frame 0 at the shoulder), which
+# changes no torque. Joint limits after Wang & Chen 1991 (as the Toolbox).
+_DEG = np.pi / 180
+PUMA560_DH = (  # a [m], α [rad], d [m]
+    (0.0, np.pi / 2, 0.0), (0.4318, 0.0, 0.0), (0.0203, -np.pi / 2, 0.15005),
+    (0.0, np.pi / 2, 0.4318), (0.0, -np.pi / 2, 0.0), (0.0, 0.0, 0.0))
+PUMA560_MASS = (0.0, 17.4, 4.8, 0.82, 0.34, 0.09)
+PUMA560_COM = ((0, 0, 0), (-0.3638, 0.006, 0.2275), (-0.0203, -0.0141, 0.070), (0, 0.019, 0), (0, 0, 0),
+               (0, 0, 0.032))
+PUMA560_INERTIA = ((0, 0.35, 0), (0.13, 0.524, 0.539), (0.066, 0.086, 0.0125), (1.8e-3, 1.3e-3, 1.8e-3),
+                   (0.3e-3, 0.4e-3, 0.3e-3), (0.15e-3, 0.15e-3, 0.04e-3))  # I_xx, I_yy, I_zz
+PUMA560_MOTOR_INERTIA = (200e-6, 200e-6, 200e-6, 33e-6, 33e-6, 33e-6)
+PUMA560_GEAR_RATIO = (-62.6111, 107.815, -53.7063, 76.0364, 71.923, 76.686)
+PUMA560_MOTOR_VISCOUS = (1.48e-3, 0.817e-3, 1.38e-3, 71.2e-6, 82.6e-6, 36.7e-6)
+PUMA560_MOTOR_COULOMB = ((0.395, 0.435), (0.126, 0.071), (0.132, 0.105), (11.2e-3, 16.9e-3),
+                         (9.26e-3, 14.5e-3), (3.96e-3, 10.5e-3))  # magnitudes for q̇ > 0, q̇ < 0
+PUMA560_LIMITS = ((-160, 160), (-45, 225), (-225, 45), (-110, 170), (-100, 100), (-266, 266))  # deg
+
+
+def puma560(motors: str = "armature", friction: bool = True, payload: float = 0.0) -> BookRobot:
+    """The Puma 560 (Robotics Toolbox data, Corke & Armstrong-Hélouvry 1994), 6R with a spherical wrist.
+
+    ``motors="armature"`` (default, the Toolbox's model: B = B_links + diag(J_m G²)) or ``"rotors"`` (the
+    book's, Sect. 7.3). ``friction``: the published motor-side friction reflected to the joints
+    (F_v = G² B, F_s = |G| Tc). Configurations: ``qz`` (zero angles), ``qr`` (ready, arm up), ``qs``
+    (stretched along x), ``qn`` (nominal, non-singular).
+    """
+    links = []
+    for i in range(6):
+        a, alpha, d = PUMA560_DH[i]
+        G_i = PUMA560_GEAR_RATIO[i]
+        links.append(DHLink(
+            a=a, alpha=alpha, d=d, mass=PUMA560_MASS[i], com=PUMA560_COM[i], inertia=np.diag(PUMA560_INERTIA[i]),
+            motor_inertia=PUMA560_MOTOR_INERTIA[i], gear_ratio=G_i,
+            lower=PUMA560_LIMITS[i][0] * _DEG, upper=PUMA560_LIMITS[i][1] * _DEG,
+            **(joint_friction_from_motor(G_i, PUMA560_MOTOR_VISCOUS[i], PUMA560_MOTOR_COULOMB[i])
+               if friction else {})))
+    configurations = {"qz": (0.0,) * 6, "qr": (0.0, np.pi / 2, -np.pi / 2, 0.0, 0.0, 0.0),
+                      "qs": (0.0, 0.0, -np.pi / 2, 0.0, 0.0, 0.0),
+                      "qn": (0.0, np.pi / 4, np.pi, 0.0, np.pi / 4, 0.0)}
+    return BookRobot("puma560", tuple(links), (0.0, 0.0, -G), payload, motors, configurations)
+
+
+# Robots built from a DH table that are not the book's (no committed URDF file).
+DH_ROBOTS: dict[str, Callable[..., BookRobot]] = {"puma560": puma560}
+
 BOOK_ROBOTS: dict[str, Callable[..., BookRobot]] = {
     "planar_2r": planar_2r,
     "planar_3r": planar_3r,
@@ -200,11 +259,12 @@ BOOK_ROBOTS: dict[str, Callable[..., BookRobot]] = {
 
 
 def book_robot_spec(name: str, **params: Any) -> BookRobot:
-    """The table of the book robot ``name`` with its parameters changed by ``params``."""
-    if name not in BOOK_ROBOTS:
-        raise ValueError(f"unknown book robot {name!r}; available: {', '.join(sorted(BOOK_ROBOTS))}")
+    """The table of the book robot (or named DH robot) ``name`` with its parameters changed by ``params``."""
+    tables = {**BOOK_ROBOTS, **DH_ROBOTS}
+    if name not in tables:
+        raise ValueError(f"unknown book robot {name!r}; available: {', '.join(sorted(tables))}")
     try:
-        return BOOK_ROBOTS[name](**params)
+        return tables[name](**params)
     except TypeError as exc:
         raise TypeError(f"book robot {name!r}: {exc}") from None
 
@@ -256,22 +316,31 @@ def panda_tool() -> np.ndarray:
     return dh_transform(0.0, 0.0, FLANGE, HAND_ROTATION)
 
 
+def panda_modified_links(model: pin.Model) -> tuple[DHLink, ...]:
+    """The Panda's published modified (Craig) DH table, joints 1..7, with the inertial data of ``model`` =
+    ``load("panda").model`` as they are, in Craig's frame i (the URDF's ``panda_link{i}``). Load it with
+    ``robot_from_dh(links, convention="modified", tool=panda_tool())``."""
+    links = []
+    for i, (a, alpha, d) in enumerate(PANDA_MODIFIED_DH):
+        inertia = model.inertias[model.getJointId(f"panda_joint{i + 1}")]
+        links.append(DHLink(
+            a=a, alpha=alpha, d=d, mass=float(inertia.mass), com=tuple(np.asarray(inertia.lever)),
+            inertia=np.asarray(inertia.inertia).copy(), lower=float(model.lowerPositionLimit[i]),
+            upper=float(model.upperPositionLimit[i]), name=f"joint_{i + 1}"))
+    return tuple(links)
+
+
 def panda_links(model: pin.Model) -> tuple[DHLink, ...]:
     """The Panda's standard DH table, with the inertial data of ``model`` = ``load("panda").model``
-    (example-robot-data's URDF, fingers locked)."""
-    rows = list(PANDA_MODIFIED_DH) + [(0.0, 0.0, FLANGE)]
+    (example-robot-data's URDF, fingers locked): :func:`panda_modified_links` regrouped as above."""
+    modified = panda_modified_links(model)
     links = []
-    for i in range(7):
-        a, alpha = rows[i + 1][0], rows[i + 1][1]
+    for i, link in enumerate(modified):
+        a, alpha = (modified[i + 1].a, modified[i + 1].alpha) if i + 1 < len(modified) else (0.0, 0.0)
         T_fix = dh_transform(a, alpha, 0.0, 0.0)  # Craig frame i -> book frame i: Tx(a_i) Rx(α_i)
         R, p = T_fix[:3, :3], T_fix[:3, 3]
-        inertia = model.inertias[model.getJointId(f"panda_joint{i + 1}")]
-        lower = model.lowerPositionLimit[i]
-        upper = model.upperPositionLimit[i]
-        links.append(DHLink(
-            a=a, alpha=alpha, d=rows[i][2], mass=float(inertia.mass),
-            com=tuple(R.T @ (np.asarray(inertia.lever) - p)), inertia=R.T @ np.asarray(inertia.inertia) @ R,
-            lower=float(lower), upper=float(upper), name=f"joint_{i + 1}"))
+        links.append(replace(link, a=a, alpha=alpha, com=tuple(R.T @ (np.asarray(link.com) - p)),
+                             inertia=R.T @ np.asarray(link.inertia) @ R))
     return tuple(links)
 
 

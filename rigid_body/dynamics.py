@@ -3,7 +3,8 @@
 The book's motor model (rotor i carried by link i−1, spinning at k_ri q̇_i, Sect. 7.3) is in the
 URDF as mimic joints, so CRBA/RNEA here include the k_r I_m terms of (7.32). With mimic joints
 Pinocchio refuses ABA; forward dynamics is then the Cholesky solve of B q̈ = τ − h.
-Every function copies its result out of ``robot.data``.
+Every function copies its result out of ``robot.data``. :func:`inverse_dynamics` is the rigid-body
+model; friction, F_v q̇ + F_s sgn(q̇) in (7.42), is :func:`friction_torques` (from ``robot.friction``).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
 Eqs. (7.32) B(q), (7.42) the model, (7.45) Christoffel C, (7.39) g, Sect. 7.5 Newton–Euler.
@@ -11,11 +12,13 @@ Eqs. (7.32) B(q), (7.42) the model, (7.45) Christoffel C, (7.39) g, Sect. 7.5 Ne
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pinocchio as pin
 from scipy.linalg import get_lapack_funcs
 
-from rigid_body.robots import Robot
+from rigid_body.robots import JointFriction, Robot
 from rigid_body.validation import as_vector
 
 
@@ -83,6 +86,24 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     return pin.rnea(robot.model, robot.data, q, qd, qdd).copy()
 
 
+def friction_torques(robot: Robot, qd: np.ndarray, smoothing: float = 0.0,
+                     friction: JointFriction | None = None, check: bool = True) -> np.ndarray:
+    """τ_f = F_v q̇ + F_s sgn(q̇), the joint torques friction takes (link side, the friction terms of (7.42)).
+
+    With direction-dependent Coulomb data, F_s+ for q̇ > 0 and −F_s− for q̇ < 0; 0 at q̇ = 0. ``smoothing``
+    ε > 0 [rad/s] replaces sgn(q̇) by tanh(q̇/ε) (continuous, for fixed-step simulation: |q̇| ≫ ε gives the
+    Coulomb value, q̇ → 0 gives 0). ``friction`` defaults to ``robot.friction`` (DH table or URDF
+    ``<dynamics>``). The Robotics Toolbox's ``friction(qd)`` is −τ_f.
+    """
+    if check:
+        qd = as_vector(qd, robot.nv, "qd")
+        if not (np.isfinite(smoothing) and smoothing >= 0):
+            raise ValueError(f"`smoothing` must be a non-negative velocity [rad/s], got {smoothing!r}")
+    f = robot.friction if friction is None else friction
+    s = np.tanh(qd / smoothing) if smoothing > 0 else np.sign(qd)
+    return f.viscous * qd + f.coulomb_positive * np.maximum(s, 0.0) + f.coulomb_negative * np.minimum(s, 0.0)
+
+
 def reference_torque(robot: Robot, q: np.ndarray, qd: np.ndarray, qd_r: np.ndarray,
                      qdd_r: np.ndarray) -> np.ndarray:
     """B(q) q̈_r + C(q, q̇) q̇_r + g(q), Christoffel C (7.45): the model part of the adaptive law (8.98).
@@ -106,6 +127,8 @@ def forward_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarra
     """q̈ = B(q)⁻¹ (τ − C q̇ − g): ABA without mimic joints, else a Cholesky solve (Eq. 7.42).
 
     ``check=False`` skips the input validation (for simulation hot loops whose inputs are known good).
+    ValueError on both paths when B(q) is singular (e.g. a link with neither mass nor inertia): ABA then
+    returns NaN/inf (one dot product checks it), Cholesky fails.
     """
     if check:
         q = as_vector(q, robot.nq, "q")
@@ -113,12 +136,22 @@ def forward_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarra
         tau = as_vector(tau, robot.nv, "tau")
     model, data = robot.model, robot.data
     if not robot.has_mimic:
-        return pin.aba(model, data, q, qd, tau).copy()
+        qdd = pin.aba(model, data, q, qd, tau).copy()
+        if not math.isfinite(qdd.dot(qdd)) and not np.isfinite(qdd).all():  # the dot may overflow: recheck
+            for name, x in (("q", q), ("qd", qd), ("tau", tau)):  # unchecked inputs (check=False)
+                as_vector(x, None, name)
+            raise _singular_inertia(q, "ABA returned a non-finite q̈")
+        return qdd
     B = pin.crba(model, data, q)  # upper triangle is what LAPACK's posv reads
     _, qdd, info = _posv(B, tau - pin.nonLinearEffects(model, data, q, qd), lower=False)
     if info != 0:
-        raise ValueError(f"B(q) is not positive definite at q = {q} (LAPACK posv info {info})")
+        raise _singular_inertia(q, f"LAPACK posv info {info}")
     return qdd
+
+
+def _singular_inertia(q: np.ndarray, detail: str) -> ValueError:
+    return ValueError(f"B(q) is singular (not positive definite) at q = {q}: a body without mass or inertia "
+                      f"on a joint? ({detail})")
 
 
 _posv = get_lapack_funcs("posv", (np.zeros((1, 1)),))

@@ -10,9 +10,12 @@ any URDF file. ``load(..., payload=m)`` adds a point mass at the end effector of
 from __future__ import annotations
 
 import difflib
+import math
 import os
 import re
 import sys
+import threading
+import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
@@ -20,11 +23,11 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 import pinocchio as pin
 
-from rigid_body.book_robots import BOOK_ROBOTS, URDF_DIR, book_robot_spec
-from rigid_body.dh import GRAVITY, DHLink, urdf_from_dh
+from rigid_body.book_robots import BOOK_ROBOTS, DH_ROBOTS, URDF_DIR, book_robot_spec
+from rigid_body.dh import GRAVITY, MOTOR_MODELS, DHLink, as_links, urdf_from_dh
 
 __all__ = [
-    "Robot", "load", "available", "with_payload", "robot_from_dh", "robot_from_urdf_string",
+    "Robot", "JointFriction", "load", "available", "with_payload", "robot_from_dh", "robot_from_urdf_string",
     "example_robot_data_dir", "joint_kind", "revolute_joints", "model_frame_id", "URDF_DIR", "EXAMPLE_ROBOTS",
 ]
 
@@ -88,6 +91,36 @@ def joint_kind(model: pin.Model, i: int) -> tuple[str, np.ndarray | None]:
     raise ValueError(f"joint {model.names[i]!r} of type {name} is not supported (revolute and prismatic joints only)")
 
 
+@dataclass(frozen=True)
+class JointFriction:
+    """Joint friction at the link side, per joint (nv,): τ_f = F_v q̇ + F_s+ for q̇ > 0, F_v q̇ − F_s− for q̇ < 0.
+
+    The book's F_v q̇ + F_s sgn(q̇) of (7.42) when F_s+ = F_s− = F_s. ``viscous`` F_v [N·m·s/rad];
+    ``coulomb_positive``/``coulomb_negative`` the magnitudes F_s+/F_s− [N·m] (measured data such as the
+    Puma 560's differ with the direction). Evaluated by :func:`rigid_body.dynamics.friction_torques`.
+    """
+
+    viscous: np.ndarray
+    coulomb_positive: np.ndarray
+    coulomb_negative: np.ndarray
+
+    @classmethod
+    def from_model(cls, model: pin.Model) -> "JointFriction":
+        """From Pinocchio's ``model.damping`` (F_v) and ``model.friction`` (F_s), read from URDF ``<dynamics>``."""
+        Fs = np.array(model.friction, dtype=float)
+        return cls(np.array(model.damping, dtype=float), Fs, Fs.copy())
+
+    @classmethod
+    def from_links(cls, links: Sequence[DHLink]) -> "JointFriction":
+        """From a DH table's ``viscous_friction`` and ``coulomb_friction`` fields."""
+        pairs = np.array([link.coulomb_pair for link in links], dtype=float).reshape(-1, 2)
+        return cls(np.array([link.viscous_friction for link in links], dtype=float), pairs[:, 0], pairs[:, 1])
+
+    @property
+    def is_zero(self) -> bool:
+        return not (np.any(self.viscous) or np.any(self.coulomb_positive) or np.any(self.coulomb_negative))
+
+
 @dataclass
 class Robot:
     """A Pinocchio model with its data, end-effector frame, geometry and source URDF.
@@ -95,11 +128,17 @@ class Robot:
     Attributes
     ----------
     name : the robot's name.
-    model, data : ``pin.Model`` and a ``pin.Data`` made for it (scratch space of the algorithms).
+    model : the ``pin.Model``.
+    data : a ``pin.Data`` for ``model`` (scratch space of the algorithms), one per thread: the thread
+        that builds the Robot gets the one given, every other thread its own ``model.createData()`` on
+        first use. So the functions taking a Robot may be called from several threads at once; objects
+        that keep ``robot.data`` (controllers, plants) belong to the thread that made them.
     ee_frame : id of the end-effector frame (``ee`` for the book's robots).
     urdf_path : the URDF file, or None for a model built in memory.
     urdf_xml : the URDF text the model was built from.
     configurations : named joint configurations (e.g. ``"neutral"``).
+    friction : the joint friction (:class:`JointFriction`); by default Pinocchio's ``model.damping`` and
+        ``model.friction`` (URDF ``<dynamics>``); a DH table's friction fields for :func:`robot_from_dh`.
     geometry_loader : builds ``(collision, visual)`` geometry models on first use (meshes take ~0.5 s).
     collision_model, visual_model : ``pin.GeometryModel`` of the URDF's ``<collision>`` / ``<visual>``
         shapes, empty when the URDF has none.
@@ -113,6 +152,7 @@ class Robot:
     urdf_xml: str = ""
     configurations: dict[str, np.ndarray] = field(default_factory=dict)
     geometry_loader: Callable[[], Geometry] | None = field(default=None, repr=False)
+    friction: JointFriction | None = field(default=None, repr=False)
 
     @property
     def nq(self) -> int:
@@ -125,9 +165,24 @@ class Robot:
     has_mimic: bool = field(init=False)
     _geometry: Geometry | None = field(init=False, default=None, repr=False)
 
+    _local: threading.local = field(init=False, repr=False, compare=False)
+
     def __post_init__(self) -> None:
         # True when the model has mimic joints (the book's rotors): ABA is then unavailable.
         self.has_mimic = len(getattr(self.model, "mimicking_joints", ())) > 0
+        if self.friction is None:
+            self.friction = JointFriction.from_model(self.model)
+
+    def __getstate__(self) -> dict:  # copy.deepcopy: the calling thread's data, not the thread-local store
+        state = {k: v for k, v in self.__dict__.items() if k != "_local"}
+        state["data"] = self.data
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        state = dict(state)
+        data = state.pop("data")
+        self.__dict__.update(state)
+        self.data = data
 
     def frame_id(self, name: str) -> int:
         """Id of the frame ``name``; ValueError with the nearest frame names when it does not exist."""
@@ -166,10 +221,95 @@ class Robot:
         return rng.uniform(lo, hi)
 
 
+def _thread_data(self: Robot) -> pin.Data:
+    try:
+        return self._local.data
+    except AttributeError:  # first use in this thread
+        data = self._local.data = self.model.createData()
+        return data
+
+
+def _set_data(self: Robot, data: pin.Data) -> None:
+    if "_local" not in self.__dict__:
+        self._local = threading.local()
+    self._local.data = data
+
+
+# ``data`` is a dataclass field (so Robot(..., data=...) sets it) read through a per-thread property.
+Robot.data = property(_thread_data, _set_data, doc="The calling thread's ``pin.Data`` for ``model``.")
+
+
+_INERTIA_TOL = 1e-9  # symmetry / positive semi-definiteness of an inertia tensor [kg·m²]
+_INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+
+
+def _urdf_number(text: str | None, link: str, field: str) -> float:
+    try:
+        value = float(text if text is not None else "0")
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise ValueError(f"URDF link {link!r}: `{field}` must be a finite number, got {text!r}")
+    return value
+
+
+def _check_inertia(mass: float, inertia: np.ndarray, where: str) -> None:
+    if mass < 0:
+        raise ValueError(f"{where}: `mass` must be non-negative, got {mass:g}")
+    asym = np.abs(inertia - inertia.T).max()
+    lowest = np.linalg.eigvalsh(0.5 * (inertia + inertia.T)).min()
+    if asym > _INERTIA_TOL or lowest < -_INERTIA_TOL:
+        raise ValueError(f"{where}: `inertia` must be symmetric positive semi-definite, got {inertia.tolist()}")
+
+
+def _declared_inertials(xml: str) -> float:
+    """Check every ``<inertial>`` of the URDF text (finite numbers, mass ≥ 0, inertia PSD) and return the total mass.
+
+    Pinocchio's URDF parser (urdfdom) drops an ``<inertial>`` it cannot read (``mass="nan"``, a
+    malformed number) with only a line on the C++ stderr, leaving the link massless: checked here first.
+    """
+    total = 0.0
+    for link in ET.fromstring(xml).iter("link"):
+        name = link.get("name", "?")
+        inertial = link.find("inertial")
+        if inertial is None:
+            continue
+        mass_el, inertia_el, origin_el = inertial.find("mass"), inertial.find("inertia"), inertial.find("origin")
+        mass = _urdf_number(None if mass_el is None else mass_el.get("value"), name, "mass")
+        if origin_el is not None:
+            for key in ("xyz", "rpy"):
+                for v in (origin_el.get(key) or "0 0 0").split():
+                    _urdf_number(v, name, f"origin {key}")
+        v = {k: _urdf_number(None if inertia_el is None else inertia_el.get(k), name, k) for k in _INERTIA_KEYS}
+        inertia = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]],
+                            [v["ixz"], v["iyz"], v["izz"]]])
+        _check_inertia(mass, inertia, f"URDF link {name!r}")
+        total += mass
+    return total
+
+
+def _check_model_inertias(model: pin.Model, declared_mass: float) -> None:
+    """Every body inertia of ``model`` physical (finite, mass ≥ 0, inertia symmetric PSD), and no declared mass lost."""
+    total = 0.0
+    for i in range(model.njoints):  # 0: the links fixed to the base (universe)
+        body = model.inertias[i]
+        mass, lever, inertia = float(body.mass), np.asarray(body.lever), np.asarray(body.inertia)
+        if not (math.isfinite(mass) and np.isfinite(lever).all() and np.isfinite(inertia).all()):
+            raise ValueError(f"model {model.name!r}: body of joint {model.names[i]!r} has a non-finite inertia")
+        _check_inertia(mass, inertia, f"model {model.name!r}, body of joint {model.names[i]!r}")
+        total += mass
+    if abs(total - declared_mass) > 1e-9 * max(1.0, declared_mass):
+        raise ValueError(f"model {model.name!r}: the URDF declares {declared_mass:g} kg of links but the "
+                         f"model has {total:g} kg (an <inertial> was dropped by the URDF parser)")
+
+
 def _build(xml: str, gravity: Any | None, name: str, ee: str | None, path: Path | None,
            lock: tuple[str, ...] = (), package_dirs: Sequence[str] = ()) -> Robot:
     """The Robot of URDF text ``xml``: rotors kept as mimic joints, joints ``lock`` fixed at 0 (model and geometry)."""
+    declared_mass = _declared_inertials(xml)
     model = pin.buildModelFromXML(xml, mimic=not lock)
+    model.name = name
+    _check_model_inertias(model, declared_mass)
     lock_ids = [model.getJointId(j) for j in lock if model.existJointName(j)]
     full_model = model
     if lock_ids:
@@ -209,19 +349,45 @@ def robot_from_urdf_string(xml: str, gravity: Any | None = GRAVITY, name: str | 
 
 
 def robot_from_dh(links: Sequence[DHLink | Mapping[str, Any]], gravity: Any = GRAVITY,
-                  name: str = "dh_robot", payload: float = 0.0, tool: np.ndarray | None = None) -> Robot:
-    """A Robot from a DH table (through its URDF, :func:`rigid_body.dh.urdf_from_dh`, with mimic rotors).
+                  name: str = "dh_robot", payload: float = 0.0, tool: np.ndarray | None = None,
+                  convention: str = "standard", base: np.ndarray | None = None, motors: str = "rotors") -> Robot:
+    """A Robot from a DH table (through its URDF, :func:`rigid_body.dh.urdf_from_dh`).
 
     ``payload`` is a point mass [kg] at the origin of the last DH frame (:func:`with_payload`); ``tool``
-    the constant transform from the last DH frame to the end-effector frame ``ee``.
+    the constant transform from the last DH frame to the end-effector frame ``ee``; ``base`` the constant
+    transform from the world (root link ``base``, where ``gravity`` is given) to DH frame 0.
+    ``convention``: ``"standard"`` (the book's DH, (2.52)) or ``"modified"`` (Craig's).
+
+    ``motors`` chooses the motor model of links with motor data (Sect. 7.3):
+
+    * ``"rotors"`` (the book's): rotor i is a body carried by link i−1 spinning at k_ri q̇_i (mimic joints);
+      B(q) holds every coupling term of (7.32). CRBA/RNEA work, ABA does not (forward dynamics by Cholesky).
+    * ``"armature"`` (the Robotics Toolbox's J_m G², Pinocchio's ``model.armature``): B(q) = B_links(q) +
+      diag(k_ri² I_mi), the rotor's mass and transverse moments riding on link i−1; the gyroscopic couplings
+      k_ri I_mi z_{i−1}ᵀ ω_{i−1} of the book's model are dropped (small beside k_r² I_m for large k_r).
+      No mimic joints: forward dynamics uses ABA.
 
     >>> arm = robot_from_dh([dict(a=1.0), dict(a=1.0)])
     >>> arm.model.nq
     2
     """
-    xml = urdf_from_dh(links, name=name, tool=tool)
+    links = as_links(links)
+    xml = urdf_from_dh(links, name=name, tool=tool, convention=convention, base=base, motors=motors)
     robot = _build(xml, gravity, name, "ee", None)
+    robot.friction = JointFriction.from_links(links)
+    if motors == "armature":
+        _set_armature(robot, links)
     return _with_dh_payload(robot, payload)
+
+
+def _set_armature(robot: Robot, links: Sequence[DHLink]) -> None:
+    """model.armature[joint i] = k_ri² I_mi (the rotor's spin moment reflected through the gear)."""
+    armature = np.zeros(robot.nv)
+    for i, link in enumerate(links, start=1):
+        if link.has_motor:
+            jid = robot.model.getJointId(link.name or f"joint_{i}")
+            armature[robot.model.joints[jid].idx_v] = link.gear_ratio ** 2 * link.rotor_inertia[2, 2]
+    robot.model.armature = armature
 
 
 def _with_dh_payload(robot: Robot, payload: float) -> Robot:
@@ -248,7 +414,8 @@ def with_payload(robot: Robot, mass: float, frame: str | int | None = None) -> R
         float(mass), f.placement.translation.copy(), np.zeros((3, 3)))
     loaded = Robot(name=f"{robot.name}+{mass:g}kg", model=model, data=model.createData(),
                    ee_frame=robot.ee_frame, urdf_path=None, urdf_xml=robot.urdf_xml,
-                   configurations=dict(robot.configurations), geometry_loader=robot._geometry_models)
+                   configurations=dict(robot.configurations), geometry_loader=robot._geometry_models,
+                   friction=robot.friction)
     return loaded
 
 
@@ -284,8 +451,9 @@ def _load_example_robot(name: str) -> Robot:
 
 
 def available() -> list[str]:
-    """Names accepted by :func:`load`: the book's robots and the example-robot-data robots."""
-    return sorted(BOOK_ROBOTS) + sorted(EXAMPLE_ROBOTS)
+    """Names accepted by :func:`load`: the book's robots, named DH robots (the Puma 560) and the
+    example-robot-data robots."""
+    return sorted(BOOK_ROBOTS) + sorted(DH_ROBOTS) + sorted(EXAMPLE_ROBOTS)
 
 
 def load(name_or_path: str | os.PathLike, payload: float = 0.0, **params: Any) -> Robot:
@@ -294,12 +462,18 @@ def load(name_or_path: str | os.PathLike, payload: float = 0.0, **params: Any) -
     ``payload`` [kg] is a point mass at the end effector (for the book's robots: the origin of the last
     DH frame), added by :func:`with_payload`. Other keyword parameters change the book robot's data
     (link lengths ``a``, ...) and rebuild it from its DH table; without them the committed URDF file
-    in ``urdf/`` is used.
+    in ``urdf/`` is used. ``load("puma560")`` builds the Puma 560 from its DH table with the Toolbox's
+    armature motor model; ``load("puma560", motors="rotors")`` with the book's rotors.
 
     >>> load("planar_2r").model.nq
     2
     """
     key = str(name_or_path)
+    if key in DH_ROBOTS:
+        spec = book_robot_spec(key, payload=payload, **params)
+        robot = robot_from_dh(spec.links, gravity=spec.gravity, name=key, motors=spec.motors)
+        robot.configurations.update({k: np.array(v, dtype=float) for k, v in spec.configurations.items()})
+        return _with_dh_payload(robot, spec.payload)
     if key in BOOK_ROBOTS:
         spec = book_robot_spec(key, payload=payload, **params)
         path = URDF_DIR / f"{key}.urdf"

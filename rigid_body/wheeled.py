@@ -9,7 +9,9 @@ q̇ = G(q) u, where the columns of G(q) span the null space of A^T(q) (11.10). T
   rotation (Problem 11.7) and the front-wheel point used for input–output linearisation (Problem 11.15);
 * the **tricycle with N trailers** (Problems 11.1, 11.8): constraint matrix A(q) and input matrix G(q);
 * **Lie brackets** (finite differences and sympy) and the **accessibility rank condition** (11.11);
-* the **(2, n) chained form** (11.25) and the unicycle ↔ (2, 3) transformation (11.23)–(11.24).
+* the **(2, n) chained form** (11.25) and the unicycle ↔ (2, 3) transformation (11.23)–(11.24);
+* the **mobile manipulator**: a unicycle base carrying an arm as one Pinocchio model with a planar root
+  joint (:func:`mobile_manipulator`) and its input map (:func:`mobile_manipulator_input_matrix`).
 
 Conventions: a constraint matrix ``A`` is returned as the k×n matrix of the rows a_i^T(q) (i.e. the
 book's A^T(q)), so that "A G = 0" reads ``A @ G == 0``. Postures are (x, y, θ) [m, m, rad].
@@ -24,6 +26,9 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
+import pinocchio as pin
+
+from rigid_body.robots import Robot
 from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
@@ -36,7 +41,7 @@ __all__ = [
     "trailer_axle_midpoints",
     "null_space", "lie_bracket", "lie_bracket_symbolic", "accessibility_rank", "accessibility_fields_symbolic",
     "chained_form_velocity", "unicycle_to_chained", "chained_to_unicycle", "chained_inputs_to_unicycle",
-    "unicycle_inputs_to_chained",
+    "unicycle_inputs_to_chained", "mobile_manipulator", "mobile_manipulator_input_matrix",
 ]
 
 
@@ -363,3 +368,53 @@ def unicycle_inputs_to_chained(z: Any, u: Any) -> np.ndarray:
     """(v1, v2) = (ω, v − z3 ω), the inverse of (11.24)."""
     z, u = _posture(z, 3, "z"), _posture(u, 2, "u")
     return np.array([u[1], u[0] - z[2] * u[1]])
+
+
+# --------------------------------------------------------------------------------------------
+# The mobile manipulator: a unicycle base carrying an arm (one Pinocchio model)
+# --------------------------------------------------------------------------------------------
+
+def mobile_manipulator(arm: Robot, mount: Any = (0.0, 0.0, 0.3), base_mass: float = 20.0,
+                       base_size: Any = (0.6, 0.4, 0.2)) -> Robot:
+    """A unicycle base carrying ``arm`` (e.g. ``load("anthropomorphic_wrist")``) as ONE Pinocchio model.
+
+    The root joint is planar (``pin.JointModelPlanar``: configuration (x, y, cos θ, sin θ), velocity the
+    base's body twist (v_x, v_y, ω), so nq = nv + 1); the arm's model is appended at the frame
+    ``base_link`` with its base frame at ``mount`` [m] above the wheel axle midpoint. The base is a box
+    of ``base_mass`` [kg] and ``base_size`` [m]. The configuration space has dimension nv = 3 + n_arm.
+    The end-effector frame is the arm's. No geometry (the models are for kinematics and control).
+    """
+    if arm.nq != arm.nv:
+        raise ValueError(f"`arm` must have nq = nv (revolute/prismatic joints), got nq = {arm.nq}, nv = {arm.nv}")
+    mount = as_vector(mount, 3, "mount")
+    size = as_vector(base_size, 3, "base_size")
+    base = pin.Model()
+    base.name = "unicycle_base"
+    base.gravity = arm.model.gravity
+    jid = base.addJoint(0, pin.JointModelPlanar(), pin.SE3.Identity(), "base_planar")
+    base.appendBodyToJoint(jid, pin.Inertia.FromBox(as_positive(base_mass, "base_mass"), *size),
+                           pin.SE3(np.eye(3), np.array([0.0, 0.0, size[2] / 2])))
+    fid = base.addBodyFrame("base_link", jid, pin.SE3.Identity(), 0)
+    model = pin.appendModel(base, arm.model, fid, pin.SE3(np.eye(3), mount))
+    model.name = f"mobile_{arm.name}"
+    ee = model.getFrameId(arm.model.frames[arm.ee_frame].name)
+    robot = Robot(name=model.name, model=model, data=model.createData(), ee_frame=ee)
+    robot.configurations["neutral"] = pin.neutral(model)
+    return robot
+
+
+def mobile_manipulator_input_matrix(robot: Robot) -> np.ndarray:
+    """Γ = [G 0; 0 I] (nv, 2 + n_arm): the unicycle's (v, ω) and the arm's q̇ to the model's velocity.
+
+    In Pinocchio's tangent space of the planar root joint the base velocity is its body twist (v_x, v_y, ω);
+    the no-slip constraint (11.12) is v_y = 0, so G = [e_x, e_ω] is constant (in world coordinates it is the
+    unicycle's G(q) of (11.13): ẋ = v cos θ, ẏ = v sin θ, θ̇ = ω).
+    """
+    model = robot.model
+    if model.njoints < 2 or model.joints[1].shortname() != "JointModelPlanar":
+        raise ValueError(f"`robot` {robot.name!r} must have a planar root joint (see mobile_manipulator)")
+    n_arm = model.nv - 3
+    Gamma = np.zeros((model.nv, 2 + n_arm))
+    Gamma[0, 0] = Gamma[2, 1] = 1.0
+    Gamma[3:, 2:] = np.eye(n_arm)
+    return Gamma

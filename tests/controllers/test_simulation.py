@@ -130,8 +130,10 @@ def test_arm_plant_validates_friction_limits_and_input_size():
         ArmPlant(robot, tau_max=[100.0, -1.0])
     plant = ArmPlant(robot, viscous_friction=[1.0, 2.0], tau_max=[10.0, 10.0])
     np.testing.assert_allclose(plant.torque(np.array([20.0, -3.0])), [10.0, -3.0])
-    with pytest.raises(ValueError, match="needs 2 joint torques"):
+    with pytest.raises(ValueError, match="ArmPlant takes an input u of size 2"):
         simulate(plant, lambda t, x: np.zeros(3), (0.0, 0.01), [0.0, 0.0, 0.0, 0.0], h=1e-3)
+    with pytest.raises(ValueError, match="needs 2 joint torques"):
+        plant.torque(np.zeros(3))
 
 
 # --------------------------------------------------------------------------------------------
@@ -228,3 +230,83 @@ def test_named_states_and_plot_labels():
     assert ax.get_legend() is None and ax.get_ylabel() == "x"
     with pytest.raises(KeyError, match="no signal 'q'"):
         simulate(lambda t, x, u: u, lambda t, x: np.ones(1), (0, 1), [0.0], h=0.1).q
+
+
+# --------------------------------------------------------------------------------------------
+# Divergence and input shapes (reliability)
+# --------------------------------------------------------------------------------------------
+
+def test_unstable_kinematic_clik_loop_stops_instead_of_returning_huge_angles():
+    """CLIK with K = 500 at Ts = h = 0.01 (K Ts = 5 > 2): the old loop returned q ~ 8.5e5 rad after 5 s."""
+    from controllers.plants import JointIntegrator
+    from planners.inverse_kinematics import CLIK, constant_pose
+    from rigid_body.kinematics import direct_kinematics
+    from rigid_body.task_space import TaskSpace
+
+    robot = load("planar_2r")
+    q_d = np.array([0.4, 0.8])
+    clik = CLIK(robot, constant_pose(direct_kinematics(robot, q_d)), TaskSpace(orientation="none", rows=(0, 1)),
+                K=500.0, law="inverse")
+    with pytest.raises(SimulationDiverged, match="exceeded 500") as info:
+        simulate(JointIntegrator(), clik, (0.0, 5.0), q_d + 0.1, h=0.01)
+    assert info.value.t < 0.5
+    # the same loop with K Ts = 0.5 converges (the bound does not stop a stable loop)
+    clik.K = 50.0 * np.eye(2)
+    res = simulate(JointIntegrator(), clik, (0.0, 1.0), q_d + 0.1, h=0.01)
+    np.testing.assert_allclose(res.q[-1], q_d, atol=1e-8)
+
+
+def test_a_plant_bound_that_is_not_a_positive_number_is_named():
+    class Bad:
+        bound = float("nan")
+
+        def derivative(self, t, x, u):
+            return u
+
+    with pytest.raises(ValueError, match="`Bad.bound` must be finite"):
+        simulate(Bad(), lambda t, x: np.zeros(1), (0, 1), [0.0], h=0.1)
+
+
+def test_one_voltage_for_a_two_joint_arm_is_refused():
+    """The old loop broadcast a single voltage to both joints of the VoltageControlledArm."""
+    from controllers.independent_joint import JointDrive
+    from controllers.plants import VoltageControlledArm
+
+    robot = load("planar_2r")
+    drive = JointDrive(I=1e-3, Ra=0.3, kt=0.5, kv=0.5)
+    plant = VoltageControlledArm(robot, [100.0, 100.0], [drive, drive])
+    x0 = plant.initial_state(np.zeros(2))
+    with pytest.raises(ValueError, match=r"output shape \(1,\).*VoltageControlledArm takes an input u of size 2"):
+        simulate(plant, lambda t, m: np.array([1.0]), (0.0, 0.01), x0, h=1e-3)
+    with pytest.raises(ValueError, match="`x0` must have 4 entries"):
+        simulate(plant, lambda t, m: np.zeros(2), (0.0, 0.01), np.zeros(2), h=1e-3)
+
+
+def test_x0_equal_to_q_for_an_arm_plant_names_x0():
+    robot = load("panda")
+    with pytest.raises(ValueError, match="`x0` must have 14 entries for ArmPlant"):
+        simulate(ArmPlant(robot), lambda t, m: np.zeros(7), (0.0, 0.01), np.zeros(7), h=1e-3)
+
+
+def test_joint_integrator_with_a_size_checks_x0_and_the_controller():
+    from controllers.plants import JointIntegrator
+
+    with pytest.raises(ValueError, match="`x0` must have 3 entries for JointIntegrator"):
+        simulate(JointIntegrator(3), lambda t, q: np.zeros(3), (0.0, 0.1), np.zeros(2), h=0.01)
+    with pytest.raises(ValueError, match="JointIntegrator takes an input u of size 3"):
+        simulate(JointIntegrator(3), lambda t, q: np.zeros(1), (0.0, 0.1), np.zeros(3), h=0.01)
+    with pytest.raises(ValueError, match="`n`"):
+        JointIntegrator(0)
+
+
+def test_step_period_and_span_that_are_not_numbers_are_named():
+    f = lambda t, x, u: u  # noqa: E731
+    zero = lambda t, x: np.zeros(1)  # noqa: E731
+    with pytest.raises(ValueError, match="`h`"):
+        simulate(f, zero, (0, 1), [0.0], h="small")
+    with pytest.raises(ValueError, match="`Ts`"):
+        simulate(f, zero, (0, 1), [0.0], h=0.1, Ts=[0.1, 0.2])
+    with pytest.raises(ValueError, match="`t_span`"):
+        simulate(f, zero, (0, "end"), [0.0], h=0.1)
+    with pytest.raises(ValueError, match="`Ts`"):
+        ZeroOrderHold(zero, "fast")

@@ -180,3 +180,83 @@ def test_null_space_manipulability_task_increases_w():
     res = simulate(JointIntegrator(), clik, (0.0, 3.0), q0, h=1e-2)
     assert w(res.x[-1]) > 1.5 * w(q0)
     assert np.linalg.norm(direct_kinematics(robot, res.x[-1])[:2, 3] - T[:2, 3]) < 1e-6
+
+
+def _outside_start(panda):
+    """A Panda configuration with q[3] = 0.3 above its upper limit (−0.0698) and its pose."""
+    q = 0.5 * (panda.lower + panda.upper)
+    q[3] = 0.3
+    return q, direct_kinematics(panda, q)
+
+
+@pytest.mark.parametrize("solver", ["clik", "qp", "casadi"])
+def test_no_solver_reports_success_outside_the_joint_limits(panda, solver):
+    """The old solve_clik returned success=True at iteration 0 with q[3] = 0.3 (outside the limits)."""
+    q, T = _outside_start(panda)
+    run = {"clik": lambda: solve_clik(panda, T, q),
+           "qp": lambda: QPVelocityIK(panda, QPIKOptions(max_iterations=50)).solve(T, q),
+           "casadi": lambda: CasadiIK(panda, options=CasadiIKOptions(restarts=2)).solve(T, q)}[solver]
+    res = run()
+    assert _within_limits(panda, res.q)
+    assert "clipped" in res.message
+    if res.success:   # another configuration within the limits may reach the pose: check it independently
+        assert pose_residual(T, direct_kinematics(panda, res.q)) < 1e-6
+    else:
+        assert res.iterations >= 0
+
+
+def test_solve_clik_iterations_count_and_stall_message(panda):
+    q_goal = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.5])
+    T = direct_kinematics(panda, q_goal)
+    res = solve_clik(panda, T, q_goal)
+    assert res.success and res.iterations == 0
+    res = solve_clik(panda, T, q_goal + 0.05)
+    assert res.success and 0 < res.iterations < 50
+    assert solve_clik(panda, T, q_goal + 0.05, max_iterations=0).iterations == 0
+    # a start pinned at joint limits, the target pulling further out: the message blames the limit
+    q_lim = panda.upper.copy()
+    q_lim[[0, 2, 4, 6]] = 0.0
+    q_lim[5] = 1.0
+    T_far = direct_kinematics(panda, q_lim)
+    T_far[:3, 3] += [0.0, 0.0, 0.5]
+    bad = solve_clik(panda, T_far, q_lim, max_iterations=20)
+    assert not bad.success
+    assert "joint limits" in bad.message or "singular" in bad.message or "local minimum" in bad.message
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    ({"tol": float("nan")}, "tol"), ({"tol": 0.0}, "tol"), ({"max_iterations": -1}, "max_iterations"),
+    ({"max_iterations": 2.5}, "max_iterations"), ({"damping": -1.0}, "damping"),
+    ({"damping": float("nan")}, "damping"), ({"step": 0.0}, "step"), ({"step": float("inf")}, "step")])
+def test_solve_clik_options_are_checked(panda, kwargs, name):
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        solve_clik(panda, np.eye(4), np.zeros(7), **kwargs)
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    ({"tol": float("nan")}, "tol"), ({"orientation_weight": float("nan")}, "orientation_weight"),
+    ({"posture_weight": -1.0}, "posture_weight"), ({"position_weights": (1.0, np.nan, 1.0)}, "position_weights"),
+    ({"position_weights": (1.0, 1.0)}, "position_weights"), ({"restarts": -1}, "restarts"),
+    ({"max_iter": 0}, "max_iter")])
+def test_casadi_ik_options_are_checked(kwargs, name):
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        CasadiIKOptions(**kwargs)
+
+
+def test_qp_ik_velocity_limit_is_checked(panda):
+    with pytest.raises(ValueError, match="velocity_limit"):
+        QPIKOptions(velocity_limit=float("nan"))
+    with pytest.raises(ValueError, match="velocity_limit"):
+        QPVelocityIK(panda, QPIKOptions(velocity_limit=[1.0, 2.0]))
+    with pytest.raises(ValueError, match="max_iterations"):
+        QPIKOptions(max_iterations=-1)
+
+
+def test_clik_and_reference_arguments_are_named(panda):
+    with pytest.raises(ValueError, match="`damping`"):
+        CLIK(panda, constant_pose(np.eye(4)), law="dls", damping=float("nan"))
+    with pytest.raises(ValueError, match="`t_f`"):
+        cosine_pose_reference([0, 0, 0], [1, 0, 0], "one")
+    from planners.inverse_kinematics import numerical_gradient
+    with pytest.raises(ValueError, match="`step`"):
+        numerical_gradient(lambda q: 0.0, np.zeros(2), step=0.0)

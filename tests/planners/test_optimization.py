@@ -153,3 +153,46 @@ def test_kinematic_limits_only_give_the_bang_coast_bang_time(arm):
     res = opt.minimum_time_trajectory(arm, q_i, q_f, limits, opt.OptimizationOptions(nodes=20))
     assert res.success, res.message
     assert res.t_f == pytest.approx(T.max(), rel=1e-4)
+
+
+# --------------------------------------------------------------------------------------------
+# Infinite limits and options (reliability)
+# --------------------------------------------------------------------------------------------
+
+def test_unbounded_joints_are_supported(arm):
+    """q limits ±inf: the old code failed inside CasADi ("LBX = -nan") or blamed the torque limits.
+    The result must be the bang-coast-bang time of the slowest joint (closed form)."""
+    inf = np.inf
+    limits = opt.JointLimits([-inf, -inf], [inf, inf], [2.0, 1.0], [6.0, 10.0], [inf, inf])
+    q_i, q_f = np.array([0.0, 0.0]), np.array([1.2, -1.5])
+    dq, v, a = np.abs(q_f - q_i), limits.qd_max, limits.qdd_max
+    T = np.where(dq >= v**2 / a, dq / v + v / a, 2 * np.sqrt(dq / a))
+    first, _ = opt.trapezoidal_under_limits(arm, q_i, q_f, limits)
+    assert first.duration >= T.max() * (1 - 1e-4)
+    res = opt.minimum_time_trajectory(arm, q_i, q_f, limits, opt.OptimizationOptions(nodes=20))
+    assert res.success, res.message
+    assert res.t_f == pytest.approx(T.max(), rel=1e-4)
+    assert res.ratios["q"] == 0.0
+
+
+def test_infinite_limits_that_cannot_work_are_refused_by_name(arm):
+    inf = np.inf
+    with pytest.raises(ValueError, match="`q_min`.*`q_max`.*both infinite"):
+        opt.JointLimits([-inf, 0.0], [1.0, 1.0], 1.0, 1.0, 1.0)
+    with pytest.raises(ValueError, match="`q_min` must not be \\+inf"):
+        opt.JointLimits([inf, 0.0], [inf, 1.0], 1.0, 1.0, 1.0)
+    with pytest.raises(ValueError, match="`qdd_max` must be finite"):
+        opt.JointLimits([0, 0], [1, 1], 1.0, inf, 1.0)
+    with pytest.raises(ValueError, match="`q_max`"):
+        opt.JointLimits([0, 0], "big", 1.0, 1.0, 1.0)
+    limits = opt.JointLimits([-inf, -inf], [inf, inf], 2.0, 6.0, inf)
+    with pytest.raises(ValueError, match="`tau_max` must be finite"):
+        opt.minimum_effort_trajectory(arm, Q_I, Q_F, 1.0, limits)
+
+
+@pytest.mark.parametrize("kwargs, name", [({"nodes": 2.5}, "nodes"), ({"max_backoff": -1}, "max_backoff"),
+                                          ({"max_iter": 0}, "max_iter"), ({"tol": float("nan")}, "tol"),
+                                          ({"regularization": -1.0}, "regularization")])
+def test_optimization_options_are_checked(kwargs, name):
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        opt.OptimizationOptions(**kwargs)

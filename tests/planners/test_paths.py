@@ -69,7 +69,7 @@ def test_segment_sequence_stops_or_rounds_the_via_point():
     np.testing.assert_allclose(p[-1], pts[2], atol=1e-12)
     tr = timing.sample(overlap, samples=101)
     assert tr.q.shape == (101, 3)
-    with pytest.raises(ValueError, match="from 0 to the segment length"):
+    with pytest.raises(ValueError, match="laws\\[0\\].*the segment length"):
         paths.SegmentSequence(pts, [timing.quintic_law(0.0, 2.0, 1.0), laws[1]])
 
 
@@ -109,7 +109,76 @@ def test_slerp_takes_the_short_way_and_bad_input():
         paths.Segment([0, 0, 0], [0, 0, 0])
     with pytest.raises(ValueError, match="on the axis"):
         paths.circle_through([0, 0, 1], [0, 0, 1], [0, 0, 0])
-    with pytest.raises(ValueError, match="beyond the path length"):
+    with pytest.raises(ValueError, match="the path length"):
         paths.PathLaw(paths.Segment([0, 0, 0], [1, 0, 0]), timing.quintic_law(0.0, 2.0, 1.0))
     with pytest.raises(ValueError, match="scalar law"):
         paths.PathLaw(paths.Segment([0, 0, 0], [1, 0, 0]), timing.quintic_law([0.0], [1.0], 1.0))
+
+
+# --------------------------------------------------------------------------------------------
+# No extrapolation: a timing law leaving its range is refused (reliability)
+# --------------------------------------------------------------------------------------------
+
+def _Rz(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def test_orientation_interpolation_refuses_a_timing_beyond_one():
+    """The old AngleAxisInterpolation with σ: 0 → 2 ended at Rz(2) instead of R_f = Rz(1)."""
+    from planners.paths import AngleAxisInterpolation, Slerp, slerp
+    from planners.timing import cubic_law
+
+    with pytest.raises(ValueError, match="`timing` must stay within \\[0, 1\\]"):
+        AngleAxisInterpolation(np.eye(3), _Rz(1.0), cubic_law(0.0, 2.0, 1.0))
+    with pytest.raises(ValueError, match="`timing` must stay within \\[0, 1\\]"):
+        Slerp([1.0, 0.0, 0.0, 0.0], [np.cos(0.5), 0.0, 0.0, np.sin(0.5)], cubic_law(0.0, 3.0, 1.0))
+    with pytest.raises(ValueError, match="`timing` must end at 1"):
+        AngleAxisInterpolation(np.eye(3), _Rz(1.0), cubic_law(0.0, 0.5, 1.0))
+    with pytest.raises(ValueError, match="`timing` must start at 0"):
+        Slerp([1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0], cubic_law(0.2, 1.0, 1.0))
+    # an overshooting law (cubic with a large initial velocity) leaves [0, 1] inside the interval
+    with pytest.raises(ValueError, match="`timing` must stay within"):
+        AngleAxisInterpolation(np.eye(3), _Rz(1.0), cubic_law(0.0, 1.0, 1.0, qd_i=6.0))
+    for sigma in (2.0, -0.1, np.nan):
+        with pytest.raises(ValueError, match="`sigma`"):
+            slerp([1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0], sigma)
+    # within the range the end point is R_f exactly (closed form: Rz(1))
+    interp = AngleAxisInterpolation(np.eye(3), _Rz(1.0), cubic_law(0.0, 1.0, 1.0))
+    np.testing.assert_allclose(interp(1.0)[0], _Rz(1.0), atol=1e-12)
+
+
+def test_path_law_refuses_a_timing_that_leaves_the_path():
+    """The old PathLaw with s: −0.5 → 1 started 0.5 m before the segment."""
+    from planners.paths import PathLaw, Segment
+    from planners.timing import cubic_law
+
+    seg = Segment([0.0, 0.0, 0.0], [1.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="`timing` must stay within \\[0, 1\\]"):
+        PathLaw(seg, cubic_law(-0.5, 1.0, 1.0))
+    with pytest.raises(ValueError, match="`timing` must stay within"):
+        PathLaw(seg, cubic_law(0.0, 1.5, 1.0))
+    with pytest.raises(ValueError, match="scalar law"):
+        PathLaw(seg, cubic_law([0.0, 0.0], [1.0, 1.0], 1.0))
+    np.testing.assert_allclose(PathLaw(seg, cubic_law(0.0, 0.5, 1.0))(1.0)[0], [0.5, 0.0, 0.0])
+
+
+def test_circle_arguments_are_named():
+    from planners.paths import Circle
+
+    with pytest.raises(ValueError, match="`radius`"):
+        Circle(np.zeros(3), "one", np.eye(3))
+    with pytest.raises(ValueError, match="`radius`"):
+        Circle(np.zeros(3), -1.0, np.eye(3))
+    with pytest.raises(ValueError, match="`length`"):
+        Circle(np.zeros(3), 1.0, np.eye(3), length=-2.0)
+
+
+def test_segment_sequence_refuses_an_overshooting_segment_law():
+    from planners.paths import SegmentSequence
+    from planners.timing import cubic_law
+
+    pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]]
+    ok = cubic_law(0.0, 1.0, 2.0, t_i=1.0)
+    with pytest.raises(ValueError, match=r"`laws\[0\]` must stay within \[0, 1\]"):
+        SegmentSequence(pts, [cubic_law(0.0, 1.0, 1.0, qd_i=6.0), ok])

@@ -242,3 +242,34 @@ def test_trapezoid_property(q_i, dq, t_f, fraction):
     tt = np.linspace(0, t_f, 20001)
     integral = np.trapezoid(law(tt)[1], tt)
     assert integral == pytest.approx(dq, abs=1e-6 * (1 + abs(dq)))
+
+
+# --------------------------------------------------------------------------------------------
+# Reliability: arguments named, no inf/NaN coefficients
+# --------------------------------------------------------------------------------------------
+
+def test_blend_durations_must_be_positive():
+    """The old blend_coefficients(blend=0) returned ±inf in b_k2 and accepted a negative blend."""
+    from planners.timing import blend_coefficients, linear_parabolic_blends_law
+
+    for bad in (0.0, -1.0, np.nan, [0.2, 0.0, 0.2], [0.2, 0.2]):
+        with pytest.raises(ValueError, match="`blend`"):
+            blend_coefficients([0.0, 1.0, 2.0], [0.0, 1.0, 0.0], bad)
+        with pytest.raises(ValueError, match="`blend`"):
+            linear_parabolic_blends_law([0.0, 1.0, 2.0], [0.0, 1.0, 0.0], bad)
+    b = blend_coefficients([0.0, 1.0, 2.0], [0.0, 1.0, 0.0], 0.2).b
+    # the blend about t_2 = 1: velocities +1 → −1 over 0.2 s, b_22 = (−1 − 1)/(2·0.2) = −5
+    assert b[1, 2] == pytest.approx(-5.0)
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: __import__("planners.timing", fromlist=["x"]).cubic_law(0.0, 1.0, "two"), "t_f"),
+    (lambda: __import__("planners.timing", fromlist=["x"]).quintic_law(0.0, 1.0, 1.0, t_i=[0.0, 1.0]), "t_i"),
+    (lambda: __import__("planners.timing", fromlist=["x"]).trapezoidal_law(0.0, 1.0, None, 1.5), "t_f"),
+    (lambda: __import__("planners.timing", fromlist=["x"]).raised_cosine_law(0.0, 1.0, float("inf")), "t_f"),
+    (lambda: __import__("planners.timing", fromlist=["x"]).cubic(0.0, 1.0, 1.0, dt="x"), "dt"),
+    (lambda: __import__("planners.timing", fromlist=["x"]).cubic(0.0, 1.0, 1.0, samples=2.5), "samples"),
+])
+def test_timing_arguments_are_named(call, name):
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        call()

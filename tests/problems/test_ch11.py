@@ -1,6 +1,8 @@
 """Chapter 11: registration, the JSON keys of 11.13, and the key numbers of the simulations."""
 
-import matplotlib.pyplot as plt
+import ast
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -8,10 +10,7 @@ from problems.registry import all_problems, solve
 
 
 def _solve(pid):
-    sol = solve(pid)
-    for fig in sol.figures:
-        plt.close(fig)
-    return sol
+    return solve(pid)   # bare Figures (problems.common.subplots): nothing to close
 
 
 def test_problems_11_1_to_11_18_are_registered():
@@ -33,33 +32,16 @@ def test_11_16_backward_motion():
 
 
 def test_11_18_threshold_between_tenth_and_fifth_of_a_second():
+    """Odometry at T_s feeding a regulator at T_s/n (multi-rate) gives the single-rate loop's numbers: the static
+    law on a held estimate outputs a held command. T_s* = 0.1259 s."""
     sol = _solve("11.18")
     assert sol.passed and len(sol.figures) == 3
-    assert 0.1 < sol.values["Ts_threshold"] < 0.2
+    assert sol.values["Ts_threshold"] == pytest.approx(0.12593, abs=1e-4)
     assert np.all(np.diff(sol.values["final_distance_grid"][:7]) > 0)
 
 
-@pytest.mark.parametrize("name", ["tracking_comparison", "parallel_parking", "wheel_saturation", "car_shortest_paths"])
-def test_beyond_the_book_companions_pass_their_checks(name):
-    import problems.ch11 as ch11
-
-    sol = getattr(ch11, name)()
-    try:
-        failed = [(c.name, c.detail) for c in sol.checks if not c.passed]
-        assert sol.checks and not failed, failed
-        assert sol.figures
-    finally:
-        for fig in sol.figures:
-            plt.close(fig)
-
-
-def test_tracking_comparison_table_has_the_four_metrics():
-    import problems.ch11 as ch11
-
-    sol = ch11.tracking_comparison(t_end=20.0)
-    for fig in sol.figures:
-        plt.close(fig)
-    table = sol.values["table"]
-    assert len(table) == 3
-    for row in table.values():
-        assert set(row) == {"settling_time", "peak_abs_v", "peak_abs_omega", "final_error"}
+def test_chapter_11_does_not_import_the_examples():
+    tree = ast.parse(Path(__file__).parents[2].joinpath("problems", "ch11.py").read_text())
+    modules = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
+    modules |= {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+    assert not any(m and m.split(".")[0] == "examples" for m in modules)

@@ -1,6 +1,7 @@
 """The `rmpc` command line contract of ARCHITECTURE.md."""
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -63,3 +64,73 @@ def test_report_writes_html_and_summary_line(tmp_path, capsys):
     html = (tmp_path / "index.html").read_text()
     assert "99.1" in html and "wrong" in html
     assert '<a class="fail" href="#p99.1"' in html
+
+
+# --------------------------------------------------------------------------------------------
+# Bad input: exit 2, one line on stderr, no traceback, before any work (subprocess, as a user runs it)
+# --------------------------------------------------------------------------------------------
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _run(*args, **kwargs):
+    return subprocess.run([sys.executable, "-m", "problems.cli", *args], capture_output=True, text=True,
+                          cwd=ROOT, **kwargs)
+
+
+def _one_line_error(proc, *words):
+    assert proc.returncode == 2, (proc.returncode, proc.stderr)
+    assert "Traceback" not in proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1, proc.stderr
+    for w in words:
+        assert w in lines[0], lines[0]
+
+
+def test_unwritable_output_directories_exit_2_before_any_work(tmp_path, capsys):
+    regular = tmp_path / "file.txt"
+    regular.write_text("x")
+    proc = _run("solve", "2.1", "--figures", str(regular / "figs"))   # the old CLI failed after solving
+    _one_line_error(proc, "--figures", "cannot write")
+    assert proc.stdout == ""            # refused before solving: nothing printed
+    cases = [(str(regular), "not a directory"), (str(regular / "sub"), "cannot write")]
+    if os.geteuid() != 0:              # root writes anywhere: the permission case needs a user
+        locked = tmp_path / "locked"
+        locked.mkdir()
+        locked.chmod(0o500)
+        cases.append((str(locked / "r"), "cannot write"))
+    for out, words in cases:
+        assert cli.main(["report", "--out", out, "--chapter", "99"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "--out" in err[0] and words in err[0], err
+
+
+def test_unknown_chapter_exits_2():
+    """The old `rmpc report --chapter 99` exited 0 with "0 passed, 0 failed"."""
+    _one_line_error(_run("report", "--out", "/tmp/unused-rmpc-report", "--chapter", "99"), "chapter 99")
+    assert not Path("/tmp/unused-rmpc-report/index.html").exists()
+
+
+def test_closed_pipe_ends_quietly():
+    """`rmpc list | head -1`: the old CLI printed a BrokenPipeError traceback."""
+    proc = subprocess.Popen([sys.executable, "-m", "problems.cli", "list"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, cwd=ROOT)
+    proc.stdout.readline()
+    proc.stdout.close()                 # the reader goes away after one line
+    err = proc.stderr.read().decode()
+    proc.wait(timeout=60)
+    proc.stderr.close()
+    assert "Traceback" not in err and "BrokenPipeError" not in err, err
+
+
+def test_a_crashing_problem_fails_in_one_line(monkeypatch, capsys):
+    class Crashing:
+        id, title, kind = "99.9", "crashes", "numeric"
+
+        def solve(self):
+            raise RuntimeError("boom")
+
+    monkeypatch.setattr(cli, "get", lambda pid: Crashing())
+    assert cli.main(["solve", "99.9"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["rmpc: problem 99.9 raised RuntimeError: boom"]

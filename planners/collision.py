@@ -176,11 +176,12 @@ class CollisionChecker:
         return [(names[p.first], names[p.second]) for p, r in zip(self.geom.collisionPairs, self.gdata.collisionResults)
                 if r.isCollision()]
 
-    def distance(self, q: np.ndarray) -> float:
-        """Smallest distance over the robot–box pairs at q [m] (coal's narrow phase; ≤ 0 in contact)."""
-        pin.computeDistances(self.model, self.data, self.geom, self.gdata, q)
+    def box_clearance(self, q: np.ndarray) -> float:
+        """Smallest distance between the robot and the boxes at q [m] (coal's narrow phase; ≤ 0 in
+        contact; ∞ without boxes)."""
+        pin.computeDistances(self.model, self.data, self.geom, self.gdata, as_vector(q, self.model.nq, "q"))
         n = self.n_self_pairs
-        return float(min(r.min_distance for r in list(self.gdata.distanceResults)[n:]))
+        return float(min((r.min_distance for r in list(self.gdata.distanceResults)[n:]), default=np.inf))
 
 
 @dataclass
@@ -206,7 +207,6 @@ class UrdfCSpace:
             raise ValueError(f"`lower` and `upper` must be finite with upper > lower, got {lo}, {hi}")
         self.lower, self.upper = lo, hi
         as_positive(self.resolution, "resolution")
-        self.angular = np.zeros(model.nq, dtype=bool)
 
     @property
     def dim(self) -> int:
@@ -231,6 +231,8 @@ class UrdfCSpace:
     def is_valid(self, q: Any) -> bool:
         """Within the joint limits and collision-free."""
         q = np.asarray(q, dtype=float)
+        if q.shape != self.lower.shape:
+            raise ValueError(f"`q` must have shape {self.lower.shape}, got {q.shape}")
         return self.in_bounds(q) and not self.checker.in_collision(q)
 
     def valid_many(self, Q: Any) -> np.ndarray:

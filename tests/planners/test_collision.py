@@ -71,7 +71,7 @@ def test_anthropomorphic_tip_box_by_hand():
     near = CollisionChecker(robot, [Box([0.90, 0.0, 0.0], [0.04, 0.04, 0.04], "cube")])
     assert not far.in_collision(np.zeros(3)) and near.in_collision(np.zeros(3))
     assert not near.in_collision(np.array([np.pi / 2, 0.0, 0.0]))
-    assert near.distance(np.array([np.pi / 2, 0.0, 0.0])) > 0.5
+    assert near.box_clearance(np.array([np.pi / 2, 0.0, 0.0])) > 0.5
 
 
 def test_static_base_touching_a_box_is_refused():
@@ -111,3 +111,18 @@ def test_segment_checker_resolution_and_early_exit():
     assert not edge_is_free(space, a, b)
     assert checker.calls < len(P)                           # stopped at the first collision
     assert edge_is_free(space, a, a + [0.04, 0.0, 0.0])
+
+
+def test_wrong_configuration_size_is_named():
+    space = UrdfCSpace(CollisionChecker(load("anthropomorphic"), []))
+    with pytest.raises(ValueError, match="`q` must have shape"):
+        space.is_valid(np.zeros(2))
+
+
+def test_overlapping_boxes_are_not_a_collision():
+    """Box–box contacts are not pairs: two boxes overlapping far from the arm leave q free (broad phase too)."""
+    checker = CollisionChecker(load("anthropomorphic"), [Box([2.0, 0.0, 0.0], [0.4, 0.4, 0.4], "a"),
+                                                         Box([2.1, 0.0, 0.0], [0.4, 0.4, 0.4], "b")])
+    q = np.zeros(3)
+    assert not checker.in_collision(q) and not checker.in_collision_pairwise(q)
+    assert checker.box_clearance(q) == pytest.approx(2.0 - 0.2 - 0.918, abs=1e-6)   # tip box face at 0.918 m

@@ -43,6 +43,7 @@ from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
 import numpy as np
+import pinocchio as pin
 from scipy.optimize import least_squares
 
 from controllers.environment import SurfaceWithHole
@@ -51,7 +52,7 @@ from controllers.operational_space import _check_redundancy, _nonnegative, _sing
 from controllers.plants import ArmInContact, ArmMeasurement, frame_jacobian_and_pose
 from controllers.simulation import LoggedController, SimulationResult, as_friction, simulate
 from planners.timing import quintic_law
-from rigid_body.dynamics import gravity_torques, inverse_dynamics
+from rigid_body.dynamics import gravity_torques
 from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
 from rigid_body.task_space import _frame_state, selection_projection, selection_pseudo_inverse
@@ -339,7 +340,7 @@ class _ContactTask:
         if self.redundant:
             y0 = -self.K_N * qd
             y += y0 - _solve_task(J, J @ y0)
-        return inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd + J.T @ h
+        return pin.rnea(self.robot.model, self.robot.data, q, qd, y) + self.Fv * qd + J.T @ h
 
 
 class _Integral:

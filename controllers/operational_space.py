@@ -43,14 +43,15 @@ from __future__ import annotations
 from typing import Any, Callable, Sequence
 
 import numpy as np
+import pinocchio as pin
 from scipy.optimize import fsolve
 
 from controllers.joint_space import as_gain, as_reference
 from controllers.simulation import LoggedController, as_friction, per_joint
-from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics
+from rigid_body.dynamics import gravity_torques, inertia_matrix
 from rigid_body.robots import Robot
 from rigid_body.rotations import as_homogeneous
-from rigid_body.task_space import TaskSpace, pose_error
+from rigid_body.task_space import TaskSpace, _frame_state, pose_error
 from rigid_body.validation import as_vector
 
 PoseReference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
@@ -117,7 +118,7 @@ class _Task:
             raise ValueError(f"`orientation` must be one of {CONTROL_ORIENTATIONS}, got {orientation!r}")
         self.robot = robot
         self.pose = orientation != "none"
-        fid = robot.frame(frame)  # resolved once (unknown frame → ValueError now)
+        self._fid = fid = robot.frame(frame)  # resolved once (unknown frame → ValueError now)
         if self.pose:
             self.space = TaskSpace(fid, orientation, None if rows is None else tuple(int(r) for r in rows))
             self.rows = np.array(self.space.selected)
@@ -148,6 +149,10 @@ class _Task:
 
     def error(self, q: np.ndarray, x_d: np.ndarray, qd: np.ndarray | None = None):
         """(x̃, J, J̇q̇ or None, T_e) at q (and q̇)."""
+        if not self.pose:                     # position task: x̃ = x_d − p_e[rows] from one kinematics pass
+            st = _frame_state(self.robot.model, self.robot.data, self._fid, q, qd)
+            rows = self.rows
+            return x_d - st.T[rows, 3], st.J[rows], None if qd is None else st.Jdot_qd[rows], st.T
         err = pose_error(self.robot, q, self.target(x_d), None, self.space, qd)
         return err.e, err.J, err.Jdot_qd, err.T_e
 
@@ -300,7 +305,7 @@ class OperationalInverseDynamics(LoggedController):
         if self.redundant:
             y0 = self.K_q * (self.q_0 - q) - self.K_N * qd
             y += y0 - _solve_task(J, J @ y0)                    # (I − J† J) y_0, cf. (3.54)
-        u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd
+        u = pin.rnea(self.robot.model, self.robot.data, q, qd, y) + self.Fv * qd   # B y + n, trusted inputs
         if self.force_feedback:
             u += J.T @ h                                        # + Jᵀ h_e, Eq. (9.30)
             self.record(**self.task.logged(x_d, T_e, e), h_e=meas.wrench)

@@ -71,10 +71,23 @@ def _tra_5() -> PathLaw:
     return PathLaw(segment, trapezoidal_law(0.0, segment.length, 1.0, 0.5))
 
 
-def _held(law: Callable[[float], Any]) -> Callable[[float], Any]:
+def _held(law: Callable[[Any], Any]) -> Callable[[float], Any]:
     """``law`` as a sampled controller sees it: held over [t, t + T_c), so at a switching instant of
-    the trapezoid (here t_f = 1 s, a sample) the value of the interval that starts there (right limit)."""
-    return lambda t: law(np.nextafter(t, np.inf))
+    the trapezoid (here t_f = 1 s, a sample) the value of the interval that starts there (right limit).
+
+    The law is evaluated once, vectorised, at the controller's instants k T_c of [0, T_d] (the loop's
+    t = k T_c exactly); any other instant is evaluated on the spot."""
+    k = np.arange(int(round(T_D / T_C)) + 1)
+    grid = k * T_C
+    table = [np.asarray(v) for v in law(np.nextafter(grid, np.inf))]
+
+    def held(t: float) -> Any:
+        i = int(round(t / T_C))
+        if 0 <= i < grid.size and t == grid[i]:
+            return table[0][i], table[1][i], table[2][i]
+        return law(np.nextafter(t, np.inf))
+
+    return held
 
 
 def _in_constraint_frame(v: np.ndarray) -> np.ndarray:

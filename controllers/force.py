@@ -432,10 +432,10 @@ class HybridForceMotionControl(LoggedController):
         if S_f.ndim != 2 or S_v.ndim != 2 or S_f.shape[0] != m or S_v.shape[0] != m or S_f.shape[1] + S_v.shape[1] != m:
             raise ValueError(f"`S_f`, `S_v` must be (m, k) and (m, m − k) with m = {m} task rows, "
                              f"got {S_f.shape} and {S_v.shape}")
-        if S_f.size and np.abs(S_f.T @ S_v).max() > 1e-9:
-            raise ValueError("`S_f` and `S_v` must be reciprocal: S_fᵀ S_v = 0")
         if S_v.shape[1] == 0:
             raise ValueError("`S_v` must have at least one column (a motion-controlled direction)")
+        if S_f.size and np.abs(S_f.T @ S_v).max() > 1e-9:
+            raise ValueError("`S_f` and `S_v` must be reciprocal: S_fᵀ S_v = 0")
         self.S_f, self.S_v = S_f, S_v
         k_f, k_v = S_f.shape[1], S_v.shape[1]
         C = as_matrix(compliance, (m, m), "compliance")

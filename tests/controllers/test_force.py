@@ -161,10 +161,10 @@ def test_peg_in_hole_phases_are_hybrid_laws_and_insert_the_peg():
     from rigid_body.kinematics import inverse_kinematics_planar_3r
 
     robot = load("planar_3r")
-    task = PegInHoleTask(x_H=0.6, T_approach=0.5)
+    task = PegInHoleTask(x_H=0.6, dy=0.01, v_slow=0.04, T_approach=0.5)
     env = SurfaceWithHole(x_hole=0.602, clearance=0.004, depth=0.05)
     q0 = inverse_kinematics_planar_3r(np.array([0.55, 0.15, task.phi]))[0]
-    res, ctrl = run_peg_in_hole(robot, env, task, q0, 2.6)
+    res, ctrl = run_peg_in_hole(robot, env, task, q0, 2.0)
     assert [s for _, s in ctrl.transitions] == ["approach", "descend", "insert", "done"]
     assert res["x_e"][-1, 1] == pytest.approx(-task.insert_depth, abs=2e-4)
     assert abs(res["x_e"][-1, 0] - env.x_hole) <= env.clearance

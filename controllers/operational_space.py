@@ -44,6 +44,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 import pinocchio as pin
+from scipy.linalg.lapack import dgesv as _gesv
 from scipy.optimize import fsolve
 
 from controllers.joint_space import as_gain, as_reference
@@ -167,13 +168,24 @@ SINGULAR_CONDITION = 1e10  # cond(J_A) above which the task is treated as singul
 
 def _solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     """J_A⁻¹ b (square J_A) or the minimum-norm J_A† b = J_Aᵀ (J_A J_Aᵀ)⁻¹ b (3.52) for a redundant task;
-    None at (or numerically at) a kinematic singularity, cond(J_A) > 1e10."""
-    s = np.linalg.svd(J, compute_uv=False)
-    if s[-1] <= s[0] / SINGULAR_CONDITION:
-        return None
-    if J.shape[0] == J.shape[1]:
-        return np.linalg.solve(J, b)
-    return J.T @ np.linalg.solve(J @ J.T, b)
+    None at (or numerically at) a kinematic singularity, cond(J_A) > 1e10.
+
+    Hot loop: one LAPACK gesv solves A x = b and A X = I together (A = J_A, or J_A J_Aᵀ whose condition
+    number is cond(J_A)²); cond₂(A) ≤ ‖A‖_F ‖A⁻¹‖_F, so below the threshold the SVD is skipped — it
+    decides only when that bound is not conclusive."""
+    square = J.shape[0] == J.shape[1]
+    A = J if square else J @ J.T
+    m = A.shape[0]
+    rhs = np.empty((m, m + 1))
+    rhs[:, 0] = b
+    rhs[:, 1:] = np.eye(m)
+    _, _, X, info = _gesv(A, rhs)
+    limit = SINGULAR_CONDITION if square else SINGULAR_CONDITION**2
+    if info != 0 or not np.sqrt(np.vdot(A, A) * np.vdot(X[:, 1:], X[:, 1:])) < limit:
+        s = np.linalg.svd(J, compute_uv=False)
+        if info != 0 or s[-1] <= s[0] / SINGULAR_CONDITION:
+            return None
+    return X[:, 0] if square else J.T @ X[:, 0]
 
 
 def _singular(where: str) -> ValueError:

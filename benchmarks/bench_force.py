@@ -18,7 +18,7 @@ from controllers.force import HybridForceMotionControl
 from controllers.operational_space import OperationalInverseDynamics
 from controllers.plants import ArmInContact
 from examples.panda_wall_contact import T_PANDA, _panda_hybrid, _panda_impedance, _panda_wall_scene
-from problems.ch09 import (F_V, K_HAT, K_Y, R_C, T_D, _hybrid_run, _impedance_run, _plane, _tra_5)
+from problems.ch09 import (F_V, K_HAT, K_Y, R_C, T_D, _held, _hybrid_run, _impedance_run, _plane, _tra_5)
 from rigid_body.kinematics import ELBOW_UP, inverse_kinematics_planar_2r
 from rigid_body.robots import load
 from rigid_body.task_space import selection_matrices
@@ -54,7 +54,7 @@ if __name__ == "__main__":
                      ("hybrid force/motion controller (9.77)–(9.81)", lambda: hyb(0.3, meas))):
         print(f"  {label:<58s} {per_call(f) * 1e6:8.1f} us")
     print("\nWhole simulations (T_c = h = 1 ms):")
-    simulated_per_wall_second("9.3 impedance control", lambda: _impedance_run(_tra_5(), q0), T_D)
+    simulated_per_wall_second("9.3 impedance control", lambda: _impedance_run(_held(_tra_5()), q0), T_D)
     simulated_per_wall_second("9.10 hybrid force/motion control", lambda: _hybrid_run(K_HAT), T_D)
     simulated_per_wall_second("9.10 with the exact stiffness", lambda: _hybrid_run(K_Y), T_D)
     scene = _panda_wall_scene()

@@ -331,6 +331,11 @@ class _ContactTask:
                 or np.any((self.rows < 0) | (self.rows > 5))):
             raise ValueError(f"`rows` must be distinct twist components in 0..5, got {rows!r}")
         self.m = self.rows.size
+        first = int(self.rows[0])
+        if np.array_equal(self.rows, np.arange(first, first + self.m)):     # contiguous rows: views, not copies
+            self._pick: Any = slice(first, first + self.m)
+        else:
+            self._pick = self.rows
         _check_redundancy(self.m, self.n)
         self.Fv = as_friction(viscous_friction, self.n)
         self.K_N = _nonnegative(null_space_damping, self.n, "null_space_damping")
@@ -339,14 +344,14 @@ class _ContactTask:
     def state(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(J, J̇q̇, T_e) of the task rows."""
         st = _frame_state(self.robot.model, self.robot.data, self.fid, q, qd)
-        return st.J[self.rows], st.Jdot_qd[self.rows], st.T
+        return st.J[self._pick], st.Jdot_qd[self._pick], st.T
 
     def wrench(self, meas: Any) -> np.ndarray:
         w = getattr(meas, "wrench", None)
         if w is None:
             raise ValueError("a force controller needs a force sensor: the plant's measurement has no "
                              "`wrench` (use controllers.plants.ArmInContact)")
-        return w[self.rows]
+        return w[self._pick]
 
     def torques(self, t: float, q: np.ndarray, qd: np.ndarray, J: np.ndarray, a: np.ndarray,
                 h: np.ndarray) -> np.ndarray:
@@ -391,7 +396,11 @@ def _velocity_reference(reference: Any, k: int) -> Callable[[float], tuple[np.nd
         as_vector(np.reshape(nud, -1), k, "ν̇_d")
     except (TypeError, ValueError) as err:
         raise ValueError(f"`velocity_reference` must give (ν_d ({k},), ν̇_d ({k},)) at t = 0: {err}") from None
-    return lambda t: tuple(np.reshape(np.asarray(v, dtype=float), k) for v in reference(t))
+    def sampled(t: float) -> tuple[np.ndarray, np.ndarray]:
+        nu, nud = reference(t)
+        return np.asarray(nu, dtype=float).reshape(k), np.asarray(nud, dtype=float).reshape(k)
+
+    return sampled
 
 
 class HybridForceMotionControl(LoggedController):

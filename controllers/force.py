@@ -11,9 +11,10 @@
 * Compliance control is :class:`~controllers.operational_space.OperationalPDGravity` in contact and
   impedance control :class:`~controllers.operational_space.OperationalInverseDynamics` with a desired
   inertia (and the sensed wrench).
-* :class:`PegInHoleController` — the hybrid force/position law of the peg-in-hole task of 6.3 (flow
-  chart of Fig. S6.2 as a state machine): τ = g(q) + Jᵀ (K_P S (x_d − x) + K_D (ẋ_d − ẋ) + f_d), with S
-  selecting the position-controlled directions and f_d the commanded force along the others.
+* :class:`PegInHoleController` — the peg-in-hole task of 6.3 (flow chart of Fig. S6.2 as a state
+  machine) on :class:`HybridForceMotionControl`: one law per phase from the selection matrices of
+  :data:`PEG_VELOCITY_AXES` (pure motion while approaching and descending, the push λ_d = −f_push along
+  y while searching, λ_d = 0 along x while inserting).
 * :class:`PegInHoleTask` — the data of 6.3; :func:`run_peg_in_hole` runs it on an
   :class:`~controllers.plants.ArmInContact` against a :class:`~controllers.environment.SurfaceWithHole`.
 

@@ -13,6 +13,7 @@ import time
 from typing import Callable
 
 import numpy as np
+import pinocchio as pin
 
 from controllers.force import HybridForceMotionControl
 from controllers.operational_space import OperationalInverseDynamics
@@ -35,6 +36,28 @@ def simulated_per_wall_second(label: str, run: Callable[[], object], simulated: 
           f" {cpu:5.2f} s CPU = {simulated / cpu:5.2f}x")
 
 
+def pinocchio_floor(robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, fid: int, samples: int = 1000) -> float:
+    """CPU seconds of the Pinocchio calls alone of ``samples`` 1 ms samples of a contact loop: four RK4 stages
+    (frame Jacobian + CRBA + nonlinear effects; a robot with mimic rotor joints has no ABA), one measurement
+    (frame Jacobian) and one law (kinematics pass with J̇q̇ + RNEA) — the floor of any Python loop on Pinocchio."""
+    model, data, LWA = robot.model, robot.data, pin.LOCAL_WORLD_ALIGNED
+    zero = np.zeros(robot.nv)
+    c0 = time.process_time()
+    for _ in range(samples):
+        for _ in range(4):
+            pin.computeFrameJacobian(model, data, q, fid, LWA)
+            pin.crba(model, data, q)
+            pin.nonLinearEffects(model, data, q, qd)
+        pin.computeFrameJacobian(model, data, q, fid, LWA)
+        pin.forwardKinematics(model, data, q, qd, zero)
+        pin.computeJointJacobians(model, data)
+        pin.updateFramePlacement(model, data, fid)
+        pin.getFrameJacobian(model, data, fid, LWA)
+        pin.getFrameClassicalAcceleration(model, data, fid, LWA)
+        pin.rnea(model, data, q, qd, tau)
+    return time.process_time() - c0
+
+
 if __name__ == "__main__":
     arm = load("planar_2r")
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
@@ -42,7 +65,7 @@ if __name__ == "__main__":
     x = plant.initial_state(q0, [0.1, -0.2])
     u = np.array([10.0, 5.0])
     meas = plant.measure(0.0, x)
-    imp = OperationalInverseDynamics(arm, 5000.0, 1600.0, _tra_5(), rows=(0, 1), viscous_friction=F_V,
+    imp = OperationalInverseDynamics(arm, 5000.0, 1600.0, _held(_tra_5()), rows=(0, 1), viscous_friction=F_V,
                                      inertia=100.0, force_feedback=True)
     S_f, S_v = selection_matrices(("x",), R_C, axes=("x", "y"))
     hyb = HybridForceMotionControl(arm, S_f, S_v, [-50.0], [0.1], 16, 100, 16, 100, compliance=np.eye(2) / K_HAT,
@@ -53,6 +76,8 @@ if __name__ == "__main__":
                      ("impedance controller (9.30)–(9.31)", lambda: imp(0.3, meas)),
                      ("hybrid force/motion controller (9.77)–(9.81)", lambda: hyb(0.3, meas))):
         print(f"  {label:<58s} {per_call(f) * 1e6:8.1f} us")
+    floor = pinocchio_floor(arm, q0, np.array([0.1, -0.2]), u, plant._fid)
+    print(f"  {'Pinocchio calls alone, one simulated second':<58s} {floor * 1e3:8.1f} ms CPU = {1 / floor:5.1f}x real time")
     print("\nWhole simulations (T_c = h = 1 ms):")
     simulated_per_wall_second("9.3 impedance control", lambda: _impedance_run(_held(_tra_5()), q0), T_D)
     simulated_per_wall_second("9.10 hybrid force/motion control", lambda: _hybrid_run(K_HAT), T_D)

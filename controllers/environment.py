@@ -18,6 +18,7 @@ Sects. 9.1–9.2, Eq. (7.42); Problem 6.3.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -113,9 +114,9 @@ class CompliantPlane(ContactEnvironment):
         h = self._normal_twist * -push
         if self.friction > 0.0 and push > 0.0:
             v_t = v_e[:3] - v_n * self.normal
-            speed = float(np.linalg.norm(v_t))
+            speed = math.sqrt(float(v_t @ v_t))
             if speed > 0.0:
-                h[:3] += self.friction * push * np.tanh(speed / self.slip_velocity) / speed * v_t
+                h[:3] += self.friction * push * math.tanh(speed / self.slip_velocity) / speed * v_t
         return h
 
 
@@ -138,10 +139,11 @@ class SteppedPlane(CompliantPlane):
         self.direction = d / np.linalg.norm(d)
         self.step_at = float(as_vector(step_at, 1, "step_at")[0])
         self.depth = as_positive(depth, "depth")
+        self._edge = float(self.direction @ self.point) + self.step_at      # d·p beyond which the recess lies
 
     def penetration(self, p: np.ndarray) -> float:
         delta = super().penetration(p)
-        return delta - self.depth if float(self.direction @ (p - self.point)) > self.step_at else delta
+        return delta - self.depth if float(self.direction @ p) - self._edge > 0.0 else delta
 
 
 @dataclass(frozen=True)

@@ -61,13 +61,6 @@ class ArmMeasurement:
 ARM_UNITS = {"q": "rad", "qd": "rad/s", "u": "N·m", "e": "rad", "q_d": "rad"}
 
 
-def frame_jacobian_and_pose(robot: Robot, q: np.ndarray, fid: int) -> tuple[np.ndarray, pin.SE3]:
-    """(geometric Jacobian (6, nv) in the book's convention, pose pin.SE3) of frame ``fid`` in one
-    Pinocchio pass (hot loops: q and fid are trusted)."""
-    J = pin.computeFrameJacobian(robot.model, robot.data, q, fid, pin.LOCAL_WORLD_ALIGNED)
-    return J, robot.data.oMf[fid].copy()
-
-
 class ArmPlant:
     """A rigid arm driven by joint torques: x = [q, v], ẋ = [v, B⁻¹(τ − C v − g − τ_f − τ_ext)].
 
@@ -256,7 +249,9 @@ class ArmInContact:
         self.integrate, self.initial_state = a.integrate, a.initial_state
         self.units = {**ARM_UNITS, "wrench": "N, N·m"}
         self._Fv = a.Fv
-        self._forward_dynamics = a._forward_dynamics
+        from rigid_body.dynamics import forward_dynamics
+
+        self._forward_dynamics = forward_dynamics   # called with check=False: x, u come from the loop
         wrench_at = getattr(environment, "wrench_at", None)
         self._wrench_at = wrench_at if callable(wrench_at) else None
 

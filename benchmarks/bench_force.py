@@ -5,9 +5,10 @@ Run: ``python benchmarks/bench_force.py``. Prints, for the two-link arm against 
 one measurement and one call of the impedance (9.3) and hybrid (9.10) controllers; then the
 simulated seconds per wall second of Problems 9.3 and 9.10 and of the Panda wall run (two 3.5 s
 runs: impedance and hybrid force/motion control). Wall and CPU time are both printed: on the shared
-2-core machine the wall time depends on the load, the process's CPU time does not.
+2-core machine the wall time depends on the load, the process's CPU time much less.
 
-Measured (CPU time, 2026-12-01, before → after the chapter-9 speed work; simulated s per CPU s):
+Measured (CPU time, 2026-12-01, before → after the chapter-9 speed work; simulated s per CPU s; the
+best of the runs — CPU time too varies by ±15 % with the load):
 
 =====================================  ===========  ===========
 run                                    before       after

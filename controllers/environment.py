@@ -18,6 +18,7 @@ Sects. 9.1–9.2, Eq. (7.42); Problem 6.3.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -32,11 +33,29 @@ class Environment(Protocol):
     def wrench(self, T_e: Any, v_e: np.ndarray) -> np.ndarray: ...
 
 
+NO_CONTACT = np.zeros(6)   # the wrench of an environment not touched (shared, read-only)
+NO_CONTACT.setflags(write=False)
+
+
 def _position(T_e: Any) -> np.ndarray:
     return T_e.translation if hasattr(T_e, "translation") else np.asarray(T_e)[:3, 3]
 
 
-class CompliantPlane:
+class ContactEnvironment:
+    """An environment whose wrench depends on the end-effector position only (not its orientation):
+    subclasses give ``wrench_at(p_e, v_e)`` on plain arrays (position (3,), twist (6,)) — what
+    :class:`controllers.plants.ArmInContact` calls in its hot loop — and inherit ``wrench(T_e, v_e)``.
+    Without contact ``wrench_at`` returns :data:`NO_CONTACT` (read-only zeros)."""
+
+    def wrench_at(self, p_e: np.ndarray, v_e: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def wrench(self, T_e: Any, v_e: np.ndarray) -> np.ndarray:
+        """h_e (6,) at the pose T_e (``pin.SE3`` or (4, 4)) and twist v_e (6,)."""
+        return self.wrench_at(_position(T_e), v_e)
+
+
+class CompliantPlane(ContactEnvironment):
     """The half-space n·(p − p_0) ≤ 0 of elastic material, stiffness K [N/m] and damping D [N·s/m].
 
     With penetration δ = n·(p_0 − p) > 0 the material pushes back along its outward normal n with
@@ -70,30 +89,34 @@ class CompliantPlane:
         self.bilateral = bool(bilateral)
         self.friction = as_positive(friction, "friction", allow_zero=True)
         self.slip_velocity = as_positive(slip_velocity, "slip_velocity")
+        self._n = tuple(float(c) for c in self.normal)             # plain floats for the hot loop
+        self._offset = float(self.normal @ self.point)             # n·p_0
+        self._normal_twist = np.concatenate([self.normal, np.zeros(3)])   # v_n = [n; 0]·v_e, h_e = −N [n; 0]
 
     def penetration(self, p: np.ndarray) -> float:
         """δ = n·(p_0 − p) [m] (positive inside the material)."""
-        return float(self.normal @ (self.point - p))
+        n0, n1, n2 = self._n
+        x, y, z = p.tolist() if isinstance(p, np.ndarray) else p
+        return self._offset - (n0 * x + n1 * y + n2 * z)
 
     def in_contact(self, T_e: Any) -> bool:
         """True when the end effector is inside the material (always for a bilateral spring)."""
         return self.bilateral or self.penetration(_position(T_e)) > 0.0
 
-    def wrench(self, T_e: Any, v_e: np.ndarray) -> np.ndarray:
-        h = np.zeros(6)
-        delta = self.penetration(_position(T_e))
+    def wrench_at(self, p_e: np.ndarray, v_e: np.ndarray) -> np.ndarray:
+        delta = self.penetration(p_e)
         if delta <= 0.0 and not self.bilateral:
-            return h
-        v = v_e[:3]
-        push = self.stiffness * delta - self.damping * float(self.normal @ v)
-        if not self.bilateral:
-            push = max(push, 0.0)
-        h[:3] = -push * self.normal
+            return NO_CONTACT
+        v_n = float(self._normal_twist @ v_e)
+        push = self.stiffness * delta - self.damping * v_n
+        if not self.bilateral and push <= 0.0:
+            return NO_CONTACT
+        h = self._normal_twist * -push
         if self.friction > 0.0 and push > 0.0:
-            v_t = v - float(self.normal @ v) * self.normal
-            speed = float(np.linalg.norm(v_t))
+            v_t = v_e[:3] - v_n * self.normal
+            speed = math.sqrt(float(v_t @ v_t))
             if speed > 0.0:
-                h[:3] += self.friction * push * np.tanh(speed / self.slip_velocity) / speed * v_t
+                h[:3] += self.friction * push * math.tanh(speed / self.slip_velocity) / speed * v_t
         return h
 
 
@@ -116,14 +139,15 @@ class SteppedPlane(CompliantPlane):
         self.direction = d / np.linalg.norm(d)
         self.step_at = float(as_vector(step_at, 1, "step_at")[0])
         self.depth = as_positive(depth, "depth")
+        self._edge = float(self.direction @ self.point) + self.step_at      # d·p beyond which the recess lies
 
     def penetration(self, p: np.ndarray) -> float:
-        delta = float(self.normal @ (self.point - p))
-        return delta - self.depth if float(self.direction @ (p - self.point)) > self.step_at else delta
+        delta = super().penetration(p)
+        return delta - self.depth if float(self.direction @ p) - self._edge > 0.0 else delta
 
 
 @dataclass(frozen=True)
-class SurfaceWithHole:
+class SurfaceWithHole(ContactEnvironment):
     """A compliant horizontal surface y ≤ 0 (in the x–y plane of a planar arm) with a hole (penalty
     contact, frictionless).
 
@@ -156,8 +180,8 @@ class SurfaceWithHole:
         sign = np.sign(offset)                                      # against a hole wall
         return np.array([-sign * max(self.stiffness * into_wall + self.damping * v[0] * sign, 0.0), 0.0])
 
-    def wrench(self, T_e: Any, v_e: np.ndarray) -> np.ndarray:
+    def wrench_at(self, p_e: np.ndarray, v_e: np.ndarray) -> np.ndarray:
         """h_e (6,): minus the reaction :meth:`force` at the tip, in the base frame."""
         h = np.zeros(6)
-        h[:2] = -self.force(_position(T_e)[:2], v_e[:2])
+        h[:2] = -self.force(p_e[:2], v_e[:2])
         return h

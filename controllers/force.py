@@ -11,9 +11,10 @@
 * Compliance control is :class:`~controllers.operational_space.OperationalPDGravity` in contact and
   impedance control :class:`~controllers.operational_space.OperationalInverseDynamics` with a desired
   inertia (and the sensed wrench).
-* :class:`PegInHoleController` — the hybrid force/position law of the peg-in-hole task of 6.3 (flow
-  chart of Fig. S6.2 as a state machine): τ = g(q) + Jᵀ (K_P S (x_d − x) + K_D (ẋ_d − ẋ) + f_d), with S
-  selecting the position-controlled directions and f_d the commanded force along the others.
+* :class:`PegInHoleController` — the peg-in-hole task of 6.3 (flow chart of Fig. S6.2 as a state
+  machine) on :class:`HybridForceMotionControl`: one law per phase from the selection matrices of
+  :data:`PEG_VELOCITY_AXES` (pure motion while approaching and descending, the push λ_d = −f_push along
+  y while searching, λ_d = 0 along x while inserting).
 * :class:`PegInHoleTask` — the data of 6.3; :func:`run_peg_in_hole` runs it on an
   :class:`~controllers.plants.ArmInContact` against a :class:`~controllers.environment.SurfaceWithHole`.
 
@@ -43,43 +44,61 @@ from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
 import numpy as np
+import pinocchio as pin
 from scipy.optimize import least_squares
 
 from controllers.environment import SurfaceWithHole
 from controllers.joint_space import as_gain, as_reference
 from controllers.operational_space import _check_redundancy, _nonnegative, _singular, _solve_task
-from controllers.plants import ArmInContact, ArmMeasurement, frame_jacobian_and_pose
+from controllers.plants import ArmInContact, ArmMeasurement
 from controllers.simulation import LoggedController, SimulationResult, as_friction, simulate
 from planners.timing import quintic_law
-from rigid_body.dynamics import gravity_torques, inverse_dynamics
 from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
-from rigid_body.task_space import _frame_state, selection_projection, selection_pseudo_inverse
+from rigid_body.task_space import _frame_state, selection_matrices, selection_projection, selection_pseudo_inverse
 from rigid_body.validation import as_matrix, as_positive, as_square_matrix, as_vector
 
 
 PEG_STATES = ("approach", "descend", "search", "insert", "done")
+PEG_AXES = ("x", "y", "rz")          # the planar task (x, y, φ): rows (0, 1, 5) of the twist
+PEG_VELOCITY_AXES = {"approach": PEG_AXES, "descend": PEG_AXES, "search": ("x", "rz"),
+                     "insert": ("y", "rz"), "done": ("y", "rz")}
 
 
 class PegInHoleController(LoggedController):
-    """The flow chart of Fig. S6.2 as a state machine driving a planar arm (x, y, φ task).
+    """The flow chart of Fig. S6.2 as a state machine driving a planar arm (x, y, φ task), each phase
+    one :class:`HybridForceMotionControl` with its selection matrices (:data:`PEG_VELOCITY_AXES`).
 
     States: ``approach`` (fast pure motion to (x_H, Δy)), ``descend`` (slow motion along −y until
-    y < −Δy, or a contact force |f_y| > ε), ``search`` (force/position: x position-controlled, sliding
-    at ``v_search`` and inverting when |x − x_H| > Δx; y force-controlled to −f_push; until |f_y| < ε),
-    ``insert`` (force/position: y position-controlled down to −insert_depth, x force-controlled to 0,
-    the peg orientation held), ``done``.
+    y < −Δy, or a contact force |f_y| > ε), ``search`` (x motion-controlled, sliding at ``v_search``
+    and inverting when |x − x_H| > Δx; y force-controlled to λ_d = −f_push; until |f_y| < ε),
+    ``insert`` (y motion-controlled down to −insert_depth, x force-controlled to λ_d = 0 — the walls of
+    the hole guide the peg —, the peg orientation held), ``done``.
 
-    The control law is a task-space PD with gravity compensation and a force command,
-    ``τ = g(q) + J^T (K_P S (x_d − x) + K_D (ẋ_d − ẋ) + f_d)`` with J the (x, y, ω_z) rows of the
-    geometric Jacobian and S selecting the position-controlled directions.
+    Every phase follows a position reference x_d(t) in its motion-controlled components: ν_d = S_v† ẋ_d,
+    and the integral of the PI velocity law (9.80) starts at the position error S_v†(x_d − x_e), so it
+    stays the position error. Gains: the velocity loop ë + K_Pν ė + K_Iν e = 0 with ω_n = ``omega_motion``,
+    ζ = 1; the force loop (9.81) with ω_n = ``omega_force``, ζ = 1, on the estimated surface
+    ``stiffness`` k̂ [N/m] (Ĉ = I/k̂: S_f†, S_v† select the axes).
     """
 
-    def __init__(self, robot: Robot, task: PegInHoleTask, K_P: Any = (3000.0, 3000.0, 300.0),
-                 K_D: Any = (120.0, 120.0, 10.0), frame: str | int | None = None):
+    def __init__(self, robot: Robot, task: PegInHoleTask, stiffness: float = 2e4, omega_motion: float = 30.0,
+                 omega_force: float = 20.0, frame: str | int | None = None, viscous_friction: Any = 0.0):
         self.robot, self.task, self.frame = robot, task, frame
         self._fid = robot.frame(frame)
-        self.K_P, self.K_D = as_vector(K_P, 3, "K_P"), as_vector(K_D, 3, "K_D")
+        k = as_positive(stiffness, "stiffness")
+        w_v, w_f = as_positive(omega_motion, "omega_motion"), as_positive(omega_force, "omega_force")
+        self._nu_d, self._nud_d = np.zeros(3), np.zeros(3)     # the active phase's (ẋ_d, ẍ_d), full (x, y, φ)
+        self.laws: dict[tuple[str, ...], HybridForceMotionControl] = {}
+        for axes in set(PEG_VELOCITY_AXES.values()):
+            S_f, S_v = selection_matrices(axes, axes=PEG_AXES)
+            pick = S_v.T                                        # S_v† for axis-aligned S_v, Ĉ = I/k̂
+            push = -task.f_push if "y" not in axes else 0.0    # λ_d: push down while searching, 0 along x
+            self.laws[axes] = HybridForceMotionControl(
+                robot, S_f, S_v, np.full(S_f.shape[1], push),
+                lambda t, pick=pick: (pick @ self._nu_d, pick @ self._nud_d),
+                2.0 * w_v, w_v**2, 2.0 * w_f, w_f**2, compliance=np.eye(3) / k, rows=(0, 1, 5), frame=frame,
+                viscous_friction=viscous_friction)
         self.n = robot.nv
         self.reset()
 
@@ -89,6 +108,7 @@ class PegInHoleController(LoggedController):
         self.transitions: list[tuple[float, str]] = [(0.0, "approach")]
         self.inversions = 0
         self._law: Any = None
+        self._active: HybridForceMotionControl | None = None
         self._t0 = 0.0
         self._y0 = 0.0
         self._x_ref = 0.0
@@ -96,30 +116,38 @@ class PegInHoleController(LoggedController):
         self._last_t = 0.0
 
     def _switch(self, t: float, state: str) -> None:
-        self.state, self._t0 = state, t
+        self.state = state
+        if state != "done":
+            self._t0 = t
         self.transitions.append((t, state))
+
+    def _reference(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(x_d, ẋ_d, ẍ_d) of the current phase (motion-controlled components; the others are unused)."""
+        task, zero = self.task, np.zeros(3)
+        if self.state == "approach":
+            return self._law(t)
+        if self.state == "descend":
+            return (np.array([task.x_H, self._y0 - task.v_slow * (t - self._t0), task.phi]),
+                    np.array([0.0, -task.v_slow, 0.0]), zero)
+        if self.state == "search":
+            return (np.array([self._x_ref, x[1], task.phi]), np.array([self._direction * task.v_search, 0.0, 0.0]),
+                    zero)
+        y_d = max(self._y0 - task.v_slow * (t - self._t0), -task.insert_depth)       # insert, done
+        return (np.array([x[0], y_d, task.phi]), np.array([0.0, -task.v_slow if y_d > -task.insert_depth else 0.0,
+                                                           0.0]), zero)
 
     def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
         task = self.task
-        q, qd, f = meas.q, meas.qd, meas.wrench[:2]       # f: force of the peg on the environment (h_e)
-        J, T = frame_jacobian_and_pose(self.robot, q, self._fid)
-        J = J[[0, 1, 5]]
-        R, p = T.rotation, T.translation
-        x = np.array([p[0], p[1], np.arctan2(R[1, 0], R[0, 0])])
-        xd = J @ qd
-        x_d, xd_d = x.copy(), np.zeros(3)
-        select = np.ones(3)
-        force = np.zeros(3)
+        f = meas.wrench[:2]                                  # f: force of the peg on the environment (h_e)
+        T = _frame_state(self.robot.model, self.robot.data, self._fid, meas.q, None).T
+        x = np.array([T[0, 3], T[1, 3], np.arctan2(T[1, 0], T[0, 0])])
+        state = self.state
         if self._law is None:                       # plan the fast approach from where the arm is
             self._law = quintic_law(x, np.array([task.x_H, task.dy, task.phi]), t + task.T_approach, t_i=t)
-        if self.state == "approach":
-            x_d, xd_d, _ = self._law(t)
-            if t >= self._law.t_f and np.linalg.norm(x[:2] - x_d[:2]) < 1e-3:
-                self._switch(t, "descend")
-                self._y0 = x[1]
+        if self.state == "approach" and t >= self._law.t_f and np.linalg.norm(x[:2] - self._law(t)[0][:2]) < 1e-3:
+            self._switch(t, "descend")
+            self._y0 = x[1]
         if self.state == "descend":
-            x_d = np.array([task.x_H, self._y0 - task.v_slow * (t - self._t0), task.phi])
-            xd_d = np.array([0.0, -task.v_slow, 0.0])
             if abs(f[1]) > task.eps:
                 self._switch(t, "search")
                 self._x_ref = x[0]
@@ -131,32 +159,23 @@ class PegInHoleController(LoggedController):
                 self._switch(t, "insert")
                 self._y0 = x[1]
             else:
-                dt = t - self._last_t
                 if abs(self._x_ref - task.x_H) > task.dx and np.sign(self._x_ref - task.x_H) == self._direction:
                     self._direction = -self._direction
                     self.inversions += 1
-                self._x_ref += self._direction * task.v_search * dt
-                x_d = np.array([self._x_ref, x[1], task.phi])
-                xd_d = np.array([self._direction * task.v_search, 0.0, 0.0])
-                select = np.array([1.0, 0.0, 1.0])
-                force = np.array([0.0, -task.f_push, 0.0])
-        if self.state == "insert":
-            y_d = max(self._y0 - task.v_slow * (t - self._t0), -task.insert_depth)
-            x_d = np.array([x[0], y_d, task.phi])
-            xd_d = np.array([0.0, -task.v_slow if y_d > -task.insert_depth else 0.0, 0.0])
-            select = np.array([0.0, 1.0, 1.0])
-            if x[1] < -task.insert_depth + 1e-3:
-                self._switch(t, "done")
-                self._y0 = -task.insert_depth
-        if self.state == "done":
-            x_d = np.array([x[0], -task.insert_depth, task.phi])
-            select = np.array([0.0, 1.0, 1.0])
+                self._x_ref += self._direction * task.v_search * (t - self._last_t)
+        if self.state == "insert" and x[1] < -task.insert_depth + 1e-3:
+            self._switch(t, "done")                 # the insertion's reference and law go on to rest
         self._last_t = t
-        e = x_d - x
-        e[2] = wrap_angle(e[2])
-        wrench = self.K_P * select * e + self.K_D * (xd_d - xd) + force
+        x_d, self._nu_d, self._nud_d = self._reference(t, x)
+        law = self.laws[PEG_VELOCITY_AXES[self.state]]
+        if law is not self._active or self.state != state and self.state != "done":   # a new phase
+            e = x_d - x
+            e[2] = wrap_angle(e[2])
+            law.reset(motion_error=law.S_v_dagger @ e)
+            self._active = law
+        u = law(t, meas)
         self.record(x_e=x, x_d=x_d, f=f, state=PEG_STATES.index(self.state))
-        return gravity_torques(self.robot, q) + J.T @ wrench
+        return u
 
 
 @dataclass(frozen=True)
@@ -187,7 +206,7 @@ def run_peg_in_hole(robot: Robot, environment: SurfaceWithHole, task: PegInHoleT
     ``state``) and the controller (its ``transitions`` and ``inversions``).
     """
     plant = ArmInContact(robot, environment, viscous_friction)
-    controller = PegInHoleController(robot, task)
+    controller = PegInHoleController(robot, task, stiffness=environment.stiffness, viscous_friction=viscous_friction)
     res = simulate(plant, controller, (0.0, duration), plant.initial_state(q0), h=h, Ts=Ts)
     return res, controller
 
@@ -313,6 +332,11 @@ class _ContactTask:
                 or np.any((self.rows < 0) | (self.rows > 5))):
             raise ValueError(f"`rows` must be distinct twist components in 0..5, got {rows!r}")
         self.m = self.rows.size
+        first = int(self.rows[0])
+        if np.array_equal(self.rows, np.arange(first, first + self.m)):     # contiguous rows: views, not copies
+            self._pick: Any = slice(first, first + self.m)
+        else:
+            self._pick = self.rows
         _check_redundancy(self.m, self.n)
         self.Fv = as_friction(viscous_friction, self.n)
         self.K_N = _nonnegative(null_space_damping, self.n, "null_space_damping")
@@ -321,14 +345,14 @@ class _ContactTask:
     def state(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(J, J̇q̇, T_e) of the task rows."""
         st = _frame_state(self.robot.model, self.robot.data, self.fid, q, qd)
-        return st.J[self.rows], st.Jdot_qd[self.rows], st.T
+        return st.J[self._pick], st.Jdot_qd[self._pick], st.T
 
     def wrench(self, meas: Any) -> np.ndarray:
         w = getattr(meas, "wrench", None)
         if w is None:
             raise ValueError("a force controller needs a force sensor: the plant's measurement has no "
                              "`wrench` (use controllers.plants.ArmInContact)")
-        return w[self.rows]
+        return w[self._pick]
 
     def torques(self, t: float, q: np.ndarray, qd: np.ndarray, J: np.ndarray, a: np.ndarray,
                 h: np.ndarray) -> np.ndarray:
@@ -339,7 +363,7 @@ class _ContactTask:
         if self.redundant:
             y0 = -self.K_N * qd
             y += y0 - _solve_task(J, J @ y0)
-        return inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd + J.T @ h
+        return pin.rnea(self.robot.model, self.robot.data, q, qd, y) + self.Fv * qd + J.T @ h
 
 
 class _Integral:
@@ -373,7 +397,11 @@ def _velocity_reference(reference: Any, k: int) -> Callable[[float], tuple[np.nd
         as_vector(np.reshape(nud, -1), k, "ν̇_d")
     except (TypeError, ValueError) as err:
         raise ValueError(f"`velocity_reference` must give (ν_d ({k},), ν̇_d ({k},)) at t = 0: {err}") from None
-    return lambda t: tuple(np.reshape(np.asarray(v, dtype=float), k) for v in reference(t))
+    def sampled(t: float) -> tuple[np.ndarray, np.ndarray]:
+        nu, nud = reference(t)
+        return np.asarray(nu, dtype=float).reshape(k), np.asarray(nud, dtype=float).reshape(k)
+
+    return sampled
 
 
 class HybridForceMotionControl(LoggedController):
@@ -414,29 +442,38 @@ class HybridForceMotionControl(LoggedController):
         if S_f.ndim != 2 or S_v.ndim != 2 or S_f.shape[0] != m or S_v.shape[0] != m or S_f.shape[1] + S_v.shape[1] != m:
             raise ValueError(f"`S_f`, `S_v` must be (m, k) and (m, m − k) with m = {m} task rows, "
                              f"got {S_f.shape} and {S_v.shape}")
-        if np.abs(S_f.T @ S_v).max() > 1e-9:
+        if S_v.shape[1] == 0:
+            raise ValueError("`S_v` must have at least one column (a motion-controlled direction)")
+        if S_f.size and np.abs(S_f.T @ S_v).max() > 1e-9:
             raise ValueError("`S_f` and `S_v` must be reciprocal: S_fᵀ S_v = 0")
         self.S_f, self.S_v = S_f, S_v
         k_f, k_v = S_f.shape[1], S_v.shape[1]
         C = as_matrix(compliance, (m, m), "compliance")
         K = np.linalg.inv(C) if stiffness is None else as_matrix(stiffness, (m, m), "stiffness")
-        self.S_f_dagger = selection_pseudo_inverse(S_f, C)     # λ = S_f† h_e, Eq. (9.55)
         self.S_v_dagger = selection_pseudo_inverse(S_v, K)     # ν = S_v† v_e
-        P_v = selection_projection(S_v, K)
-        C1 = (np.eye(m) - P_v) @ C if compliance_prime is None else as_matrix(compliance_prime, (m, m), "compliance_prime")
-        self.C_prime_S_f = C1 @ S_f
-        self.G_f = np.linalg.solve(S_f.T @ C1 @ S_f, S_f.T)     # λ̇ = G_f v_e
         self.K_Pnu, self.K_Inu = as_gain(K_Pnu, k_v, "K_Pnu"), as_gain(K_Inu, k_v, "K_Inu")
-        self.K_Plambda = as_gain(K_Plambda, k_f, "K_Plambda")
-        K_D = np.asarray(K_Dlambda, dtype=float)
-        self.K_Dlambda = as_gain(K_D, k_f, "K_Dlambda") if np.any(K_D) else np.zeros((k_f, k_f))
-        self.force_reference = as_reference(force_reference, k_f, "force_reference")
         self.velocity_reference = _velocity_reference(velocity_reference, k_v)
+        self.motion_only = k_f == 0          # S_v = I: inverse dynamics with the PI velocity law (9.80) alone
+        if not self.motion_only:
+            self.S_f_dagger = selection_pseudo_inverse(S_f, C)     # λ = S_f† h_e, Eq. (9.55)
+            P_v = selection_projection(S_v, K)
+            C1 = ((np.eye(m) - P_v) @ C if compliance_prime is None
+                  else as_matrix(compliance_prime, (m, m), "compliance_prime"))
+            self.C_prime_S_f = C1 @ S_f
+            self.G_f = np.linalg.solve(S_f.T @ C1 @ S_f, S_f.T)     # λ̇ = G_f v_e
+            self.K_Plambda = as_gain(K_Plambda, k_f, "K_Plambda")
+            K_D = np.asarray(K_Dlambda, dtype=float)
+            self.K_Dlambda = as_gain(K_D, k_f, "K_Dlambda") if np.any(K_D) else np.zeros((k_f, k_f))
+            self.force_reference = as_reference(force_reference, k_f, "force_reference")
         self.reset()
 
-    def reset(self) -> None:
+    def reset(self, motion_error: Any = None) -> None:
+        """Restart the law; the integral ∫(ν_d − ν) of (9.80) starts at ``motion_error`` (k_v,) (default 0):
+        when ν_d is the rate of a position reference, the position error along S_v at the start."""
         super().reset()
         self._integral = _Integral(self.S_v.shape[1])
+        if motion_error is not None:
+            self._integral.value[:] = as_vector(motion_error, self.S_v.shape[1], "motion_error")
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         task = self.task
@@ -444,13 +481,18 @@ class HybridForceMotionControl(LoggedController):
         h = task.wrench(meas)
         J, Jdot_qd, T_e = task.state(q, qd)
         v_e = J @ qd
-        nu, lam, lam_dot = self.S_v_dagger @ v_e, self.S_f_dagger @ h, self.G_f @ v_e
+        nu = self.S_v_dagger @ v_e
         nu_d, nud_d = self.velocity_reference(t)
-        lam_d, lamd_d, lamdd_d = self.force_reference(t)
         integral = self._integral.update(t, nu_d - nu)                                        # ∫(ν_d − ν)
-        alpha_nu = nud_d + self.K_Pnu @ (nu_d - nu) + self.K_Inu @ integral                   # (9.80)
+        alpha = self.S_v @ (nud_d + self.K_Pnu @ (nu_d - nu) + self.K_Inu @ integral)         # (9.80)
+        if self.motion_only:
+            u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
+            self.record(nu=nu, nu_d=nu_d, h_e=h, p_e=T_e[:3, 3].copy())
+            return u
+        lam, lam_dot = self.S_f_dagger @ h, self.G_f @ v_e
+        lam_d, lamd_d, lamdd_d = self.force_reference(t)
         f_lambda = lamdd_d + self.K_Dlambda @ (lamd_d - lam_dot) + self.K_Plambda @ (lam_d - lam)  # (9.81)
-        alpha = self.S_v @ alpha_nu + self.C_prime_S_f @ f_lambda                              # (9.77)
+        alpha += self.C_prime_S_f @ f_lambda                                                   # (9.77)
         u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
         self.record(nu=nu, nu_d=nu_d, lam=lam, lam_d=lam_d, h_e=h, p_e=T_e[:3, 3].copy())
         return u

@@ -43,14 +43,16 @@ from __future__ import annotations
 from typing import Any, Callable, Sequence
 
 import numpy as np
+import pinocchio as pin
+from scipy.linalg.lapack import dgesv as _gesv
 from scipy.optimize import fsolve
 
 from controllers.joint_space import as_gain, as_reference
 from controllers.simulation import LoggedController, as_friction, per_joint
-from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics
+from rigid_body.dynamics import gravity_torques, inertia_matrix
 from rigid_body.robots import Robot
 from rigid_body.rotations import as_homogeneous
-from rigid_body.task_space import TaskSpace, pose_error
+from rigid_body.task_space import TaskSpace, _frame_state, pose_error
 from rigid_body.validation import as_vector
 
 PoseReference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
@@ -117,7 +119,7 @@ class _Task:
             raise ValueError(f"`orientation` must be one of {CONTROL_ORIENTATIONS}, got {orientation!r}")
         self.robot = robot
         self.pose = orientation != "none"
-        fid = robot.frame(frame)  # resolved once (unknown frame → ValueError now)
+        self._fid = fid = robot.frame(frame)  # resolved once (unknown frame → ValueError now)
         if self.pose:
             self.space = TaskSpace(fid, orientation, None if rows is None else tuple(int(r) for r in rows))
             self.rows = np.array(self.space.selected)
@@ -148,6 +150,10 @@ class _Task:
 
     def error(self, q: np.ndarray, x_d: np.ndarray, qd: np.ndarray | None = None):
         """(x̃, J, J̇q̇ or None, T_e) at q (and q̇)."""
+        if not self.pose:                     # position task: x̃ = x_d − p_e[rows] from one kinematics pass
+            st = _frame_state(self.robot.model, self.robot.data, self._fid, q, qd)
+            rows = self.rows
+            return x_d - st.T[rows, 3], st.J[rows], None if qd is None else st.Jdot_qd[rows], st.T
         err = pose_error(self.robot, q, self.target(x_d), None, self.space, qd)
         return err.e, err.J, err.Jdot_qd, err.T_e
 
@@ -162,13 +168,24 @@ SINGULAR_CONDITION = 1e10  # cond(J_A) above which the task is treated as singul
 
 def _solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     """J_A⁻¹ b (square J_A) or the minimum-norm J_A† b = J_Aᵀ (J_A J_Aᵀ)⁻¹ b (3.52) for a redundant task;
-    None at (or numerically at) a kinematic singularity, cond(J_A) > 1e10."""
-    s = np.linalg.svd(J, compute_uv=False)
-    if s[-1] <= s[0] / SINGULAR_CONDITION:
-        return None
-    if J.shape[0] == J.shape[1]:
-        return np.linalg.solve(J, b)
-    return J.T @ np.linalg.solve(J @ J.T, b)
+    None at (or numerically at) a kinematic singularity, cond(J_A) > 1e10.
+
+    Hot loop: one LAPACK gesv solves A x = b and A X = I together (A = J_A, or J_A J_Aᵀ whose condition
+    number is cond(J_A)²); cond₂(A) ≤ ‖A‖_F ‖A⁻¹‖_F, so below the threshold the SVD is skipped — it
+    decides only when that bound is not conclusive."""
+    square = J.shape[0] == J.shape[1]
+    A = J if square else J @ J.T
+    m = A.shape[0]
+    rhs = np.empty((m, m + 1))
+    rhs[:, 0] = b
+    rhs[:, 1:] = np.eye(m)
+    _, _, X, info = _gesv(A, rhs)
+    limit = SINGULAR_CONDITION if square else SINGULAR_CONDITION**2
+    if info != 0 or not np.sqrt(np.vdot(A, A) * np.vdot(X[:, 1:], X[:, 1:])) < limit:
+        s = np.linalg.svd(J, compute_uv=False)
+        if info != 0 or s[-1] <= s[0] / SINGULAR_CONDITION:
+            return None
+    return X[:, 0] if square else J.T @ X[:, 0]
 
 
 def _singular(where: str) -> ValueError:
@@ -300,7 +317,7 @@ class OperationalInverseDynamics(LoggedController):
         if self.redundant:
             y0 = self.K_q * (self.q_0 - q) - self.K_N * qd
             y += y0 - _solve_task(J, J @ y0)                    # (I − J† J) y_0, cf. (3.54)
-        u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd
+        u = pin.rnea(self.robot.model, self.robot.data, q, qd, y) + self.Fv * qd   # B y + n, trusted inputs
         if self.force_feedback:
             u += J.T @ h                                        # + Jᵀ h_e, Eq. (9.30)
             self.record(**self.task.logged(x_d, T_e, e), h_e=meas.wrench)

@@ -36,6 +36,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 import pinocchio as pin
 
+from controllers.environment import NO_CONTACT
 from controllers.independent_joint import JointDrive
 from controllers.simulation import as_friction, per_joint
 from rigid_body.actuators import DCServomotor, PIRegulator
@@ -58,13 +59,6 @@ class ArmMeasurement:
 
 
 ARM_UNITS = {"q": "rad", "qd": "rad/s", "u": "N·m", "e": "rad", "q_d": "rad"}
-
-
-def frame_jacobian_and_pose(robot: Robot, q: np.ndarray, fid: int) -> tuple[np.ndarray, pin.SE3]:
-    """(geometric Jacobian (6, nv) in the book's convention, pose pin.SE3) of frame ``fid`` in one
-    Pinocchio pass (hot loops: q and fid are trusted)."""
-    J = pin.computeFrameJacobian(robot.model, robot.data, q, fid, pin.LOCAL_WORLD_ALIGNED)
-    return J, robot.data.oMf[fid].copy()
 
 
 class ArmPlant:
@@ -232,8 +226,13 @@ class ArmInContact:
 
     The environment gives h_e = ``environment.wrench(T_e, v_e)``, the wrench (6,) exerted BY the end
     effector ON the environment in the base frame (Sect. 9.1), from the end-effector pose T_e and twist
-    v_e = J q̇; the arm feels −h_e, i.e. the joint torque Jᵀ h_e is subtracted (Eq. 7.42). It is computed
-    once per derivative evaluation and once per measurement; ``measure`` reports it as ``meas.wrench``.
+    v_e = J q̇; the arm feels −h_e, i.e. the joint torque Jᵀ h_e is subtracted (Eq. 7.42):
+    B(q) q̈ + C q̇ + F_v q̇ + g = τ − Jᵀ h_e. It is computed once per derivative evaluation and once per
+    measurement; ``measure`` reports it as ``meas.wrench``.
+
+    Hot path: one Pinocchio pass gives the frame's position and Jacobian; an environment with
+    ``wrench_at(p_e, v_e)`` (plain arrays, :class:`controllers.environment.ContactEnvironment`) is
+    asked directly; no contact (:data:`controllers.environment.NO_CONTACT`) skips Jᵀ h_e.
     """
 
     def __init__(self, robot: Robot, environment: Any, viscous_friction: Any = 0.0,
@@ -242,17 +241,27 @@ class ArmInContact:
             raise ValueError("`environment` must have a method wrench(T_e, v_e) -> h_e (6,)")
         self.robot, self.environment, self.frame = robot, environment, frame
         self._fid = robot.frame(frame)
-        self.arm = ArmPlant(robot, viscous_friction=viscous_friction, external_force=self.contact_torques)
+        self.arm = ArmPlant(robot, viscous_friction=viscous_friction)
         a = self.arm
+        self.n, self.nq = a.n, a.nq
         self.state_size, self.tangent_size, self.state_layout = a.state_size, a.tangent_size, a.state_layout
         self.input_size = a.input_size
         self.integrate, self.initial_state = a.integrate, a.initial_state
         self.units = {**ARM_UNITS, "wrench": "N, N·m"}
+        self._Fv = a.Fv
+        from rigid_body.dynamics import forward_dynamics
+
+        self._forward_dynamics = forward_dynamics   # called with check=False: x, u come from the loop
+        wrench_at = getattr(environment, "wrench_at", None)
+        self._wrench_at = wrench_at if callable(wrench_at) else None
 
     def wrench(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(h_e (6,), J (6, nv)) at (q, q̇)."""
-        J, T = frame_jacobian_and_pose(self.robot, q, self._fid)
-        return self.environment.wrench(T, J @ qd), J
+        model, data, fid = self.robot.model, self.robot.data, self._fid
+        J = pin.computeFrameJacobian(model, data, q, fid, pin.LOCAL_WORLD_ALIGNED)   # also updates oMf[fid]
+        if self._wrench_at is not None:
+            return self._wrench_at(data.oMf[fid].translation, J @ qd), J
+        return self.environment.wrench(data.oMf[fid].copy(), J @ qd), J
 
     def contact_torques(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Jᵀ h_e: the joint torques the contact takes from the arm."""
@@ -260,10 +269,19 @@ class ArmInContact:
         return J.T @ h_e
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        return self.arm.derivative(t, x, u)
+        n, nq = self.n, self.nq
+        q, qd = x[:nq], x[nq:]                  # u: (n,), checked by the loop (simulate)
+        h_e, J = self.wrench(q, qd)
+        tau = u - self._Fv * qd
+        if h_e is not NO_CONTACT:
+            tau -= J.T @ h_e                                                      # Eq. (7.42)
+        xd = np.empty(2 * n)
+        xd[:n] = qd
+        xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
+        return xd
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
-        nq = self.arm.nq
+        nq = self.nq
         q, qd = x[:nq], x[nq:]
         return ArmMeasurement(q, qd, self.wrench(q, qd)[0])
 

@@ -27,6 +27,7 @@ from controllers.plants import ArmInContact
 from controllers.simulation import SimulationResult, simulate
 from planners.inverse_kinematics import solve_clik
 from planners.timing import quintic_law
+from problems.ch09 import contact_animation
 from problems.common import label_axes, subplots
 from problems.registry import Solution
 from rigid_body.kinematics import direct_kinematics
@@ -206,6 +207,11 @@ def panda_wall_contact() -> Solution:
     ax.plot(y, [600.0, 600.0, 610.0, 610.0], "k--", label="wall at rest")
     label_axes(ax, "y [m]", "x [mm]")
     sol.figure(fig2, "Tool path (top view) and the stepped wall")
+    wall = scene["wall"]
+    before = wall.point + (STEP_AT - 0.1) * t1                              # the wall up to the edge …
+    after = wall.point - STEP_DEPTH * n + (STEP_AT + 0.1) * t1               # … and the recess beyond it
+    contact_animation(sol, panda, hyb, "hybrid force/motion control on the stepped wall: force −h_e (0.15 m per 20 N)",
+                      n, [(before, (0.3, 0.2)), (after, (0.3, 0.2))], 7.5e-3, frame=PANDA_TOOL)
     return sol
 
 

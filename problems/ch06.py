@@ -193,7 +193,9 @@ def problem_6_3() -> Solution:
     (x_H, Δy), slow descent until y < −Δy or |f_y| > ε, force/position search sliding along ±x (motion
     inverted when |x − x_H| > Δx) until the force drops, insertion with position along y and force
     along x — runs as :class:`PegInHoleController` on the simulated three-link planar arm against a
-    compliant surface with a hole (stiffness 2·10⁴ N/m, clearance 4 mm).
+    compliant surface with a hole (stiffness 2·10⁴ N/m, clearance 4 mm). Each phase is chapter 9's hybrid
+    force/motion law (9.77)–(9.81) with its selection matrices: pure motion while approaching and
+    descending, the 10 N push along y while searching, zero force along x while inserting.
 
     The manual's moment control about z during insertion (keeping the peg aligned) is replaced by
     holding the peg's orientation: the point-contact model of the hole produces no moment.

@@ -22,7 +22,7 @@ Example 9.4, Figs. 9.8, 9.16; solution manual 9.1–9.11, Figs. S9.2, S9.5, S9.6
 
 from __future__ import annotations
 
-from typing import Any, Callable
+from typing import Any, Callable, Sequence
 
 import numpy as np
 import pinocchio as pin
@@ -39,7 +39,7 @@ from planners.paths import PathLaw, Segment
 from planners.timing import trapezoidal_law
 from problems.common import label_axes, max_abs_error, subplots
 from problems.registry import Solution, problem
-from rigid_body.kinematics import ELBOW_UP, inverse_kinematics_planar_2r
+from rigid_body.kinematics import ELBOW_UP, direct_kinematics, inverse_kinematics_planar_2r
 from rigid_body.robots import Robot, load
 from rigid_body.rotations import euler_rate_matrix_zyz, rotation_to_euler_zyz, skew
 from rigid_body.task_space import (relative_euler_rate, relative_position_rate, selection_matrices,
@@ -71,10 +71,48 @@ def _tra_5() -> PathLaw:
     return PathLaw(segment, trapezoidal_law(0.0, segment.length, 1.0, 0.5))
 
 
-def _held(law: Callable[[float], Any]) -> Callable[[float], Any]:
+def _held(law: Callable[[Any], Any]) -> Callable[[float], Any]:
     """``law`` as a sampled controller sees it: held over [t, t + T_c), so at a switching instant of
-    the trapezoid (here t_f = 1 s, a sample) the value of the interval that starts there (right limit)."""
-    return lambda t: law(np.nextafter(t, np.inf))
+    the trapezoid (here t_f = 1 s, a sample) the value of the interval that starts there (right limit).
+
+    The law is evaluated once, vectorised, at the controller's instants k T_c of [0, T_d] (the loop's
+    t = k T_c exactly); any other instant is evaluated on the spot."""
+    k = np.arange(int(round(T_D / T_C)) + 1)
+    grid = k * T_C
+    table = [np.asarray(v) for v in law(np.nextafter(grid, np.inf))]
+
+    def held(t: float) -> Any:
+        i = int(round(t / T_C))
+        if 0 <= i < grid.size and t == grid[i]:
+            return table[0][i], table[1][i], table[2][i]
+        return law(np.nextafter(t, np.inf))
+
+    return held
+
+
+def contact_animation(sol: Solution, robot: Robot, res: SimulationResult, title: str, normal: Any,
+                      patches: Sequence[tuple[Any, tuple[float, float]]], force_scale: float,
+                      frame: str | int | None = None, every: int = 40) -> None:
+    """Attach to ``sol`` a 3-D animation of a contact run: the arm, the undeformed surface (square
+    ``patches`` (centre (3,), size [m]) with outward ``normal``) and the contact force on the tool, −h_e
+    (the environment's reaction, ``res["h_e"]``), as an arrow from the end effector, ``force_scale`` [m/N].
+    The run is decimated to one sample in ``every`` (40 × 1 ms: 25 frames per second)."""
+    from viewer import arrow_transform
+
+    idx = np.arange(0, len(res.t), every)
+    t, q = res.t[idx], res.q[idx]
+    h = np.asarray(res["h_e"], dtype=float)[idx]
+    force = np.zeros((idx.size, 3))
+    force[:, :min(3, h.shape[1])] = -h[:, :3]
+    tip = np.array([direct_kinematics(robot, qk, frame)[:3, 3] for qk in q])
+    arrows = np.array([arrow_transform(p, force_scale * f) for p, f in zip(tip, force)])
+
+    def overlays(scene: Any) -> None:
+        for k, (center, size) in enumerate(patches):
+            scene.plane(f"surface{k}", center, normal, size)
+        scene.arrow("force", tip[0], force_scale * force[0], color="#d62728")
+
+    sol.animation(robot, (t, q), title, fps=25.0, overlays=overlays, tracks={"force": arrows})
 
 
 def _in_constraint_frame(v: np.ndarray) -> np.ndarray:
@@ -303,6 +341,8 @@ def problem_9_3() -> Solution:
         label_axes(axes[row, 0], xlabel, "position error [m]", title=frame)
         label_axes(axes[row, 1], xlabel, "contact force [N]", title=frame)
     sol.figure(fig, "Fig. S9.2: impedance control against the compliant plane")
+    contact_animation(sol, _arm(), res, "impedance control: the tip 0.1 m inside the plane, force −h_e (0.4 m per 500 N)",
+                      _plane().normal, [(np.r_[O_R + 0.2 * R_C[:, 0], 0.0], (0.2, 0.8))], 8e-4)
     return sol
 
 
@@ -631,6 +671,8 @@ def problem_9_10() -> Solution:
     ax.set_aspect("equal")
     label_axes(ax, "x [m]", "y [m]")
     sol.figure(fig2, "Fig. S9.6: tip path and undeformed plane")
+    contact_animation(sol, _arm(), res, "hybrid force/motion control (k̂ = 4·10³ N/m): force −h_e (0.25 m per 50 N)",
+                      _plane().normal, [(np.r_[O_R + 0.2 * R_C[:, 0], 0.0], (0.2, 0.8))], 5e-3)
     return sol
 
 

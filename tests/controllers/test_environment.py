@@ -101,3 +101,28 @@ def test_stepped_plane_recedes_beyond_the_edge():
     assert wall.wrench(_pose([0.612, 0.15, 0]), np.zeros(6))[0] == pytest.approx(20.0)
     with pytest.raises(ValueError, match="`direction`"):
         SteppedPlane([0, 0, 0], [1, 0, 0], [2, 0, 0], 0.1, 0.01, 1e4)
+
+
+def test_wrench_at_on_plain_arrays_is_the_wrench_of_the_pose(rng):
+    """The hot-loop entry wrench_at(p_e, v_e) gives what wrench(T_e, v_e) gives for any pose with that
+    origin; without contact it is the shared read-only NO_CONTACT."""
+    from controllers.environment import NO_CONTACT, SteppedPlane
+
+    plane = SteppedPlane([0.6, 0.0, 0.4], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], 0.1, 0.01, 2e4, 200.0, friction=0.3,
+                         slip_velocity=0.01)
+    for _ in range(20):
+        p = np.array([0.6, 0.0, 0.4]) + rng.uniform(-0.02, 0.02, 3) + [0.0, rng.uniform(0.0, 0.2), 0.0]
+        v = rng.standard_normal(6) * 0.05
+        T = pin.SE3(pin.SE3.Random().rotation, p)
+        np.testing.assert_array_equal(plane.wrench_at(p, v), plane.wrench(T, v))
+        np.testing.assert_array_equal(plane.wrench(T.homogeneous, v), plane.wrench(T, v))
+        # independent reference: the spring–damper along n and Coulomb friction written out here
+        d = p[0] - 0.6 - (0.01 if p[1] > 0.1 else 0.0)                  # penetration beyond x = 0.6 m
+        N = 2e4 * d - 200.0 * (-v[0])
+        expected = np.zeros(6)
+        if d > 0 and N > 0:
+            vt = np.array([0.0, v[1], v[2]])
+            expected[:3] = [N, 0.0, 0.0] + 0.3 * N * np.tanh(np.linalg.norm(vt) / 0.01) * vt / np.linalg.norm(vt)
+        np.testing.assert_allclose(plane.wrench_at(p, v), expected, rtol=1e-12, atol=1e-9)
+    away = plane.wrench_at(np.array([0.5, 0.0, 0.4]), np.zeros(6))
+    assert away is NO_CONTACT and not away.flags.writeable

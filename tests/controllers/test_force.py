@@ -126,3 +126,48 @@ def test_admittance_control_shows_the_impedance_of_9_3():
     np.testing.assert_allclose(res["e"][-1] @ R_C, [0.0, -0.05], atol=2e-4)
     with pytest.raises(ValueError, match="`rows`"):
         AdmittanceControl(arm, 1.0, 1.0, 1.0, 1.0, 1.0, [0.0, 0.0, 0.0, 0.0], rows=(0, 1, 3))
+
+
+def test_hybrid_law_without_force_directions_is_the_pi_velocity_loop():
+    """S_v = I (k_f = 0), away from the plane: from rest with the integral started at a position error
+    e_0 along x, e = ∫(ν_d − ν) obeys ë + k_Pν ė + k_Iν e = 0: the closed-form free response."""
+    arm = load("planar_2r")
+    plane = CompliantPlane([5.0, 0.0, 0.0], [1.0, 0.0, 0.0], 1e4)            # never reached
+    S_f, S_v = selection_matrices(("x", "y"), axes=("x", "y"))
+    assert S_f.shape == (2, 0)
+    e0 = np.array([0.01, 0.0])
+
+    class Started(HybridForceMotionControl):          # simulate() resets the law: start it at e_0
+        def reset(self, motion_error=None):
+            super().reset(e0 if motion_error is None else motion_error)
+
+    ctrl = Started(arm, S_f, S_v, [], [0.0, 0.0], 12.0, 100.0, 0.0, 1.0, compliance=np.eye(2) * 1e-3, rows=(0, 1))
+    plant = ArmInContact(arm, plane)
+    q0 = inverse_kinematics_planar_2r([1.0, 0.5])[ELBOW_UP]
+    res = simulate(plant, ctrl, (0.0, 1.0), plant.initial_state(q0), h=1e-3, Ts=1e-3)
+    x = res["p_e"][:, 0]
+    expected = 1.01 - 0.01 * second_order_free_response(res.t, *pi_velocity_parameters(12.0, 100.0))
+    assert np.abs(x - expected).max() < 2e-5                      # 0.2 % of e_0 (forward-Euler integral)
+    with pytest.raises(ValueError, match="`S_v`"):
+        HybridForceMotionControl(arm, np.eye(2), np.zeros((2, 0)), [0.0, 0.0], [], 1.0, 1.0, 1.0, 1.0,
+                                 compliance=np.eye(2), rows=(0, 1))
+
+
+def test_peg_in_hole_phases_are_hybrid_laws_and_insert_the_peg():
+    """6.3's direct scene (hole within the clearance): approach → descend → insert → done, the peg at
+    the depth; the phases run HybridForceMotionControl with force along x while inserting."""
+    from controllers.environment import SurfaceWithHole
+    from controllers.force import PegInHoleTask, run_peg_in_hole
+    from rigid_body.kinematics import inverse_kinematics_planar_3r
+
+    robot = load("planar_3r")
+    task = PegInHoleTask(x_H=0.6, dy=0.01, v_slow=0.04, T_approach=0.5)
+    env = SurfaceWithHole(x_hole=0.602, clearance=0.004, depth=0.05)
+    q0 = inverse_kinematics_planar_3r(np.array([0.55, 0.15, task.phi]))[0]
+    res, ctrl = run_peg_in_hole(robot, env, task, q0, 2.0)
+    assert [s for _, s in ctrl.transitions] == ["approach", "descend", "insert", "done"]
+    assert res["x_e"][-1, 1] == pytest.approx(-task.insert_depth, abs=2e-4)
+    assert abs(res["x_e"][-1, 0] - env.x_hole) <= env.clearance
+    insert = ctrl.laws[("y", "rz")]
+    assert isinstance(insert, HybridForceMotionControl)
+    assert np.array_equal(insert.S_f, [[1.0], [0.0], [0.0]])    # force-controlled along x

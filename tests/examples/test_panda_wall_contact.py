@@ -1,5 +1,7 @@
 """The Panda on a stepped wall with friction: impedance and hybrid force/motion control (beyond the book)."""
 
+import numpy as np
+import pytest
 
 from examples.panda_wall_contact import panda_wall_contact
 
@@ -14,3 +16,9 @@ def test_panda_on_a_stepped_wall_with_friction():
     assert abs(v["impedance_force_after_step"] - 10.48) < 0.1
     assert abs(v["hybrid_friction_force_sliding"] - 6.0) < 0.1
     assert len(sol.figures) == 2
+    # the 3-D animation of the hybrid run: 25 frames per second, the force arrow 0.15 m for the 20 N at rest
+    (anim,) = sol.animations
+    t, q = anim["motion"]
+    arrows = anim["tracks"]["force"]
+    assert np.allclose(np.diff(t), 0.04) and q.shape == (t.size, 7) and arrows.shape == (t.size, 4, 4)
+    assert np.linalg.norm(arrows[-1][:3, 1]) == pytest.approx(7.5e-3 * 20.0, rel=0.01)

@@ -424,11 +424,13 @@ class Scene:
                                         mg.LineBasicMaterial(color=rgb)))
         node.set_transform(_as_pose(T))
 
-    def set_world(self, R: Any) -> None:
+    def set_world(self, R: Any, offset: Any = (0.0, 0.0, 0.0)) -> None:
         """Orient the whole scene (robots and overlays, given in the robot's base frame) by the rotation
-        ``R`` in the viewer, whose z axis is up (see ``viewer.animation.up_rotation``)."""
+        ``R`` in the viewer, whose z axis is up (see ``viewer.animation.up_rotation``), then shift it by
+        ``offset`` (the viewer's frame): meshcat's camera always looks at the viewer's origin."""
         T = np.eye(4)
         T[:3, :3] = as_matrix(R, (3, 3), "R")
+        T[:3, 3] = as_vector(offset, 3, "offset")
         self.vis.set_transform(T)
 
     def camera(self, position: Any, target: Any = (0.0, 0.0, 0.0)) -> None:

@@ -40,9 +40,10 @@ def _visual(name: str, xyz: tuple[float, ...], box: tuple[float, ...], rgba: str
 
 
 def planar_body(length: float = 0.4, width: float = 0.25, height: float = 0.08, name: str = "unicycle",
-                bounds: Any = (-5.0, 5.0, -5.0, 5.0)) -> Robot:
-    """A rigid body in the plane, q = (x, y, θ): a ``length`` × ``width`` × ``height`` box [m] centred
-    on the point (x, y) (the unicycle's wheel axle midpoint) with a dark arrow along its heading θ.
+                bounds: Any = (-5.0, 5.0, -5.0, 5.0), offset: float = 0.0) -> Robot:
+    """A rigid body in the plane, q = (x, y, θ): a ``length`` × ``width`` × ``height`` box [m] whose
+    centre is ``offset`` [m] ahead of the point (x, y) (the unicycle's wheel axle midpoint), with a dark
+    arrow from (x, y) along the heading θ.
 
     ``bounds`` = (x_min, x_max, y_min, y_max) are the prismatic joints' limits (where the viewer's
     default camera looks). No gravity: the viewer shows the plane horizontal, seen from above.
@@ -51,8 +52,11 @@ def planar_body(length: float = 0.4, width: float = 0.25, height: float = 0.08, 
     b = np.asarray(bounds, dtype=float)
     if b.shape != (4,) or not np.all(np.isfinite(b)) or b[0] >= b[1] or b[2] >= b[3]:
         raise ValueError(f"`bounds` must be finite (x_min, x_max, y_min, y_max) with min < max, got {bounds!r}")
-    shaft, head = 0.55 * L, 0.2 * L   # the arrow: from the centre to 0.15 L beyond the front face
-    visuals = (_visual("chassis", (0.0, 0.0, H / 2), (L, W, H), BODY_COLOR)
+    d = float(offset)
+    if not abs(d) < L / 2:  # (x, y) inside the chassis; also rejects NaN
+        raise ValueError(f"`offset` must lie within ±length/2 = ±{L / 2:g} m, got {offset!r}")
+    shaft, head = 0.55 * L + d, 0.2 * L   # the arrow: from (x, y) to 0.15 L beyond the front face
+    visuals = (_visual("chassis", (d, 0.0, H / 2), (L, W, H), BODY_COLOR)
                + _visual("arrow_shaft", (shaft / 2, 0.0, H + 0.01), (shaft, 0.12 * W, 0.02), ARROW_COLOR)
                + _visual("arrow_head", (shaft + head / 2, 0.0, H + 0.01), (head, 0.4 * W, 0.02), ARROW_COLOR))
     joint = ('<joint name="{n}" type="{kind}"><parent link="{p}"/><child link="{c}"/><axis xyz="{axis}"/>'
@@ -76,4 +80,4 @@ def plane_camera(points: Any, margin: float = 0.3) -> tuple[np.ndarray, np.ndarr
     lo, hi = p.min(axis=0) - margin, p.max(axis=0) + margin
     centre = np.r_[(lo + hi) / 2, 0.0]
     extent = float(max(hi - lo))
-    return centre + np.array([0.0, -0.05, 1.25]) * extent, centre
+    return centre + np.array([0.0, -0.05, 0.75]) * extent, centre  # meshcat: a 75° field of view

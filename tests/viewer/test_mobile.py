@@ -125,3 +125,21 @@ def test_the_reports_export_moves_the_robot_along_the_problems_motion(tmp_path, 
     assert 25 * duration <= len(keys) <= 25 * duration + 1
     with capsys.disabled():
         print(f"\n[viewer] {problem_id}: export {size} bytes, {len(keys)} keyframes over {duration:.2f} s")
+
+
+def test_the_book_2r_arm_drawn_for_12_7_is_the_planners_planar_arm(rng):
+    """12.7 plans for ``PlanarArm((1, 1))`` and animates ``load("planar_2r")``: the same chain (joint
+    and tip positions of the planner's kinematics = the URDF model's frames, Pinocchio)."""
+    from planners.configuration_space import PlanarArm
+    from problems.ch12 import scene_12_7
+    from rigid_body.robots import load
+
+    space, _, _ = scene_12_7()
+    assert isinstance(space.robot, PlanarArm) and space.robot.fixed_base and tuple(space.robot.base) == (0.0, 0.0)
+    robot = load("planar_2r")
+    for _ in range(5):
+        q = rng.uniform(-np.pi, np.pi, 2)
+        pin.framesForwardKinematics(robot.model, robot.data, q)
+        joints = space.robot.joint_positions(q)
+        assert np.allclose(robot.data.oMf[robot.ee_frame].translation, [*joints[-1], 0.0], atol=1e-12)
+        assert np.allclose(robot.data.oMi[2].translation, [*joints[1], 0.0], atol=1e-12)

@@ -800,6 +800,12 @@ def problem_11_16() -> Solution:
     plane_axes(ax)
     sol.figure(fig1, "Fig. S11.2 (here) — the two regulators from an obtuse start")
     sol.figure(motion_figure(mod, "modified regulator"), "Fig. S11.3 — modified Cartesian regulator, k1 = 1, k2 = 3")
+    from viewer.mobile import planar_body, plane_camera
+    sol.animation(planar_body(0.3, 0.2, name="unicycle"), mod, "modified regulator: backwards to the origin (grey: "
+                  "the original law's path)", fps=25, camera=plane_camera(np.vstack([mod.x[:, :2], orig.x[:, :2]])),
+                  overlays=lambda s: (s.polyline("path", mod.x[::10, :2], "#1f77b4", radius=0.01),
+                                      s.polyline("original_law_path", orig.x[::10, :2], "#7f7f7f", radius=0.006),
+                                      s.frame("goal", np.eye(4), 0.3)))
     return sol
 
 
@@ -904,6 +910,13 @@ def problem_11_18() -> Solution:
     sol.check("T_s = 0.01 s: ‖p(10 s)‖ < 1e-3 m and |θ| < 1e-2 rad",
               d01 < 1e-3 and abs(sol.values["final_heading_Ts_0.01"]) < 1e-2, f"‖p‖ = {d01:.2e} m")
     sol.check("T_s = 0.1 s: ‖p(10 s)‖ < 2e-2 m, less accurate than 0.01 s", d1 < 2e-2 and d1 > d01, f"‖p‖ = {d1:.2e} m")
+    from viewer.mobile import planar_body, plane_camera
+    p, p_hat = runs[0.1].x[::10, :2], runs[0.1]["q_hat"][::10, :2]  # every 0.1 s: tubes of a few segments
+    sol.animation(planar_body(0.3, 0.2, name="unicycle"), runs[0.1], "T_s = 0.1 s: the unicycle and its odometric "
+                  "estimate (green)", fps=25, camera=plane_camera(p),
+                  overlays=lambda s: (s.polyline("path", p, "#1f77b4", radius=0.01),
+                                      s.polyline("odometric_estimate", p_hat, "#2ca02c", radius=0.006),
+                                      s.frame("goal", np.eye(4), 0.3)))
     # The simulated unicycle against the exact arcs (11.85) of the logged (held) inputs, step by step.
     res = runs[0.1]
     q_exact = res.x[0, :3].copy()

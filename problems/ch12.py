@@ -506,6 +506,15 @@ def problem_12_7() -> Solution:
     _cspace_axes(ax, "PRM in C (a torus; C-obstacles shaded)")
     ax.legend(loc="upper right", fontsize=7)
     sol.figure(fig, "Fig. S12.3 — PRM for a 2R planar manipulator")
+    from rigid_body.robots import load  # the book's 2R arm: the same links (1 m, 1 m), drawn by the viewer
+    Q = np.unwrap(densify(space, res.path, 0.02), axis=0)  # continuous angles: no 2π spin when playing it
+    tip = lambda Qs: np.array([space.robot.joint_positions(q)[-1] for q in Qs])  # noqa: E731
+    roadmap = [tip(densify(space, res.nodes[[i, j]], 0.1)) for i, j in res.edges]  # edges traced by the tip
+    sol.animation(load("planar_2r"), (np.r_[0.0, np.cumsum(torus_distance(Q[:-1], Q[1:]))], Q),
+                  "the arm along the PRM path at 1 rad/s (blue: the roadmap's edges traced by the tip)", fps=25,
+                  overlays=lambda s: (s.planar_shapes("obstacles", space.scene.obstacles, 0.2, "#d62728"),
+                                      s.polyline("roadmap", roadmap, "#1f77b4"),
+                                      s.polyline("tip_path", tip(Q[::5]), "#2ca02c", radius=0.012)))
     return sol
 
 
@@ -581,6 +590,7 @@ def problem_12_8() -> Solution:
     fig = Figure(figsize=(12, 5.5))
     ax = fig.add_subplot(1, 2, 1)
     draw_shapes(ax, space.scene.obstacles, label="obstacles")
+    tree = []  # the tree's arcs in the plane (also drawn in the animation)
     for i, j in res.edges:
         k = j  # child vertex: find the primitive that created it
         arc = None
@@ -591,6 +601,7 @@ def problem_12_8() -> Solution:
                 break
         if arc is not None:
             ax.plot(arc[:, 0], arc[:, 1], color="tab:blue", lw=0.5)
+            tree.append(arc[:, :2])
     ax.plot([], [], color="tab:blue", lw=0.5, label="RRT (projection)")
     for q in S[:: max(len(S) // 25, 1)]:
         draw_shapes(ax, space.robot.bodies(q), facecolor="tab:orange", alpha=0.5, lw=0.3)
@@ -610,6 +621,17 @@ def problem_12_8() -> Solution:
     ax.set_title("RRT in R² × SO(2)")
     ax.legend(loc="upper left", fontsize=7)
     sol.figure(fig, "Fig. S12.4 — RRT with motion primitives for a unicycle")
+    from viewer.mobile import planar_body, plane_camera
+    # the triangle (−0.1…0.5) × (−0.2…0.2) m as a box; |v| = 1 m/s: time = distance travelled
+    S_unwrapped = np.c_[S[:, :2], np.unwrap(S[:, 2])]
+    sol.animation(planar_body(0.6, 0.4, name="unicycle", offset=0.2), (np.r_[0.0, np.cumsum(np.linalg.norm(
+                  np.diff(S[:, :2], axis=0), axis=1))], S_unwrapped), "the unicycle along the RRT path (blue: the "
+                  "tree's arcs, red cone: q_g)", fps=25, camera=plane_camera([[-4.5, -4.5], [4.5, 3.0]], 0.0),
+                  overlays=lambda s: (s.planar_shapes("obstacles", space.scene.obstacles, 0.3, "#7f7f7f"),
+                                      s.polyline("tree", tree, "#1f77b4"),
+                                      s.polyline("path", S[::20, :2], "#2ca02c", radius=0.02),
+                                      s.arrow("goal", [*qg[:2], 0.05], [0.5 * np.cos(qg[2]), 0.5 * np.sin(qg[2]), 0.0],
+                                              "#d62728", 0.03)))
     return sol
 
 

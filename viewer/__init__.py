@@ -13,8 +13,10 @@ Imported by notebooks, examples and the report — never by ``rigid_body``, ``pl
 
 from viewer.animation import animate, default_camera, export_html, motion_of, report_animations, show, up_rotation
 from viewer.geometry import geometry_of, skeleton_of
+from viewer.mobile import planar_body, plane_camera
 from viewer.pendant import TeachPendant
 from viewer.scene import Scene, arrow_transform
 
 __all__ = ["Scene", "TeachPendant", "animate", "arrow_transform", "default_camera", "export_html", "geometry_of",
-           "motion_of", "report_animations", "show", "skeleton_of", "up_rotation"]
+           "motion_of", "planar_body", "plane_camera", "report_animations", "show", "skeleton_of",
+           "up_rotation"]

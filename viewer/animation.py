@@ -17,6 +17,7 @@ import pinocchio as pin
 
 from rigid_body.robots import Robot
 from rigid_body.rotations import axis_angle_to_rotation
+from rigid_body.validation import as_vector
 from viewer.scene import Scene
 
 
@@ -90,18 +91,27 @@ def default_camera(robot: Robot, R_up: np.ndarray | None = None) -> tuple[np.nda
 
 
 def show(robot: Robot, q: Any | None = None, *, server: bool = False, scene: Scene | None = None,
-         overlays: Callable[[Scene], None] | None = None, **options: Any) -> Scene:
+         overlays: Callable[[Scene], None] | None = None, camera: tuple[Any, Any] | None = None,
+         **options: Any) -> Scene:
     """Draw ``robot`` at ``q`` (neutral by default); the Scene shows itself inline in a notebook.
 
     ``server=True`` also opens a live meshcat server on 127.0.0.1 (``scene.url``). ``overlays(scene)``
-    draws the problem's extras (targets, obstacles, paths). ``options`` go to :meth:`Scene.add_robot`.
+    draws the problem's extras (targets, obstacles, paths). ``camera`` = (position, target) in the
+    viewer's frame replaces :func:`default_camera` (e.g. ``viewer.mobile.plane_camera`` for a mobile
+    robot's workspace). ``options`` go to :meth:`Scene.add_robot`.
     """
     new = scene is None
     scene = Scene(server=server) if new else scene
     if new:
         R_up = up_rotation(robot.model.gravity.linear)
-        scene.set_world(R_up)
-        scene.camera(*default_camera(robot, R_up))
+        if camera is None:
+            scene.set_world(R_up)
+            scene.camera(*default_camera(robot, R_up))
+        else:  # the camera looks at the viewer's origin: the scene is shifted to bring `target` there
+            position, target = (as_vector(v, 3, k) for v, k in zip(camera, ("camera position", "camera target")))
+            scene.set_world(R_up, -target)
+            scene.vis["/Axes"].set_property("visible", False)  # meshcat's triad at the viewer's origin, now not ours
+            scene.camera(position - target)
     scene.add_robot(robot, q, **options)
     if overlays is not None:
         overlays(scene)
@@ -110,14 +120,14 @@ def show(robot: Robot, q: Any | None = None, *, server: bool = False, scene: Sce
 
 def animate(robot: Robot, motion: Any, speed: float = 1.0, *, server: bool = False, scene: Scene | None = None,
             overlays: Callable[[Scene], None] | None = None, tracks: dict[str, Any] | None = None,
-            fps: float = 30.0, **options: Any) -> Scene:
+            fps: float = 30.0, camera: tuple[Any, Any] | None = None, **options: Any) -> Scene:
     """Animate ``robot`` along ``motion`` (a SimulationResult, a Trajectory or ``(t, q)``).
 
     ``speed`` scales playback (2 = twice as fast); ``tracks`` moves overlays with the motion (see
     :meth:`Scene.animate`). Save it with ``scene.save(path)`` or :func:`export_html`.
     """
     t, q = motion_of(motion, robot)
-    scene = show(robot, q[0], server=server, scene=scene, overlays=overlays, **options)
+    scene = show(robot, q[0], server=server, scene=scene, overlays=overlays, camera=camera, **options)
     scene.animate(t, q, name=options.get("name", "robot"), speed=speed, fps=fps, tracks=tracks)
     return scene
 

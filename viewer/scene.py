@@ -353,6 +353,38 @@ class Scene:
                         _material(color, opacity))
         node.set_transform(arrow_transform(center, a / np.linalg.norm(a)))  # three.js cylinders lie along y
 
+    def planar_shapes(self, name: str, shapes: Iterable[Any], height: float = 0.1, color: Any = "#7f7f7f",
+                      opacity: float = 1.0) -> None:
+        """Obstacles of a planar scene (``planners.configuration_space``) raised into solids of ``height``
+        [m] centred on z = 0: a disc (``.center``, ``.radius``) as an upright cylinder, a convex polygon
+        (``.vertices`` (k, 2), counter-clockwise) as a prism. Named ``name/0``, ``name/1`` …"""
+        h = as_positive(height, "height")
+        for k, shape in enumerate(shapes):
+            if hasattr(shape, "radius") and hasattr(shape, "center"):
+                self.cylinder(f"{name}/{k}", [*as_vector(shape.center, 2, f"shapes[{k}].center"), 0.0],
+                              shape.radius, h, color=color, opacity=opacity)
+            elif hasattr(shape, "vertices"):
+                self.prism(f"{name}/{k}", shape.vertices, h, color=color, opacity=opacity)
+            else:
+                raise ValueError(f"`shapes[{k}]` must be a disc (center, radius) or a polygon (vertices), "
+                                 f"got {type(shape).__name__}")
+
+    def prism(self, name: str, vertices: Any, height: float, color: Any = "#7f7f7f", opacity: float = 1.0) -> None:
+        """A right prism over the convex polygon ``vertices`` (k, 2) (counter-clockwise, in z = 0), from
+        z = −height/2 to +height/2: a polygonal obstacle of a planar scene."""
+        V = _points(vertices, "vertices")[:, :2]
+        k = len(V)
+        if k < 3:
+            raise ValueError(f"`vertices` must have at least 3 points, got {k}")
+        h = as_positive(height, "height") / 2
+        points = np.vstack([np.c_[V, np.full(k, -h)], np.c_[V, np.full(k, h)]])
+        faces = [[0, j + 1, j] for j in range(1, k - 1)] + [[k, k + j, k + j + 1] for j in range(1, k - 1)]
+        for j in range(k):  # the sides, outward for counter-clockwise vertices
+            a, b = j, (j + 1) % k
+            faces += [[a, b, k + b], [a, k + b, k + a]]
+        node = self._node(name)
+        node.set_object(mg.TriangularMeshGeometry(points, np.array(faces)), _material(color, opacity))
+
     def plane(self, name: str, point: Any, normal: Any, size: Any = (1.0, 1.0), color: Any = "#2ca02c",
               opacity: float = 0.5) -> None:
         """A square patch of the plane through ``point`` with ``normal``: a contact surface (ch. 9)."""
@@ -424,11 +456,13 @@ class Scene:
                                         mg.LineBasicMaterial(color=rgb)))
         node.set_transform(_as_pose(T))
 
-    def set_world(self, R: Any) -> None:
+    def set_world(self, R: Any, offset: Any = (0.0, 0.0, 0.0)) -> None:
         """Orient the whole scene (robots and overlays, given in the robot's base frame) by the rotation
-        ``R`` in the viewer, whose z axis is up (see ``viewer.animation.up_rotation``)."""
+        ``R`` in the viewer, whose z axis is up (see ``viewer.animation.up_rotation``), then shift it by
+        ``offset`` (the viewer's frame): meshcat's camera always looks at the viewer's origin."""
         T = np.eye(4)
         T[:3, :3] = as_matrix(R, (3, 3), "R")
+        T[:3, 3] = as_vector(offset, 3, "offset")
         self.vis.set_transform(T)
 
     def camera(self, position: Any, target: Any = (0.0, 0.0, 0.0)) -> None:

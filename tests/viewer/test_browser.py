@@ -172,3 +172,27 @@ def test_ur5_meshes_are_lit_not_black(page, served, capsys):
         print(f"\n[viewer] ur5 lit grey pixels {grey}, black pixels {black}")
     assert grey > 2000 and black < 0.05 * grey
     _assert_offline_and_clean(page, url)
+
+
+def test_the_unicycle_of_11_16_is_drawn_and_drives_to_the_goal(page, served, capsys):
+    """The report's export of Problem 11.16 (a generated mobile body, seen from above with x right and y
+    up): the orange chassis starts at (−1, −2) and ends at the origin, up and to the right of it."""
+    from problems.registry import solve
+    from viewer import report_animations
+
+    root, url = served
+    report_animations(solve("11.16"), root)
+    page.errors.clear()
+    page.requests.clear()
+    page.goto(f"{url}/animations/11.16_1.html")
+    page.wait_for_function("window.rmpcSceneReady === true", timeout=30_000)
+    masks = [_robot_mask(_frame_at(page, t, f"unicycle_11.16_t{t:g}")) for t in (0.0, 10.0)]
+    counts = [int(m.sum()) for m in masks]
+    (r0, c0), (r1, c1) = (np.argwhere(m).mean(axis=0) for m in masks)
+    with capsys.disabled():
+        print(f"\n[viewer] 11.16 unicycle orange pixels t0 {counts[0]}, t10 {counts[1]}; centroid moved "
+              f"{c1 - c0:+.0f} px right, {r0 - r1:+.0f} px up")
+    assert min(counts) > 200
+    # (−1, −2) → (0, 0): right by half as much as up
+    assert r0 - r1 > 60 and 0.25 < (c1 - c0) / (r0 - r1) < 0.8, (r0, c0, r1, c1)
+    _assert_offline_and_clean(page, url)

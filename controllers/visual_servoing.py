@@ -28,6 +28,8 @@ from typing import Any, Sequence
 import numpy as np
 import pinocchio as pin
 
+from scipy.linalg import get_lapack_funcs
+
 from controllers.simulation import Chain, LoggedController, ZeroOrderHold
 from rigid_body.camera import FieldOfView, SegmentFeatures, TargetView, segment_features, view_points
 from rigid_body.dynamics import gravity_torques
@@ -36,6 +38,8 @@ from rigid_body.validation import as_matrix, as_positive, as_vector
 
 SCARA_DOFS = (0, 1, 2, 5)   # v_x, v_y, v_z, ω_z: the camera twist of Example 10.3
 FEATURE_KINDS = ("points", "segment")
+_SCARA_ROWS = np.array(SCARA_DOFS)
+_gesv = get_lapack_funcs("gesv", (np.zeros((1, 1)),))   # LU solve without numpy.linalg's wrapper cost
 
 
 # --------------------------------------------------------------------------------------------
@@ -79,7 +83,7 @@ def camera_jacobian(robot: Robot, q: np.ndarray, frame: int) -> np.ndarray:
 # The target and its features
 # --------------------------------------------------------------------------------------------
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class CameraImage:
     """What the camera gives at a sample: image points ``xy`` (n, 2) (normalised; NaN where not seen),
     ``visible`` (n,) and the points' depths ``z`` (n,), used only by laws told that the depth is known."""
@@ -108,14 +112,20 @@ def _points_interaction(xy: np.ndarray, z: np.ndarray) -> np.ndarray:
 
 def _segment(xy: np.ndarray) -> np.ndarray:
     """[x_m, y_m, L, α] of (10.28) for trusted inputs."""
-    x1, y1, x2, y2 = xy.ravel().tolist()
+    return _segment_of(*xy.ravel().tolist())
+
+
+def _segment_of(x1: float, y1: float, x2: float, y2: float) -> np.ndarray:
     dx, dy = x2 - x1, y2 - y1
     return np.array([0.5 * (x1 + x2), 0.5 * (y1 + y2), math.hypot(dx, dy), math.atan2(dy, dx)])
 
 
 def _segment_jacobian(xy: np.ndarray) -> np.ndarray:
     """∂s/∂[x1, y1, x2, y2] of (10.28) for trusted inputs (the checked version is in rigid_body.camera)."""
-    x1, y1, x2, y2 = xy.ravel().tolist()
+    return _segment_jacobian_of(*xy.ravel().tolist())
+
+
+def _segment_jacobian_of(x1: float, y1: float, x2: float, y2: float) -> np.ndarray:
     dx, dy = x2 - x1, y2 - y1
     L2 = dx * dx + dy * dy
     L = math.sqrt(L2)
@@ -190,6 +200,11 @@ class EyeInHandCamera:
         if self.noise > 0 and rng is None:
             raise ValueError("`rng` (a numpy Generator) is required when `noise` > 0")
         self.rng, self.lost = rng, dict(lost or {})
+        # Hot path of __call__ (every loop sample): no field of view, occlusion or noise to apply.
+        self._plain = fov is None and not self.lost and self.noise == 0
+        self._all_seen = np.ones(len(self.points_b), dtype=bool)
+        self._all_seen.flags.writeable = False
+        self._points_list = self.points_b.tolist() if len(self.points_b) <= 8 else None
 
     def pose(self, q: np.ndarray) -> np.ndarray:
         """T_c^b of the camera at q."""
@@ -199,9 +214,28 @@ class EyeInHandCamera:
         T[:3, :3], T[:3, 3] = M.rotation, M.translation
         return T
 
+    def _plain_view(self, M: pin.SE3) -> CameraImage | None:
+        """The image of a few points, all in front, on Python floats (no field of view, occlusion or
+        noise); None when a point is behind the camera."""
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = M.rotation.tolist()
+        ox, oy, oz = M.translation.tolist()
+        xy, depth = [], []
+        for X, Y, Z in self._points_list:
+            dx, dy, dz = X - ox, Y - oy, Z - oz                     # p^c = R_cᵀ (p − o_c), (5.35)
+            pz = r02 * dx + r12 * dy + r22 * dz
+            if pz <= 0:
+                return None
+            xy.append(((r00 * dx + r10 * dy + r20 * dz) / pz, (r01 * dx + r11 * dy + r21 * dz) / pz))
+            depth.append(pz)
+        return CameraImage(xy=np.array(xy), visible=self._all_seen, z=np.array(depth))
+
     def __call__(self, t: float, meas: Any) -> CameraImage:
         pin.framesForwardKinematics(self.robot.model, self.robot.data, meas.q)
         M = self.robot.data.oMf[self.frame]
+        if self._plain and self._points_list is not None:
+            image = self._plain_view(M)
+            if image is not None:
+                return image
         p = (self.points_b - M.translation) @ M.rotation            # p^c = R_cᵀ (p − o_c), (5.35)
         z = p[:, 2]
         visible = z > 0
@@ -241,6 +275,10 @@ class PoseEstimator(LoggedController):
         self.K_s = as_matrix(K_s, (4, 4), "K_s") if np.ndim(K_s) == 2 else float(K_s) * np.eye(4)
         if target.size != 4:
             raise ValueError(f"the inverse-Jacobian estimator needs 4 features (a square L_s), got {target.size}")
+        # Hot path (every loop sample): the points as floats, K_s as a vector when it is diagonal.
+        self._points = target.points_o.tolist()
+        diagonal = not np.any(self.K_s - np.diag(np.diag(self.K_s)))
+        self._K_s = np.diag(self.K_s).copy() if diagonal else None
         self.reset()
 
     def reset(self) -> None:
@@ -248,38 +286,46 @@ class PoseEstimator(LoggedController):
         self.x_hat = self.x0.copy()
 
     def predicted(self, x_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(ŝ, L_s) at the estimate: the features and the 4×4 interaction matrix of the estimated pose."""
+        """(ŝ, L_s) at the estimate: the features and the 4×4 interaction matrix of the estimated pose
+        (columns v_x, v_y, v_z, ω_z of (10.26); segments through (10.28))."""
         x, y, z, phi = x_hat.tolist()
         c, s = math.cos(phi), math.sin(phi)
-        xy, depth = [], []
-        for X, Y, Z in self.target.points_o.tolist():    # p^c = o + R_z(φ) P, then (5.40)
+        xy, rows = [], []
+        for X, Y, Z in self._points:                     # p^c = o + R_z(φ) P, then (5.40)
             pz = Z + z
             if pz <= 0:
                 raise ValueError(f"the estimate x̂ = {x_hat} puts target points behind the camera: diverged")
-            xy.append([(c * X - s * Y + x) / pz, (s * X + c * Y + y) / pz])
-            depth.append(pz)
-        xy_a, z_a = np.array(xy), np.array(depth)
-        L = self.target.interaction_matrix(xy_a, z_a)[:, SCARA_DOFS]
-        return self.target.features(xy_a), L
+            iz = 1.0 / pz
+            u, v = (c * X - s * Y + x) * iz, (s * X + c * Y + y) * iz
+            xy.append((u, v))
+            rows.append((-iz, 0.0, u * iz, v))
+            rows.append((0.0, -iz, v * iz, -u))
+        L = np.array(rows)
+        if self.target.kind == "segment":
+            (x1, y1), (x2, y2) = xy
+            return _segment_of(x1, y1, x2, y2), _segment_jacobian_of(x1, y1, x2, y2) @ L
+        return np.array(xy).reshape(-1), L
 
     def update(self, s: np.ndarray) -> np.ndarray:
         """One step with the measured features ``s``: returns x̂_{k+1} (``x_hat`` then holds it)."""
         s_hat, L = self.predicted(self.x_hat)
         e_s = self.target.error(s, s_hat)
-        try:
-            v_hat = np.linalg.solve(L, self.K_s @ e_s)                       # (10.40)
-        except np.linalg.LinAlgError:
-            raise ValueError(f"the interaction matrix is singular at x̂ = {self.x_hat}") from None
-        self.record(x_hat=self.x_hat.copy(), e_s=e_s, s_hat=s_hat)
-        self.x_hat = self.x_hat + self.T * gamma_matrix(self.x_hat[:3]) @ v_hat   # (10.41), Euler
+        Ke = self._K_s * e_s if self._K_s is not None else self.K_s @ e_s
+        _, _, v_hat, info = _gesv(L, Ke)                                    # (10.40)
+        if info != 0:
+            raise ValueError(f"the interaction matrix is singular at x̂ = {self.x_hat}")
+        self.record(x_hat=self.x_hat, e_s=e_s, s_hat=s_hat)
+        self.x_hat = self.x_hat + self.T * (gamma_matrix(self.x_hat) @ v_hat)   # (10.41), Euler
         return self.x_hat
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         """The discrete block: outputs x̂_k, then steps to x̂_{k+1} with the image of sample k (a unit
-        delay, as Simulink's discrete integrator: at t = 0 the output is x̂(0))."""
+        delay, as Simulink's discrete integrator: at t = 0 the output is x̂(0)). ``x_hat`` is replaced,
+        never modified in place, so the output is not copied."""
         image = meas.image
-        x_k = self.x_hat.copy()
-        if not np.all(image.visible[:2]):
+        x_k = self.x_hat
+        visible = image.visible
+        if not (visible[0] and visible[1]):
             self.record(x_hat=x_k, e_s=np.full(4, np.nan), s_hat=np.full(4, np.nan))
             return x_k                          # feature lost: the estimate is held
         self.update(self.target.features(image.xy))
@@ -298,7 +344,7 @@ class _CameraLaw(LoggedController):
 
     def pbvs_jacobian(self, q: np.ndarray, x_co: np.ndarray) -> np.ndarray:
         """J_Ad = ∂x_{c,o}/∂q = Γ(o_{c,o}) [R_cᵀ J_P; ω_z rows] (4×n), 4-DOF case of (10.67)."""
-        return gamma_matrix(x_co[:3]) @ camera_jacobian(self.robot, q, self.frame)[SCARA_DOFS, :]
+        return gamma_matrix(x_co) @ camera_jacobian(self.robot, q, self.frame)[_SCARA_ROWS]
 
 
 class PBVSPDGravity(_CameraLaw):
@@ -310,14 +356,15 @@ class PBVSPDGravity(_CameraLaw):
         self.x_do = as_vector(x_do, 4, "x_do")
         self.K_P = np.diag(as_vector(K_P, 4, "K_P"))
         self.K_D = np.diag(as_vector(K_D, 4, "K_D"))
+        self._k_p, self._k_d = np.diag(self.K_P).copy(), np.diag(self.K_D).copy()   # diagonal gains as vectors
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         x_hat = meas.estimate
         J = self.pbvs_jacobian(meas.q, x_hat)
-        x_tilde = self.x_do - x_hat
-        x_tilde[3] = np.arctan2(np.sin(x_tilde[3]), np.cos(x_tilde[3]))
+        x_tilde = _pose_error(self.x_do, x_hat)
         self.record(x_tilde=x_tilde)
-        return gravity_torques(self.robot, meas.q) + J.T @ (self.K_P @ x_tilde - self.K_D @ (J @ meas.qd))
+        g = pin.computeGeneralizedGravity(self.robot.model, self.robot.data, meas.q)   # g(q), (7.39)
+        return g + J.T @ (self._k_p * x_tilde - self._k_d * (J @ meas.qd))
 
 
 class PBVSResolvedVelocity(_CameraLaw):
@@ -327,16 +374,24 @@ class PBVSResolvedVelocity(_CameraLaw):
         super().__init__(robot, frame, SCARA_DOFS)
         self.x_do = as_vector(x_do, 4, "x_do")
         self.K = np.diag(as_vector(K, 4, "K"))
+        self._k = np.diag(self.K).copy()
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         x_hat = meas.estimate
-        x_tilde = self.x_do - x_hat
-        x_tilde[3] = np.arctan2(np.sin(x_tilde[3]), np.cos(x_tilde[3]))
+        x_tilde = _pose_error(self.x_do, x_hat)
         self.record(x_tilde=x_tilde)
-        try:
-            return np.linalg.solve(self.pbvs_jacobian(meas.q, x_hat), self.K @ x_tilde)
-        except np.linalg.LinAlgError:
-            raise ValueError(f"J_Ad is singular at q = {meas.q} (t = {t:.4g} s)") from None
+        _, _, qd_r, info = _gesv(self.pbvs_jacobian(meas.q, x_hat), self._k * x_tilde)
+        if info != 0:
+            raise ValueError(f"J_Ad is singular at q = {meas.q} (t = {t:.4g} s)")
+        return qd_r
+
+
+def _pose_error(x_d: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """x_d − x of 4-DOF poses, the angle difference wrapped to (−π, π]."""
+    e = x_d - x
+    a = float(e[3])
+    e[3] = math.atan2(math.sin(a), math.cos(a))
+    return e
 
 
 # --------------------------------------------------------------------------------------------

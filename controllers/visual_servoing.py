@@ -32,7 +32,6 @@ from scipy.linalg import get_lapack_funcs
 
 from controllers.simulation import Chain, LoggedController, ZeroOrderHold
 from rigid_body.camera import FieldOfView, SegmentFeatures, TargetView, segment_features, view_points
-from rigid_body.dynamics import gravity_torques
 from rigid_body.robots import Robot
 from rigid_body.validation import as_matrix, as_positive, as_vector
 
@@ -417,6 +416,8 @@ class _IBVSLaw(_CameraLaw):
             self.depth = depth
         else:
             self.depth = as_positive(depth, "depth")
+        self._depths = np.full(len(target.points_o), self.depth if isinstance(self.depth, float) else np.nan)
+        self._dofs = np.array(self.dofs)
 
     def error_and_jacobian(self, q: np.ndarray, image: CameraImage) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(e_s, J_L, rows used) at the current image; rows of unseen points are removed."""
@@ -427,7 +428,7 @@ class _IBVSLaw(_CameraLaw):
         elif callable(self.depth):
             z = self.depth(image)
         else:
-            z = np.full(len(seen), self.depth)
+            z = self._depths if len(self._depths) == len(seen) else np.full(len(seen), self.depth)
         if self.target.kind == "segment":
             if not (seen[0] and seen[1]):
                 return np.zeros(0), np.zeros((0, len(q))), np.zeros(0, dtype=int)
@@ -439,7 +440,7 @@ class _IBVSLaw(_CameraLaw):
             s = image.xy.reshape(-1)[rows]
             L = _points_interaction(image.xy[seen], z[seen])
         e = self.target.error(self.s_d, s) if self.target.kind == "segment" else self.s_d[rows] - s
-        return e, L[:, self.dofs] @ Jc[self.dofs, :], rows
+        return e, L[:, self._dofs] @ Jc[self._dofs], rows
 
     def inverse(self, J: np.ndarray) -> np.ndarray:
         """J⁻¹ when J is square and well conditioned, else the damped least-squares inverse (3.59)."""
@@ -460,7 +461,10 @@ class IBVSPDGravity(_IBVSLaw):
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         e, J, rows = self.error_and_jacobian(meas.q, meas.image)
         self.record(e_s=_full(e, rows, self.target.size))
-        return gravity_torques(self.robot, meas.q) + J.T @ (self.K_Ps[rows] * e - self.K_Ds[rows] * (J @ meas.qd))
+        g = pin.computeGeneralizedGravity(self.robot.model, self.robot.data, meas.q)   # g(q), (7.39)
+        if rows.size != self.target.size:
+            return g + J.T @ (self.K_Ps[rows] * e - self.K_Ds[rows] * (J @ meas.qd))
+        return g + J.T @ (self.K_Ps * e - self.K_Ds * (J @ meas.qd))
 
 
 class IBVSResolvedVelocity(_IBVSLaw):

@@ -132,6 +132,25 @@ def _segment_jacobian_of(x1: float, y1: float, x2: float, y2: float) -> np.ndarr
                      [dy / L2, -dx / L2, -dy / L2, dx / L2]])
 
 
+def _segment_interaction(x1: float, y1: float, iz1: float, x2: float, y2: float, iz2: float
+                         ) -> tuple[np.ndarray, np.ndarray]:
+    """(s, L_s) of the segment (10.28) with end points (x_i, y_i) at inverse depths iz_i, L_s restricted to
+    the SCARA's v_x, v_y, v_z, ω_z: the chain rule ∂s/∂(x, y) · (10.26) in closed form (ω_z turns α at
+    −1 rad/rad and leaves L unchanged)."""
+    dx, dy = x2 - x1, y2 - y1
+    L2 = dx * dx + dy * dy
+    L = math.sqrt(L2)
+    a1, a2 = x1 * iz1, x2 * iz2
+    b1, b2 = y1 * iz1, y2 * iz2
+    di = iz1 - iz2
+    s = np.array([0.5 * (x1 + x2), 0.5 * (y1 + y2), L, math.atan2(dy, dx)])
+    J = np.array([[-0.5 * (iz1 + iz2), 0.0, 0.5 * (a1 + a2), 0.5 * (y1 + y2)],
+                  [0.0, -0.5 * (iz1 + iz2), 0.5 * (b1 + b2), -0.5 * (x1 + x2)],
+                  [dx * di / L, dy * di / L, (dx * (a2 - a1) + dy * (b2 - b1)) / L, 0.0],
+                  [-dy * di / L2, dx * di / L2, (dy * (a1 - a2) + dx * (b2 - b1)) / L2, -1.0]])
+    return s, J
+
+
 class TargetFeatures:
     """The feature model of a target with points ``points_o`` (n, 3) in the object frame.
 
@@ -296,14 +315,12 @@ class PoseEstimator(LoggedController):
                 raise ValueError(f"the estimate x̂ = {x_hat} puts target points behind the camera: diverged")
             iz = 1.0 / pz
             u, v = (c * X - s * Y + x) * iz, (s * X + c * Y + y) * iz
-            xy.append((u, v))
+            xy.append((u, v, iz))
             rows.append((-iz, 0.0, u * iz, v))
             rows.append((0.0, -iz, v * iz, -u))
-        L = np.array(rows)
         if self.target.kind == "segment":
-            (x1, y1), (x2, y2) = xy
-            return _segment_of(x1, y1, x2, y2), _segment_jacobian_of(x1, y1, x2, y2) @ L
-        return np.array(xy).reshape(-1), L
+            return _segment_interaction(*xy[0], *xy[1])
+        return np.array([w for u, v, _ in xy for w in (u, v)]), np.array(rows)
 
     def update(self, s: np.ndarray) -> np.ndarray:
         """One step with the measured features ``s``: returns x̂_{k+1} (``x_hat`` then holds it)."""

@@ -29,6 +29,7 @@ from controllers.plants import KinematicArm
 from controllers.simulation import SimulationResult, simulate
 from controllers.visual_servoing import EyeInHandCamera, IBVSResolvedVelocity, TargetFeatures, visual_servo
 from planners.inverse_kinematics import solve_clik
+from problems.ch10 import eye_in_hand_animation
 from problems.common import label_axes, subplots
 from problems.registry import Solution
 from rigid_body.camera import PinholeCamera, view_target
@@ -178,6 +179,10 @@ def panda_ibvs() -> Solution:
     axes[2].plot(retreat.t, np.abs(turn), label="|rotation about z_c| [rad]")
     label_axes(axes[2], "t [s]", "depth [m], angle [rad]", title="start rotated by π: retreat", legend=True)
     sol.figure(fig, "Panda IBVS — image paths, error norm, camera retreat")
+    eye_in_hand_animation(sol, robot, res, sc.points_b, "IBVS from 60° and 0.2 m off: the hand camera's "
+                          "640 × 480 viewing pyramid (to the target plane) and the rays to the four points",
+                          frame=FRAME, half_width=(CAMERA.X0 / CAMERA.f_alpha_x, CAMERA.Y0 / CAMERA.f_alpha_y),
+                          depth=DEPTH)
     return sol
 
 

@@ -10,7 +10,8 @@ that :func:`controllers.simulation.simulate` runs at their own periods:
 * :class:`PBVSPDGravity` (Fig. 10.14) and :class:`PBVSResolvedVelocity` (Fig. 10.15);
 * :class:`IBVSPDGravity` (Fig. 10.16) and :class:`IBVSResolvedVelocity` (Fig. 10.17), with the depth
   of the interaction matrix known (measured), constant (the desired depth) or estimated;
-* :func:`hybrid_error_jacobians` — J_p, J_o of the 2½-D scheme, Eq. (10.96).
+* :func:`hybrid_error_jacobians` — J_p, J_o of the 2½-D scheme, Eq. (10.96), and :class:`HybridVisualServo`,
+  the 2½-D law on them (rotation and depth ratio from the homography).
 
 Poses of the 4-DOF (SCARA) case are x = [x, y, z, φ]: a position and a rotation φ about the common
 vertical axis, which is the camera's optical axis z_c (Example 10.3). ``dofs`` selects the camera-twist
@@ -27,13 +28,14 @@ from typing import Any, Sequence
 
 import numpy as np
 import pinocchio as pin
-
 from scipy.linalg import get_lapack_funcs
 
 from controllers.simulation import Chain, LoggedController, ZeroOrderHold
 from rigid_body.camera import FieldOfView, SegmentFeatures, TargetView, segment_features, view_points
 from rigid_body.robots import Robot
+from rigid_body.rotations import nearest_rotation
 from rigid_body.validation import as_matrix, as_positive, as_vector
+from rigid_body.vision import depth_ratio, homography_dlt
 
 SCARA_DOFS = (0, 1, 2, 5)   # v_x, v_y, v_z, ω_z: the camera twist of Example 10.3
 FEATURE_KINDS = ("points", "segment")
@@ -540,3 +542,68 @@ def hybrid_error_jacobians(x: float, y: float, z_c: float) -> tuple[np.ndarray, 
     J_p = np.array([[-1.0, 0.0, x], [0.0, -1.0, y], [0.0, 0.0, -1.0]]) / z_c
     J_o = np.array([[x * y, -1.0 - x * x, y], [1.0 + y * y, -x * y, -x], [-y, x, 0.0]])
     return J_p, J_o
+
+
+class HybridVisualServo(_CameraLaw):
+    """2½-D (hybrid) visual servoing, Sect. 10.8, resolved velocity on a 6-DOF camera: q̇_r = J_c^† [v_c; ω_c].
+
+    From the current image of n ≥ 4 coplanar points and their desired image ``xy_d`` the homography
+    H ∝ R_d^c + o_{c,d}^c n^{dT}/d_d (``rigid_body.vision.homography_dlt``) gives, with the plane's normal
+    ``n_d`` in the desired camera frame: R_d^c (H a, H b on two directions a, b of the plane, R n_d = Ha × Hb,
+    the scale from ‖Ha‖ = 1) and the depth ratio ρ_z = z_c/z_d of the reference point (10.94)–(10.95).
+    The reference point is a point of the plane given by its desired image ``reference`` (default: the
+    centroid of ``xy_d``, near the optical axis); its current image is H s̃_d (normalised). The error is
+    e_o = θ r of R_d^c and e_p = [x − x_d, y − y_d, ln ρ_z] (10.96); the law
+    ω_c = K_o θ r (θ r is an eigenvector of L_ω: θ decays as e^{−K_o t} about a fixed axis) and
+    v_c = −J_p⁻¹(K_p e_p + J_o ω_c), so ė_p = −K_p e_p: the reference point moves straight in the image and
+    its depth never overshoots — no camera retreat. ``z_d`` is the reference point's desired depth (J_p
+    needs z_c = ρ_z z_d). Logs ``e_p``, ``theta``.
+    """
+
+    def __init__(self, robot: Robot, xy_d: Any, n_d: Any, z_d: float, K_p: Any, K_o: Any,
+                 frame: str | int | None = None, reference: Any = None):
+        super().__init__(robot, frame, range(6))
+        self.xy_d = np.asarray(xy_d, dtype=float)
+        if self.xy_d.ndim != 2 or self.xy_d.shape[1] != 2 or len(self.xy_d) < 4 or not np.all(np.isfinite(self.xy_d)):
+            raise ValueError(f"`xy_d` must be a finite (n ≥ 4, 2) array of desired image points, got {self.xy_d.shape}")
+        n = as_vector(n_d, 3, "n_d")
+        self.n_d = n / np.linalg.norm(n)
+        self.z_d = as_positive(z_d, "z_d")
+        self.K_p = as_vector(K_p, 3, "K_p") if np.ndim(K_p) else np.full(3, as_positive(K_p, "K_p"))
+        self.K_o = as_positive(K_o, "K_o")
+        self.reference = self.xy_d.mean(axis=0) if reference is None else as_vector(reference, 2, "reference")
+        a = np.cross(self.n_d, [1.0, 0.0, 0.0] if abs(self.n_d[0]) < 0.9 else [0.0, 1.0, 0.0])
+        a /= np.linalg.norm(a)
+        self._plane = np.column_stack([a, np.cross(self.n_d, a), self.n_d])   # [a, b, n], a × b = n
+
+    def rotation_and_depth_ratio(self, xy: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
+        """(R_d^c, ρ_z, the reference point's current image) from the current image points ``xy`` (n, 2)
+        through the homography."""
+        H = homography_dlt(self.xy_d, xy)
+        s_d = np.append(self.reference, 1.0)
+        if float(H[2] @ s_d) < 0:                              # λ s̃ = H s̃_d with λ = z_d/z_c > 0
+            H = -H
+        s_c = H @ s_d
+        s_c = s_c[:2] / s_c[2]
+        a, b = self._plane[:, 0], self._plane[:, 1]
+        Ha, Hb = H @ a, H @ b
+        H = H / np.linalg.norm(Ha)
+        Ha, Hb = Ha / np.linalg.norm(Ha), Hb / np.linalg.norm(Ha)
+        R = nearest_rotation(np.column_stack([Ha, Hb, np.cross(Ha, Hb)]) @ self._plane.T)
+        rho = depth_ratio(H, R @ self.n_d, s_c, self.n_d, self.reference)
+        return R, rho, s_c
+
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        image = meas.image
+        if not image.visible.all():
+            self.record(e_p=np.full(3, np.nan), theta=np.nan)
+            return np.zeros(self.robot.nv)        # a point not seen: no homography, stop and wait
+        R, rho, (x, y) = self.rotation_and_depth_ratio(image.xy)
+        theta_r = pin.log3(R)                                   # e_o = θ r
+        e_p = np.array([x - self.reference[0], y - self.reference[1], math.log(rho)])
+        J_p, J_o = hybrid_error_jacobians(x, y, rho * self.z_d)
+        w = self.K_o * theta_r
+        v = -np.linalg.solve(J_p, self.K_p * e_p + J_o @ w)
+        self.record(e_p=e_p, theta=float(np.linalg.norm(theta_r)))
+        Jc = camera_jacobian(self.robot, meas.q, self.frame)
+        return Jc.T @ np.linalg.solve(Jc @ Jc.T + 1e-6 * np.eye(6), np.concatenate([v, w]))

@@ -27,7 +27,8 @@ import numpy as np
 
 from controllers.plants import KinematicArm
 from controllers.simulation import SimulationResult, simulate
-from controllers.visual_servoing import EyeInHandCamera, IBVSResolvedVelocity, TargetFeatures, visual_servo
+from controllers.visual_servoing import (EyeInHandCamera, HybridVisualServo, IBVSResolvedVelocity, TargetFeatures,
+                                         visual_servo)
 from planners.inverse_kinematics import solve_clik
 from problems.ch10 import eye_in_hand_animation
 from problems.common import label_axes, subplots
@@ -87,6 +88,16 @@ def run_ibvs(sc: PandaScene, q0: np.ndarray, t_f: float, noise: float = 0.0, los
     camera = EyeInHandCamera(sc.robot, sc.points_b, FRAME, fov=FOV, noise=noise,
                              rng=np.random.default_rng(seed), lost=lost)
     law = IBVSResolvedVelocity(sc.robot, target, s_d, K_S, depth=depth, frame=FRAME, dofs=range(6))
+    return simulate(KinematicArm(), visual_servo(camera, law, TC), (0.0, t_f), q0, h=TC, Ts=TC)
+
+
+def run_hybrid(sc: PandaScene, q0: np.ndarray, t_f: float, K_p: float = 1.0, K_o: float = 1.0) -> SimulationResult:
+    """2½-D visual servoing (:class:`HybridVisualServo`) with the four points from ``q0`` for ``t_f`` seconds:
+    the plane's normal in the desired camera frame is its optical axis (the square faces the camera)."""
+    xy_d = view_target(sc.T_d, sc.points_b).xy
+    z_d = float((sc.points_b[0] - sc.T_d[:3, 3]) @ sc.T_d[:3, 2])
+    camera = EyeInHandCamera(sc.robot, sc.points_b, FRAME, fov=FOV)
+    law = HybridVisualServo(sc.robot, xy_d, [0.0, 0.0, 1.0], z_d, K_p, K_o, frame=FRAME)
     return simulate(KinematicArm(), visual_servo(camera, law, TC), (0.0, t_f), q0, h=TC, Ts=TC)
 
 

@@ -7,7 +7,8 @@ that :func:`controllers.simulation.simulate` runs at their own periods:
   (:class:`CameraImage`, image points, visibility, noise) — features are named fields, never slices;
 * :class:`PoseEstimator` — pose estimation by inversion of the image Jacobian, Eqs. (10.40)–(10.41), a
   discrete (Euler) estimator at its own period T: x̂_{k+1} = x̂_k + T Γ(ô) L_s⁻¹ K_s (s − ŝ(x̂_k));
-* :class:`PBVSPDGravity` (Fig. 10.14) and :class:`PBVSResolvedVelocity` (Fig. 10.15);
+* :class:`PBVSPDGravity` (Fig. 10.14) and :class:`PBVSResolvedVelocity` (Fig. 10.15), and
+  :class:`PBVSPoseResolvedVelocity`, the general 6-DOF form (pose from a planar target's homography);
 * :class:`IBVSPDGravity` (Fig. 10.16) and :class:`IBVSResolvedVelocity` (Fig. 10.17), with the depth
   of the interaction matrix known (measured), constant (the desired depth) or estimated;
 * :func:`hybrid_error_jacobians` — J_p, J_o of the 2½-D scheme, Eq. (10.96), and :class:`HybridVisualServo`,
@@ -35,7 +36,7 @@ from rigid_body.camera import FieldOfView, SegmentFeatures, TargetView, segment_
 from rigid_body.robots import Robot
 from rigid_body.rotations import nearest_rotation
 from rigid_body.validation import as_matrix, as_positive, as_vector
-from rigid_body.vision import depth_ratio, homography_dlt
+from rigid_body.vision import depth_ratio, homography_dlt, pose_from_homography
 
 SCARA_DOFS = (0, 1, 2, 5)   # v_x, v_y, v_z, ω_z: the camera twist of Example 10.3
 FEATURE_KINDS = ("points", "segment")
@@ -360,6 +361,14 @@ class _CameraLaw(LoggedController):
         self.frame = robot.ee_frame if frame is None else robot.frame(frame)
         self.dofs = list(dofs)
 
+    damping_twist = 1e-6
+
+    def joint_rates(self, q: np.ndarray, twist: np.ndarray) -> np.ndarray:
+        """q̇ = J_c^† [v_c; ω_c]: the joint rates of a camera twist (camera frame), damped least squares
+        (3.59) on the 6×n camera Jacobian."""
+        Jc = camera_jacobian(self.robot, q, self.frame)
+        return Jc.T @ np.linalg.solve(Jc @ Jc.T + self.damping_twist * np.eye(6), twist)
+
     def pbvs_jacobian(self, q: np.ndarray, x_co: np.ndarray) -> np.ndarray:
         """J_Ad = ∂x_{c,o}/∂q = Γ(o_{c,o}) [R_cᵀ J_P; ω_z rows] (4×n), 4-DOF case of (10.67)."""
         return gamma_matrix(x_co) @ camera_jacobian(self.robot, q, self.frame)[_SCARA_ROWS]
@@ -402,6 +411,47 @@ class PBVSResolvedVelocity(_CameraLaw):
         if info != 0:
             raise ValueError(f"J_Ad is singular at q = {meas.q} (t = {t:.4g} s)")
         return qd_r
+
+
+class PBVSPoseResolvedVelocity(_CameraLaw):
+    """Position-based visual servoing of a 6-DOF camera, resolved velocity (Sect. 10.7.1, general form).
+
+    The object's pose T_o^c is estimated at each image from a planar target (points ``zeta`` (n ≥ 4, 2) on
+    the plane z = 0 of the object frame) by the homography and (10.12) (``rigid_body.vision``); the pose of
+    the desired camera frame in the current one, T_d^c = T_o^c (T_o^d)⁻¹ with ``T_do`` the desired pose of
+    the object in the camera frame, gives the error [o_{c,d}^c; θ r of R_d^c]. The law v_c = K_p o_{c,d}^c,
+    ω_c = K_o θ r moves the camera's origin along the straight line to the desired one (ȯ_c = R_c v_c =
+    K_p (o_d − o_c) in the base frame, the distance decaying as e^{−K_p t}) and turns it about a fixed axis,
+    θ decaying as e^{−K_o t}; q̇ = J_c^† [v_c; ω_c]. Logs ``o_cd`` (position error [m]) and ``theta`` [rad].
+    """
+
+    def __init__(self, robot: Robot, zeta: Any, T_do: Any, K_p: float, K_o: float, frame: str | int | None = None):
+        super().__init__(robot, frame, range(6))
+        self.zeta = np.asarray(zeta, dtype=float)
+        if self.zeta.ndim != 2 or self.zeta.shape[1] != 2 or len(self.zeta) < 4 or not np.all(np.isfinite(self.zeta)):
+            raise ValueError(f"`zeta` must be a finite (n ≥ 4, 2) array of plane points, got {self.zeta.shape}")
+        T = as_matrix(T_do, (4, 4), "T_do")
+        self.T_od = np.linalg.inv(T)                          # (T_o^d)⁻¹
+        self.K_p, self.K_o = as_positive(K_p, "K_p"), as_positive(K_o, "K_o")
+
+    def estimate(self, xy: np.ndarray) -> np.ndarray:
+        """T_o^c (4×4) from the current image points ``xy`` (n, 2): homography and (10.12)."""
+        pose = pose_from_homography(homography_dlt(self.zeta, xy))
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = pose.R, pose.o
+        return T
+
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        image = meas.image
+        if not image.visible.all():
+            self.record(o_cd=np.full(3, np.nan), theta=np.nan)
+            return np.zeros(self.robot.nv)        # a point not seen: no pose estimate, stop and wait
+        T_cd = self.estimate(image.xy) @ self.T_od
+        o = T_cd[:3, 3]
+        theta_r = pin.log3(T_cd[:3, :3])
+        w = self.K_o * theta_r
+        self.record(o_cd=o.copy(), theta=float(np.linalg.norm(theta_r)))
+        return self.joint_rates(meas.q, np.concatenate([self.K_p * o, w]))
 
 
 def _pose_error(x_d: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -605,5 +655,4 @@ class HybridVisualServo(_CameraLaw):
         w = self.K_o * theta_r
         v = -np.linalg.solve(J_p, self.K_p * e_p + J_o @ w)
         self.record(e_p=e_p, theta=float(np.linalg.norm(theta_r)))
-        Jc = camera_jacobian(self.robot, meas.q, self.frame)
-        return Jc.T @ np.linalg.solve(Jc @ Jc.T + 1e-6 * np.eye(6), np.concatenate([v, w]))
+        return self.joint_rates(meas.q, np.concatenate([v, w]))

@@ -27,8 +27,8 @@ import numpy as np
 
 from controllers.plants import KinematicArm
 from controllers.simulation import SimulationResult, simulate
-from controllers.visual_servoing import (EyeInHandCamera, HybridVisualServo, IBVSResolvedVelocity, TargetFeatures,
-                                         visual_servo)
+from controllers.visual_servoing import (EyeInHandCamera, HybridVisualServo, IBVSResolvedVelocity,
+                                         PBVSPoseResolvedVelocity, TargetFeatures, visual_servo)
 from planners.inverse_kinematics import solve_clik
 from problems.ch10 import eye_in_hand_animation
 from problems.common import label_axes, subplots
@@ -98,6 +98,18 @@ def run_hybrid(sc: PandaScene, q0: np.ndarray, t_f: float, K_p: float = 1.0, K_o
     z_d = float((sc.points_b[0] - sc.T_d[:3, 3]) @ sc.T_d[:3, 2])
     camera = EyeInHandCamera(sc.robot, sc.points_b, FRAME, fov=FOV)
     law = HybridVisualServo(sc.robot, xy_d, [0.0, 0.0, 1.0], z_d, K_p, K_o, frame=FRAME)
+    return simulate(KinematicArm(), visual_servo(camera, law, TC), (0.0, t_f), q0, h=TC, Ts=TC)
+
+
+def run_pbvs(sc: PandaScene, q0: np.ndarray, t_f: float, K_p: float = 1.0, K_o: float = 1.0) -> SimulationResult:
+    """6-DOF resolved-velocity PBVS (:class:`PBVSPoseResolvedVelocity`) with the four points from ``q0``: the
+    object frame is the square's (centre, axes of the desired camera), so T_o^d = [I, (0, 0, 0.5)]."""
+    centre = sc.points_b.mean(axis=0)
+    zeta = (sc.points_b - centre) @ sc.T_d[:3, :3]
+    T_do = np.eye(4)
+    T_do[:3, 3] = [0.0, 0.0, DEPTH]
+    camera = EyeInHandCamera(sc.robot, sc.points_b, FRAME, fov=FOV)
+    law = PBVSPoseResolvedVelocity(sc.robot, zeta[:, :2], T_do, K_p, K_o, frame=FRAME)
     return simulate(KinematicArm(), visual_servo(camera, law, TC), (0.0, t_f), q0, h=TC, Ts=TC)
 
 

@@ -144,3 +144,22 @@ def test_estimator_prediction_is_the_derivative_of_the_features(rng, kind):
         h = 1e-6
         ds = np.column_stack([(est.predicted(x + h * e)[0] - est.predicted(x - h * e)[0]) / (2 * h) for e in np.eye(4)])
         np.testing.assert_allclose(ds @ gamma_matrix(x[:3]), L, atol=1e-7)
+
+
+def test_hybrid_and_6dof_pbvs_name_bad_arguments():
+    from controllers.visual_servoing import HybridVisualServo, PBVSPoseResolvedVelocity
+
+    robot = scara_eye_in_hand()
+    square = np.array([[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]])
+    with pytest.raises(ValueError, match="xy_d"):
+        HybridVisualServo(robot, square[:3], [0, 0, 1], 0.5, 1.0, 1.0)
+    with pytest.raises(ValueError, match="z_d"):
+        HybridVisualServo(robot, square, [0, 0, 1], -0.5, 1.0, 1.0)
+    with pytest.raises(ValueError, match="n_d"):
+        HybridVisualServo(robot, square, [0, 1], 0.5, 1.0, 1.0)
+    with pytest.raises(ValueError, match="zeta"):
+        PBVSPoseResolvedVelocity(robot, np.full((4, 2), np.nan), np.eye(4), 1.0, 1.0)
+    with pytest.raises(ValueError, match="T_do"):
+        PBVSPoseResolvedVelocity(robot, square, np.eye(3), 1.0, 1.0)
+    with pytest.raises(ValueError, match="K_o"):
+        PBVSPoseResolvedVelocity(robot, square, np.eye(4), 1.0, 0.0)

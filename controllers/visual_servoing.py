@@ -7,10 +7,12 @@ that :func:`controllers.simulation.simulate` runs at their own periods:
   (:class:`CameraImage`, image points, visibility, noise) — features are named fields, never slices;
 * :class:`PoseEstimator` — pose estimation by inversion of the image Jacobian, Eqs. (10.40)–(10.41), a
   discrete (Euler) estimator at its own period T: x̂_{k+1} = x̂_k + T Γ(ô) L_s⁻¹ K_s (s − ŝ(x̂_k));
-* :class:`PBVSPDGravity` (Fig. 10.14) and :class:`PBVSResolvedVelocity` (Fig. 10.15);
+* :class:`PBVSPDGravity` (Fig. 10.14) and :class:`PBVSResolvedVelocity` (Fig. 10.15), and
+  :class:`PBVSPoseResolvedVelocity`, the general 6-DOF form (pose from a planar target's homography);
 * :class:`IBVSPDGravity` (Fig. 10.16) and :class:`IBVSResolvedVelocity` (Fig. 10.17), with the depth
   of the interaction matrix known (measured), constant (the desired depth) or estimated;
-* :func:`hybrid_error_jacobians` — J_p, J_o of the 2½-D scheme, Eq. (10.96).
+* :func:`hybrid_error_jacobians` — J_p, J_o of the 2½-D scheme, Eq. (10.96), and :class:`HybridVisualServo`,
+  the 2½-D law on them (rotation and depth ratio from the homography).
 
 Poses of the 4-DOF (SCARA) case are x = [x, y, z, φ]: a position and a rotation φ about the common
 vertical axis, which is the camera's optical axis z_c (Example 10.3). ``dofs`` selects the camera-twist
@@ -27,15 +29,19 @@ from typing import Any, Sequence
 
 import numpy as np
 import pinocchio as pin
+from scipy.linalg import get_lapack_funcs
 
 from controllers.simulation import Chain, LoggedController, ZeroOrderHold
 from rigid_body.camera import FieldOfView, SegmentFeatures, TargetView, segment_features, view_points
-from rigid_body.dynamics import gravity_torques
 from rigid_body.robots import Robot
+from rigid_body.rotations import nearest_rotation
 from rigid_body.validation import as_matrix, as_positive, as_vector
+from rigid_body.vision import depth_ratio, homography_dlt, pose_from_homography
 
 SCARA_DOFS = (0, 1, 2, 5)   # v_x, v_y, v_z, ω_z: the camera twist of Example 10.3
 FEATURE_KINDS = ("points", "segment")
+_SCARA_ROWS = np.array(SCARA_DOFS)
+_gesv = get_lapack_funcs("gesv", (np.zeros((1, 1)),))   # LU solve without numpy.linalg's wrapper cost
 
 
 # --------------------------------------------------------------------------------------------
@@ -79,7 +85,7 @@ def camera_jacobian(robot: Robot, q: np.ndarray, frame: int) -> np.ndarray:
 # The target and its features
 # --------------------------------------------------------------------------------------------
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class CameraImage:
     """What the camera gives at a sample: image points ``xy`` (n, 2) (normalised; NaN where not seen),
     ``visible`` (n,) and the points' depths ``z`` (n,), used only by laws told that the depth is known."""
@@ -108,19 +114,44 @@ def _points_interaction(xy: np.ndarray, z: np.ndarray) -> np.ndarray:
 
 def _segment(xy: np.ndarray) -> np.ndarray:
     """[x_m, y_m, L, α] of (10.28) for trusted inputs."""
-    x1, y1, x2, y2 = xy.ravel().tolist()
+    return _segment_of(*xy.ravel().tolist())
+
+
+def _segment_of(x1: float, y1: float, x2: float, y2: float) -> np.ndarray:
     dx, dy = x2 - x1, y2 - y1
     return np.array([0.5 * (x1 + x2), 0.5 * (y1 + y2), math.hypot(dx, dy), math.atan2(dy, dx)])
 
 
 def _segment_jacobian(xy: np.ndarray) -> np.ndarray:
     """∂s/∂[x1, y1, x2, y2] of (10.28) for trusted inputs (the checked version is in rigid_body.camera)."""
-    x1, y1, x2, y2 = xy.ravel().tolist()
+    return _segment_jacobian_of(*xy.ravel().tolist())
+
+
+def _segment_jacobian_of(x1: float, y1: float, x2: float, y2: float) -> np.ndarray:
     dx, dy = x2 - x1, y2 - y1
     L2 = dx * dx + dy * dy
     L = math.sqrt(L2)
     return np.array([[0.5, 0.0, 0.5, 0.0], [0.0, 0.5, 0.0, 0.5], [-dx / L, -dy / L, dx / L, dy / L],
                      [dy / L2, -dx / L2, -dy / L2, dx / L2]])
+
+
+def _segment_interaction(x1: float, y1: float, iz1: float, x2: float, y2: float, iz2: float
+                         ) -> tuple[np.ndarray, np.ndarray]:
+    """(s, L_s) of the segment (10.28) with end points (x_i, y_i) at inverse depths iz_i, L_s restricted to
+    the SCARA's v_x, v_y, v_z, ω_z: the chain rule ∂s/∂(x, y) · (10.26) in closed form (ω_z turns α at
+    −1 rad/rad and leaves L unchanged)."""
+    dx, dy = x2 - x1, y2 - y1
+    L2 = dx * dx + dy * dy
+    L = math.sqrt(L2)
+    a1, a2 = x1 * iz1, x2 * iz2
+    b1, b2 = y1 * iz1, y2 * iz2
+    di = iz1 - iz2
+    s = np.array([0.5 * (x1 + x2), 0.5 * (y1 + y2), L, math.atan2(dy, dx)])
+    J = np.array([[-0.5 * (iz1 + iz2), 0.0, 0.5 * (a1 + a2), 0.5 * (y1 + y2)],
+                  [0.0, -0.5 * (iz1 + iz2), 0.5 * (b1 + b2), -0.5 * (x1 + x2)],
+                  [dx * di / L, dy * di / L, (dx * (a2 - a1) + dy * (b2 - b1)) / L, 0.0],
+                  [-dy * di / L2, dx * di / L2, (dy * (a1 - a2) + dx * (b2 - b1)) / L2, -1.0]])
+    return s, J
 
 
 class TargetFeatures:
@@ -190,6 +221,11 @@ class EyeInHandCamera:
         if self.noise > 0 and rng is None:
             raise ValueError("`rng` (a numpy Generator) is required when `noise` > 0")
         self.rng, self.lost = rng, dict(lost or {})
+        # Hot path of __call__ (every loop sample): no field of view, occlusion or noise to apply.
+        self._plain = fov is None and not self.lost and self.noise == 0
+        self._all_seen = np.ones(len(self.points_b), dtype=bool)
+        self._all_seen.flags.writeable = False
+        self._points_list = self.points_b.tolist() if len(self.points_b) <= 8 else None
 
     def pose(self, q: np.ndarray) -> np.ndarray:
         """T_c^b of the camera at q."""
@@ -199,9 +235,28 @@ class EyeInHandCamera:
         T[:3, :3], T[:3, 3] = M.rotation, M.translation
         return T
 
+    def _plain_view(self, M: pin.SE3) -> CameraImage | None:
+        """The image of a few points, all in front, on Python floats (no field of view, occlusion or
+        noise); None when a point is behind the camera."""
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = M.rotation.tolist()
+        ox, oy, oz = M.translation.tolist()
+        xy, depth = [], []
+        for X, Y, Z in self._points_list:
+            dx, dy, dz = X - ox, Y - oy, Z - oz                     # p^c = R_cᵀ (p − o_c), (5.35)
+            pz = r02 * dx + r12 * dy + r22 * dz
+            if pz <= 0:
+                return None
+            xy.append(((r00 * dx + r10 * dy + r20 * dz) / pz, (r01 * dx + r11 * dy + r21 * dz) / pz))
+            depth.append(pz)
+        return CameraImage(xy=np.array(xy), visible=self._all_seen, z=np.array(depth))
+
     def __call__(self, t: float, meas: Any) -> CameraImage:
         pin.framesForwardKinematics(self.robot.model, self.robot.data, meas.q)
         M = self.robot.data.oMf[self.frame]
+        if self._plain and self._points_list is not None:
+            image = self._plain_view(M)
+            if image is not None:
+                return image
         p = (self.points_b - M.translation) @ M.rotation            # p^c = R_cᵀ (p − o_c), (5.35)
         z = p[:, 2]
         visible = z > 0
@@ -241,6 +296,10 @@ class PoseEstimator(LoggedController):
         self.K_s = as_matrix(K_s, (4, 4), "K_s") if np.ndim(K_s) == 2 else float(K_s) * np.eye(4)
         if target.size != 4:
             raise ValueError(f"the inverse-Jacobian estimator needs 4 features (a square L_s), got {target.size}")
+        # Hot path (every loop sample): the points as floats, K_s as a vector when it is diagonal.
+        self._points = target.points_o.tolist()
+        diagonal = not np.any(self.K_s - np.diag(np.diag(self.K_s)))
+        self._K_s = np.diag(self.K_s).copy() if diagonal else None
         self.reset()
 
     def reset(self) -> None:
@@ -248,38 +307,44 @@ class PoseEstimator(LoggedController):
         self.x_hat = self.x0.copy()
 
     def predicted(self, x_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(ŝ, L_s) at the estimate: the features and the 4×4 interaction matrix of the estimated pose."""
+        """(ŝ, L_s) at the estimate: the features and the 4×4 interaction matrix of the estimated pose
+        (columns v_x, v_y, v_z, ω_z of (10.26); segments through (10.28))."""
         x, y, z, phi = x_hat.tolist()
         c, s = math.cos(phi), math.sin(phi)
-        xy, depth = [], []
-        for X, Y, Z in self.target.points_o.tolist():    # p^c = o + R_z(φ) P, then (5.40)
+        xy, rows = [], []
+        for X, Y, Z in self._points:                     # p^c = o + R_z(φ) P, then (5.40)
             pz = Z + z
             if pz <= 0:
                 raise ValueError(f"the estimate x̂ = {x_hat} puts target points behind the camera: diverged")
-            xy.append([(c * X - s * Y + x) / pz, (s * X + c * Y + y) / pz])
-            depth.append(pz)
-        xy_a, z_a = np.array(xy), np.array(depth)
-        L = self.target.interaction_matrix(xy_a, z_a)[:, SCARA_DOFS]
-        return self.target.features(xy_a), L
+            iz = 1.0 / pz
+            u, v = (c * X - s * Y + x) * iz, (s * X + c * Y + y) * iz
+            xy.append((u, v, iz))
+            rows.append((-iz, 0.0, u * iz, v))
+            rows.append((0.0, -iz, v * iz, -u))
+        if self.target.kind == "segment":
+            return _segment_interaction(*xy[0], *xy[1])
+        return np.array([w for u, v, _ in xy for w in (u, v)]), np.array(rows)
 
     def update(self, s: np.ndarray) -> np.ndarray:
         """One step with the measured features ``s``: returns x̂_{k+1} (``x_hat`` then holds it)."""
         s_hat, L = self.predicted(self.x_hat)
         e_s = self.target.error(s, s_hat)
-        try:
-            v_hat = np.linalg.solve(L, self.K_s @ e_s)                       # (10.40)
-        except np.linalg.LinAlgError:
-            raise ValueError(f"the interaction matrix is singular at x̂ = {self.x_hat}") from None
-        self.record(x_hat=self.x_hat.copy(), e_s=e_s, s_hat=s_hat)
-        self.x_hat = self.x_hat + self.T * gamma_matrix(self.x_hat[:3]) @ v_hat   # (10.41), Euler
+        Ke = self._K_s * e_s if self._K_s is not None else self.K_s @ e_s
+        _, _, v_hat, info = _gesv(L, Ke)                                    # (10.40)
+        if info != 0:
+            raise ValueError(f"the interaction matrix is singular at x̂ = {self.x_hat}")
+        self.record(x_hat=self.x_hat, e_s=e_s, s_hat=s_hat)
+        self.x_hat = self.x_hat + self.T * (gamma_matrix(self.x_hat) @ v_hat)   # (10.41), Euler
         return self.x_hat
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         """The discrete block: outputs x̂_k, then steps to x̂_{k+1} with the image of sample k (a unit
-        delay, as Simulink's discrete integrator: at t = 0 the output is x̂(0))."""
+        delay, as Simulink's discrete integrator: at t = 0 the output is x̂(0)). ``x_hat`` is replaced,
+        never modified in place, so the output is not copied."""
         image = meas.image
-        x_k = self.x_hat.copy()
-        if not np.all(image.visible[:2]):
+        x_k = self.x_hat
+        visible = image.visible
+        if not (visible[0] and visible[1]):
             self.record(x_hat=x_k, e_s=np.full(4, np.nan), s_hat=np.full(4, np.nan))
             return x_k                          # feature lost: the estimate is held
         self.update(self.target.features(image.xy))
@@ -296,9 +361,17 @@ class _CameraLaw(LoggedController):
         self.frame = robot.ee_frame if frame is None else robot.frame(frame)
         self.dofs = list(dofs)
 
+    damping_twist = 1e-6
+
+    def joint_rates(self, q: np.ndarray, twist: np.ndarray) -> np.ndarray:
+        """q̇ = J_c^† [v_c; ω_c]: the joint rates of a camera twist (camera frame), damped least squares
+        (3.59) on the 6×n camera Jacobian."""
+        Jc = camera_jacobian(self.robot, q, self.frame)
+        return Jc.T @ np.linalg.solve(Jc @ Jc.T + self.damping_twist * np.eye(6), twist)
+
     def pbvs_jacobian(self, q: np.ndarray, x_co: np.ndarray) -> np.ndarray:
         """J_Ad = ∂x_{c,o}/∂q = Γ(o_{c,o}) [R_cᵀ J_P; ω_z rows] (4×n), 4-DOF case of (10.67)."""
-        return gamma_matrix(x_co[:3]) @ camera_jacobian(self.robot, q, self.frame)[SCARA_DOFS, :]
+        return gamma_matrix(x_co) @ camera_jacobian(self.robot, q, self.frame)[_SCARA_ROWS]
 
 
 class PBVSPDGravity(_CameraLaw):
@@ -310,14 +383,15 @@ class PBVSPDGravity(_CameraLaw):
         self.x_do = as_vector(x_do, 4, "x_do")
         self.K_P = np.diag(as_vector(K_P, 4, "K_P"))
         self.K_D = np.diag(as_vector(K_D, 4, "K_D"))
+        self._k_p, self._k_d = np.diag(self.K_P).copy(), np.diag(self.K_D).copy()   # diagonal gains as vectors
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         x_hat = meas.estimate
         J = self.pbvs_jacobian(meas.q, x_hat)
-        x_tilde = self.x_do - x_hat
-        x_tilde[3] = np.arctan2(np.sin(x_tilde[3]), np.cos(x_tilde[3]))
+        x_tilde = _pose_error(self.x_do, x_hat)
         self.record(x_tilde=x_tilde)
-        return gravity_torques(self.robot, meas.q) + J.T @ (self.K_P @ x_tilde - self.K_D @ (J @ meas.qd))
+        g = pin.computeGeneralizedGravity(self.robot.model, self.robot.data, meas.q)   # g(q), (7.39)
+        return g + J.T @ (self._k_p * x_tilde - self._k_d * (J @ meas.qd))
 
 
 class PBVSResolvedVelocity(_CameraLaw):
@@ -327,16 +401,65 @@ class PBVSResolvedVelocity(_CameraLaw):
         super().__init__(robot, frame, SCARA_DOFS)
         self.x_do = as_vector(x_do, 4, "x_do")
         self.K = np.diag(as_vector(K, 4, "K"))
+        self._k = np.diag(self.K).copy()
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         x_hat = meas.estimate
-        x_tilde = self.x_do - x_hat
-        x_tilde[3] = np.arctan2(np.sin(x_tilde[3]), np.cos(x_tilde[3]))
+        x_tilde = _pose_error(self.x_do, x_hat)
         self.record(x_tilde=x_tilde)
-        try:
-            return np.linalg.solve(self.pbvs_jacobian(meas.q, x_hat), self.K @ x_tilde)
-        except np.linalg.LinAlgError:
-            raise ValueError(f"J_Ad is singular at q = {meas.q} (t = {t:.4g} s)") from None
+        _, _, qd_r, info = _gesv(self.pbvs_jacobian(meas.q, x_hat), self._k * x_tilde)
+        if info != 0:
+            raise ValueError(f"J_Ad is singular at q = {meas.q} (t = {t:.4g} s)")
+        return qd_r
+
+
+class PBVSPoseResolvedVelocity(_CameraLaw):
+    """Position-based visual servoing of a 6-DOF camera, resolved velocity (Sect. 10.7.1, general form).
+
+    The object's pose T_o^c is estimated at each image from a planar target (points ``zeta`` (n ≥ 4, 2) on
+    the plane z = 0 of the object frame) by the homography and (10.12) (``rigid_body.vision``); the pose of
+    the desired camera frame in the current one, T_d^c = T_o^c (T_o^d)⁻¹ with ``T_do`` the desired pose of
+    the object in the camera frame, gives the error [o_{c,d}^c; θ r of R_d^c]. The law v_c = K_p o_{c,d}^c,
+    ω_c = K_o θ r moves the camera's origin along the straight line to the desired one (ȯ_c = R_c v_c =
+    K_p (o_d − o_c) in the base frame, the distance decaying as e^{−K_p t}) and turns it about a fixed axis,
+    θ decaying as e^{−K_o t}; q̇ = J_c^† [v_c; ω_c]. Logs ``o_cd`` (position error [m]) and ``theta`` [rad].
+    """
+
+    def __init__(self, robot: Robot, zeta: Any, T_do: Any, K_p: float, K_o: float, frame: str | int | None = None):
+        super().__init__(robot, frame, range(6))
+        self.zeta = np.asarray(zeta, dtype=float)
+        if self.zeta.ndim != 2 or self.zeta.shape[1] != 2 or len(self.zeta) < 4 or not np.all(np.isfinite(self.zeta)):
+            raise ValueError(f"`zeta` must be a finite (n ≥ 4, 2) array of plane points, got {self.zeta.shape}")
+        T = as_matrix(T_do, (4, 4), "T_do")
+        self.T_od = np.linalg.inv(T)                          # (T_o^d)⁻¹
+        self.K_p, self.K_o = as_positive(K_p, "K_p"), as_positive(K_o, "K_o")
+
+    def estimate(self, xy: np.ndarray) -> np.ndarray:
+        """T_o^c (4×4) from the current image points ``xy`` (n, 2): homography and (10.12)."""
+        pose = pose_from_homography(homography_dlt(self.zeta, xy))
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = pose.R, pose.o
+        return T
+
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        image = meas.image
+        if not image.visible.all():
+            self.record(o_cd=np.full(3, np.nan), theta=np.nan)
+            return np.zeros(self.robot.nv)        # a point not seen: no pose estimate, stop and wait
+        T_cd = self.estimate(image.xy) @ self.T_od
+        o = T_cd[:3, 3]
+        theta_r = pin.log3(T_cd[:3, :3])
+        w = self.K_o * theta_r
+        self.record(o_cd=o.copy(), theta=float(np.linalg.norm(theta_r)))
+        return self.joint_rates(meas.q, np.concatenate([self.K_p * o, w]))
+
+
+def _pose_error(x_d: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """x_d − x of 4-DOF poses, the angle difference wrapped to (−π, π]."""
+    e = x_d - x
+    a = float(e[3])
+    e[3] = math.atan2(math.sin(a), math.cos(a))
+    return e
 
 
 # --------------------------------------------------------------------------------------------
@@ -362,6 +485,8 @@ class _IBVSLaw(_CameraLaw):
             self.depth = depth
         else:
             self.depth = as_positive(depth, "depth")
+        self._depths = np.full(len(target.points_o), self.depth if isinstance(self.depth, float) else np.nan)
+        self._dofs = np.array(self.dofs)
 
     def error_and_jacobian(self, q: np.ndarray, image: CameraImage) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(e_s, J_L, rows used) at the current image; rows of unseen points are removed."""
@@ -372,7 +497,7 @@ class _IBVSLaw(_CameraLaw):
         elif callable(self.depth):
             z = self.depth(image)
         else:
-            z = np.full(len(seen), self.depth)
+            z = self._depths if len(self._depths) == len(seen) else np.full(len(seen), self.depth)
         if self.target.kind == "segment":
             if not (seen[0] and seen[1]):
                 return np.zeros(0), np.zeros((0, len(q))), np.zeros(0, dtype=int)
@@ -384,7 +509,7 @@ class _IBVSLaw(_CameraLaw):
             s = image.xy.reshape(-1)[rows]
             L = _points_interaction(image.xy[seen], z[seen])
         e = self.target.error(self.s_d, s) if self.target.kind == "segment" else self.s_d[rows] - s
-        return e, L[:, self.dofs] @ Jc[self.dofs, :], rows
+        return e, L[:, self._dofs] @ Jc[self._dofs], rows
 
     def inverse(self, J: np.ndarray) -> np.ndarray:
         """J⁻¹ when J is square and well conditioned, else the damped least-squares inverse (3.59)."""
@@ -405,7 +530,10 @@ class IBVSPDGravity(_IBVSLaw):
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         e, J, rows = self.error_and_jacobian(meas.q, meas.image)
         self.record(e_s=_full(e, rows, self.target.size))
-        return gravity_torques(self.robot, meas.q) + J.T @ (self.K_Ps[rows] * e - self.K_Ds[rows] * (J @ meas.qd))
+        g = pin.computeGeneralizedGravity(self.robot.model, self.robot.data, meas.q)   # g(q), (7.39)
+        if rows.size != self.target.size:
+            return g + J.T @ (self.K_Ps[rows] * e - self.K_Ds[rows] * (J @ meas.qd))
+        return g + J.T @ (self.K_Ps * e - self.K_Ds * (J @ meas.qd))
 
 
 class IBVSResolvedVelocity(_IBVSLaw):
@@ -464,3 +592,67 @@ def hybrid_error_jacobians(x: float, y: float, z_c: float) -> tuple[np.ndarray, 
     J_p = np.array([[-1.0, 0.0, x], [0.0, -1.0, y], [0.0, 0.0, -1.0]]) / z_c
     J_o = np.array([[x * y, -1.0 - x * x, y], [1.0 + y * y, -x * y, -x], [-y, x, 0.0]])
     return J_p, J_o
+
+
+class HybridVisualServo(_CameraLaw):
+    """2½-D (hybrid) visual servoing, Sect. 10.8, resolved velocity on a 6-DOF camera: q̇_r = J_c^† [v_c; ω_c].
+
+    From the current image of n ≥ 4 coplanar points and their desired image ``xy_d`` the homography
+    H ∝ R_d^c + o_{c,d}^c n^{dT}/d_d (``rigid_body.vision.homography_dlt``) gives, with the plane's normal
+    ``n_d`` in the desired camera frame: R_d^c (H a, H b on two directions a, b of the plane, R n_d = Ha × Hb,
+    the scale from ‖Ha‖ = 1) and the depth ratio ρ_z = z_c/z_d of the reference point (10.94)–(10.95).
+    The reference point is a point of the plane given by its desired image ``reference`` (default: the
+    centroid of ``xy_d``, near the optical axis); its current image is H s̃_d (normalised). The error is
+    e_o = θ r of R_d^c and e_p = [x − x_d, y − y_d, ln ρ_z] (10.96); the law
+    ω_c = K_o θ r (θ r is an eigenvector of L_ω: θ decays as e^{−K_o t} about a fixed axis) and
+    v_c = −J_p⁻¹(K_p e_p + J_o ω_c), so ė_p = −K_p e_p: the reference point moves straight in the image and
+    its depth never overshoots — no camera retreat. ``z_d`` is the reference point's desired depth (J_p
+    needs z_c = ρ_z z_d). Logs ``e_p``, ``theta``.
+    """
+
+    def __init__(self, robot: Robot, xy_d: Any, n_d: Any, z_d: float, K_p: Any, K_o: Any,
+                 frame: str | int | None = None, reference: Any = None):
+        super().__init__(robot, frame, range(6))
+        self.xy_d = np.asarray(xy_d, dtype=float)
+        if self.xy_d.ndim != 2 or self.xy_d.shape[1] != 2 or len(self.xy_d) < 4 or not np.all(np.isfinite(self.xy_d)):
+            raise ValueError(f"`xy_d` must be a finite (n ≥ 4, 2) array of desired image points, got {self.xy_d.shape}")
+        n = as_vector(n_d, 3, "n_d")
+        self.n_d = n / np.linalg.norm(n)
+        self.z_d = as_positive(z_d, "z_d")
+        self.K_p = as_vector(K_p, 3, "K_p") if np.ndim(K_p) else np.full(3, as_positive(K_p, "K_p"))
+        self.K_o = as_positive(K_o, "K_o")
+        self.reference = self.xy_d.mean(axis=0) if reference is None else as_vector(reference, 2, "reference")
+        a = np.cross(self.n_d, [1.0, 0.0, 0.0] if abs(self.n_d[0]) < 0.9 else [0.0, 1.0, 0.0])
+        a /= np.linalg.norm(a)
+        self._plane = np.column_stack([a, np.cross(self.n_d, a), self.n_d])   # [a, b, n], a × b = n
+
+    def rotation_and_depth_ratio(self, xy: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
+        """(R_d^c, ρ_z, the reference point's current image) from the current image points ``xy`` (n, 2)
+        through the homography."""
+        H = homography_dlt(self.xy_d, xy)
+        s_d = np.append(self.reference, 1.0)
+        if float(H[2] @ s_d) < 0:                              # λ s̃ = H s̃_d with λ = z_d/z_c > 0
+            H = -H
+        s_c = H @ s_d
+        s_c = s_c[:2] / s_c[2]
+        a, b = self._plane[:, 0], self._plane[:, 1]
+        Ha, Hb = H @ a, H @ b
+        H = H / np.linalg.norm(Ha)
+        Ha, Hb = Ha / np.linalg.norm(Ha), Hb / np.linalg.norm(Ha)
+        R = nearest_rotation(np.column_stack([Ha, Hb, np.cross(Ha, Hb)]) @ self._plane.T)
+        rho = depth_ratio(H, R @ self.n_d, s_c, self.n_d, self.reference)
+        return R, rho, s_c
+
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        image = meas.image
+        if not image.visible.all():
+            self.record(e_p=np.full(3, np.nan), theta=np.nan)
+            return np.zeros(self.robot.nv)        # a point not seen: no homography, stop and wait
+        R, rho, (x, y) = self.rotation_and_depth_ratio(image.xy)
+        theta_r = pin.log3(R)                                   # e_o = θ r
+        e_p = np.array([x - self.reference[0], y - self.reference[1], math.log(rho)])
+        J_p, J_o = hybrid_error_jacobians(x, y, rho * self.z_d)
+        w = self.K_o * theta_r
+        v = -np.linalg.solve(J_p, self.K_p * e_p + J_o @ w)
+        self.record(e_p=e_p, theta=float(np.linalg.norm(theta_r)))
+        return self.joint_rates(meas.q, np.concatenate([v, w]))

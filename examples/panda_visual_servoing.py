@@ -27,8 +27,10 @@ import numpy as np
 
 from controllers.plants import KinematicArm
 from controllers.simulation import SimulationResult, simulate
-from controllers.visual_servoing import EyeInHandCamera, IBVSResolvedVelocity, TargetFeatures, visual_servo
+from controllers.visual_servoing import (EyeInHandCamera, HybridVisualServo, IBVSResolvedVelocity,
+                                         PBVSPoseResolvedVelocity, TargetFeatures, visual_servo)
 from planners.inverse_kinematics import solve_clik
+from problems.ch10 import eye_in_hand_animation
 from problems.common import label_axes, subplots
 from problems.registry import Solution
 from rigid_body.camera import PinholeCamera, view_target
@@ -86,6 +88,28 @@ def run_ibvs(sc: PandaScene, q0: np.ndarray, t_f: float, noise: float = 0.0, los
     camera = EyeInHandCamera(sc.robot, sc.points_b, FRAME, fov=FOV, noise=noise,
                              rng=np.random.default_rng(seed), lost=lost)
     law = IBVSResolvedVelocity(sc.robot, target, s_d, K_S, depth=depth, frame=FRAME, dofs=range(6))
+    return simulate(KinematicArm(), visual_servo(camera, law, TC), (0.0, t_f), q0, h=TC, Ts=TC)
+
+
+def run_hybrid(sc: PandaScene, q0: np.ndarray, t_f: float, K_p: float = 1.0, K_o: float = 1.0) -> SimulationResult:
+    """2½-D visual servoing (:class:`HybridVisualServo`) with the four points from ``q0`` for ``t_f`` seconds:
+    the plane's normal in the desired camera frame is its optical axis (the square faces the camera)."""
+    xy_d = view_target(sc.T_d, sc.points_b).xy
+    z_d = float((sc.points_b[0] - sc.T_d[:3, 3]) @ sc.T_d[:3, 2])
+    camera = EyeInHandCamera(sc.robot, sc.points_b, FRAME, fov=FOV)
+    law = HybridVisualServo(sc.robot, xy_d, [0.0, 0.0, 1.0], z_d, K_p, K_o, frame=FRAME)
+    return simulate(KinematicArm(), visual_servo(camera, law, TC), (0.0, t_f), q0, h=TC, Ts=TC)
+
+
+def run_pbvs(sc: PandaScene, q0: np.ndarray, t_f: float, K_p: float = 1.0, K_o: float = 1.0) -> SimulationResult:
+    """6-DOF resolved-velocity PBVS (:class:`PBVSPoseResolvedVelocity`) with the four points from ``q0``: the
+    object frame is the square's (centre, axes of the desired camera), so T_o^d = [I, (0, 0, 0.5)]."""
+    centre = sc.points_b.mean(axis=0)
+    zeta = (sc.points_b - centre) @ sc.T_d[:3, :3]
+    T_do = np.eye(4)
+    T_do[:3, 3] = [0.0, 0.0, DEPTH]
+    camera = EyeInHandCamera(sc.robot, sc.points_b, FRAME, fov=FOV)
+    law = PBVSPoseResolvedVelocity(sc.robot, zeta[:, :2], T_do, K_p, K_o, frame=FRAME)
     return simulate(KinematicArm(), visual_servo(camera, law, TC), (0.0, t_f), q0, h=TC, Ts=TC)
 
 
@@ -178,6 +202,10 @@ def panda_ibvs() -> Solution:
     axes[2].plot(retreat.t, np.abs(turn), label="|rotation about z_c| [rad]")
     label_axes(axes[2], "t [s]", "depth [m], angle [rad]", title="start rotated by π: retreat", legend=True)
     sol.figure(fig, "Panda IBVS — image paths, error norm, camera retreat")
+    eye_in_hand_animation(sol, robot, res, sc.points_b, "IBVS from 60° and 0.2 m off: the hand camera's "
+                          "640 × 480 viewing pyramid (to the target plane) and the rays to the four points",
+                          frame=FRAME, half_width=(CAMERA.X0 / CAMERA.f_alpha_x, CAMERA.Y0 / CAMERA.f_alpha_y),
+                          depth=DEPTH)
     return sol
 
 

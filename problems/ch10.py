@@ -32,10 +32,11 @@ from controllers.visual_servoing import (EyeInHandCamera, IBVSPDGravity, IBVSRes
 from problems.common import label_axes, max_abs_error, random_rotation, subplots, unit
 from problems.registry import Solution, problem
 from rigid_body.book_robots import book_robot_spec
-from rigid_body.camera import (point_velocity_in_camera, region_moments, segment_features, view_points,
+from rigid_body.camera import (PinholeCamera, point_velocity_in_camera, region_moments, segment_features, view_points,
                                view_target)
 from rigid_body.dh import G, DHLink
 from rigid_body.dynamics import gravity_torques, inertia_matrix
+from rigid_body.kinematics import direct_kinematics
 from rigid_body.robots import robot_from_dh
 from rigid_body.rotations import nearest_rotation, skew
 from rigid_body.vision import (homography_between_views, homography_dlt, homography_dlt_matrix, depth_ratio,
@@ -576,6 +577,48 @@ def ibvs_setup(Tc: float, kind: str, K_Ps=None, K_Ds=None, K_s=None, depth: Any 
     return dict(plant=plant, controller=visual_servo(camera, law, Tc), t_span=(0.0, T_FINAL), x0=x0, h=h, Ts=Tc)
 
 
+ANIMATION_FPS = 25.0        # the exported animations' frame rate: the runs are decimated to it
+
+
+def _ray_pose(origin: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """The pose (with a scale) taking the unit segment [0, e_z] to the segment from ``origin`` to ``point``."""
+    d = point - origin
+    length = float(np.linalg.norm(d))
+    z = d / length
+    x = unit(np.cross([0.0, 1.0, 0.0] if abs(z[1]) < 0.9 else [1.0, 0.0, 0.0], z))
+    T = np.eye(4)
+    T[:3, :3] = np.column_stack([x, np.cross(z, x), length * z])
+    T[:3, 3] = origin
+    return T
+
+
+def eye_in_hand_animation(sol: Solution, robot: Any, res: Any, points_b: np.ndarray, title: str,
+                          frame: str | int | None = None, half_width: tuple[float, float] = (0.3, 0.3),
+                          depth: float = 0.3, speed: float = 1.0) -> None:
+    """Attach to ``sol`` a 3-D animation of an eye-in-hand loop: the arm along ``res`` (decimated to
+    :data:`ANIMATION_FPS`), the camera's viewing pyramid (normalised half-widths ``half_width``, out to
+    ``depth`` metres) carried by the camera frame, the target points ``points_b`` and the rays from the
+    optical centre to each point."""
+    step = max(1, int(round(1.0 / (ANIMATION_FPS * (res.t[1] - res.t[0])))))
+    keep = np.unique(np.r_[np.arange(0, len(res.t), step), len(res.t) - 1])
+    t, q = res.t[keep], res.q[keep]
+    poses = np.array([direct_kinematics(robot, qk, frame) for qk in q])
+    pts = np.asarray(points_b, dtype=float)
+    tracks = {"camera": poses}
+    for i, p in enumerate(pts):
+        tracks[f"ray_{i + 1}"] = np.array([_ray_pose(T[:3, 3], p) for T in poses])
+    hx, hy = half_width
+    pinhole = PinholeCamera(1.0, 1.0, hx, hy)          # normalised coordinates: the image spans ±half-widths
+
+    def overlays(scene: Any) -> None:
+        scene.frustum("camera", poses[0], pinhole, (2 * hx, 2 * hy), depth=depth, color="#1f77b4")
+        scene.points("target", pts, size=0.03)
+        for i in range(len(pts)):
+            scene.polyline(f"ray_{i + 1}", np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 1.0]]), color="#ff7f0e")
+
+    sol.animation(robot, (t, q), title, overlays=overlays, tracks=tracks, fps=ANIMATION_FPS, speed=speed)
+
+
 def _pbvs_run(Tc: float, **gains) -> _Run:
     return _post(scara_eye_in_hand(), simulate(**pbvs_setup(Tc, **gains)))
 
@@ -672,6 +715,8 @@ def problem_10_8() -> Solution:
     sol.check("the 4 ms variant follows the same path (max |Δx_c| < 2 cm): either reproduces the manual's "
               "figure, which the manual says is very similar to Figs. 10.18–10.19", diff < 2e-2, f"{diff:.3g}")
     _loop_figures(sol, run, ("S10.8", "S10.9"), "PBVS PD + gravity, T_c = 40 ms")
+    eye_in_hand_animation(sol, robot, run.res, _target_points_b(), "PBVS PD + gravity (T_c = 40 ms): the SCARA's "
+                          "camera (viewing pyramid out to 0.6 m), the points P₁, P₂ and their rays", depth=X_DO[2])
     return sol
 
 
@@ -783,6 +828,8 @@ def problem_10_11() -> Solution:
     z_pts = sol.value("max_depth_points", float(points.x_co[:, 2].max()))
     sol.check("with two point features the same law retreats (max z_{c,o} > 0.62 m)", z_pts > 0.62, f"{z_pts:.4f} m")
     _loop_figures(sol, run, ("S10.17", "S10.18"), "resolved-velocity IBVS, K_s = I₄, T_c = 40 ms")
+    eye_in_hand_animation(sol, scara_eye_in_hand(), run.res, _target_points_b(), "resolved-velocity IBVS "
+                          "(segment features, T_c = 40 ms): the camera rises to z_d without retreat", depth=X_DO[2])
     fig, ax = subplots(figsize=(6, 3.5))
     ax.plot(run.t, run.x_co[:, 2], label="segment features")
     ax.plot(points.t, points.x_co[:, 2], "--", label="two point features")

@@ -129,3 +129,37 @@ def test_camera_jacobian_is_the_world_jacobian_rotated_into_the_camera(rng):
     R = robot.data.oMf[robot.ee_frame].rotation
     np.testing.assert_allclose(camera_jacobian(robot, q, robot.ee_frame), np.vstack([R.T @ J[:3], R.T @ J[3:]]),
                                atol=1e-12)
+
+
+@pytest.mark.parametrize("kind", ["segment", "points"])
+def test_estimator_prediction_is_the_derivative_of_the_features(rng, kind):
+    """ŝ(x̂) is the view of the target at x̂ and L_s(x̂) = −∂ŝ/∂x̂ Γ: central differences of the features
+    along the estimator's pose (ẋ = Γ v, so ∂s/∂x Γ = L_s) against its closed-form 4×4 L_s."""
+    target = TargetFeatures(P_O, kind=kind)
+    est = PoseEstimator(target, X_DO, 160.0, 1e-3)
+    for _ in range(3):
+        x = X_DO + rng.uniform(-0.05, 0.05, 4)
+        s_hat, L = est.predicted(x)
+        np.testing.assert_allclose(s_hat, target.features(target.view_from_pose(planar_pose(x)).xy), atol=1e-14)
+        h = 1e-6
+        ds = np.column_stack([(est.predicted(x + h * e)[0] - est.predicted(x - h * e)[0]) / (2 * h) for e in np.eye(4)])
+        np.testing.assert_allclose(ds @ gamma_matrix(x[:3]), L, atol=1e-7)
+
+
+def test_hybrid_and_6dof_pbvs_name_bad_arguments():
+    from controllers.visual_servoing import HybridVisualServo, PBVSPoseResolvedVelocity
+
+    robot = scara_eye_in_hand()
+    square = np.array([[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]])
+    with pytest.raises(ValueError, match="xy_d"):
+        HybridVisualServo(robot, square[:3], [0, 0, 1], 0.5, 1.0, 1.0)
+    with pytest.raises(ValueError, match="z_d"):
+        HybridVisualServo(robot, square, [0, 0, 1], -0.5, 1.0, 1.0)
+    with pytest.raises(ValueError, match="n_d"):
+        HybridVisualServo(robot, square, [0, 1], 0.5, 1.0, 1.0)
+    with pytest.raises(ValueError, match="zeta"):
+        PBVSPoseResolvedVelocity(robot, np.full((4, 2), np.nan), np.eye(4), 1.0, 1.0)
+    with pytest.raises(ValueError, match="T_do"):
+        PBVSPoseResolvedVelocity(robot, square, np.eye(3), 1.0, 1.0)
+    with pytest.raises(ValueError, match="K_o"):
+        PBVSPoseResolvedVelocity(robot, square, np.eye(4), 1.0, 0.0)

@@ -51,3 +51,36 @@ def test_estimator_check_fails_with_a_wrong_interaction_matrix(monkeypatch):
         assert not solve("10.4").passed
     except ValueError as exc:                # the estimate may run behind the camera: also a failure
         assert "behind the camera" in str(exc)
+
+
+def test_eye_in_hand_animation_tracks_the_camera_and_the_rays():
+    """The animation of a SCARA loop (0.4 s of 10.11): 25 frames per second, the pyramid carried by the camera
+    pose (T = the camera frame's from an independent FK of the SCARA's DH geometry), each ray's unit segment
+    mapped from the optical centre onto its target point."""
+    from controllers.simulation import simulate
+    from problems.registry import Solution
+
+    setup = ch10.ibvs_setup(ch10.TC_MANUAL, "segment", K_s=1.0)
+    setup["t_span"] = (0.0, 0.4)
+    res = simulate(**setup)
+    sol = Solution()
+    points = ch10._target_points_b()
+    ch10.eye_in_hand_animation(sol, ch10.scara_eye_in_hand(), res, points, "test", depth=0.6)
+    (spec,) = sol.animations
+    t, q = spec["motion"]
+    assert spec["fps"] == 25.0 and np.allclose(np.diff(t), 0.04) and t[-1] == res.t[-1]
+    for k, qk in enumerate(q):                      # SCARA of a1 = a2 = 1, z down: camera above the target
+        th = qk[0] + qk[1]
+        o = [np.cos(qk[0]) + np.cos(th), np.sin(qk[0]) + np.sin(th), qk[2]]
+        T = spec["tracks"]["camera"][k]
+        np.testing.assert_allclose(T[:3, 3], o, atol=1e-12)
+        np.testing.assert_allclose(T[:3, 2], [0, 0, 1], atol=1e-12)      # the optical axis along z₀ (down)
+        for i, p in enumerate(points):
+            R = spec["tracks"][f"ray_{i + 1}"][k]
+            np.testing.assert_allclose(R @ [0, 0, 1, 1], np.r_[p, 1], atol=1e-12)
+            np.testing.assert_allclose(R @ [0, 0, 0, 1], np.r_[o, 1], atol=1e-12)
+    import viewer
+
+    scene = viewer.animate(spec["robot"], spec["motion"], overlays=spec["overlays"], tracks=spec["tracks"],
+                           fps=spec["fps"])
+    assert scene.duration == pytest.approx(0.4)

@@ -90,6 +90,16 @@ def as_gain(K: Any, n: int, name: str) -> np.ndarray:
     return M
 
 
+def diagonal_or_matrix(K: np.ndarray) -> np.ndarray:
+    """A gain matrix as its diagonal (n,) when it is diagonal (per-joint gains, K e = k * e), else as is."""
+    return np.diag(K).copy() if np.count_nonzero(K - np.diag(np.diag(K))) == 0 else K
+
+
+def gain_times(K: np.ndarray, e: np.ndarray) -> np.ndarray:
+    """K e for a gain from :func:`diagonal_or_matrix`: per-joint product or matrix product."""
+    return K * e if K.ndim == 1 else K @ e
+
+
 def mean_diagonal_inertia(robot: Robot, configurations: np.ndarray) -> np.ndarray:
     """B̄: the average over ``configurations`` (M, n) of the diagonal of B(q), a constant B̂ for (8.76)."""
     qs = np.atleast_2d(np.asarray(configurations, dtype=float))
@@ -121,12 +131,13 @@ class PDGravityCompensation(LoggedController):
         self.robot, self.n = robot, n
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
         self.reference = as_reference(reference, n)
+        self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
 
     def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
         q, qd = meas.q, meas.qd
         q_d, qd_d, _ = self.reference(t)
         e = q_d - q
-        u = gravity_torques(self.robot, q) + self.K_P @ e + self.K_D @ (qd_d - qd)  # Eq. (8.51)
+        u = gravity_torques(self.robot, q) + gain_times(self._kp, e) + gain_times(self._kd, qd_d - qd)  # Eq. (8.51)
         self.record(q_d=q_d, e=e)
         return u
 

@@ -130,6 +130,12 @@ class ArmPlant:
 
         self._forward_dynamics = forward_dynamics  # called with check=False: inputs validated here
         self._friction_torques = friction_torques
+        # The hot path of derivative(): no mimic joints → pin.aba straight into ẋ (it returns a fresh array).
+        self._viscous = bool(np.any(self.Fv))
+        self._aba = not robot.has_mimic
+        self._u_shape = (self.n,)
+        if self.tau_max is not None:
+            self._tau_min = -self.tau_max
 
     def initial_state(self, q0: Any, qd0: Any = None) -> np.ndarray:
         """x0 = [q0, q̇0] (q̇0 = 0 by default)."""
@@ -162,16 +168,25 @@ class ArmPlant:
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
         q, qd = x[:nq], x[nq:]
-        if self._coulomb:
-            tau = self.torque(u) - self._friction_torques(self.robot, qd, self.friction_smoothing, self.friction,
-                                                          check=False)
+        if type(u) is not np.ndarray or u.shape != self._u_shape:
+            tau = np.asarray(self.torque(u), dtype=float)  # names a wrong input shape
+        elif self.tau_max is not None:
+            tau = np.minimum(np.maximum(u, self._tau_min), self.tau_max)
         else:
-            tau = self.torque(u) - self.Fv * qd
+            tau = u
+        if self._coulomb:
+            tau = tau - self._friction_torques(self.robot, qd, self.friction_smoothing, self.friction, check=False)
+        elif self._viscous:
+            tau = tau - self.Fv * qd
         if self.external_force is not None:
             tau = tau - self.external_force(t, q, qd)
         xd = np.empty(2 * n)
         xd[:n] = qd
-        xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
+        if self._aba:
+            robot = self.robot
+            xd[n:] = pin.aba(robot.model, robot.data, q, qd, tau)
+        else:
+            xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
         return xd
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:

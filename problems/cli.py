@@ -115,9 +115,10 @@ def main(argv: list[str] | None = None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as exc:
         return int(exc.code or 0) and 2
-    import matplotlib
+    if args.command != "list":  # `rmpc list` reads problems/index.py only: no plotting library
+        import matplotlib
 
-    matplotlib.use("Agg")  # the CLI draws into files only (chapter modules never pick a backend)
+        matplotlib.use("Agg")  # the CLI draws into files only (chapter modules never pick a backend)
     try:
         code = args.func(args)
         sys.stdout.flush()

@@ -130,9 +130,8 @@ class ArmPlant:
 
         self._forward_dynamics = forward_dynamics  # called with check=False: inputs validated here
         self._friction_torques = friction_torques
-        # The hot path of derivative(): no mimic joints → pin.aba straight into ẋ (it returns a fresh array).
+        # The hot path of derivative(): no friction product when F_v = 0, no clipping without limits.
         self._viscous = bool(np.any(self.Fv))
-        self._aba = not robot.has_mimic
         self._u_shape = (self.n,)
         if self.tau_max is not None:
             self._tau_min = -self.tau_max
@@ -182,11 +181,7 @@ class ArmPlant:
             tau = tau - self.external_force(t, q, qd)
         xd = np.empty(2 * n)
         xd[:n] = qd
-        if self._aba:
-            robot = self.robot
-            xd[n:] = pin.aba(robot.model, robot.data, q, qd, tau)
-        else:
-            xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
+        xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
         return xd
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:

@@ -27,6 +27,7 @@ Sects. 8.3.3, 8.4, 8.5; Eqs. (8.51), (8.57), (8.60), (8.76)–(8.89), (8.92)–(
 
 from __future__ import annotations
 
+import math
 from typing import Any, Callable, Sequence
 
 import numpy as np
@@ -251,12 +252,13 @@ class InverseDynamicsControl(LoggedController):
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
         self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
+        self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
 
     def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
         q, qd = meas.q, meas.qd
         q_d, qd_d, qdd_d = self.reference(t)
         e, ed = q_d - q, qd_d - qd
-        y = qdd_d + self.K_D @ ed + self.K_P @ e  # Eq. (8.60)
+        y = qdd_d + gain_times(self._kd, ed) + gain_times(self._kp, e)  # Eq. (8.60)
         u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd  # Eq. (8.57)
         self.record(q_d=q_d, e=e)
         return u
@@ -333,11 +335,13 @@ class RobustControl(LoggedController):
         self._DtQ = self.Q[n:, :].copy()  # Dᵀ Q
         self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
+        self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
+        self._b_hat = diagonal_or_matrix(self.B_hat)
 
     def robust_term(self, e: np.ndarray, ed: np.ndarray) -> np.ndarray:
         """w of Eq. (8.89) for the errors q̃, q̃̇."""
         z = self._DtQ @ np.concatenate([e, ed])
-        norm = float(np.linalg.norm(z))
+        norm = math.sqrt(z.dot(z))  # ‖z‖ (what np.linalg.norm computes, without its dispatch)
         return (self.rho / max(norm, self.epsilon)) * z
 
     def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
@@ -345,8 +349,8 @@ class RobustControl(LoggedController):
         q_d, qd_d, qdd_d = self.reference(t)
         e, ed = q_d - q, qd_d - qd
         w = self.robust_term(e, ed)
-        y = qdd_d + self.K_D @ ed + self.K_P @ e + w
-        u = self.B_hat @ y + self.Fv * qd + gravity_torques(self.robot, q)
+        y = qdd_d + gain_times(self._kd, ed) + gain_times(self._kp, e) + w
+        u = gain_times(self._b_hat, y) + self.Fv * qd + gravity_torques(self.robot, q)
         self.record(q_d=q_d, e=e, w=w)
         return u
 
@@ -393,6 +397,7 @@ class AdaptivePayloadControl(LoggedController):
         self.mass0 = float(mass0)
         self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
+        self._kd, self._lambda = diagonal_or_matrix(self.K_D), diagonal_or_matrix(self.Lambda)
         self.reset()
 
     def reset(self) -> None:
@@ -414,11 +419,11 @@ class AdaptivePayloadControl(LoggedController):
         self._t = t
         q_d, qd_d, qdd_d = self.reference(t)
         e, ed = q_d - q, qd_d - qd
-        qd_r = qd_d + self.Lambda @ e  # Eq. (8.92)
-        qdd_r = qdd_d + self.Lambda @ ed
+        qd_r = qd_d + gain_times(self._lambda, e)  # Eq. (8.92)
+        qdd_r = qdd_d + gain_times(self._lambda, ed)
         sigma = qd_r - qd
         tau0, y_L = self.regressor(q, qd, qd_r, qdd_r)
-        u = tau0 + self.mass * y_L + self.Fv * qd_r + self.K_D @ sigma  # Eq. (8.98)
+        u = tau0 + self.mass * y_L + self.Fv * qd_r + gain_times(self._kd, sigma)  # Eq. (8.98)
         self._rate = self.gain * float(y_L @ sigma)  # π̂̇ = K_π⁻¹ Yᵀ σ
         self.record(q_d=q_d, e=e, m_hat=self.mass)
         return u

@@ -45,7 +45,8 @@ The plant contract (duck-typed; only ``derivative`` is required)
 ``bound``
     The plant's own divergence bound on ``max |x_i|`` (default ``1e12``; the kinematic
     :class:`~controllers.plants.JointIntegrator` uses a few hundred rad); ``simulate(..., bound=)``
-    overrides it. The loop's only per-step check is one reduction ``max |x_i| <= bound``.
+    overrides it. The loop's only per-step check is one dot product, x·x <= bound² (the exact
+    ``max |x_i| <= bound`` is evaluated when it fails).
 ``initial_state(q0, qd0=None) -> x0``
     On arm plants: the state at rest (or moving with ``qd0``).
 

@@ -65,8 +65,7 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
 
     def sampled(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         x, xd, xdd = law(t)
-        return (np.reshape(np.asarray(x, dtype=float), n), np.reshape(np.asarray(xd, dtype=float), n),
-                np.reshape(np.asarray(xdd, dtype=float), n))
+        return _as_reference_vector(x, n), _as_reference_vector(xd, n), _as_reference_vector(xdd, n)
 
     try:
         first = sampled(0.0)
@@ -75,6 +74,13 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
     if not all(np.all(np.isfinite(v)) for v in first):
         raise ValueError(f"`{name}` must be finite, got {first} at t = 0")
     return sampled
+
+
+def _as_reference_vector(x: Any, n: int) -> np.ndarray:
+    """One sample of a reference as a float (n,) array (at once when it already is one)."""
+    if type(x) is np.ndarray and x.dtype == np.float64 and x.shape == (n,):
+        return x
+    return np.reshape(np.asarray(x, dtype=float), n)
 
 
 def as_gain(K: Any, n: int, name: str) -> np.ndarray:
@@ -198,6 +204,8 @@ class ComputedTorqueFeedforward(LoggedController):
         self.K_pr = np.array([d.Ra / d.kt for d in drives]) / self.k_r  # R_a (k_t K_r)⁻¹
         self.b_bar = self.k_r**2 * np.array([d.I for d in drives])  # joint-side constant inertia
         self.k_TP, self.k_TV = float(transducers.k_TP), float(transducers.k_TV)
+        self._c_p, self._c_v = self.k_TP * self.k_r, self.k_TV * self.k_r  # constant factors of the law
+        self._c_a = self.k_m * self.K_P * self.K_V
         self.feedforward = bool(feedforward)
         self.reset()
 
@@ -215,9 +223,9 @@ class ComputedTorqueFeedforward(LoggedController):
         q_d, qd_d, qdd_d = self.reference(t)
         k_r = self.k_r
         # Position-loop reference with the decentralised feedforward (motor side, θ_m = k_r q)
-        r = (self.k_TP * k_r * q_d + self.k_TV * k_r * qd_d / self.K_P
-             + k_r * qdd_d / (self.k_m * self.K_P * self.K_V))
-        e_v = self.K_P * (r - self.k_TP * k_r * q) - self.k_TV * k_r * qd
+        c_p, c_v = self._c_p, self._c_v  # k_TP k_r, k_TV k_r
+        r = c_p * q_d + c_v * qd_d / self.K_P + k_r * qdd_d / self._c_a
+        e_v = self.K_P * (r - c_p * q) - c_v * qd
         v = self.K_V * (self.T_V * e_v + self._integral)  # PI: K_V (1 + s T_V)/s
         self._e_v = e_v
         tau_ff = np.zeros(self.n)

@@ -27,6 +27,7 @@ Sects. 8.3.3, 8.4, 8.5; Eqs. (8.51), (8.57), (8.60), (8.76)–(8.89), (8.92)–(
 
 from __future__ import annotations
 
+import math
 from typing import Any, Callable, Sequence
 
 import numpy as np
@@ -64,8 +65,7 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
 
     def sampled(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         x, xd, xdd = law(t)
-        return (np.reshape(np.asarray(x, dtype=float), n), np.reshape(np.asarray(xd, dtype=float), n),
-                np.reshape(np.asarray(xdd, dtype=float), n))
+        return _as_reference_vector(x, n), _as_reference_vector(xd, n), _as_reference_vector(xdd, n)
 
     try:
         first = sampled(0.0)
@@ -74,6 +74,13 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
     if not all(np.all(np.isfinite(v)) for v in first):
         raise ValueError(f"`{name}` must be finite, got {first} at t = 0")
     return sampled
+
+
+def _as_reference_vector(x: Any, n: int) -> np.ndarray:
+    """One sample of a reference as a float (n,) array (at once when it already is one)."""
+    if type(x) is np.ndarray and x.dtype == np.float64 and x.shape == (n,):
+        return x
+    return np.reshape(np.asarray(x, dtype=float), n)
 
 
 def as_gain(K: Any, n: int, name: str) -> np.ndarray:
@@ -88,6 +95,16 @@ def as_gain(K: Any, n: int, name: str) -> np.ndarray:
     if not np.all(np.isfinite(M)) or np.min(np.linalg.eigvalsh(0.5 * (M + M.T))) <= 0:
         raise ValueError(f"`{name}` must be a finite positive definite gain, got {K!r}")
     return M
+
+
+def diagonal_or_matrix(K: np.ndarray) -> np.ndarray:
+    """A gain matrix as its diagonal (n,) when it is diagonal (per-joint gains, K e = k * e), else as is."""
+    return np.diag(K).copy() if np.count_nonzero(K - np.diag(np.diag(K))) == 0 else K
+
+
+def gain_times(K: np.ndarray, e: np.ndarray) -> np.ndarray:
+    """K e for a gain from :func:`diagonal_or_matrix`: per-joint product or matrix product."""
+    return K * e if K.ndim == 1 else K @ e
 
 
 def mean_diagonal_inertia(robot: Robot, configurations: np.ndarray) -> np.ndarray:
@@ -121,12 +138,13 @@ class PDGravityCompensation(LoggedController):
         self.robot, self.n = robot, n
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
         self.reference = as_reference(reference, n)
+        self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
 
     def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
         q, qd = meas.q, meas.qd
         q_d, qd_d, _ = self.reference(t)
         e = q_d - q
-        u = gravity_torques(self.robot, q) + self.K_P @ e + self.K_D @ (qd_d - qd)  # Eq. (8.51)
+        u = gravity_torques(self.robot, q) + gain_times(self._kp, e) + gain_times(self._kd, qd_d - qd)  # Eq. (8.51)
         self.record(q_d=q_d, e=e)
         return u
 
@@ -186,6 +204,8 @@ class ComputedTorqueFeedforward(LoggedController):
         self.K_pr = np.array([d.Ra / d.kt for d in drives]) / self.k_r  # R_a (k_t K_r)⁻¹
         self.b_bar = self.k_r**2 * np.array([d.I for d in drives])  # joint-side constant inertia
         self.k_TP, self.k_TV = float(transducers.k_TP), float(transducers.k_TV)
+        self._c_p, self._c_v = self.k_TP * self.k_r, self.k_TV * self.k_r  # constant factors of the law
+        self._c_a = self.k_m * self.K_P * self.K_V
         self.feedforward = bool(feedforward)
         self.reset()
 
@@ -203,9 +223,9 @@ class ComputedTorqueFeedforward(LoggedController):
         q_d, qd_d, qdd_d = self.reference(t)
         k_r = self.k_r
         # Position-loop reference with the decentralised feedforward (motor side, θ_m = k_r q)
-        r = (self.k_TP * k_r * q_d + self.k_TV * k_r * qd_d / self.K_P
-             + k_r * qdd_d / (self.k_m * self.K_P * self.K_V))
-        e_v = self.K_P * (r - self.k_TP * k_r * q) - self.k_TV * k_r * qd
+        c_p, c_v = self._c_p, self._c_v  # k_TP k_r, k_TV k_r
+        r = c_p * q_d + c_v * qd_d / self.K_P + k_r * qdd_d / self._c_a
+        e_v = self.K_P * (r - c_p * q) - c_v * qd
         v = self.K_V * (self.T_V * e_v + self._integral)  # PI: K_V (1 + s T_V)/s
         self._e_v = e_v
         tau_ff = np.zeros(self.n)
@@ -240,12 +260,13 @@ class InverseDynamicsControl(LoggedController):
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
         self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
+        self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
 
     def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
         q, qd = meas.q, meas.qd
         q_d, qd_d, qdd_d = self.reference(t)
         e, ed = q_d - q, qd_d - qd
-        y = qdd_d + self.K_D @ ed + self.K_P @ e  # Eq. (8.60)
+        y = qdd_d + gain_times(self._kd, ed) + gain_times(self._kp, e)  # Eq. (8.60)
         u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd  # Eq. (8.57)
         self.record(q_d=q_d, e=e)
         return u
@@ -322,11 +343,13 @@ class RobustControl(LoggedController):
         self._DtQ = self.Q[n:, :].copy()  # Dᵀ Q
         self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
+        self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
+        self._b_hat = diagonal_or_matrix(self.B_hat)
 
     def robust_term(self, e: np.ndarray, ed: np.ndarray) -> np.ndarray:
         """w of Eq. (8.89) for the errors q̃, q̃̇."""
         z = self._DtQ @ np.concatenate([e, ed])
-        norm = float(np.linalg.norm(z))
+        norm = math.sqrt(z.dot(z))  # ‖z‖ (what np.linalg.norm computes, without its dispatch)
         return (self.rho / max(norm, self.epsilon)) * z
 
     def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
@@ -334,8 +357,8 @@ class RobustControl(LoggedController):
         q_d, qd_d, qdd_d = self.reference(t)
         e, ed = q_d - q, qd_d - qd
         w = self.robust_term(e, ed)
-        y = qdd_d + self.K_D @ ed + self.K_P @ e + w
-        u = self.B_hat @ y + self.Fv * qd + gravity_torques(self.robot, q)
+        y = qdd_d + gain_times(self._kd, ed) + gain_times(self._kp, e) + w
+        u = gain_times(self._b_hat, y) + self.Fv * qd + gravity_torques(self.robot, q)
         self.record(q_d=q_d, e=e, w=w)
         return u
 
@@ -382,6 +405,7 @@ class AdaptivePayloadControl(LoggedController):
         self.mass0 = float(mass0)
         self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
+        self._kd, self._lambda = diagonal_or_matrix(self.K_D), diagonal_or_matrix(self.Lambda)
         self.reset()
 
     def reset(self) -> None:
@@ -403,11 +427,11 @@ class AdaptivePayloadControl(LoggedController):
         self._t = t
         q_d, qd_d, qdd_d = self.reference(t)
         e, ed = q_d - q, qd_d - qd
-        qd_r = qd_d + self.Lambda @ e  # Eq. (8.92)
-        qdd_r = qdd_d + self.Lambda @ ed
+        qd_r = qd_d + gain_times(self._lambda, e)  # Eq. (8.92)
+        qdd_r = qdd_d + gain_times(self._lambda, ed)
         sigma = qd_r - qd
         tau0, y_L = self.regressor(q, qd, qd_r, qdd_r)
-        u = tau0 + self.mass * y_L + self.Fv * qd_r + self.K_D @ sigma  # Eq. (8.98)
+        u = tau0 + self.mass * y_L + self.Fv * qd_r + gain_times(self._kd, sigma)  # Eq. (8.98)
         self._rate = self.gain * float(y_L @ sigma)  # π̂̇ = K_π⁻¹ Yᵀ σ
         self.record(q_d=q_d, e=e, m_hat=self.mass)
         return u

@@ -124,6 +124,11 @@ class ArmPlant:
 
         self._forward_dynamics = forward_dynamics  # called with check=False: inputs validated here
         self._friction_torques = friction_torques
+        # The hot path of derivative(): no friction product when F_v = 0, no clipping without limits.
+        self._viscous = bool(np.any(self.Fv))
+        self._u_shape = (self.n,)
+        if self.tau_max is not None:
+            self._tau_min = -self.tau_max
 
     def initial_state(self, q0: Any, qd0: Any = None) -> np.ndarray:
         """x0 = [q0, q̇0] (q̇0 = 0 by default)."""
@@ -156,11 +161,16 @@ class ArmPlant:
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
         q, qd = x[:nq], x[nq:]
-        if self._coulomb:
-            tau = self.torque(u) - self._friction_torques(self.robot, qd, self.friction_smoothing, self.friction,
-                                                          check=False)
+        if type(u) is not np.ndarray or u.shape != self._u_shape:
+            tau = np.asarray(self.torque(u), dtype=float)  # names a wrong input shape
+        elif self.tau_max is not None:
+            tau = np.minimum(np.maximum(u, self._tau_min), self.tau_max)
         else:
-            tau = self.torque(u) - self.Fv * qd
+            tau = u
+        if self._coulomb:
+            tau = tau - self._friction_torques(self.robot, qd, self.friction_smoothing, self.friction, check=False)
+        elif self._viscous:
+            tau = tau - self.Fv * qd
         if self.external_force is not None:
             tau = tau - self.external_force(t, q, qd)
         xd = np.empty(2 * n)

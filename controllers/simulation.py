@@ -45,7 +45,8 @@ The plant contract (duck-typed; only ``derivative`` is required)
 ``bound``
     The plant's own divergence bound on ``max |x_i|`` (default ``1e12``; the kinematic
     :class:`~controllers.plants.JointIntegrator` uses a few hundred rad); ``simulate(..., bound=)``
-    overrides it. The loop's only per-step check is one reduction ``max |x_i| <= bound``.
+    overrides it. The loop's only per-step check is one dot product, x·x <= bound² (the exact
+    ``max |x_i| <= bound`` is evaluated when it fails).
 ``initial_state(q0, qd0=None) -> x0``
     On arm plants: the state at rest (or moving with ``qd0``).
 
@@ -74,6 +75,7 @@ True
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, Mapping, Protocol
 
@@ -369,52 +371,58 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
         controller.reset()
     controller_log = getattr(controller, "log", None)
     n_samples = int(np.floor((tf - t0) / Ts + 1e-9)) + 1
+    layout = getattr(plant, "state_layout", {})
 
     ts = np.empty(n_samples)
     xs = np.empty((n_samples, x.size))
     us: list[np.ndarray] = []
     signals: dict[str, list] = {}
-    log_q = None
+    log_q: list[str] = []
+    # max |x_i| <= ‖x‖₂: the one dot product x·x <= bound² settles a step (NaN and inf fail it); else max |x_i|
+    bound2 = bound * bound if bound < 1e150 else -1.0
     for k in range(n_samples):
         t = t0 + k * Ts
         meas = measure(t, x) if measure else x
-        if log_q is None:
-            log_q = [name for name in ("q", "qd") if hasattr(meas, name) and name not in getattr(plant, "state_layout", {})]
-        u = np.atleast_1d(np.asarray(controller(t, meas), dtype=float))
-        if k == 0 and n_u is not None and (u.ndim != 1 or u.size not in n_u):
-            who = getattr(controller, "__qualname__", type(controller).__name__)
-            sizes = " or ".join(map(str, n_u))
-            raise ValueError(f"the controller `{who}` output shape {u.shape} at t = {t:g} s; "
-                             f"{type(plant).__name__} takes an input u of size {sizes}")
-        ts[k], xs[k] = t, x
+        u = controller(t, meas)
+        if type(u) is not np.ndarray or u.ndim != 1 or u.dtype != np.float64:
+            u = np.atleast_1d(np.asarray(u, dtype=float))
+        if k == 0:
+            log_q = [name for name in ("q", "qd") if hasattr(meas, name) and name not in layout]
+            if n_u is not None and (u.ndim != 1 or u.size not in n_u):
+                who = getattr(controller, "__qualname__", type(controller).__name__)
+                sizes = " or ".join(map(str, n_u))
+                raise ValueError(f"the controller `{who}` output shape {u.shape} at t = {t:g} s; "
+                                 f"{type(plant).__name__} takes an input u of size {sizes}")
+        ts[k] = t
+        xs[k] = x
         us.append(u)
-        extra: dict[str, Any] = {}
         for name in log_q:
-            extra[name] = getattr(meas, name)
+            _append(signals, name, getattr(meas, name))
         if controller_log is not None:
-            extra.update(controller_log())
+            for name, value in controller_log().items():
+                _append(signals, name, value)
         if log is not None:
-            extra.update(log(t, x, u))
-        for name, value in extra.items():
-            signals.setdefault(name, []).append(np.asarray(value, dtype=float))
-        if not np.all(np.isfinite(u)):
+            for name, value in log(t, x, u).items():
+                _append(signals, name, value)
+        if not (math.isfinite(sum(u.tolist())) or np.isfinite(u).all()):  # the sum may overflow: recheck
             raise SimulationDiverged(f"controller output became non-finite at t = {t:.6g} s: u = {u}", t)
         if k == n_samples - 1:
             break
-
-        def f(tau: float, xi: np.ndarray, u: np.ndarray = u) -> np.ndarray:
-            return derivative(tau, xi, u)
-
         if k == 0:
-            shape = np.shape(f(t, x))
+            shape = np.shape(derivative(t, x, u))
             if shape != (n_dx,):
                 who = getattr(derivative, "__qualname__", "the plant's derivative")
                 raise ValueError(f"`{who}` returned shape {shape}, expected ({n_dx},) for a state of size {x.size}")
         for j in range(n_sub):
             ti = t + j * h
-            x = rk4_step(f, ti, x, h, integrate, dexp_inverse)
-            peak = np.max(np.abs(x))                  # one reduction: NaN fails the comparison too
-            if not peak <= bound:
+            if integrate is None:
+                x = _rk4_vector(derivative, ti, x, h, u)
+            else:
+                x = rk4_step(lambda tau, xi: derivative(tau, xi, u), ti, x, h, integrate, dexp_inverse)
+            if bound2 < 0 or not x.dot(x) <= bound2:
+                peak = np.max(np.abs(x))
+                if peak <= bound:
+                    continue
                 if np.isfinite(peak):
                     raise SimulationDiverged(
                         f"plant state exceeded {bound:g} at t = {ti + h:.6g} s: the loop diverges", ti + h)
@@ -422,9 +430,31 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                     f"plant state became non-finite at t = {ti + h:.6g} s (step h = {h:g} s); "
                     "the loop is unstable or the step is too large", ti + h)
     return SimulationResult(t=ts, x=xs, u=np.array(us),
-                            signals={k: np.array(v) for k, v in signals.items()},
-                            layout=dict(getattr(plant, "state_layout", {})),
+                            signals={k: np.array(v, dtype=float) for k, v in signals.items()},
+                            layout=dict(layout),
                             units=dict(getattr(plant, "units", {})))
+
+
+def _append(signals: dict[str, list], name: str, value: Any) -> None:
+    """Log one sample of a signal (float arrays are stacked at the end of the run, anything else is
+    converted now, so that a list the controller changes later is logged as it was)."""
+    if not isinstance(value, (float, np.ndarray)):
+        value = np.asarray(value, dtype=float)
+    try:
+        signals[name].append(value)
+    except KeyError:
+        signals[name] = [value]
+
+
+def _rk4_vector(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray], t: float, x: np.ndarray,
+                h: float, u: np.ndarray) -> np.ndarray:
+    """:func:`rk4_step` on a vector space with the input ``u`` held (the loop's hot path, no closure)."""
+    hh = 0.5 * h
+    k1 = derivative(t, x, u)
+    k2 = derivative(t + hh, x + hh * k1, u)
+    k3 = derivative(t + hh, x + hh * k2, u)
+    k4 = derivative(t + h, x + h * k3, u)
+    return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
 
 
 def per_joint(value: Any, n: int, name: str) -> np.ndarray:

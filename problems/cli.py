@@ -1,4 +1,4 @@
-"""The ``rmpc`` command line: ``rmpc list``, ``rmpc solve ID [--json] [--figures DIR]``, ``rmpc report``.
+"""The ``rmpc`` command line: ``rmpc list``, ``rmpc solve ID [--json] [--figures DIR]``, ``rmpc report [-j N]``.
 
 Exit codes: 0 every check passed, 1 a check failed (or a problem raised), 2 bad input (unknown id or
 chapter, an output directory that cannot be written, bad arguments) — reported in one line on stderr,
@@ -39,6 +39,17 @@ def writable_directory(path: str, option: str) -> Path:
     except OSError as exc:
         raise BadInput(f"{option} {path}: cannot write there ({exc.strerror or exc})") from None
     return directory
+
+
+def positive_int(text: str) -> int:
+    """An argument N ≥ 1 (``-j N``)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be a whole number of processes >= 1, got {text!r}")
+    return value
 
 
 def cmd_list(args: argparse.Namespace) -> int:
@@ -87,7 +98,7 @@ def cmd_report(args: argparse.Namespace) -> int:
         problems = [p for p in problems if p.chapter in args.chapter]
     out = writable_directory(args.out, "--out")
     try:
-        summary = write_report(problems, out)
+        summary = write_report(problems, out, jobs=args.jobs)
     except OSError as exc:
         raise BadInput(f"--out {args.out}: cannot write the report ({exc.strerror or exc})") from None
     print(f"report written to {out / 'index.html'}")
@@ -110,14 +121,17 @@ def main(argv: list[str] | None = None) -> int:
     p_report = sub.add_parser("report", help="solve every problem, write DIR/index.html")
     p_report.add_argument("--out", default="report", metavar="DIR")
     p_report.add_argument("--chapter", type=int, action="append", help="only this chapter (repeatable)")
+    p_report.add_argument("-j", "--jobs", type=positive_int, default=os.cpu_count() or 1, metavar="N",
+                          help="solve the problems in N processes (default: the number of cores)")
     p_report.set_defaults(func=cmd_report)
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:
         return int(exc.code or 0) and 2
-    import matplotlib
+    if args.command != "list":  # `rmpc list` reads problems/index.py only: no plotting library
+        import matplotlib
 
-    matplotlib.use("Agg")  # the CLI draws into files only (chapter modules never pick a backend)
+        matplotlib.use("Agg")  # the CLI draws into files only (chapter modules never pick a backend)
     try:
         code = args.func(args)
         sys.stdout.flush()

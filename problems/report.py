@@ -177,37 +177,62 @@ def _progress(k: int, n: int, pid: str, started: float) -> None:
     sys.stderr.flush()
 
 
-def write_report(problems: list, out: Path) -> list[dict]:
+def _solve_for_report(prob: Any, out: Path) -> tuple[dict, list[str]]:
+    """Solve one problem for the report: its :func:`solution_dict` (with ``passed``, ``seconds``), figures
+    written under ``out/figures``, and its animations' HTML."""
+    fig_dir = out / "figures"
+    t0 = time.time()
+    try:
+        sol = prob.solve()
+        figures = save_figures(sol, fig_dir)
+        data = solution_dict(sol, figures)
+        animations = _animations(sol, out)
+        passed = sol.passed
+    except Exception:  # a crashing problem is reported as failed, the report goes on
+        data = {"id": prob.id, "title": prob.title, "kind": prob.kind, "values": {},
+                "checks": [{"name": "solve", "passed": False, "detail": traceback.format_exc()}],
+                "figures": []}
+        passed, animations = False, []
+    data["seconds"] = round(time.time() - t0, 3)
+    data["passed"] = passed
+    return data, animations
+
+
+def _solved(problems: list, out: Path, jobs: int) -> Iterable[tuple[dict, list[str]]]:
+    """:func:`_solve_for_report` of each problem, in order: here, or in ``jobs`` processes (forked after
+    the parent imported the problems' chapters, so that each worker starts with them)."""
+    jobs = max(1, min(int(jobs), len(problems)))
+    if jobs == 1:
+        yield from (_solve_for_report(prob, out) for prob in problems)
+        return
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    for prob in problems:  # import the chapter modules once, before the workers are forked
+        getattr(prob, "function", None)
+    methods = multiprocessing.get_all_start_methods()
+    context = multiprocessing.get_context("fork" if "fork" in methods else None)
+    with ProcessPoolExecutor(jobs, mp_context=context) as pool:
+        yield from pool.map(_solve_for_report, problems, [out] * len(problems))
+
+
+def write_report(problems: list, out: Path, jobs: int = 1) -> list[dict]:
     """Solve ``problems`` (registry ``Problem`` objects) and write ``out/index.html``, ``out/summary.json``
     and ``out/figures/``; return the summary (one :func:`solution_dict` per problem, with ``passed`` and
-    ``seconds``). A crashing problem is reported as failed with its traceback; the report goes on."""
+    ``seconds``). A crashing problem is reported as failed with its traceback; the report goes on.
+    ``jobs`` > 1 solves the problems in that many processes; the report is the same, in the same order."""
     out = Path(out)
-    fig_dir = out / "figures"
     out.mkdir(parents=True, exist_ok=True)
     progress = sys.stderr.isatty() or bool(os.environ.get("RMPC_PROGRESS"))
     started = time.time()
     rows, summary = [], []
-    for k, prob in enumerate(problems):
+    for k, (prob, (data, animations)) in enumerate(zip(problems, _solved(problems, out, jobs))):
         if progress:
-            _progress(k, len(problems), prob.id, started)
-        t0 = time.time()
-        try:
-            sol = prob.solve()
-            figures = save_figures(sol, fig_dir)
-            data = solution_dict(sol, figures)
-            animations = _animations(sol, out)
-            passed = sol.passed
-        except Exception:  # a crashing problem is reported as failed, the report goes on
-            data = {"id": prob.id, "title": prob.title, "kind": prob.kind, "values": {},
-                    "checks": [{"name": "solve", "passed": False, "detail": traceback.format_exc()}],
-                    "figures": []}
-            passed, animations = False, []
-        data["seconds"] = round(time.time() - t0, 3)
-        data["passed"] = passed
+            _progress(k + 1, len(problems), prob.id, started)
         summary.append(data)
         rows.append(solution_html(data, [f"figures/{f}" for f in data["figures"]], animations))
         if not sys.stderr.isatty():
-            print(f"{prob.id:>6} {'PASS' if passed else 'FAIL'} {data['seconds']:7.2f}s  {prob.title}",
+            print(f"{prob.id:>6} {'PASS' if data['passed'] else 'FAIL'} {data['seconds']:7.2f}s  {prob.title}",
                   file=sys.stderr)
     if progress:
         _progress(len(problems), len(problems), "", started)

@@ -3,7 +3,8 @@
 The book's motor model (rotor i carried by link i−1, spinning at k_ri q̇_i, Sect. 7.3) is in the
 URDF as mimic joints, so CRBA/RNEA here include the k_r I_m terms of (7.32). With mimic joints
 Pinocchio refuses ABA; forward dynamics is then the Cholesky solve of B q̈ = τ − h.
-Every function copies its result out of ``robot.data``. :func:`inverse_dynamics` is the rigid-body
+Every result is a new array, never a view of ``robot.data``: Pinocchio 4's bindings return copies
+(checked by tests/rigid_body/test_wrapper_costs.py), so no second copy is made. :func:`inverse_dynamics` is the rigid-body
 model; friction, F_v q̇ + F_s sgn(q̇) in (7.42), is :func:`friction_torques` (from ``robot.friction``).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
@@ -24,9 +25,8 @@ from rigid_body.validation import as_vector
 
 def inertia_matrix(robot: Robot, q: np.ndarray) -> np.ndarray:
     """B(q), (nv, nv), symmetric positive definite, Eq. (7.32) (CRBA)."""
-    q = as_vector(q, robot.nq, "q")
-    B = pin.crba(robot.model, robot.data, q)
-    return np.triu(B) + np.triu(B, 1).T
+    model = robot.model
+    return pin.crba(model, robot.data, as_vector(q, model.nq, "q"))  # Pinocchio 4 fills both triangles
 
 
 def coriolis_matrix(robot: Robot, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
@@ -40,7 +40,7 @@ def coriolis_matrix(robot: Robot, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
     qd = as_vector(qd, robot.nv, "qd")
     if robot.has_mimic:
         return christoffel_symbols(robot, q) @ qd
-    return pin.computeCoriolisMatrix(robot.model, robot.data, q, qd).copy()
+    return pin.computeCoriolisMatrix(robot.model, robot.data, q, qd)
 
 
 def christoffel_symbols(robot: Robot, q: np.ndarray) -> np.ndarray:
@@ -53,7 +53,7 @@ def christoffel_symbols(robot: Robot, q: np.ndarray) -> np.ndarray:
     q = as_vector(q, robot.nq, "q")
     model, data = robot.model, robot.data
     n = model.nv
-    g = pin.computeGeneralizedGravity(model, data, q).copy()
+    g = pin.computeGeneralizedGravity(model, data, q)
     E = np.eye(n)
     c = np.empty((n, n, n))
     for j in range(n):
@@ -67,23 +67,21 @@ def christoffel_symbols(robot: Robot, q: np.ndarray) -> np.ndarray:
 
 def gravity_torques(robot: Robot, q: np.ndarray) -> np.ndarray:
     """g(q), Eq. (7.39)."""
-    q = as_vector(q, robot.nq, "q")
-    return pin.computeGeneralizedGravity(robot.model, robot.data, q).copy()
+    model = robot.model
+    return pin.computeGeneralizedGravity(model, robot.data, as_vector(q, model.nq, "q"))
 
 
 def nonlinear_effects(robot: Robot, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
     """h(q, q̇) = C(q, q̇) q̇ + g(q)."""
-    q = as_vector(q, robot.nq, "q")
-    qd = as_vector(qd, robot.nv, "qd")
-    return pin.nonLinearEffects(robot.model, robot.data, q, qd).copy()
+    model = robot.model
+    return pin.nonLinearEffects(model, robot.data, as_vector(q, model.nq, "q"), as_vector(qd, model.nv, "qd"))
 
 
 def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
     """τ = B(q) q̈ + C(q, q̇) q̇ + g(q) by recursive Newton–Euler (Sect. 7.5)."""
-    q = as_vector(q, robot.nq, "q")
-    qd = as_vector(qd, robot.nv, "qd")
-    qdd = as_vector(qdd, robot.nv, "qdd")
-    return pin.rnea(robot.model, robot.data, q, qd, qdd).copy()
+    model = robot.model
+    nv = model.nv
+    return pin.rnea(model, robot.data, as_vector(q, model.nq, "q"), as_vector(qd, nv, "qd"), as_vector(qdd, nv, "qdd"))
 
 
 def friction_torques(robot: Robot, qd: np.ndarray, smoothing: float = 0.0,
@@ -117,7 +115,7 @@ def reference_torque(robot: Robot, q: np.ndarray, qd: np.ndarray, qd_r: np.ndarr
     qd_r = as_vector(qd_r, robot.nv, "qd_r")
     qdd_r = as_vector(qdd_r, robot.nv, "qdd_r")
     model, data = robot.model, robot.data
-    plus = pin.rnea(model, data, q, qd + qd_r, 4.0 * qdd_r).copy()
+    plus = pin.rnea(model, data, q, qd + qd_r, 4.0 * qdd_r)
     minus = pin.rnea(model, data, q, qd - qd_r, np.zeros(model.nv))
     return (plus - minus) / 4.0 + pin.computeGeneralizedGravity(model, data, q)
 
@@ -130,13 +128,12 @@ def forward_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarra
     ValueError on both paths when B(q) is singular (e.g. a link with neither mass nor inertia): ABA then
     returns NaN/inf (one dot product checks it), Cholesky fails.
     """
-    if check:
-        q = as_vector(q, robot.nq, "q")
-        qd = as_vector(qd, robot.nv, "qd")
-        tau = as_vector(tau, robot.nv, "tau")
     model, data = robot.model, robot.data
+    if check:
+        nv = model.nv
+        q, qd, tau = as_vector(q, model.nq, "q"), as_vector(qd, nv, "qd"), as_vector(tau, nv, "tau")
     if not robot.has_mimic:
-        qdd = pin.aba(model, data, q, qd, tau).copy()
+        qdd = pin.aba(model, data, q, qd, tau)
         if not math.isfinite(qdd.dot(qdd)) and not np.isfinite(qdd).all():  # the dot may overflow: recheck
             for name, x in (("q", q), ("qd", qd), ("tau", tau)):  # unchecked inputs (check=False)
                 as_vector(x, None, name)

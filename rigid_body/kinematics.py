@@ -3,7 +3,8 @@
 Conventions: the book's geometric Jacobian ``J = [J_P; J_O]`` (linear velocity of the frame origin
 and angular velocity, both in the base frame, Eq. (3.4)) is Pinocchio's ``LOCAL_WORLD_ALIGNED``
 frame Jacobian. Frames are given by name or id; the default is the robot's end effector.
-Returned arrays are copies: Pinocchio's ``data`` is overwritten by the next call.
+Returned arrays are new arrays, never views of ``robot.data`` (which the next call overwrites): Pinocchio 4's
+bindings return copies, checked by tests/rigid_body/test_wrapper_costs.py.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
 Sects. 2.8–2.12 (direct and inverse kinematics), 3.1–3.3 (geometric Jacobian).
@@ -30,24 +31,23 @@ LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 def direct_kinematics(robot: Robot, q: np.ndarray, frame: str | int | None = None) -> np.ndarray:
     """T_e^0(q): (4, 4) pose of ``frame`` (default the end effector) in the base frame, Eq. (2.50)."""
-    q = as_vector(q, robot.nq, "q")
+    model, data = robot.model, robot.data
     fid = robot.frame(frame)
-    pin.forwardKinematics(robot.model, robot.data, q)
-    return pin.updateFramePlacement(robot.model, robot.data, fid).homogeneous.copy()
+    pin.forwardKinematics(model, data, as_vector(q, model.nq, "q"))
+    return pin.updateFramePlacement(model, data, fid).homogeneous  # a new array
 
 
 def frame_poses(robot: Robot, q: np.ndarray, frames: list[str | int]) -> list[np.ndarray]:
     """Poses (4×4) of several frames at ``q`` with one forward-kinematics pass."""
     q = as_vector(q, robot.nq, "q")
     pin.framesForwardKinematics(robot.model, robot.data, q)
-    return [robot.data.oMf[robot.frame(f)].homogeneous.copy() for f in frames]
+    return [robot.data.oMf[robot.frame(f)].homogeneous for f in frames]  # new arrays
 
 
 def geometric_jacobian(robot: Robot, q: np.ndarray, frame: str | int | None = None) -> np.ndarray:
     """J(q) = [J_P; J_O], (6, nv): book convention (Pinocchio LOCAL_WORLD_ALIGNED), Eq. (3.30)."""
-    q = as_vector(q, robot.nq, "q")
-    fid = robot.frame(frame)
-    return pin.computeFrameJacobian(robot.model, robot.data, q, fid, LWA).copy()
+    model = robot.model
+    return pin.computeFrameJacobian(model, robot.data, as_vector(q, model.nq, "q"), robot.frame(frame), LWA)  # a new array
 
 
 def jacobian_derivative_times_qd(robot: Robot, q: np.ndarray, qd: np.ndarray,

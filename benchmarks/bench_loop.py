@@ -1,0 +1,145 @@
+"""Benchmark: the Python simulation loop against its Pinocchio floor, the Robotics Toolbox's ``fdyn``, and
+the closed loops of the manual in simulated seconds per wall second.
+
+* Puma 560 (``load("puma560")``, armature motors, ABA), PD + gravity compensation (8.51) with
+  K_P = 100, K_D = 20 towards a set point, 2 s, RK4 at 1 ms with the controller at 1 ms. The floor is
+  the Pinocchio calls alone (4 ``aba`` per RK4 step + 1 gravity per sample) timed in the same process.
+  The Toolbox (``pip install rmpc[bench]``; skipped when absent) integrates the same model and law
+  (continuous in time) with SciPy's RK45 at its default tolerances. Each side's integration error is
+  its final state against a tight solution of its own system: rmpc's sampled loop with RK4 at 1 ms/64,
+  the Toolbox's with RK45 at rtol 1e-10.
+* Problems 8.10–8.16: every ``simulate`` call of the problem is timed (the rest of the problem — figures,
+  checks — is not); the row is simulated seconds per wall second, target ≥ 20.
+
+Run: ``python benchmarks/bench_loop.py`` (or ``python -m benchmarks`` for every table).
+"""
+
+from __future__ import annotations
+
+import importlib
+import time
+
+import numpy as np
+import pinocchio as pin
+
+from controllers.joint_space import PDGravityCompensation
+from controllers.plants import ArmPlant
+from controllers.simulation import simulate
+from rigid_body.robots import load
+
+K_P, K_D, T_END, H = 100.0, 20.0, 2.0, 1e-3
+Q_D = np.array([0.5, -0.6, 0.3, 0.2, -0.4, 0.1])
+BOOK_LOOPS = ("8.10", "8.11", "8.12", "8.13", "8.14", "8.15", "8.16")
+
+
+def best_of(f, rounds: int = 3) -> tuple[float, object]:
+    """(best wall time [s] of ``rounds`` calls of ``f``, its last result)."""
+    best, out = float("inf"), None
+    for _ in range(rounds):
+        t0 = time.perf_counter()
+        out = f()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+def puma_loop(h: float = H):
+    robot = load("puma560")
+    plant = ArmPlant(robot)
+    return lambda: simulate(plant, PDGravityCompensation(robot, K_P, K_D, Q_D), (0.0, T_END),
+                            plant.initial_state(np.zeros(6)), h=h, Ts=H)
+
+
+def pinocchio_floor(xs: np.ndarray) -> float:
+    """Wall time of the loop's Pinocchio calls alone along its trajectory: 4 aba per step, 1 gravity per sample."""
+    robot = load("puma560")
+    model, data, tau = robot.model, robot.data, np.zeros(6)
+    states = [(x[:6].copy(), x[6:].copy()) for x in xs[:-1]]
+
+    def calls() -> None:
+        for q, v in states:
+            pin.computeGeneralizedGravity(model, data, q)
+            for _ in range(4):
+                pin.aba(model, data, q, v, tau)
+
+    return best_of(calls, 5)[0]
+
+
+def toolbox(rtol: float | None = None):
+    """The Toolbox's fdyn on its Puma 560 (friction off, as ArmPlant) with the same law, or None."""
+    try:
+        import roboticstoolbox as rtb
+    except ImportError:
+        return None
+    puma = rtb.models.DH.Puma560().nofriction(coulomb=True, viscous=True)
+
+    def law(robot, t, q, qd):
+        return robot.gravload(q) + K_P * (Q_D - q) - K_D * qd
+
+    args = {} if rtol is None else {"solver_args": {"rtol": rtol, "atol": 1e-12}}
+    return lambda: puma.fdyn(T_END, np.zeros(6), law, **args)
+
+
+def book_loops(pid: str) -> tuple[float, float]:
+    """(simulated seconds, wall seconds inside ``simulate``) of problem ``pid``."""
+    from problems.registry import get
+
+    prob = get(pid)
+    module = importlib.import_module(prob.function.__module__)
+    spent = [0.0, 0.0]
+
+    def timed(plant, controller, t_span, *args, **kwargs):
+        t0 = time.perf_counter()
+        res = simulate(plant, controller, t_span, *args, **kwargs)
+        spent[1] += time.perf_counter() - t0
+        spent[0] += t_span[1] - t_span[0]
+        return res
+
+    module.simulate, original = timed, module.simulate
+    try:
+        prob.solve()
+    finally:
+        module.simulate = original
+    return spent[0], spent[1]
+
+
+def rows() -> list[dict]:
+    t_loop, res = best_of(puma_loop())
+    t_floor = pinocchio_floor(res.x)
+    tight = puma_loop(H / 64)()
+    err_rmpc = float(np.max(np.abs(res.x[-1] - tight.x[-1])))
+    out = [
+        dict(measurement="Puma PD+g 2 s, RK4 1 ms, Python loop [ms]", rmpc=t_loop * 1e3, reference=t_floor * 1e3,
+             ref_name="its Pinocchio calls alone", target=("ratio<=", 2.0)),
+        dict(measurement="  final max |q_d - q| [rad]", rmpc=float(np.max(np.abs(Q_D - res.q[-1]))), reference=None,
+             ref_name="", target=None),
+        dict(measurement="  integration error at 2 s [rad, rad/s]", rmpc=err_rmpc, reference=None,
+             ref_name="vs RK4 at 1 ms/64", target=None),
+    ]
+    run = toolbox()
+    if run is None:
+        out.append(dict(measurement="  Robotics Toolbox fdyn: not installed (pip install rmpc[bench])", rmpc=t_loop * 1e3,
+                        reference=None, ref_name="", target=None))
+    else:
+        t_rtb, tg = best_of(run)
+        ref = toolbox(1e-10)()
+        x_rtb, x_ref = np.r_[tg.q[-1], tg.qd[-1]], np.r_[ref.q[-1], ref.qd[-1]]
+        out += [
+            dict(measurement="Puma PD+g 2 s, Python loop vs Toolbox fdyn [ms]", rmpc=t_loop * 1e3,
+                 reference=t_rtb * 1e3, ref_name="roboticstoolbox fdyn (RK45)", target=("ratio<=", 1.0)),
+            dict(measurement="  Toolbox final max |q_d - q| [rad]", rmpc=float(np.max(np.abs(Q_D - tg.q[-1]))),
+                 reference=None, ref_name="", target=None),
+            dict(measurement="  Toolbox integration error at 2 s [rad, rad/s]",
+                 rmpc=float(np.max(np.abs(x_rtb - x_ref))), reference=None, ref_name="vs RK45 at rtol 1e-10",
+                 target=None),
+        ]
+    for pid in BOOK_LOOPS:
+        simulated, wall = book_loops(pid)
+        out.append(dict(measurement=f"problem {pid} closed loops [simulated s / wall s]", rmpc=simulated / wall,
+                        reference=None, ref_name="", target=(">=", 20.0)))
+    return out
+
+
+if __name__ == "__main__":
+    from benchtools import print_rows
+
+    print_rows(rows())

@@ -1,0 +1,97 @@
+"""The cheap per-step paths of the loop keep its semantics: bound test, logging, input checks, gains."""
+
+import numpy as np
+import pytest
+
+from controllers.joint_space import PDGravityCompensation
+from controllers.plants import ArmPlant
+from controllers.simulation import LoggedController, SimulationDiverged, rk4_step, simulate
+from rigid_body.dynamics import forward_dynamics, gravity_torques
+from rigid_body.robots import load
+
+
+def test_state_inside_the_bound_but_with_a_larger_norm_is_not_diverged():
+    """max |x_i| = 0.9 ≤ bound 1 while ‖x‖₂ = 1.27 > 1: the bound is on max |x_i|."""
+    res = simulate(lambda t, x, u: np.zeros(2), lambda t, x: np.zeros(1), (0.0, 0.01), [0.9, 0.9], h=1e-3, bound=1.0)
+    assert np.all(res.x == 0.9)
+
+
+def test_state_beyond_a_huge_bound_still_stops_the_run():
+    with pytest.raises(SimulationDiverged, match="exceeded 1e\\+200 at t = 0.001 s"):
+        simulate(lambda t, x, u: np.array([1e206]), lambda t, x: np.zeros(1), (0.0, 0.01), [0.0], h=1e-3,
+                 bound=1e200)
+
+
+def test_non_finite_state_and_input_are_told_with_their_time():
+    with pytest.raises(SimulationDiverged, match="non-finite at t = 0.002 s"):
+        simulate(lambda t, x, u: np.array([np.inf if t >= 0.002 else 0.0]), lambda t, x: np.zeros(1), (0.0, 0.01),
+                 [0.0], h=1e-3)
+    with pytest.raises(SimulationDiverged, match="controller output became non-finite at t = 0.002 s"):
+        simulate(lambda t, x, u: np.zeros(1), lambda t, x: np.array([np.nan if t > 0.0015 else 0.0]),
+                 (0.0, 0.01), [0.0], h=1e-3)
+
+
+def test_huge_finite_input_is_not_mistaken_for_a_non_finite_one():
+    res = simulate(lambda t, x, u: np.zeros(1), lambda t, x: np.array([1e200, -1e200]), (0.0, 0.005), [0.0], h=1e-3)
+    assert np.all(res.u == [1e200, -1e200])
+
+
+def test_logged_list_changed_later_is_logged_as_it_was():
+    class Counter(LoggedController):
+        def reset(self):
+            super().reset()
+            self.history = [0.0]
+
+        def __call__(self, t, x):
+            self.history[0] += 1.0
+            self.record(count=self.history, scalar=self.history[0], array=np.array(self.history))
+            return np.zeros(1)
+
+    res = simulate(lambda t, x, u: np.zeros(1), Counter(), (0.0, 0.004), [0.0], h=1e-3)
+    np.testing.assert_array_equal(res["count"][:, 0], [1, 2, 3, 4, 5])
+    np.testing.assert_array_equal(res["scalar"], [1, 2, 3, 4, 5])
+    np.testing.assert_array_equal(res["array"][:, 0], [1, 2, 3, 4, 5])
+
+
+def test_list_and_integer_controller_outputs_are_floats():
+    res = simulate(lambda t, x, u: -x + u, lambda t, x: [1], (0.0, 0.01), [0.0], h=1e-3)
+    assert res.u.dtype == float and res.u.shape == (11, 1)
+
+
+def test_hot_rk4_path_equals_the_public_step():
+    """The loop's RK4 (no closure) and :func:`rk4_step` give the same bits on a nonlinear plant."""
+    def f(t, x, u):
+        return np.array([x[1], -np.sin(x[0]) + u[0] * np.cos(t)])
+
+    u = np.array([0.3])
+    x = np.array([1.0, 0.0])
+    for k in range(100):
+        x = rk4_step(lambda t, xi: f(t, xi, u), 0.01 * k, x, 0.01)
+    res = simulate(f, lambda t, x: u, (0.0, 1.0), [1.0, 0.0], h=0.01)
+    np.testing.assert_array_equal(res.x[-1], x)
+
+
+def test_arm_derivative_fast_path_equals_forward_dynamics():
+    robot = load("planar_2r", motors=False)
+    rng = np.random.default_rng(3)
+    x, u = rng.normal(size=4), rng.normal(size=2) * 20
+    plain = ArmPlant(robot).derivative(0.0, x, u)
+    np.testing.assert_array_equal(plain[:2], x[2:])
+    np.testing.assert_allclose(plain[2:], forward_dynamics(robot, x[:2], x[2:], u), rtol=1e-12)
+    limits = np.array([5.0, 50.0])
+    saturated = ArmPlant(robot, tau_max=limits, viscous_friction=0.5).derivative(0.0, x, u)
+    expected = forward_dynamics(robot, x[:2], x[2:], np.clip(u, -limits, limits) - 0.5 * x[2:])
+    np.testing.assert_allclose(saturated[2:], expected, rtol=1e-12)
+    np.testing.assert_array_equal(ArmPlant(robot).derivative(0.0, x, list(u)), plain)  # a list input
+    with pytest.raises(ValueError, match="needs 2 joint torques"):
+        ArmPlant(robot).derivative(0.0, x, np.ones(3))
+
+
+@pytest.mark.parametrize("K_P", [100.0, [100.0, 60.0], [[100.0, 10.0], [10.0, 60.0]]])
+def test_pd_gravity_gains_as_scalar_vector_or_matrix(K_P):
+    robot = load("planar_2r")
+    q_d, q, qd = np.array([0.4, -0.3]), np.array([0.1, 0.2]), np.array([0.5, -1.0])
+    ctrl = PDGravityCompensation(robot, K_P, 20.0, q_d)
+    meas = ArmPlant(robot).measure(0.0, np.r_[q, qd])
+    K = np.diag(np.broadcast_to(K_P, 2)) if np.ndim(K_P) < 2 else np.array(K_P)
+    np.testing.assert_allclose(ctrl(0.0, meas), gravity_torques(robot, q) + K @ (q_d - q) - 20.0 * qd, rtol=1e-14)

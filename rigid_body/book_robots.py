@@ -237,7 +237,8 @@ def puma560(motors: str = "armature", friction: bool = True, payload: float = 0.
                if friction else {})))
     configurations = {"qz": (0.0,) * 6, "qr": (0.0, np.pi / 2, -np.pi / 2, 0.0, 0.0, 0.0),
                       "qs": (0.0, 0.0, -np.pi / 2, 0.0, 0.0, 0.0),
-                      "qn": (0.0, np.pi / 4, np.pi, 0.0, np.pi / 4, 0.0)}
+                      # the Toolbox's qn has q3 = +π, outside the joint's [−225°, 45°]: the same pose at −π
+                      "qn": (0.0, np.pi / 4, -np.pi, 0.0, np.pi / 4, 0.0)}
     return BookRobot("puma560", tuple(links), (0.0, 0.0, -G), payload, motors, configurations)
 
 

@@ -40,6 +40,15 @@ EXAMPLE_ROBOTS: dict[str, tuple[str, str]] = {
     "double_pendulum": ("double_pendulum_description/urdf/double_pendulum_simple.urdf", "link2"),
 }
 LOCKED_JOINTS: dict[str, tuple[str, ...]] = {"panda": ("panda_finger_joint1", "panda_finger_joint2")}
+#: Named configurations of the real robots, inside their joint limits and away from singularities [rad]:
+#: the Panda's ``ready`` is Franka's own start pose; the UR arms' ``home`` has the elbow bent and the tool down.
+_UR_HOME = (0.0, -np.pi / 2, np.pi / 2, -np.pi / 2, -np.pi / 2, 0.0)
+EXAMPLE_CONFIGURATIONS: dict[str, dict[str, tuple[float, ...]]] = {
+    "panda": {"ready": (0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4)},
+    "ur3": {"home": _UR_HOME},
+    "ur5": {"home": _UR_HOME},
+    "ur10": {"home": _UR_HOME},
+}
 
 Geometry = tuple[pin.GeometryModel, pin.GeometryModel]  # (collision, visual)
 _AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
@@ -129,7 +138,9 @@ class Robot:
     ee_frame : id of the end-effector frame (``ee`` for the book's robots).
     urdf_path : the URDF file, or None for a model built in memory.
     urdf_xml : the URDF text the model was built from.
-    configurations : named joint configurations (e.g. ``"neutral"``).
+    configurations : named joint configurations, all within the joint limits: ``"neutral"`` (Pinocchio's
+        neutral moved onto the limits) for every robot, the Panda's ``"ready"``, the UR arms' ``"home"``,
+        the Puma 560's ``"qz"``, ``"qr"``, ``"qs"``, ``"qn"``.
     friction : the joint friction (:class:`JointFriction`); by default Pinocchio's ``model.damping`` and
         ``model.friction`` (URDF ``<dynamics>``); a DH table's friction fields for :func:`robot_from_dh`.
     geometry_loader : builds ``(collision, visual)`` geometry models on first use (meshes take ~0.5 s).
@@ -230,7 +241,9 @@ def _build(xml: str, gravity: Any | None, name: str, ee: str | None, path: Path 
 
     robot = Robot(name=name, model=model, data=model.createData(), ee_frame=model.getFrameId(ee),
                   urdf_path=path, urdf_xml=xml, geometry_loader=geometry)
-    robot.configurations["neutral"] = pin.neutral(model)
+    # Pinocchio's neutral (all zeros for revolute joints) moved onto the joint limits where it lies
+    # outside them (the Panda's q4 ≤ −0.07 rad, a prismatic joint's minimum stroke): a valid start.
+    robot.configurations["neutral"] = np.clip(pin.neutral(model), model.lowerPositionLimit, model.upperPositionLimit)
     return robot
 
 
@@ -341,8 +354,10 @@ def _load_example_robot(name: str) -> Robot:
     if not path.is_file():
         raise FileNotFoundError(f"example-robot-data has no {rel} (looked in {root})")
     # Meshes are package://example-robot-data/robots/...: the package directory is the ``share`` above it.
-    return _build(path.read_text(), GRAVITY, name, ee, path, LOCKED_JOINTS.get(name, ()),
-                  package_dirs=(root.parent.parent,))
+    robot = _build(path.read_text(), GRAVITY, name, ee, path, LOCKED_JOINTS.get(name, ()),
+                   package_dirs=(root.parent.parent,))
+    robot.configurations.update({k: np.array(v) for k, v in EXAMPLE_CONFIGURATIONS.get(name, {}).items()})
+    return robot
 
 
 def available() -> list[str]:

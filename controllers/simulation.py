@@ -237,6 +237,12 @@ class SimulationResult:
     def __len__(self) -> int:
         return len(self.t)
 
+    def __repr__(self) -> str:
+        """One line: samples, time span, state and input sizes, signal names (not the arrays)."""
+        span = f"[{self.t[0]:.4g}, {self.t[-1]:.4g}] s" if len(self.t) else "[]"
+        return (f"SimulationResult({len(self.t)} samples on {span}, x: {self.x.shape[1:]}, u: {self.u.shape[1:]}, "
+                f"signals={sorted(self.signals)})")
+
     @property
     def q(self) -> np.ndarray:
         """Joint positions (N, nq) (from the measurement or the plant's state layout)."""

@@ -444,6 +444,9 @@ class Trajectory:
         return (f"Trajectory {self.name or '(unnamed)'}: {len(self)} samples x {self.n} joints "
                 f"on [{self.t[0]:.6g}, {self.t[-1]:.6g}] s")
 
+    def __repr__(self) -> str:
+        return f"<{self}>"
+
     @property
     def n(self) -> int:
         """Number of joints (columns)."""

@@ -175,6 +175,13 @@ class Robot:
         if self.friction is None:
             self.friction = JointFriction.from_model(self.model)
 
+    def __repr__(self) -> str:
+        """One line: name, sizes, end effector, named configurations, motors and mass (not the URDF)."""
+        mass = sum(inertia.mass for inertia in self.model.inertias)
+        extra = ", rotors" if self.has_mimic else ""
+        return (f"Robot({self.name!r}, nq={self.nq}, nv={self.nv}, ee={self.model.frames[self.ee_frame].name!r}, "
+                f"configurations={sorted(self.configurations)}, mass={mass:.4g} kg{extra})")
+
     def frame_id(self, name: str) -> int:
         """Id of the frame ``name``; ValueError with the nearest frame names when it does not exist."""
         return model_frame_id(self.model, name)

@@ -28,7 +28,7 @@ def test_repr_html_has_title_values_checks_and_inline_png():
     sol = _solution()
     text = sol._repr_html_()
     assert "0.1 — A &lt;small&gt; test" in text                      # title, escaped
-    assert "<th>K_P</th>" in text and "[1.0, 2.5]" in text            # values table
+    assert "<th>K_P</th>" in text and "[1, 2.5]" in text              # values table, 4 significant digits
     assert "✔ <b>passes</b>" in text and "✘ <b>fails</b>" in text     # checks with pass/fail
     assert 'class="fail"' in text                                     # one check failed → section fails
     src = text.split('src="data:image/png;base64,')[1].split('"')[0]

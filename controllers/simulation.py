@@ -52,7 +52,9 @@ The plant contract (duck-typed; only ``derivative`` is required)
 The controller contract
 -----------------------
 A controller is a callable ``(t, measurement) -> u``; ``reset()`` is called before the run and
-``log() -> dict`` after every call (its entries become signals of the result). Controllers derive from
+``log() -> dict`` after every call (its entries become signals of the result); an optional
+``diagnose(plant, Ts, measurement) -> str`` (measurement at the start) says why the loop may diverge
+and is appended to the :class:`SimulationDiverged` message (e.g. a violated sampled-stability bound). Controllers derive from
 :class:`LoggedController`, which provides both: the law calls ``self.record(e=..., q_d=...)``.
 
 Multi-rate loops: ``ZeroOrderHold(block, Ts)`` runs ``block`` every ``Ts`` (a multiple of the loop's
@@ -404,7 +406,8 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
         for name, value in extra.items():
             signals.setdefault(name, []).append(np.asarray(value, dtype=float))
         if not np.all(np.isfinite(u)):
-            raise SimulationDiverged(f"controller output became non-finite at t = {t:.6g} s: u = {u}", t)
+            why = _diagnosis(controller, plant, Ts, measure(t0, xs[0]) if measure else xs[0])
+            raise SimulationDiverged(f"controller output became non-finite at t = {t:.6g} s: u = {u}{why}", t)
         if k == n_samples - 1:
             break
 
@@ -421,16 +424,30 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
             x = rk4_step(f, ti, x, h, integrate, dexp_inverse)
             peak = np.max(np.abs(x))                  # one reduction: NaN fails the comparison too
             if not peak <= bound:
+                why = _diagnosis(controller, plant, Ts, measure(t0, xs[0]) if measure else xs[0])
                 if np.isfinite(peak):
                     raise SimulationDiverged(
-                        f"plant state exceeded {bound:g} at t = {ti + h:.6g} s: the loop diverges", ti + h)
+                        f"plant state exceeded {bound:g} at t = {ti + h:.6g} s: the loop diverges{why}", ti + h)
                 raise SimulationDiverged(
                     f"plant state became non-finite at t = {ti + h:.6g} s (step h = {h:g} s); "
-                    "the loop is unstable or the step is too large", ti + h)
+                    f"the loop is unstable or the step is too large{why}", ti + h)
     return SimulationResult(t=ts, x=xs, u=np.array(us),
                             signals={k: np.array(v) for k, v in signals.items()},
                             layout=dict(getattr(plant, "state_layout", {})),
                             units=dict(getattr(plant, "units", {})))
+
+
+def _diagnosis(controller: Any, plant: Any, Ts: float, measurement: Any) -> str:
+    """``controller.diagnose(plant, Ts, measurement)`` (a controller that can tell why its loop
+    diverges, e.g. a violated sampled-stability bound) as text to append to the error; "" otherwise."""
+    diagnose = getattr(controller, "diagnose", None)
+    if diagnose is None:
+        return ""
+    try:
+        text = diagnose(plant, Ts, measurement)
+    except Exception as exc:  # the diagnosis must never hide the divergence itself
+        return f" (the controller's diagnosis failed: {type(exc).__name__}: {exc})"
+    return f". {text}" if text else ""
 
 
 def per_joint(value: Any, n: int, name: str) -> np.ndarray:

@@ -118,7 +118,7 @@ def sampled_stability(robot: Robot, K_P: Any, K_D: Any, Ts: float, q: Any) -> li
     >>> from rigid_body.robots import load
     >>> panda = load("panda")
     >>> print(sampled_stability(panda, 100.0, 20.0, 1e-3, panda.configurations["ready"])[0][:60])
-    joint 7: K_D,7·Ts/b_7 = 20 × 0.001 / 0.006476 = 3.088 ≥ 2 (s
+    joint 7: K_D,7·Ts/b_7 = 20 × 0.001 / 0.006521 = 3.067 ≥ 2 (s
     """
     n = robot.nv
     kp = np.diag(as_gain(K_P, n, "K_P"))

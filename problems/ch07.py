@@ -295,7 +295,7 @@ def problem_7_4() -> Solution:
     checked to give the same torques. Manual erratum: its intermediate expansion of τ1, τ2 in π1..π8
     writes the coupling term of b12 as k_r²π8 instead of k_r2 π8 (checked against B(q)); only (S7.2),
     (S7.3) are used. The eight-parameter regressor (7.84), recalled from the textbook
-    (catalogue [TB?]), reproduces the model but has rank 5, and the manual's combinations (S7.2) of its
+    (not printed in the manual), reproduces the model but has rank 5, and the manual's combinations (S7.2) of its
     parameters give π'. With the 10 kg payload of ``load_m.m`` only π'₁ and π'₃ change.
 
     Identification (the book's least-squares parameter identification), an addition to the manual: ``planar_2r`` (viscous friction

@@ -8,7 +8,7 @@ authors' run length t_d = 2.5 s. Problems 8.11–8.16 add a payload m_L = 10 kg 
 RK4 with the manual's maximum step (1 ms; 0.1 ms for 8.12).
 
 Data provenance: the desired postures, initial conditions, trajectories and payload are the
-authors' companion data (which the catalogue marks [TB?] and which wins where the two differ:
+authors' companion data (which win where they differ from the manual:
 q(0) = q_d − [0.1, 0.1] in 8.10 and p(0) = p_d − [0.1, 0.1] in 8.15).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,

@@ -268,6 +268,13 @@ def robot_from_dh(links: Sequence[DHLink | Mapping[str, Any]], gravity: Any = GR
                   convention: str = "standard", base: np.ndarray | None = None, motors: str = "rotors") -> Robot:
     """A Robot from a DH table (through its URDF, :func:`rigid_body.dh.urdf_from_dh`).
 
+    ``gravity`` [m/s²] is given in the world frame (= DH frame 0 without ``base``) and defaults to
+    (0, 0, −9.81): along −z₀. A planar arm whose DH axes z_i are all parallel to z₀ then moves in a
+    horizontal plane and has zero gravity torques; the book draws its planar arms in a vertical plane
+    with gravity along −y₀ (``load("planar_2r")`` uses it): pass ``gravity=[0, -9.81, 0]``.
+    Each link is a :class:`~rigid_body.dh.DHLink` (or a dict of its fields): ``mass`` at ``com``
+    with ``inertia`` about it (``None``: a point mass), in DH frame i.
+
     ``payload`` is a point mass [kg] at the origin of the last DH frame (:func:`with_payload`); ``tool``
     the constant transform from the last DH frame to the end-effector frame ``ee``; ``base`` the constant
     transform from the world (root link ``base``, where ``gravity`` is given) to DH frame 0.

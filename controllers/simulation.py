@@ -277,8 +277,11 @@ class SimulationResult:
         shown = ", ".join(units - {""})
         ax.set_xlabel("t [s]")
         ax.set_ylabel(", ".join(names) + (f" [{shown}]" if shown else ""))
-        if len(lines) > 1:
-            ax.legend(list(labels) if labels is not None else lines, fontsize="small")
+        if len(lines) > 4:  # many curves: the legend beside the axes, clear of them
+            ax.legend(list(labels) if labels is not None else lines, fontsize="small",
+                      loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        elif len(lines) > 1:
+            ax.legend(list(labels) if labels is not None else lines, fontsize="small", loc="best")
         return ax
 
 

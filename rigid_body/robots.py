@@ -25,7 +25,7 @@ from rigid_body.dh import GRAVITY, MOTOR_MODELS, DHLink, as_links, urdf_from_dh
 
 __all__ = [
     "Robot", "JointFriction", "load", "available", "with_payload", "robot_from_dh", "robot_from_urdf_string",
-    "example_robot_data_dir", "joint_kind", "revolute_joints", "model_frame_id", "URDF_DIR", "EXAMPLE_ROBOTS",
+    "example_robot_data_dir", "joint_kind", "joint_units", "revolute_joints", "model_frame_id", "URDF_DIR", "EXAMPLE_ROBOTS",
 ]
 
 # example-robot-data: name → (urdf file relative to robots/, end-effector frame); the Panda's
@@ -339,6 +339,20 @@ def with_payload(robot: Robot, mass: float, frame: str | int | None = None) -> R
                    configurations=dict(robot.configurations), geometry_loader=robot._geometry_models,
                    friction=robot.friction)
     return loaded
+
+
+def joint_units(robot: Robot) -> list[str]:
+    """The unit of each joint variable (nv,): ``"rad"`` for a revolute joint, ``"m"`` for a prismatic one
+    (other joint types, e.g. a planar base, count as ``"rad"`` only where they are revolute)."""
+    units = ["rad"] * robot.nv
+    for i in range(1, robot.model.njoints):
+        try:
+            kind, _ = joint_kind(robot.model, i)
+        except ValueError:
+            continue
+        if kind == "prismatic":
+            units[robot.model.joints[i].idx_v] = "m"
+    return units
 
 
 def revolute_joints(robot: Robot) -> np.ndarray:

@@ -18,11 +18,7 @@ and its solution manual.
 
 from __future__ import annotations
 
-import matplotlib
-
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402  (no backend chosen here: a notebook's inline figures must work)
 import numpy as np  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 from matplotlib.patches import Polygon as PolygonPatch  # noqa: E402

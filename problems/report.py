@@ -27,7 +27,8 @@ from problems.format import format_value_html
 
 __all__ = ["to_json", "solution_dict", "save_figures", "figure_png", "solution_html", "write_report"]
 
-FIGURE_DPI = 90
+FIGURE_DPI = 90  # the report's PNG files
+INLINE_DPI = 72  # a notebook's inline figures (notebooks are committed with their outputs: keep them small)
 
 
 def to_json(value: Any) -> Any:
@@ -78,10 +79,10 @@ def save_figures(sol: Any, directory: Path) -> list[str]:
     return names
 
 
-def figure_png(fig: Any) -> bytes:
+def figure_png(fig: Any, dpi: int = FIGURE_DPI) -> bytes:
     """The figure as PNG bytes (no file, no pyplot: works for a bare ``matplotlib.figure.Figure``)."""
     buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=FIGURE_DPI)
+    fig.savefig(buffer, format="png", dpi=dpi)
     return buffer.getvalue()
 
 
@@ -164,7 +165,8 @@ def solution_html(d: dict, figure_sources: Iterable[str] = (), extras: Iterable[
 
 def inline_html(sol: Any) -> str:
     """A solution with its figures inline as base64 PNG (what a notebook shows)."""
-    sources = [f"data:image/png;base64,{base64.b64encode(figure_png(fig)).decode('ascii')}" for fig in sol.figures]
+    sources = [f"data:image/png;base64,{base64.b64encode(figure_png(fig, INLINE_DPI)).decode('ascii')}"
+               for fig in sol.figures]
     d = solution_dict(sol)
     d["figure_titles"] = d["figures"]
     return solution_html(d, sources)

@@ -95,6 +95,12 @@ class Solution:
         self.figures.append(fig)
         return fig
 
+    def __repr__(self) -> str:
+        """One line (a notebook shows :meth:`_repr_html_`; ``print(sol.values)`` for the numbers)."""
+        ok = sum(c.passed for c in self.checks)
+        return (f"Solution({self.id!r}, {self.title!r}, {len(self.values)} values, {ok}/{len(self.checks)} "
+                f"checks passed, {len(self.figures)} figures)")
+
     def _repr_html_(self) -> str:
         """Jupyter's view: title, values table, checks (✔/✘), figures inline as PNG."""
         from problems.report import inline_html

@@ -24,3 +24,12 @@ def test_result_reprs_summarise_instead_of_dumping_arrays():
     opt = OptimalTrajectory(traj, np.zeros((201, 2)), 2.0, "time", 2.0, True, "", {"tau": 1.0}, 12, 0.5)
     text = repr(opt)
     assert text.startswith("OptimalTrajectory(minimum time: t_f=2 s") and "tau 1" in text and "\n" not in text
+
+
+def test_solution_repr_is_one_line():
+    from problems.registry import Solution
+
+    sol = Solution(id="0.1", title="t", kind="numeric")
+    sol.value("M", np.eye(30))
+    sol.check("ok", True)
+    assert repr(sol) == "Solution('0.1', 't', 1 values, 1/1 checks passed, 0 figures)"

@@ -28,3 +28,9 @@ def test_import_rmpc_imports_no_heavy_module():
     code = "import sys, rmpc; print(sorted(m for m in ('pinocchio', 'casadi', 'matplotlib', 'numpy') if m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True)
     assert out.stdout.strip() == "[]"
+
+
+def test_docstring_example_runs():
+    import doctest
+
+    assert doctest.testmod(rmpc).failed == 0

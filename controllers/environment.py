@@ -6,8 +6,10 @@ BY the end effector ON the environment, in the base frame (the book's convention
 feels −h_e, whence the −Jᵀ h_e of Eq. (7.42)). An environment with its own dynamics keeps its state
 itself. :class:`controllers.plants.ArmInContact` puts an arm in contact with one.
 
-* :class:`CompliantPlane` — a frictionless elastic plane, h_e = K δ (−n) with δ the penetration
-  (the compliant environment of Sect. 9.2, reaction only while pushed).
+* :class:`CompliantPlane` — an elastic plane, h_e = K δ (−n) with δ the penetration (the compliant
+  environment of Sect. 9.2): unilateral (reaction only while pushed; contact can be lost) or bilateral
+  (a linear spring), with optional damping and regularised Coulomb friction.
+* :class:`SteppedPlane` — the same with a recess: the surface steps back beyond an edge.
 * :class:`SurfaceWithHole` — the planar compliant surface with a hole of the peg-in-hole task (6.3).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
@@ -38,10 +40,25 @@ class CompliantPlane:
     """The half-space n·(p − p_0) ≤ 0 of elastic material, stiffness K [N/m] and damping D [N·s/m].
 
     With penetration δ = n·(p_0 − p) > 0 the material pushes back along its outward normal n with
-    max(K δ + D δ̇, 0) (it only pushes), so the end effector exerts h_e = −max(K δ + D δ̇, 0) n, no moment.
+    N = max(K δ + D δ̇, 0) (it only pushes), so the end effector exerts h_e = −N n, no moment: the
+    compliant environment of Sect. 9.2, K = k n nᵀ in the base frame (MODEL-B of Problems 9.3, 9.10 for
+    a planar arm). Contact is lost when δ ≤ 0 (:meth:`in_contact`; the sensed wrench is then zero).
+
+    Options
+    -------
+    bilateral : the linear spring h_e = −(K δ + D δ̇) n on both sides (the authors' f_e = K (o_e − o_r)):
+        it also pulls, contact is never lost.
+    friction : Coulomb coefficient μ ≥ 0: while in contact the surface resists sliding with a tangential
+        force of magnitude μ N against the tangential velocity v_t, regularised as
+        μ N tanh(‖v_t‖/v_s) v_t/‖v_t‖ (``slip_velocity`` v_s [m/s]: a smooth right-hand side for RK4); the
+        end effector exerts its opposite, + μ N tanh(‖v_t‖/v_s) v_t/‖v_t‖.
+
+    A "rigid-ish" wall for a 3-D arm is this plane with a high stiffness and some damping (e.g. 10⁵ N/m,
+    10³ N·s/m); its time constant D/K must stay above the integration step.
     """
 
-    def __init__(self, point: Any, normal: Any, stiffness: float, damping: float = 0.0):
+    def __init__(self, point: Any, normal: Any, stiffness: float, damping: float = 0.0, bilateral: bool = False,
+                 friction: float = 0.0, slip_velocity: float = 1e-3):
         self.point = as_vector(point, 3, "point").copy()
         n = as_vector(normal, 3, "normal")
         norm = float(np.linalg.norm(n))
@@ -50,18 +67,59 @@ class CompliantPlane:
         self.normal = n / norm
         self.stiffness = as_positive(stiffness, "stiffness")
         self.damping = as_positive(damping, "damping", allow_zero=True)
+        self.bilateral = bool(bilateral)
+        self.friction = as_positive(friction, "friction", allow_zero=True)
+        self.slip_velocity = as_positive(slip_velocity, "slip_velocity")
 
     def penetration(self, p: np.ndarray) -> float:
         """δ = n·(p_0 − p) [m] (positive inside the material)."""
         return float(self.normal @ (self.point - p))
 
+    def in_contact(self, T_e: Any) -> bool:
+        """True when the end effector is inside the material (always for a bilateral spring)."""
+        return self.bilateral or self.penetration(_position(T_e)) > 0.0
+
     def wrench(self, T_e: Any, v_e: np.ndarray) -> np.ndarray:
         h = np.zeros(6)
         delta = self.penetration(_position(T_e))
-        if delta > 0.0:
-            push = max(self.stiffness * delta - self.damping * float(self.normal @ v_e[:3]), 0.0)
-            h[:3] = -push * self.normal
+        if delta <= 0.0 and not self.bilateral:
+            return h
+        v = v_e[:3]
+        push = self.stiffness * delta - self.damping * float(self.normal @ v)
+        if not self.bilateral:
+            push = max(push, 0.0)
+        h[:3] = -push * self.normal
+        if self.friction > 0.0 and push > 0.0:
+            v_t = v - float(self.normal @ v) * self.normal
+            speed = float(np.linalg.norm(v_t))
+            if speed > 0.0:
+                h[:3] += self.friction * push * np.tanh(speed / self.slip_velocity) / speed * v_t
         return h
+
+
+class SteppedPlane(CompliantPlane):
+    """A :class:`CompliantPlane` whose surface steps back by ``depth`` [m] (along −n) beyond
+    ``step_at`` [m] measured from ``point`` along the tangent ``direction``: a wall with a recess.
+
+    An end effector sliding along ``direction`` leaves the surface at the edge (contact lost) and must
+    move ``depth`` further to touch it again. The riser of the step is not modelled (it is met only when
+    sliding back).
+    """
+
+    def __init__(self, point: Any, normal: Any, direction: Any, step_at: float, depth: float, stiffness: float,
+                 damping: float = 0.0, friction: float = 0.0, slip_velocity: float = 1e-3):
+        super().__init__(point, normal, stiffness, damping, friction=friction, slip_velocity=slip_velocity)
+        d = as_vector(direction, 3, "direction")
+        d = d - float(d @ self.normal) * self.normal
+        if not np.linalg.norm(d) > 1e-9:
+            raise ValueError("`direction` must have a component along the plane (not parallel to `normal`)")
+        self.direction = d / np.linalg.norm(d)
+        self.step_at = float(as_vector(step_at, 1, "step_at")[0])
+        self.depth = as_positive(depth, "depth")
+
+    def penetration(self, p: np.ndarray) -> float:
+        delta = float(self.normal @ (self.point - p))
+        return delta - self.depth if float(self.direction @ (p - self.point)) > self.step_at else delta
 
 
 @dataclass(frozen=True)

@@ -1,33 +1,61 @@
 """Force control: tasks where the end effector touches the environment (Ch. 9; Problem 6.3).
 
+* :class:`HybridForceMotionControl` — hybrid force/motion control on a compliant environment
+  (Sect. 9.7.1): inverse dynamics with α = S_v α_ν + Ĉ' S_f f_λ (9.77), the PI velocity law (9.80) on
+  ν = S_v† v_e and the PD force law (9.81)/(9.84) on λ = S_f† h_e.
+* :class:`AdmittanceControl` — the impedance realised through an inner position loop (admittance,
+  Fig. 9.7): the compliant frame from M_d z̈ + K_D ż + K_P z = h_e, tracked by inverse dynamics.
+* :class:`ForceWithInnerLoop` — force control with an inner position loop (Fig. 9.8; with a PI C_F
+  and a motion reference, parallel force/position control, Sect. 9.4.3) or an inner velocity loop
+  (Fig. 9.9).
+* Compliance control is :class:`~controllers.operational_space.OperationalPDGravity` in contact and
+  impedance control :class:`~controllers.operational_space.OperationalInverseDynamics` with a desired
+  inertia (and the sensed wrench).
 * :class:`PegInHoleController` — the hybrid force/position law of the peg-in-hole task of 6.3 (flow
   chart of Fig. S6.2 as a state machine): τ = g(q) + Jᵀ (K_P S (x_d − x) + K_D (ẋ_d − ẋ) + f_d), with S
   selecting the position-controlled directions and f_d the commanded force along the others.
 * :class:`PegInHoleTask` — the data of 6.3; :func:`run_peg_in_hole` runs it on an
   :class:`~controllers.plants.ArmInContact` against a :class:`~controllers.environment.SurfaceWithHole`.
 
+The closed forms of these laws:
+
+* :func:`compliance_equilibrium` — the rest of compliance control (PD + gravity) against an elastic
+  environment, Eqs. (9.22)–(9.23).
+* :func:`inner_position_loop_equilibrium` — the rest of force control with an inner position loop
+  (Fig. 9.8) and a proportional force regulator C_F (Problem 9.4).
+* :func:`impedance_parameters`, :func:`force_loop_parameters`, :func:`pi_velocity_parameters` — ω_n, ζ
+  of one axis of impedance control (free or against a spring), of the force loop of hybrid control
+  with an estimated compliance (Eqs. (9.84)–(9.85)), and of the PI velocity loop (9.80).
+* :func:`constrained_stiffness` — K' = S_f (S_fᵀ C S_f)⁻¹ S_fᵀ, Eq. (9.70) (= P_f K, Problem 9.6).
+* :func:`fit_second_order` — ω_n, ζ measured on a transient from rest (the check of the simulations).
+
 The controllers read the sensed wrench ``meas.wrench`` (h_e, exerted by the end effector on the
 environment, Sect. 9.1) of the :class:`~controllers.plants.ArmMeasurement`.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Sects. 6.3,
-8.5.2, 9.1–9.7; solution manual, Problem 6.3.
+8.5.2, 9.1–9.7, Eqs. (9.20)–(9.23), (9.41), (9.55), (9.70), (9.77)–(9.85), Figs. 9.8–9.9; solution
+manual, Problems 6.3, 9.2–9.10.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable, Sequence
 
 import numpy as np
+from scipy.optimize import least_squares
 
 from controllers.environment import SurfaceWithHole
+from controllers.joint_space import as_gain, as_reference
+from controllers.operational_space import _check_redundancy, _nonnegative, _singular, _solve_task
 from controllers.plants import ArmInContact, ArmMeasurement, frame_jacobian_and_pose
-from controllers.simulation import LoggedController, SimulationResult, simulate
+from controllers.simulation import LoggedController, SimulationResult, as_friction, simulate
 from planners.timing import quintic_law
-from rigid_body.dynamics import gravity_torques
+from rigid_body.dynamics import gravity_torques, inverse_dynamics
 from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
-from rigid_body.validation import as_vector
+from rigid_body.task_space import _frame_state, selection_projection, selection_pseudo_inverse
+from rigid_body.validation import as_matrix, as_positive, as_square_matrix, as_vector
 
 
 PEG_STATES = ("approach", "descend", "search", "insert", "done")
@@ -162,3 +190,377 @@ def run_peg_in_hole(robot: Robot, environment: SurfaceWithHole, task: PegInHoleT
     controller = PegInHoleController(robot, task)
     res = simulate(plant, controller, (0.0, duration), plant.initial_state(q0), h=h, Ts=Ts)
     return res, controller
+
+
+# --------------------------------------------------------------------------------------------
+# Closed forms: equilibria and closed-loop dynamics (Sects. 9.2–9.7)
+# --------------------------------------------------------------------------------------------
+
+def compliance_equilibrium(K_P: Any, K: Any, dx_rd: Any) -> tuple[np.ndarray, np.ndarray]:
+    """(h_e, dx_{e,d}) at the rest of compliance control: h_e = (I + K K_P⁻¹)⁻¹ K dx_{r,d} (9.22) and
+    dx_{e,d} = K_P⁻¹ h_e (9.23), from h_e = K_P dx_{e,d} (9.20) and h_e = K dx_{r,e} (9.21).
+
+    K_P : (m, m) active stiffness (invertible); K : (m, m) environment stiffness (may be singular);
+    dx_rd : (m,) displacement of the rest position of the environment w.r.t. the desired frame.
+    """
+    dx = as_vector(dx_rd, None, "dx_rd")
+    m = dx.size
+    K_P, K = as_square_matrix(K_P, m, "K_P"), as_square_matrix(K, m, "K")
+    if np.linalg.cond(K_P) > 1e12:
+        raise ValueError("`K_P` must be invertible (an active stiffness in every direction)")
+    K_Pinv = np.linalg.inv(K_P)
+    h_e = np.linalg.solve(np.eye(m) + K @ K_Pinv, K @ dx)  # Eq. (9.22)
+    return h_e, K_Pinv @ h_e                                  # Eq. (9.23)
+
+
+def inner_position_loop_equilibrium(x_d: Any, x_r: Any, K: Any, C_F: Any, f_d: Any) -> np.ndarray:
+    """x_e at the rest of force control with inner position loop (Fig. 9.8), proportional C_F:
+    x_e = x_d + C_F (K (x_r − x_e) + f_d) (Problem 9.4), i.e. x_e = (I + C_F K)⁻¹ (x_d + C_F (K x_r + f_d)).
+
+    With integral action in C_F the rest is instead f_e = K (x_e − x_r) = f_d.
+    """
+    x_d = as_vector(x_d, None, "x_d")
+    m = x_d.size
+    x_r, f_d = as_vector(x_r, m, "x_r"), as_vector(f_d, m, "f_d")
+    K, C_F = as_square_matrix(K, m, "K"), as_square_matrix(C_F, m, "C_F")
+    return np.linalg.solve(np.eye(m) + C_F @ K, x_d + C_F @ (K @ x_r + f_d))
+
+
+def impedance_parameters(m_d: float, k_D: float, k_P: float, k_env: float = 0.0) -> tuple[float, float]:
+    """ω_n = √((k_P + k)/m_d), ζ = k_D / (2 √(m_d (k_P + k))) of one axis of impedance control,
+    m_d ẍ + k_D ẋ + (k_P + k) x = k_P x_d + k x_r (Problem 9.3): k = 0 along a free direction, the
+    environment stiffness along a constrained one."""
+    m = as_positive(m_d, "m_d")
+    k = as_positive(k_P, "k_P") + as_positive(k_env, "k_env", allow_zero=True)
+    return float(np.sqrt(k / m)), float(as_positive(k_D, "k_D", allow_zero=True) / (2.0 * np.sqrt(m * k)))
+
+
+def force_loop_parameters(k_D: float, k_P: float, l_f: float = 1.0) -> tuple[float, float]:
+    """ω_n = √(l_f k_P), ζ = k_D / (2 √(l_f k_P)) of the force loop of hybrid force/motion control
+    (9.84) on a compliant environment: λ̈ + k_D λ̇ + l_f k_P λ = l_f k_P λ_d, with l_f = ĉ/c the ratio of
+    the estimated to the true compliance (the rate λ̇ estimated with the same ĉ, Problem 9.10).
+    l_f = 1: the known-stiffness loop λ̈ + k_D λ̇ + k_P λ = k_P λ_d (9.81)."""
+    k = as_positive(l_f, "l_f") * as_positive(k_P, "k_P")
+    return float(np.sqrt(k)), float(as_positive(k_D, "k_D", allow_zero=True) / (2.0 * np.sqrt(k)))
+
+
+def pi_velocity_parameters(k_P: float, k_I: float) -> tuple[float, float]:
+    """ω_n = √k_I, ζ = k_P / (2 √k_I) of the velocity loop with the PI law (9.80): ν̇ = α_ν gives
+    ë + k_P ė + k_I e = 0 for e = ∫(ν_d − ν)."""
+    k_I = as_positive(k_I, "k_I")
+    return float(np.sqrt(k_I)), float(as_positive(k_P, "k_P", allow_zero=True) / (2.0 * np.sqrt(k_I)))
+
+
+def constrained_stiffness(S_f: Any, C: Any) -> np.ndarray:
+    """K' = S_f (S_fᵀ C S_f)⁻¹ S_fᵀ, Eq. (9.70): the stiffness seen along the force-controlled
+    subspace; = P_f K with P_f = S_f S_f† (weight C = K⁻¹), Problem 9.6."""
+    S = np.asarray(S_f, dtype=float)
+    S = S.reshape(-1, 1) if S.ndim == 1 else S
+    C = as_matrix(C, (S.shape[0],) * 2, "C")
+    A = S.T @ C @ S
+    if np.linalg.cond(A) > 1e12:
+        raise ValueError("S_fᵀ C S_f is singular: `C` must see every column of `S_f`")
+    return S @ np.linalg.solve(A, S.T)
+
+
+def second_order_free_response(t: Any, omega_n: float, zeta: float) -> np.ndarray:
+    """x(t)/x(0) of ẍ + 2ζω_n ẋ + ω_n² x = 0 from rest (ẋ(0) = 0), any ζ > 0 (ζ ≠ 1 exactly):
+    x = (s₂ e^{s₁t} − s₁ e^{s₂t})/(s₂ − s₁), s₁,₂ = −ζω_n ± ω_n √(ζ² − 1)."""
+    t = np.asarray(t, dtype=float)
+    root = omega_n * np.sqrt(complex(zeta * zeta - 1.0))
+    if abs(root) < 1e-9 * omega_n:  # critically damped
+        return (1.0 + omega_n * t) * np.exp(-omega_n * t)
+    s1, s2 = -zeta * omega_n + root, -zeta * omega_n - root
+    return np.real((s2 * np.exp(s1 * t) - s1 * np.exp(s2 * t)) / (s2 - s1))
+
+
+def fit_second_order(t: Any, y: Any, y_final: float, guess: tuple[float, float] = (5.0, 0.7)) -> tuple[float, float]:
+    """(ω_n, ζ) measured on a transient that starts at rest at y(t₀) and settles at ``y_final``:
+    the least-squares fit of (y − y_final)/(y(t₀) − y_final) by :func:`second_order_free_response`.
+
+    ValueError when the transient is too small to measure (|y(t₀) − y_final| ≈ 0).
+    """
+    t = as_vector(t, None, "t")
+    y = as_vector(y, t.size, "y")
+    amplitude = y[0] - float(y_final)
+    if abs(amplitude) < 1e-12 * max(1.0, abs(float(y_final))):
+        raise ValueError("`y` has no transient to measure: y(t0) equals y_final")
+    z, tau = (y - y_final) / amplitude, t - t[0]
+
+    def residual(p: np.ndarray) -> np.ndarray:
+        return second_order_free_response(tau, p[0], p[1]) - z
+
+    fit = least_squares(residual, np.asarray(guess, dtype=float), bounds=([1e-6, 1e-3], [np.inf, 50.0]),
+                        xtol=1e-14, ftol=1e-14)
+    return float(fit.x[0]), float(fit.x[1])
+
+
+# --------------------------------------------------------------------------------------------
+# The laws of Chapter 9 on any arm: inverse dynamics in the task rows of one frame
+# --------------------------------------------------------------------------------------------
+
+class _ContactTask:
+    """The rows of one frame's twist/wrench a force law works in: (J, J̇q̇, T_e) in one pass, the
+    sensed wrench in those rows, and the inverse-dynamics step u = B y + n + F_v q̇ + Jᵀ h_e with
+    y = J†(a − J̇ q̇) (+ null-space damping −K_N q̇ for a redundant arm)."""
+
+    def __init__(self, robot: Robot, rows: Sequence[int] | None, frame: str | int | None,
+                 viscous_friction: Any, null_space_damping: Any):
+        self.robot, self.n = robot, robot.nv
+        self.fid = robot.frame(frame)
+        self.rows = np.arange(6) if rows is None else np.asarray(rows, dtype=int).ravel()
+        if (self.rows.size == 0 or len(set(self.rows.tolist())) != self.rows.size
+                or np.any((self.rows < 0) | (self.rows > 5))):
+            raise ValueError(f"`rows` must be distinct twist components in 0..5, got {rows!r}")
+        self.m = self.rows.size
+        _check_redundancy(self.m, self.n)
+        self.Fv = as_friction(viscous_friction, self.n)
+        self.K_N = _nonnegative(null_space_damping, self.n, "null_space_damping")
+        self.redundant = self.m < self.n
+
+    def state(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(J, J̇q̇, T_e) of the task rows."""
+        st = _frame_state(self.robot.model, self.robot.data, self.fid, q, qd)
+        return st.J[self.rows], st.Jdot_qd[self.rows], st.T
+
+    def wrench(self, meas: Any) -> np.ndarray:
+        w = getattr(meas, "wrench", None)
+        if w is None:
+            raise ValueError("a force controller needs a force sensor: the plant's measurement has no "
+                             "`wrench` (use controllers.plants.ArmInContact)")
+        return w[self.rows]
+
+    def torques(self, t: float, q: np.ndarray, qd: np.ndarray, J: np.ndarray, a: np.ndarray,
+                h: np.ndarray) -> np.ndarray:
+        """u = B(q) y + n(q, q̇) + Jᵀ h_e with v̇_e = a (inverse dynamics in the task space)."""
+        y = _solve_task(J, a)
+        if y is None:
+            raise _singular(f"at t = {t:.6g} s, q = {q}")
+        if self.redundant:
+            y0 = -self.K_N * qd
+            y += y0 - _solve_task(J, J @ y0)
+        return inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd + J.T @ h
+
+
+class _Integral:
+    """∫ e dt of a sampled signal by forward Euler at the controller's instants (reset to 0)."""
+
+    def __init__(self, size: int):
+        self.size = size
+        self.reset()
+
+    def reset(self) -> None:
+        self.value = np.zeros(self.size)
+        self._t_last: float | None = None
+
+    def update(self, t: float, e: np.ndarray) -> np.ndarray:
+        """Add e (held since the last sample) over t − t_last; the integral up to t."""
+        if self._t_last is not None:
+            self.value += (t - self._t_last) * e
+        self._t_last = t
+        return self.value
+
+
+def _velocity_reference(reference: Any, k: int) -> Callable[[float], tuple[np.ndarray, np.ndarray]]:
+    """``t -> (ν_d, ν̇_d)`` from a constant ν_d (k,) or such a callable (checked at t = 0)."""
+    if not callable(reference):
+        nu = as_vector(reference, k, "velocity_reference").copy()
+        zero = np.zeros(k)
+        return lambda t: (nu, zero)
+    try:
+        nu, nud = reference(0.0)
+        as_vector(np.reshape(nu, -1), k, "ν_d")
+        as_vector(np.reshape(nud, -1), k, "ν̇_d")
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"`velocity_reference` must give (ν_d ({k},), ν̇_d ({k},)) at t = 0: {err}") from None
+    return lambda t: tuple(np.reshape(np.asarray(v, dtype=float), k) for v in reference(t))
+
+
+class HybridForceMotionControl(LoggedController):
+    """Hybrid force/motion control on a compliant environment (Sect. 9.7.1, Example 9.4).
+
+    Inverse dynamics u = B y + n + Jᵀ h_e, y = J⁻¹(α − J̇ q̇) makes v̇_e = α, and
+    α = S_v α_ν + Ĉ' S_f f_λ (9.77) with
+    α_ν = ν̇_d + K_Pν (ν_d − ν) + K_Iν ∫(ν_d − ν) (9.80), ν = S_v† v_e (weight K̂), and
+    f_λ = λ̈_d + K_Dλ (λ̇_d − λ̇) + K_Pλ (λ_d − λ) (9.81), λ = S_f† h_e (weight Ĉ) from the force sensor
+    and λ̇ = (S_fᵀ Ĉ' S_f)⁻¹ S_fᵀ v_e from the motion (the deflection rate over the estimated compliance).
+    With the true compliance the loops are ν̇ = α_ν and λ̈ = f_λ; with an estimate ĉ = l_f c the force loop
+    is λ̈ + K_Dλ λ̇ + l_f K_Pλ λ = l_f K_Pλ λ_d ((9.84)–(9.85), Problem 9.10;
+    :func:`controllers.force.force_loop_parameters`).
+
+    Parameters
+    ----------
+    robot : the controller's model.
+    S_f, S_v : (m, k_f), (m, m − k_f) selection matrices in the base frame (rows of the task twist),
+        e.g. from :func:`rigid_body.task_space.selection_matrices` with the constraint frame's rotation.
+    force_reference : λ_d: a constant (k_f,), or a trajectory/callable ``t -> (λ_d, λ̇_d, λ̈_d)``.
+    velocity_reference : ν_d: a constant or a callable ``t -> (ν_d, ν̇_d)`` ((m − k_f,) each).
+    K_Pnu, K_Inu, K_Dlambda, K_Plambda : gains (scalars, vectors or matrices), K_Pν, K_Iν, K_Pλ positive definite.
+    compliance : Ĉ (m, m), the estimated environment compliance: weight of S_f† (9.55).
+    stiffness : K̂ (m, m), weight of S_v† (default Ĉ⁻¹).
+    compliance_prime : Ĉ' (m, m), the compliance of the force-controlled subspace (default (I − P_v) Ĉ).
+    rows, frame : the task rows of the frame's twist (default all six) and the frame (default ee).
+    viscous_friction, null_space_damping : as in :class:`~controllers.operational_space.OperationalInverseDynamics`.
+    """
+
+    def __init__(self, robot: Robot, S_f: Any, S_v: Any, force_reference: Any, velocity_reference: Any,
+                 K_Pnu: Any, K_Inu: Any, K_Dlambda: Any, K_Plambda: Any, compliance: Any, stiffness: Any = None,
+                 compliance_prime: Any = None, rows: Sequence[int] | None = None, frame: str | int | None = None,
+                 viscous_friction: Any = 0.0, null_space_damping: Any = 0.0):
+        self.task = task = _ContactTask(robot, rows, frame, viscous_friction, null_space_damping)
+        m = task.m
+        S_f, S_v = np.asarray(S_f, dtype=float), np.asarray(S_v, dtype=float)
+        S_f, S_v = (S.reshape(-1, 1) if S.ndim == 1 else S for S in (S_f, S_v))
+        if S_f.ndim != 2 or S_v.ndim != 2 or S_f.shape[0] != m or S_v.shape[0] != m or S_f.shape[1] + S_v.shape[1] != m:
+            raise ValueError(f"`S_f`, `S_v` must be (m, k) and (m, m − k) with m = {m} task rows, "
+                             f"got {S_f.shape} and {S_v.shape}")
+        if np.abs(S_f.T @ S_v).max() > 1e-9:
+            raise ValueError("`S_f` and `S_v` must be reciprocal: S_fᵀ S_v = 0")
+        self.S_f, self.S_v = S_f, S_v
+        k_f, k_v = S_f.shape[1], S_v.shape[1]
+        C = as_matrix(compliance, (m, m), "compliance")
+        K = np.linalg.inv(C) if stiffness is None else as_matrix(stiffness, (m, m), "stiffness")
+        self.S_f_dagger = selection_pseudo_inverse(S_f, C)     # λ = S_f† h_e, Eq. (9.55)
+        self.S_v_dagger = selection_pseudo_inverse(S_v, K)     # ν = S_v† v_e
+        P_v = selection_projection(S_v, K)
+        C1 = (np.eye(m) - P_v) @ C if compliance_prime is None else as_matrix(compliance_prime, (m, m), "compliance_prime")
+        self.C_prime_S_f = C1 @ S_f
+        self.G_f = np.linalg.solve(S_f.T @ C1 @ S_f, S_f.T)     # λ̇ = G_f v_e
+        self.K_Pnu, self.K_Inu = as_gain(K_Pnu, k_v, "K_Pnu"), as_gain(K_Inu, k_v, "K_Inu")
+        self.K_Plambda = as_gain(K_Plambda, k_f, "K_Plambda")
+        K_D = np.asarray(K_Dlambda, dtype=float)
+        self.K_Dlambda = as_gain(K_D, k_f, "K_Dlambda") if np.any(K_D) else np.zeros((k_f, k_f))
+        self.force_reference = as_reference(force_reference, k_f, "force_reference")
+        self.velocity_reference = _velocity_reference(velocity_reference, k_v)
+        self.reset()
+
+    def reset(self) -> None:
+        super().reset()
+        self._integral = _Integral(self.S_v.shape[1])
+
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        task = self.task
+        q, qd = meas.q, meas.qd
+        h = task.wrench(meas)
+        J, Jdot_qd, T_e = task.state(q, qd)
+        v_e = J @ qd
+        nu, lam, lam_dot = self.S_v_dagger @ v_e, self.S_f_dagger @ h, self.G_f @ v_e
+        nu_d, nud_d = self.velocity_reference(t)
+        lam_d, lamd_d, lamdd_d = self.force_reference(t)
+        integral = self._integral.update(t, nu_d - nu)                                        # ∫(ν_d − ν)
+        alpha_nu = nud_d + self.K_Pnu @ (nu_d - nu) + self.K_Inu @ integral                   # (9.80)
+        f_lambda = lamdd_d + self.K_Dlambda @ (lamd_d - lam_dot) + self.K_Plambda @ (lam_d - lam)  # (9.81)
+        alpha = self.S_v @ alpha_nu + self.C_prime_S_f @ f_lambda                              # (9.77)
+        u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
+        self.record(nu=nu, nu_d=nu_d, lam=lam, lam_d=lam_d, h_e=h, p_e=T_e[:3, 3].copy())
+        return u
+
+
+FORCE_LOOPS = ("position", "velocity")
+
+
+class ForceWithInnerLoop(LoggedController):
+    """Force control through a motion loop closed by inverse dynamics (Sect. 9.4), x_F = C_F (f_d − f_e):
+
+    * ``inner="position"`` (Fig. 9.8): y = J⁻¹ M_d⁻¹(−K_D ẋ_e + K_P (x_d + x_F − x_e) − M_d J̇ q̇), at rest
+      x_e = x_d + C_F (K (x_r − x_e) + f_d) (Problem 9.4), f_e = f_d only with integral action in C_F.
+      With a PI C_F this is parallel force/position control (Sect. 9.4.3): the force loop prevails
+      along the constrained directions (f_e = f_d) and x̃ → 0 along the free ones;
+    * ``inner="velocity"`` (Fig. 9.9): y = J⁻¹ M_d⁻¹(−K_D ẋ_e + K_P x_F − M_d J̇ q̇): f_e = f_d at rest
+      already with a proportional C_F;
+    with u = B y + n + Jᵀ h_e. C_F = K_F + K_I/s (``K_I=0``: proportional). Positions are the frame's
+    origin in the ``rows`` components (default x, y, z); ``reference`` x_d (constant or trajectory),
+    ``force_reference`` f_d (constant or ``t -> (f_d, ḟ_d, f̈_d)``).
+    """
+
+    def __init__(self, robot: Robot, K_P: Any, K_D: Any, inertia: Any, K_F: Any, reference: Any,
+                 force_reference: Any, K_I: Any = 0.0, inner: str = "position", rows: Sequence[int] = (0, 1, 2),
+                 frame: str | int | None = None, viscous_friction: Any = 0.0, null_space_damping: Any = 0.0):
+        if inner not in FORCE_LOOPS:
+            raise ValueError(f"`inner` must be one of {FORCE_LOOPS}, got {inner!r}")
+        self.inner = inner
+        self.task = task = _ContactTask(robot, rows, frame, viscous_friction, null_space_damping)
+        if np.any(task.rows > 2):
+            raise ValueError(f"`rows` must select position components 0..2, got {rows!r}")
+        m = task.m
+        self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
+        self.M_d_inv = np.linalg.inv(as_gain(inertia, m, "inertia"))
+        self.K_F = as_gain(K_F, m, "K_F")
+        K_I = np.asarray(K_I, dtype=float)
+        self.K_I = as_gain(K_I, m, "K_I") if np.any(K_I) else None
+        self.reference = as_reference(reference, m)
+        self.force_reference = as_reference(force_reference, m, "force_reference")
+        self.reset()
+
+    def reset(self) -> None:
+        super().reset()
+        self._integral = _Integral(self.task.m)
+
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        task = self.task
+        q, qd = meas.q, meas.qd
+        f = task.wrench(meas)
+        J, Jdot_qd, T_e = task.state(q, qd)
+        x_e, xd_e = T_e[task.rows, 3], J @ qd
+        x_d, _, _ = self.reference(t)
+        f_d = self.force_reference(t)[0]
+        x_F = self.K_F @ (f_d - f)                                                          # (9.41)
+        if self.K_I is not None:
+            x_F = x_F + self.K_I @ self._integral.update(t, f_d - f)
+        w = self.K_P @ (x_d + x_F - x_e) if self.inner == "position" else self.K_P @ x_F
+        a = self.M_d_inv @ (w - self.K_D @ xd_e)
+        u = task.torques(t, q, qd, J, a - Jdot_qd, f)
+        self.record(x_e=x_e, x_d=x_d, x_F=x_F, f_e=f, f_d=f_d)
+        return u
+
+
+class AdmittanceControl(LoggedController):
+    """Impedance through an inner position loop — admittance control (Sect. 9.3, Fig. 9.7).
+
+    The compliant frame x_t = x_d − z obeys the desired impedance driven by the sensed force,
+    M_d z̈ + K_D z ż + K_P z = h_e (integrated at the controller's samples, semi-implicit Euler), and
+    a stiff inverse-dynamics position loop tracks it:
+    u = B y + n + Jᵀ h_e, y = J⁻¹(ẍ_t + K_Dp (ẋ_t − ẋ_e) + K_Pp (x_t − x_e) − J̇ q̇).
+    With a fast inner loop the end effector shows the impedance M_d, K_D, K_P (Eqs. 9.30–9.31)
+    while the motion loop rejects the arm's own disturbances (e.g. friction) with K_Pp, K_Dp.
+
+    Position task: the ``rows`` (0..2) of the frame's origin; ``reference`` x_d (constant or trajectory).
+    """
+
+    def __init__(self, robot: Robot, inertia: Any, K_D: Any, K_P: Any, K_Dp: Any, K_Pp: Any, reference: Any,
+                 rows: Sequence[int] = (0, 1, 2), frame: str | int | None = None, viscous_friction: Any = 0.0,
+                 null_space_damping: Any = 0.0):
+        self.task = task = _ContactTask(robot, rows, frame, viscous_friction, null_space_damping)
+        if np.any(task.rows > 2):
+            raise ValueError(f"`rows` must select position components 0..2, got {rows!r}")
+        m = task.m
+        self.M_d_inv = np.linalg.inv(as_gain(inertia, m, "inertia"))
+        self.K_D, self.K_P = as_gain(K_D, m, "K_D"), as_gain(K_P, m, "K_P")
+        self.K_Dp, self.K_Pp = as_gain(K_Dp, m, "K_Dp"), as_gain(K_Pp, m, "K_Pp")
+        self.reference = as_reference(reference, m)
+        self.reset()
+
+    def reset(self) -> None:
+        super().reset()
+        self._z, self._zd = np.zeros(self.task.m), np.zeros(self.task.m)
+        self._t_last: float | None = None
+
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        task = self.task
+        q, qd = meas.q, meas.qd
+        h = task.wrench(meas)
+        zdd = self.M_d_inv @ (h - self.K_D @ self._zd - self.K_P @ self._z)       # the admittance
+        if self._t_last is not None:
+            dt = t - self._t_last
+            self._zd = self._zd + dt * zdd
+            self._z = self._z + dt * self._zd
+            zdd = self.M_d_inv @ (h - self.K_D @ self._zd - self.K_P @ self._z)
+        self._t_last = t
+        x_d, xd_d, xdd_d = self.reference(t)
+        x_t, xd_t, xdd_t = x_d - self._z, xd_d - self._zd, xdd_d - zdd              # the compliant frame
+        J, Jdot_qd, T_e = task.state(q, qd)
+        x_e = T_e[task.rows, 3]
+        a = xdd_t + self.K_Dp @ (xd_t - J @ qd) + self.K_Pp @ (x_t - x_e)
+        u = task.torques(t, q, qd, J, a - Jdot_qd, h)
+        self.record(x_e=x_e, x_d=x_d, x_t=x_t, e=x_d - x_e, h_e=h)
+        return u

@@ -17,7 +17,10 @@ The laws, with errors x̃ = x_d − x_e and the task Jacobian J (rows of :class:
 * :class:`OperationalPDGravity` — u = g(q) + Jᵀ K_P x̃ − Jᵀ K_D J q̇ − K_N q̇ (Eq. 8.110, Fig. 8.29).
 * :class:`OperationalInverseDynamics` — u = B(q) y + n(q, q̇),
   y = J†(ẍ_d + K_D (ẋ_d − J q̇) + K_P x̃ − J̇ q̇) + (I − J† J) y_0 (Eqs. 8.57, 8.114, Fig. 8.30),
-  J† = J⁻¹ for a square task, the right pseudo-inverse (3.52) for a redundant one.
+  J† = J⁻¹ for a square task, the right pseudo-inverse (3.52) for a redundant one. With a desired
+  inertia M_d it is **impedance control** (Sect. 9.3, Eq. 9.28), with the sensed wrench too the
+  linear impedance of Eqs. (9.30)–(9.31). (PD + gravity, in contact, is compliance control,
+  Sect. 9.2: its rest is :func:`controllers.force.compliance_equilibrium`.)
 
 Redundancy (fewer task components than joints, e.g. a 6-D pose on the 7-DOF Panda): the task does not
 fix the self-motion. The PD law adds the joint damping −K_N q̇ (``joint_damping``): it only adds
@@ -32,7 +35,7 @@ pose task a constant (4, 4) pose or a callable ``t -> (T_d (4, 4), v_d (6,), a_d
 :func:`as_pose_reference`).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
-Sects. 3.7.3, 8.6, Eqs. (3.85), (3.91), (8.110)–(8.114), Figs. 8.29–8.30.
+Sects. 3.7.3, 8.6, 9.2–9.3, Eqs. (3.85), (3.91), (8.110)–(8.114), (9.28)–(9.31), Figs. 8.29–8.30.
 """
 
 from __future__ import annotations
@@ -246,6 +249,13 @@ class OperationalInverseDynamics(LoggedController):
     viscous_friction : F_v of the model.
     null_space_damping : K_N [1/s] (scalar or (n,)); posture : q_0 (required when K_q ≠ 0);
         posture_stiffness : K_q [1/s²] (scalar or (n,)). Used only for a redundant task.
+    inertia : M_d, the desired inertia of an **impedance** (Sect. 9.3): y = J†(ẍ_d + M_d⁻¹(K_D x̃̇ + K_P x̃)
+        − J̇ q̇), so that (free motion) M_d x̃̈ + K_D x̃̇ + K_P x̃ = 0 — and in contact
+        M_d x̃̈ + K_D x̃̇ + K_P x̃ = M_d B_A⁻¹(q) h_A, a configuration-dependent impedance (Eq. 9.28).
+    force_feedback : with the sensed wrench h_e (``meas.wrench``, its ``rows`` components),
+        u = B y + n + Jᵀ h_e, y = J† M_d⁻¹(M_d ẍ_d + K_D x̃̇ + K_P x̃ − M_d J̇ q̇ − h_e) (Eqs. 9.30–9.31): the
+        linear impedance M_d x̃̈ + K_D x̃̇ + K_P x̃ = h_e. The impedance of one axis against a spring of
+        stiffness k has ω_n, ζ of :func:`controllers.force.impedance_parameters`.
 
     With the quaternion error e_O ≈ (ϑ/2) r for small angles, an orientation stiffness 2 K_P gives
     the orientation the bandwidth of a position stiffness K_P.
@@ -253,7 +263,8 @@ class OperationalInverseDynamics(LoggedController):
 
     def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, rows: Sequence[int] | None = None,
                  frame: str | int | None = None, viscous_friction: Any = 0.0, orientation: str = "none",
-                 null_space_damping: Any = 0.0, posture: Any = None, posture_stiffness: Any = 0.0):
+                 null_space_damping: Any = 0.0, posture: Any = None, posture_stiffness: Any = 0.0,
+                 inertia: Any = None, force_feedback: bool = False):
         self.robot, self.n = robot, robot.nv
         self.task = _Task(robot, rows, frame, orientation, reference)
         m = self.task.m
@@ -267,13 +278,22 @@ class OperationalInverseDynamics(LoggedController):
         self.q_0 = np.zeros(robot.nq) if posture is None else as_vector(posture, robot.nq, "posture").copy()
         self.redundant = m < self.n
         self.reference = self.task.reference
+        self.force_feedback = bool(force_feedback)
+        if inertia is None and self.force_feedback:
+            raise ValueError("`force_feedback` needs the impedance's desired `inertia` M_d")
+        self.M_d_inv = None if inertia is None else np.linalg.inv(as_gain(inertia, m, "inertia"))
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         q, qd = meas.q, meas.qd
         x_d, xd_d, xdd_d = self.reference(t)
         e, J, Jdot_qd, T_e = self.task.error(q, x_d, qd)
         ed = xd_d - J @ qd
-        a = xdd_d + self.K_D @ ed + self.K_P @ e - Jdot_qd
+        if self.M_d_inv is None:
+            a = xdd_d + self.K_D @ ed + self.K_P @ e - Jdot_qd
+        else:  # impedance, Eq. (9.31) (without h_e: the law of Eq. 9.28)
+            h = self._sensed_wrench(meas) if self.force_feedback else None
+            w = self.K_D @ ed + self.K_P @ e if h is None else self.K_D @ ed + self.K_P @ e - h
+            a = xdd_d + self.M_d_inv @ w - Jdot_qd
         y = _solve_task(J, a)  # Eq. (8.114)
         if y is None:
             raise _singular(f"at t = {t:.6g} s, q = {q}")
@@ -281,9 +301,19 @@ class OperationalInverseDynamics(LoggedController):
             y0 = self.K_q * (self.q_0 - q) - self.K_N * qd
             y += y0 - _solve_task(J, J @ y0)                    # (I − J† J) y_0, cf. (3.54)
         u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd
-        self.record(**self.task.logged(x_d, T_e, e))
+        if self.force_feedback:
+            u += J.T @ h                                        # + Jᵀ h_e, Eq. (9.30)
+            self.record(**self.task.logged(x_d, T_e, e), h_e=meas.wrench)
+        else:
+            self.record(**self.task.logged(x_d, T_e, e))
         return u
 
+    def _sensed_wrench(self, meas: Any) -> np.ndarray:
+        wrench = getattr(meas, "wrench", None)
+        if wrench is None:
+            raise ValueError("impedance control with force feedback needs a force sensor: the plant's "
+                             "measurement has no `wrench` (use controllers.plants.ArmInContact)")
+        return wrench[self.task.rows]
 
 
 def operational_inverse_dynamics_steady_state(plant_robot: Robot, model_robot: Robot, K_P: Any, x_d: Any,

@@ -44,7 +44,7 @@ from rigid_body.manipulability import manipulability
 from rigid_body.robots import Robot
 from rigid_body.rotations import as_homogeneous, as_rotation, orientation_error_axis_angle
 from rigid_body.task_space import PoseError, TaskSpace, damped_least_squares_inverse, pose_error, pose_residual
-from rigid_body.validation import as_matrix, as_positive, as_vector
+from rigid_body.validation import as_positive, as_square_matrix, as_vector
 
 __all__ = [
     "IKResult",
@@ -132,15 +132,6 @@ def _failure_reason(robot: Robot, q_start: np.ndarray, q_best: np.ndarray, J: np
     moved = np.max(np.abs(q_best - q_start)) > 1e-9
     what = "stalled" if moved else "never improved on its start"
     return f"{what} with {' and '.join(causes)}" if causes else f"{what}: a local minimum or an unreachable pose"
-
-
-def _gain(K: Any, m: int, name: str) -> np.ndarray:
-    K = np.asarray(K, dtype=float)
-    if K.ndim == 0:
-        return float(K) * np.eye(m)
-    if K.ndim == 1:
-        return np.diag(as_vector(K, m, name))
-    return as_matrix(K, (m, m), name)
 
 
 # --------------------------------------------------------------------------------------------
@@ -266,7 +257,7 @@ class CLIK:
         if secondary is not None and law in ("inverse", "transpose"):
             raise ValueError(f"a null-space `secondary` task needs a redundant law, not {law!r}")
         self.robot, self.reference, self.task, self.law = robot, reference, task, law
-        self.K = _gain(K, len(task.selected), "K")
+        self.K = as_square_matrix(K, len(task.selected), "K")
         self.damping = as_positive(damping, "damping", allow_zero=True)
         self.secondary = secondary
         rows = task.selected
@@ -328,7 +319,7 @@ class TwoStageCLIK:
             raise ValueError(f"`n_arm` must leave wrist joints: < {robot.nv}, got {n_arm}")
         self.wrist = robot.frame(wrist_frame)
         self.ee = robot.ee_frame
-        self.K_P, self.K_O = _gain(K_P, 3, "K_P"), _gain(K_O, 3, "K_O")
+        self.K_P, self.K_O = as_square_matrix(K_P, 3, "K_P"), as_square_matrix(K_O, 3, "K_O")
         model, data = robot.model, robot.data
         pin.framesForwardKinematics(model, data, pin.neutral(model))
         oMe, oMw = data.oMf[self.ee], data.oMf[self.wrist]

@@ -614,11 +614,11 @@ def problem_3_21() -> Solution:
     from rigid_body.kinematics import ELBOW_UP, inverse_kinematics_planar_3r
 
     sol = Solution()
-    a = (0.5, 0.3, 0.3)
-    robot = load("planar_3r", a=a)
+    arm = dict(a=(0.5, 0.3, 0.3), lower=(-np.pi,) * 3, upper=(np.pi,) * 3)  # not 2.17's limits: θ3(0) = 1.82
+    robot = load("planar_3r", **arm)
     o, R = np.array([0.3, 0.0]), 0.1
     p_i, p_f = np.array([0.8, 0.2, 0.0]), np.array([0.8, -0.2, 0.0])
-    q0 = inverse_kinematics_planar_3r([0.8, 0.2, np.pi / 4], a=a)[ELBOW_UP]
+    q0 = inverse_kinematics_planar_3r([0.8, 0.2, np.pi / 4], **arm)[ELBOW_UP]
     sol.value("q0", q0, unit="rad")
     sol.check_close("q(0) (i3_21)", q0, [0.51469, -1.55168, 1.82239], atol=5e-6)
     ref = cosine_pose_reference(p_i, p_f, 2.0)

@@ -33,10 +33,14 @@ Robotics*, 3rd ed., Sect. 3.4 (modified DH).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, fields
 from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
+
+from rigid_body.rotations import as_homogeneous
+from rigid_body.validation import as_matrix, as_scalar, as_vector
 
 JOINT_TYPES = ("revolute", "prismatic")
 CONVENTIONS = ("standard", "modified")
@@ -46,7 +50,17 @@ GRAVITY = (0.0, 0.0, -G)  # g₀ in the base frame of a robot whose z₀ points 
 
 
 def dh_transform(a: float, alpha: float, d: float, theta: float) -> np.ndarray:
-    """A_i^{i-1} = Rz(theta) Tz(d) Tx(a) Rx(alpha), Eq. (2.52); returns a (4, 4) array."""
+    """A_i^{i-1} = Rz(theta) Tz(d) Tx(a) Rx(alpha), Eq. (2.52); returns a (4, 4) array.
+
+    ValueError naming the argument when one is not a finite number.
+    """
+    try:
+        finite = math.isfinite(a + alpha + d + theta)  # one test on the fast path (NaN and ±inf propagate)
+    except TypeError:
+        finite = False
+    if not finite:
+        for key, value in (("a", a), ("alpha", alpha), ("d", d), ("theta", theta)):
+            as_scalar(value, key)
     ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
     return np.array([
         [ct, -st * ca, st * sa, a * ct],
@@ -109,24 +123,43 @@ class DHLink:
     coulomb_friction: Any = 0.0
 
     def __post_init__(self) -> None:
+        try:
+            self._check()
+        except ValueError as exc:  # name the link and the field
+            text = str(exc).removeprefix("DH link ")
+            raise ValueError(f"DH link{f' {self.name!r}' if isinstance(self.name, str) else ''}: {text}") from None
+
+    def _check(self) -> None:
         if self.joint not in JOINT_TYPES:
-            who = f"DH link {self.name!r}" if self.name else "DH link"
-            raise ValueError(f"{who}: `joint` must be one of {JOINT_TYPES}, got {self.joint!r}")
+            raise ValueError(f"DH link `joint` must be one of {JOINT_TYPES}, got {self.joint!r}")
+        put = object.__setattr__  # frozen: store the checked, converted values
         for key in ("a", "alpha", "d", "theta", "mass", "motor_mass", "gear_ratio"):
-            value = getattr(self, key)
-            if not np.isfinite(value):
-                raise ValueError(f"DH link `{key}` must be finite, got {value!r}")
+            put(self, key, as_scalar(getattr(self, key), key))
         if self.mass < 0 or self.motor_mass < 0:
-            raise ValueError("DH link masses must be non-negative")
-        if np.asarray(self.com, dtype=float).shape != (3,):
-            raise ValueError(f"DH link `com` must have shape (3,), got {np.shape(self.com)}")
-        if self.inertia is not None and np.asarray(self.inertia, dtype=float).shape != (3, 3):
-            raise ValueError(f"DH link `inertia` must have shape (3, 3), got {np.shape(self.inertia)}")
-        Im = np.asarray(self.motor_inertia, dtype=float)
-        if Im.shape not in ((), (3, 3)):
-            raise ValueError(f"DH link `motor_inertia` must be a scalar or (3, 3), got shape {Im.shape}")
-        if not np.all(np.isfinite(Im)):
-            raise ValueError(f"DH link `motor_inertia` must be finite, got {self.motor_inertia!r}")
+            raise ValueError(f"DH link masses must be non-negative, got `mass` = {self.mass}, "
+                             f"`motor_mass` = {self.motor_mass}")
+        put(self, "com", tuple(as_vector(self.com, 3, "com").tolist()))
+        if self.inertia is not None:
+            put(self, "inertia", _inertia_tensor(self.inertia, "inertia"))
+        Im = np.asarray(as_scalar(self.motor_inertia, "motor_inertia") if np.ndim(self.motor_inertia) == 0
+                        else _inertia_tensor(self.motor_inertia, "motor_inertia"))
+        if Im.shape == () and Im < 0:
+            raise ValueError(f"DH link `motor_inertia` must be non-negative, got {float(Im)}")
+        put(self, "motor_inertia", float(Im) if Im.shape == () else Im)
+        for key in ("lower", "upper"):
+            if getattr(self, key) is not None:
+                put(self, key, as_scalar(getattr(self, key), key))
+        if self.lower is not None and self.upper is not None and self.lower > self.upper:
+            raise ValueError(f"DH link joint limits must have `lower` <= `upper`, got {self.lower} > {self.upper}")
+        for key in ("effort", "velocity"):
+            value = getattr(self, key)
+            if value is not None:
+                value = as_scalar(value, key)
+                if value <= 0:
+                    raise ValueError(f"DH link `{key}` limit must be positive, got {value}")
+                put(self, key, value)
+        if self.name is not None and not isinstance(self.name, str):
+            raise ValueError(f"DH link `name` must be a string, got {self.name!r}")
         Fs = np.asarray(self.coulomb_friction, dtype=float)
         if (Fs.shape not in ((), (2,)) or not np.all(np.isfinite(Fs)) or np.any(Fs < 0)
                 or not np.isfinite(self.viscous_friction) or self.viscous_friction < 0):
@@ -177,6 +210,22 @@ def joint_friction_from_motor(gear_ratio: float, viscous: float = 0.0, coulomb: 
                 coulomb_friction=float(c) if c.shape == () else (float(c[0]), float(c[1])))
 
 
+INERTIA_TOL = 1e-9  # symmetry and positive semi-definiteness of an inertia tensor [kg·m²]
+
+
+def _inertia_tensor(value: Any, name: str) -> np.ndarray:
+    """A (3, 3) inertia tensor, checked: finite, symmetric and positive semi-definite (ValueError naming ``name``)."""
+    inertia = as_matrix(value, (3, 3), name).copy()
+    asym = np.abs(inertia - inertia.T).max()
+    if asym > INERTIA_TOL:
+        raise ValueError(f"DH link `{name}` must be symmetric, max |I - I^T| = {asym:.3g}")
+    lowest = np.linalg.eigvalsh(inertia).min()
+    if lowest < -INERTIA_TOL:
+        raise ValueError(f"DH link `{name}` must be positive semi-definite, smallest eigenvalue {lowest:.3g}")
+    inertia.setflags(write=False)
+    return inertia
+
+
 def as_links(links: Iterable[DHLink | Mapping[str, Any]]) -> list[DHLink]:
     """Accept DHLink objects or dicts with DHLink's keys (unknown keys → TypeError)."""
     names = {f.name for f in fields(DHLink)}
@@ -190,8 +239,8 @@ def as_links(links: Iterable[DHLink | Mapping[str, Any]]) -> list[DHLink]:
             raise TypeError(f"DH link {k + 1}: unrecognized key(s) {sorted(unknown)}; allowed {sorted(names)}")
         try:
             out.append(DHLink(**link))
-        except ValueError as exc:  # name the row of the table
-            raise ValueError(f"DH link {k + 1}: {exc}") from None
+        except ValueError as exc:
+            raise ValueError(f"DH link {k + 1}{str(exc).removeprefix('DH link')}") from None
     if not out:
         raise ValueError("a DH table needs at least one link")
     return out
@@ -202,9 +251,7 @@ def dh_chain(links: Sequence[DHLink | Mapping[str, Any]], q: Any, convention: st
     A matrices with ``convention="modified"``)."""
     _check_convention(convention)
     links = as_links(links)
-    q = np.asarray(q, dtype=float).reshape(-1)
-    if q.shape != (len(links),):
-        raise ValueError(f"`q` must have shape ({len(links)},), got {q.shape}")
+    q = as_vector(np.ravel(q) if np.ndim(q) > 1 else q, len(links), "q")
     T = [np.eye(4)]
     for link, qi in zip(links, q):
         T.append(T[-1] @ link.transform(qi, convention))
@@ -276,13 +323,16 @@ def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_ro
     ----------
     links : DH table, one entry per joint (see :class:`DHLink`).
     name : the robot's name.
-    tool : optional (4, 4) constant transform from the last DH frame to the end-effector frame ``ee``;
-        identity by default (``ee`` coincides with ``frame_n``).
+    tool : optional (4, 4) constant rigid transform from the last DH frame to the end-effector frame ``ee``;
+        identity by default (``ee`` coincides with ``frame_n``). ValueError if it is not [[R, o], [0, 1]], R ∈ SO(3).
     convention : ``"standard"`` (the book's, (2.52)) or ``"modified"`` (Craig's) DH.
     base : optional (4, 4) constant transform from the root link ``base`` (world) to DH frame 0; without it
         ``frame_0`` is the root.
     motors : ``"rotors"`` (the book's mimic rotors) or ``"armature"`` (rotor fixed to link i−1 with its mass
         and transverse moments; the spin moment k_r² I_m goes to ``model.armature``, set by ``robot_from_dh``).
+
+    A link's ``<inertial>`` is written when its mass or its inertia is non-zero (a massless link may
+    still have a moment of inertia, e.g. link 1 of the Puma 560).
     """
     import yourdfpy
     from lxml import etree
@@ -360,9 +410,7 @@ def urdf_from_dh(links: Sequence[DHLink | Mapping[str, Any]], name: str = "dh_ro
                                      offset=0.0)))
             mimics[rotor_joint] = (link.name or f"joint_{i}", float(link.gear_ratio))
     n = len(links)
-    tool = eye.copy() if tool is None else np.asarray(tool, dtype=float)
-    if tool.shape != (4, 4):
-        raise ValueError(f"`tool` must have shape (4, 4), got {tool.shape}")
+    tool = eye.copy() if tool is None else as_homogeneous(tool, "tool")  # a rigid transform: R ∈ SO(3)
     gripper = dh_transform(0.0, 0.0, radius, 0.0)
     robot.links.append(yourdfpy.Link(name="ee", **_shapes(("box", (2 * radius, 5 * radius, 2 * radius), gripper))))
     robot.joints.append(yourdfpy.Joint(name="ee_fixed", type="fixed", parent=f"frame_{n}", child="ee",

@@ -12,6 +12,8 @@ Eqs. (7.32) B(q), (7.42) the model, (7.45) Christoffel C, (7.39) g, Sect. 7.5 Ne
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pinocchio as pin
 from scipy.linalg import get_lapack_funcs
@@ -125,6 +127,8 @@ def forward_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarra
     """q̈ = B(q)⁻¹ (τ − C q̇ − g): ABA without mimic joints, else a Cholesky solve (Eq. 7.42).
 
     ``check=False`` skips the input validation (for simulation hot loops whose inputs are known good).
+    ValueError on both paths when B(q) is singular (e.g. a link with neither mass nor inertia): ABA then
+    returns NaN/inf (one dot product checks it), Cholesky fails.
     """
     if check:
         q = as_vector(q, robot.nq, "q")
@@ -132,12 +136,22 @@ def forward_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarra
         tau = as_vector(tau, robot.nv, "tau")
     model, data = robot.model, robot.data
     if not robot.has_mimic:
-        return pin.aba(model, data, q, qd, tau).copy()
+        qdd = pin.aba(model, data, q, qd, tau).copy()
+        if not math.isfinite(qdd.dot(qdd)) and not np.isfinite(qdd).all():  # the dot may overflow: recheck
+            for name, x in (("q", q), ("qd", qd), ("tau", tau)):  # unchecked inputs (check=False)
+                as_vector(x, None, name)
+            raise _singular_inertia(q, "ABA returned a non-finite q̈")
+        return qdd
     B = pin.crba(model, data, q)  # upper triangle is what LAPACK's posv reads
     _, qdd, info = _posv(B, tau - pin.nonLinearEffects(model, data, q, qd), lower=False)
     if info != 0:
-        raise ValueError(f"B(q) is not positive definite at q = {q} (LAPACK posv info {info})")
+        raise _singular_inertia(q, f"LAPACK posv info {info}")
     return qdd
+
+
+def _singular_inertia(q: np.ndarray, detail: str) -> ValueError:
+    return ValueError(f"B(q) is singular (not positive definite) at q = {q}: a body without mass or inertia "
+                      f"on a joint? ({detail})")
 
 
 _posv = get_lapack_funcs("posv", (np.zeros((1, 1)),))

@@ -23,7 +23,7 @@ from rigid_body.dh import DHLink, as_links, dh_chain
 from rigid_body.robots import Robot
 from rigid_body.rotations import (as_homogeneous, as_rotation, euler_rate_matrix_rpy, euler_rate_matrix_zyz, rot_z,
                                   rotation_to_euler_zyz, rotation_to_rpy, wrap_angle)
-from rigid_body.validation import as_vector
+from rigid_body.validation import as_count, as_scalar, as_tolerance, as_vector
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -111,6 +111,9 @@ def analytical_jacobian(robot: Robot, q: np.ndarray, representation: str = "zyz"
 # same arm. Each returns a (k, n) array of solutions, one per row, revolute angles wrapped into (−π, π].
 # Before returning, every solution is checked against the DH product (2.52): a pose that cannot be
 # reached raises a ValueError that says so, and a solution is never returned with a residual above IK_TOL.
+# Where the table gives joint limits (``lower``/``upper``), rows outside them are dropped (a revolute angle
+# is first shifted by a multiple of 2π into its range when one fits); no row left → ValueError
+# "unreachable within the joint limits". The row order constants then index the rows that remain.
 
 IK_TOL = 1e-9  # max pose residual of a returned closed-form solution [m, rad]
 ELBOW_UP, ELBOW_DOWN = 0, 1  # row order of the planar/SCARA solutions: s2 < 0 first, then s2 > 0
@@ -162,13 +165,35 @@ def _prismatic_in_range(value: float, link: DHLink, name: str, robot: str) -> fl
 
 def _checked(links: Sequence[DHLink], qs: np.ndarray, T_target: np.ndarray, mask: np.ndarray,
              robot: str) -> np.ndarray:
-    """Keep the DH-product check honest: every returned row reproduces the entries of ``T_target`` in ``mask``."""
+    """Keep the DH-product check honest: every returned row reproduces the entries of ``T_target`` in ``mask``
+    and lies within the table's joint limits (rows outside are dropped, see :func:`_within_limits`)."""
     for q in qs:
         T = dh_chain(links, q)[-1]
         err = np.max(np.abs((T - T_target)[mask]))
         if not err <= IK_TOL:
             raise ValueError(f"pose unreachable by the {robot}: closed-form residual {err:.3g} > {IK_TOL:g}")
-    return qs
+    return _within_limits(links, qs, robot)
+
+
+def _within_limits(links: Sequence[DHLink], qs: np.ndarray, robot: str) -> np.ndarray:
+    """The rows of ``qs`` within the joint limits of ``links`` (where given); a revolute angle outside is
+    shifted by the multiple of 2π that brings it in, when there is one. ValueError when no row is left."""
+    lo = np.array([-np.inf if link.lower is None else link.lower for link in links])
+    hi = np.array([np.inf if link.upper is None else link.upper for link in links])
+    if not (np.isfinite(lo).any() or np.isfinite(hi).any()):
+        return qs
+    revolute = np.array([link.joint == "revolute" for link in links])
+    qs = qs.copy()
+    base = np.where(np.isfinite(lo), lo, -np.pi)
+    shifted = base + np.mod(qs - base, 2 * np.pi)  # the smallest q + 2πk ≥ lower
+    move = revolute & ((qs < lo - IK_TOL) | (qs > hi + IK_TOL)) & (shifted <= hi + IK_TOL)
+    qs[move] = shifted[move]
+    inside = np.all((qs >= lo - IK_TOL) & (qs <= hi + IK_TOL), axis=1)
+    if not inside.any():
+        raise ValueError(f"pose unreachable by the {robot} within its joint limits (lower {np.round(lo, 4).tolist()}, "
+                         f"upper {np.round(hi, 4).tolist()}): every closed-form solution "
+                         f"{np.round(qs, 4).tolist()} violates them")
+    return qs[inside]
 
 
 def _snap_cosine(c: float) -> float:
@@ -337,6 +362,7 @@ def _arm_position(p: np.ndarray, links: Sequence[DHLink], d4: float, theta1: flo
     (Problem 2.18): px = py = 0 (with d = 0) leaves θ1 free (``theta1``); a2 = ‖v‖ with p on the shoulder
     leaves θ2 free (``theta2``).
     """
+    theta1, theta2 = as_scalar(theta1, "theta1"), as_scalar(theta2, "theta2")
     l1, l2, l3 = links[:3]
     s1, s3 = np.sign(l1.alpha), np.sign(l3.alpha)
     d, a2, a3 = l2.d + l3.d, l2.a, l3.a
@@ -451,7 +477,9 @@ def inverse_kinematics_anthropomorphic_wrist(T: np.ndarray, theta1: float = 0.0,
 
 
 def distinct_solutions(qs: np.ndarray, atol: float = 1e-9) -> np.ndarray:
-    """The distinct rows of a solution array (angles compared modulo 2π), in their first order."""
+    """The distinct rows of a solution array (angles compared modulo 2π, within ``atol`` in (0, 1e-3]), in their
+    first order."""
+    atol = as_tolerance(atol, "atol")
     qs = np.atleast_2d(np.asarray(qs, dtype=float))
     keep: list[np.ndarray] = []
     for q in qs:
@@ -471,8 +499,7 @@ def workspace_points(robot: Robot, n: int, rng: np.random.Generator, frame: str 
     """
     if not (np.all(np.isfinite(robot.lower)) and np.all(np.isfinite(robot.upper))):
         raise ValueError(f"robot {robot.name!r} has infinite joint limits: its reachable workspace is not a box image")
-    if int(n) < 1:
-        raise ValueError(f"`n` must be a positive number of samples, got {n!r}")
+    n = as_count(n, "n")
     if not isinstance(rng, np.random.Generator):
         raise ValueError(f"`rng` must be a numpy Generator (np.random.default_rng(seed)), got {type(rng).__name__}")
     fid = robot.frame(frame)
@@ -488,9 +515,11 @@ def joint_arc(robot: Robot, q_start: np.ndarray, joint: int, q_end: float, n: in
               frame: str | int | None = None) -> np.ndarray:
     """Positions (n, 3) traced by ``frame`` while joint ``joint`` (0-based) moves from q_start[joint] to ``q_end``."""
     q_start = as_vector(q_start, robot.nq, "q_start")
-    q_end = float(as_vector(q_end, 1, "q_end")[0])
-    if not 0 <= joint < robot.nq:
+    q_end = as_scalar(q_end, "q_end")
+    n = as_count(n, "n", minimum=2)
+    if not 0 <= as_count(joint, "joint", minimum=0) < robot.nq:
         raise ValueError(f"`joint` must be in [0, {robot.nq - 1}], got {joint}")
+    joint = int(joint)
     fid = robot.frame(frame)
     out = np.empty((n, 3))
     for k, value in enumerate(np.linspace(q_start[joint], q_end, n)):
@@ -521,6 +550,7 @@ def planar_3r_workspace_contour(robot: Robot, n: int = 60) -> WorkspaceContour:
     """
     if robot.nq != 3:
         raise ValueError(f"`robot` must be a three-link planar arm, got nq = {robot.nq}")
+    n = as_count(n, "n", minimum=2)
     lo, up = robot.lower, robot.upper
     if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(up))):
         raise ValueError("`robot` must have finite joint limits")

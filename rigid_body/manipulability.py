@@ -23,6 +23,7 @@ import numpy as np
 from rigid_body.kinematics import direct_kinematics, geometric_jacobian
 from rigid_body.robots import Robot
 from rigid_body.rotations import as_rotation
+from rigid_body.validation import as_count, as_tolerance, as_vector
 
 __all__ = [
     "singular_values",
@@ -56,7 +57,8 @@ def singular_values(J: Any) -> np.ndarray:
 
 
 def jacobian_rank(J: Any, tol: float = RANK_TOL) -> int:
-    """Numerical rank of ``J``: the number of σ_i > tol · max(1, σ_1)."""
+    """Numerical rank of ``J``: the number of σ_i > tol · max(1, σ_1) (``tol`` in (0, 1e-3])."""
+    tol = tol if tol is RANK_TOL else as_tolerance(tol)
     s = singular_values(J)
     return int(np.sum(s > tol * max(1.0, s[0])))
 
@@ -172,8 +174,8 @@ def plot_ellipse(ax: Any, ellipsoid: Ellipsoid, center: Any = (0.0, 0.0), n: int
     """Draw a 2-D ellipsoid (e.g. of the position rows of a planar arm) on ``ax``; returns the line."""
     if ellipsoid.axes.shape != (2, 2):
         raise ValueError(f"`ellipsoid` must be 2-D to be drawn, got axes of shape {ellipsoid.axes.shape}")
-    c = np.asarray(center, dtype=float)
-    t = np.linspace(0.0, 2.0 * np.pi, n)
+    c = as_vector(center, 2, "center")
+    t = np.linspace(0.0, 2.0 * np.pi, as_count(n, "n", minimum=3))
     pts = ellipsoid.axes @ (ellipsoid.semi_axes[:, None] * np.vstack([np.cos(t), np.sin(t)]))
     (line,) = ax.plot(c[0] + pts[0], c[1] + pts[1], **kwargs)
     return line

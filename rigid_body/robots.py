@@ -10,9 +10,12 @@ any URDF file. ``load(..., payload=m)`` adds a point mass at the end effector of
 from __future__ import annotations
 
 import difflib
+import math
 import os
 import re
 import sys
+import threading
+import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
@@ -134,7 +137,11 @@ class Robot:
     Attributes
     ----------
     name : the robot's name.
-    model, data : ``pin.Model`` and a ``pin.Data`` made for it (scratch space of the algorithms).
+    model : the ``pin.Model``.
+    data : a ``pin.Data`` for ``model`` (scratch space of the algorithms), one per thread: the thread
+        that builds the Robot gets the one given, every other thread its own ``model.createData()`` on
+        first use. So the functions taking a Robot may be called from several threads at once; objects
+        that keep ``robot.data`` (controllers, plants) belong to the thread that made them.
     ee_frame : id of the end-effector frame (``ee`` for the book's robots).
     urdf_path : the URDF file, or None for a model built in memory.
     urdf_xml : the URDF text the model was built from.
@@ -169,6 +176,8 @@ class Robot:
     has_mimic: bool = field(init=False)
     _geometry: Geometry | None = field(init=False, default=None, repr=False)
 
+    _local: threading.local = field(init=False, repr=False, compare=False)
+
     def __post_init__(self) -> None:
         # True when the model has mimic joints (the book's rotors): ABA is then unavailable.
         self.has_mimic = len(getattr(self.model, "mimicking_joints", ())) > 0
@@ -181,6 +190,17 @@ class Robot:
         extra = ", rotors" if self.has_mimic else ""
         return (f"Robot({self.name!r}, nq={self.nq}, nv={self.nv}, ee={self.model.frames[self.ee_frame].name!r}, "
                 f"configurations={sorted(self.configurations)}, mass={mass:.4g} kg{extra})")
+
+    def __getstate__(self) -> dict:  # copy.deepcopy: the calling thread's data, not the thread-local store
+        state = {k: v for k, v in self.__dict__.items() if k != "_local"}
+        state["data"] = self.data
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        state = dict(state)
+        data = state.pop("data")
+        self.__dict__.update(state)
+        self.data = data
 
     def frame_id(self, name: str) -> int:
         """Id of the frame ``name``; ValueError with the nearest frame names when it does not exist."""
@@ -219,10 +239,95 @@ class Robot:
         return rng.uniform(lo, hi)
 
 
+def _thread_data(self: Robot) -> pin.Data:
+    try:
+        return self._local.data
+    except AttributeError:  # first use in this thread
+        data = self._local.data = self.model.createData()
+        return data
+
+
+def _set_data(self: Robot, data: pin.Data) -> None:
+    if "_local" not in self.__dict__:
+        self._local = threading.local()
+    self._local.data = data
+
+
+# ``data`` is a dataclass field (so Robot(..., data=...) sets it) read through a per-thread property.
+Robot.data = property(_thread_data, _set_data, doc="The calling thread's ``pin.Data`` for ``model``.")
+
+
+_INERTIA_TOL = 1e-9  # symmetry / positive semi-definiteness of an inertia tensor [kg·m²]
+_INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+
+
+def _urdf_number(text: str | None, link: str, field: str) -> float:
+    try:
+        value = float(text if text is not None else "0")
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise ValueError(f"URDF link {link!r}: `{field}` must be a finite number, got {text!r}")
+    return value
+
+
+def _check_inertia(mass: float, inertia: np.ndarray, where: str) -> None:
+    if mass < 0:
+        raise ValueError(f"{where}: `mass` must be non-negative, got {mass:g}")
+    asym = np.abs(inertia - inertia.T).max()
+    lowest = np.linalg.eigvalsh(0.5 * (inertia + inertia.T)).min()
+    if asym > _INERTIA_TOL or lowest < -_INERTIA_TOL:
+        raise ValueError(f"{where}: `inertia` must be symmetric positive semi-definite, got {inertia.tolist()}")
+
+
+def _declared_inertials(xml: str) -> float:
+    """Check every ``<inertial>`` of the URDF text (finite numbers, mass ≥ 0, inertia PSD) and return the total mass.
+
+    Pinocchio's URDF parser (urdfdom) drops an ``<inertial>`` it cannot read (``mass="nan"``, a
+    malformed number) with only a line on the C++ stderr, leaving the link massless: checked here first.
+    """
+    total = 0.0
+    for link in ET.fromstring(xml).iter("link"):
+        name = link.get("name", "?")
+        inertial = link.find("inertial")
+        if inertial is None:
+            continue
+        mass_el, inertia_el, origin_el = inertial.find("mass"), inertial.find("inertia"), inertial.find("origin")
+        mass = _urdf_number(None if mass_el is None else mass_el.get("value"), name, "mass")
+        if origin_el is not None:
+            for key in ("xyz", "rpy"):
+                for v in (origin_el.get(key) or "0 0 0").split():
+                    _urdf_number(v, name, f"origin {key}")
+        v = {k: _urdf_number(None if inertia_el is None else inertia_el.get(k), name, k) for k in _INERTIA_KEYS}
+        inertia = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]],
+                            [v["ixz"], v["iyz"], v["izz"]]])
+        _check_inertia(mass, inertia, f"URDF link {name!r}")
+        total += mass
+    return total
+
+
+def _check_model_inertias(model: pin.Model, declared_mass: float) -> None:
+    """Every body inertia of ``model`` physical (finite, mass ≥ 0, inertia symmetric PSD), and no declared mass lost."""
+    total = 0.0
+    for i in range(model.njoints):  # 0: the links fixed to the base (universe)
+        body = model.inertias[i]
+        mass, lever, inertia = float(body.mass), np.asarray(body.lever), np.asarray(body.inertia)
+        if not (math.isfinite(mass) and np.isfinite(lever).all() and np.isfinite(inertia).all()):
+            raise ValueError(f"model {model.name!r}: body of joint {model.names[i]!r} has a non-finite inertia")
+        _check_inertia(mass, inertia, f"model {model.name!r}, body of joint {model.names[i]!r}")
+        total += mass
+    if abs(total - declared_mass) > 1e-9 * max(1.0, declared_mass):
+        raise ValueError(f"model {model.name!r}: the URDF declares {declared_mass:g} kg of links but the "
+                         f"model has {total:g} kg (an <inertial> was dropped by the URDF parser)")
+
+
 def _build(xml: str, gravity: Any | None, name: str, ee: str | None, path: Path | None,
            lock: tuple[str, ...] = (), package_dirs: Sequence[str] = ()) -> Robot:
     """The Robot of URDF text ``xml``: rotors kept as mimic joints, joints ``lock`` fixed at 0 (model and geometry)."""
+    declared_mass = _declared_inertials(xml)
     model = pin.buildModelFromXML(xml, mimic=not lock)
+    model.name = name
+    _check_model_inertias(model, declared_mass)
     lock_ids = [model.getJointId(j) for j in lock if model.existJointName(j)]
     full_model = model
     if lock_ids:

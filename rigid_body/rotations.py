@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from rigid_body.validation import as_matrix, as_vector
+from rigid_body.validation import as_matrix, as_scalar, as_tolerance, as_vector
 
 ORTHONORMAL_TOL = 1e-6  # max |R^T R − I| accepted as a rotation; also |‖Q‖ − 1| for quaternions
 SINGULAR_TOL = 1e-12  # |sin θ| (ZYZ, ZXZ) or |cos θ| (RPY) below which Euler angles are singular
@@ -45,7 +45,9 @@ _EYE3 = np.eye(3)
 
 
 def as_rotation(R: Any, name: str = "R", tol: float = ORTHONORMAL_TOL) -> np.ndarray:
-    """``R`` as a (3, 3) rotation matrix: orthonormal and det +1 within ``tol``, else ValueError."""
+    """``R`` as a (3, 3) rotation matrix: orthonormal and det +1 within ``tol`` (in (0, 1e-3]), else ValueError."""
+    if tol is not ORTHONORMAL_TOL:
+        tol = as_tolerance(tol)
     if type(R) is not np.ndarray or R.shape != (3, 3) or R.dtype != np.float64:
         R = as_matrix(R, (3, 3), name)
     err = np.abs(R.T @ R - _EYE3).max()
@@ -60,7 +62,9 @@ def as_rotation(R: Any, name: str = "R", tol: float = ORTHONORMAL_TOL) -> np.nda
 
 
 def as_unit_quaternion(Q: Any, name: str = "Q", tol: float = ORTHONORMAL_TOL) -> np.ndarray:
-    """``Q`` as a (4,) unit quaternion [η, εx, εy, εz]; ValueError unless |‖Q‖ − 1| ≤ ``tol``."""
+    """``Q`` as a (4,) unit quaternion [η, εx, εy, εz]; ValueError unless |‖Q‖ − 1| ≤ ``tol`` (in (0, 1e-3])."""
+    if tol is not ORTHONORMAL_TOL:
+        tol = as_tolerance(tol)
     Q = as_vector(Q, 4, name)
     norm = np.linalg.norm(Q)
     if abs(norm - 1.0) > tol:
@@ -70,6 +74,8 @@ def as_unit_quaternion(Q: Any, name: str = "Q", tol: float = ORTHONORMAL_TOL) ->
 
 def as_homogeneous(T: Any, name: str = "T", tol: float = ORTHONORMAL_TOL) -> np.ndarray:
     """``T`` as a (4, 4) homogeneous transform [[R, o], [0, 1]] (2.42); ValueError otherwise."""
+    if tol is not ORTHONORMAL_TOL:
+        tol = as_tolerance(tol)
     T = as_matrix(T, (4, 4), name)
     if np.max(np.abs(T[3] - [0.0, 0.0, 0.0, 1.0])) > tol:
         raise ValueError(f"`{name}` must have last row [0, 0, 0, 1], got {T[3]}")
@@ -77,13 +83,13 @@ def as_homogeneous(T: Any, name: str = "T", tol: float = ORTHONORMAL_TOL) -> np.
     return T
 
 
-def _scalar(x: Any, name: str) -> float:
-    if isinstance(x, (float, int, np.floating, np.integer)) and not isinstance(x, bool):
-        x = float(x)
-        if not math.isfinite(x):
-            raise ValueError(f"`{name}` must be finite, got {x}")
-        return x
-    return float(as_vector(x, 1, name)[0])
+_scalar = as_scalar  # a finite float, ValueError naming the argument
+
+
+def _singular_tol(tol: float) -> float:
+    """The Euler singularity tolerance, checked: in (0, 1e-3] (a larger one returns angles that do not
+    reproduce R, a non-positive one misses the exact singular set)."""
+    return tol if tol is SINGULAR_TOL else as_tolerance(tol)
 
 
 def _branch(branch: int) -> int:
@@ -176,6 +182,7 @@ def rotation_to_euler_zyz(R: Any, branch: int = 1, tol: float = SINGULAR_TOL) ->
     representative with ψ = 0 is returned with ``singular=True``.
     """
     R = as_rotation(R)
+    tol = _singular_tol(tol)
     b = _branch(branch)
     s_theta = np.hypot(R[0, 2], R[1, 2])
     if s_theta < tol:
@@ -199,6 +206,7 @@ def rotation_to_euler_zxz(R: Any, branch: int = 1, tol: float = SINGULAR_TOL) ->
     (r13 = r23 = 0); then the representative with ψ = 0 is returned with ``singular=True``.
     """
     R = as_rotation(R)
+    tol = _singular_tol(tol)
     b = _branch(branch)
     s_theta = np.hypot(R[0, 2], R[1, 2])
     if s_theta < tol:
@@ -252,6 +260,7 @@ def rotation_to_rpy(R: Any, branch: int = 1, tol: float = SINGULAR_TOL, order: s
     """
     i, j, k, eps = _rpy_order(order)
     R = as_rotation(R)
+    tol = _singular_tol(tol)
     b = _branch(branch)
     c_theta = np.hypot(R[i, i], R[i, j])
     s_theta = eps * R[i, k]

@@ -12,12 +12,17 @@ Chapters 9–10) share:
   unit quaternion e_O = η_e ε_d − η_d ε_e − S(ε_d) ε_e (3.91); both of the latter with the geometric
   Jacobian.
 * :func:`damped_least_squares_inverse` (3.59) and :func:`weighted_pseudo_inverse` (3.50)/(3.52).
+* :func:`selection_matrices`, :func:`selection_pseudo_inverse` (9.55), :func:`selection_projection`
+  (P_f, P_v) — the natural/artificial constraints of a force/motion task (Sects. 9.5–9.6).
+* :func:`relative_position_rate`, :func:`relative_euler_rate` — the end-effector motion w.r.t. a
+  desired frame, Eqs. (9.10)–(9.11).
 * :func:`joint_rates` — q̇ = J⁻¹ ẋ, q̈ = J⁻¹ (ẍ − J̇ q̇) (3.51 and 3.99 inverted) and
   :func:`joint_reference`, the operational path → joint reference (q_d, q̇_d, q̈_d)(t) with a
   closed-form inverse kinematics for q_d.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
-Sects. 2.12, 3.1–3.7 (Eqs. (3.30), (3.50)–(3.59), (3.66), (3.84)–(3.99)).
+Sects. 2.12, 3.1–3.7 (Eqs. (3.30), (3.50)–(3.59), (3.66), (3.84)–(3.99)), 9.2, 9.5–9.6
+(Eqs. (9.10), (9.11), (9.55)).
 """
 
 from __future__ import annotations
@@ -47,6 +52,12 @@ __all__ = [
     "weighted_pseudo_inverse",
     "joint_rates",
     "joint_reference",
+    "TWIST_AXES",
+    "selection_pseudo_inverse",
+    "selection_projection",
+    "selection_matrices",
+    "relative_position_rate",
+    "relative_euler_rate",
 ]
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
@@ -334,3 +345,101 @@ def joint_reference(robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.
         return q, qd, qdd
 
     return reference
+
+
+# --------------------------------------------------------------------------------------------
+# Selection matrices of natural/artificial constraints (Sects. 9.5–9.6)
+# --------------------------------------------------------------------------------------------
+
+TWIST_AXES = ("x", "y", "z", "rx", "ry", "rz")  # components of a twist [ṗ; ω] or a wrench [f; μ]
+
+
+def _tall(S: Any, name: str) -> np.ndarray:
+    S = np.asarray(S, dtype=float)
+    if S.ndim == 1:
+        S = S.reshape(-1, 1)
+    if S.ndim != 2 or S.shape[1] > S.shape[0] or not np.isfinite(S).all():
+        raise ValueError(f"`{name}` must be a finite (n, m) selection matrix with m <= n, got shape {S.shape}")
+    return S
+
+
+def selection_pseudo_inverse(S: Any, W: Any = None) -> np.ndarray:
+    """S† = (Sᵀ W S)⁻¹ Sᵀ W, the W-weighted left pseudo-inverse of a selection matrix, Eq. (9.55).
+
+    λ = S_f† h_e is the W-weighted least-squares fit of h_e by S_f λ (Problem 9.5); for a wide
+    Jacobian the right inverse is :func:`weighted_pseudo_inverse`. W need only make Sᵀ W S
+    invertible (e.g. a singular compliance C' of a partly rigid environment). ValueError otherwise.
+    """
+    S = _tall(S, "S")
+    W = np.eye(S.shape[0]) if W is None else as_matrix(W, (S.shape[0],) * 2, "W")
+    A = S.T @ W @ S
+    if np.linalg.cond(A) > 1e12:
+        raise ValueError("Sᵀ W S is singular: the weight `W` does not see the columns of `S`")
+    return np.linalg.solve(A, S.T @ W)
+
+
+def selection_projection(S: Any, W: Any = None) -> np.ndarray:
+    """P = S S†, the projection onto R(S) along the W-orthogonal complement (P_f, P_v of Sect. 9.6); P² = P."""
+    S = _tall(S, "S")
+    return S @ selection_pseudo_inverse(S, W)
+
+
+def selection_matrices(velocity_axes: Sequence[str], R_c: Any = None,
+                       axes: Sequence[str] = TWIST_AXES) -> tuple[np.ndarray, np.ndarray]:
+    """(S_f, S_v) of a task whose artificial motion constraints are along ``velocity_axes`` (Sect. 9.6).
+
+    S_v has a unit column per axis named in ``velocity_axes`` (e.g. ("x", "rz"): ṗ_x and ω_z free to be
+    commanded); S_f has the complementary columns (the axes where the environment's natural motion
+    constraints hold and a force is commanded), so S_fᵀ S_v = 0 and [S_f S_v] is square and invertible.
+    ``axes`` names the components (default the 6 of a twist [ṗ; ω]; ("x", "y") for a planar force
+    task). With the constraint frame's rotation ``R_c`` (3 × 3, or 2 × 2 for a planar task) the matrices
+    are referred to the base frame: S = diag(R_c, R_c) S^c (S = R_c S^c for a position-only task).
+    """
+    names = list(axes)
+    v = list(velocity_axes)
+    unknown = [a for a in v if a not in names]
+    if unknown or len(set(v)) != len(v):
+        raise ValueError(f"`velocity_axes` must be distinct names from {tuple(names)}, got {tuple(v)}")
+    eye = np.eye(len(names))
+    S_v = eye[:, [names.index(a) for a in v]]
+    S_f = eye[:, [i for i, a in enumerate(names) if a not in v]]
+    if R_c is not None:
+        R = np.asarray(R_c, dtype=float)
+        k = R.shape[0] if R.ndim == 2 else 0
+        if k not in (2, 3) or R.shape != (k, k) or len(names) not in (k, 2 * k):
+            raise ValueError(f"`R_c` must be a square rotation acting on the {len(names)} components "
+                             f"(or on each half of them), got shape {R.shape}")
+        R = as_matrix(R, (k, k), "R_c")
+        if np.abs(R.T @ R - np.eye(k)).max() > 1e-9 or np.linalg.det(R) < 0:
+            raise ValueError("`R_c` must be a rotation matrix")
+        T = R if len(names) == k else np.kron(np.eye(2), R)
+        S_f, S_v = T @ S_f, T @ S_v
+    return S_f, S_v
+
+
+# --------------------------------------------------------------------------------------------
+# Relative kinematics of the end-effector frame w.r.t. a desired frame (Sect. 9.2)
+# --------------------------------------------------------------------------------------------
+
+def relative_position_rate(R_d: Any, o_d: Any, od_d: Any, omega_d: Any, o_e: Any, od_e: Any) -> np.ndarray:
+    """ȯ^d_{d,e} = R_dᵀ (ȯ_e − ȯ_d) + Sᵀ(ω^d_d) o^d_{d,e}, Eq. (9.10), with o^d_{d,e} = R_dᵀ (o_e − o_d).
+
+    (The chain rule gives R_dᵀ(ȯ_e − ȯ_d) + Ṙ_dᵀ(o_e − o_d) with Ṙ_dᵀ = −S(ω^d_d) R_dᵀ, (S9.2).)
+    """
+    R_d = as_matrix(R_d, (3, 3), "R_d")
+    o_de = R_d.T @ (as_vector(o_e, 3, "o_e") - as_vector(o_d, 3, "o_d"))
+    w = R_d.T @ as_vector(omega_d, 3, "omega_d")
+    return R_d.T @ (as_vector(od_e, 3, "od_e") - as_vector(od_d, 3, "od_d")) - np.cross(w, o_de)
+
+
+def relative_euler_rate(R_d: Any, omega_d: Any, R_e: Any, omega_e: Any) -> np.ndarray:
+    """φ̇_{d,e} = T⁻¹(φ_{d,e}) R_dᵀ (ω_e − ω_d), Eq. (9.11): ZYZ angles φ_{d,e} of R^d_e = R_dᵀ R_e.
+
+    ValueError at a representation singularity (sin ϑ = 0, T(φ) singular).
+    """
+    R_d, R_e = as_matrix(R_d, (3, 3), "R_d"), as_matrix(R_e, (3, 3), "R_e")
+    phi = rotation_to_euler_zyz(R_d.T @ R_e)
+    if phi.singular:
+        raise ValueError("R_dᵀ R_e is a ZYZ representation singularity: φ̇_{d,e} is not defined")
+    w = R_d.T @ (as_vector(omega_e, 3, "omega_e") - as_vector(omega_d, 3, "omega_d"))  # ω^d_{d,e}
+    return np.linalg.solve(euler_rate_matrix_zyz(phi.angles), w)

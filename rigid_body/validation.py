@@ -1,36 +1,60 @@
-"""Input checks shared by the whole package: one place for the error messages."""
+"""Input checks shared by the whole package: one place for the error messages.
+
+Every check raises ``ValueError`` naming the argument (shape, non-numeric, NaN/inf, range); the fast
+path (a well-formed float array) costs one conversion and one finiteness test.
+"""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 
+MAX_TOL = 1e-3  # the largest tolerance a geometric check accepts (rotations, Euler singularities)
+
+
+def _as_float_array(x: Any, name: str, what: str) -> np.ndarray:
+    if type(x) is np.ndarray and x.dtype == np.float64:
+        return x
+    try:
+        return np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"`{name}` must be {what}, got {type(x).__name__} {x!r:.60}") from None
+
 
 def as_vector(x: Any, n: int | None, name: str) -> np.ndarray:
     """``x`` as a finite float vector of shape (n,); ValueError naming ``name`` otherwise."""
-    try:
-        v = np.asarray(x, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be a numeric vector, got {type(x).__name__}") from None
+    v = _as_float_array(x, name, "a numeric vector")
     if v.ndim == 0 and n in (None, 1):
         v = v.reshape(1)
     if v.ndim != 1 or (n is not None and v.shape[0] != n):
         expected = f"({n},)" if n is not None else "a 1-D vector"
         raise ValueError(f"`{name}` must have shape {expected}, got {v.shape}")
-    if not np.all(np.isfinite(v)):
+    if not np.isfinite(v).all():
         raise ValueError(f"`{name}` must be finite, got {v}")
     return v
 
 
 def as_matrix(x: Any, shape: tuple[int, int], name: str) -> np.ndarray:
     """``x`` as a finite float array of the given shape; ValueError naming ``name`` otherwise."""
-    m = np.asarray(x, dtype=float)
+    m = _as_float_array(x, name, "a numeric array")
     if m.shape != shape:
         raise ValueError(f"`{name}` must have shape {shape}, got {m.shape}")
-    if not np.all(np.isfinite(m)):
+    if not np.isfinite(m).all():
         raise ValueError(f"`{name}` must be finite")
     return m
+
+
+def as_scalar(value: Any, name: str) -> float:
+    """``value`` as a finite float; ValueError naming ``name`` (non-numeric, NaN, inf, more than one value)."""
+    if isinstance(value, (float, int, np.floating, np.integer)) and not isinstance(value, bool):
+        v = float(value)
+    else:
+        v = float(as_vector(_as_float_array(value, name, "a number"), 1, name)[0])  # 0-d or (1,); else a shape error
+    if not math.isfinite(v):
+        raise ValueError(f"`{name}` must be finite, got {v}")
+    return v
 
 
 def as_positive(value: Any, name: str, allow_zero: bool = False) -> float:
@@ -43,3 +67,32 @@ def as_positive(value: Any, name: str, allow_zero: bool = False) -> float:
         kind = "non-negative" if allow_zero else "positive"
         raise ValueError(f"`{name}` must be a finite {kind} number, got {v}")
     return v
+
+
+def as_square_matrix(x: Any, n: int, name: str) -> np.ndarray:
+    """A finite (n, n) matrix from a scalar (x I), a vector (diag x) or an (n, n) array; ValueError naming ``name``."""
+    m = np.asarray(x, dtype=float)
+    if m.ndim == 0:
+        return float(as_vector(m, 1, name)[0]) * np.eye(n)
+    if m.ndim == 1:
+        return np.diag(as_vector(m, n, name))
+    return as_matrix(m, (n, n), name)
+
+
+def as_count(value: Any, name: str, minimum: int = 1) -> int:
+    """``value`` as an integer ≥ ``minimum`` (a number of samples, points, ...); ValueError naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        if not (isinstance(value, (float, np.floating)) and float(value).is_integer()):
+            raise ValueError(f"`{name}` must be an integer >= {minimum}, got {value!r}")
+    if value < minimum:
+        raise ValueError(f"`{name}` must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def as_tolerance(tol: Any, name: str = "tol", upper: float = MAX_TOL) -> float:
+    """``tol`` as a tolerance in (0, ``upper``]: a larger one would accept wrong answers, a non-positive one
+    would miss exact cases (ValueError naming ``name``)."""
+    t = as_scalar(tol, name)
+    if not 0.0 < t <= upper:
+        raise ValueError(f"`{name}` must be in (0, {upper:g}], got {t:g}")
+    return t

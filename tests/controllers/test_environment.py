@@ -74,3 +74,30 @@ def test_arm_pressing_on_a_spring_plane_settles_at_stiffness_times_penetration()
     assert np.all(res["f"][:50, 1] == 0.0) and np.min(res["f"][:, 1]) < -0.5 * F   # free, then in contact
     with pytest.raises(ValueError, match="`environment`"):
         ArmInContact(robot, object())
+
+
+def test_compliant_plane_bilateral_friction_and_contact_flag():
+    plane = CompliantPlane([0, 0, 0], [0, 0, 1], 1e4, bilateral=True)
+    np.testing.assert_allclose(plane.wrench(_pose([0, 0, 0.01]), np.zeros(6))[:3], [0, 0, 100.0])  # it pulls too
+    assert plane.in_contact(_pose([0, 0, 1.0]))
+    rough = CompliantPlane([0, 0, 0], [0, 0, 1], 1e4, friction=0.5, slip_velocity=1e-3)
+    assert not rough.in_contact(_pose([0, 0, 1e-6])) and rough.in_contact(_pose([0, 0, -1e-6]))
+    # 1 cm in, sliding along x at 0.1 m/s ≫ v_s: the tool drags the surface with μ N along its motion
+    h = rough.wrench(_pose([0, 0, -0.01]), np.array([0.1, 0, 0, 0, 0, 0]))
+    np.testing.assert_allclose(h[:3], [0.5 * 100.0 * np.tanh(100.0), 0, -100.0], atol=1e-9)
+    # slow sliding: the regularised law is viscous, μ N v / v_s
+    h = rough.wrench(_pose([0, 0, -0.01]), np.array([0, 1e-6, 0, 0, 0, 0]))
+    assert h[1] == pytest.approx(0.5 * 100.0 * 1e-6 / 1e-3, rel=1e-6)
+    with pytest.raises(ValueError, match="`friction`"):
+        CompliantPlane([0, 0, 0], [0, 0, 1], 1e4, friction=-0.1)
+
+
+def test_stepped_plane_recedes_beyond_the_edge():
+    from controllers.environment import SteppedPlane
+
+    wall = SteppedPlane([0.6, 0, 0], [-1, 0, 0], [0, 1, 0], step_at=0.1, depth=0.01, stiffness=1e4)
+    assert wall.wrench(_pose([0.601, 0.05, 0]), np.zeros(6))[0] == pytest.approx(10.0)   # before the edge
+    assert not wall.in_contact(_pose([0.601, 0.15, 0]))                                   # beyond: free
+    assert wall.wrench(_pose([0.612, 0.15, 0]), np.zeros(6))[0] == pytest.approx(20.0)
+    with pytest.raises(ValueError, match="`direction`"):
+        SteppedPlane([0, 0, 0], [1, 0, 0], [2, 0, 0], 0.1, 0.01, 1e4)

@@ -45,12 +45,13 @@ def test_planar_2r_both_elbows_reproduce_the_point(params):
 
 def test_planar_3r_both_elbows_reproduce_the_pose():
     rng = np.random.default_rng(1)
-    robot = load("planar_3r", a=(0.5, 0.3, 0.3))
+    arm = dict(a=(0.5, 0.3, 0.3), lower=(None,) * 3, upper=(None,) * 3)  # no joint limits: both elbows
+    robot = load("planar_3r", **arm)
     for _ in range(30):
         q = rng.uniform(-np.pi, np.pi, 3)
         T = fk(robot, q)
         x = [T[0, 3], T[1, 3], np.arctan2(T[1, 0], T[0, 0])]
-        qs = kin.inverse_kinematics_planar_3r(x, a=(0.5, 0.3, 0.3))
+        qs = kin.inverse_kinematics_planar_3r(x, **arm)
         for qk in qs:
             np.testing.assert_allclose(fk(robot, qk), T, atol=1e-10)
         assert contains(qs, q, [0, 1, 2])

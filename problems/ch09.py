@@ -1,0 +1,699 @@
+"""Chapter 9 — Force control: Problems 9.1–9.11.
+
+The simulations (9.3, 9.10) and the closed-loop checks of 9.2 and 9.4 use the two-link arm of
+Sect. 7.3.2 with its motors (``load("planar_2r")``, the authors' ``param.m``; joint viscous friction
+F_v = diag(100, 100) N·m·s/rad), a controller sampled at T_c = 1 ms with zero-order hold and the plant
+integrated by RK4 at 1 ms (the manual's minimum step), for the authors' t_d = 2.5 s.
+
+The environment is MODEL-B (Fig. 9.16, companion ``i9_3``): a compliant plane through o_r = [1, 0]
+at π/4 to x₀, stiffness k_y = 5·10³ N/m along its normal y_c, none along x_c; the constraint ("rotated
+base") frame R_c has x_c along the plane and y_c along its outward normal; the material lies on the
+side y_c < y_r^c. It is a :class:`controllers.environment.CompliantPlane` (unilateral: it only
+pushes; contact is kept in both runs, where it equals the authors' linear spring f_e = K (o_e − o_r)).
+
+Errata of the manual, computed correctly and named in the checks: the sign of the Ṙ_dᵀ term in
+(S9.1); the missing c₂₂ in the proportional term of 9.8; the sign of r̈ − r̈_d in 9.11; "y_c" for x_c
+in the prose of 9.7.
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Ch. 9,
+Eqs. (9.10)–(9.11), (9.20)–(9.23), (9.28)–(9.31), (9.41), (9.55), (9.70), (9.77)–(9.85), (9.95),
+Example 9.4, Figs. 9.8, 9.16; solution manual 9.1–9.11, Figs. S9.2, S9.5, S9.6.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable
+
+import numpy as np
+import pinocchio as pin
+import sympy as sp
+
+from controllers.environment import CompliantPlane
+from controllers.force import (ForceWithInnerLoop, HybridForceMotionControl, compliance_equilibrium,
+                               constrained_stiffness, fit_second_order, force_loop_parameters,
+                               impedance_parameters, inner_position_loop_equilibrium, pi_velocity_parameters)
+from controllers.operational_space import OperationalInverseDynamics, OperationalPDGravity
+from controllers.plants import ArmInContact
+from controllers.simulation import SimulationResult, simulate
+from planners.paths import PathLaw, Segment
+from planners.timing import trapezoidal_law
+from problems.common import label_axes, max_abs_error, subplots
+from problems.registry import Solution, problem
+from rigid_body.kinematics import ELBOW_UP, inverse_kinematics_planar_2r
+from rigid_body.robots import Robot, load
+from rigid_body.rotations import euler_rate_matrix_zyz, rotation_to_euler_zyz, skew
+from rigid_body.task_space import (relative_euler_rate, relative_position_rate, selection_matrices,
+                                   selection_projection, selection_pseudo_inverse)
+
+T_C = 1e-3             # controller sampling period = integration step [s]
+T_D = 2.5              # simulated time of the authors' runs [s]
+F_V = 100.0            # joint viscous friction K_r F_m K_r [N·m·s/rad]
+K_Y = 5e3              # plane stiffness along its normal [N/m] (i9_3)
+O_R = np.array([1.0, 0.0])   # a point of the undeformed plane [m]
+R_C = np.array([[1.0, -1.0], [1.0, 1.0]]) / np.sqrt(2.0)   # constraint frame: x_c along the plane, y_c normal
+PLANAR = ("x", "y")    # the components of a planar position/force task
+
+
+def _arm() -> Robot:
+    return load("planar_2r")
+
+
+def _plane() -> CompliantPlane:
+    """MODEL-B: the plane through o_r with outward normal y_c, stiffness k_y."""
+    return CompliantPlane(np.r_[O_R, 0.0], np.r_[R_C[:, 1], 0.0], K_Y)
+
+
+def _tra_5() -> PathLaw:
+    """The companion's tra_5 (9.3, 9.10): p_i = [1 + 0.2 cos(π/4), 0] → p_f = [1.2 + 0.2 cos(π/4), 0.2],
+    trapezoidal s(t) with cruise ṡ_c = 0.5 m/s over t_f = 1 s, then held."""
+    p_i = np.array([1.0 + 0.2 * np.cos(np.pi / 4), 0.0, 0.0])
+    segment = Segment(p_i, p_i + np.array([0.2, 0.2, 0.0]))
+    return PathLaw(segment, trapezoidal_law(0.0, segment.length, 1.0, 0.5))
+
+
+def _held(law: Callable[[float], Any]) -> Callable[[float], Any]:
+    """``law`` as a sampled controller sees it: held over [t, t + T_c), so at a switching instant of
+    the trapezoid (here t_f = 1 s, a sample) the value of the interval that starts there (right limit)."""
+    return lambda t: law(np.nextafter(t, np.inf))
+
+
+def _in_constraint_frame(v: np.ndarray) -> np.ndarray:
+    """Planar vectors (N, 2 or more) in the rotated base frame: R_cᵀ v."""
+    return np.asarray(v)[:, :2] @ R_C
+
+
+def _random_spd(rng: np.random.Generator, n: int) -> np.ndarray:
+    A = rng.standard_normal((n, n))
+    return A @ A.T + n * np.eye(n)
+
+
+def _overshoot(zeta: float) -> float:
+    """The relative overshoot exp(−ζπ/√(1 − ζ²)) of a second-order step response (ζ < 1)."""
+    return float(np.exp(-zeta * np.pi / np.sqrt(1.0 - zeta * zeta)))
+
+
+# --------------------------------------------------------------------------------------------
+# 9.1
+# --------------------------------------------------------------------------------------------
+
+def _smooth_pose(rng: np.random.Generator) -> Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+    """A random smooth motion t -> (R, ω, o, ȯ): R = exp(S(φ(t))), o(t) cubic; ω = R J_r(φ) φ̇ from the
+    right Jacobian of exp (pin.Jexp3), not from a difference quotient."""
+    a, b = rng.standard_normal((3, 3)), rng.standard_normal((4, 3))
+
+    def at(t: float):
+        phi, phid = a[0] + a[1] * t + a[2] * t**2, a[1] + 2 * a[2] * t
+        R = pin.exp3(phi)
+        o = b[0] + b[1] * t + b[2] * t**2 + b[3] * t**3
+        od = b[1] + 2 * b[2] * t + 3 * b[3] * t**2
+        return R, R @ pin.Jexp3(phi) @ phid, o, od
+
+    return at
+
+
+@problem("9.1", "Derive the rates (9.10), (9.11) of the end-effector position and Euler angles w.r.t. the "
+         "desired frame", kind="derivation")
+def problem_9_1() -> Solution:
+    """Show that o^d_{d,e} = R_dᵀ(o_e − o_d) has the rate (9.10) ȯ^d_{d,e} = R_dᵀ(ȯ_e − ȯ_d) +
+    Sᵀ(ω^d_d) o^d_{d,e} and the ZYZ angles φ_{d,e} of R^d_e = R_dᵀ R_e the rate (9.11)
+    φ̇_{d,e} = T⁻¹(φ_{d,e}) R_dᵀ(ω_e − ω_d).
+
+    Checked on random smooth motions of both frames against central differences (h = 10⁻⁵) of
+    o^d_{d,e}(t) and of the extracted angles. Erratum: the manual's (S9.1) prints −Ṙ_dᵀ(o_e − o_d);
+    the chain rule gives +Ṙ_dᵀ(o_e − o_d), which with (S9.2) yields (9.10) — the misprinted sign is
+    shown to disagree with the differences.
+    """
+    sol = Solution()
+    rng = np.random.default_rng(901)
+    h = 1e-5
+    err_p, err_phi, err_printed, err_S92 = [], [], [], []
+    n_cases = 0
+    while n_cases < 20:
+        desired, actual = _smooth_pose(rng), _smooth_pose(rng)
+        t = float(rng.uniform(0.0, 1.0))
+        R_d, w_d, o_d, od_d = desired(t)
+        R_e, w_e, o_e, od_e = actual(t)
+        phi = rotation_to_euler_zyz(R_d.T @ R_e)
+        if phi.singular or abs(np.sin(phi.angles[1])) < 0.2:   # keep away from sin ϑ = 0
+            continue
+        n_cases += 1
+
+        def rel(tau: float) -> tuple[np.ndarray, np.ndarray]:
+            Rd, _, od, _ = desired(tau)
+            Re, _, oe, _ = actual(tau)
+            return Rd.T @ (oe - od), rotation_to_euler_zyz(Rd.T @ Re).angles
+
+        (p_plus, a_plus), (p_minus, a_minus) = rel(t + h), rel(t - h)
+        fd_p, fd_phi = (p_plus - p_minus) / (2 * h), (a_plus - a_minus) / (2 * h)
+        err_p.append(max_abs_error(relative_position_rate(R_d, o_d, od_d, w_d, o_e, od_e), fd_p))
+        err_phi.append(max_abs_error(relative_euler_rate(R_d, w_d, R_e, w_e), fd_phi))
+        # (S9.2): Ṙ_dᵀ = −S(ω^d_d) R_dᵀ, against the difference quotient of R_dᵀ
+        Rdot_T = (desired(t + h)[0].T - desired(t - h)[0].T) / (2 * h)
+        err_S92.append(max_abs_error(Rdot_T, -skew(R_d.T @ w_d) @ R_d.T))
+        printed = R_d.T @ (od_e - od_d) - Rdot_T @ (o_e - o_d)      # the manual's (S9.1)
+        err_printed.append(max_abs_error(printed, fd_p))
+    sol.value("max_error_9_10", max(err_p))
+    sol.value("max_error_9_11", max(err_phi))
+    sol.check("(9.10) matches central differences of R_dᵀ(o_e − o_d) (20 random motions)", max(err_p) < 1e-6,
+              f"max error {max(err_p):.2e} < 1e-6")
+    sol.check("(9.11) with the ZYZ T(φ) of (3.64) matches differences of the extracted angles", max(err_phi) < 1e-6,
+              f"max error {max(err_phi):.2e} < 1e-6")
+    sol.check("(S9.2): Ṙ_dᵀ = −S(ω^d_d) R_dᵀ", max(err_S92) < 1e-6, f"max error {max(err_S92):.2e}")
+    sol.check("erratum (S9.1): the printed sign −Ṙ_dᵀ(o_e − o_d) is wrong (chain rule: +)", min(err_printed) > 1e-3,
+              f"the printed expression misses the differences by at least {min(err_printed):.3g} "
+              f"(the corrected one by at most {max(err_p):.1e})")
+    # ω^d_{d,e} = T(φ_{d,e}) φ̇_{d,e} with the book's T: the ZYZ rate matrix at a known angle (3.64)
+    T0 = euler_rate_matrix_zyz([0.3, 0.7, -0.4])
+    sol.check_close("T(φ) of (3.64) at φ = [0.3, 0.7, −0.4]", T0[:, 2],
+                    [np.cos(0.3) * np.sin(0.7), np.sin(0.3) * np.sin(0.7), np.cos(0.7)], atol=1e-15)
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 9.2
+# --------------------------------------------------------------------------------------------
+
+@problem("9.2", "Equilibrium of compliance control: Eqs. (9.22)–(9.23)", kind="derivation")
+def problem_9_2() -> Solution:
+    """Show that with h_e = K_P dx_{e,d} (9.20), h_e = K dx_{r,e} (9.21) and dx_{r,e} = dx_{r,d} − dx_{e,d}
+    the rest of compliance control is h_e = (I₆ + K K_P⁻¹)⁻¹ K dx_{r,d} (9.22),
+    dx_{e,d} = K_P⁻¹(I₆ + K K_P⁻¹)⁻¹ K dx_{r,d} (9.23).
+
+    Checks: the closed forms against a direct solve of the 12 × 12 linear system for random SPD K_P and
+    PSD K of every rank 1–6; and the rest of a simulated compliance controller (operational-space PD
+    with gravity compensation, Eq. 8.110) pressing the two-link arm into the MODEL-B plane.
+    """
+    sol = Solution()
+    rng = np.random.default_rng(902)
+    errs = []
+    for rank in range(1, 7):
+        K_P = _random_spd(rng, 6)
+        A = rng.standard_normal((6, rank))
+        K = A @ A.T                                  # PSD of rank `rank`
+        dx_rd = rng.standard_normal(6)
+        # unknowns [h_e; dx_ed]:  h_e − K_P dx_ed = 0,  h_e + K dx_ed = K dx_rd
+        M = np.block([[np.eye(6), -K_P], [np.eye(6), K]])
+        direct = np.linalg.solve(M, np.r_[np.zeros(6), K @ dx_rd])
+        h_e, dx_ed = compliance_equilibrium(K_P, K, dx_rd)
+        errs.append(max_abs_error(np.r_[h_e, dx_ed], direct) / max(1.0, np.abs(direct).max()))
+    sol.value("max_relative_error", max(errs))
+    sol.check("(9.22)–(9.23) = direct solution of {h = K_P dx_ed, h = K (dx_rd − dx_ed)}, K of rank 1..6",
+              max(errs) < 1e-10, f"max relative error {max(errs):.2e} < 1e-10")
+
+    # Closed loop: PD + gravity (8.110) of the two-link arm pushing into the MODEL-B plane
+    arm = _arm()
+    K_P, K_D = 5000.0, 3000.0
+    n = np.r_[R_C[:, 1]]
+    x_d = O_R + R_C @ np.array([0.15, -0.05])        # 5 cm inside the undeformed plane
+    q0 = inverse_kinematics_planar_2r(O_R + R_C @ np.array([0.15, 0.0]))[ELBOW_UP]
+    plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
+    res = simulate(plant, OperationalPDGravity(arm, K_P, K_D, x_d, rows=(0, 1)), (0.0, T_D), plant.initial_state(q0),
+                   h=T_C, Ts=T_C, log=lambda t, x, u: {"h_e": plant.wrench(x[:2], x[2:])[0][:2]})
+    h_pred, dx_ed_pred = compliance_equilibrium(K_P * np.eye(2), K_Y * np.outer(n, n), x_d - O_R)
+    sol.value("h_e_simulated", res["h_e"][-1])
+    sol.value("h_e_9_22", h_pred)
+    sol.check_close("simulated compliance control rests at h_e of (9.22) [N]", res["h_e"][-1], h_pred, atol=0.01)
+    sol.check_close("… and at x_d − x_e of (9.23) [m]", res["e"][-1], dx_ed_pred, atol=1e-5)
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 9.3
+# --------------------------------------------------------------------------------------------
+
+M_D, K_D_IMP, K_P_IMP = 100.0, 1600.0, 5000.0   # the impedance of 9.3 (equal along x_c and y_c)
+
+
+def _impedance_run(reference: Any, q0: np.ndarray) -> SimulationResult:
+    arm = _arm()
+    plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
+    ctrl = OperationalInverseDynamics(arm, K_P_IMP, K_D_IMP, reference, rows=(0, 1), viscous_friction=F_V,
+                                      inertia=M_D, force_feedback=True)
+    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C)
+
+
+@problem("9.3", "Impedance control of the two-link arm in contact with a compliant plane inclined by π/4",
+         kind="simulation")
+def problem_9_3() -> Solution:
+    """Impedance control with force measurement (9.30)–(9.31) of the two-link arm against the MODEL-B
+    plane; M_d = 100 I, K_D = 1600 I, K_P = 5000 I (equal in the rotated frame, so isotropic in the
+    base frame). The tip follows tra_5 (companion ``i9_3``): the segment from p_i = [1 + 0.1√2, 0] to
+    p_f = [1.2 + 0.1√2, 0.2] m along x_c, 0.1 m inside the undeformed plane, trapezoidal with ṡ_c =
+    0.5 m/s, t_f = 1 s, from q(0) = inv_k2u(p_i). Fig. S9.2.
+
+    Along y_c the loop is m_d ÿ + k_D ẏ + (k_P + k_y) y = k_y y_r + k_P y_d: ω_n = 10 rad/s, ζ = 0.8,
+    measured on the −500 → −250 N force transient; along x_c (free) ω_n = 7.07 rad/s, ζ = 1.13,
+    measured on a second run that starts 2 cm off the (constant) reference along x_c.
+    """
+    sol = Solution()
+    law = _tra_5()
+    p_i = law(0.0)[0]
+    q0 = inverse_kinematics_planar_2r(p_i[:2])[ELBOW_UP]
+    sol.check_close("initial posture = companion's inv_k2u(p_i)", q0, [0.96343, -1.92685], atol=1e-5)
+    res = _impedance_run(_held(law), q0)
+    f_c, e_c = _in_constraint_frame(res["h_e"]), _in_constraint_frame(res["e"])
+    e_base = res["e"]
+    f_end, e_end = sol.value("f_final", f_c[-1]), sol.value("position_error_final", e_c[-1])
+
+    # closed forms of the rest along y_c, from the data
+    y_dr = float((R_C.T @ (p_i[:2] - O_R))[1])                 # y_d^c − y_r^c = −0.1 m
+    f_inf = K_Y * K_P_IMP / (K_P_IMP + K_Y) * y_dr             # −250 N
+    e_inf = y_dr - f_inf / K_Y                                  # ỹ = y_d − y_e = −0.05 m
+    sol.check_close("f_y^c(0) = k_y (y_e − y_r) = −500 N (tip 0.1 m inside)", f_c[0, 1], K_Y * y_dr, atol=1e-6)
+    sol.check("f_y^c(t_d) = k_y k_P/(k_P + k_y)(y_d − y_r) = −250 N (±1 %)", abs(f_end[1] - f_inf) < 0.01 * abs(f_inf),
+              f"{f_end[1]:.4f} N vs {f_inf:.4f} N")
+    sol.check("x̃_y^c(t_d) = −0.05 m (±1 %)", abs(e_end[1] - e_inf) < 0.01 * abs(e_inf), f"{e_end[1]:.6f} m vs {e_inf:.6f} m")
+    sol.check("x̃_x^c ≈ 0 along the unconstrained direction", np.abs(e_c[:, 0]).max() < 1e-3,
+              f"max |x̃_x^c| = {np.abs(e_c[:, 0]).max():.2e} m < 1e-3 (catalogue's reference run: 5e-5)")
+    sol.check("no force along x_c (frictionless plane)", np.abs(f_c[:, 0]).max() < 1e-6,
+              f"max |f_x^c| = {np.abs(f_c[:, 0]).max():.1e} N")
+    sol.check_close("base-frame rest: f_e = [176.78, −176.78] N", res["h_e"][-1, :2], R_C @ [0.0, f_inf], atol=0.5)
+
+    w_y, z_y = impedance_parameters(M_D, K_D_IMP, K_P_IMP, K_Y)
+    w_x, z_x = impedance_parameters(M_D, K_D_IMP, K_P_IMP)
+    sol.check_close("manual: ω_nx = 7.07 rad/s, ζ_x = 1.13", [w_x, z_x], [7.07, 1.13], atol=0.005)
+    sol.check_close("manual: ω_ny = 10 rad/s, ζ_y = 0.8", [w_y, z_y], [10.0, 0.8], atol=1e-12)
+    fit_y = fit_second_order(res.t, f_c[:, 1], f_inf, guess=(5.0, 0.5))
+    sol.value("omega_zeta_y_measured", np.array(fit_y))
+    sol.check_close("ω_n, ζ along y_c measured on the force transient", fit_y, [w_y, z_y], rtol=0.01)
+    least = float(f_c[:, 1].max())
+    sol.value("force_least_negative", least)
+    sol.check("small overshoot: least-negative force = f_∞ − (f_0 − f_∞) e^{−ζπ/√(1−ζ²)} ≈ −246.2 N",
+              abs(least - (f_inf - (K_Y * y_dr - f_inf) * _overshoot(z_y))) < 0.5,
+              f"{least:.2f} N vs {f_inf - (K_Y * y_dr - f_inf) * _overshoot(z_y):.2f} N")
+
+    # x_c: a separate regulation run from 2 cm off along the plane
+    offset = 0.02
+    q_off = inverse_kinematics_planar_2r(p_i[:2] + R_C[:, 0] * offset)[ELBOW_UP]
+    free = _impedance_run(p_i[:2], q_off)
+    ex = _in_constraint_frame(free["e"])[:, 0]
+    fit_x = fit_second_order(free.t, ex, 0.0, guess=(5.0, 1.5))
+    sol.value("omega_zeta_x_measured", np.array(fit_x))
+    sol.check_close("ω_n, ζ along x_c measured on a 2 cm offset run", fit_x, [w_x, z_x], rtol=0.01)
+
+    fig, axes = subplots(2, 2, sharex=True, figsize=(10, 6))
+    for row, (e, f, names) in enumerate(((e_base, res["h_e"][:, :2], ("x", "y")), (e_c, f_c, ("x_c", "y_c")))):
+        for j, style in enumerate(("C0-", "C1--")):
+            axes[row, 0].plot(res.t, e[:, j], style, label=f"x̃ along {names[j]}")
+            axes[row, 1].plot(res.t, f[:, j], style, label=f"f along {names[j]}")
+        axes[row, 0].set_ylim(-0.06, 0.06)
+        axes[row, 1].set_ylim(-550, 550)
+        frame = "base frame" if row == 0 else "rotated base frame"
+        xlabel = "t [s]" if row == 1 else None
+        label_axes(axes[row, 0], xlabel, "position error [m]", title=frame)
+        label_axes(axes[row, 1], xlabel, "contact force [N]", title=frame)
+    sol.figure(fig, "Fig. S9.2: impedance control against the compliant plane")
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 9.4
+# --------------------------------------------------------------------------------------------
+
+@problem("9.4", "Equilibrium of force control with inner position loop (Fig. 9.8)", kind="derivation")
+def problem_9_4() -> Solution:
+    """At the rest of Fig. 9.8 the input of K_P is null, x_d + x_F − x_e = 0, so with (9.21) and (9.41)
+    x_e = x_d + C_F(K(x_r − x_e) + f_d).
+
+    Checked on the closed loop: the two-link arm against the MODEL-B plane, inverse dynamics with the
+    position loop M_d = I, K_D = 40 I, K_P = 400 I, a proportional C_F = 10⁻⁴ m/N (rest compared with
+    (I + C_F K)⁻¹(x_d + C_F(K x_r + f_d)), where f_e ≠ f_d) and a PI C_F (integral gain 10⁻³ m/(N·s):
+    f_e → f_d). f_d = −40 N along y_c, x_d 2 cm inside the plane.
+    """
+    sol = Solution()
+    arm = _arm()
+    n = R_C[:, 1]
+    K = K_Y * np.outer(n, n)
+    x_d = O_R + R_C @ np.array([0.15, -0.02])
+    f_d = -40.0 * n
+    c_F = 1e-4
+    q0 = inverse_kinematics_planar_2r(O_R + R_C @ np.array([0.15, 0.0]))[ELBOW_UP]
+    plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
+    x_pred = inner_position_loop_equilibrium(x_d, O_R, K, c_F, f_d)
+    sol.value("x_e_predicted", x_pred)
+    residual = x_pred - (x_d + c_F * (K @ (O_R - x_pred) + f_d))
+    sol.check("closed form satisfies x_e = x_d + C_F(K(x_r − x_e) + f_d)", np.abs(residual).max() < 1e-12,
+              f"residual {np.abs(residual).max():.1e}")
+    runs = {}
+    for name, K_I in (("P", 0.0), ("PI", 1e-3)):
+        ctrl = ForceWithInnerLoop(arm, 400.0, 40.0, 1.0, c_F, x_d, f_d, K_I=K_I, rows=(0, 1), viscous_friction=F_V)
+        runs[name] = simulate(plant, ctrl, (0.0, 3.0), plant.initial_state(q0), h=T_C, Ts=T_C)
+    p_run, pi_run = runs["P"], runs["PI"]
+    sol.value("x_e_simulated", p_run["x_e"][-1])
+    sol.check_close("proportional C_F: simulated rest = x_e of Problem 9.4 [m]", p_run["x_e"][-1], x_pred, atol=1e-6)
+    f_rest = K @ (x_pred - O_R)
+    sol.check("proportional C_F: the force error does not vanish", abs((f_rest - f_d) @ n) > 1.0,
+              f"f_e·y_c = {f_rest @ n:.3f} N vs f_d = {f_d @ n:.1f} N (simulated {p_run['f_e'][-1] @ n:.3f} N)")
+    sol.check_close("PI C_F: f_e → f_d [N]", pi_run["f_e"][-1], f_d, atol=0.05)
+    fig, ax = subplots(figsize=(6.4, 3.4))
+    for name, r in runs.items():
+        ax.plot(r.t, r["f_e"] @ n, label=f"{name} force regulator")
+    ax.axhline(f_d @ n, color="k", ls=":", label="f_d")
+    label_axes(ax, "t [s]", "f_e along y_c [N]")
+    sol.figure(fig, "Force control with inner position loop (Fig. 9.8) on the compliant plane")
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 9.5 – 9.9: selection matrices
+# --------------------------------------------------------------------------------------------
+
+@problem("9.5", "λ minimising the W-weighted norm of h_e − S_f λ", kind="derivation")
+def problem_9_5() -> Solution:
+    """Minimising g = ½ εᵀ W ε, ε = h_e − S_f λ, gives −S_fᵀ W (h_e − S_f λ) = 0, i.e.
+    λ = (S_fᵀ W S_f)⁻¹ S_fᵀ W h_e, the weighted pseudo-inverse (9.55).
+
+    Checked for random SPD W, full-rank S_f (6 × m, m = 1..5) and h_e: against ordinary least squares
+    of W^{1/2} S_f λ ≈ W^{1/2} h_e (Cholesky factor, numpy lstsq), the zero gradient, and no random
+    perturbation of λ lowering g.
+    """
+    sol = Solution()
+    rng = np.random.default_rng(905)
+    err_ls, grad, worse = [], [], 0
+    for m in range(1, 6):
+        W = _random_spd(rng, 6)
+        S_f = rng.standard_normal((6, m))
+        h_e = rng.standard_normal(6)
+        lam = selection_pseudo_inverse(S_f, W) @ h_e
+        L = np.linalg.cholesky(W)                 # W = L Lᵀ: ‖ε‖²_W = ‖Lᵀ ε‖²
+        lam_ls = np.linalg.lstsq(L.T @ S_f, L.T @ h_e, rcond=None)[0]
+        err_ls.append(max_abs_error(lam, lam_ls))
+        grad.append(float(np.abs(-S_f.T @ W @ (h_e - S_f @ lam)).max()))
+        g = lambda l: 0.5 * (h_e - S_f @ l) @ W @ (h_e - S_f @ l)
+        worse += sum(g(lam + 1e-3 * rng.standard_normal(m)) < g(lam) for _ in range(50))
+    sol.value("max_error_vs_lstsq", max(err_ls))
+    sol.check("λ = (S_fᵀWS_f)⁻¹S_fᵀW h_e = least squares of W^½ S_f λ ≈ W^½ h_e", max(err_ls) < 1e-10,
+              f"max error {max(err_ls):.1e}")
+    sol.check("the gradient −S_fᵀW(h_e − S_f λ) vanishes", max(grad) < 1e-10, f"max |∇g| = {max(grad):.1e}")
+    sol.check("no perturbation of λ lowers ‖ε‖_W (250 random trials)", worse == 0, f"{worse} lower")
+    return sol
+
+
+@problem("9.6", "Show that (9.70) equals K' = P_f K", kind="derivation")
+def problem_9_6() -> Solution:
+    """With C K = K C = I₆, K' = S_f(S_fᵀ C S_f)⁻¹S_fᵀ (9.70) = S_f(S_fᵀ C S_f)⁻¹S_fᵀ C K = S_f S_f† K = P_f K
+    (S_f† weighted by C, (9.55)).
+
+    Checked for random SPD K, C = K⁻¹ and S_f of rank 1..5: K' = P_f K, P_f² = P_f, rank K' = m,
+    K' symmetric positive semi-definite.
+    """
+    sol = Solution()
+    rng = np.random.default_rng(906)
+    err, idem, ranks, psd = [], [], [], []
+    for m in range(1, 6):
+        K = _random_spd(rng, 6)
+        C = np.linalg.inv(K)
+        S_f = rng.standard_normal((6, m))
+        K1 = constrained_stiffness(S_f, C)
+        P_f = selection_projection(S_f, C)
+        err.append(max_abs_error(K1, P_f @ K) / np.abs(K1).max())
+        idem.append(max_abs_error(P_f @ P_f, P_f))
+        ranks.append(int(np.linalg.matrix_rank(K1, tol=1e-9 * np.abs(K1).max())) == m)
+        psd.append(max_abs_error(K1, K1.T) < 1e-9 * np.abs(K1).max() and np.linalg.eigvalsh(K1).min() > -1e-9 * np.abs(K1).max())
+    sol.value("max_relative_error", max(err))
+    sol.check("K' of (9.70) = P_f K", max(err) < 1e-10, f"max relative error {max(err):.1e}")
+    sol.check("P_f is a projection: P_f² = P_f", max(idem) < 1e-10, f"max error {max(idem):.1e}")
+    sol.check("rank K' = m and K' symmetric PSD", all(ranks) and all(psd), f"ranks ok: {ranks}, PSD: {psd}")
+    return sol
+
+
+SCREW_NATURAL_VELOCITY = ("y", "z", "rx", "ry")   # ṗ_y = ṗ_z = ω_x = ω_y = 0 (Table S9.1)
+
+
+@problem("9.7", "Natural and artificial constraints for driving a screw into a hole", kind="derivation")
+def problem_9_7() -> Solution:
+    """Constraint frame on the screwdriver (Fig. S9.3): it slides along the slot (x_c) and turns about
+    the screw axis z_c. Natural constraints (Table S9.1): ṗ_y^c = ṗ_z^c = ω_x^c = ω_y^c = 0 and
+    f_x^c = μ_z^c = 0; artificial: f_y^c, f_z^c, μ_x^c, μ_y^c, ṗ_x^c, ω_z^c.
+
+    Encoded as S_v (ṗ_x, ω_z) and S_f (f_y, f_z, μ_x, μ_y). Erratum: the manual's prose puts the natural
+    force constraint "along axis y_c"; the table (and the slot) give x_c.
+    """
+    sol = Solution()
+    axes = ("x", "y", "z", "rx", "ry", "rz")
+    # the environment constrains these velocities; the artificial motion constraints are the rest
+    free = tuple(a for a in axes if a not in SCREW_NATURAL_VELOCITY)
+    S_f, S_v = selection_matrices(free)
+    sol.value("S_f", S_f)
+    sol.value("S_v", S_v)
+    natural_force = [axes[i] for i in np.flatnonzero(S_v.any(axis=1))]   # no reaction where motion is free
+    artificial_force = [axes[i] for i in np.flatnonzero(S_f.any(axis=1))]
+    sol.check("artificial velocities = Table S9.1 (ṗ_x^c, ω_z^c)", free == ("x", "rz"), f"{free}")
+    sol.check("natural forces = Table S9.1 (f_x^c, μ_z^c)", natural_force == ["x", "rz"], f"{natural_force}")
+    sol.check("artificial forces = Table S9.1 (f_y^c, f_z^c, μ_x^c, μ_y^c)", artificial_force == ["y", "z", "rx", "ry"],
+              f"{artificial_force}")
+    sol.check("reciprocity S_fᵀ S_v = 0 and rank [S_f S_v] = 6",
+              np.abs(S_f.T @ S_v).max() == 0 and np.linalg.matrix_rank(np.hstack([S_f, S_v])) == 6)
+    # any reaction wrench in R(S_f) does no work on any admissible twist in R(S_v)
+    rng = np.random.default_rng(907)
+    power = max(abs(float((S_f @ rng.standard_normal(4)) @ (S_v @ rng.standard_normal(2)))) for _ in range(20))
+    sol.check("reaction wrenches do no work on admissible twists", power < 1e-12, f"max |hᵀv| = {power:.1e}")
+    sol.check("erratum: the natural force constraint is along x_c, not y_c as the prose says",
+              "x" in natural_force and "y" not in natural_force, "f_y^c is artificial (commanded), f_x^c natural")
+    return sol
+
+
+@problem("9.8", "Force-controlled subspace of Example 9.4 = proportional force control with inner velocity loop",
+         kind="derivation")
+def problem_9_8() -> Solution:
+    """With S_f^c = [0 1]ᵀ, S_v^c = [1 0]ᵀ and C'^c = diag(0, c₂₂) (Example 9.4), (9.77) gives α_x^c = α_ν and
+    α_y^c = c₂₂ f_λ; with (9.81) at constant λ_d, δ̇_y^c = c₂₂ λ̇ and λ = f_y^c:
+    α_y^c = −k_Dλ δ̇_y^c + c₂₂ k_Pλ (λ_d − f_y^c): P force control with an inner velocity loop.
+
+    Derived with sympy. Erratum: the manual drops c₂₂ from the proportional term (in both its lines).
+    """
+    sol = Solution()
+    c22, kD, kP, lam_d, f_y, d_dot, a_nu = sp.symbols("c22 k_Dlambda k_Plambda lambda_d f_y delta_dot alpha_nu")
+    lam, lam_dot = sp.symbols("lambda lambda_dot")
+    S_f, S_v = sp.Matrix([0, 1]), sp.Matrix([1, 0])
+    C1 = sp.diag(0, c22)
+    f_lambda = -kD * lam_dot + kP * (lam_d - lam)                   # (9.81), λ̇_d = λ̈_d = 0
+    alpha = S_v * a_nu + C1 * S_f * f_lambda                         # (9.77)
+    alpha = alpha.subs({lam_dot: d_dot / c22, lam: f_y})             # δ̇_y = c22 λ̇, λ = f_y
+    derived = sp.expand(alpha[1])
+    corrected = -kD * d_dot + c22 * kP * (lam_d - f_y)
+    printed = -kD * d_dot + kP * (lam_d - f_y)
+    sol.value("alpha_y", str(derived))
+    sol.check("α_x^c = α_ν", sp.simplify(alpha[0] - a_nu) == 0, str(alpha[0]))
+    sol.check("α_y^c = −k_Dλ δ̇_y^c + c₂₂ k_Pλ (λ_d − f_y^c)", sp.simplify(derived - corrected) == 0, str(derived))
+    sol.check("erratum: the manual's α_y^c (no c₂₂ on k_Pλ) differs", sp.simplify(derived - printed) != 0,
+              f"difference = {sp.factor(derived - printed)}")
+    return sol
+
+
+@problem("9.9", "Weighted pseudo-inverses S_f†, S_v† in the constraint and base frames (Example 9.4)",
+         kind="derivation")
+def problem_9_9() -> Solution:
+    """With C^c = [[c₁₁, c₁₂], [c₁₂, c₂₂]]: S_f^{c†} = [c₁₂/c₂₂, 1] and, with C = R_c C^c R_cᵀ and
+    S_f = R_c S_f^c, S_f† = (1/√2)[(c₁₂ − c₂₂)/c₂₂, (c₁₂ + c₂₂)/c₂₂] = S_f^{c†} R_cᵀ; λ = (c₁₂/c₂₂) f_x^c + f_y^c
+    in either frame (= f_y^c when f_x^c = 0, whatever the weight). Weighted by K^c: S_v^{c†} = [1, k₁₂/k₁₁],
+    S_v† = (1/√2)[(k₁₁ − k₁₂)/k₁₁, (k₁₁ + k₁₂)/k₁₁].
+
+    Symbolic (sympy) and numeric (random SPD C^c, K^c through the library's selection_pseudo_inverse).
+    """
+    sol = Solution()
+    c11, c12, c22, k11, k12, k22, fx, fy = sp.symbols("c11 c12 c22 k11 k12 k22 f_x f_y", real=True)
+    Rc = sp.Matrix([[1, -1], [1, 1]]) / sp.sqrt(2)
+    Cc, Kc = sp.Matrix([[c11, c12], [c12, c22]]), sp.Matrix([[k11, k12], [k12, k22]])
+    Sfc, Svc = sp.Matrix([0, 1]), sp.Matrix([1, 0])
+
+    def pinv(S, W):
+        return sp.simplify((S.T * W * S).inv() * S.T * W)
+
+    Sf_c, Sf = pinv(Sfc, Cc), pinv(Rc * Sfc, Rc * Cc * Rc.T)
+    Sv_c, Sv = pinv(Svc, Kc), pinv(Rc * Svc, Rc * Kc * Rc.T)
+    sol.check("S_f^{c†} = [c₁₂/c₂₂, 1]", sp.simplify(Sf_c - sp.Matrix([[c12 / c22, 1]])) == sp.zeros(1, 2), str(Sf_c))
+    book_Sf = sp.Matrix([[(c12 - c22) / c22, (c12 + c22) / c22]]) / sp.sqrt(2)
+    sol.check("S_f† = (1/√2)[(c₁₂ − c₂₂)/c₂₂, (c₁₂ + c₂₂)/c₂₂]", sp.simplify(Sf - book_Sf) == sp.zeros(1, 2), str(Sf))
+    sol.check("S_f† = S_f^{c†} R_cᵀ", sp.simplify(Sf - Sf_c * Rc.T) == sp.zeros(1, 2))
+    lam_c, lam_b = (Sf_c * sp.Matrix([fx, fy]))[0], (Sf * Rc * sp.Matrix([fx, fy]))[0]
+    sol.check("λ = (c₁₂/c₂₂) f_x^c + f_y^c in both frames", sp.simplify(lam_c - lam_b) == 0
+              and sp.simplify(lam_c - (c12 / c22 * fx + fy)) == 0, str(lam_c))
+    sol.check("λ = f_y^c when f_x^c = 0, whatever the weight", sp.simplify(lam_c.subs(fx, 0) - fy) == 0)
+    sol.check("S_v^{c†} = [1, k₁₂/k₁₁]", sp.simplify(Sv_c - sp.Matrix([[1, k12 / k11]])) == sp.zeros(1, 2), str(Sv_c))
+    book_Sv = sp.Matrix([[(k11 - k12) / k11, (k11 + k12) / k11]]) / sp.sqrt(2)
+    sol.check("S_v† = (1/√2)[(k₁₁ − k₁₂)/k₁₁, (k₁₁ + k₁₂)/k₁₁] = S_v^{c†} R_cᵀ",
+              sp.simplify(Sv - book_Sv) == sp.zeros(1, 2) and sp.simplify(Sv - Sv_c * Rc.T) == sp.zeros(1, 2), str(Sv))
+    # numeric: the library's (9.55) against the closed forms evaluated at random SPD matrices
+    rng = np.random.default_rng(909)
+    errs = []
+    for _ in range(10):
+        C, K = _random_spd(rng, 2), _random_spd(rng, 2)
+        S_f, S_v = selection_matrices(("x",), R_C, axes=PLANAR)
+        got_f = selection_pseudo_inverse(S_f, R_C @ C @ R_C.T)
+        got_v = selection_pseudo_inverse(S_v, R_C @ K @ R_C.T)
+        ref_f = np.array([[(C[0, 1] - C[1, 1]) / C[1, 1], (C[0, 1] + C[1, 1]) / C[1, 1]]]) / np.sqrt(2)
+        ref_v = np.array([[(K[0, 0] - K[0, 1]) / K[0, 0], (K[0, 0] + K[0, 1]) / K[0, 0]]]) / np.sqrt(2)
+        errs.append(max(max_abs_error(got_f, ref_f), max_abs_error(got_v, ref_v)))
+    sol.value("max_numeric_error", max(errs))
+    sol.check("numeric S_f†, S_v† (9.55) = the closed forms (10 random SPD C^c, K^c)", max(errs) < 1e-12,
+              f"max error {max(errs):.1e}")
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 9.10
+# --------------------------------------------------------------------------------------------
+
+K_P_NU, K_I_NU, K_D_LAMBDA, K_P_LAMBDA = 16.0, 100.0, 16.0, 100.0
+LAMBDA_D = -50.0          # desired force along y_c [N]
+K_HAT = 4e3               # estimated plane stiffness ĉ₂₂⁻¹ [N/m]
+
+
+def _hybrid_run(stiffness_estimate: float) -> SimulationResult:
+    """9.10 with Ĉ = diag(1/k̂, 1/k̂) (weight of S_f†), K̂ = diag(k̂, k̂) (weight of S_v†),
+    Ĉ' = diag(0, 1/k̂) in the constraint frame (companion ``i9_10``)."""
+    arm = _arm()
+    plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
+    law = _held(_tra_5())
+
+    def nu_reference(t: float) -> tuple[np.ndarray, np.ndarray]:
+        _, pd, pdd = law(t)
+        return (R_C.T @ pd[:2])[:1], (R_C.T @ pdd[:2])[:1]            # ν_d, ν̇_d along x_c
+
+    S_f, S_v = selection_matrices(("x",), R_C, axes=PLANAR)
+    C_hat = R_C @ np.diag([1.0, 1.0]) @ R_C.T / stiffness_estimate
+    ctrl = HybridForceMotionControl(arm, S_f, S_v, [LAMBDA_D], nu_reference, K_P_NU, K_I_NU, K_D_LAMBDA, K_P_LAMBDA,
+                                    compliance=C_hat, stiffness=np.linalg.inv(C_hat),
+                                    compliance_prime=R_C @ np.diag([0.0, 1.0 / stiffness_estimate]) @ R_C.T,
+                                    rows=(0, 1), viscous_friction=F_V)
+    q0 = inverse_kinematics_planar_2r(O_R)[ELBOW_UP]
+    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C)
+
+
+@problem("9.10", "Hybrid force/motion control of the two-link arm on the compliant plane", kind="simulation")
+def problem_9_10() -> Solution:
+    """Hybrid force/motion control (Example 9.4): velocity along x_c by the PI law (9.80) (k_Pν = 16,
+    k_Iν = 100: ω_n = 10 rad/s, ζ = 0.8), force along y_c by (9.84) (k_Dλ = 16, k_Pλ = 100) with the plane
+    stiffness known only through ĉ₂₂⁻¹ = 4·10³ N/m (true 5·10³: l_f = ĉ₂₂/c₂₂ = 1.25, ω_nλ = 11.18 rad/s,
+    ζ_λ = 0.71). Tip from o_e(0) = [1, 0] on the undeformed plane, ν_d the x_c velocity of tra_5 (9.3),
+    λ_d = −50 N. Figs. S9.5 (velocity error, force) and S9.6 (path and the plane at rest).
+
+    A second run with the true stiffness (l_f = 1) gives ω = 10 rad/s, ζ = 0.8 and a smaller overshoot.
+    """
+    sol = Solution()
+    q0 = inverse_kinematics_planar_2r(O_R)[ELBOW_UP]
+    sol.check_close("q(0) = [π/3, −2π/3] puts the tip at o_e(0) = [1, 0]", q0, [np.pi / 3, -2 * np.pi / 3], atol=1e-12)
+    res, exact = _hybrid_run(K_HAT), _hybrid_run(K_Y)
+    lam, lam_x = res["lam"][:, 0], exact["lam"][:, 0]
+    e_nu = res["nu_d"][:, 0] - res["nu"][:, 0]
+    sol.value("force_final", float(lam[-1]))
+    sol.value("force_peak", float(lam.min()))
+    sol.value("velocity_error_max", float(np.abs(e_nu).max()))
+
+    l_f = (1.0 / K_HAT) / (1.0 / K_Y)
+    w, z = force_loop_parameters(K_D_LAMBDA, K_P_LAMBDA, l_f)
+    w1, z1 = force_loop_parameters(K_D_LAMBDA, K_P_LAMBDA)
+    sol.check_close("manual: l_f = 1.25, ω_nλ = 11.18 rad/s, ζ_λ = 0.71", [l_f, w, z], [1.25, 11.18, 0.71], atol=0.006)
+    sol.check_close("velocity loop: ω_nν = 10 rad/s, ζ_ν = 0.8", pi_velocity_parameters(K_P_NU, K_I_NU), [10.0, 0.8],
+                    atol=1e-12)
+    sol.check("λ(t_d) = λ_d = −50 N", abs(lam[-1] - LAMBDA_D) < 0.5, f"λ(2.5 s) = {lam[-1]:.4f} N")
+    fit = fit_second_order(res.t, lam, LAMBDA_D, guess=(8.0, 0.6))
+    sol.value("omega_zeta_measured", np.array(fit))
+    sol.check_close("ω_nλ, ζ_λ measured on the force transient = √(l_f k_Pλ), k_Dλ/(2√(l_f k_Pλ))", fit, [w, z],
+                    rtol=0.02)
+    peak = LAMBDA_D * (1.0 + _overshoot(z))
+    sol.check("force peak = λ_d (1 + e^{−ζπ/√(1−ζ²)}) ≈ −51.97 N (4 % overshoot)", abs(lam.min() - peak) < 0.1,
+              f"{lam.min():.3f} N vs {peak:.3f} N")
+    sol.check("velocity along x_c tracked: max |ν_d − ν| < 1e-3 m/s", np.abs(e_nu).max() < 1e-3,
+              f"{np.abs(e_nu).max():.2e} m/s")
+    # the plane complies: deflection λ_d/k_y, the path parallel to the plane once the force has settled
+    defl = _in_constraint_frame(res["p_e"][:, :2] - O_R)[:, 1]
+    sol.value("deflection_final", float(defl[-1]))
+    sol.check("plane deflection y_e^c − y_r^c = λ_d/k_y = −0.01 m (±2 %)", abs(defl[-1] - LAMBDA_D / K_Y) < 2e-4,
+              f"{defl[-1]:.6f} m")
+    settled = res.t > 0.6
+    sol.check("path parallel to the undeformed plane after the force transient", np.abs(defl[settled] - LAMBDA_D / K_Y).max() < 2e-4,
+              f"max |deflection + 0.01| for t > 0.6 s: {np.abs(defl[settled] - LAMBDA_D / K_Y).max():.1e} m")
+    tip_end = O_R + R_C @ np.array([_tra_5().path.length, LAMBDA_D / K_Y])
+    sol.check_close("final tip = o_r + R_c [D_s, λ_d/k_y] ≈ [1.20707, 0.19293] m", res["p_e"][-1, :2], tip_end, atol=1e-5)
+    fit1 = fit_second_order(exact.t, lam_x, LAMBDA_D, guess=(8.0, 0.6))
+    sol.value("omega_zeta_measured_known_stiffness", np.array(fit1))
+    sol.check_close("known stiffness: ω = 10 rad/s, ζ = 0.8 measured", fit1, [w1, z1], rtol=0.02)
+    sol.check("the estimate makes the force loop faster and less damped: larger overshoot",
+              lam.min() < lam_x.min() - 1.0 and abs(lam_x[-1] - LAMBDA_D) < 0.5,
+              f"peaks {lam.min():.2f} N (ĉ₂₂⁻¹ = 4e3) vs {lam_x.min():.2f} N (exact)")
+
+    fig, axes = subplots(2, 1, sharex=True, figsize=(6.4, 5.0))
+    axes[0].plot(res.t, e_nu, label="ĉ₂₂⁻¹ = 4·10³ N/m")
+    axes[0].plot(exact.t, exact["nu_d"][:, 0] - exact["nu"][:, 0], "--", label="exact stiffness")
+    axes[1].plot(res.t, lam, label="ĉ₂₂⁻¹ = 4·10³ N/m")
+    axes[1].plot(exact.t, lam_x, "--", label="exact stiffness")
+    axes[1].axhline(LAMBDA_D, color="k", ls=":", lw=1, label="λ_d")
+    label_axes(axes[0], None, "velocity error along x_c [m/s]")
+    label_axes(axes[1], "t [s]", "contact force along y_c [N]")
+    sol.figure(fig, "Fig. S9.5: hybrid force/motion control")
+    fig2, ax = subplots(figsize=(5.0, 5.0))
+    ax.plot(res["p_e"][:, 0], res["p_e"][:, 1], "C0-", label="end-effector path")
+    s = np.linspace(-0.1, 0.4, 2)
+    plane = O_R[:, None] + R_C[:, :1] * s
+    ax.plot(plane[0], plane[1], "k--", label="plane at rest")
+    ax.set_aspect("equal")
+    label_axes(ax, "x [m]", "y [m]")
+    sol.figure(fig2, "Fig. S9.6: tip path and undeformed plane")
+    return sol
+
+
+# --------------------------------------------------------------------------------------------
+# 9.11
+# --------------------------------------------------------------------------------------------
+
+class _PointOnCircle:
+    """A unit point mass in the plane constrained to the circle ‖p‖ = ρ (rigid environment): x = [p, ṗ],
+    m p̈ = u + Aᵀ μ with A = pᵀ/ρ and the multiplier μ keeping A p̈ = −ṗᵀṗ/ρ (KKT solve)."""
+
+    def __init__(self, rho: float):
+        self.rho = rho
+
+    def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        p, v = x[:2], x[2:]
+        A = p / self.rho
+        mu = (-v @ v / self.rho - A @ u) / (A @ A)
+        return np.r_[v, u + A * mu]
+
+
+@problem("9.11", "Control law (9.95) achieves tracking of r_d(t)", kind="derivation")
+def problem_9_11() -> Solution:
+    """With q̇ = J_ρ(r) ṙ and (9.63), v_e = J q̇ = S_v ṙ, so ν = S_v† v_e = ṙ and ν̇ = r̈; the law (9.95),
+    α_ν = r̈_d + K_Dr(ṙ_d − ṙ) + K_Pr(r_d − r), gives r̃̈ + K_Dr r̃̇ + K_Pr r̃ = 0 with r̃ = r_d − r.
+
+    Checked on a constrained-motion toy: a point mass on a rigid circle of radius ρ = 0.5 m (r the arc
+    length, S_v the unit tangent), simulated with its constraint force, driven by α_ν through
+    y = S_v α_ν + Ṡ_v ν; r̃(t) follows the solution of the corrected closed loop. Erratum: the manual's
+    "r̈ − r̈_d + K_Dr(ṙ_d − ṙ) + K_Pr(r_d − r) = 0" is r̃̈ = K_Dr r̃̇ + K_Pr r̃, unstable.
+    """
+    sol = Solution()
+    rho, K_P, K_D = 0.5, 25.0, 10.0        # critically damped: r̃ = (r̃₀ + (r̃̇₀ + 5 r̃₀) t) e^{−5t}
+    w = 2.0
+    r_d = lambda t: (0.3 * np.sin(w * t), 0.3 * w * np.cos(w * t), -0.3 * w * w * np.sin(w * t))
+    plant = _PointOnCircle(rho)
+
+    def control(t: float, x: np.ndarray) -> np.ndarray:
+        p, v = x[:2], x[2:]
+        theta = np.arctan2(p[1], p[0])
+        tangent = np.array([-np.sin(theta), np.cos(theta)])      # S_v = dp/dr
+        r, nu = rho * theta, tangent @ v                         # ν = S_v† v_e (unit tangent)
+        rd, rdd, rddd = r_d(t)
+        alpha_nu = rddd + K_D * (rdd - nu) + K_P * (rd - r)      # (9.95)
+        S_v_dot_nu = -p / rho * (nu / rho) * nu                  # Ṡ_v ν = −(ν²/ρ) p/ρ
+        return tangent * alpha_nu + S_v_dot_nu
+
+    r0 = 0.2
+    x0 = np.r_[rho * np.cos(r0 / rho), rho * np.sin(r0 / rho), 0.0, 0.0]
+    res = simulate(plant, control, (0.0, 3.0), x0, h=1e-3, Ts=1e-3)
+    r = rho * np.unwrap(np.arctan2(res.x[:, 1], res.x[:, 0]))
+    e = np.array([r_d(t)[0] for t in res.t]) - r
+    e0, ed0 = e[0], r_d(0.0)[1] - 0.0
+    predicted = (e0 + (ed0 + 5.0 * e0) * res.t) * np.exp(-5.0 * res.t)
+    sol.value("max_deviation_from_closed_loop", max_abs_error(e, predicted))
+    sol.check("r̃(t) = solution of r̃̈ + K_Dr r̃̇ + K_Pr r̃ = 0 (sampled law, 1 ms)", max_abs_error(e, predicted) < 2e-3,
+              f"max |r̃ − r̃_pred| = {max_abs_error(e, predicted):.1e} m (r̃₀ = {e0:.2f} m, r̃̇₀ = {ed0:.2f} m/s)")
+    sol.check("r → r_d", abs(e[-1]) < 1e-4, f"|r̃(3 s)| = {abs(e[-1]):.1e} m")
+    sol.check("the constraint holds: ‖p‖ = ρ", np.abs(np.hypot(res.x[:, 0], res.x[:, 1]) - rho).max() < 1e-6,
+              f"max |‖p‖ − ρ| = {np.abs(np.hypot(res.x[:, 0], res.x[:, 1]) - rho).max():.1e} m")
+    printed = np.roots([1.0, -K_D, -K_P])      # r̃̈ − K_D r̃̇ − K_P r̃ = 0, the manual's printed signs
+    sol.check("erratum: the printed closed loop (r̈ − r̈_d first) would be unstable", printed.real.max() > 0,
+              f"its roots {np.round(printed, 3)}; the corrected one has the double root −5")
+    return sol
+
+

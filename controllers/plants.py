@@ -374,6 +374,15 @@ class JointIntegrator:
         return u
 
 
+class KinematicArm(JointIntegrator):
+    """The manipulator modelled as an integrator, q̇ = u (the resolved-velocity schemes of Figs. 10.15 and
+    10.17): like :class:`JointIntegrator`, but the controller reads the joint encoders as an
+    :class:`ArmMeasurement` (``meas.q``); the velocity is the controller's own command, so ``qd`` is None."""
+
+    def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
+        return ArmMeasurement(x, None)
+
+
 # --------------------------------------------------------------------------------------------
 # Wheeled mobile robots (Chapter 11): kinematic plants
 # --------------------------------------------------------------------------------------------

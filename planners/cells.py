@@ -8,7 +8,7 @@
   approximate decomposition into free quadtree boxes (Sect. 12.4.2), the connectivity graph, the
   channel and the channel-to-path extraction with the fix of Problem 12.6 (cell centroids inserted).
 
-Obstacles are convex polygons (:class:`planners.cspace_planar.Polygon`), pairwise disjoint.
+Obstacles are convex polygons (:class:`planners.configuration_space.Polygon`), pairwise disjoint.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Sects. 12.3–12.4;
 Problems 12.5, 12.6.
@@ -25,7 +25,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 from scipy.spatial import Voronoi
 
-from planners.cspace_planar import (Polygon, box, point_segment_distance, segment_intersects_shape,
+from planners.configuration_space import (Polygon, box, point_segment_distance, segment_intersects_shape,
                                     segment_shape_distance, shapes_intersect)
 from rigid_body.validation import as_positive, as_vector
 

@@ -23,11 +23,11 @@ from typing import Any, Sequence
 import numpy as np
 from scipy.optimize import root
 
-from planners.cspace_planar import Disc, Shape, ray_shape_distance
+from planners.configuration_space import Disc, Shape, project_on_segments, ray_shape_distance
 from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
-    "attractive_paraboloid", "attractive_cone", "AttractivePotential", "RepulsivePotential",
+    "attractive_paraboloid", "attractive_cone", "AttractivePotential", "repulsive_magnitude", "RepulsivePotential",
     "PotentialField", "DescentResult", "gradient_descent", "stationary_point",
     "closest_point", "range_scan", "scan_segments", "reactive_repulsive_force",
     "arm_joint_forces", "wavefront", "steepest_descent_path", "grid_path_length",
@@ -107,11 +107,21 @@ def closest_point(shape: Shape, p: Any) -> np.ndarray:
         n = np.linalg.norm(d, axis=-1, keepdims=True)
         return shape.center + shape.radius * d / np.where(n > 0, n, 1.0)
     a, b = shape.edges
-    e = b - a
-    s = np.clip(np.einsum("...kj,kj->...k", p[..., None, :] - a, e) / np.einsum("kj,kj->k", e, e), 0.0, 1.0)
-    c = a + s[..., None] * e                                               # (..., k, 2)
+    c = project_on_segments(p[..., None, :], a, b)[1]                     # (..., k, 2)
     k = np.argmin(np.linalg.norm(p[..., None, :] - c, axis=-1), axis=-1)
     return np.take_along_axis(c, k[..., None, None], axis=-2)[..., 0, :]
+
+
+def repulsive_magnitude(eta: Any, k_r: float, eta0: float, gamma: float = 2.0) -> np.ndarray:
+    """‖f_r‖ = (k_r/η²)(1/η − 1/η₀)^{γ−1} for 0 < η ≤ η₀, 0 beyond η₀, NaN in contact (η ≤ 0), Eq. (12.15).
+
+    >>> float(repulsive_magnitude(0.5, k_r=1.0, eta0=1.0))
+    4.0
+    """
+    eta = np.asarray(eta, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mag = k_r / eta ** 2 * (1.0 / eta - 1.0 / eta0) ** (gamma - 1.0)                 # (12.15)
+    return np.where(eta <= 0, np.nan, np.where(eta <= eta0, mag, 0.0))
 
 
 @dataclass(frozen=True)
@@ -152,10 +162,7 @@ class RepulsivePotential:
 
     def force(self, q: Any) -> np.ndarray:
         eta, grad = self.eta(q)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            mag = self.k_r / eta ** 2 * (1.0 / eta - 1.0 / self.eta0) ** (self.gamma - 1.0)   # (12.15)
-        mag = np.where(eta <= 0, np.nan, np.where(eta <= self.eta0, mag, 0.0))
-        return mag[..., None] * grad
+        return repulsive_magnitude(eta, self.k_r, self.eta0, self.gamma)[..., None] * grad
 
 
 @dataclass(frozen=True)
@@ -271,17 +278,13 @@ def reactive_repulsive_force(position: Any, segments: Sequence[np.ndarray], k_r:
     f = np.zeros(2)
     for seg in segments:
         a, b = (seg[:-1], seg[1:]) if len(seg) > 1 else (seg, seg)
-        e = b - a
-        ee = np.einsum("ij,ij->i", e, e)
-        s = np.clip(np.einsum("ij,ij->i", p - a, e) / np.where(ee > 0, ee, 1.0), 0.0, 1.0)
-        c = a + s[:, None] * e
+        c = project_on_segments(p, a, b)[1]
         d = np.linalg.norm(p - c, axis=1)
         k = int(np.argmin(d))
         eta = d[k] - robot_radius
         if eta <= 0:
             raise ValueError(f"the robot at {p} touches a perceived obstacle (η = {eta:.3g})")
-        if eta <= eta0:
-            f += k_r / eta ** 2 * (1 / eta - 1 / eta0) ** (gamma - 1) * (p - c[k]) / d[k]
+        f += float(repulsive_magnitude(eta, k_r, eta0, gamma)) * (p - c[k]) / d[k]
     return f
 
 

@@ -3,7 +3,8 @@ motion primitives, and path shortcutting.
 
 The planners work in any configuration space that offers the small protocol :class:`PlanningSpace`
 (a sampler, a distance, an interpolator, a batched validity check and the resolution at which local
-paths are checked); :class:`planners.cspace_planar.PlanarCSpace` is one. Randomness always comes in as
+paths are checked); :class:`planners.configuration_space.PlanarCSpace` and
+:class:`planners.collision.UrdfCSpace` are two. Randomness always comes in as
 a seeded ``numpy.random.Generator``, so a run repeats exactly.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Sect. 12.5
@@ -46,6 +47,8 @@ class PlanningSpace(Protocol):
 
     def valid_many(self, Q: Any) -> np.ndarray: ...  # (N, dim) → (N,) bool
 
+    # optional: ``segment_is_free(a, b) -> bool``, the space's own local-path checker (used by edge_is_free)
+
 
 @dataclass(frozen=True)
 class PlanResult:
@@ -79,7 +82,11 @@ def local_path(space: PlanningSpace, a: Any, b: Any) -> np.ndarray:
 
 
 def edge_is_free(space: PlanningSpace, a: Any, b: Any) -> bool:
-    """True when every configuration of :func:`local_path` is collision-free."""
+    """True when every configuration of :func:`local_path` is collision-free; a space with its own segment
+    checker (``segment_is_free(a, b)``, e.g. one that stops at the first collision) is asked directly."""
+    check = getattr(space, "segment_is_free", None)
+    if check is not None:
+        return bool(check(a, b))
     return bool(np.all(space.valid_many(local_path(space, a, b))))
 
 

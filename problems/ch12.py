@@ -1,6 +1,6 @@
 """Chapter 12 — Motion planning: Problems 12.1–12.13 (Figs. S12.1–S12.7).
 
-Each problem builds its scene, calls the planners (``planners.cspace_planar``, ``planners.cells``,
+Each problem builds its scene, calls the planners (``planners.configuration_space``, ``planners.cells``,
 ``planners.sampling``, ``planners.potentials``) and checks the result against an independent
 reference: closed forms evaluated separately, a second algorithm (brute-force lifts on the torus,
 scipy's Dijkstra, membership by sampling, a 2-D root finder against a scalar brentq), and, for every
@@ -18,24 +18,26 @@ and its solution manual.
 
 from __future__ import annotations
 
-import matplotlib.pyplot as plt  # noqa: E402  (no backend chosen here: a notebook's inline figures must work)
-import numpy as np  # noqa: E402
-from matplotlib.patches import Circle  # noqa: E402
-from matplotlib.patches import Polygon as PolygonPatch  # noqa: E402
+import numpy as np
+from matplotlib import colormaps
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle
+from matplotlib.patches import Polygon as PolygonPatch
 
-from planners.cells import (channel_path, gvd_nodes, polyline_clearance, quadtree_decomposition,  # noqa: E402
+from planners.cells import (channel_path, gvd_nodes, polyline_clearance, quadtree_decomposition,
                             sampled_gvd, trapezoidal_decomposition, visibility_graph)
-from planners.cspace_planar import (Disc, PlanarArm, PlanarBody, PlanarCSpace, Polygon, Scene, box,  # noqa: E402
+from planners.configuration_space import (Disc, PlanarArm, PlanarBody, PlanarCSpace, Polygon, Scene, box,
                                     certify_motion, certify_straight_path, connected_components, densify, free_grid,
                                     euclidean_distance,
                                     minkowski_c_obstacle, point_segment_distance, point_shape_distance,
                                     shapes_intersect, torus_distance, transform_shape)
-from planners.potentials import (AttractivePotential, PotentialField, RepulsivePotential,  # noqa: E402
+from planners.potentials import (AttractivePotential, PotentialField, RepulsivePotential,
                                  gradient_descent, range_scan, reactive_repulsive_force, scan_segments,
                                  stationary_point, steepest_descent_path, wavefront, grid_path_length)
-from planners.sampling import (MotionPrimitive, path_length, prm, rrt_connect, shortcut,  # noqa: E402
+from planners.sampling import (MotionPrimitive, path_length, prm, rrt_connect, shortcut,
                                unicycle_arc, unicycle_rrt)
-from problems.registry import Solution, problem  # noqa: E402
+from problems.common import label_axes, max_error, subplots
+from problems.registry import Solution, problem
 
 SEED = 12  # one seed for every randomised problem
 
@@ -99,21 +101,11 @@ def _workspace_axes(ax, bounds, title: str) -> None:
     ax.set_xlim(bounds[0], bounds[1])
     ax.set_ylim(bounds[2], bounds[3])
     ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.set_title(title)
+    label_axes(ax, "x [m]", "y [m]", title=title, legend=False, grid=False)
 
 
 def _cspace_axes(ax, title: str) -> None:
-    ax.set_xlabel("q₁ [rad]")
-    ax.set_ylabel("q₂ [rad]")
-    ax.set_title(title)
-
-
-def _finish(sol: Solution, fig, title: str) -> None:
-    fig.suptitle(title)
-    fig.tight_layout()
-    sol.figure(fig)
+    label_axes(ax, "q₁ [rad]", "q₂ [rad]", title=title, legend=False, grid=False)
 
 
 def _torus_grid(space: PlanarCSpace, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -238,7 +230,7 @@ def problem_12_3() -> Solution:
         touch = np.array([shapes_intersect(transform_shape(B, q[0], q[1], 0.0), O) for q in Qs[far]])
         sol.check(f"scene {k}: q ∈ CO ⟺ B(q) ∩ O ≠ ∅ at {far.sum()} random q",
                   np.array_equal(touch, CO.contains(Qs[far])))
-    fig, axes = plt.subplots(2, 2, figsize=(9, 8))
+    fig, axes = subplots(2, 2, figsize=(9, 8))
     for row, ((B, O), CO) in enumerate(zip(scenes, COs)):
         ax = axes[row, 0]
         draw_shapes(ax, [O], facecolor="0.6", label="obstacle O")
@@ -255,7 +247,7 @@ def problem_12_3() -> Solution:
         ax.set_xlabel("reference point x [m]")
         ax.set_ylabel("reference point y [m]")
         ax.legend(loc="upper left", fontsize=7)
-    _finish(sol, fig, "Fig. S12.1 — two scenes with the same C-obstacle")
+    sol.figure(fig, "Fig. S12.1 — two scenes with the same C-obstacle")
     return sol
 
 
@@ -292,7 +284,7 @@ def problem_12_4() -> Solution:
     sol.check("q_a, q_b, q_c lie in three different components (both grids)",
               all(len(set(r[1].values())) == 3 and 0 not in r[1].values() for r in results.values()),
               f"{results[160][1]}, {member}")
-    fig, axes = plt.subplots(3, 2, figsize=(9, 12))
+    fig, axes = subplots(3, 2, figsize=(9, 12))
     colors = {"q_a": "tab:blue", "q_b": "tab:orange", "q_c": "tab:green"}
     for row, (name, v) in enumerate(q.items()):
         ax = axes[row, 0]
@@ -307,7 +299,7 @@ def problem_12_4() -> Solution:
         ax.plot(w[0], w[1], "o", color=colors[name], mec="k", label=f"{name} (component {member[name]})")
         _cspace_axes(ax, "C_free components (obstacle region = 0)")
         ax.legend(loc="upper right", fontsize=7)
-    _finish(sol, fig, "Fig. S12.2 — configurations in the three components of C_free")
+    sol.figure(fig, "Fig. S12.2 — configurations in the three components of C_free")
     return sol
 
 
@@ -356,7 +348,7 @@ def problem_12_5() -> Solution:
     sol.check("room + obstacle: every sampled GVD point has two nearest sides equally far (± 0.05)",
               gap < 0.05, f"max difference {gap:.3g} m")
     sol.value("room_nodes", nodes2[nodes2[:, 2] > 1e-9, :2])
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    fig, axes = subplots(1, 2, figsize=(11, 4))
     for ax, (R, H, S, N, title) in zip(axes, [(K, [], segs, nodes, "rectangle: GVD = medial axis"),
                                              (room, [hole], segs2, nodes2, "room with an obstacle")]):
         draw_shapes(ax, [R], facecolor="none")
@@ -368,7 +360,7 @@ def problem_12_5() -> Solution:
         _workspace_axes(ax, (R.vertices[:, 0].min() - 0.3, R.vertices[:, 0].max() + 0.3,
                              R.vertices[:, 1].min() - 0.3, R.vertices[:, 1].max() + 0.3), title)
         ax.legend(loc="upper right", fontsize=7)
-    _finish(sol, fig, "Problem 12.5 — generalised Voronoi diagrams")
+    sol.figure(fig, "Problem 12.5 — generalised Voronoi diagrams")
     return sol
 
 
@@ -420,7 +412,7 @@ def problem_12_6() -> Solution:
     lengths = [float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1))) for p in (fixed, qpath)]
     sol.value("cell_path_lengths", lengths)
     sol.check("the cell paths are no shorter than the visibility path", min(lengths) >= vis.length - 1e-12)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 5))
+    fig, axes = subplots(1, 2, figsize=(11, 5))
     for ax, d, paths, title in [(axes[0], dec, [(naive, "r--", "midpoints only (clearance 0)"),
                                                 (fixed, "g-", "with cell centroids (fix)"),
                                                 (vis.path, "b:", "visibility graph")], "trapezoidal decomposition"),
@@ -435,7 +427,7 @@ def problem_12_6() -> Solution:
         ax.plot(*qg, "k^", label="q_g")
         _workspace_axes(ax, (0, 10, 0, 10), title)
         ax.legend(loc="upper right", fontsize=7)
-    _finish(sol, fig, "Problem 12.6 — channel-to-path extraction")
+    sol.figure(fig, "Problem 12.6 — channel-to-path extraction")
     return sol
 
 
@@ -486,14 +478,14 @@ def problem_12_7() -> Solution:
     ok2 = rc.success and certify_straight_path(space, short, 0.05)[0]
     sol.check("RRT-Connect + shortcutting: a certified path, no longer than before shortcutting",
               rc.success and ok2 and L_short <= rc.length + 1e-12, f"{rc.length:.3f} → {L_short:.3f} rad")
-    fig, axes = plt.subplots(1, 2, figsize=(12, 5.5))
+    fig, axes = subplots(1, 2, figsize=(12, 5.5))
     ax = axes[0]
     draw_shapes(ax, space.scene.obstacles, label="obstacles")
     Q = densify(space, res.path, 0.25)
     for k, q in enumerate(Q):  # stroboscopic
-        draw_shapes(ax, space.robot.bodies(q), facecolor=plt.cm.viridis(k / len(Q)), alpha=0.35, lw=0.3)
-    ax.plot([], [], "s", color=plt.cm.viridis(0.0), label="start")
-    ax.plot([], [], "s", color=plt.cm.viridis(1.0), label="goal")
+        draw_shapes(ax, space.robot.bodies(q), facecolor=colormaps["viridis"](k / len(Q)), alpha=0.35, lw=0.3)
+    ax.plot([], [], "s", color=colormaps["viridis"](0.0), label="start")
+    ax.plot([], [], "s", color=colormaps["viridis"](1.0), label="goal")
     _workspace_axes(ax, space.scene.bounds, "stroboscopic motion")
     ax.legend(loc="upper right", fontsize=7)
     ax = axes[1]
@@ -513,7 +505,7 @@ def problem_12_7() -> Solution:
     ax.plot(*qg, "r^", label="q_g")
     _cspace_axes(ax, "PRM in C (a torus; C-obstacles shaded)")
     ax.legend(loc="upper right", fontsize=7)
-    _finish(sol, fig, "Fig. S12.3 — PRM for a 2R planar manipulator")
+    sol.figure(fig, "Fig. S12.3 — PRM for a 2R planar manipulator")
     return sol
 
 
@@ -565,13 +557,12 @@ def problem_12_8() -> Solution:
     def unicycle(t, x, v, w):
         return [v * np.cos(x[2]), v * np.sin(x[2]), w]
 
-    err = 0.0
-    for a, b, (v, w) in zip(res.path[:-1], res.path[1:], res.controls):
-        ref = solve_ivp(unicycle, (0, delta), a, args=(v, w), method="RK45", rtol=1e-11, atol=1e-12).y[:, -1]
-        err = max(err, float(np.max(np.abs(space.difference(ref, b)))))
+    err = max_error((space.difference(solve_ivp(unicycle, (0, delta), a, args=(v, w), method="RK45", rtol=1e-11,
+                                                atol=1e-12).y[:, -1], b), 0.0)
+                    for a, b, (v, w) in zip(res.path[:-1], res.path[1:], res.controls))
     sol.value("max_edge_error_vs_rk45", err)
-    sol.check("every edge is one primitive over Δ: closed-form arc (exact integration (11.85)) = RK45 on the model",
-              err < 1e-8, f"{err:.2g}")
+    sol.check_error("every edge is one primitive over Δ: closed-form arc (exact integration (11.85)) = RK45 on the model",
+                    err, 1e-8)
     sol.check("every edge uses one of the three primitives",
               all(any(np.allclose(c, [p.v, p.omega]) for p in prims) for c in res.controls))
     h = 0.005
@@ -587,7 +578,7 @@ def problem_12_8() -> Solution:
     sol.value("path_min_clearance", float(c.min()))
     sol.check("path certified collision-free along the arcs (5 ms samples, exact geometry, motion bound)",
               ok, f"min clearance {c.min():.4f} m, margin {margin:.4f} m")
-    fig = plt.figure(figsize=(12, 5.5))
+    fig = Figure(figsize=(12, 5.5))
     ax = fig.add_subplot(1, 2, 1)
     draw_shapes(ax, space.scene.obstacles, label="obstacles")
     for i, j in res.edges:
@@ -618,7 +609,7 @@ def problem_12_8() -> Solution:
     ax.set_zlabel("θ [rad]")
     ax.set_title("RRT in R² × SO(2)")
     ax.legend(loc="upper left", fontsize=7)
-    _finish(sol, fig, "Fig. S12.4 — RRT with motion primitives for a unicycle")
+    sol.figure(fig, "Fig. S12.4 — RRT with motion primitives for a unicycle")
     return sol
 
 
@@ -654,10 +645,10 @@ def problem_12_9() -> Solution:
     u /= np.linalg.norm(u, axis=1, keepdims=True)
     eps = 1e-9
     q_in, q_out = att.goal - (att.rho - eps) * u, att.goal - (att.rho + eps) * u
-    df = float(np.max(np.abs(att.force(q_in) - att.force(q_out))))
-    dU = float(np.max(np.abs(att.potential(q_in) - att.potential(q_out))))
-    sol.check("force continuous across ‖e‖ = ρ (200 directions)", df < 1e-7, f"max jump {df:.2g}")
-    sol.check("potential continuous with the offset −½k_aρ²", dU < 1e-7, f"max jump {dU:.2g}")
+    sol.check_error("force continuous across ‖e‖ = ρ (200 directions)",
+                    max_error([(att.force(q_in), att.force(q_out))]), 1e-7)
+    sol.check_error("potential continuous with the offset −½k_aρ²",
+                    max_error([(att.potential(q_in), att.potential(q_out))]), 1e-7)
     sol.check_close("without the offset U would jump by ½k_aρ² = 0.49 (sympy: ρ²k_a/2)",
                     float(jump.subs({k_a: 2.0, rho: 0.7})), 0.5 * 2.0 * 0.7 ** 2, atol=1e-12)
     qs = att.goal - np.linspace(0, 2, 401)[:, None] * u[0]
@@ -666,7 +657,7 @@ def problem_12_9() -> Solution:
     good = np.abs(np.linalg.norm(qs - att.goal, axis=1) - att.rho) > 1e-4
     good &= np.linalg.norm(qs - att.goal, axis=1) > 1e-4
     sol.check_close("force = −∇U (finite differences, both regions)", att.force(qs[good]), fd[good], atol=1e-6)
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+    fig, axes = subplots(1, 2, figsize=(10, 3.8))
     r = np.linspace(0, 2, 401)
     q_line = att.goal - r[:, None] * u[0]
     axes[0].plot(r, att.potential(q_line), label="U_a (combined, continuous)")
@@ -679,7 +670,7 @@ def problem_12_9() -> Solution:
         ax.legend(fontsize=7)
     axes[0].set_ylabel("U_a [J]")
     axes[1].set_ylabel("‖f_a‖ [N]")
-    _finish(sol, fig, f"Problem 12.9 — k_a = {att.k_a}, ρ = {att.rho} m, k_b = ρk_a = {att.k_b:.2f}")
+    sol.figure(fig, f"Problem 12.9 — k_a = {att.k_a}, ρ = {att.rho} m, k_b = ρk_a = {att.k_b:.2f}")
     return sol
 
 
@@ -743,7 +734,7 @@ def problem_12_10() -> Solution:
     sol.check("gradient descent from (3.67, 0.05) is trapped there, not at the goal",
               run.converged and np.linalg.norm(run.path[-1] - M) < 1e-6 and np.linalg.norm(run.path[-1]) > 3,
               run.message)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.8))
+    fig, axes = subplots(1, 2, figsize=(11, 4.8))
     X, Y = np.meshgrid(np.linspace(1, 5.5, 300), np.linspace(-2, 2, 260))
     for ax, field, pts, title, centers in [
             (axes[0], single, [(P, "rx", "saddle P")], "one disc: P is a saddle", [[3, 0]]),
@@ -758,7 +749,7 @@ def problem_12_10() -> Solution:
         ax.plot([1, 5.5], [0, 0], "k:", lw=0.6, label="half-line from q_g through the centre")
         _workspace_axes(ax, (1, 5.5, -2, 2), title)
         ax.legend(loc="upper left", fontsize=7)
-    _finish(sol, fig, "Fig. S12.5 — stationary points of U = U_a + U_r (goal at the origin)")
+    sol.figure(fig, "Fig. S12.5 — stationary points of U = U_a + U_r (goal at the origin)")
     return sol
 
 
@@ -813,16 +804,16 @@ def problem_12_11() -> Solution:
     fd = np.array([-(field.potential(Q + d) - field.potential(Q - d)) / (2 * h) for d in np.eye(2) * h]).T
     sol.check_close(f"analytic f_t = −∇U_t (finite differences, {len(Q)} random points)", field.force(Q), fd,
                     atol=1e-4, rtol=1e-6)
-    fig, ax = plt.subplots(figsize=(6.5, 6))
+    fig, ax = subplots(figsize=(6.5, 6))
     X, Y = np.meshgrid(np.linspace(-5, 5, 300), np.linspace(-5, 6, 330))
     U = field.potential(np.stack([X, Y], -1))
     ax.contour(X, Y, np.minimum(U, 25), levels=50, linewidths=0.5)
     draw_shapes(ax, [Disc(c, rho) for c in centers], label="obstacles")
     ax.plot(saddles[:, 0], saddles[:, 1], "rx", ms=10, label="saddle points")
     ax.plot(0, 0, "g*", ms=12, label="goal")
-    _workspace_axes(ax, (-5, 5, -5, 6), "Problem 12.11 — U_t and its saddle points")
+    _workspace_axes(ax, (-5, 5, -5, 6), "")
     ax.legend(loc="lower right", fontsize=7)
-    sol.figure(fig)
+    sol.figure(fig, "Problem 12.11 — U_t and its saddle points")
     return sol
 
 
@@ -896,7 +887,7 @@ def problem_12_12() -> Solution:
               f"max deviation {dev * 1000:.2f} mm")
     clear = min(float(RepulsivePotential(o).eta(run_re.path)[0].min()) for o in obstacles)
     sol.check("the reactive motion never touches an obstacle", clear > 0, f"min distance {clear:.3f} m")
-    fig, ax = plt.subplots(figsize=(10, 5))
+    fig, ax = subplots(figsize=(10, 5))
     draw_shapes(ax, obstacles, facecolor="0.75", label="obstacles")
     qk = run_re.path[len(run_re.path) // 6]
     angles, ranges = range_scan(qk, obstacles, n_rays, R)
@@ -907,9 +898,9 @@ def problem_12_12() -> Solution:
     ax.plot(run_off.path[:, 0], run_off.path[:, 1], "b-", lw=2, label="off-line potential")
     ax.plot(run_re.path[:, 0], run_re.path[:, 1], "y--", lw=1.5, label="reactive (from the scan)")
     ax.plot(*goal, "g*", ms=12, label="goal")
-    _workspace_axes(ax, (-0.5, 11, -3.5, 4), "Fig. S12.6 — reactive planning with a laser range finder")
+    _workspace_axes(ax, (-0.5, 11, -3.5, 4), "")
     ax.legend(loc="lower left", fontsize=7)
-    sol.figure(fig)
+    sol.figure(fig, "Fig. S12.6 — reactive planning with a laser range finder")
     return sol
 
 
@@ -965,7 +956,7 @@ def problem_12_13() -> Solution:
     graze = [bool(occ[a[0], b[1]] or occ[b[0], a[1]]) for a, b, d in zip(p2[:-1], p2[1:], diag) if d]
     sol.value("diagonal_moves_grazing_obstacles", int(sum(graze)))
     sol.check("2-adjacency path grazes a C-obstacle (a diagonal step past an obstacle corner)", any(graze))
-    fig, axes = plt.subplots(1, 2, figsize=(11, 5.2))
+    fig, axes = subplots(1, 2, figsize=(11, 5.2))
     for ax, adj in zip(axes, (1, 2)):
         V, path, L = results[adj]
         ax.imshow(occ, cmap="Greys", origin="upper", extent=[0.5, 7.5, 7.5, 0.5])
@@ -979,5 +970,5 @@ def problem_12_13() -> Solution:
         ax.set_ylabel("row i [cells]")
         ax.set_title(f"{adj}-adjacency")
         ax.legend(loc="lower left", fontsize=7)
-    _finish(sol, fig, "Fig. S12.7 — navigation function and path (values = cost-to-go, unit cells)")
+    sol.figure(fig, "Fig. S12.7 — navigation function and path (values = cost-to-go, unit cells)")
     return sol

@@ -170,6 +170,28 @@ def _residual_angle(R: np.ndarray, phi: float, theta: float, axes: str) -> float
     return float(np.arctan2(M[k, j], M[j, j]))
 
 
+def _proper_euler(R: Any, branch: int, tol: float, axes: str) -> EulerResult:
+    """Z–(Y or X)–Z Euler angles of R, both branches, with the singular set sin θ = 0 (r13 = r23 = 0).
+
+    θ = atan2(±√(r13² + r23²), r33); φ from the third column (ZYZ: atan2(r23, r13), ZXZ: atan2(r13, −r23));
+    ψ by :func:`_residual_angle`. On the singular set the representative with ψ = 0 is returned.
+    """
+    R = as_rotation(R)
+    tol = _singular_tol(tol)
+    b = _branch(branch)
+    s_theta = np.hypot(R[0, 2], R[1, 2])
+    if s_theta < tol:
+        theta = 0.0 if R[2, 2] > 0 else b * np.pi
+        M = R @ _ELEMENTARY[axes[1]](theta).T  # = Rz(φ) with ψ = 0
+        return EulerResult(np.array([np.arctan2(M[1, 0], M[0, 0]), theta, 0.0]), True)
+    if axes == "zyz":
+        phi = np.arctan2(b * R[1, 2], b * R[0, 2])
+    else:
+        phi = np.arctan2(b * R[0, 2], -b * R[1, 2])
+    theta = np.arctan2(b * s_theta, R[2, 2])
+    return EulerResult(np.array([phi, theta, _residual_angle(R, phi, theta, axes)]), False)
+
+
 def euler_zyz_to_rotation(phi: Any) -> np.ndarray:
     """R(φ) = Rz(φ) Ry(θ) Rz(ψ) of the ZYZ Euler angles ``phi = [φ, θ, ψ]``, Eq. (2.18)."""
     return _euler_to_rotation(phi, "zyz")
@@ -181,17 +203,7 @@ def rotation_to_euler_zyz(R: Any, branch: int = 1, tol: float = SINGULAR_TOL) ->
     Singular when sin θ = 0 (r13 = r23 = 0): then θ ∈ {0, π} and only φ ± ψ is determined; the
     representative with ψ = 0 is returned with ``singular=True``.
     """
-    R = as_rotation(R)
-    tol = _singular_tol(tol)
-    b = _branch(branch)
-    s_theta = np.hypot(R[0, 2], R[1, 2])
-    if s_theta < tol:
-        theta = 0.0 if R[2, 2] > 0 else b * np.pi
-        M = R @ rot_y(theta).T  # = Rz(φ) with ψ = 0
-        return EulerResult(np.array([np.arctan2(M[1, 0], M[0, 0]), theta, 0.0]), True)
-    phi = np.arctan2(b * R[1, 2], b * R[0, 2])
-    theta = np.arctan2(b * s_theta, R[2, 2])
-    return EulerResult(np.array([phi, theta, _residual_angle(R, phi, theta, "zyz")]), False)
+    return _proper_euler(R, branch, tol, "zyz")
 
 
 def euler_zxz_to_rotation(phi: Any) -> np.ndarray:
@@ -205,17 +217,7 @@ def rotation_to_euler_zxz(R: Any, branch: int = 1, tol: float = SINGULAR_TOL) ->
     ``branch=+1`` gives θ ∈ (0, π), ``branch=-1`` θ ∈ (−π, 0). Singular when sin θ = 0
     (r13 = r23 = 0); then the representative with ψ = 0 is returned with ``singular=True``.
     """
-    R = as_rotation(R)
-    tol = _singular_tol(tol)
-    b = _branch(branch)
-    s_theta = np.hypot(R[0, 2], R[1, 2])
-    if s_theta < tol:
-        theta = 0.0 if R[2, 2] > 0 else b * np.pi
-        M = R @ rot_x(theta).T
-        return EulerResult(np.array([np.arctan2(M[1, 0], M[0, 0]), theta, 0.0]), True)
-    phi = np.arctan2(b * R[0, 2], -b * R[1, 2])
-    theta = np.arctan2(b * s_theta, R[2, 2])
-    return EulerResult(np.array([phi, theta, _residual_angle(R, phi, theta, "zxz")]), False)
+    return _proper_euler(R, branch, tol, "zxz")
 
 
 RPY_ORDERS = ("zyx", "xyz", "yxz")  # the orders the peers use; "zyx" is the book's (2.21)

@@ -5,7 +5,7 @@ import pytest
 
 from planners.cells import (channel_path, gvd_nodes, polyline_clearance, quadtree_decomposition, sampled_gvd,
                             trapezoidal_decomposition, visibility_graph)
-from planners.cspace_planar import Disc, Polygon, box
+from planners.configuration_space import Disc, Polygon, box
 
 DIAMOND = Polygon([[5, 5], [6, 4], [7, 5], [6, 6]])
 

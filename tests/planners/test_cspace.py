@@ -1,11 +1,11 @@
-"""Planar C-space geometry (planners.cspace_planar): distances, intersections, C-obstacles, the torus."""
+"""Planar C-space geometry (planners.configuration_space): distances, intersections, C-obstacles, the torus."""
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from planners.cspace_planar import (Disc, PlanarArm, PlanarBody, PlanarCSpace, Polygon, Scene, box,
+from planners.configuration_space import (Disc, PlanarArm, PlanarBody, PlanarCSpace, Polygon, Scene, box,
                                     certify_motion, certify_straight_path, connected_components, free_grid,
                                     euclidean_distance, minkowski_c_obstacle, point_shape_distance,
                                     ray_shape_distance, segment_intersects_shape, segment_shape_distance,

@@ -5,7 +5,7 @@ import pytest
 from scipy.sparse.csgraph import dijkstra
 from scipy.sparse import lil_matrix
 
-from planners.cspace_planar import Disc, Polygon, box
+from planners.configuration_space import Disc, Polygon, box
 from planners.potentials import (AttractivePotential, PotentialField, RepulsivePotential, arm_joint_forces,
                                  gradient_descent, range_scan, reactive_repulsive_force, scan_segments,
                                  stationary_point, steepest_descent_path, wavefront)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from planners.cspace_planar import (Disc, PlanarArm, PlanarBody, PlanarCSpace, Polygon, Scene, box,
+from planners.configuration_space import (Disc, PlanarArm, PlanarBody, PlanarCSpace, Polygon, Scene, box,
                                     certify_straight_path)
 from planners.sampling import (MotionPrimitive, edge_is_free, path_length, prm, rrt, rrt_connect, shortcut,
                                unicycle_arc, unicycle_rrt)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import problems.ch12 as ch12
-from planners.cspace_planar import euclidean_distance
+from planners.configuration_space import euclidean_distance
 from problems.registry import solve
 
 

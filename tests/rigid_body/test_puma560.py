@@ -108,9 +108,12 @@ def test_forward_dynamics_with_friction_is_the_toolboxs_accel(puma):
 
 def test_eight_closed_form_ik_solutions_reach_the_pose(puma, rng):
     spec = puma560()
-    for q_true in (puma.configurations["qn"], rng.uniform(-2.5, 2.5, size=6)):
+    free = [dataclasses.replace(link, lower=None, upper=None) for link in spec.links]  # the geometry alone
+    for q_true in (puma.configurations["qn"], puma.random_configuration(rng)):
         T = direct_kinematics(puma, q_true)
-        qs = inverse_kinematics_6r_spherical_wrist(T, spec.links)
+        within = inverse_kinematics_6r_spherical_wrist(T, spec.links)  # rows outside the Puma's limits dropped
+        assert np.all(within >= puma.lower - 1e-9) and np.all(within <= puma.upper + 1e-9)
+        qs = inverse_kinematics_6r_spherical_wrist(T, free)
         assert qs.shape == (8, 6) and len(distinct_solutions(qs, atol=1e-6)) == 8
         for q in qs:  # checked with Pinocchio's forward kinematics, not the DH product the solver uses
             np.testing.assert_allclose(direct_kinematics(puma, q), T, atol=1e-10)

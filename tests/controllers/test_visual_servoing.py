@@ -1,0 +1,131 @@
+"""Visual-servoing blocks: Γ and J_Ad against finite differences, the estimator, the laws' degraded modes
+and their input checks."""
+
+import numpy as np
+import pytest
+
+from controllers.plants import ArmMeasurement
+from controllers.simulation import Augmented
+from controllers.visual_servoing import (SCARA_DOFS, CameraImage, EyeInHandCamera, IBVSResolvedVelocity,
+                                         PBVSResolvedVelocity, PoseEstimator, TargetFeatures, gamma_matrix,
+                                         hybrid_error_jacobians, planar_pose, planar_pose_vector,
+                                         relative_pose_vector)
+from problems.ch10 import P_O, Q0, X_DO, X_O, _target_points_b, scara_eye_in_hand
+
+TARGET = TargetFeatures(P_O, kind="segment")
+
+
+def _x_co(robot, q):
+    return relative_pose_vector(EyeInHandCamera(robot, _target_points_b()).pose(q), planar_pose(X_O))
+
+
+def test_planar_pose_round_trip(rng):
+    for _ in range(5):
+        x = np.r_[rng.normal(size=3), rng.uniform(-np.pi, np.pi)]
+        np.testing.assert_allclose(planar_pose_vector(planar_pose(x)), x, atol=1e-12)
+
+
+def test_pbvs_jacobian_is_the_derivative_of_the_relative_pose(rng):
+    """J_Ad = Γ(o) [R_cᵀ J_P; ω_z] = ∂x_{c,o}/∂q (central differences on the SCARA)."""
+    robot = scara_eye_in_hand()
+    law = PBVSResolvedVelocity(robot, X_DO, np.ones(4))
+    for _ in range(5):
+        q = Q0 + 0.2 * rng.normal(size=4)
+        J = law.pbvs_jacobian(q, _x_co(robot, q))
+        fd = np.column_stack([(_x_co(robot, q + 1e-6 * e) - _x_co(robot, q - 1e-6 * e)) / 2e-6 for e in np.eye(4)])
+        np.testing.assert_allclose(J, fd, atol=1e-7)
+
+
+def test_gamma_maps_the_camera_twist_to_the_relative_pose_rate(rng):
+    o = rng.normal(size=3)
+    v, wz = rng.normal(size=3), rng.normal()
+    # a fixed object seen from a camera moving with (v, ω_z e_z): ȯ = −v − ω_z e_z × o, φ̇ = −ω_z
+    expected = np.r_[-v - np.cross([0, 0, wz], o), -wz]
+    np.testing.assert_allclose(gamma_matrix(o) @ np.r_[v, wz], expected, atol=1e-12)
+
+
+def test_estimator_converges_and_holds_when_the_segment_is_lost():
+    s = TARGET.features(TARGET.view_from_pose(planar_pose(X_DO)).xy)
+    est = PoseEstimator(TARGET, [0, 0, 0.5, 0], 160.0, 1e-3)
+    for _ in range(200):
+        est.update(s)
+    np.testing.assert_allclose(est.x_hat, X_DO, atol=1e-8)
+    lost = CameraImage(xy=np.full((2, 2), np.nan), visible=np.array([False, True]), z=np.ones(2))
+    out = est(0.0, Augmented(ArmMeasurement(Q0, np.zeros(4)), image=lost))
+    np.testing.assert_allclose(out, est.x_hat)
+    assert np.all(np.isnan(est.log()["e_s"]))
+
+
+def test_estimator_input_checks():
+    with pytest.raises(ValueError, match="4 features"):
+        PoseEstimator(TargetFeatures(np.zeros((3, 3)) + [[0, 0, 0], [1, 0, 0], [0, 1, 0]], "points"), X_DO, 1.0, 1e-3)
+    with pytest.raises(ValueError, match="x0"):
+        PoseEstimator(TARGET, [0, 0, 0.5], 1.0, 1e-3)
+    with pytest.raises(ValueError, match="T"):
+        PoseEstimator(TARGET, X_DO, 1.0, 0.0)
+    est = PoseEstimator(TARGET, [0, 0, -0.5, 0], 1.0, 1e-3)
+    with pytest.raises(ValueError, match="behind the camera"):
+        est.update(np.zeros(4))
+
+
+def test_ibvs_degrades_without_crashing_when_points_are_lost():
+    robot = scara_eye_in_hand()
+    s_d = TARGET.features(TARGET.view_from_pose(planar_pose(X_DO)).xy)
+    law = IBVSResolvedVelocity(robot, TargetFeatures(P_O, "points"), np.r_[s_d[:2], s_d[:2]], 1.0, depth=0.6)
+    camera = EyeInHandCamera(robot, _target_points_b(), lost={0: (0.0, 1.0)})
+    meas = ArmMeasurement(Q0, None)
+    u = law(0.5, Augmented(meas, image=camera(0.5, meas)))
+    assert u.shape == (4,) and np.all(np.isfinite(u))
+    assert np.all(np.isnan(law.log()["e_s"][:2])) and np.all(np.isfinite(law.log()["e_s"][2:]))
+    seg = IBVSResolvedVelocity(robot, TARGET, s_d, 1.0, depth=0.6)
+    np.testing.assert_array_equal(seg(0.5, Augmented(meas, image=camera(0.5, meas))), np.zeros(4))
+
+
+def test_camera_and_laws_check_their_inputs():
+    robot = scara_eye_in_hand()
+    with pytest.raises(ValueError, match="rng"):
+        EyeInHandCamera(robot, _target_points_b(), noise=0.01)
+    with pytest.raises(ValueError, match="points_b"):
+        EyeInHandCamera(robot, np.zeros(3))
+    with pytest.raises(ValueError, match="kind"):
+        TargetFeatures(P_O, kind="circle")
+    with pytest.raises(ValueError, match="s_d"):
+        IBVSResolvedVelocity(robot, TARGET, np.zeros(3), 1.0)
+    with pytest.raises(ValueError, match="depth"):
+        IBVSResolvedVelocity(robot, TARGET, np.zeros(4), 1.0, depth=-1.0)
+    with pytest.raises(ValueError, match="no frame"):
+        EyeInHandCamera(robot, _target_points_b(), frame="camera_link")
+
+
+def test_hybrid_jacobians_need_positive_depth():
+    J_p, J_o = hybrid_error_jacobians(0.1, -0.2, 0.5)
+    assert J_p.shape == J_o.shape == (3, 3)
+    with pytest.raises(ValueError, match="z_c"):
+        hybrid_error_jacobians(0.1, 0.1, 0.0)
+
+
+def test_scara_dofs_are_the_book_twist():
+    assert SCARA_DOFS == (0, 1, 2, 5)
+
+
+def test_depth_from_segment_length_matches_the_true_depth_for_a_parallel_segment():
+    from controllers.visual_servoing import depth_from_segment
+
+    robot = scara_eye_in_hand()
+    camera = EyeInHandCamera(robot, _target_points_b())
+    image = camera(0.0, ArmMeasurement(Q0, None))
+    np.testing.assert_allclose(depth_from_segment(0.1)(image), image.z, atol=1e-12)
+    with pytest.raises(ValueError, match="length"):
+        depth_from_segment(0.0)
+
+
+def test_camera_jacobian_is_the_world_jacobian_rotated_into_the_camera(rng):
+    import pinocchio as pin
+
+    from controllers.visual_servoing import camera_jacobian
+    robot = scara_eye_in_hand()
+    q = Q0 + 0.3 * rng.normal(size=4)
+    J = pin.computeFrameJacobian(robot.model, robot.data, q, robot.ee_frame, pin.LOCAL_WORLD_ALIGNED)
+    R = robot.data.oMf[robot.ee_frame].rotation
+    np.testing.assert_allclose(camera_jacobian(robot, q, robot.ee_frame), np.vstack([R.T @ J[:3], R.T @ J[3:]]),
+                               atol=1e-12)

@@ -39,7 +39,7 @@ from controllers.plants import ArmMeasurement
 from controllers.simulation import LoggedController, as_friction, per_joint
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics, reference_torque
 from rigid_body.robots import Robot, with_payload
-from rigid_body.validation import as_matrix, as_vector
+from rigid_body.validation import as_matrix, as_positive, as_vector
 
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
@@ -116,6 +116,48 @@ def mean_diagonal_inertia(robot: Robot, configurations: np.ndarray) -> np.ndarra
 
 
 # --------------------------------------------------------------------------------------------
+# Sampled-data stability of a joint PD loop
+# --------------------------------------------------------------------------------------------
+
+def sampled_stability(robot: Robot, K_P: Any, K_D: Any, Ts: float, q: Any) -> list[str]:
+    """The sampled-stability bounds that PD gains violate at q, one sentence per joint (empty: none).
+
+    Joint i alone is a double integrator b_i q̈_i = u_i driven through a zero-order hold of period Ts;
+    with u_i = −K_P,i q_i − K_D,i q̇_i its discrete poles are inside the unit circle iff
+
+        d_i = K_D,i Ts / b_i < 2   and   K_P,i Ts < 2 K_D,i     (p_i = K_P,i Ts² / b_i < 2 d_i),
+
+    (Jury's test on z² − (2 − d − p/2) z + 1 − d + p/2). b_i = 1/(B⁻¹(q))_ii is the inertia joint i
+    sees when the other joints move freely (≤ b_ii): a light wrist has a small b_i, so the damping
+    the heavy shoulder needs makes the wrist's loop diverge. Only the diagonal of the gain matrices
+    is used. A URDF without rotor inertias (the Panda's) understates the real robot's b_i.
+
+    >>> from rigid_body.robots import load
+    >>> panda = load("panda")
+    >>> print(sampled_stability(panda, 100.0, 20.0, 1e-3, panda.configurations["ready"])[0][:60])
+    joint 7: K_D,7·Ts/b_7 = 20 × 0.001 / 0.006521 = 3.067 ≥ 2 (s
+    """
+    n = robot.nv
+    kp = np.diag(as_gain(K_P, n, "K_P"))
+    kd = np.diag(as_gain(K_D, n, "K_D"))
+    q = as_vector(q, robot.nq, "q")
+    b = 1.0 / np.diag(np.linalg.inv(inertia_matrix(robot, q)))
+    problems = []
+    for i in range(n):
+        d = kd[i] * Ts / b[i]
+        j = i + 1
+        if d >= 2:
+            problems.append(f"joint {j}: K_D,{j}·Ts/b_{j} = {kd[i]:.4g} × {Ts:.4g} / {b[i]:.4g} = {d:.4g} ≥ 2 "
+                            f"(sampled damping unstable): lower K_D,{j} below {2 * b[i] / Ts:.4g} "
+                            f"(≈ {0.5 * b[i] / Ts:.3g} for margin) or shorten Ts below {2 * b[i] / kd[i]:.3g} s")
+        elif kp[i] * Ts >= 2 * kd[i]:
+            problems.append(f"joint {j}: K_P,{j}·Ts = {kp[i] * Ts:.4g} ≥ 2 K_D,{j} = {2 * kd[i]:.4g} "
+                            f"(sampled stiffness unstable): raise K_D,{j} above {kp[i] * Ts / 2:.4g}, "
+                            f"lower K_P,{j} or shorten Ts")
+    return problems
+
+
+# --------------------------------------------------------------------------------------------
 # PD control with gravity compensation (8.51)
 # --------------------------------------------------------------------------------------------
 
@@ -126,19 +168,38 @@ class PDGravityCompensation(LoggedController):
     V = ½ q̇ᵀ B q̇ + ½ q̃ᵀ K_P q̃). With a moving reference this is PD + gravity tracking, whose error
     is not zero while the reference accelerates.
 
+    Sampled at a period Ts the loop also needs, per joint, K_D,i Ts / b_i < 2 and K_P,i Ts < 2 K_D,i
+    (:func:`sampled_stability`): on a real arm the light wrist bounds the damping. Per-joint gains
+    for the Panda's URDF at Ts = 1 ms (no rotor inertias in it, b_7 ≈ 0.0065 kg·m²)::
+
+        PDGravityCompensation(panda, K_P=[600, 600, 600, 600, 250, 150, 50],
+                              K_D=[50, 50, 50, 50, 10, 10, 3], reference=q_d, Ts=1e-3)
+
+    and for the UR5 (b_6 ≈ 0.017 kg·m²): K_P = [600, 600, 400, 100, 100, 50], K_D = [60, 60, 40, 10, 10, 8].
+
     Parameters
     ----------
     robot : the controller's model (its g(q) is compensated).
     K_P, K_D : gains (scalar, (n,) or (n, n)), positive definite.
     reference : set point (n,) or trajectory (see :func:`as_reference`).
+    Ts : the sampling period the controller will run at [s], optional: when given, the gains are
+        checked against :func:`sampled_stability` at the reference's start (ValueError naming the joint).
     """
 
-    def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any):
+    def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, Ts: float | None = None):
         n = robot.nv
         self.robot, self.n = robot, n
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
         self.reference = as_reference(reference, n)
         self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
+        if Ts is not None:
+            problems = sampled_stability(robot, self.K_P, self.K_D, as_positive(Ts, "Ts"), self.reference(0.0)[0])
+            if problems:
+                raise ValueError(f"PD + gravity gains unstable at Ts = {Ts:g} s: " + "; ".join(problems))
+
+    def diagnose(self, plant: Any, Ts: float, meas: ArmMeasurement) -> str:
+        """Why the loop may have diverged (called by :func:`~controllers.simulation.simulate`)."""
+        return "; ".join(sampled_stability(self.robot, self.K_P, self.K_D, Ts, meas.q))
 
     def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
         q, qd = meas.q, meas.qd

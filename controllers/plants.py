@@ -40,7 +40,7 @@ from controllers.environment import NO_CONTACT
 from controllers.independent_joint import JointDrive
 from controllers.simulation import as_friction, per_joint
 from rigid_body.actuators import DCServomotor, PIRegulator
-from rigid_body.robots import JointFriction, Robot
+from rigid_body.robots import JointFriction, Robot, joint_units
 from rigid_body.rotations import wrap_angle
 from rigid_body.validation import as_positive, as_vector
 from rigid_body.wheeled import (chained_form_velocity, mobile_manipulator_input_matrix, saturate_wheel_speeds,
@@ -59,6 +59,18 @@ class ArmMeasurement:
 
 
 ARM_UNITS = {"q": "rad", "qd": "rad/s", "u": "N·m", "e": "rad", "q_d": "rad"}
+
+
+def arm_units(robot: Robot) -> dict[str, str]:
+    """The units of an arm's signals from its joint types: rad, rad/s, N·m (revolute), m, m/s, N
+    (prismatic), both when the arm mixes them."""
+    kinds = set(joint_units(robot))
+    if kinds == {"rad"}:
+        return dict(ARM_UNITS)
+    q = "m" if kinds == {"m"} else "rad | m"
+    u = "N" if kinds == {"m"} else "N·m | N"
+    qd = "m/s" if kinds == {"m"} else "rad/s | m/s"
+    return {"q": q, "qd": qd, "u": u, "e": q, "q_d": q}
 
 
 class ArmPlant:
@@ -94,6 +106,7 @@ class ArmPlant:
         self.robot = robot
         self.n = robot.nv
         self.nq = robot.nq
+        self.units = arm_units(robot)
         self.state_size = robot.nq + robot.nv
         self.tangent_size = 2 * robot.nv
         self.input_size = robot.nv

@@ -53,7 +53,9 @@ The plant contract (duck-typed; only ``derivative`` is required)
 The controller contract
 -----------------------
 A controller is a callable ``(t, measurement) -> u``; ``reset()`` is called before the run and
-``log() -> dict`` after every call (its entries become signals of the result). Controllers derive from
+``log() -> dict`` after every call (its entries become signals of the result); an optional
+``diagnose(plant, Ts, measurement) -> str`` (measurement at the start) says why the loop may diverge
+and is appended to the :class:`SimulationDiverged` message (e.g. a violated sampled-stability bound). Controllers derive from
 :class:`LoggedController`, which provides both: the law calls ``self.record(e=..., q_d=...)``.
 
 Multi-rate loops: ``ZeroOrderHold(block, Ts)`` runs ``block`` every ``Ts`` (a multiple of the loop's
@@ -239,6 +241,12 @@ class SimulationResult:
     def __len__(self) -> int:
         return len(self.t)
 
+    def __repr__(self) -> str:
+        """One line: samples, time span, state and input sizes, signal names (not the arrays)."""
+        span = f"[{self.t[0]:.4g}, {self.t[-1]:.4g}] s" if len(self.t) else "[]"
+        return (f"SimulationResult({len(self.t)} samples on {span}, x: {self.x.shape[1:]}, u: {self.u.shape[1:]}, "
+                f"signals={sorted(self.signals)})")
+
     @property
     def q(self) -> np.ndarray:
         """Joint positions (N, nq) (from the measurement or the plant's state layout)."""
@@ -271,8 +279,11 @@ class SimulationResult:
         shown = ", ".join(units - {""})
         ax.set_xlabel("t [s]")
         ax.set_ylabel(", ".join(names) + (f" [{shown}]" if shown else ""))
-        if len(lines) > 1:
-            ax.legend(list(labels) if labels is not None else lines, fontsize="small")
+        if len(lines) > 4:  # many curves: the legend beside the axes, clear of them
+            ax.legend(list(labels) if labels is not None else lines, fontsize="small",
+                      loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        elif len(lines) > 1:
+            ax.legend(list(labels) if labels is not None else lines, fontsize="small", loc="best")
         return ax
 
 
@@ -405,7 +416,8 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
             for name, value in log(t, x, u).items():
                 _append(signals, name, value)
         if not (math.isfinite(sum(u.tolist())) or np.isfinite(u).all()):  # the sum may overflow: recheck
-            raise SimulationDiverged(f"controller output became non-finite at t = {t:.6g} s: u = {u}", t)
+            why = _diagnosis(controller, plant, Ts, measure(t0, xs[0]) if measure else xs[0])
+            raise SimulationDiverged(f"controller output became non-finite at t = {t:.6g} s: u = {u}{why}", t)
         if k == n_samples - 1:
             break
         if k == 0:
@@ -423,12 +435,13 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                 peak = np.max(np.abs(x))
                 if peak <= bound:
                     continue
+                why = _diagnosis(controller, plant, Ts, measure(t0, xs[0]) if measure else xs[0])
                 if np.isfinite(peak):
                     raise SimulationDiverged(
-                        f"plant state exceeded {bound:g} at t = {ti + h:.6g} s: the loop diverges", ti + h)
+                        f"plant state exceeded {bound:g} at t = {ti + h:.6g} s: the loop diverges{why}", ti + h)
                 raise SimulationDiverged(
                     f"plant state became non-finite at t = {ti + h:.6g} s (step h = {h:g} s); "
-                    "the loop is unstable or the step is too large", ti + h)
+                    f"the loop is unstable or the step is too large{why}", ti + h)
     return SimulationResult(t=ts, x=xs, u=np.array(us),
                             signals={k: np.array(v, dtype=float) for k, v in signals.items()},
                             layout=dict(layout),
@@ -455,6 +468,19 @@ def _rk4_vector(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray
     k3 = derivative(t + hh, x + hh * k2, u)
     k4 = derivative(t + h, x + h * k3, u)
     return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+
+
+def _diagnosis(controller: Any, plant: Any, Ts: float, measurement: Any) -> str:
+    """``controller.diagnose(plant, Ts, measurement)`` (a controller that can tell why its loop
+    diverges, e.g. a violated sampled-stability bound) as text to append to the error; "" otherwise."""
+    diagnose = getattr(controller, "diagnose", None)
+    if diagnose is None:
+        return ""
+    try:
+        text = diagnose(plant, Ts, measurement)
+    except Exception as exc:  # the diagnosis must never hide the divergence itself
+        return f" (the controller's diagnosis failed: {type(exc).__name__}: {exc})"
+    return f". {text}" if text else ""
 
 
 def per_joint(value: Any, n: int, name: str) -> np.ndarray:

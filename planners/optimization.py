@@ -176,6 +176,13 @@ class OptimalTrajectory:
     iterations: int = 0
     solve_time: float = 0.0
 
+    def __repr__(self) -> str:
+        """One line: objective, duration, cost, success, the active limits (not the samples)."""
+        active = ", ".join(f"{k} {v:.3g}" for k, v in self.ratios.items())
+        return (f"OptimalTrajectory(minimum {self.objective}: t_f={self.t_f:.4g} s, cost={self.cost:.4g}, "
+                f"success={self.success}, limit ratios: {active or '-'}, {len(self.trajectory)} samples, "
+                f"{self.iterations} IPOPT iterations in {self.solve_time:.2g} s)")
+
 
 def limit_ratios(robot: Robot, trajectory: Trajectory, limits: JointLimits) -> tuple[dict[str, float], np.ndarray]:
     """max |value|/limit per kind on the trajectory's samples (positions relative to their box),

@@ -444,6 +444,9 @@ class Trajectory:
         return (f"Trajectory {self.name or '(unnamed)'}: {len(self)} samples x {self.n} joints "
                 f"on [{self.t[0]:.6g}, {self.t[-1]:.6g}] s")
 
+    def __repr__(self) -> str:
+        return f"<{self}>"
+
     @property
     def n(self) -> int:
         """Number of joints (columns)."""
@@ -462,24 +465,38 @@ class Trajectory:
         """The same law sampled at the instants ``t`` (any increasing (M,) array)."""
         return sample(self.law, times=t, name=self.name)
 
-    def plot(self, axes: Any = None, labels: Any = None) -> Any:
+    def plot(self, axes: Any = None, labels: Any = None, units: Any = "rad") -> Any:
         """Position, velocity and acceleration against time on three axes (created if None).
 
+        ``units``: the joint variables' unit, ``"rad"`` (default) or ``"m"``, one per joint, or a
+        :class:`~rigid_body.robots.Robot` (its joint types); the axes read q [rad], q̇ [rad/s],
+        q̈ [rad/s²]. The legend (several joints) sits beside the axes, clear of the curves.
         Returns the three axes; never shows the figure.
         """
         if axes is None:
             import matplotlib.pyplot as plt
 
-            _, axes = plt.subplots(3, 1, sharex=True, figsize=(6.4, 6.4))
+            _, axes = plt.subplots(3, 1, sharex=True, figsize=(7.2, 6.4))
+        if hasattr(units, "model"):
+            from rigid_body.robots import joint_units
+
+            units = joint_units(units)
+        units = [units] * self.n if isinstance(units, str) else list(units)
+        if len(units) != self.n or not set(units) <= {"rad", "m"}:
+            raise ValueError(f"`units` must be 'rad' or 'm', one per joint ({self.n}), got {units}")
+        kinds = sorted(set(units), reverse=True)  # rad before m
         labels = labels if labels is not None else [f"joint {j + 1}" for j in range(self.n)]
-        for ax, y, name in zip(axes, (self.q, self.qd, self.qdd), ("position", "velocity", "acceleration")):
+        names = tuple(f"{y} [{' | '.join(u + suffix for u in kinds)}]"
+                      for y, suffix in (("q", ""), ("q̇", "/s"), ("q̈", "/s²")))
+        for ax, y, name in zip(axes, (self.q, self.qd, self.qdd), names):
             for j in range(self.n):
                 ax.plot(self.t, y[:, j], label=labels[j] if self.n > 1 else None)
             ax.set_ylabel(name)
             ax.grid(True, alpha=0.3)
         axes[-1].set_xlabel("t [s]")
         if self.n > 1:
-            axes[0].legend(loc="best", fontsize="small")
+            axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
+            axes[0].figure.subplots_adjust(right=0.8)
         return axes
 
 

@@ -438,7 +438,7 @@ def problem_2_14() -> Solution:
 
     The torso is the anthropomorphic arm (2.66); T_l^t, T_r^t as in the manual (β, d_l, d_r). The tree
     (torso + two 7-DOF arms) is one URDF; Pinocchio's hand poses are compared with the matrix products.
-    Inferred data [TB-verify]: the arm table (2.77) is taken as the DLR table with α_i = −π/2, the torso
+    Inferred data (not in the manual): the arm table (2.77) is taken as the DLR table with α_i = −π/2, the torso
     frame t as frame 3 rotated (T_t^3 below), and β = π/6, d_l = d_r = 0.3, d3 = d5 = 0.4, d7 = 0.1,
     a2 = a3 = 0.3 are test values.
     """

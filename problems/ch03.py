@@ -412,8 +412,8 @@ def problem_3_14() -> Solution:
     full = simulate(JointIntegrator(), CLIK(robot, ref, TaskSpace(orientation="axis_angle"), K=500.0, law="inverse"),
                     (0.0, 2.5), q0, h=1e-3)
     e_P, e_O = np.linalg.norm(two["e_P"], axis=1), np.linalg.norm(two["e_O"], axis=1)
-    sol.value("max_position_error", float(e_P.max()))
-    sol.value("max_orientation_error", float(e_O.max()))
+    sol.value("max_position_error", float(e_P.max()), unit="m")
+    sol.value("max_orientation_error", float(e_O.max()), unit="rad")
     sol.check("two-stage: errors small along the path (< 1e-4)", e_P.max() < 1e-4 and e_O.max() < 1e-4,
               f"max ||e_P|| = {e_P.max():.2e}, max ||e_O|| = {e_O.max():.2e}")
     sol.check("two-stage: errors vanish at steady state (< 1e-6)", e_P[-1] < 1e-6 and e_O[-1] < 1e-6,
@@ -619,7 +619,7 @@ def problem_3_21() -> Solution:
     o, R = np.array([0.3, 0.0]), 0.1
     p_i, p_f = np.array([0.8, 0.2, 0.0]), np.array([0.8, -0.2, 0.0])
     q0 = inverse_kinematics_planar_3r([0.8, 0.2, np.pi / 4], **arm)[ELBOW_UP]
-    sol.value("q0", q0)
+    sol.value("q0", q0, unit="rad")
     sol.check_close("q(0) (i3_21)", q0, [0.51469, -1.55168, 1.82239], atol=5e-6)
     ref = cosine_pose_reference(p_i, p_f, 2.0)
     task = TaskSpace(orientation="none", rows=(0, 1))
@@ -637,8 +637,8 @@ def problem_3_21() -> Solution:
         sol.figure(_history_figure(f"Problem 3.21 — {fig_name}", res,
                                    [("||e|| [m]", e), ("distance from the obstacle [m]", res["d"])]))
     (res0, e0), (res1, e1) = results[0.0], results[35.0]
-    d0, d1 = sol.value("min_distance_unconstrained", float(res0["d"].min())), \
-        sol.value("min_distance_constrained", float(res1["d"].min()))
+    d0, d1 = sol.value("min_distance_unconstrained", float(res0["d"].min()), unit="m"), \
+        sol.value("min_distance_constrained", float(res1["d"].min()), unit="m")
     sol.value("final_error", float(max(e0[-1], e1[-1])))
     sol.check("unconstrained: the arm crosses the obstacle (min d < 0)", d0 < 0, f"min d = {d0:.4f} m")
     sol.check("constrained: the arm never touches the obstacle (min d > 0)", d1 > 0, f"min d = {d1:.4f} m")
@@ -671,7 +671,7 @@ def problem_3_22() -> Solution:
     sol = Solution()
     robot = load("scara")
     q0 = inverse_kinematics_scara([0.7, 0.0, 0.0, 0.0])[ELBOW_UP]
-    sol.value("q0", q0)
+    sol.value("q0", q0, unit="rad (q3 in m)")
     sol.check_close("q(0) (i3_22)", q0, [0.79540, -1.59080, 0.0, 0.79540], atol=5e-6)
     ref = cosine_pose_reference([0.7, 0.0, 0.0], [0.0, 0.8, 0.5], 2.0, 0.0, np.pi / 2)
     task = TaskSpace(orientation="rpy", rows=(0, 1, 2, 3))
@@ -684,9 +684,9 @@ def problem_3_22() -> Solution:
         out[law] = (res, e_P, e_phi)
         sol.figure(_history_figure(f"Problem 3.22 — {fig_name}", res,
                                    [("||e_P|| [m]", e_P), ("|e_phi| [rad]", e_phi)]))
-        sol.value(f"max_position_error_{law}", float(e_P.max()))
-        sol.value(f"max_orientation_error_{law}", float(e_phi.max()))
-        sol.value(f"q_final_{law}", res.q[-1])
+        sol.value(f"max_position_error_{law}", float(e_P.max()), unit="m")
+        sol.value(f"max_orientation_error_{law}", float(e_phi.max()), unit="rad")
+        sol.value(f"q_final_{law}", res.q[-1], unit="rad (q3 in m)")
     (rA, ePA, eoA), (rB, ePB, eoB) = out["inverse"], out["transpose"]
     eA, eB = max(ePA.max(), eoA.max()), max(ePB.max(), eoB.max())
     sol.check("(A) tracking satisfactory (max error < 1e-4)", eA < 1e-4, f"max error {eA:.2e}")

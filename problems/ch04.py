@@ -311,7 +311,7 @@ def _trapezoid_checks(sol: Solution, law, s_f: float, t_f: float, sd_c: float) -
               s_f / t_f < sd_c <= 2 * s_f / t_f)
     t_c = (0.0 - s_f + sd_c * t_f) / sd_c
     sdd_c = sd_c**2 / (0.0 - s_f + sd_c * t_f)
-    sol.value("t_c", float(law.breaks[1]))
+    sol.value("t_c", float(law.breaks[1]), unit="s")
     sol.value("sdd_c", float(law(0.5 * t_c)[2]))
     sol.check_close("t_c = (s_i − s_f + ṡ_c t_f)/ṡ_c and s̈_c = ṡ_c²/(s_i − s_f + ṡ_c t_f), Eq. (4.8)",
                     [law.breaks[1], law(0.5 * t_c)[2], law(t_f / 2)[1]], [t_c, sdd_c, sd_c], atol=1e-12)
@@ -327,7 +327,7 @@ def problem_4_7() -> Solution:
     sol = Solution()
     p_i, p_f, t_f, sd_c = np.array([0.0, 0.5, 0.0]), np.array([1.0, -0.5, 0.0]), 2.0, 1.0
     seg = paths.Segment(p_i, p_f)
-    s_f = sol.value("s_f", seg.length)
+    s_f = sol.value("s_f", seg.length, unit="m")
     sol.check_close("s_f = ‖p_f − p_i‖ = √2", s_f, np.sqrt(2), atol=1e-12)
     s_law = timing.trapezoidal_law(0.0, s_f, t_f, sd_c)
     _trapezoid_checks(sol, s_law, s_f, t_f, sd_c)

@@ -163,11 +163,11 @@ def problem_5_2() -> Solution:
     res = simulate(ServomotorPlant(m, 1.0), lambda t, x: np.array([1.0, 0.0]), (0.0, 0.2), ServomotorPlant.x0,
                    h=1e-4)
     t, i_a, omega = res.t, res["i_a"], res["omega"]
-    omega_ss = sol.value("omega_ss", float(omega[-1]))
-    i_ss = sol.value("i_ss", float(i_a[-1]))
-    sol.value("omega_peak", float(omega.max()))
-    sol.value("i_peak", float(i_a.max()))
-    sol.value("t_i_peak", float(t[np.argmax(i_a)]))
+    omega_ss = sol.value("omega_ss", float(omega[-1]), unit="rad/s")
+    i_ss = sol.value("i_ss", float(i_a[-1]), unit="A")
+    sol.value("omega_peak", float(omega.max()), unit="rad/s")
+    sol.value("i_peak", float(i_a.max()), unit="A")
+    sol.value("t_i_peak", float(t[np.argmax(i_a)]), unit="s")
     K = 1.0
     den = m.Ra * m.Fm + m.kv * m.kt
     sol.check_close("ω(0.2 s) = K k_t/(R_a F_m + k_v k_t) = 4.7619 rad/s", omega_ss, K * m.kt / den, atol=1e-3)
@@ -208,7 +208,7 @@ def problem_5_3() -> Solution:
     zeta, t_s = 0.7, 2e-3
     pi, omega_n = design_pi_current_loop(m, zeta, t_s)
     K_I, T_I = sol.value("K_I", pi.K), sol.value("T_I", pi.T)
-    sol.value("omega_n", omega_n)
+    sol.value("omega_n", omega_n, unit="rad/s")
     # The manual's closed loop (Ω_m = 0, T_v ≈ 0): (1 + sT_I)/(1 + s(0.2 + K_I T_I)/K_I + s² 0.002/K_I)
     a1, a2 = (0.2 + K_I * T_I) / K_I, 0.002 / K_I
     wn = 1 / np.sqrt(a2)
@@ -221,7 +221,7 @@ def problem_5_3() -> Solution:
     sol.check("current loop I_a/V'_c (block reduction, Ω_m ≈ 0, T_v = 0) = manual's transfer function",
               err < 1e-6, f"max relative error {err:.2e}")
     info = control.step_info(lib.current_input, SettlingTimeThreshold=0.01)
-    sol.value("design_current_overshoot_percent", float(info["Overshoot"]))
+    sol.value("design_current_overshoot_percent", float(info["Overshoot"]), unit="%")
     sol.check("design model (T_v = 0): current settles within 1 % in ≤ 2 ms", info["SettlingTime"] <= t_s,
               f"settling time {info['SettlingTime'] * 1e3:.2f} ms, overshoot {info['Overshoot']:.1f} % "
               f"(caused by the zero −1/T_I)")
@@ -237,12 +237,12 @@ def problem_5_3() -> Solution:
               f"max |i_a − 1| after 2.5 ms = {np.max(np.abs(i_a[after] - 1)):.4f} A")
     tfs = servomotor_transfer_functions(m, pi)
     ref_i = control.step_response(tfs.current_input, t).outputs
-    sol.value("simulated_current_overshoot_percent", float(100 * (i_a.max() - 1.0)))
+    sol.value("simulated_current_overshoot_percent", float(100 * (i_a.max() - 1.0)), unit="%")
     sol.check("simulated current = python-control step response", np.max(np.abs(ref_i - i_a)) < 1e-4,
               f"max |difference| = {np.max(np.abs(ref_i - i_a)):.2e} A")
     omega = slow["omega"]
     tau_m = m.Im / m.Fm
-    sol.value("omega_final", float(omega[-1]))
+    sol.value("omega_final", float(omega[-1]), unit="rad/s")
     sol.check_close("ω(1 s) → k_t/(k_i F_m) = 20 rad/s", omega[-1], m.kt / (m.ki * m.Fm), atol=0.1)
     k = int(round(tau_m / 1e-4))
     sol.check_close("velocity dominated by I_m/F_m = 0.14 s: ω(0.14 s) ≈ 20 (1 − e⁻¹) "
@@ -254,7 +254,7 @@ def problem_5_3() -> Solution:
     r3, r2 = rise(omega, slow.t), rise(ref["omega"], ref.t)
     sol.check("velocity slowed down with respect to Fig. S5.2", r3 > 5 * r2,
               f"63 % rise time {r3 * 1e3:.1f} ms (PI current loop) vs {r2 * 1e3:.1f} ms (Problem 5.2)")
-    sol.value("v_a_final", float(plant.armature_voltage(slow.x[-1], 1.0)))
+    sol.value("v_a_final", float(plant.armature_voltage(slow.x[-1], 1.0)), unit="V")
     sol.figure(_servomotor_figure("Fig. S5.4 — servomotor with PI current loop",
                                   [("current transient (h = 0.5 µs)", t, i_a, fast["omega"]),
                                    ("velocity (h = 0.1 ms); dashed: Problem 5.2", slow.t, slow["i_a"], omega)]))
@@ -355,7 +355,7 @@ def problem_5_6() -> Solution:
     h_s = np.array([20.0, 0, 0, 0, 6, 0])
     W = sol.value("W", wrench_transform(R, r))
     h_c = W @ h_s
-    f_c, mu_c = sol.value("f_c", h_c[:3]), sol.value("mu_c", h_c[3:])
+    f_c, mu_c = sol.value("f_c", h_c[:3], unit="N"), sol.value("mu_c", h_c[3:], unit="N·m")
     manual_W = np.array([[0, 0, 1, 0, 0, 0], [0, -1, 0, 0, 0, 0], [1, 0, 0, 0, 0, 0],
                          [0, 0.2, 0, 0, 0, 1], [0.3, 0, 0.2, 0, -1, 0], [0, 0.3, 0, 1, 0, 0]])
     sol.check_close("6×6 map of (5.32) equals the manual's", W, manual_W, atol=1e-12)

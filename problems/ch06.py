@@ -129,7 +129,7 @@ def problem_6_2() -> Solution:
     sol.check("via points: null initial and final velocity and acceleration",
               max(np.abs(v0).max(), np.abs(a0).max(), np.abs(vf).max(), np.abs(af).max()) < 1e-12, "at C and F")
     dmin = float(distance_to_box(traj.q[:, :2], OBSTACLE).min())
-    sol.value("via_min_distance", dmin)
+    sol.value("via_min_distance", dmin, unit="m")
     sol.check("via points: the path keeps a safety distance (≥ half the clearance) from the obstacle",
               dmin >= 0.5 * CLEARANCE, f"min distance {dmin:.4f} m")
     dD = float(np.min(np.linalg.norm(traj.q[:, :2] - plan.points["D"], axis=1)))
@@ -137,8 +137,8 @@ def problem_6_2() -> Solution:
               np.linalg.norm(law(t_D - OVERLAP / 2)[1]) > 0.05, f"closest approach to D {dD:.4f} m")
     T_path = results["path points (cubic DE)"][0].t_f - results["path points (cubic DE)"][0].t_i
     T_via = law.t_f - law.t_i
-    sol.value("duration_path_points", T_path)
-    sol.value("duration_via_points", T_via)
+    sol.value("duration_path_points", T_path, unit="s")
+    sol.value("duration_via_points", T_via, unit="s")
     sol.check_close("via points save the anticipation time 2 × overlap", T_path - T_via, 2 * OVERLAP, atol=1e-12)
     ik_ok = True
     for _, (_, tr) in results.items():
@@ -287,13 +287,13 @@ def problem_6_4() -> Solution:
     executor = ActionExecutor(robot, inverse_kinematics_scara, cell, q0)
     record = executor.run(program)
     sol.value("executed_steps", len(record.steps))
-    sol.value("simulated_time", float(record.t[-1]))
+    sol.value("simulated_time", float(record.t[-1]), unit="s")
     sol.check("no primitive skipped: every step executed in order", [k for k, *_ in record.steps] == list(range(len(program))),
               f"{len(record.steps)} of {len(program)} steps")
     slots = np.array([np.array(PALLET[:3]) + [i * LENGTH, j * WIDTH, 0.0] for i in range(4) for j in range(4)])
     placed = np.array([record.objects[f"object {k + 1}"] for k in range(16)])
     err = float(np.max(np.linalg.norm(placed - slots, axis=1)))
-    sol.value("max_placement_error", err)
+    sol.value("max_placement_error", err, unit="m")
     sol.check("every object on its pallet slot pallet + (i·length, j·width) (order i, j)", err < 1e-3,
               f"max placement error {err * 1e3:.3f} mm")
     gaps = np.linalg.norm(placed[:, None] - placed[None], axis=2) + np.eye(16)

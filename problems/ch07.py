@@ -295,7 +295,7 @@ def problem_7_4() -> Solution:
     checked to give the same torques. Manual erratum: its intermediate expansion of τ1, τ2 in π1..π8
     writes the coupling term of b12 as k_r²π8 instead of k_r2 π8 (checked against B(q)); only (S7.2),
     (S7.3) are used. The eight-parameter regressor (7.84), recalled from the textbook
-    (catalogue [TB?]), reproduces the model but has rank 5, and the manual's combinations (S7.2) of its
+    (not printed in the manual), reproduces the model but has rank 5, and the manual's combinations (S7.2) of its
     parameters give π'. With the 10 kg payload of ``load_m.m`` only π'₁ and π'₃ change.
 
     Identification (the book's least-squares parameter identification), an addition to the manual: ``planar_2r`` (viscous friction
@@ -636,7 +636,7 @@ def problem_7_7() -> Solution:
             err_ne = max(err_ne, max_abs_error(ne.inverse_dynamics(model, q[k], qd[k], qdd[k], f_tip=f3), tau[k]))
             err_pin = max(err_pin, max_abs_error(dyn.inverse_dynamics(robot, q[k], qd[k], qdd[k]) + J.T @ TIP_FORCE, tau[k]))
         scale = np.abs(tau).max()
-        sol.value(f"{name}_tau_peak", np.abs(tau).max(axis=0))
+        sol.value(f"{name}_tau_peak", np.abs(tau).max(axis=0), unit="N·m")
         sol.check(f"{name}: Y'π' + Jᵀf = Newton–Euler with tip force = Pinocchio RNEA + Jᵀf",
                   max(err_ne, err_pin) < 1e-10 * scale, f"NE {err_ne:.2g}, Pinocchio {err_pin:.2g} N·m (peak {scale:.4g})")
         tip = direct_kinematics(robot, q[-1])[:2, 3]
@@ -658,7 +658,7 @@ def problem_7_7() -> Solution:
     sol.animation(robot, trajectories["tra_3"][:2], "trajectory 3: straight tip path", speed=0.5)
     t, q, qd, qdd = trajectories["tra_2"]
     durations = [abs(d) / 5.0 + 0.15 for d in inverse_kinematics_planar_2r([1.8, 0.0])[ELBOW_DOWN] - q_i]
-    sol.value("tra_2_durations", np.array(durations))
+    sol.value("tra_2_durations", np.array(durations), unit="s")
     sol.check_close("tra_2 durations ≈ 0.354 s and 0.558 s (catalogue)", durations, [0.354, 0.558], atol=1e-3)
     sol.check("tra_2: joint velocities never exceed 5 rad/s", np.abs(qd).max() <= 5.0 + 1e-9,
               f"max |q̇| = {np.abs(qd).max():.6g}")

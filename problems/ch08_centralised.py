@@ -8,7 +8,7 @@ authors' run length t_d = 2.5 s. Problems 8.11–8.16 add a payload m_L = 10 kg 
 RK4 with the manual's maximum step (1 ms; 0.1 ms for 8.12).
 
 Data provenance: the desired postures, initial conditions, trajectories and payload are the
-authors' companion data (which the catalogue marks [TB?] and which wins where the two differ:
+authors' companion data (which win where they differ from the manual:
 q(0) = q_d − [0.1, 0.1] in 8.10 and p(0) = p_d − [0.1, 0.1] in 8.15).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
@@ -105,11 +105,11 @@ def problem_8_10() -> Solution:
         res = simulate(plant, PDGravityCompensation(arm, K_P, K_D, q_d), (0.0, t_end), np.r_[q0, 0.0, 0.0],
                        h=T_C, Ts=T_C)
         q, qd, e = res.q, res.qd, res["e"]
-        sol.value(f"q_d_{k}", q_d)
-        sol.value(f"q0_{k}", q0)
-        sol.value(f"q_final_{k}", q[-1])
-        sol.value(f"error_at_t_d_{k}", e[_at(res, T_D)])
-        sol.value(f"max_abs_u_{k}", np.abs(res.u).max(axis=0))
+        sol.value(f"q_d_{k}", q_d, unit="rad")
+        sol.value(f"q0_{k}", q0, unit="rad")
+        sol.value(f"q_final_{k}", q[-1], unit="rad")
+        sol.value(f"error_at_t_d_{k}", e[_at(res, T_D)], unit="rad")
+        sol.value(f"max_abs_u_{k}", np.abs(res.u).max(axis=0), unit="N·m")
         sol.check(f"posture {k} reached", np.max(np.abs(e[-1])) < 1e-4,
                   f"|q_d - q({t_end:g} s)|_inf = {np.max(np.abs(e[-1])):.2e} < 1e-4 "
                   f"(at t_d = {T_D} s: {np.max(np.abs(e[_at(res, T_D)])):.2e}; initial 0.1)")
@@ -161,9 +161,9 @@ def problem_8_11() -> Solution:
     """
     sol = Solution()
     armL = _arm(M_L)
-    I = sol.value("motor_side_inertia", motor_side_inertias())
+    I = sol.value("motor_side_inertia", motor_side_inertias(), unit="kg·m²")
     drives = [JointDrive(I=i, Ra=10.0, kt=2.0, kv=2.0, Fm=F_M) for i in I]
-    sol.value("T_m", np.array([d.T_m for d in drives]))
+    sol.value("T_m", np.array([d.T_m for d in drives]), unit="s")
     sol.check_close("T_m as in the companion file", [d.T_m for d in drives], [0.031878, 0.033125], atol=1e-6)
     plant = VoltageControlledArm(armL, K_R, drives, viscous_friction=F_V)
     sol.check_close("voltage-to-torque gain and electrical damping (Fig. 8.3)",
@@ -176,7 +176,7 @@ def problem_8_11() -> Solution:
         designs = [design_position_velocity(d, zeta, omega_n) for d in drives]
         sol.check_close(f"gains {k}: K_P, K_V, X_R", [designs[0].K_P, designs[0].K_V, designs[0].X_R], expect, atol=1e-9)
         w3 = bandwidth(designs[0].closed_loop.reference)
-        sol.value(f"omega_3_{k}", w3)
+        sol.value(f"omega_3_{k}", w3, unit="rad/s")
         sol.check(f"gains {k}: bandwidth ω3", abs(w3 - omega_3) < 0.01,
                   f"ω3 = {w3:.3f} rad/s vs {omega_3}" + (" (manual prints 10.78: erratum)" if k == 2 else ""))
         for ff in (True, False):
@@ -186,9 +186,9 @@ def problem_8_11() -> Solution:
     err = {key: np.abs(r["e"]).max(axis=0) for key, r in runs.items()}
     sol.animation(armL, runs[1, True], "gains 1, computed-torque feedforward, payload 10 kg")
     for k in (1, 2):
-        sol.value(f"max_error_{k}", err[k, True])
-        sol.value(f"max_error_no_feedforward_{k}", err[k, False])
-        sol.value(f"max_abs_tau_{k}", np.abs(runs[k, True]["tau"]).max(axis=0))
+        sol.value(f"max_error_{k}", err[k, True], unit="rad")
+        sol.value(f"max_error_no_feedforward_{k}", err[k, False], unit="rad")
+        sol.value(f"max_abs_tau_{k}", np.abs(runs[k, True]["tau"]).max(axis=0), unit="N·m")
         final = np.abs(runs[k, True]["e"][-1]).max()
         sol.check(f"gains {k}: errors small and recovered", err[k, True].max() < 0.05 and final < 1e-3,
                   f"max |q~| = {err[k, True].max():.2e} < 0.05 rad, |q~(t_d)| = {final:.2e} < 1e-3 rad")
@@ -230,21 +230,21 @@ def problem_8_12() -> Solution:
     for name, model in (("not_compensated", arm), ("compensated", armL)):
         runs[name] = simulate(plant, InverseDynamicsControl(model, K_P, K_D, tra, viscous_friction=F_V),
                               (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=1e-4, Ts=T_C)
-        sol.value(f"max_error_{name}", np.abs(runs[name]["e"]).max(axis=0))
-        sol.value(f"final_error_{name}", runs[name]["e"][-1])
+        sol.value(f"max_error_{name}", np.abs(runs[name]["e"]).max(axis=0), unit="rad")
+        sol.value(f"final_error_{name}", runs[name]["e"][-1], unit="rad")
     rc, rn = runs["compensated"], runs["not_compensated"]
     sol.animation(armL, rc, "inverse dynamics control, payload compensated")
     sol.check("compensated: excellent tracking", np.abs(rc["e"]).max() < 1e-3 and np.abs(rc["e"][_at(rc, 2.0)]).max() < 1e-6,
               f"max |q~| = {np.abs(rc['e']).max():.2e} < 1e-3, |q~(2 s)| = {np.abs(rc['e'][_at(rc, 2.0)]).max():.2e} < 1e-6")
     q_ss = inverse_dynamics_steady_state(armL, arm, K_P, Q_F)
-    e_ss = sol.value("steady_state_error_fixed_point", Q_F - q_ss)
+    e_ss = sol.value("steady_state_error_fixed_point", Q_F - q_ss, unit="rad")
     sol.check_close("not compensated: steady state = fixed point of B̂ K_P q~ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5)
     sol.check_close("fixed point vs the catalogue's (−4.09e-3, −7.23e-3) rad", e_ss, [-4.09e-3, -7.23e-3], atol=1e-5)
     a1 = a2 = 1.0
     c1, c12 = np.cos(Q_F[0]), np.cos(Q_F.sum())
     dg_L = M_L * G * np.array([a1 * c1 + a2 * c12, a2 * c12])
     linear = np.linalg.solve(inertia_matrix(arm, Q_F), dg_L) / K_P
-    sol.value("steady_state_error_linearised", linear)
+    sol.value("steady_state_error_linearised", linear, unit="rad")
     sol.check_close("fixed point ≈ its linearisation K_P⁻¹ B̂⁻¹ Δg_L", e_ss, linear, rtol=0.02)
     sol.check("not compensated: degraded transient", np.abs(rn["e"]).max() > 5e-3,
               f"max |q~| = {np.abs(rn['e']).max():.2e} > 5e-3 (vs {np.abs(rc['e']).max():.2e} compensated)")
@@ -294,8 +294,8 @@ def problem_8_13() -> Solution:
                            (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C)
     e_r, e_0 = np.abs(runs[rho]["e"]).max(axis=0), np.abs(runs[0.0]["e"]).max(axis=0)
     sol.animation(armL, runs[rho], "robust control")
-    sol.value("max_error", e_r)
-    sol.value("max_error_without_robust_term", e_0)
+    sol.value("max_error", e_r, unit="rad")
+    sol.value("max_error_without_robust_term", e_0, unit="rad")
     sol.check("errors bounded despite the model mismatch", e_r.max() < 1e-2, f"max |q~| = {e_r.max():.2e} < 1e-2 rad")
     sol.check("the robust term reduces the error", e_r.max() < 0.25 * e_0.max(),
               f"max |q~| = {e_r.max():.2e} with ρ = 70 vs {e_0.max():.2e} with ρ = 0")
@@ -351,15 +351,15 @@ def problem_8_14() -> Solution:
     res = simulate(plant, ctrl, (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C)
     m_hat = res["m_hat"]
     sol.animation(armL, res, "adaptive control")
-    sol.value("m_hat_final", float(m_hat[-1]))
-    sol.value("m_hat_at_1s", float(m_hat[_at(res, 1.0)]))
-    e = sol.value("max_error", np.abs(res["e"]).max(axis=0))
+    sol.value("m_hat_final", float(m_hat[-1]), unit="kg")
+    sol.value("m_hat_at_1s", float(m_hat[_at(res, 1.0)]), unit="kg")
+    e = sol.value("max_error", np.abs(res["e"]).max(axis=0), unit="rad")
     sol.check("payload estimate converges to the true mass", abs(m_hat[-1] - M_L) < 0.05,
               f"m̂_L(t_d) = {m_hat[-1]:.5f} kg vs m_L = {M_L} kg")
     sol.check("tracking satisfactory", e.max() < 2e-3, f"max |q~| = {e.max():.2e} < 2e-3 rad")
     wrong = simulate(plant, AdaptivePayloadControl(arm, K_D, Lam, k_pi, tra, viscous_friction=F_V),
                      (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C)["m_hat"]
-    sol.value("m_hat_final_gain_0.005", float(wrong[-1]))
+    sol.value("m_hat_final_gain_0.005", float(wrong[-1]), unit="kg")
     sol.check("erratum: k_π must divide (gain 1/0.005)", abs(wrong[-1]) < 0.1 * M_L,
               f"with gain 0.005 the estimate only reaches {wrong[-1]:.4f} kg; with 1/0.005 it reaches {m_hat[-1]:.4f} kg")
     fig, axes = subplots(1, 2, figsize=(9, 3.6))
@@ -387,7 +387,7 @@ def problem_8_15() -> Solution:
     expected_q0 = ([2.06944, -2.56808], [0.73453, -2.54990])  # companion's inv_k2u(p(0))
     for k, p_d in enumerate((np.array([0.5, 0.5]), np.array([0.6, -0.2])), start=1):
         q0 = inverse_kinematics_planar_2r(p_d - 0.1)[ELBOW_UP]  # companion inv_k2u: s2 < 0
-        sol.value(f"q0_{k}", q0)
+        sol.value(f"q0_{k}", q0, unit="rad")
         sol.check_close(f"initial posture {k} = companion's inv_k2u(p_d − 0.1)", q0, expected_q0[k - 1], atol=1e-5)
         res = simulate(plant, OperationalPDGravity(armL, 16250.0, 3250.0, p_d, rows=(0, 1)), (0.0, T_D),
                        np.r_[q0, 0.0, 0.0], h=T_C, Ts=T_C)
@@ -396,8 +396,8 @@ def problem_8_15() -> Solution:
         if k == 1:
             sol.animation(armL, res, "operational-space PD + gravity to p_d = [0.5, 0.5] m",
                           overlays=lambda s, p_d=p_d: s.sphere("p_d", [*p_d, 0.0], 0.03, color="#2ca02c"))
-        sol.value(f"p_final_{k}", p[-1])
-        sol.value(f"q_final_{k}", res.q[-1])
+        sol.value(f"p_final_{k}", p[-1], unit="m")
+        sol.value(f"q_final_{k}", res.q[-1], unit="rad")
         sol.check(f"tip position {k} reached", err < 1e-5,
                   f"|p_d − p(t_d)|_inf = {err:.2e} < 1e-5 m (|x~| at 1 s: {np.abs(res['e'][_at(res, 1.0)]).max():.2e})")
         fig, axes = subplots(2, 1, sharex=True, figsize=(6.4, 4.8))
@@ -434,15 +434,15 @@ def problem_8_16() -> Solution:
     for name, model in (("not_compensated", arm), ("compensated", armL)):
         ctrl = OperationalInverseDynamics(model, 100.0, 16.0, law, rows=(0, 1), viscous_friction=F_V)
         runs[name] = simulate(plant, ctrl, (0.0, T_D), np.r_[q0, 0.0, 0.0], h=T_C, Ts=T_C)
-        sol.value(f"max_error_{name}", np.abs(runs[name]["e"]).max(axis=0))
-        sol.value(f"final_error_{name}", runs[name]["e"][-1])
+        sol.value(f"max_error_{name}", np.abs(runs[name]["e"]).max(axis=0), unit="m")
+        sol.value(f"final_error_{name}", runs[name]["e"][-1], unit="m")
     sol.animation(armL, runs["compensated"], "operational-space inverse dynamics along the segment, compensated",
                   overlays=lambda s: s.polyline("path", np.array([p_i, p_f]), radius=0.005))
     rc, rn = runs["compensated"], runs["not_compensated"]
     sol.check("compensated: excellent tracking", np.abs(rc["e"]).max() < 1e-3 and np.abs(rc["e"][_at(rc, 2.0)]).max() < 1e-6,
               f"max |x~| = {np.abs(rc['e']).max():.2e} < 1e-3 m, |x~(2 s)| = {np.abs(rc['e'][_at(rc, 2.0)]).max():.2e} < 1e-6")
     q_ss = operational_inverse_dynamics_steady_state(armL, arm, 100.0, p_f[:2], rn.q[-1], rows=(0, 1))
-    e_ss = sol.value("steady_state_error_fixed_point", p_f[:2] - direct_kinematics(armL, q_ss)[:2, 3])
+    e_ss = sol.value("steady_state_error_fixed_point", p_f[:2] - direct_kinematics(armL, q_ss)[:2, 3], unit="m")
     sol.check_close("not compensated: steady state = fixed point of B̂ J⁻¹ K_P x~ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5)
     sol.check_close("fixed point vs the catalogue's s2 < 0 value (−2.82e-3, 6.39e-3) m", e_ss, [-2.82e-3, 6.39e-3],
                     atol=1e-5)

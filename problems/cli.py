@@ -1,4 +1,4 @@
-"""The ``rmpc`` command line: ``rmpc list``, ``rmpc solve ID [--json] [--figures DIR]``, ``rmpc report [-j N]``.
+"""The ``rmpc`` command line: ``rmpc list [--chapter N]``, ``rmpc solve ID [--json] [--figures DIR]``, ``rmpc report [-j N]``.
 
 Exit codes: 0 every check passed, 1 a check failed (or a problem raised), 2 bad input (unknown id or
 chapter, an output directory that cannot be written, bad arguments) — reported in one line on stderr,
@@ -10,12 +10,16 @@ This module parses the arguments; the JSON and the HTML report are built by :mod
 from __future__ import annotations
 
 import argparse
+import difflib
 import json
 import os
+import re
 import sys
 import tempfile
+import time
 from pathlib import Path
 
+from problems.format import format_value
 from problems.registry import all_problems, get
 from problems.report import save_figures, solution_dict, to_json, write_report
 
@@ -52,8 +56,29 @@ def positive_int(text: str) -> int:
     return value
 
 
+def chapter_number(text: str) -> int:
+    """A chapter as the user may write it: ``2``, ``02``, ``ch02``, ``ch2`` → 2."""
+    match = re.fullmatch(r"(?:ch(?:apter)?)?0*(\d{1,2})", text.strip().lower())
+    if match is None:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a chapter (write 8, 08 or ch08)")
+    return int(match.group(1))
+
+
+def selected(chapters: list[int] | None) -> list:
+    """The problems of ``chapters`` (all when None); BadInput naming the chapters that have none."""
+    problems = all_problems()
+    if not chapters:
+        return problems
+    known = sorted({p.chapter for p in problems})
+    unknown = sorted(set(chapters) - set(known))
+    if unknown:
+        raise BadInput(f"no problem in chapter {', '.join(map(str, unknown))} "
+                       f"(chapters: {', '.join(map(str, known))})")
+    return [p for p in problems if p.chapter in chapters]
+
+
 def cmd_list(args: argparse.Namespace) -> int:
-    for p in all_problems():
+    for p in selected(args.chapter):
         print(f"{p.id:>6}  {p.kind:<12} {p.title}")
     return 0
 
@@ -64,44 +89,49 @@ def cmd_solve(args: argparse.Namespace) -> int:
     except KeyError as exc:
         raise BadInput(exc.args[0]) from None
     fig_dir = writable_directory(args.figures, "--figures") if args.figures else None
+    started = time.perf_counter()
     try:
         sol = prob.solve()
     except Exception as exc:  # a crashing problem is a failure, told in one line
         print(f"rmpc: problem {prob.id} raised {type(exc).__name__}: {exc}", file=sys.stderr)
         return 1
+    seconds = round(time.perf_counter() - started, 3)
     try:
-        figures = save_figures(sol, fig_dir) if fig_dir is not None else None
+        figures = [str(fig_dir / f) for f in save_figures(sol, fig_dir)] if fig_dir is not None else None
     except OSError as exc:
         raise BadInput(f"--figures {args.figures}: cannot write the figures ({exc.strerror or exc})") from None
-    if args.json:
-        print(json.dumps(solution_dict(sol, figures)))
-    else:
-        print(f"Problem {sol.id} — {sol.title} [{sol.kind}]")
+    if args.json:  # full precision
+        print(json.dumps(solution_dict(sol, figures) | {"passed": sol.passed, "seconds": seconds}))
+    else:  # for reading: 4 significant digits, matrices as tables, units
+        print(f"Problem {sol.id} — {sol.title} [{sol.kind}, {seconds:.2f} s]")
         for name, value in sol.values.items():
-            text = json.dumps(to_json(value))
-            print(f"  {name} = {text if len(text) < 200 else text[:197] + '...'}")
+            text = format_value(value, sol.units.get(name, ""))
+            lines = text.splitlines() or [""]
+            if len(lines) > 12:
+                lines = lines[:12] + [f"... ({len(lines) - 12} more lines; all of it with --json)"]
+            pad = " " * (len(name) + 5)
+            print(f"  {name} = " + f"\n{pad}".join(lines))
         for c in sol.checks:
             print(f"  [{'PASS' if c.passed else 'FAIL'}] {c.name}: {c.detail}")
         for f in figures or []:
-            print(f"  figure: {Path(args.figures) / f}")
+            print(f"  figure: {f}")
+        print(f"{'PASS' if sol.passed else 'FAIL'}: {sum(c.passed for c in sol.checks)} of {len(sol.checks)} checks")
     return 0 if sol.passed else 1
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    problems = all_problems()
-    if args.chapter:
-        chapters = sorted({p.chapter for p in problems})
-        unknown = sorted(set(args.chapter) - set(chapters))
-        if unknown:
-            raise BadInput(f"no problem in chapter {', '.join(map(str, unknown))} "
-                           f"(chapters: {', '.join(map(str, chapters))})")
-        problems = [p for p in problems if p.chapter in args.chapter]
+    problems = selected(args.chapter)
     out = writable_directory(args.out, "--out")
     try:
         summary = write_report(problems, out, jobs=args.jobs)
     except OSError as exc:
         raise BadInput(f"--out {args.out}: cannot write the report ({exc.strerror or exc})") from None
     print(f"report written to {out / 'index.html'}")
+    if args.open:  # the default browser, where one exists (a headless machine has none: say so, go on)
+        import webbrowser
+
+        if not webbrowser.open((out / "index.html").resolve().as_uri()):
+            print("no browser to open the report in", file=sys.stderr)
     failed = [d["id"] for d in summary if not d["passed"]]
     if failed:
         print(f"failed: {', '.join(failed)}")
@@ -109,20 +139,54 @@ def cmd_report(args: argparse.Namespace) -> int:
     return 0 if not failed else 1
 
 
+EPILOG = "exit codes: 0 every check passed, 1 a check failed, 2 bad input (one line on stderr)"
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse without abbreviations (``--jsn`` is not ``--json``), whose errors are one line with
+    the closest option or command when there is one."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("allow_abbrev", False)
+        kwargs.setdefault("epilog", EPILOG)
+        super().__init__(*args, **kwargs)
+
+    def error(self, message: str):
+        words = re.findall(r"(?:unrecognized arguments|invalid choice): '?([^\s',]+)", message)
+        choices = [o for a in self._actions for o in a.option_strings]
+        for action in self._actions:
+            if isinstance(action, argparse._SubParsersAction):  # the commands and their options
+                choices += list(action.choices)
+                choices += [o for p in action.choices.values() for a in p._actions for o in a.option_strings]
+        near = difflib.get_close_matches(words[0], choices, n=1, cutoff=0.6) if words else []
+        hint = f" (did you mean {near[0]}?)" if near else ""
+        self.exit(2, f"{self.prog}: {message}{hint}\n")
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="rmpc", description=__doc__.splitlines()[0])
-    sub = parser.add_subparsers(dest="command", required=True)
-    sub.add_parser("list", help="list every problem").set_defaults(func=cmd_list)
-    p_solve = sub.add_parser("solve", help="solve one problem")
-    p_solve.add_argument("id")
-    p_solve.add_argument("--json", action="store_true", help="print one JSON object")
+    parser = Parser(prog="rmpc", description="Solve, check and plot the end-of-chapter problems of "
+                    "Robotics: Modelling, Planning and Control: rmpc list, rmpc solve ID, rmpc report.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser, metavar="COMMAND")
+    p_list = sub.add_parser("list", help="list the problems: id, kind, title")
+    p_list.add_argument("--chapter", type=chapter_number, action="append",
+                        help="only this chapter: 8, 08 or ch08 (repeatable)")
+    p_list.set_defaults(func=cmd_list)
+    p_solve = sub.add_parser("solve", help="solve one problem, print its values and checks")
+    p_solve.add_argument("id", help="the problem's number in the book, e.g. 3.21 (see rmpc list)")
+    p_solve.add_argument("--json", action="store_true",
+                         help="print one JSON object (full precision): id, title, kind, statement, values, "
+                              "units, checks, figures, passed, seconds")
     p_solve.add_argument("--figures", metavar="DIR", help="write the figures as PNG into DIR")
     p_solve.set_defaults(func=cmd_solve)
-    p_report = sub.add_parser("report", help="solve every problem, write DIR/index.html")
-    p_report.add_argument("--out", default="report", metavar="DIR")
-    p_report.add_argument("--chapter", type=int, action="append", help="only this chapter (repeatable)")
+    p_report = sub.add_parser("report", help="solve every problem, write DIR/index.html and DIR/summary.json")
+    p_report.add_argument("--out", default="report", metavar="DIR",
+                          help="the report's directory (created; default: report)")
+    p_report.add_argument("--chapter", type=chapter_number, action="append",
+                          help="only this chapter: 8, 08 or ch08 (repeatable)")
     p_report.add_argument("-j", "--jobs", type=positive_int, default=os.cpu_count() or 1, metavar="N",
                           help="solve the problems in N processes (default: the number of cores)")
+    p_report.add_argument("--open", action="store_true", help="open the report in the default browser")
     p_report.set_defaults(func=cmd_report)
     try:
         args = parser.parse_args(argv)
@@ -143,6 +207,15 @@ def main(argv: list[str] | None = None) -> int:
         os.dup2(devnull, sys.stdout.fileno())  # so that the final flush at exit does not raise again
         return 141  # 128 + SIGPIPE, the shell's convention
     return code
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("rmpc")
+    except PackageNotFoundError:  # running from a source tree that is not installed
+        return "(not installed)"
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import difflib
 import importlib
+import inspect
 import pkgutil
 import re
 from dataclasses import dataclass, field
@@ -39,15 +40,20 @@ class Solution:
     checks: list[Check] = field(default_factory=list)
     figures: list[Any] = field(default_factory=list)  # matplotlib Figure objects
     animations: list[dict[str, Any]] = field(default_factory=list)  # 3-D animations for the report (viewer/)
+    units: dict[str, str] = field(default_factory=dict)  # value name -> unit ("m", "rad", "N·m", …)
+    statement: str = ""  # the problem function's docstring, first paragraph: what is asked, the data
 
     @property
     def passed(self) -> bool:
         """True when there is at least one check and every check passed."""
         return bool(self.checks) and all(c.passed for c in self.checks)
 
-    def value(self, name: str, value: Any) -> Any:
-        """Record a named value and return it (so it can be used inline)."""
+    def value(self, name: str, value: Any, unit: str = "") -> Any:
+        """Record a named value (with its ``unit``, e.g. ``"rad"``, ``"N·m"``) and return it (so it
+        can be used inline)."""
         self.values[name] = value
+        if unit:
+            self.units[name] = unit
         return value
 
     def check(self, name: str, passed: bool, detail: str = "") -> bool:
@@ -89,6 +95,12 @@ class Solution:
         self.figures.append(fig)
         return fig
 
+    def __repr__(self) -> str:
+        """One line (a notebook shows :meth:`_repr_html_`; ``print(sol.values)`` for the numbers)."""
+        ok = sum(c.passed for c in self.checks)
+        return (f"Solution({self.id!r}, {self.title!r}, {len(self.values)} values, {ok}/{len(self.checks)} "
+                f"checks passed, {len(self.figures)} figures)")
+
     def _repr_html_(self) -> str:
         """Jupyter's view: title, values table, checks (✔/✘), figures inline as PNG."""
         from problems.report import inline_html
@@ -123,7 +135,14 @@ class Problem:
         if not isinstance(sol, Solution):
             raise TypeError(f"problem {self.id} returned {type(sol).__name__}, not a Solution")
         sol.id, sol.title, sol.kind = self.id, self.title, self.kind
+        sol.statement = sol.statement or self.statement
         return sol
+
+    @property
+    def statement(self) -> str:
+        """The first paragraph of the problem function's docstring (the problem and its data)."""
+        doc = inspect.getdoc(self.function) or ""
+        return " ".join(doc.split("\n\n")[0].split())
 
 
 _REGISTRY: dict[str, Problem] = {}

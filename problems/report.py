@@ -23,9 +23,12 @@ from typing import Any, Iterable
 
 import numpy as np
 
+from problems.format import format_value_html
+
 __all__ = ["to_json", "solution_dict", "save_figures", "figure_png", "solution_html", "write_report"]
 
-FIGURE_DPI = 90
+FIGURE_DPI = 90  # the report's PNG files
+INLINE_DPI = 72  # a notebook's inline figures (notebooks are committed with their outputs: keep them small)
 
 
 def to_json(value: Any) -> Any:
@@ -57,10 +60,11 @@ def to_json(value: Any) -> Any:
 
 
 def _figure_name(sol: Any, k: int, fig: Any) -> str:
-    label = ""
-    if getattr(fig, "_suptitle", None) is not None:
-        label = fig._suptitle.get_text()
-    slug = "".join(ch if ch.isalnum() else "_" for ch in label).strip("_")[:40]
+    """``8_10_1_joint_positions.png``: problem id, figure number, its title in lower-case words."""
+    label = figure_title(fig, k)
+    label = "" if label == f"figure {k + 1}" else label
+    words = "".join(ch.lower() if ch.isascii() and ch.isalnum() else " " for ch in label).split()
+    slug = "_".join(words)[:48].rstrip("_")
     return f"{sol.id.replace('.', '_')}_{k + 1}{'_' + slug if slug else ''}.png"
 
 
@@ -75,30 +79,41 @@ def save_figures(sol: Any, directory: Path) -> list[str]:
     return names
 
 
-def figure_png(fig: Any) -> bytes:
+def figure_png(fig: Any, dpi: int = FIGURE_DPI) -> bytes:
     """The figure as PNG bytes (no file, no pyplot: works for a bare ``matplotlib.figure.Figure``)."""
     buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=FIGURE_DPI)
+    fig.savefig(buffer, format="png", dpi=dpi)
     return buffer.getvalue()
 
 
+def figure_title(fig: Any, k: int) -> str:
+    """The figure's title (its ``suptitle``, else its first axes' title), or ``figure k+1``."""
+    if getattr(fig, "_suptitle", None) is not None and fig._suptitle.get_text():
+        return fig._suptitle.get_text()
+    for ax in getattr(fig, "axes", ()):
+        if ax.get_title():
+            return ax.get_title()
+    return f"figure {k + 1}"
+
+
 def solution_dict(sol: Any, figures: list[str] | None = None) -> dict:
-    """The JSON object of ``rmpc solve --json``: id, title, kind, values, checks, figures."""
+    """The JSON object of ``rmpc solve --json``: id, title, kind, values (full precision), units,
+    checks, figures (the written files' paths, or the figures' titles when none were written)."""
     return {
         "id": sol.id,
         "title": sol.title,
         "kind": sol.kind,
+        "statement": getattr(sol, "statement", ""),
         "values": to_json(sol.values),
+        "units": dict(getattr(sol, "units", {})),
         "checks": [{"name": c.name, "passed": c.passed, "detail": c.detail} for c in sol.checks],
-        "figures": figures if figures is not None else [f"figure {k + 1}" for k in range(len(sol.figures))],
+        "figures": figures if figures is not None else [figure_title(f, k) for k, f in enumerate(sol.figures)],
     }
 
 
-def _html_value(value: Any) -> str:
-    text = json.dumps(to_json(value))
-    if len(text) > 600:
-        text = text[:597] + "..."
-    return html.escape(text)
+def _html_value(d: dict, name: str) -> str:
+    """A value of a :func:`solution_dict` as HTML, 4 significant digits, with its unit."""
+    return format_value_html(d["values"][name], d.get("units", {}).get(name, ""))
 
 
 def _animations(sol: Any, out: Path) -> list[str]:
@@ -122,12 +137,14 @@ def solution_html(d: dict, figure_sources: Iterable[str] = (), extras: Iterable[
     passed = d.get("passed", bool(d["checks"]) and all(c["passed"] for c in d["checks"]))
     status = "pass" if passed else "fail"
     timing = f", {d['seconds']} s" if "seconds" in d else ""
-    parts = [f'<section id="p{d["id"]}" class="{status}"><h2>{d["id"]} — {html.escape(d["title"])} '
-             f'<small>[{d["kind"]}{timing}]</small></h2>']
+    parts = [f'<section id="p{d["id"]}" class="{status}"><h3>{d["id"]} — {html.escape(d["title"])} '
+             f'<small>[{d["kind"]}{timing}]</small></h3>']
+    if d.get("statement"):
+        parts.append(f'<p class="statement">{html.escape(d["statement"])}</p>')
     if d["values"]:
         parts.append("<table>")
-        for name, value in d["values"].items():
-            parts.append(f"<tr><th>{html.escape(name)}</th><td><code>{_html_value(value)}</code></td></tr>")
+        for name in d["values"]:
+            parts.append(f"<tr><th>{html.escape(name)}</th><td>{_html_value(d, name)}</td></tr>")
         parts.append("</table>")
     parts.append("<ul>")
     for c in d["checks"]:
@@ -136,8 +153,11 @@ def solution_html(d: dict, figure_sources: Iterable[str] = (), extras: Iterable[
                      f'<b>{html.escape(c["name"])}</b> <pre style="display:inline;white-space:pre-wrap">'
                      f'{html.escape(c["detail"])}</pre></li>')
     parts.append("</ul>")
-    for src in figure_sources:
-        parts.append(f'<img src="{html.escape(src)}" alt="figure" style="max-width:520px;margin:4px">')
+    captions = d.get("figure_titles") or [f"figure {k + 1}" for k in range(len(d["figures"]))]
+    for k, src in enumerate(figure_sources):
+        caption = html.escape(f"Fig. {d['id']}.{k + 1}: {captions[k] if k < len(captions) else ''}".rstrip(": "))
+        parts.append(f'<figure><a href="{html.escape(src)}" target="_blank"><img src="{html.escape(src)}" '
+                     f'alt="{caption}" title="click to enlarge"></a><figcaption>{caption}</figcaption></figure>')
     parts.extend(extras)  # HTML snippets, e.g. the 3-D animations
     parts.append("</section>")
     return "\n".join(parts)
@@ -145,8 +165,11 @@ def solution_html(d: dict, figure_sources: Iterable[str] = (), extras: Iterable[
 
 def inline_html(sol: Any) -> str:
     """A solution with its figures inline as base64 PNG (what a notebook shows)."""
-    sources = [f"data:image/png;base64,{base64.b64encode(figure_png(fig)).decode('ascii')}" for fig in sol.figures]
-    return solution_html(solution_dict(sol), sources)
+    sources = [f"data:image/png;base64,{base64.b64encode(figure_png(fig, INLINE_DPI)).decode('ascii')}"
+               for fig in sol.figures]
+    d = solution_dict(sol)
+    d["figure_titles"] = d["figures"]
+    return solution_html(d, sources)
 
 
 def _html_index(summary: list[dict]) -> str:
@@ -156,17 +179,36 @@ def _html_index(summary: list[dict]) -> str:
         cls = "pass" if d["passed"] else "fail"
         chapters.setdefault(d["id"].split(".")[0], []).append(
             f'<a class="{cls}" href="#p{d["id"]}" title="{html.escape(d["title"])}">{d["id"]}</a>')
-    return "<nav>" + "".join(f"<div>Ch. {ch}: {' '.join(links)}</div>" for ch, links in chapters.items()) + "</nav>"
+    return "<nav>" + "".join(f'<div><a href="#ch{ch}">Ch. {ch}</a>: {" ".join(links)}</div>'
+                             for ch, links in chapters.items()) + "</nav>"
+
+
+CHAPTERS = {2: "Kinematics", 3: "Differential kinematics and statics", 4: "Trajectory planning",
+            5: "Actuators and sensors", 6: "Control architecture", 7: "Dynamics", 8: "Motion control",
+            9: "Force control", 10: "Visual servoing", 11: "Mobile robots", 12: "Motion planning"}
 
 
 def _html_page(rows: list[str], n_pass: int, n_fail: int, summary: list[dict]) -> str:
     style = ("body{font-family:sans-serif;max-width:1100px;margin:auto} section{border-top:1px solid #ccc}"
-             " .fail h2{color:#b00} li.fail{color:#b00} pre{display:inline;white-space:pre-wrap}"
-             " img{max-width:520px;margin:4px} th{text-align:left;padding-right:1em;vertical-align:top}"
+             " .fail h3{color:#b00} li.fail{color:#b00} pre{display:inline;white-space:pre-wrap}"
+             " figure{display:inline-block;margin:4px;vertical-align:top} figure img{max-width:520px}"
+             " figcaption{font-size:small;color:#444} th{text-align:left;padding-right:1em;vertical-align:top}"
+             " table.matrix td{text-align:right;padding:0 .6em;font-family:monospace;border-left:1px solid #ddd}"
+             " table.dict th{font-weight:normal;font-style:italic} .unit{color:#555}"
+             " p.statement{color:#333;font-style:italic} h2 a{font-size:small;margin-left:1em}"
              " nav a{margin-right:.4em} a.fail{color:#b00;font-weight:bold}")
+    body, chapter = [], None
+    for d, row in zip(summary, rows):
+        ch = int(d["id"].split(".")[0])
+        if ch != chapter:
+            chapter = ch
+            body.append(f'<h2 id="ch{ch}">Chapter {ch} — {CHAPTERS.get(ch, "")} <a href="#top">back to top</a></h2>')
+        body.append(row)
     return (f"<!doctype html><html><head><meta charset='utf-8'><title>rmpc report</title>"
-            f"<style>{style}</style></head><body><h1>rmpc — solved problems</h1>"
-            f"<p>{n_pass} passed, {n_fail} failed</p>{_html_index(summary)}{''.join(rows)}</body></html>")
+            f"<style>{style}</style></head><body><h1 id='top'>rmpc — solved problems</h1>"
+            f"<p>{n_pass} passed, {n_fail} failed. Values are shown to 4 significant digits; full precision "
+            f"in <a href='summary.json'>summary.json</a> (one object per problem, as <code>rmpc solve ID --json</code>). "
+            f"Click a figure to enlarge it.</p>{_html_index(summary)}{''.join(body)}</body></html>")
 
 
 def _progress(k: int, n: int, pid: str, started: float) -> None:
@@ -186,10 +228,11 @@ def _solve_for_report(prob: Any, out: Path) -> tuple[dict, list[str]]:
         sol = prob.solve()
         figures = save_figures(sol, fig_dir)
         data = solution_dict(sol, figures)
+        data["figure_titles"] = [figure_title(f, k) for k, f in enumerate(sol.figures)]
         animations = _animations(sol, out)
         passed = sol.passed
     except Exception:  # a crashing problem is reported as failed, the report goes on
-        data = {"id": prob.id, "title": prob.title, "kind": prob.kind, "values": {},
+        data = {"id": prob.id, "title": prob.title, "kind": prob.kind, "statement": prob.statement, "values": {},
                 "checks": [{"name": "solve", "passed": False, "detail": traceback.format_exc()}],
                 "figures": []}
         passed, animations = False, []
@@ -223,6 +266,10 @@ def write_report(problems: list, out: Path, jobs: int = 1) -> list[dict]:
     ``jobs`` > 1 solves the problems in that many processes; the report is the same, in the same order."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    fig_dir = out / "figures"
+    if fig_dir.is_dir():  # no stale figure of an earlier run (renamed or removed figures)
+        for old in fig_dir.glob("*.png"):
+            old.unlink()
     progress = sys.stderr.isatty() or bool(os.environ.get("RMPC_PROGRESS"))
     started = time.time()
     rows, summary = [], []

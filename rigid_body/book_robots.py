@@ -14,8 +14,8 @@ Provenance:
   gravity is +g along z₀); a₁ = a₂ = 0.5 m (from the manual's 5.7 matrix). Last link m = 2 kg,
   I = 1 kg·m²; the first two links' inertial data are illustrative (not in the book).
 * ``cylindrical``: Table S2.2; ``spherical``, ``anthropomorphic``, ``spherical_wrist``,
-  ``anthropomorphic_wrist``: the DH tables of Sect. 2.9 (recalled from the textbook, marked
-  [TB-verify] in the spec); lengths are test values of the spec; inertial data illustrative.
+  ``anthropomorphic_wrist``: the DH tables of Sect. 2.9 (recalled from the textbook, not printed in
+  the solution manual); the lengths are test values; inertial data illustrative.
 * ``planar_3r``: Fig. 2.20 arm; a = (0.5, 0.3, 0.2) and the joint limits of Problem 2.17.
 * ``cartesian_skew``: the two-link Cartesian arm of Problem 7.1 (joint 2 axis at π/4 to joint 1).
 * ``planar_pr``: the prismatic–revolute arm of Problems 7.5/7.8 (z₁ = y₀, gravity along −x₀).
@@ -237,7 +237,8 @@ def puma560(motors: str = "armature", friction: bool = True, payload: float = 0.
                if friction else {})))
     configurations = {"qz": (0.0,) * 6, "qr": (0.0, np.pi / 2, -np.pi / 2, 0.0, 0.0, 0.0),
                       "qs": (0.0, 0.0, -np.pi / 2, 0.0, 0.0, 0.0),
-                      "qn": (0.0, np.pi / 4, np.pi, 0.0, np.pi / 4, 0.0)}
+                      # the Toolbox's qn has q3 = +π, outside the joint's [−225°, 45°]: the same pose at −π
+                      "qn": (0.0, np.pi / 4, -np.pi, 0.0, np.pi / 4, 0.0)}
     return BookRobot("puma560", tuple(links), (0.0, 0.0, -G), payload, motors, configurations)
 
 

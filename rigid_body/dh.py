@@ -4,7 +4,7 @@ A serial arm is a list of :class:`DHLink` (or dicts with the same keys). The URD
 :func:`urdf_from_dh` has one link ``frame_i`` per DH frame i (``frame_0`` is the base frame), so
 that the Pinocchio frame ``frame_i`` is the product of the book's A matrices ``A_1^0 ... A_i^{i-1}``.
 
-URDF layout of joint i (the recipe of the spec):
+URDF layout of joint i:
 
 * revolute: joint ``joint_i`` at DH frame i−1, origin ``Rz(theta_i)``, axis z; then a fixed joint
   ``Tz(d_i) Tx(a_i) Rx(alpha_i)`` to ``frame_i``;
@@ -93,7 +93,8 @@ class DHLink:
 
     ``theta`` (revolute) and ``d`` (prismatic) are the offsets added to the joint variable.
     ``com`` is the centre of mass in DH frame i, ``inertia`` the 3×3 inertia about the com in
-    DH frame i. ``motor_inertia`` is the rotor's moment about its spin axis (or a 3×3 tensor in the
+    DH frame i; ``inertia=None`` (the default) makes the link a point mass at ``com``.
+    ``joint`` is ``"revolute"`` or ``"prismatic"``. ``motor_inertia`` is the rotor's moment about its spin axis (or a 3×3 tensor in the
     rotor frame, z = spin axis), ``motor_mass`` its mass, ``gear_ratio`` the book's k_r.
     ``viscous_friction`` F_v [N·m·s/rad] and ``coulomb_friction`` F_s [N·m] act at the joint (link side,
     (7.42)); F_s is a magnitude, or a pair (F_s+, F_s−) of magnitudes for q̇ > 0 and q̇ < 0. Friction

@@ -28,7 +28,7 @@ from rigid_body.dh import GRAVITY, MOTOR_MODELS, DHLink, as_links, urdf_from_dh
 
 __all__ = [
     "Robot", "JointFriction", "load", "available", "with_payload", "robot_from_dh", "robot_from_urdf_string",
-    "example_robot_data_dir", "joint_kind", "revolute_joints", "model_frame_id", "URDF_DIR", "EXAMPLE_ROBOTS",
+    "example_robot_data_dir", "joint_kind", "joint_units", "revolute_joints", "model_frame_id", "URDF_DIR", "EXAMPLE_ROBOTS",
 ]
 
 # example-robot-data: name → (urdf file relative to robots/, end-effector frame); the Panda's
@@ -43,6 +43,15 @@ EXAMPLE_ROBOTS: dict[str, tuple[str, str]] = {
     "double_pendulum": ("double_pendulum_description/urdf/double_pendulum_simple.urdf", "link2"),
 }
 LOCKED_JOINTS: dict[str, tuple[str, ...]] = {"panda": ("panda_finger_joint1", "panda_finger_joint2")}
+#: Named configurations of the real robots, inside their joint limits and away from singularities [rad]:
+#: the Panda's ``ready`` is Franka's own start pose; the UR arms' ``home`` has the elbow bent and the tool down.
+_UR_HOME = (0.0, -np.pi / 2, np.pi / 2, -np.pi / 2, -np.pi / 2, 0.0)
+EXAMPLE_CONFIGURATIONS: dict[str, dict[str, tuple[float, ...]]] = {
+    "panda": {"ready": (0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4)},
+    "ur3": {"home": _UR_HOME},
+    "ur5": {"home": _UR_HOME},
+    "ur10": {"home": _UR_HOME},
+}
 
 Geometry = tuple[pin.GeometryModel, pin.GeometryModel]  # (collision, visual)
 _AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
@@ -136,7 +145,9 @@ class Robot:
     ee_frame : id of the end-effector frame (``ee`` for the book's robots).
     urdf_path : the URDF file, or None for a model built in memory.
     urdf_xml : the URDF text the model was built from.
-    configurations : named joint configurations (e.g. ``"neutral"``).
+    configurations : named joint configurations, all within the joint limits: ``"neutral"`` (Pinocchio's
+        neutral moved onto the limits) for every robot, the Panda's ``"ready"``, the UR arms' ``"home"``,
+        the Puma 560's ``"qz"``, ``"qr"``, ``"qs"``, ``"qn"``.
     friction : the joint friction (:class:`JointFriction`); by default Pinocchio's ``model.damping`` and
         ``model.friction`` (URDF ``<dynamics>``); a DH table's friction fields for :func:`robot_from_dh`.
     geometry_loader : builds ``(collision, visual)`` geometry models on first use (meshes take ~0.5 s).
@@ -172,6 +183,13 @@ class Robot:
         self.has_mimic = len(getattr(self.model, "mimicking_joints", ())) > 0
         if self.friction is None:
             self.friction = JointFriction.from_model(self.model)
+
+    def __repr__(self) -> str:
+        """One line: name, sizes, end effector, named configurations, motors and mass (not the URDF)."""
+        mass = sum(inertia.mass for inertia in self.model.inertias)
+        extra = ", rotors" if self.has_mimic else ""
+        return (f"Robot({self.name!r}, nq={self.nq}, nv={self.nv}, ee={self.model.frames[self.ee_frame].name!r}, "
+                f"configurations={sorted(self.configurations)}, mass={mass:.4g} kg{extra})")
 
     def __getstate__(self) -> dict:  # copy.deepcopy: the calling thread's data, not the thread-local store
         state = {k: v for k, v in self.__dict__.items() if k != "_local"}
@@ -335,7 +353,9 @@ def _build(xml: str, gravity: Any | None, name: str, ee: str | None, path: Path 
 
     robot = Robot(name=name, model=model, data=model.createData(), ee_frame=model.getFrameId(ee),
                   urdf_path=path, urdf_xml=xml, geometry_loader=geometry)
-    robot.configurations["neutral"] = pin.neutral(model)
+    # Pinocchio's neutral (all zeros for revolute joints) moved onto the joint limits where it lies
+    # outside them (the Panda's q4 ≤ −0.07 rad, a prismatic joint's minimum stroke): a valid start.
+    robot.configurations["neutral"] = np.clip(pin.neutral(model), model.lowerPositionLimit, model.upperPositionLimit)
     return robot
 
 
@@ -352,6 +372,13 @@ def robot_from_dh(links: Sequence[DHLink | Mapping[str, Any]], gravity: Any = GR
                   name: str = "dh_robot", payload: float = 0.0, tool: np.ndarray | None = None,
                   convention: str = "standard", base: np.ndarray | None = None, motors: str = "rotors") -> Robot:
     """A Robot from a DH table (through its URDF, :func:`rigid_body.dh.urdf_from_dh`).
+
+    ``gravity`` [m/s²] is given in the world frame (= DH frame 0 without ``base``) and defaults to
+    (0, 0, −9.81): along −z₀. A planar arm whose DH axes z_i are all parallel to z₀ then moves in a
+    horizontal plane and has zero gravity torques; the book draws its planar arms in a vertical plane
+    with gravity along −y₀ (``load("planar_2r")`` uses it): pass ``gravity=[0, -9.81, 0]``.
+    Each link is a :class:`~rigid_body.dh.DHLink` (or a dict of its fields): ``mass`` at ``com``
+    with ``inertia`` about it (``None``: a point mass), in DH frame i.
 
     ``payload`` is a point mass [kg] at the origin of the last DH frame (:func:`with_payload`); ``tool``
     the constant transform from the last DH frame to the end-effector frame ``ee``; ``base`` the constant
@@ -419,6 +446,20 @@ def with_payload(robot: Robot, mass: float, frame: str | int | None = None) -> R
     return loaded
 
 
+def joint_units(robot: Robot) -> list[str]:
+    """The unit of each joint variable (nv,): ``"rad"`` for a revolute joint, ``"m"`` for a prismatic one
+    (other joint types, e.g. a planar base, count as ``"rad"`` only where they are revolute)."""
+    units = ["rad"] * robot.nv
+    for i in range(1, robot.model.njoints):
+        try:
+            kind, _ = joint_kind(robot.model, i)
+        except ValueError:
+            continue
+        if kind == "prismatic":
+            units[robot.model.joints[i].idx_v] = "m"
+    return units
+
+
 def revolute_joints(robot: Robot) -> np.ndarray:
     """Boolean mask (nq,) of the configuration entries that are revolute angles (defined modulo 2π)."""
     mask = np.zeros(robot.nq, dtype=bool)
@@ -446,8 +487,10 @@ def _load_example_robot(name: str) -> Robot:
     if not path.is_file():
         raise FileNotFoundError(f"example-robot-data has no {rel} (looked in {root})")
     # Meshes are package://example-robot-data/robots/...: the package directory is the ``share`` above it.
-    return _build(path.read_text(), GRAVITY, name, ee, path, LOCKED_JOINTS.get(name, ()),
-                  package_dirs=(root.parent.parent,))
+    robot = _build(path.read_text(), GRAVITY, name, ee, path, LOCKED_JOINTS.get(name, ()),
+                   package_dirs=(root.parent.parent,))
+    robot.configurations.update({k: np.array(v) for k, v in EXAMPLE_CONFIGURATIONS.get(name, {}).items()})
+    return robot
 
 
 def available() -> list[str]:

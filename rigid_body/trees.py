@@ -94,7 +94,7 @@ class Humanoid:
 
     The torso is the anthropomorphic arm (2.66) with lengths ``a2``, ``a3``. The shoulder frames l, r
     sit at distances ``d_l``, ``d_r`` from the torso frame t, at angle ``beta`` (Problem 2.14).
-    Inferred data (not in the manual, marked [TB-verify] in the spec): the arms use the DLR table
+    Inferred data (not in the solution manual): the arms use the DLR table
     (2.72) with the link matrix (2.77) taken as α_i = −π/2 (i = 1..6), offsets d3, d5, d7;
     T_t^3 = ``T_t3`` (default identity: frame t coincides with frame 3); the numbers are test values.
     """

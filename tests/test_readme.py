@@ -21,3 +21,23 @@ def test_ci_runs_the_readme_test_command():
     commands = re.findall(r"```bash\n(.*?)\n```", README, re.S)
     assert len(commands) == 2 and "rmpc report" in commands[0] and "pytest" in commands[1]
     assert commands[1] in (ROOT / ".ci" / "run").read_text()
+
+
+def test_library_tour_runs_in_order_and_shows_what_it_says():
+    """Every ```python block of the README, executed in order in one namespace (the tour of six steps)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    blocks = re.findall(r"```python\n(.*?)```", README, re.S)
+    assert len(blocks) >= 7
+    ns: dict = {}
+    for i, code in enumerate(blocks):
+        exec(compile(code, f"README.md python block {i + 1}", "exec"), ns)
+    np.testing.assert_allclose(ns["gravity_torques"](ns["arm"], np.zeros(2)), [98.1, 24.525])  # m g l/2 by hand
+    assert ns["ik"].success and ns["ik"].residual < 1e-6
+    # the minimum time beats the 2 s quintic and reaches a torque limit
+    assert ns["fastest"].success and ns["fastest"].t_f < 2.0 and ns["fastest"].ratios["tau"] > 0.99
+    np.testing.assert_allclose(ns["res_pd"].q[-1], ns["q_f"], atol=2e-3)   # PD + g reaches its set point
+    assert np.abs(ns["res_id"]["e"]).max() < 1e-2                           # computed torque tracks
+    assert ns["extra"][3] > 0 and np.abs(ns["extra"]).max() < 2.0 * 9.81     # at most m g · 1 m on the Panda
+    assert repr(ns["arm"]).count("\n") == 0 and len(repr(ns["res_id"])) < 200

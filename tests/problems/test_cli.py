@@ -31,7 +31,8 @@ def test_to_json_converts_arrays_and_complex():
 def test_solve_json_and_exit_code(capsys):
     assert cli.main(["solve", "99.1", "--json"]) == 1
     data = json.loads(capsys.readouterr().out)
-    assert set(data) == {"id", "title", "kind", "values", "checks", "figures"}
+    assert set(data) >= {"id", "title", "kind", "values", "checks", "figures", "passed", "seconds", "units"}
+    assert data["passed"] is False and data["seconds"] >= 0
     assert data["values"]["z"] == [1.0, 2.0]
     assert [c["passed"] for c in data["checks"]] == [True, False]
 
@@ -134,3 +135,50 @@ def test_a_crashing_problem_fails_in_one_line(monkeypatch, capsys):
     assert cli.main(["solve", "99.9"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["rmpc: problem 99.9 raised RuntimeError: boom"]
+
+
+def test_chapter_is_accepted_as_2_02_or_ch02_and_list_filters_by_chapter(capsys):
+    for spelling in ("2", "02", "ch02", "ch2"):
+        assert cli.main(["list", "--chapter", spelling]) == 0
+        ids = [line.split()[0] for line in capsys.readouterr().out.splitlines()]
+        assert ids and all(i.startswith("2.") for i in ids), spelling
+    assert cli.main(["list", "--chapter", "x2"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "not a chapter" in err[0]
+
+
+def test_misspelt_option_or_command_exits_2_with_the_closest_one(capsys):
+    assert cli.main(["solve", "99.1", "--jsn"]) == 2       # no abbreviation, a suggestion
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "did you mean --json?" in err[0], err
+    assert cli.main(["lsit"]) == 2
+    assert "did you mean list?" in capsys.readouterr().err
+
+
+def test_help_has_no_rst_and_documents_every_argument_and_the_exit_codes(capsys):
+    for argv in (["--help"], ["solve", "--help"], ["report", "--help"], ["list", "--help"]):
+        assert cli.main(argv) == 0
+        text = capsys.readouterr().out
+        assert "``" not in text and "exit codes: 0" in text, argv
+    cli.main(["solve", "--help"])
+    assert "problem's number" in capsys.readouterr().out
+    cli.main(["report", "--help"])
+    assert "the report's directory" in capsys.readouterr().out
+    assert cli.main(["--version"]) == 0
+    assert capsys.readouterr().out.startswith("rmpc ")
+
+
+def test_solve_json_figures_are_paths_with_figures_else_titles(tmp_path, capsys):
+    assert cli.main(["solve", "4.1", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["figures"] and not any(f.endswith(".png") or f.startswith("figure ") for f in data["figures"])
+    assert cli.main(["solve", "4.1", "--json", "--figures", str(tmp_path)]) == 0
+    paths = json.loads(capsys.readouterr().out)["figures"]
+    assert paths and all(Path(p).is_file() and Path(p).parent == tmp_path for p in paths)
+
+
+def test_solve_text_rounds_to_four_digits_and_lays_matrices_out(capsys):
+    assert cli.main(["solve", "99.1"]) == 1
+    out = capsys.readouterr().out
+    assert "  M = [[ 1  0 ]\n       [ 0  1 ]]" in out and "z = 1 + 2j" in out
+    assert out.rstrip().endswith("FAIL: 1 of 2 checks")

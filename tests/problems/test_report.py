@@ -28,7 +28,7 @@ def test_repr_html_has_title_values_checks_and_inline_png():
     sol = _solution()
     text = sol._repr_html_()
     assert "0.1 — A &lt;small&gt; test" in text                      # title, escaped
-    assert "<th>K_P</th>" in text and "[1.0, 2.5]" in text            # values table
+    assert "<th>K_P</th>" in text and "[1, 2.5]" in text              # values table, 4 significant digits
     assert "✔ <b>passes</b>" in text and "✘ <b>fails</b>" in text     # checks with pass/fail
     assert 'class="fail"' in text                                     # one check failed → section fails
     src = text.split('src="data:image/png;base64,')[1].split('"')[0]
@@ -69,3 +69,32 @@ def test_check_error_fails_above_the_tolerance_and_on_nan():
     assert not sol.check_error("large", 2e-12, 1e-12)
     assert not sol.check_error("nan", float("nan"), 1.0)
     assert [c.passed for c in sol.checks] == [True, False, False] and "2e-12" in sol.checks[1].detail
+
+
+def test_report_page_has_chapters_statements_captions_and_a_fresh_figures_folder(tmp_path):
+    import json
+
+    from problems.registry import Problem
+    from problems.report import write_report
+
+    def one_figure() -> Solution:
+        """Find the answer of the test problem; given a = 1 m.
+
+        More detail that is not the statement."""
+        sol = _solution()
+        sol.value("a", 1.0, unit="m")
+        return sol
+
+    stale = tmp_path / "figures" / "stale_from_an_earlier_run.png"
+    stale.parent.mkdir(parents=True)
+    stale.write_bytes(b"")
+    summary = write_report([Problem("0.1", "A test", "numeric", one_figure)], tmp_path)
+    page = (tmp_path / "index.html").read_text()
+    assert not stale.exists()                                            # figures folder cleared
+    assert '<h2 id="ch0">Chapter 0' in page and 'href="#top"' in page     # chapter heading, back to top
+    assert "Find the answer of the test problem; given a = 1 m." in page and "More detail" not in page
+    assert "<figcaption>Fig. 0.1.1: a figure</figcaption>" in page        # captioned
+    assert '<a href="figures/0_1_1_a_figure.png" target="_blank">' in page  # readable name, click to enlarge
+    assert "summary.json" in page and "1 m" in page
+    assert json.loads((tmp_path / "summary.json").read_text())[0]["units"] == {"a": "m"}
+    assert summary[0]["statement"].startswith("Find the answer")

@@ -79,3 +79,20 @@ def test_user_built_6dof_arm_with_motors_has_rotor_mimic_joints():
     B = pin.crba(arm.model, arm.data, q)
     B0 = pin.crba(arm0.model, arm0.data, q)
     assert B[0, 0] - B0[0, 0] > 50.0**2 * 1e-3 * 0.999
+
+
+def test_a_bad_joint_type_names_the_link():
+    with pytest.raises(ValueError, match=r"DH link 2: .*`joint` must be one of .*'rotary'"):
+        robot_from_dh([dict(a=1.0), dict(a=1.0, joint="rotary")])
+    with pytest.raises(ValueError, match=r"DH link 'elbow': `joint`"):
+        DHLink(a=1.0, joint="rotary", name="elbow")
+
+
+def test_default_gravity_is_minus_z0_so_a_planar_dh_arm_has_no_gravity_torque():
+    """The trap the docstring warns of: −z₀ gravity leaves a planar arm weightless; the book's −y₀ does not."""
+    from rigid_body.dynamics import gravity_torques
+
+    links = [DHLink(a=1.0, mass=5.0, com=(-0.5, 0.0, 0.0)), DHLink(a=1.0, mass=5.0, com=(-0.5, 0.0, 0.0))]
+    np.testing.assert_allclose(gravity_torques(robot_from_dh(links), np.zeros(2)), 0.0, atol=1e-12)
+    vertical = robot_from_dh(links, gravity=[0.0, -9.81, 0.0])
+    np.testing.assert_allclose(gravity_torques(vertical, np.zeros(2)), [9.81 * 5 * (0.5 + 1.5), 9.81 * 5 * 0.5])

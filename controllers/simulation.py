@@ -310,7 +310,7 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
              controller: Controller | Callable[[float, Any], np.ndarray],
              t_span: tuple[float, float], x0: Any, h: float, Ts: float | None = None,
              log: Callable[[float, np.ndarray, np.ndarray], Mapping[str, Any]] | None = None,
-             bound: float | None = None) -> SimulationResult:
+             bound: float | None = None, backend: str = "python") -> SimulationResult:
     """Simulate a sampled-data loop: RK4 plant of step ``h``, controller every ``Ts`` with ZOH.
 
     Parameters
@@ -323,6 +323,8 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     h : integration step [s]; ``Ts`` : controller period [s], a multiple of ``h`` (default ``h``).
     log : optional ``(t, x, u) -> dict`` of extra signals, evaluated at each controller sample.
     bound : the run stops when any |x_i| exceeds this (default: the plant's ``bound``, else 1e12).
+    backend : ``"python"`` (this loop) or ``"casadi"`` (the same loop compiled, for plants and
+        controllers with a symbolic form: :mod:`controllers.compiled`).
 
     Raises
     ------
@@ -354,6 +356,10 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     if nx is not None and x.size != nx:
         raise ValueError(f"`x0` must have {nx} entries for {type(plant).__name__} "
                          f"(see its initial_state), got {x.size}")
+    if backend != "python":
+        from controllers.compiled import simulate_compiled  # the same loop as one CasADi function
+
+        return simulate_compiled(plant, controller, t0, tf, x, h, n_sub, bound, log, backend)
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
     integrate = getattr(plant, "integrate", None)
     dexp_inverse = getattr(plant, "dexp_inverse", None)

@@ -10,9 +10,9 @@ cached by the hash of the code); without a compiler it is interpreted by CasADi'
 
 What the loop needs from its two blocks, beside the contract of :mod:`controllers.simulation`:
 
-* the plant: an :class:`~controllers.plants.ArmPlant` (nq = nv, no external force; the forward
-  dynamics are :func:`rigid_body.symbolic.forward_dynamics_expression`), or any plant with
-  ``symbolic() -> casadi.Function (x, u) → ẋ`` (time-invariant, x + h·ẋ integration);
+* the plant: ``symbolic() -> casadi.Function (x, u) → ẋ`` (time-invariant, x + h·ẋ integration)
+  and a ``state_layout`` with ``q`` and ``qd``: an :class:`~controllers.plants.ArmPlant` with nq = nv
+  and no external force (forward dynamics :func:`rigid_body.symbolic.forward_dynamics_expression`);
 * the controller: ``symbolic() -> SymbolicLaw``: the law ``(q, q̇, r, p) → (u, signals…)`` in CasADi
   expressions. The reference ``r`` is open loop (a function of time only), so it is sampled in Python
   at the controller instants and fed to the run; the parameters ``p`` are the gains, their values
@@ -44,7 +44,6 @@ from typing import Any, Callable, Mapping
 import casadi as ca
 import numpy as np
 
-from controllers.simulation import SimulationDiverged, SimulationResult
 
 BACKENDS = ("python", "casadi")
 
@@ -106,32 +105,16 @@ def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]]) -> C
 # --------------------------------------------------------------------------------------------
 
 def plant_function(plant: Any) -> tuple[ca.Function, int, int]:
-    """``(f, nq, nv)``: the plant's ẋ = f(x, u) as a CasADi function, and its measurement split.
-
-    An :class:`~controllers.plants.ArmPlant` is built here (B(q) q̈ = sat(u) − F_v q̇ − C q̇ − g);
-    another plant provides ``symbolic()`` and ``measure`` returning q, q̇ slices of x via
-    ``state_layout``.
-    """
-    from controllers.plants import ArmPlant
-    from rigid_body.symbolic import forward_dynamics_expression
-
-    if hasattr(plant, "symbolic"):
-        f = plant.symbolic()
-        layout = getattr(plant, "state_layout", {})
-        if "q" not in layout or "qd" not in layout:
-            raise ValueError("`plant` with a symbolic form needs a state_layout with 'q' and 'qd'")
-        return f, _length(layout["q"]), _length(layout["qd"])
-    if type(plant) is not ArmPlant:
-        raise ValueError(f"`plant` {type(plant).__name__} has no symbolic form for backend='casadi' "
-                         "(an ArmPlant, or a plant with symbolic())")
-    if plant.nq != plant.n or plant.external_force is not None:
-        raise ValueError("`plant`: backend='casadi' takes an ArmPlant with nq = nv and no external_force")
-    n = plant.n
-    x, u = ca.SX.sym("x", 2 * n), ca.SX.sym("u", n)
-    tau = u if plant.tau_max is None else ca.fmin(ca.fmax(u, -plant.tau_max), plant.tau_max)
-    q, qd = x[:n], x[n:]
-    qdd = forward_dynamics_expression(plant.robot, q, qd, tau - ca.DM(plant.Fv) * qd)
-    return ca.Function("plant", [x, u], [ca.vertcat(qd, qdd)], ["x", "u"], ["xdot"]), n, n
+    """``(f, nq, nv)``: the plant's ẋ = f(x, u) from its ``symbolic()``, and the sizes of q and q̇ in x
+    (from its ``state_layout``). :class:`~controllers.plants.ArmPlant` provides both."""
+    if not hasattr(plant, "symbolic"):
+        raise ValueError(f"`plant` {type(plant).__name__} has no symbolic() form for backend='casadi' "
+                         "(an ArmPlant, or a plant with symbolic() and a state_layout)")
+    f = plant.symbolic()
+    layout = getattr(plant, "state_layout", {})
+    if "q" not in layout or "qd" not in layout:
+        raise ValueError("`plant` with a symbolic form needs a state_layout with 'q' and 'qd'")
+    return f, _length(layout["q"]), _length(layout["qd"])
 
 
 def _length(index: Any) -> int:
@@ -237,8 +220,6 @@ class CompiledLoop:
         self.compile_time = time.perf_counter() - start
         self.Ts = n_sub * h
         self._references: tuple[float, np.ndarray] | None = None
-        self.layout = dict(getattr(plant, "state_layout", {}))
-        self.units = dict(getattr(plant, "units", {}))
 
     def references(self, t0: float) -> np.ndarray:
         """R (nr, N): the reference sampled at the controller instants from ``t0`` (kept for the next run:
@@ -248,37 +229,28 @@ class CompiledLoop:
             self._references = (t0, np.column_stack([self.law.reference(float(t)) for t in times]))
         return self._references[1]
 
-    def simulate(self, t0: float, x0: Any, bound: float = 1e12, log: Callable | None = None) -> SimulationResult:
-        """One run from ``x0`` at ``t0``, as :func:`controllers.simulation.simulate` returns it.
+    def arrays(self, t0: float, x0: Any, bound: float = 1e12) -> tuple[np.ndarray, np.ndarray, np.ndarray,
+                                                                      dict[str, np.ndarray], float | None]:
+        """One run from ``x0`` at ``t0``: (t (N,), x (N, nx), u (N, nu), signals, t_diverged).
 
-        Divergence is checked on the samples (every ``Ts``): the time reported is the first sample
-        whose state is non-finite or beyond ``bound``.
+        ``t_diverged`` is None, or the first sample whose state is non-finite or beyond ``bound``
+        (divergence is checked on the samples, every ``Ts``).
         """
         ts = t0 + self.Ts * np.arange(self.n_samples)
         X, U, *logged = (np.asarray(v) for v in self.run(np.asarray(x0, dtype=float), self.references(t0),
                                                            self.law.parameters))
         bad = ~(np.all(np.isfinite(X), axis=0) & (np.max(np.abs(X), axis=0, initial=0.0) <= bound))
         bad |= ~np.all(np.isfinite(U), axis=0)
-        if np.any(bad):
-            k = int(np.argmax(bad))
-            raise SimulationDiverged(f"plant state became non-finite or exceeded {bound:g} by t = {ts[k]:.6g} s "
-                                     f"(backend='casadi', checked every Ts = {self.Ts:g} s): the loop diverges",
-                                     float(ts[k]))
+        t_bad = float(ts[int(np.argmax(bad))]) if np.any(bad) else None
         signals = {name: v.T for name, v in zip(self.law.signals, logged)}
-        xs, us = X.T.copy(), U.T.copy()
-        if log is not None:
-            logged: dict[str, list] = {}
-            for k, t in enumerate(ts):
-                for name, value in log(t, xs[k], us[k]).items():
-                    logged.setdefault(name, []).append(np.asarray(value, dtype=float))
-            signals.update({name: np.asarray(v) for name, v in logged.items()})
-        return SimulationResult(t=ts, x=xs, u=us, signals=signals, layout=self.layout, units=self.units)
+        return ts, X.T.copy(), U.T.copy(), signals, t_bad
 
 
 def simulate_compiled(plant: Any, controller: Any, t0: float, tf: float, x0: np.ndarray, h: float,
-                      n_sub: int, bound: float, log: Callable | None, backend: str) -> SimulationResult:
-    """The body of ``simulate(..., backend="casadi")`` (arguments validated by ``simulate``)."""
+                      n_sub: int, bound: float, backend: str) -> tuple:
+    """The body of ``simulate(..., backend="casadi")`` (arguments validated by ``simulate``), returning
+    :meth:`CompiledLoop.arrays`."""
     if backend not in BACKENDS:
         raise ValueError(f"`backend` must be one of {BACKENDS}, got {backend!r}")
     n_samples = int(np.floor((tf - t0) / (n_sub * h) + 1e-9)) + 1
-    return CompiledLoop(plant, controller, h, n_sub, n_samples).simulate(t0, x0, bound, log)
+    return CompiledLoop(plant, controller, h, n_sub, n_samples).arrays(t0, x0, bound)

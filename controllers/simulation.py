@@ -359,7 +359,14 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     if backend != "python":
         from controllers.compiled import simulate_compiled  # the same loop as one CasADi function
 
-        return simulate_compiled(plant, controller, t0, tf, x, h, n_sub, bound, log, backend)
+        ts, xs, us, signals, t_bad = simulate_compiled(plant, controller, t0, tf, x, h, n_sub, bound, backend)
+        if t_bad is not None:
+            raise SimulationDiverged(f"plant state became non-finite or exceeded {bound:g} by t = {t_bad:.6g} s "
+                                     f"(backend={backend!r}, checked every Ts): the loop diverges", t_bad)
+        for name, value in ({} if log is None else _logged(log, ts, xs, us)).items():
+            signals[name] = value
+        return SimulationResult(t=ts, x=xs, u=us, signals=signals, layout=dict(getattr(plant, "state_layout", {})),
+                                units=dict(getattr(plant, "units", {})))
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
     integrate = getattr(plant, "integrate", None)
     dexp_inverse = getattr(plant, "dexp_inverse", None)
@@ -420,6 +427,15 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                             signals={k: np.array(v) for k, v in signals.items()},
                             layout=dict(getattr(plant, "state_layout", {})),
                             units=dict(getattr(plant, "units", {})))
+
+
+def _logged(log: Callable, ts: np.ndarray, xs: np.ndarray, us: np.ndarray) -> dict[str, np.ndarray]:
+    """The ``log`` callback's signals along a finished run."""
+    out: dict[str, list] = {}
+    for t, x, u in zip(ts, xs, us):
+        for name, value in log(t, x, u).items():
+            out.setdefault(name, []).append(np.asarray(value, dtype=float))
+    return {name: np.array(v) for name, v in out.items()}
 
 
 def per_joint(value: Any, n: int, name: str) -> np.ndarray:

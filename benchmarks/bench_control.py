@@ -1,7 +1,8 @@
 """Cost of the chapter-8 closed loops: wall time per simulated second, and one step against raw Pinocchio.
 
 Run: ``python benchmarks/bench_control.py``. Prints, for the two-link arm with motors (mimic joints,
-so the raw reference is CRBA + nonLinearEffects + a dense solve) and for the UR5 (raw ``pin.aba``):
+so the raw reference is CRBA + nonLinearEffects + LAPACK's
+Cholesky solve ``dposv``, as rmpc) and for the UR5 (raw ``pin.aba``):
 the time of one plant derivative, one RK4 step, one controller call and one closed-loop sample, each
 with its ratio to the raw forward-dynamics call measured in the same run; then the wall time of the
 8.x simulations divided by their simulated time.
@@ -14,6 +15,7 @@ from typing import Callable
 
 import numpy as np
 import pinocchio as pin
+from scipy.linalg.lapack import dposv
 
 from controllers.joint_space import AdaptivePayloadControl, InverseDynamicsControl, PDGravityCompensation
 from controllers.operational_space import OperationalInverseDynamics
@@ -27,7 +29,8 @@ from benchtools import per_call
 
 
 
-def step_costs(name: str, robot, plant_robot, controller, raw: Callable[[], object], h: float, Ts: float) -> None:
+def step_costs(name: str, robot, plant_robot, controller, raw: Callable[[], object], h: float,
+               Ts: float) -> list[dict]:
     n = robot.nv
     plant = ArmPlant(plant_robot, viscous_friction=1.0)
     x = np.r_[robot.configurations["neutral"] + 0.3, 0.2 * np.ones(n)]
@@ -45,6 +48,8 @@ def step_costs(name: str, robot, plant_robot, controller, raw: Callable[[], obje
                      (f"controller call ({type(controller).__name__})", t_ctl),
                      (f"closed-loop sample (1 call + {n_sub} RK4)", t_sample)):
         print(f"  {label:<45s}{t * 1e6:8.2f} us {t / t_raw:6.1f}x")
+    return [dict(measurement=f"{name}: plant derivative [us]", rmpc=t_der * 1e6, reference=t_raw * 1e6,
+                 ref_name="raw forward dynamics", target=("ratio<=", 2.0))]
 
 
 def wall_per_simulated_second(label: str, plant, controller, x0, t_end: float, h: float, Ts: float) -> None:
@@ -54,11 +59,29 @@ def wall_per_simulated_second(label: str, plant, controller, x0, t_end: float, h
     print(f"  {label:<52s} {wall:6.2f} s wall / {t_end:g} s simulated = {wall / t_end:5.2f}")
 
 
+def rows() -> list[dict]:
+    """The plant-derivative rows of the planar arm with motors and of the UR5 against raw Pinocchio."""
+    arm, armL = load("planar_2r"), load("planar_2r", payload=10.0)
+    m, d = armL.model, armL.data
+    q0, v0, tau0 = np.array([0.3, 0.8]), np.array([0.2, 0.2]), np.array([1.0, 2.0])
+    raw_2r = lambda: dposv(pin.crba(m, d, q0), tau0 - pin.nonLinearEffects(m, d, q0, v0))[1]  # noqa: E731
+    tra = trapezoidal([0, np.pi / 4], [np.pi / 2, np.pi / 2], 1.0, [3 * np.pi / 4, np.pi / 3], dt=1e-3)
+    out = step_costs("planar_2r + motors", arm, armL, InverseDynamicsControl(arm, 100, 16, tra, 100.0),
+                     raw_2r, h=1e-4, Ts=1e-3)
+    ur5 = load("ur5")
+    real = with_payload(ur5, 5.0)
+    qu, vu, tu = np.full(6, 0.3), np.full(6, 0.2), np.ones(6)
+    q_i = np.array([0.0, -np.pi / 2, np.pi / 2, 0.0, np.pi / 2, 0.0])
+    out += step_costs("UR5 + 5 kg", ur5, real, InverseDynamicsControl(ur5, 400, 40, quintic(q_i, q_i + 0.5, 1.5, dt=1e-3)),
+                      lambda: pin.aba(real.model, real.data, qu, vu, tu), h=1e-3, Ts=1e-3)
+    return out
+
+
 if __name__ == "__main__":
     arm, armL = load("planar_2r"), load("planar_2r", payload=10.0)
     m, d = armL.model, armL.data
     q0, v0, tau0 = np.array([0.3, 0.8]), np.array([0.2, 0.2]), np.array([1.0, 2.0])
-    raw_2r = lambda: np.linalg.solve(pin.crba(m, d, q0), tau0 - pin.nonLinearEffects(m, d, q0, v0))  # noqa: E731
+    raw_2r = lambda: dposv(pin.crba(m, d, q0), tau0 - pin.nonLinearEffects(m, d, q0, v0))[1]  # noqa: E731
     tra = trapezoidal([0, np.pi / 4], [np.pi / 2, np.pi / 2], 1.0, [3 * np.pi / 4, np.pi / 3], dt=1e-3)
     step_costs("planar_2r + motors + 10 kg (8.12)", arm, armL, InverseDynamicsControl(arm, 100, 16, tra, 100.0),
                raw_2r, h=1e-4, Ts=1e-3)

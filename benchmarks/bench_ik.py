@@ -8,7 +8,12 @@ Then the success rates of every solver (reported successes verified independentl
 reachable targets of ``tests/planners/ik_harness.py``: poses of random configurations within the
 limits, each solver started from another random configuration within the limits.
 
-Run: ``python benchmarks/bench_ik.py [N_TARGETS]`` (default 500) from the repository root.
+Run: ``python benchmarks/bench_ik.py N_TARGETS`` for the success rates (e.g. 500), without an argument for ``rows()``.
+
+``rows()`` measures the Levenberg–Marquardt solver (:class:`LMIK`) and :class:`CasadiIK` on random
+reachable targets from random starts (median time, success rate, false successes verified by
+Pinocchio's forward kinematics and the limits).
+
 """
 
 from __future__ import annotations
@@ -19,13 +24,57 @@ import time
 import numpy as np
 import pinocchio as pin
 
-from planners.inverse_kinematics import CLIK, CasadiIK, QPVelocityIK, constant_pose, solve_clik
+from planners.inverse_kinematics import CLIK, LMIK, CasadiIK, QPVelocityIK, constant_pose, solve_clik
 from rigid_body.kinematics import direct_kinematics
 from rigid_body.robots import load
 from rigid_body.task_space import TaskSpace
 
 from benchtools import per_call
 from tests.planners.ik_harness import reachable_targets, run_solver
+
+
+def ik_statistics(solver, robot, n_targets: int, seed: int = 0) -> tuple[float, int, int]:
+    """(median solve time [s], successes, false successes) over ``n_targets`` random reachable targets
+    from random starts; a success is verified independently (Pinocchio FK in a fresh data, the limits)."""
+    rng = np.random.default_rng(seed)
+    data = robot.model.createData()
+    times, solved, false = [], 0, 0
+    for _ in range(n_targets):
+        T_d = direct_kinematics(robot, robot.random_configuration(rng))
+        q0 = robot.random_configuration(rng)
+        t0 = time.perf_counter()
+        result = solver.solve(T_d, q0, rng=rng)
+        times.append(time.perf_counter() - t0)
+        if result.success:
+            solved += 1
+            pin.framesForwardKinematics(robot.model, data, result.q)
+            T = data.oMf[robot.ee_frame]
+            angle = np.linalg.norm(pin.log3(T.rotation.T @ T_d[:3, :3]))
+            inside = np.all(result.q >= robot.lower) and np.all(result.q <= robot.upper)
+            false += not (np.linalg.norm(T.translation - T_d[:3, 3]) < 1e-6 and angle < 1e-6 and inside)
+    return float(np.median(times)), solved, false
+
+
+def rows(n_lm: int = 1000, n_casadi: int = 200) -> list[dict]:
+    robot = load("panda")
+    model, data = robot.model, robot.data
+    q = robot.random_configuration(np.random.default_rng(1))
+    LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+    t_jac = per_call(lambda: pin.computeFrameJacobian(model, data, q, robot.ee_frame, LWA), 20000)
+    ref = "pin.computeFrameJacobian"
+    t_lm, ok_lm, false_lm = ik_statistics(LMIK(robot), robot, n_lm)
+    t_ca, ok_ca, false_ca = ik_statistics(CasadiIK(robot), robot, n_casadi)
+    return [
+        dict(measurement=f"Panda LM IK median solve, {n_lm} targets [ms]", rmpc=t_lm * 1e3, reference=t_jac * 1e3,
+             ref_name=ref, target=("<=", 1.0)),
+        dict(measurement="Panda LM IK success [%]", rmpc=100.0 * ok_lm / n_lm, reference=None, target=(">=", 99.5)),
+        dict(measurement="Panda LM IK false successes", rmpc=float(false_lm), reference=None, target=("<=", 0)),
+        dict(measurement=f"Panda CasadiIK median solve, {n_casadi} targets [ms]", rmpc=t_ca * 1e3,
+             reference=t_jac * 1e3, ref_name=ref, target=("<=", 10.0)),
+        dict(measurement="Panda CasadiIK success [%]", rmpc=100.0 * ok_ca / n_casadi, reference=None,
+             target=(">=", 99.5)),
+        dict(measurement="Panda CasadiIK false successes", rmpc=float(false_ca), reference=None, target=("<=", 0)),
+    ]
 
 
 def main() -> None:
@@ -75,5 +124,10 @@ def success_rates(n: int = 500, seed: int = 1) -> None:
 
 
 if __name__ == "__main__":
+    from benchtools import print_rows
+
     main()
-    success_rates(int(sys.argv[1]) if len(sys.argv) > 1 else 500)
+    if len(sys.argv) > 1:
+        success_rates(int(sys.argv[1]))
+    else:
+        print_rows(rows())

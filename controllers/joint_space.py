@@ -209,6 +209,22 @@ class PDGravityCompensation(LoggedController):
         self.record(q_d=q_d, e=e)
         return u
 
+    def symbolic(self) -> Any:
+        """Eq. (8.51) in CasADi expressions for ``simulate(..., backend="casadi")``; the parameters are
+        this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`)."""
+        from controllers.compiled import SymbolicLaw, stacked_reference
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        n, robot = self.n, self.robot
+
+        def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
+            e = r[:n] - q
+            g = inverse_dynamics_expression(robot, q, np.zeros(n), np.zeros(n))
+            return g + K["K_P"] @ e + K["K_D"] @ (r[n:2 * n] - qd), {"q_d": r[:n], "e": e}
+
+        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P, "K_D": self.K_D}, law,
+                                 stacked_reference(self.reference))
+
 # --------------------------------------------------------------------------------------------
 # Independent joint servos with computed-torque feedforward (Fig. 8.19 on Fig. 5.11)
 # --------------------------------------------------------------------------------------------
@@ -331,6 +347,22 @@ class InverseDynamicsControl(LoggedController):
         u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd  # Eq. (8.57)
         self.record(q_d=q_d, e=e)
         return u
+
+    def symbolic(self) -> Any:
+        """Eqs. (8.57), (8.60) in CasADi expressions for ``simulate(..., backend="casadi")``; the
+        parameters are this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`)."""
+        from controllers.compiled import SymbolicLaw, stacked_reference
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        n, robot, Fv = self.n, self.robot, self.Fv
+
+        def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
+            e = r[:n] - q
+            y = r[2 * n:] + K["K_D"] @ (r[n:2 * n] - qd) + K["K_P"] @ e
+            return inverse_dynamics_expression(robot, q, qd, y) + Fv * qd, {"q_d": r[:n], "e": e}
+
+        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P, "K_D": self.K_D}, law,
+                                 stacked_reference(self.reference))
 
 def inverse_dynamics_steady_state(plant_robot: Robot, model_robot: Robot, K_P: Any, q_d: Any,
                                   q0: Any = None) -> np.ndarray:

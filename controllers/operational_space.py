@@ -245,6 +245,29 @@ class OperationalPDGravity(LoggedController):
         self.record(**self.task.logged(x_d, T_e, e))
         return u
 
+    def symbolic(self) -> Any:
+        """Eq. (8.110) of a position task in CasADi expressions for ``simulate(..., backend="casadi")``;
+        the parameters are this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`)."""
+        from controllers.compiled import SymbolicLaw, stacked_reference
+        from rigid_body.symbolic import inverse_dynamics_expression, pose_function
+
+        if self.task.pose:
+            raise ValueError("the symbolic form of OperationalPDGravity covers position tasks "
+                             "(orientation='none'): use backend='python'")
+        n, m, robot, rows, K_N = self.n, self.task.m, self.robot, self.task.rows.tolist(), self.K_N
+        pose = pose_function(robot, self.task.space.frame)
+
+        def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
+            _, p, J_geo = pose(q)
+            x_e, J = p[rows], J_geo[rows, :]
+            e = r[:m] - x_e
+            g = inverse_dynamics_expression(robot, q, np.zeros(n), np.zeros(n))
+            u = g + J.T @ (K["K_P"] @ e - K["K_D"] @ (J @ qd)) - K_N * qd
+            return u, {"x_d": r[:m], "x_e": x_e, "e": e}
+
+        return SymbolicLaw.build(robot.nq, n, 3 * m, {"K_P": self.K_P, "K_D": self.K_D}, law,
+                                 stacked_reference(self.reference))
+
 
 
 class OperationalInverseDynamics(LoggedController):

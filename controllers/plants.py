@@ -194,6 +194,22 @@ class ArmPlant:
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         return ArmMeasurement(x[:self.nq], x[self.nq:])
 
+    def symbolic(self) -> Any:
+        """ẋ = f(x, u) as a ``casadi.Function`` for ``simulate(..., backend="casadi")`` (nq = nv, no
+        external force): B(q) q̈ = sat(u) − F_v q̇ − C q̇ − g by the symbolic Newton–Euler."""
+        import casadi as ca
+
+        from rigid_body.symbolic import forward_dynamics_expression
+
+        if self.nq != self.n or self.external_force is not None:
+            raise ValueError("`plant`: backend='casadi' takes an ArmPlant with nq = nv and no external_force")
+        n = self.n
+        x, u = ca.SX.sym("x", 2 * n), ca.SX.sym("u", n)
+        tau = u if self.tau_max is None else ca.fmin(ca.fmax(u, -self.tau_max), self.tau_max)
+        q, qd = x[:n], x[n:]
+        qdd = forward_dynamics_expression(self.robot, q, qd, tau - ca.DM(self.Fv) * qd)
+        return ca.Function("plant", [x, u], [ca.vertcat(qd, qdd)], ["x", "u"], ["xdot"])
+
 
 class VoltageControlledArm:
     """Arm driven through DC servomotors by the voltages ``v_c`` (Fig. 8.3); x = [q, q̇], u = v_c.

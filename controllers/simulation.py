@@ -326,7 +326,7 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
              controller: Controller | Callable[[float, Any], np.ndarray],
              t_span: tuple[float, float], x0: Any, h: float, Ts: float | None = None,
              log: Callable[[float, np.ndarray, np.ndarray], Mapping[str, Any]] | None = None,
-             bound: float | None = None) -> SimulationResult:
+             bound: float | None = None, backend: str = "python") -> SimulationResult:
     """Simulate a sampled-data loop: RK4 plant of step ``h``, controller every ``Ts`` with ZOH.
 
     Parameters
@@ -339,6 +339,8 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     h : integration step [s]; ``Ts`` : controller period [s], a multiple of ``h`` (default ``h``).
     log : optional ``(t, x, u) -> dict`` of extra signals, evaluated at each controller sample.
     bound : the run stops when any |x_i| exceeds this (default: the plant's ``bound``, else 1e12).
+    backend : ``"python"`` (this loop) or ``"casadi"`` (the same loop compiled, for plants and
+        controllers with a symbolic form: :mod:`controllers.compiled`).
 
     Raises
     ------
@@ -371,6 +373,17 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     if nx is not None and x.size != nx:
         raise ValueError(f"`x0` must have {nx} entries for {type(plant).__name__} "
                          f"(see its initial_state), got {x.size}")
+    if backend != "python":
+        from controllers.compiled import simulate_compiled  # the same loop as one CasADi function
+
+        ts, xs, us, signals, t_bad = simulate_compiled(plant, controller, t0, tf, x, h, n_sub, bound, backend)
+        if t_bad is not None:
+            raise SimulationDiverged(f"plant state became non-finite or exceeded {bound:g} by t = {t_bad:.6g} s "
+                                     f"(backend={backend!r}, checked every Ts): the loop diverges", t_bad)
+        for name, value in ({} if log is None else _logged(log, ts, xs, us)).items():
+            signals[name] = value
+        return SimulationResult(t=ts, x=xs, u=us, signals=signals, layout=dict(getattr(plant, "state_layout", {})),
+                                units=dict(getattr(plant, "units", {})))
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
     integrate = getattr(plant, "integrate", None)
     dexp_inverse = getattr(plant, "dexp_inverse", None)
@@ -481,6 +494,15 @@ def _diagnosis(controller: Any, plant: Any, Ts: float, measurement: Any) -> str:
     except Exception as exc:  # the diagnosis must never hide the divergence itself
         return f" (the controller's diagnosis failed: {type(exc).__name__}: {exc})"
     return f". {text}" if text else ""
+
+
+def _logged(log: Callable, ts: np.ndarray, xs: np.ndarray, us: np.ndarray) -> dict[str, np.ndarray]:
+    """The ``log`` callback's signals along a finished run."""
+    out: dict[str, list] = {}
+    for t, x, u in zip(ts, xs, us):
+        for name, value in log(t, x, u).items():
+            out.setdefault(name, []).append(np.asarray(value, dtype=float))
+    return {name: np.array(v) for name, v in out.items()}
 
 
 def per_joint(value: Any, n: int, name: str) -> np.ndarray:

@@ -223,50 +223,12 @@ class _Transcription:
         self.n, self.N, self.order, self.objective = n, N, r, objective
         t_scale = float(mesh[-1] - mesh[0])
         self.sigma = np.diff(mesh) / t_scale
-        T = ca.SX.sym("T")
-        H = T * ca.DM(self.sigma)
-        X = ca.SX.sym("X", r * n, N + 1)
-        U = ca.SX.sym("U", n, N)
-        h = ca.transpose(H)  # (1, N), broadcast over the joints
-
-        def taylor(tau: Any) -> list:
-            """[q, q̇, q̈] at τ into every interval, from its start state and control (exact)."""
-            d = [X[k * n:(k + 1) * n, :-1] for k in range(r)] + [U]  # q, q̇, (q̈,) u
-            tau = ca.repmat(tau, n, 1)
-            out = []
-            for i in range(3):
-                acc = 0
-                for k in range(i, r + 1):
-                    acc = acc + d[k] * tau ** (k - i) / float(np.prod(np.arange(1, k - i + 1)))
-                out.append(acc)
-            return out
-
-        end = taylor(h)
-        mid = taylor(h / 2)
-        start = [X[:n, :-1], X[n:2 * n, :-1], X[2 * n:3 * n, :-1] if r == 3 else U]
-        shooting = ca.vertcat(*[ca.vec(X[k * n:(k + 1) * n, 1:] - end[k]) for k in range(r)])
-        inverse_dynamics = inverse_dynamics_function(robot).map(3 * N)
-        tau = inverse_dynamics(ca.horzcat(start[0], mid[0], end[0]), ca.horzcat(start[1], mid[1], end[1]),
-                               ca.horzcat(start[2], mid[2], end[2]))  # (n, 3N): starts, mids, ends
-        if objective == "time":
-            # T + ε ∫ ‖u/u_ref‖² dt: a small control regularisation makes the optimum unique where
-            # some joints are not time-critical (it costs at most ε·n·T in duration).
-            u_ref = ca.DM(limits.qdd_max) if r == 2 else ca.DM(limits.qdd_max) / (t_scale / N)
-            cost = T + options.regularization * ca.sum2(h * ca.sum1((U / ca.repmat(u_ref, 1, N)) ** 2)) / max(t_scale, 1e-9)
-        elif objective == "effort":
-            sq = ca.sum1((tau / ca.DM(limits.tau_max)) ** 2)  # normalised, (1, 3N)
-            cost = ca.sum2(h / 6 * (sq[:, :N] + 4 * sq[:, N:2 * N] + sq[:, 2 * N:]))  # Simpson
-        else:  # jerk
-            cost = ca.sum2(h * ca.sum1(U**2))
-        w = ca.vertcat(T, ca.vec(X), ca.vec(U))
-        g = ca.vertcat(shooting, ca.vec(mid[0]), ca.vec(mid[1]), ca.vec(tau))
-        self.cost_function = ca.Function("cost", [w], [cost])
-        opts = {"ipopt.tol": options.tol, "ipopt.max_iter": options.max_iter,
-                "ipopt.print_level": 5 if options.verbose else 0, "print_time": options.verbose,
-                "ipopt.sb": "yes"}
-        self.solver = ca.nlpsol("trajectory_optimization", "ipopt", {"x": w, "f": cost, "g": g}, opts)
+        u_ref = limits.qdd_max if r == 2 else limits.qdd_max / (t_scale / N)
+        # What changes from one problem to the next is a parameter: the mesh fractions σ, the control
+        # scale u_ref, 1/t_scale, 1/τ_max; the NLP and IPOPT's setup are cached per robot and options.
+        self.parameters = np.concatenate([self.sigma, u_ref, [1.0 / max(t_scale, 1e-9)], 1.0 / limits.tau_max])
+        self.solver, self.cost_function, self.n_shooting = _transcription(robot, N, r, objective, options)
         self.q_i, self.q_f, self.limits, self.t_f = q_i, q_f, limits, t_f
-        self.n_shooting = shooting.size1()
 
     def bounds(self, scale: dict[str, np.ndarray], T_guess: float) -> dict[str, np.ndarray]:
         """Variable and constraint bounds with the limits multiplied by the back-off ``scale``."""
@@ -317,6 +279,68 @@ class _Transcription:
         if self.order == 2:
             return np.stack([q, qd, U.T / 2, np.zeros_like(q)], axis=1)
         return np.stack([q, qd, X[2 * n:, :-1].T / 2, U.T / 6], axis=1)
+
+
+_TRANSCRIPTIONS: dict[tuple, tuple] = {}
+
+
+def _transcription(robot: Robot, N: int, r: int, objective: str,
+                   options: OptimizationOptions) -> tuple[ca.Function, ca.Function, int]:
+    """(IPOPT solver, cost function, number of shooting constraints) of the NLP of :class:`_Transcription`,
+    built once per (robot, N, order, objective, options) and reused: the parameters p are
+    [σ (N), u_ref (n), 1/t_scale, 1/τ_max (n)]."""
+    key = (id(robot), robot.model.nv, N, r, objective, options.regularization, options.tol,
+           options.max_iter, options.verbose)
+    cached = _TRANSCRIPTIONS.get(key)
+    if cached is not None and cached[0] is robot:
+        return cached[1]
+    n = robot.nv
+    T = ca.SX.sym("T")
+    sigma, u_ref = ca.SX.sym("sigma", N), ca.SX.sym("u_ref", n)
+    inv_t_scale, inv_tau_max = ca.SX.sym("inv_t_scale"), ca.SX.sym("inv_tau_max", n)
+    H = T * sigma
+    X = ca.SX.sym("X", r * n, N + 1)
+    U = ca.SX.sym("U", n, N)
+    h = ca.transpose(H)  # (1, N), broadcast over the joints
+
+    def taylor(tau: Any) -> list:
+        """[q, q̇, q̈] at τ into every interval, from its start state and control (exact)."""
+        d = [X[k * n:(k + 1) * n, :-1] for k in range(r)] + [U]  # q, q̇, (q̈,) u
+        tau = ca.repmat(tau, n, 1)
+        out = []
+        for i in range(3):
+            acc = 0
+            for k in range(i, r + 1):
+                acc = acc + d[k] * tau ** (k - i) / float(np.prod(np.arange(1, k - i + 1)))
+            out.append(acc)
+        return out
+
+    end = taylor(h)
+    mid = taylor(h / 2)
+    start = [X[:n, :-1], X[n:2 * n, :-1], X[2 * n:3 * n, :-1] if r == 3 else U]
+    shooting = ca.vertcat(*[ca.vec(X[k * n:(k + 1) * n, 1:] - end[k]) for k in range(r)])
+    inverse_dynamics = inverse_dynamics_function(robot).map(3 * N)
+    tau = inverse_dynamics(ca.horzcat(start[0], mid[0], end[0]), ca.horzcat(start[1], mid[1], end[1]),
+                           ca.horzcat(start[2], mid[2], end[2]))  # (n, 3N): starts, mids, ends
+    if objective == "time":
+        # T + ε ∫ ‖u/u_ref‖² dt: a small control regularisation makes the optimum unique where
+        # some joints are not time-critical (it costs at most ε·n·T in duration).
+        cost = T + options.regularization * ca.sum2(h * ca.sum1((U / ca.repmat(u_ref, 1, N)) ** 2)) * inv_t_scale
+    elif objective == "effort":
+        sq = ca.sum1((tau * ca.repmat(inv_tau_max, 1, 3 * N)) ** 2)  # normalised, (1, 3N)
+        cost = ca.sum2(h / 6 * (sq[:, :N] + 4 * sq[:, N:2 * N] + sq[:, 2 * N:]))  # Simpson
+    else:  # jerk
+        cost = ca.sum2(h * ca.sum1(U**2))
+    w = ca.vertcat(T, ca.vec(X), ca.vec(U))
+    p = ca.vertcat(sigma, u_ref, inv_t_scale, inv_tau_max)
+    g = ca.vertcat(shooting, ca.vec(mid[0]), ca.vec(mid[1]), ca.vec(tau))
+    cost_function = ca.Function("cost", [w, p], [cost])
+    opts = {"ipopt.tol": options.tol, "ipopt.max_iter": options.max_iter,
+            "ipopt.print_level": 5 if options.verbose else 0, "print_time": options.verbose,
+            "ipopt.sb": "yes"}
+    solver = ca.nlpsol("trajectory_optimization", "ipopt", {"x": w, "f": cost, "g": g, "p": p}, opts)
+    _TRANSCRIPTIONS[key] = (robot, (solver, cost_function, shooting.size1()))
+    return solver, cost_function, shooting.size1()
 
 
 def _solution(h: np.ndarray, coeffs: np.ndarray, subsamples: int, name: str) -> Trajectory:
@@ -381,7 +405,7 @@ def _optimize(robot: Robot, q_i: Any, q_f: Any, limits: JointLimits, objective: 
     scale = {k: np.ones(n) for k in LIMIT_KINDS}
     iterations, message, ok = 0, "", False
     for _ in range(options.max_backoff + 1):
-        sol = nlp.solver(x0=w0, **nlp.bounds(scale, float(breaks[-1])))
+        sol = nlp.solver(x0=w0, p=nlp.parameters, **nlp.bounds(scale, float(breaks[-1])))
         stats = nlp.solver.stats()
         iterations += int(stats.get("iter_count", 0))
         ok = bool(stats.get("success", False))
@@ -402,7 +426,7 @@ def _optimize(robot: Robot, q_i: Any, q_f: Any, limits: JointLimits, objective: 
         w0 = w
     ratios, tau = limit_ratios(robot, traj, limits)
     success = ok and all(v <= 1.0 + 1e-6 for v in ratios.values())
-    return OptimalTrajectory(traj, tau, float(np.sum(h)), objective, float(nlp.cost_function(w)), success,
+    return OptimalTrajectory(traj, tau, float(np.sum(h)), objective, float(nlp.cost_function(w, nlp.parameters)), success,
                              message, ratios, iterations, time.perf_counter() - start)
 
 

@@ -38,6 +38,9 @@ __all__ = [
     "geometric_jacobian_function",
     "pose_function",
     "inverse_dynamics_function",
+    "inverse_dynamics_expression",
+    "forward_dynamics_expression",
+    "forward_dynamics_function",
 ]
 
 _AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
@@ -206,12 +209,8 @@ def _mimic_data(model: pin.Model, i: int) -> tuple[int, float, float, str, np.nd
 def inverse_dynamics_function(robot_or_model: Any, name: str = "inverse_dynamics") -> ca.Function:
     """``casadi.Function`` ``q, qd, qdd → tau``: τ = B(q) q̈ + C(q, q̇) q̇ + g(q) by Newton–Euler.
 
-    The recursion of Sect. 7.5 in spatial (6-D) form, frame by frame as Pinocchio's RNEA:
-    forward, v_i = ⁱX_λ v_λ + S_i q̇_i, a_i = ⁱX_λ a_λ + S_i q̈_i + v_i × S_i q̇_i with a_0 = −g;
-    f_i = I_i a_i + v_i ×* I_i v_i; backward, τ_i = S_i^T f_i and f_λ += ^λX_i* f_i.
-    Mimic joints (the book's rotors, Sect. 7.3) move with k_r q̇ of the joint they mimic: their
-    S carries the factor k_r, and S^T f is added to that joint's torque, which gives the rotor
-    terms k_r I_m of (7.32) and the reaction torques of the rotors.
+    See :func:`inverse_dynamics_expression` (the recursion); the rotor armature of the model
+    (``model.armature``, the Toolbox's diagonal motor inertia) adds diag(armature) q̈ as in Pinocchio.
 
     >>> from rigid_body.robots import load
     >>> tau = inverse_dynamics_function(load("planar_2r"))
@@ -222,6 +221,23 @@ def inverse_dynamics_function(robot_or_model: Any, name: str = "inverse_dynamics
     q = ca.SX.sym("q", model.nq)
     qd = ca.SX.sym("qd", model.nv)
     qdd = ca.SX.sym("qdd", model.nv)
+    tau = inverse_dynamics_expression(model, q, qd, qdd)
+    return ca.Function(name, [q, qd, qdd], [tau], ["q", "qd", "qdd"], ["tau"])
+
+
+def inverse_dynamics_expression(robot_or_model: Any, q: ca.SX, qd: Any, qdd: Any) -> ca.SX:
+    """τ = B(q) q̈ + C(q, q̇) q̇ + g(q) as an SX expression of ``q, qd, qdd`` (Newton–Euler).
+
+    The recursion of Sect. 7.5 in spatial (6-D) form, frame by frame as Pinocchio's RNEA:
+    forward, v_i = ⁱX_λ v_λ + S_i q̇_i, a_i = ⁱX_λ a_λ + S_i q̈_i + v_i × S_i q̇_i with a_0 = −g;
+    f_i = I_i a_i + v_i ×* I_i v_i; backward, τ_i = S_i^T f_i and f_λ += ^λX_i* f_i.
+    Mimic joints (the book's rotors, Sect. 7.3) move with k_r q̇ of the joint they mimic: their
+    S carries the factor k_r, and S^T f is added to that joint's torque, which gives the rotor
+    terms k_r I_m of (7.32) and the reaction torques of the rotors.
+
+    ``q``, ``qd``, ``qdd`` are CasADi expressions (or numbers); returns the SX torque (nv,).
+    """
+    model = _model(robot_or_model)
     nj = model.njoints
     # Per joint: local transform (R, p) parent → joint, subspace S (6 × 1) and the velocity/acc.
     # variables of that joint, as SX scalars.
@@ -296,4 +312,65 @@ def inverse_dynamics_function(robot_or_model: Any, name: str = "inverse_dynamics
             Rf = ca.mtimes(R, f_lin)
             f[parent][0] = f[parent][0] + Rf
             f[parent][1] = f[parent][1] + ca.mtimes(R, f_ang) + ca.cross(p, Rf)
-    return ca.Function(name, [q, qd, qdd], [tau], ["q", "qd", "qdd"], ["tau"])
+    armature = np.asarray(model.armature, dtype=float)
+    if np.any(armature != 0):
+        tau = tau + ca.DM(armature) * qdd                   # rotor inertia on the diagonal of B
+    return tau
+
+
+
+# ============================================================================================
+# Symbolic forward dynamics (compiled closed loops, controllers.compiled)
+# ============================================================================================
+
+def _cholesky_solve(B: ca.SX, b: ca.SX) -> ca.SX:
+    """x = B⁻¹ b for a symmetric positive definite B by an explicit Cholesky factorisation B = L Lᵀ
+    (n³/6 scalar operations: far smaller expressions than a symbolic QR)."""
+    n = B.shape[0]
+    L = [[None] * n for _ in range(n)]
+    for j in range(n):
+        d = B[j, j] - sum((L[j][k] * L[j][k] for k in range(j)), ca.SX(0))
+        L[j][j] = ca.sqrt(d)
+        for i in range(j + 1, n):
+            L[i][j] = (B[i, j] - sum((L[i][k] * L[j][k] for k in range(j)), ca.SX(0))) / L[j][j]
+    y = [None] * n
+    for i in range(n):                                        # L y = b
+        y[i] = (b[i] - sum((L[i][k] * y[k] for k in range(i)), ca.SX(0))) / L[i][i]
+    x = [None] * n
+    for i in reversed(range(n)):                              # Lᵀ x = y
+        x[i] = (y[i] - sum((L[k][i] * x[k] for k in range(i + 1, n)), ca.SX(0))) / L[i][i]
+    return ca.vertcat(*x)
+
+
+def forward_dynamics_expression(robot_or_model: Any, q: ca.SX, qd: Any, tau: Any) -> ca.SX:
+    """q̈ = B(q)⁻¹ (τ − C(q, q̇) q̇ − g(q)) as an SX expression (Eq. 7.42).
+
+    B(q) is the Jacobian of the Newton–Euler torque with respect to q̈ (its columns are RNEA at unit
+    accelerations without velocity and gravity, as CRBA computes them), C q̇ + g is RNEA at q̈ = 0; the
+    system is solved by a symbolic Cholesky factorisation. Mimic rotors and armature are included.
+    """
+    model = _model(robot_or_model)
+    a = ca.SX.sym("a", model.nv)
+    tau_a = inverse_dynamics_expression(model, q, ca.SX.zeros(model.nv), a)
+    B = ca.substitute(ca.jacobian(tau_a, a), a, ca.SX.zeros(model.nv))
+    h = inverse_dynamics_expression(model, q, qd, ca.SX.zeros(model.nv))
+    return _cholesky_solve(B, tau - h)
+
+
+def forward_dynamics_function(robot_or_model: Any, name: str = "forward_dynamics") -> ca.Function:
+    """``casadi.Function`` ``q, qd, tau → qdd``: the forward dynamics of :func:`forward_dynamics_expression`.
+
+    >>> import numpy as np, pinocchio as pin
+    >>> from rigid_body.robots import load
+    >>> ur5 = load("ur5")
+    >>> q, v, tau = np.full(6, 0.3), np.full(6, 0.2), np.ones(6)
+    >>> qdd = forward_dynamics_function(ur5)(q, v, tau).full().ravel()
+    >>> bool(np.allclose(qdd, pin.aba(ur5.model, ur5.data, q, v, tau), atol=1e-9))
+    True
+    """
+    model = _model(robot_or_model)
+    q = ca.SX.sym("q", model.nq)
+    qd = ca.SX.sym("qd", model.nv)
+    tau = ca.SX.sym("tau", model.nv)
+    return ca.Function(name, [q, qd, tau], [forward_dynamics_expression(model, q, qd, tau)],
+                       ["q", "qd", "tau"], ["qdd"])

@@ -1,0 +1,256 @@
+"""Compiled backend of the one simulation loop: ``simulate(..., backend="casadi")``.
+
+The same loop as :func:`controllers.simulation.simulate` — classical RK4 of step ``h`` on the plant,
+the controller every ``Ts`` with zero-order hold — written once as CasADi expressions: one *sample*
+(the controller's law, then ``Ts/h`` RK4 steps with the output held) is a ``casadi.Function``
+``(x_k, r_k, p) → (x_{k+1}, u_k)`` and the whole run is that function accumulated over the samples
+(``Function.mapaccum``). The run is generated as C and compiled with the system C compiler (``cc``,
+cached by the hash of the code); without a compiler it is interpreted by CasADi's virtual machine
+(a one-line note says so).
+
+What the loop needs from its two blocks, beside the contract of :mod:`controllers.simulation`:
+
+* the plant: ``symbolic() -> casadi.Function (x, u) → ẋ`` (time-invariant, x + h·ẋ integration)
+  and a ``state_layout`` with ``q`` and ``qd``: an :class:`~controllers.plants.ArmPlant` with nq = nv
+  and no external force (forward dynamics :func:`rigid_body.symbolic.forward_dynamics_expression`);
+* the controller: ``symbolic() -> SymbolicLaw``: the law ``(q, q̇, r, p) → (u, signals…)`` in CasADi
+  expressions. The reference ``r`` is open loop (a function of time only), so it is sampled in Python
+  at the controller instants and fed to the run; the parameters ``p`` are the gains, their values
+  taken from the numeric controller (its single source). Laws with state, chains and
+  ``ZeroOrderHold`` blocks stay on the Python backend.
+
+Because the run is one CasADi function of ``(x_0, R, p)``, its derivatives with respect to the
+initial state and the gains come by automatic differentiation (:meth:`CompiledLoop.rollout`):
+gain tuning by gradient-based optimisation over the whole closed-loop response
+(``examples/gain_tuning.py``).
+
+References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Sect. 8.4
+(the closed loops); Andersson et al., *CasADi*, Math. Prog. Comp. 11 (2019) (map/mapaccum, codegen).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+import time
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Mapping
+
+import casadi as ca
+import numpy as np
+
+
+BACKENDS = ("python", "casadi")
+
+
+# --------------------------------------------------------------------------------------------
+# The symbolic law of a controller
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class SymbolicLaw:
+    """A controller's law as a CasADi function ``(q, qd, r, p) → (u, *signals)``.
+
+    ``reference(t) -> r`` samples the (open-loop) reference; ``parameters`` are the numeric values of
+    ``p`` (the gains of the numeric controller) and ``parameter_shapes`` their names and shapes, in
+    the order they are stacked (column-major, CasADi's ``vec``).
+    """
+
+    function: ca.Function
+    reference: Callable[[float], np.ndarray]
+    parameters: np.ndarray
+    parameter_shapes: tuple[tuple[str, tuple[int, int]], ...]
+    signals: tuple[str, ...]
+
+    @staticmethod
+    def build(nq: int, nv: int, nr: int, gains: Mapping[str, np.ndarray],
+              law: Callable[[ca.SX, ca.SX, ca.SX, dict[str, ca.SX]], tuple[ca.SX, dict[str, ca.SX]]],
+              reference: Callable[[float], np.ndarray]) -> "SymbolicLaw":
+        """The law from ``law(q, qd, r, K) -> (u, {signal: expression})``, ``K[name]`` the symbolic gain
+        of the numeric gain ``gains[name]`` (same shape)."""
+        q, qd, r = ca.SX.sym("q", nq), ca.SX.sym("qd", nv), ca.SX.sym("r", nr)
+        symbols, values, shapes = {}, [], []
+        for name, value in gains.items():
+            value = np.atleast_2d(np.asarray(value, dtype=float))
+            symbols[name] = ca.SX.sym(name, *value.shape)
+            values.append(value.ravel(order="F"))
+            shapes.append((name, value.shape))
+        p = ca.vertcat(*[ca.vec(s) for s in symbols.values()])
+        u, signals = law(q, qd, r, symbols)
+        function = ca.Function("law", [q, qd, r, p], [u, *signals.values()],
+                               ["q", "qd", "r", "p"], ["u", *signals])
+        return SymbolicLaw(function, reference, np.concatenate(values), tuple(shapes), tuple(signals))
+
+    def unpack(self, p: Any) -> dict[str, Any]:
+        """The gains of a parameter vector ``p`` (numeric or symbolic) by name, in their shapes."""
+        out, k = {}, 0
+        for name, (rows, cols) in self.parameter_shapes:
+            out[name] = ca.reshape(p[k:k + rows * cols], rows, cols)
+            k += rows * cols
+        return out
+
+
+def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]]) -> Callable[[float], np.ndarray]:
+    """``t -> concatenate(reference(t))``: a (x_d, ẋ_d, ẍ_d) reference as one vector r."""
+    return lambda t: np.concatenate([np.ravel(v) for v in reference(t)])
+
+
+# --------------------------------------------------------------------------------------------
+# The plant
+# --------------------------------------------------------------------------------------------
+
+def plant_function(plant: Any) -> tuple[ca.Function, int, int]:
+    """``(f, nq, nv)``: the plant's ẋ = f(x, u) from its ``symbolic()``, and the sizes of q and q̇ in x
+    (from its ``state_layout``). :class:`~controllers.plants.ArmPlant` provides both."""
+    if not hasattr(plant, "symbolic"):
+        raise ValueError(f"`plant` {type(plant).__name__} has no symbolic() form for backend='casadi' "
+                         "(an ArmPlant, or a plant with symbolic() and a state_layout)")
+    f = plant.symbolic()
+    layout = getattr(plant, "state_layout", {})
+    if "q" not in layout or "qd" not in layout:
+        raise ValueError("`plant` with a symbolic form needs a state_layout with 'q' and 'qd'")
+    return f, _length(layout["q"]), _length(layout["qd"])
+
+
+def _length(index: Any) -> int:
+    return len(range(*index.indices(10**9))) if isinstance(index, slice) else 1
+
+
+# --------------------------------------------------------------------------------------------
+# Compilation
+# --------------------------------------------------------------------------------------------
+
+CACHE = Path(os.environ.get("RMPC_CACHE", Path(tempfile.gettempdir()) / "rmpc-casadi"))
+_loaded: dict[str, ca.Function] = {}
+
+
+def compiler() -> str | None:
+    """The system C compiler (``$CC``, ``cc``, ``gcc`` or ``clang``), None when there is none."""
+    for name in (os.environ.get("CC"), "cc", "gcc", "clang"):
+        if name and shutil.which(name):
+            return name
+    return None
+
+
+def compile_function(function: ca.Function, flags: tuple[str, ...] = ("-O2",)) -> ca.Function:
+    """``function`` generated as C, compiled into a shared library (cached by the code's hash) and loaded.
+
+    Without a C compiler the function is returned as it is (interpreted), with a warning.
+    """
+    cc = compiler()
+    if cc is None:
+        warnings.warn("no C compiler found: the CasADi loop runs interpreted (slower)", stacklevel=2)
+        return function
+    name = function.name()
+    with tempfile.TemporaryDirectory() as tmp:
+        source = Path(tmp) / f"{name}.c"
+        generator = ca.CodeGenerator(f"{name}.c", {"with_header": False})
+        generator.add(function)
+        generator.generate(tmp + os.sep)
+        code = source.read_bytes()
+    key = hashlib.sha256(code + " ".join((cc, *flags)).encode()).hexdigest()[:16]
+    if key in _loaded:
+        return _loaded[key]
+    CACHE.mkdir(parents=True, exist_ok=True)
+    library = CACHE / f"{name}_{key}.so"
+    if not library.exists():
+        c_file = CACHE / f"{name}_{key}.c"
+        c_file.write_bytes(code)
+        partial = CACHE / f"{name}_{key}.{os.getpid()}.so"
+        subprocess.run([cc, *flags, "-fPIC", "-shared", str(c_file), "-o", str(partial), "-lm"],
+                       check=True, capture_output=True)
+        partial.replace(library)                                # atomic: parallel runs share it
+    _loaded[key] = ca.external(name, str(library))
+    return _loaded[key]
+
+
+# --------------------------------------------------------------------------------------------
+# The loop
+# --------------------------------------------------------------------------------------------
+
+class CompiledLoop:
+    """The closed loop of ``plant`` and ``controller`` over ``n_samples`` controller samples.
+
+    ``rollout`` is the CasADi function ``(x0, R, p) → (X (nx, N), U (nu, N), signals…)`` (R: the
+    references at the N samples, p: the gains), differentiable; ``run`` is the same compiled (or
+    interpreted).
+    ``compile_time`` is the time spent building and compiling [s].
+    """
+
+    def __init__(self, plant: Any, controller: Any, h: float, n_sub: int, n_samples: int,
+                 compile: bool = True):
+        if not hasattr(controller, "symbolic"):
+            raise ValueError(f"`controller` {type(controller).__name__} has no symbolic() law: "
+                             "use backend='python'")
+        start = time.perf_counter()
+        self.law = controller.symbolic()
+        f, nq, nv = plant_function(plant)
+        self.nq, self.nv, self.n_samples = nq, nv, n_samples
+        nx, nr, n_p = f.size1_in(0), self.law.function.size1_in(2), self.law.function.size1_in(3)
+        x, r, p = ca.SX.sym("x", nx), ca.SX.sym("r", nr), ca.SX.sym("p", n_p)
+        out = self.law.function(x[:nq], x[nq:nq + nv], r, p)
+        u, logged = (out[0], out[1:]) if isinstance(out, (list, tuple)) else (out, [])
+        if u.shape[0] != f.size1_in(1):
+            raise ValueError(f"the symbolic law of {type(controller).__name__} gives {u.shape[0]} inputs, "
+                             f"the plant takes {f.size1_in(1)}")
+        x_next = x
+        for _ in range(n_sub):                                  # RK4 with u held (ZOH), as rk4_step
+            k1 = f(x_next, u)
+            k2 = f(x_next + 0.5 * h * k1, u)
+            k3 = f(x_next + 0.5 * h * k2, u)
+            k4 = f(x_next + h * k3, u)
+            x_next = x_next + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        sample = ca.Function("sample", [x, r, p], [x_next, u, *logged])
+        X0, R, P = ca.MX.sym("x0", nx), ca.MX.sym("R", nr, n_samples), ca.MX.sym("p", n_p)
+        if n_samples > 1:
+            Xs, *rest = sample.mapaccum("loop", n_samples - 1)(X0, R[:, :-1], P)
+            X = ca.horzcat(X0, Xs)
+            last = sample(X[:, -1], R[:, -1], P)[1:]
+            outputs = [ca.horzcat(a, b) for a, b in zip(rest, last)]
+        else:
+            X, outputs = X0, sample(X0, R[:, 0], P)[1:]
+        names = ["X", "U", *(f"signal_{i}" for i in range(len(logged)))]
+        self.rollout = ca.Function("rollout", [X0, R, P], [X, *outputs], ["x0", "R", "p"], names)
+        self.run = compile_function(self.rollout) if compile else self.rollout
+        self.compile_time = time.perf_counter() - start
+        self.Ts = n_sub * h
+        self._references: tuple[float, np.ndarray] | None = None
+
+    def references(self, t0: float) -> np.ndarray:
+        """R (nr, N): the reference sampled at the controller instants from ``t0`` (kept for the next run:
+        references are functions of time only)."""
+        if self._references is None or self._references[0] != t0:
+            times = t0 + self.Ts * np.arange(self.n_samples)
+            self._references = (t0, np.column_stack([self.law.reference(float(t)) for t in times]))
+        return self._references[1]
+
+    def arrays(self, t0: float, x0: Any, bound: float = 1e12) -> tuple[np.ndarray, np.ndarray, np.ndarray,
+                                                                      dict[str, np.ndarray], float | None]:
+        """One run from ``x0`` at ``t0``: (t (N,), x (N, nx), u (N, nu), signals, t_diverged).
+
+        ``t_diverged`` is None, or the first sample whose state is non-finite or beyond ``bound``
+        (divergence is checked on the samples, every ``Ts``).
+        """
+        ts = t0 + self.Ts * np.arange(self.n_samples)
+        X, U, *logged = (np.asarray(v) for v in self.run(np.asarray(x0, dtype=float), self.references(t0),
+                                                           self.law.parameters))
+        bad = ~(np.all(np.isfinite(X), axis=0) & (np.max(np.abs(X), axis=0, initial=0.0) <= bound))
+        bad |= ~np.all(np.isfinite(U), axis=0)
+        t_bad = float(ts[int(np.argmax(bad))]) if np.any(bad) else None
+        signals = {name: v.T for name, v in zip(self.law.signals, logged)}
+        return ts, X.T.copy(), U.T.copy(), signals, t_bad
+
+
+def simulate_compiled(plant: Any, controller: Any, t0: float, tf: float, x0: np.ndarray, h: float,
+                      n_sub: int, bound: float, backend: str) -> tuple:
+    """The body of ``simulate(..., backend="casadi")`` (arguments validated by ``simulate``), returning
+    :meth:`CompiledLoop.arrays`."""
+    if backend not in BACKENDS:
+        raise ValueError(f"`backend` must be one of {BACKENDS}, got {backend!r}")
+    n_samples = int(np.floor((tf - t0) / (n_sub * h) + 1e-9)) + 1
+    return CompiledLoop(plant, controller, h, n_sub, n_samples).arrays(t0, x0, bound)

@@ -22,6 +22,7 @@ from rigid_body.task_space import TaskSpace, frame_state, joint_rates, pose_erro
 
 ARM = load("planar_2r")
 WRIST = load("anthropomorphic_wrist")
+ARM3 = load("planar_3r")  # the peg-in-hole task is (x, y, φ)
 Q, QD = np.array([0.3, -0.5]), np.array([0.2, 0.1])
 REF = lambda t: (np.zeros(2), np.zeros(2), np.zeros(2))  # noqa: E731  (a joint reference q, q̇, q̈)
 
@@ -57,7 +58,7 @@ CALLS = {
     "manipulability_objective": (ARM, lambda f: manipulability_objective(ARM, frame=f, rows=(0, 1))(Q)),
     "CasadiIK": (ARM, lambda f: CasadiIK(ARM, frame=f).frame),
     "TwoStageCLIK": (WRIST, lambda f: TwoStageCLIK(WRIST, lambda t: (np.eye(4), np.zeros(6)), wrist_frame=f).wrist),
-    "PegInHoleController": (ARM, lambda f: PegInHoleController(ARM, PegInHoleTask(x_H=1.0), frame=f)),
+    "PegInHoleController": (ARM3, lambda f: PegInHoleController(ARM3, PegInHoleTask(x_H=1.0), frame=f)),
     "AdaptivePayloadControl": (ARM, lambda f: AdaptivePayloadControl(ARM, [10.0, 10.0], [5.0, 5.0], 1.0, REF,
                                                                      frame=f)),
     "OperationalPDGravity": (ARM, lambda f: OperationalPDGravity(

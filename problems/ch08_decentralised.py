@@ -177,10 +177,44 @@ def problem_8_3() -> Solution:
 
 
 def _drive_checks(sol: Solution, drive: JointDrive) -> None:
-    sol.check_close("k_m = 1/k_v = 2 rad/(V·s)", drive.k_m, 2.0, atol=1e-12)
-    sol.check_close("T_m = R_a I/(k_v k_t) = 7.2 s", drive.T_m, 7.2, atol=1e-12)
-    sol.check("F_m ≪ k_v k_t/R_a", drive.friction_ratio() < 0.01,
-              f"F_m R_a/(k_v k_t) = {drive.friction_ratio():.2e}")
+    sol.check_close("k_m = 1/k_v = 2 rad/(V·s)", drive.k_m, 2.0, atol=1e-12, reference="manual number")
+    sol.check_close("T_m = R_a I/(k_v k_t) = 7.2 s", drive.T_m, 7.2, atol=1e-12, reference="manual number")
+
+
+def _measured_X_R(design: JointDesign, drive: JointDrive, w: float = 1e-7) -> float:
+    """X_R read off the disturbance transfer function: at low frequency |Θ_m/D(jω)| ≈ ω R_a/(k_t X_R)."""
+    return w * drive.Ra / (drive.kt * abs(frequency_samples(design.closed_loop.disturbance, [w])[0]))
+
+
+def _recovery_time(t: np.ndarray, theta: np.ndarray, t_from: float) -> float:
+    """T_R measured on a disturbance response: the time constant of the slow decay of |ϑ| after
+    ``t_from`` (a least-squares line through log |ϑ|)."""
+    window = t >= t_from
+    slope = np.polyfit(t[window], np.log(np.abs(theta[window])), 1)[0]
+    return -1.0 / slope
+
+
+def _disturbance_checks(sol: Solution, design: JointDesign, drive: JointDrive, T_R_manual: float,
+                        t: np.ndarray, theta: np.ndarray, t_from: float, rtol: float) -> None:
+    """X_R from the low-frequency gain of Θ_m/D (python-control) and T_R from a simulated disturbance
+    response, against the manual's formulas."""
+    X_R = sol.value("X_R measured (low-frequency gain of Θ_m/D)", _measured_X_R(design, drive))
+    sol.check_close("X_R from the low-frequency gain of Θ_m/D = the manual's formula", X_R, design.X_R,
+                    rtol=1e-6, reference="closed form")
+    T_R = sol.value("T_R measured (decay of the disturbance response) [s]", _recovery_time(t, theta, t_from))
+    sol.check_close(f"T_R measured on the disturbance step response ≈ the manual's {T_R_manual:g} s", T_R, T_R_manual,
+                    rtol=rtol, reference="simulation vs prediction")
+
+
+def _damping_checks(sol: Solution, design: JointDesign, omega_n: float | None = None) -> None:
+    """ζ (and ω_n) of the complex closed-loop poles, computed by python-control from the closed loop W(s)."""
+    poles = control.poles(design.closed_loop.reference)
+    pair = poles[np.abs(poles.imag) > 1e-9]
+    sol.check_close("ζ of the closed-loop poles (python-control) = 0.4", -pair.real / np.abs(pair), [ZETA, ZETA],
+                    atol=1e-6, reference="second algorithm")
+    if omega_n is not None:
+        sol.check_close(f"ω_n of the closed-loop poles (python-control) = {omega_n:g} rad/s", np.abs(pair),
+                        [omega_n, omega_n], atol=1e-6, reference="second algorithm")
 
 
 @problem("8.4", "Position-feedback design for a single-joint drive (ζ = 0.4)", kind="numeric")
@@ -206,8 +240,9 @@ def problem_8_4() -> Solution:
     # Independent: the manual's W(s) denominator 1 + sT_P + s²(1 + sT_m)/(k_m K_P k_TP) → numpy roots.
     char = np.array([drive.T_m, 1.0, drive.k_m * K_P * T_P, drive.k_m * K_P]) / (drive.k_m * K_P)
     roots = np.sort_complex(np.roots(char))
-    sol.check_close("closed-loop poles = roots of the manual's W(s) denominator", poles, roots, atol=1e-9)
-    sol.check_close("damping of the complex pair = 0.4", damping_of_complex_poles(roots), ZETA, atol=1e-9)
+    sol.check_close("closed-loop poles = roots of the manual's W(s) denominator", poles, roots, atol=1e-9,
+                    reference="closed form")
+    _damping_checks(sol, design)
     sol.check("two complex poles and a real pole", int(np.sum(np.abs(roots.imag) > 1e-9)) == 2,
               f"poles {np.round(roots, 5)}")
     L = control.tf([1.0, 1.0 / T_P], [1.0, 1.0 / drive.T_m, 0.0, 0.0])   # K' (s + 1/T_P)/(s²(s + 1/T_m))
@@ -221,8 +256,13 @@ def problem_8_4() -> Solution:
     larger = design_position_feedback(drive, ZETA * 0.9, T_P).K_P
     sol.check("ζ decreases along the locus beyond the design (K_P is the largest gain with ζ ≥ 0.4)",
               larger > K_P, f"K_P(ζ = 0.36) = {larger:.4g} > K_P(ζ = 0.4) = {K_P:.4g}")
-    sol.check("poor disturbance rejection: X_R = K_P ≪ 1 and T_R = T_P = 72 s", design.X_R < 0.01 and
-              np.isclose(design.T_R, 72.0), f"X_R = {design.X_R:.4g}, T_R = {design.T_R:.4g} s")
+    # Disturbance step (python-control); after the complex pair has decayed (5/(ζω_n) ≈ 80 s) the slow
+    # real pole near −1/T_P remains: the manual's T_R = T_P = 72 s is that pole's approximation.
+    t_d = np.linspace(0.0, 600.0, 6001)
+    theta_d = control.step_response(design.closed_loop.disturbance, t_d).outputs
+    _disturbance_checks(sol, design, drive, T_P, t_d, theta_d, t_from=100.0, rtol=0.1)
+    sol.check("poor disturbance rejection: X_R ≪ 1", sol.values["X_R measured (low-frequency gain of Θ_m/D)"] < 0.01,
+              f"X_R = {design.X_R:.4g}")
     fig, ax = subplots(figsize=(6, 5))
     full = control.root_locus_map(L, gains=np.logspace(-5, 1, 800))
     for branch in full.loci.T:
@@ -256,18 +296,12 @@ def problem_8_5() -> Solution:
     poles = sol.value("poles", design.poles)
     X_R, T_R = sol.value("X_R", design.X_R), sol.value("T_R", design.T_R)
     # Independent: the manual's W(s) = 1/(1 + s/K_P + s²/(2 K_P K_V)) with the designed gains.
-    wn = np.sqrt(2 * K_P * K_V)
-    sol.check_close("ω_n of the manual's W(s) = 20 rad/s", wn, OMEGA_N, atol=1e-9)
-    sol.check_close("ζ of the manual's W(s) = 0.4", wn / (2 * K_P), ZETA, atol=1e-12)
+    _damping_checks(sol, design, OMEGA_N)
     manual = 1 / (1 + 1j * OMEGA / K_P - OMEGA**2 / (2 * K_P * K_V))
     sol.check("library closed loop = manual's W(s)", _rel(design.closed_loop.reference, manual) < 1e-9,
               f"max rel. error {_rel(design.closed_loop.reference, manual):.2e}")
     sol.check_close("poles −ζω_n ± jω_n√(1−ζ²)", poles,
                     np.sort_complex(np.roots([1 / (2 * K_P * K_V), 1 / K_P, 1])), atol=1e-9)
-    sol.check_close("T_R = T_V = T_m (cannot be reduced below the drive time constant)", T_R, drive.T_m, atol=1e-12)
-    X_R_84 = design_position_feedback(drive, ZETA, 10 * drive.T_m).X_R
-    sol.check("good disturbance rejection: X_R = K_P K_V much larger than with position feedback (8.4)",
-              X_R > 1e4 * X_R_84, f"X_R = {X_R:g} vs {X_R_84:.4g}")
     # Sampled-data simulation of a unit disturbance step at t = 0.1 s, θ_d = 0.
     step_time = 0.1
     ctrl = PositionVelocityController(design, drive, lambda t: (0.0, 0.0, 0.0), Ts=1e-3,
@@ -279,7 +313,10 @@ def problem_8_5() -> Solution:
     err = float(np.max(np.abs(theta - ref)))
     sol.value("disturbance_peak", float(np.max(np.abs(theta))))
     sol.check("simulated disturbance response (1 ms sampling) ≈ python-control's Θ_m/D step response",
-              err < 0.05 * np.max(np.abs(ref)), f"max |difference| = {err:.2e} rad, peak {np.max(np.abs(ref)):.2e} rad")
+              err < 0.05 * np.max(np.abs(ref)), f"max |difference| = {err:.2e} rad, peak {np.max(np.abs(ref)):.2e} rad",
+              "simulation vs prediction", actual=theta, expected=ref)
+    # T_R = T_m: after the fast pair (ζω_n = 8 rad/s) the simulated response decays with T_m = 7.2 s.
+    _disturbance_checks(sol, design, drive, T_R, t_after, theta, t_from=1.0, rtol=0.02)
     fig, ax = subplots(figsize=(7, 3.5))
     ax.plot(res.t, res.q[:, 0] * 1e3, label="simulated (Ts = 1 ms)")
     ax.plot(t_after + step_time, ref * 1e3, "--", label="Θ_m/D step (python-control)")
@@ -309,15 +346,18 @@ def problem_8_6() -> Solution:
     omega_3 = sol.value("omega_3", bandwidth(W))
     # The manual's W(s) = 1/(1 + s/K_P + s²(1 + 2K_A)/(2 K_P K_V K_A)) with the designed gains.
     a1, a2 = 1 / K_P, (1 + 2 * K_A) / (2 * K_P * K_V * K_A)
-    sol.check_close("ω_n of the manual's W(s) = 20 rad/s", 1 / np.sqrt(a2), OMEGA_N, atol=1e-9)
-    sol.check_close("ζ of the manual's W(s) = 0.4", a1 / (2 * np.sqrt(a2)), ZETA, atol=1e-12)
-    sol.check_close("X_R = K_P K_V K_A = 400", K_P * K_V * K_A, X_R_SPEC, atol=1e-9)
+    _damping_checks(sol, design, OMEGA_N)
+    manual = 1 / (1 + a1 * 1j * OMEGA - a2 * OMEGA**2)
+    sol.check("library closed loop = manual's W(s)", _rel(W, manual) < 1e-9, f"max rel. error {_rel(W, manual):.2e}",
+              "closed form")
+    t_d = np.linspace(0.0, 5.0, 5001)
+    theta_d = control.step_response(design.closed_loop.disturbance, t_d).outputs
+    _disturbance_checks(sol, design, drive, drive.T_m, t_d, theta_d, t_from=1.0, rtol=0.02)
+    sol.check_close("X_R measured = the specification 400", sol.values["X_R measured (low-frequency gain of Θ_m/D)"],
+                    X_R_SPEC, rtol=1e-6, reference="manual number")
     W5 = design_position_velocity(drive, ZETA, OMEGA_N).closed_loop.reference
     diff = float(np.max(np.abs(frequency_samples(W, OMEGA) - frequency_samples(W5, OMEGA))))
     sol.check("W(s) is the same transfer function as in 8.5", diff < 1e-9, f"max |difference| {diff:.2e}")
-    sol.check("X_R doubled with respect to 8.5, T_R unchanged (= T_m)",
-              np.isclose(X_R, 2 * design_position_velocity(drive, ZETA, OMEGA_N).X_R)
-              and np.isclose(design.T_R, drive.T_m), f"X_R = {X_R:g}, T_R = {design.T_R:g} s")
     z = ZETA
     closed_form = OMEGA_N * np.sqrt(1 - 2 * z**2 + np.sqrt(2 - 4 * z**2 + 4 * z**4))
     sol.check_close("ω_3 = ω_n √(1 − 2ζ² + √(2 − 4ζ² + 4ζ⁴)) = 27.49 rad/s", omega_3, closed_form, atol=1e-6)
@@ -327,7 +367,6 @@ def problem_8_6() -> Solution:
     k_f = sol.value("k_f", 400.0)
     F = acceleration_filter(k_f)
     at_w3 = frequency_samples(F, [omega_3])[0] / (1j * omega_3)        # relative to the ideal s Ω
-    sol.check("filter bandwidth ≫ drive bandwidth: k_f/ω_3 > 10", k_f / omega_3 > 10, f"k_f/ω_3 = {k_f / omega_3:.1f}")
     sol.check("reconstructed acceleration accurate up to ω_3 (gain ≥ 0.99, lag < 5°)",
               abs(at_w3) >= 0.99 and abs(np.degrees(np.angle(at_w3))) < 5,
               f"|Â/(sΩ)| = {abs(at_w3):.4f}, phase {np.degrees(np.angle(at_w3)):.2f}°")

@@ -214,7 +214,6 @@ def problem_5_3() -> Solution:
     wn = 1 / np.sqrt(a2)
     z = a1 * wn / 2
     sol.check_close("manual's denominator with the designed K_I, T_I has ζ = 0.7", z, zeta, atol=1e-9)
-    sol.check_close("... and a 1 % settling time 4.6/(ζω_n) = 2 ms", 4.6 / (z * wn), t_s, atol=1e-12)
     lib = servomotor_transfer_functions(DCServomotor(**{**MOTOR_52, "Tv": 0.0, "kv": 1e-12}, ki=1.0), pi)
     manual = (1 + 1j * OMEGA * T_I) / (1 + 1j * OMEGA * a1 - OMEGA**2 * a2)
     err = max_relative_error(frequency_samples(lib.current_input, OMEGA), manual)
@@ -390,8 +389,6 @@ def problem_5_7() -> Solution:
     manual_T = np.array([[0.707, -0.707, 0, 0.854], [0.707, 0.707, 0, 0.354], [0, 0, 1, 0.1], [0, 0, 0, 1]])
     sol.check_close("T_c^b = manual's matrix (3 decimals)", T, manual_T, atol=1e-3)
     camera = PinholeCamera(633.6, 964.0, 250.0, 250.0)
-    sol.check_close("Ω (5.41) = manual's intrinsic matrix", camera.intrinsic_matrix,
-                    [[633.6, 0, 250], [0, 964, 250], [0, 0, 1]], atol=0)
     p_b = np.array([0.8, 0.5, 0.9])
     proj = project_from_robot(camera, robot, q, p_b)
     sol.value("p_c", proj.p_c)
@@ -405,5 +402,4 @@ def problem_5_7() -> Solution:
     sol.check_close("λ = depth of P in the camera frame = 0.9 − d_3", lam, 0.9 - q[2], atol=1e-12)
     sol.check_close("(X_I, Y_I) within 1 pixel of the projection through the manual's rounded T_c^b",
                     [X, Y], [X_m, Y_m], atol=1.0)
-    sol.check("P lies inside a 500 × 500 image", 0 <= X <= 500 and 0 <= Y <= 500, f"X_I = {X:.2f}, Y_I = {Y:.2f}")
     return sol

@@ -222,7 +222,8 @@ def problem_7_3() -> Solution:
 
     Erratum (catalogue 7.3): with the manual's own convention (Fig. S2.3, joint axes pointing down,
     so gravity is +g along z₀) the gravity term is g3 = −mℓ3 g. The manual's +mℓ3 g holds with
-    gravity along −z₀, that is, with the axes pointing up. Both are checked.
+    gravity along −z₀, that is, with the axes pointing up. Both are checked. Second erratum: the
+    manual refers the frames to "Fig. S7.1"; they are those of Fig. 2.36 / Fig. S2.3 (used here).
     """
     sol = Solution()
     rng = np.random.default_rng(73)
@@ -292,7 +293,8 @@ def problem_7_4() -> Solution:
     regressor has rank 5. The bookkeeping is the manual's: Ī₁ excludes I_m2 and y'₁₅ = ϑ̈₁ + k_r2 ϑ̈₂,
     so π'₂ = 97.5. The companion file ``param.m`` (π'₂ = 97.51, Ī₁ with I_m2, y'₁₅ = k_r2 ϑ̈₂) is
     checked to give the same torques. Manual erratum: its intermediate expansion of τ1, τ2 in π1..π8
-    writes the coupling term of b12 as k_r²π8 instead of k_r2 π8 (checked against B(q)); only (S7.2),
+    writes the coupling term of b12 as k_r²π8 instead of k_r2 π8 (checked against B(q)), and "k_r²π4"
+    for k_r1²π4 (the rotor of joint 1; the same check covers it); only (S7.2),
     (S7.3) are used. The eight-parameter regressor (7.84), recalled from the textbook
     (catalogue [TB?]), reproduces the model but has rank 5, and the manual's combinations (S7.2) of its
     parameters give π'. With the 10 kg payload of ``load_m.m`` only π'₁ and π'₃ change.

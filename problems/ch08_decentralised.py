@@ -12,6 +12,8 @@ and its solution manual.
 
 from __future__ import annotations
 
+from typing import Callable
+
 import control
 import numpy as np
 import sympy as sp
@@ -60,6 +62,18 @@ def _rel(G: control.TransferFunction, manual: np.ndarray, w: np.ndarray = OMEGA)
     return float(np.max(np.abs(frequency_samples(G, w) - manual) / np.abs(manual)))
 
 
+def _worst_over_random_drives(seed: int, pairs: Callable) -> list[float]:
+    """The largest relative errors, over 5 random drives, transducers and gains at the 61 frequencies, of
+    the pairs (library transfer function, manual's closed form at s = jω) that ``pairs(d, t, g, s)`` lists."""
+    rng = np.random.default_rng(seed)
+    worst: list[float] = []
+    for _ in range(5):
+        d, t, g = _random_case(rng)
+        errors = [_rel(G, manual) for G, manual in pairs(d, t, g, 1j * OMEGA)]
+        worst = [max(a, b) for a, b in zip(worst, errors)] if worst else errors
+    return worst
+
+
 @problem("8.1", "Transfer functions of independent joint control with position feedback", kind="derivation")
 def problem_8_1() -> Solution:
     """Forward path, return path and closed-loop transfer functions of Fig. 5.10 (PI position control).
@@ -70,17 +84,15 @@ def problem_8_1() -> Solution:
     (with R_a/k_t) is the one checked.
     """
     sol = Solution()
-    rng = np.random.default_rng(81)
-    s = 1j * OMEGA
-    worst = [0.0, 0.0, 0.0]
-    for _ in range(5):
-        d, t, g = _random_case(rng)
+    def pairs(d, t, g, s):
         loop = position_feedback(d, g["K_P"], g["T_P"], t)
         km, Tm, KP, TP, kTP = d.k_m, d.T_m, g["K_P"], g["T_P"], t.k_TP
         den = 1 + s**2 * (1 + s * Tm) / (km * KP * kTP * (1 + s * TP))
-        worst[0] = max(worst[0], _rel(loop.reference, (1 / kTP) / den))
-        worst[1] = max(worst[1], _rel(loop.disturbance, -(s * d.Ra / (d.kt * KP * kTP * (1 + s * TP))) / den))
-        worst[2] = max(worst[2], _rel(loop.P, km * KP * (1 + s * TP) / (s**2 * (1 + s * Tm))))
+        return [(loop.reference, (1 / kTP) / den),
+                (loop.disturbance, -(s * d.Ra / (d.kt * KP * kTP * (1 + s * TP))) / den),
+                (loop.P, km * KP * (1 + s * TP) / (s**2 * (1 + s * Tm)))]
+
+    worst = _worst_over_random_drives(81, pairs)
     K_P, T_P, k_TP = sp.symbols("K_P T_P k_TP", positive=True)
     M = KM / (S * (1 + S * TM))
     ref, dist = _symbolic_loop(M * (K_P * (1 + S * T_P) / S * (THETA_R - k_TP * THETA) - RA_KT * DIST))
@@ -104,18 +116,15 @@ def problem_8_2() -> Solution:
     reduced return path H(s) = k_TP(1 + s k_TV/(K_P k_TP)) of Fig. S8.1 is checked too.
     """
     sol = Solution()
-    rng = np.random.default_rng(82)
-    s = 1j * OMEGA
-    worst = [0.0, 0.0, 0.0]
-    for _ in range(5):
-        d, t, g = _random_case(rng)
+    def pairs(d, t, g, s):
         km, KP, KV = d.k_m, g["K_P"], g["K_V"]
         loop = position_velocity_feedback(d, KP, KV, d.T_m, t)
         den = 1 + s * t.k_TV / (KP * t.k_TP) + s**2 / (km * KP * t.k_TP * KV)
-        worst[0] = max(worst[0], _rel(loop.reference, (1 / t.k_TP) / den))
-        worst[1] = max(worst[1], _rel(loop.disturbance,
-                                      -(s * d.Ra / (d.kt * KP * t.k_TP * KV * (1 + s * d.T_m))) / den))
-        worst[2] = max(worst[2], _rel(loop.H, t.k_TP * (1 + s * t.k_TV / (KP * t.k_TP))))
+        return [(loop.reference, (1 / t.k_TP) / den),
+                (loop.disturbance, -(s * d.Ra / (d.kt * KP * t.k_TP * KV * (1 + s * d.T_m))) / den),
+                (loop.H, t.k_TP * (1 + s * t.k_TV / (KP * t.k_TP)))]
+
+    worst = _worst_over_random_drives(82, pairs)
     K_P, K_V, k_TP, k_TV = sp.symbols("K_P K_V k_TP k_TV", positive=True)
     M = KM / (S * (1 + S * TM))
     C_V = K_V * (1 + S * TM) / S                                          # T_V = T_m
@@ -142,20 +151,16 @@ def problem_8_3() -> Solution:
     k_t/(sR_a I) closed by k_v.
     """
     sol = Solution()
-    rng = np.random.default_rng(83)
-    s = 1j * OMEGA
-    worst = [0.0, 0.0, 0.0]
-    for _ in range(5):
-        d, t, g = _random_case(rng)
+    def pairs(d, t, g, s):
         km, KP, KV, KA = d.k_m, g["K_P"], g["K_V"], g["K_A"]
         loop = position_velocity_acceleration_feedback(d, KP, KV, KA, d.T_m, t)
         den = 1 + s * t.k_TV / (KP * t.k_TP) + s**2 * (1 + km * KA * t.k_TA) / (km * KP * t.k_TP * KV * KA)
-        worst[0] = max(worst[0], _rel(loop.reference, (1 / t.k_TP) / den))
-        worst[1] = max(worst[1], _rel(loop.disturbance,
-                                      -(s * d.Ra / (d.kt * KP * t.k_TP * KV * KA * (1 + s * d.T_m))) / den))
         inner = (d.kt / (s * d.Ra * d.I)) / (1 + d.kt * d.kv / (s * d.Ra * d.I))
-        worst[2] = max(worst[2], float(np.max(np.abs(s * frequency_samples(d.motor_tf(), OMEGA) - inner)
-                                              / np.abs(inner))))
+        return [(loop.reference, (1 / t.k_TP) / den),
+                (loop.disturbance, -(s * d.Ra / (d.kt * KP * t.k_TP * KV * KA * (1 + s * d.T_m))) / den),
+                (control.tf([1.0, 0.0], [1.0]) * d.motor_tf(), inner)]
+
+    worst = _worst_over_random_drives(83, pairs)
     K_P, K_V, K_A, k_TP, k_TV, k_TA = sp.symbols("K_P K_V K_A k_TP k_TV k_TA", positive=True)
     G = KM / (1 + S * TM)                                                   # sM(s)
     C_A = K_A * (1 + S * TM) / S                                            # T_A = T_m

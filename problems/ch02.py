@@ -11,6 +11,8 @@ and its solution manual (Problems 2.1–2.20, Tables S2.1–S2.3, (S2.1)–(S2.7
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pinocchio as pin
 from matplotlib.path import Path as PolygonPath
@@ -384,6 +386,12 @@ def problem_2_11() -> Solution:
     return sol
 
 
+def _random_postures(name: str, seed: int) -> tuple[Any, np.ndarray]:
+    """The book robot ``name`` and N_RANDOM configurations drawn (seeded) uniformly within its joint ranges."""
+    robot = load(name)
+    return robot, np.random.default_rng(seed).uniform(robot.lower, robot.upper, (N_RANDOM, len(robot.lower)))
+
+
 @problem("2.12", "Direct kinematics of the cylindrical arm", kind="derivation")
 def problem_2_12() -> Solution:
     """Direct kinematics of the cylindrical arm of Fig. 2.35 with the DH table S2.2.
@@ -392,11 +400,9 @@ def problem_2_12() -> Solution:
     Pinocchio on ``urdf/cylindrical.urdf`` at random q within the joint ranges.
     """
     sol = Solution()
-    rng = np.random.default_rng(212)
-    robot = load("cylindrical")
+    robot, postures = _random_postures("cylindrical", 212)
     pairs = []
-    for _ in range(N_RANDOM):
-        q = rng.uniform(robot.lower, robot.upper)
+    for q in postures:
         th1, d2, d3 = q
         manual = [[c(th1), 0, -s(th1), -d3 * s(th1)], [s(th1), 0, c(th1), d3 * c(th1)], [0, -1, 0, d2], [0, 0, 0, 1]]
         A1 = [[c(th1), -s(th1), 0, 0], [s(th1), c(th1), 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]
@@ -416,12 +422,10 @@ def problem_2_13() -> Solution:
     T_4^0 = [[c124, −s124, 0, a1 c1 + a2 c12], [s124, c124, 0, a1 s1 + a2 s12], [0, 0, 1, d3], [0, 0, 0, 1]].
     Compared with Pinocchio on ``urdf/scara.urdf`` (root = DH frame 0, z₀ down); a1 = a2 = 0.5 m."""
     sol = Solution()
-    rng = np.random.default_rng(213)
-    robot = load("scara")
+    robot, postures = _random_postures("scara", 213)
     a1 = a2 = 0.5
     pairs = []
-    for _ in range(N_RANDOM):
-        q = rng.uniform(robot.lower, robot.upper)
+    for q in postures:
         t1, t2, d3, t4 = q
         t = t1 + t2 + t4
         manual = [[c(t), -s(t), 0, a1 * c(t1) + a2 * c(t1 + t2)], [s(t), c(t), 0, a1 * s(t1) + a2 * s(t1 + t2)],
@@ -686,11 +690,9 @@ def problem_2_19() -> Solution:
     θ1 = Atan2(−px, py), d3 = √(px² + py²), d2 = pz (the manual takes d3 ≥ 0; the other solution
     θ1 + π, −d3 is outside the joint range). Checked by Pinocchio FK and ik(fk(q)) = q."""
     sol = Solution()
-    rng = np.random.default_rng(219)
-    robot = load("cylindrical")
+    robot, postures = _random_postures("cylindrical", 219)
     pairs = []
-    for _ in range(N_RANDOM):
-        q = rng.uniform(robot.lower, robot.upper)
+    for q in postures:
         p = direct_kinematics(robot, q)[:3, 3]
         q_hat = inverse_kinematics_cylindrical(p)[0]
         manual = [np.arctan2(-p[0], p[1]), p[2], np.hypot(p[0], p[1])]
@@ -707,11 +709,9 @@ def problem_2_20() -> Solution:
     one returns the configuration the pose came from; the companion file inv_ksu's example checks the
     elbow-up (s2 < 0) convention."""
     sol = Solution()
-    rng = np.random.default_rng(220)
-    robot = load("scara")
+    robot, postures = _random_postures("scara", 220)
     fk, found = [], []
-    for _ in range(N_RANDOM):
-        q = rng.uniform(robot.lower, robot.upper)
+    for q in postures:
         T = direct_kinematics(robot, q)
         x = [T[0, 3], T[1, 3], T[2, 3], np.arctan2(T[1, 0], T[0, 0])]
         qs = inverse_kinematics_scara(x)

@@ -158,6 +158,13 @@ def _det_check(sol: Solution, name: str, dets, closed) -> None:
     sol.check_error(name, err, 1e-12, reference="closed form")
 
 
+def _samples(seed: int, *blocks: tuple) -> np.ndarray:
+    """N_RANDOM seeded joint samples, block after block of columns: ``(low, high)`` one column,
+    ``(low, high, width)`` several columns uniform in [low, high)."""
+    rng = np.random.default_rng(seed)
+    return np.column_stack([rng.uniform(b[0], b[1], (N_RANDOM, b[2] if len(b) > 2 else 1)) for b in blocks])
+
+
 def _singularity_checks(sol: Solution, robot: Any, rows: list[int], qs: np.ndarray, det_name: str,
                         closed_det: Callable[[np.ndarray], float], singular: list[list[float]], rank: int) -> None:
     """det of the Jacobian rows ``rows`` against its closed form at ``qs``, and the rank at the
@@ -201,8 +208,7 @@ def problem_3_5() -> Solution:
     sol = Solution()
     robot = load("spherical")
     d2 = 0.2
-    rng = np.random.default_rng(305)
-    qs = np.column_stack([rng.uniform(-np.pi, np.pi, (N_RANDOM, 2)), rng.uniform(0.1, 1.0, N_RANDOM)])
+    qs = _samples(305, (-np.pi, np.pi, 2), (0.1, 1.0))
 
     def J_closed(q):
         th1, th2, d3 = q
@@ -223,10 +229,8 @@ def problem_3_5() -> Solution:
 def problem_3_6() -> Solution:
     """J_P of the cylindrical arm: det J_P = d3; singular at d3 = 0 (end effector on the joint-1 axis)."""
     sol = Solution()
-    robot = load("cylindrical")
-    rng = np.random.default_rng(306)
-    qs = np.column_stack([rng.uniform(-np.pi, np.pi, N_RANDOM), rng.uniform(0, 1, N_RANDOM), rng.uniform(0.1, 1, N_RANDOM)])
-    _singularity_checks(sol, robot, [0, 1, 2], qs, "det J_P == d3", lambda q: q[2], [[0.4, 0.5, 0.0]], 2)
+    qs = _samples(306, (-np.pi, np.pi), (0.0, 1.0), (0.1, 1.0))
+    _singularity_checks(sol, load("cylindrical"), [0, 1, 2], qs, "det J_P == d3", lambda q: q[2], [[0.4, 0.5, 0.0]], 2)
     return sol
 
 
@@ -235,9 +239,7 @@ def problem_3_7() -> Solution:
     """det J_A of (S3.3) = a1 a2 s2: singular at θ2 = 0, π; the prismatic joint adds no singularity."""
     sol = Solution()
     robot = load("scara")
-    rng = np.random.default_rng(307)
-    qs = np.column_stack([rng.uniform(-np.pi, np.pi, (N_RANDOM, 2)), rng.uniform(0, 1, N_RANDOM),
-                          rng.uniform(-np.pi, np.pi, N_RANDOM)])
+    qs = _samples(307, (-np.pi, np.pi, 2), (0.0, 1.0), (-np.pi, np.pi))
     _singularity_checks(sol, robot, [0, 1, 2, 5], qs, "det J_A == a1 a2 sin(th2)", lambda q: 0.25 * np.sin(q[1]),
                         [[0.2, 0.0, 0.3, 0.1], [0.2, np.pi, 0.3, 0.1]], 3)
     return sol

@@ -600,16 +600,30 @@ def problem_3_20() -> Solution:
 # 3.21–3.22: CLIK simulations (companion data i3_21, i3_22)
 # --------------------------------------------------------------------------------------------
 
-def _history_figure(title: str, res, error_panels: list[tuple[str, np.ndarray]]):
+def _history_figure(title: str, res, error_panels: list[tuple[str, np.ndarray]], robot: Any):
+    """Joint positions and velocities (revolute joints in rad on the left axis, prismatic in m on a
+    right axis) and the error panels; a distance panel (label starting "distance") gets its d = 0 line."""
+    from rigid_body.robots import joint_kind
+
+    prismatic = [joint_kind(robot.model, i)[0] == "prismatic" for i in range(1, robot.model.njoints)]
     fig, axes = subplots(2, 2, figsize=(10, 6.5))
-    axes[0, 0].plot(res.t, res.x)
-    label_axes(axes[0, 0], "t [s]", "q [rad | m]", title="joint positions", legend=False)
-    axes[0, 0].legend([f"q{i + 1}" for i in range(res.x.shape[1])], fontsize="small")
-    axes[0, 1].plot(res.t, res.u)
-    label_axes(axes[0, 1], "t [s]", "qdot [rad/s | m/s]", title="joint velocities", legend=False)
+    for ax, y, (sym, rate) in ((axes[0, 0], res.x, ("q", "")), (axes[0, 1], res.u, ("q̇", "/s"))):
+        right = ax.twinx() if any(prismatic) else None
+        lines = []
+        for k, is_prismatic in enumerate(prismatic):
+            target, unit = (right, "m") if is_prismatic else (ax, "rad")
+            lines += target.plot(res.t, y[:, k], color=f"C{k}", ls="--" if is_prismatic else "-",
+                                 label=f"{sym}{k + 1} [{unit}{rate}]")
+        label_axes(ax, "t [s]", f"{sym} revolute [rad{rate}]", title=("joint positions", "joint velocities")[rate != ""],
+                   legend=False)
+        if right is not None:
+            right.set_ylabel(f"{sym} prismatic [m{rate}]")
+        ax.legend(lines, [line.get_label() for line in lines], fontsize="small")
     for ax, (label, y) in zip(axes[1], error_panels):
-        ax.plot(res.t, y)
-        label_axes(ax, "t [s]", title=label, legend=False)
+        ax.plot(res.t, y, label=label.split(" [")[0])
+        if label.startswith("distance"):
+            ax.axhline(0.0, color="k", lw=0.8, ls=":", label="d = 0 (contact)")
+        label_axes(ax, "t [s]", label, title=label.split(" [")[0])
     fig.suptitle(title)
     return fig  # laid out by Solution.figure
 
@@ -647,7 +661,7 @@ def problem_3_21() -> Solution:
         e = np.linalg.norm(res["e"], axis=1)
         results[k0] = (res, e)
         sol.figure(_history_figure(f"Problem 3.21 — {fig_name}", res,
-                                   [("||e|| [m]", e), ("distance from the obstacle [m]", res["d"])]))
+                                   [("||e|| [m]", e), ("distance from the obstacle [m]", res["d"])], robot))
     (res0, e0), (res1, e1) = results[0.0], results[35.0]
     d0, d1 = sol.value("min_distance_unconstrained", float(res0["d"].min())), \
         sol.value("min_distance_constrained", float(res1["d"].min()))
@@ -695,7 +709,7 @@ def problem_3_22() -> Solution:
         e_P, e_phi = np.linalg.norm(e[:, :3], axis=1), np.abs(e[:, 3])
         out[law] = (res, e_P, e_phi)
         sol.figure(_history_figure(f"Problem 3.22 — {fig_name}", res,
-                                   [("||e_P|| [m]", e_P), ("|e_phi| [rad]", e_phi)]))
+                                   [("‖e_P‖ [m]", e_P), ("|e_φ| [rad]", e_phi)], robot))
         sol.value(f"max_position_error_{law}", float(e_P.max()))
         sol.value(f"max_orientation_error_{law}", float(e_phi.max()))
         sol.value(f"q_final_{law}", res.q[-1])

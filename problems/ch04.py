@@ -12,6 +12,8 @@ Eqs. (4.1)–(4.44), and its solution manual (Problems 4.1–4.8, (S4.1)–(S4.4
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from planners import paths, timing
@@ -22,14 +24,21 @@ TS = 0.01  # sample time of the companion files' plots [s]
 
 
 def _figure(tr: timing.Trajectory, title: str, columns: list[int] | None = None,
-            labels: list[str] | None = None, names: tuple[str, str, str] = ("position", "velocity", "acceleration")):
-    """Position, velocity, acceleration of the chosen columns of a trajectory, one axis each."""
+            labels: list[str] | None = None, unit: str = "rad", symbol: str = "q",
+            points: tuple[Any, Any] | None = None):
+    """Position, velocity, acceleration of the chosen columns of a trajectory, one axis each, in
+    ``unit``, ``unit``/s, ``unit``/s²; ``points`` = (t_k, q_k) marks the path or via points."""
     fig, axes = subplots(3, 1, sharex=True, figsize=(6.4, 6.4))
     columns = list(range(tr.n)) if columns is None else columns
+    names = (f"{symbol} [{unit}]", f"{symbol}̇ [{unit}/s]", f"{symbol}̈ [{unit}/s²]")
     for ax, y, name in zip(axes, (tr.q, tr.qd, tr.qdd), names):
         for j, col in enumerate(columns):
-            ax.plot(tr.t, y[:, col], label=None if labels is None else labels[j])
-        label_axes(ax, "t [s]" if ax is axes[-1] else None, name, legend=labels is not None and ax is axes[0])
+            ax.plot(tr.t, y[:, col], color=f"C{j}", label=None if labels is None else labels[j])
+        if points is not None and ax is axes[0]:
+            ax.plot(*points, "ko", ms=5, label="given points")
+        label_axes(ax, "t [s]" if ax is axes[-1] else None, name, legend=ax is axes[0] and (labels is not None
+                                                                                          or points is not None))
+    axes[0].set_xlim(tr.t[0], tr.t[-1])
     fig.suptitle(title)
     return fig  # laid out by Solution.figure
 
@@ -143,7 +152,7 @@ def problem_4_3() -> Solution:
     sol.check("velocity and acceleration continuous at t = 2", max(_jumps(law, [2.0], 1), _jumps(law, [2.0], 2)) < 1e-7)
     sol.check_close("null velocity and acceleration at t = 0 and 4",
                     [law(0.0)[1], law(0.0)[2], law(4.0)[1], law(4.0)[2]], np.zeros(4), atol=1e-12)
-    sol.figure(_figure(timing.sample(law, dt=TS), "Fig. S4.3 — two fifth-order interpolating polynomials"))
+    sol.figure(_figure(timing.sample(law, dt=TS), "Fig. S4.3 — two fifth-order interpolating polynomials", points=(t, q)))
     return sol
 
 
@@ -247,7 +256,7 @@ def problem_4_5() -> Solution:
     sol.value("accelerations", law(np.array([1.0, 2.0, 3.0]))[2].tolist())
     sol.value("virtual_points", law(np.array([1.0, 3.0]))[0].tolist())
     sol.value("knot_velocities", law(np.array([1.0, 2.0, 3.0]))[1].tolist())
-    sol.figure(_figure(timing.sample(law, dt=TS), "Fig. S4.4 — cubic spline timing law"))
+    sol.figure(_figure(timing.sample(law, dt=TS), "Fig. S4.4 — cubic spline timing law", points=(t, q)))
     return sol
 
 
@@ -295,7 +304,7 @@ def problem_4_6() -> Solution:
     sol.check_close("q(−0.1) = 0, q(4.1) = 3, null end velocities",
                     [law(-0.1)[0], law(4.1)[0], law(-0.1)[1], law(4.1)[1]], [0, 3, 0, 0], atol=1e-12)
     tr = timing.sample(law, times=np.append(np.arange(-0.1, 4.1 - 1e-9, TS), 4.1))  # lin_par's grid, closed at t_f
-    sol.figure(_figure(tr, "Fig. S4.5 — linear polynomials with parabolic blends"))
+    sol.figure(_figure(tr, "Fig. S4.5 — linear polynomials with parabolic blends", points=(t, q)))
     return sol
 
 
@@ -346,7 +355,8 @@ def problem_4_7() -> Solution:
     err_v, err_a = np.max(np.abs(fd_v - pd[away])), np.max(np.abs(fd_a - pdd[away]))
     sol.check("ṗ and p̈ agree with finite differences", err_v < 1e-6 and err_a < 1e-5, f"{err_v:.2g}, {err_a:.2g}")
     tr = timing.sample(law, dt=TS, name="segment")
-    sol.figure(_figure(tr, "Fig. S4.6 — straight path, trapezoidal velocity profile", columns=[0, 1], labels=["x", "y"]))
+    sol.figure(_figure(tr, "Fig. S4.6 — straight path, trapezoidal velocity profile", columns=[0, 1], labels=["x", "y"],
+                       unit="m", symbol="p"))
     return sol
 
 
@@ -396,5 +406,6 @@ def problem_4_8() -> Solution:
     fd_v = (law(t + h)[0] - law(t - h)[0]) / (2 * h)
     sol.check("ṗ agrees with finite differences of p", np.max(np.abs(fd_v - pd)) < 1e-6)
     tr = timing.sample(law, dt=TS, name="circle")
-    sol.figure(_figure(tr, "Fig. S4.7 — circular path, trapezoidal velocity profile", columns=[1, 2], labels=["y", "z"]))
+    sol.figure(_figure(tr, "Fig. S4.7 — circular path, trapezoidal velocity profile", columns=[1, 2], labels=["y", "z"],
+                       unit="m", symbol="p"))
     return sol

@@ -771,14 +771,15 @@ def problem_3_23() -> Solution:
     sol.check_close("semi-axes sigma_i (velocity) and 1/sigma_i (force); cores (3.123)/(3.126)", max(semi_err), 0.0,
                     atol=1e-9)
     fig, ax = subplots(figsize=(7, 5))
-    for q1, q2 in ((np.pi / 6, np.pi / 2), (np.pi / 3, 2 * np.pi / 3), (-np.pi / 8, np.pi / 3)):
+    for k, (q1, q2) in enumerate(((np.pi / 6, np.pi / 2), (np.pi / 3, 2 * np.pi / 3), (-np.pi / 8, np.pi / 3))):
         q = np.array([q1, q2])
         pts = np.array([P[:2, 3] for P in frame_poses(robot, q, ["frame_0", "frame_1", "frame_2"])])
         J = geometric_jacobian(robot, q)[:2]
-        ax.plot(pts[:, 0], pts[:, 1], "k-o", lw=2)
-        plot_ellipse(ax, velocity_ellipsoid(J), pts[-1], color="tab:blue")
-        plot_ellipse(ax, force_ellipsoid(J), pts[-1], color="tab:red", ls="--")
+        first = k == 0
+        ax.plot(pts[:, 0], pts[:, 1], "k-o", lw=2, label="arm" if first else None)
+        plot_ellipse(ax, velocity_ellipsoid(J), pts[-1], color="tab:blue", label="velocity ellipse" if first else None)
+        plot_ellipse(ax, force_ellipsoid(J), pts[-1], color="tab:red", ls="--", label="force ellipse" if first else None)
     ax.set_aspect("equal")
-    label_axes(ax, "x [m]", "y [m]", title="velocity (solid) and force (dashed) ellipses", legend=False, grid=False)
+    label_axes(ax, "x [m]", "y [m]", title="velocity (solid) and force (dashed) ellipses", legend=True, grid=False)
     sol.figure(fig, "Problem 3.23 — manipulability ellipsoids of the two-link arm")
     return sol

@@ -257,7 +257,10 @@ def problem_5_3() -> Solution:
     sol.figure(_servomotor_figure("Fig. S5.4 — servomotor with PI current loop",
                                   [("current transient (h = 0.5 µs)", t, i_a, fast["omega"]),
                                    ("velocity (h = 0.1 ms); dashed: Problem 5.2", slow.t, slow["i_a"], omega)]))
-    sol.figures[-1].axes[3].plot(ref.t * 1e3, ref["omega"], "--", color="gray")
+    ax = sol.figures[-1].axes[3]
+    ax.get_lines()[0].set_label("PI current loop")
+    ax.plot(ref.t * 1e3, ref["omega"], "--", color="gray", label="Problem 5.2 (no current loop)")
+    ax.legend(fontsize="small")
     return sol
 
 

@@ -864,16 +864,17 @@ def problem_7_11() -> Solution:
                   - dynamic_manipulability(lg.geometric_jacobian(model, [0.0, 1.0])[:2], lg.inertia_matrix(model, [0.0, 1.0])))
               < 1e-15)
     fig, (ax1, ax2) = subplots(1, 2, figsize=(10, 4))
-    ax1.plot(q2, wq)
-    ax1.axvline(q2[k], ls="--", c="gray")
-    label_axes(ax1, "q2 [rad]", "w'(q)", legend=False)
-    for q in ([-0.8, 0.6], [-1.0, np.pi / 2], [-1.4, 2.4]):
+    ax1.plot(q2, wq, label="w'(q2)")
+    ax1.axvline(q2[k], ls="--", c="gray", label="maximum")
+    label_axes(ax1, "q2 [rad]", "w'(q) [1/(kg²·m²)]", legend=True)
+    for j, q in enumerate(([-0.8, 0.6], [-1.0, np.pi / 2], [-1.4, 2.4])):
         pts = lg.frames(model, q)[1][:, :2]  # origins of frames 0, 1, 2
-        ax2.plot(pts[:, 0], pts[:, 1], "o-", c="k", lw=2)
+        ax2.plot(pts[:, 0], pts[:, 1], "o-", c="k", lw=2, label="arm" if j == 0 else None)
         E = dynamic_manipulability_ellipsoid(lg.geometric_jacobian(model, q)[:2], lg.inertia_matrix(model, q))
-        plot_ellipse(ax2, dataclasses.replace(E, semi_axes=E.semi_axes * 40.0), center=pts[-1], c="C0")
+        plot_ellipse(ax2, dataclasses.replace(E, semi_axes=E.semi_axes * 40.0), center=pts[-1], c="C0",
+                     label="ellipse (7.149)" if j == 0 else None)
     ax2.set_aspect("equal")
     ax2.set_title("ellipses (7.149), semi-axes × 40", fontsize="small")
-    label_axes(ax2, "x [m]", "y [m]", legend=False)
+    label_axes(ax2, "x [m]", "y [m]", legend=True)
     sol.figure(fig, "Problem 7.11 — dynamic manipulability of the two-link arm")
     return sol

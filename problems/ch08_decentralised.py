@@ -280,7 +280,7 @@ def problem_8_4() -> Solution:
     ax.plot(-ZETA * ray, np.sqrt(1 - ZETA**2) * ray, "g--", lw=0.8, label="ζ = 0.4")
     ax.set_xlim(-0.2, 0.02)
     ax.set_ylim(-0.25, 0.25)
-    label_axes(ax, "Re", "Im", legend=True)
+    label_axes(ax, "Re s [rad/s]", "Im s [rad/s]", legend=True)
     sol.figure(fig, "Fig. S8.4 — root locus of position feedback control (gain K' = 20 K_P)")
     return sol
 

@@ -8,14 +8,18 @@ from __future__ import annotations
 
 import re
 
+import numpy as np
+
 UNIT = re.compile(r"\[[^\]]*\]|\([^)]*\)|/\s*\S+|dimensionless")
 
 
 def _styles(ax) -> set:
-    """The distinct (colour, line style) of the drawn lines of ``ax`` with more than one point."""
+    """The distinct (colour, line style) of the drawn lines of ``ax`` with more than one point (vertical
+    event markers, ``axvline``, excluded: they are annotated in place)."""
     styles = set()
     for line in ax.get_lines():
-        if len(line.get_xdata()) > 1 and line.get_linestyle() not in ("None", "", " "):
+        x = np.asarray(line.get_xdata(), dtype=float)
+        if len(x) > 1 and np.ptp(x) > 0 and line.get_linestyle() not in ("None", "", " "):
             styles.add((str(line.get_color()), line.get_linestyle()))
     return styles
 

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from problems.registry import KINDS, REFERENCES, all_problems
+from tests.problems.figure_lint import lint_figure
 
 PROBLEMS = [p for p in all_problems() if p.chapter != 99]  # 99.x: test_cli.py's own
 
@@ -69,6 +70,8 @@ def test_problem_checks_pass(prob):
         assert not failed, f"problem {prob.id} failed checks: {failed}"
         bad = dishonest_checks(sol)
         assert not bad, f"problem {prob.id} has checks that cannot fail: {bad}"
+        unreadable = [m for fig in sol.figures for m in lint_figure(fig)]
+        assert not unreadable, f"problem {prob.id}: figures a reader cannot use: {unreadable}"
     finally:
         for fig in sol.figures:
             plt.close(fig)

@@ -36,8 +36,8 @@ def _figure(tr: timing.Trajectory, title: str, columns: list[int] | None = None,
             ax.plot(tr.t, y[:, col], color=f"C{j}", label=None if labels is None else labels[j])
         if points is not None and ax is axes[0]:
             ax.plot(*points, "ko", ms=5, label="given points")
-        label_axes(ax, "t [s]" if ax is axes[-1] else None, name, legend=ax is axes[0] and (labels is not None
-                                                                                          or points is not None))
+        label_axes(ax, "t [s]" if ax is axes[-1] else None, name,
+                   legend=labels is not None or (points is not None and ax is axes[0]))
     axes[0].set_xlim(tr.t[0], tr.t[-1])
     fig.suptitle(title)
     return fig  # laid out by Solution.figure

@@ -110,7 +110,7 @@ def problem_2_2() -> Solution:
                 flags.append(res.singular)
                 rep.append((rot.euler_zyz_to_rotation(res.angles), R))
                 atan.append((rot.wrap_angle(res.angles[0] + sign * res.angles[2] - g), 0.0))
-    sol.check_error("closed_forms_theta_0_and_pi", max_error(closed), 1e-12)
+    sol.check_error("closed_forms_theta_0_and_pi", max_error(closed), 1e-12, reference="closed form")
     sol.check("phi_pm_psi_is_atan2(-r12, r22)", max_error(atan) < 1e-9,
               f"+ for theta = 0, - for theta = pi; max error (mod 2pi) = {max_error(atan):.2e}")
     sol.check("singularity_flagged", all(flags), f"{sum(flags)}/{len(flags)} inverses flagged singular")
@@ -726,5 +726,6 @@ def problem_2_20() -> Solution:
     sol.check("both_branches_satisfy_fk", max_error(fk) < 1e-10, f"max error {max_error(fk):.2e}")
     sol.check("one_branch_returns_q", max(found) < 1e-10, f"max distance to the true q: {max(found):.2e}")
     q_up = sol.value("q_companion_example", inverse_kinematics_scara([1.0, 1.0, 0.5, np.pi / 4], a=(1.0, 1.0))[ELBOW_UP])
-    sol.check_close("companion_inv_ksu_example", q_up, [np.pi / 2, -np.pi / 2, 0.5, np.pi / 4], atol=1e-12)
+    sol.check_close("companion_inv_ksu_example", q_up, [np.pi / 2, -np.pi / 2, 0.5, np.pi / 4], atol=1e-12,
+                    reference="manual number")
     return sol

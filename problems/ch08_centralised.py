@@ -166,7 +166,8 @@ def problem_8_11() -> Solution:
     I = sol.value("motor_side_inertia", motor_side_inertias())
     drives = [JointDrive(I=i, Ra=10.0, kt=2.0, kv=2.0, Fm=F_M) for i in I]
     sol.value("T_m", np.array([d.T_m for d in drives]))
-    sol.check_close("T_m as in the companion file", [d.T_m for d in drives], [0.031878, 0.033125], atol=1e-6)
+    sol.check_close("T_m as in the companion file", [d.T_m for d in drives], [0.031878, 0.033125], atol=1e-6,
+                    reference="manual number")
     plant = VoltageControlledArm(armL, K_R, drives, viscous_friction=F_V)
     sol.check_close("voltage-to-torque gain and electrical damping (Fig. 8.3)",
                     np.r_[plant.voltage_gain, plant.electrical_damping], [20, 20, 4000, 4000], atol=1e-9)
@@ -251,8 +252,10 @@ def problem_8_12() -> Solution:
               f"max |q~| = {np.abs(rc['e']).max():.2e} < 1e-3, |q~(2 s)| = {np.abs(rc['e'][_at(rc, 2.0)]).max():.2e} < 1e-6")
     q_ss = inverse_dynamics_steady_state(armL, arm, K_P, Q_F)
     e_ss = sol.value("steady_state_error_fixed_point", Q_F - q_ss)
-    sol.check_close("not compensated: steady state = fixed point of B̂ K_P q~ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5)
-    sol.check_close("fixed point vs the catalogue's (−4.09e-3, −7.23e-3) rad", e_ss, [-4.09e-3, -7.23e-3], atol=1e-5)
+    sol.check_close("not compensated: steady state = fixed point of B̂ K_P q~ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5,
+                    reference="closed form")
+    sol.check_close("fixed point vs the catalogue's (−4.09e-3, −7.23e-3) rad", e_ss, [-4.09e-3, -7.23e-3], atol=1e-5,
+                    reference="manual number")
     a1 = a2 = 1.0
     c1, c12 = np.cos(Q_F[0]), np.cos(Q_F.sum())
     dg_L = M_L * G * np.array([a1 * c1 + a2 * c12, a2 * c12])
@@ -297,13 +300,13 @@ def problem_8_13() -> Solution:
     B_bar = sol.value("B_hat", mean_diagonal_inertia(armL, np.c_[np.zeros_like(q2), q2]))
     pi = minimum_parameters(planar_2r().links, payload=M_L, convention="companion")
     sol.check_close("B̂ = average diagonal = (a1π1 + π2 + a2π3 + π4, a2π3 + π4 + kr2²π5)", B_bar,
-                    [pi[0] + pi[1] + pi[2] + pi[3], pi[2] + pi[3] + K_R**2 * pi[4]], atol=1e-9)
+                    [pi[0] + pi[1] + pi[2] + pi[3], pi[2] + pi[3] + K_R**2 * pi[4]], atol=1e-9, reference="closed form")
     Q = sol.value("Q", lyapunov_matrix(K_P * np.eye(2), K_D * np.eye(2)))
     H = np.block([[np.zeros((2, 2)), np.eye(2)], [-K_P * np.eye(2), -K_D * np.eye(2)]])
-    sol.check_close("Q solves H~ᵀQ + QH~ = −I (8.81)", H.T @ Q + Q @ H, -np.eye(4), atol=1e-12)
+    sol.check_close("Q solves H~ᵀQ + QH~ = −I (8.81)", H.T @ Q + Q @ H, -np.eye(4), atol=1e-12, reference="closed form")
     sol.check("Q positive definite", np.min(np.linalg.eigvalsh(Q)) > 0, f"min eig {np.min(np.linalg.eigvalsh(Q)):.3g}")
     sol.check_close("Q per joint = [[3.23625, 0.005], [0.005, 0.0315625]]", Q[np.ix_([0, 2], [0, 2])],
-                    [[3.23625, 0.005], [0.005, 0.0315625]], atol=1e-9)
+                    [[3.23625, 0.005], [0.005, 0.0315625]], atol=1e-9, reference="manual number")
     plant = ArmPlant(armL, viscous_friction=F_V)
     tra = _tra_4()
     runs = {}
@@ -424,7 +427,8 @@ def problem_8_15() -> Solution:
     for k, p_d in enumerate((np.array([0.5, 0.5]), np.array([0.6, -0.2])), start=1):
         q0 = inverse_kinematics_planar_2r(p_d - 0.1)[ELBOW_UP]  # companion inv_k2u: s2 < 0
         sol.value(f"q0_{k}", q0)
-        sol.check_close(f"initial posture {k} = companion's inv_k2u(p_d − 0.1)", q0, expected_q0[k - 1], atol=1e-5)
+        sol.check_close(f"initial posture {k} = companion's inv_k2u(p_d − 0.1)", q0, expected_q0[k - 1], atol=1e-5,
+                        reference="manual number")
         res = simulate(plant, OperationalPDGravity(armL, 16250.0, 3250.0, p_d, rows=(0, 1)), (0.0, T_D),
                        np.r_[q0, 0.0, 0.0], h=T_C, Ts=T_C)
         p = _tip(armL, res.q)
@@ -464,7 +468,8 @@ def problem_8_16() -> Solution:
     sol.check_close("path length", segment.length, 1.0, atol=1e-12)
     law = PathLaw(segment, trapezoidal_law(0.0, segment.length, 1.0, 1.5))
     q0 = inverse_kinematics_planar_2r(p_i[:2])[ELBOW_UP]  # companion inv_k2u: s2 < 0
-    sol.check_close("initial posture = companion's inv_k2u(p_i)", q0, [1.47653, -2.39646], atol=1e-5)
+    sol.check_close("initial posture = companion's inv_k2u(p_i)", q0, [1.47653, -2.39646], atol=1e-5,
+                    reference="manual number")
     plant = ArmPlant(armL, viscous_friction=F_V)
     runs = {}
     for name, model in (("not_compensated", arm), ("compensated", armL)):
@@ -479,9 +484,10 @@ def problem_8_16() -> Solution:
               f"max |x~| = {np.abs(rc['e']).max():.2e} < 1e-3 m, |x~(2 s)| = {np.abs(rc['e'][_at(rc, 2.0)]).max():.2e} < 1e-6")
     q_ss = operational_inverse_dynamics_steady_state(armL, arm, 100.0, p_f[:2], rn.q[-1], rows=(0, 1))
     e_ss = sol.value("steady_state_error_fixed_point", p_f[:2] - direct_kinematics(armL, q_ss)[:2, 3])
-    sol.check_close("not compensated: steady state = fixed point of B̂ J⁻¹ K_P x~ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5)
+    sol.check_close("not compensated: steady state = fixed point of B̂ J⁻¹ K_P x~ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5,
+                    reference="closed form")
     sol.check_close("fixed point vs the catalogue's s2 < 0 value (−2.82e-3, 6.39e-3) m", e_ss, [-2.82e-3, 6.39e-3],
-                    atol=1e-5)
+                    atol=1e-5, reference="manual number")
     sol.check("not compensated: degraded transient", np.abs(rn["e"]).max() > 5e-3,
               f"max |x~| = {np.abs(rn['e']).max():.2e} > 5e-3 (vs {np.abs(rc['e']).max():.2e} compensated)")
     fig, axes = subplots(1, 2, figsize=(9, 3.6))

@@ -257,7 +257,7 @@ def problem_8_4() -> Solution:
               gap < 1e-9 and np.isclose(K_prime, 20 * K_P, rtol=1e-12), f"max relative error {gap:.2e}")
     locus = control.root_locus_map(L, gains=np.array([K_prime]))
     sol.check_close("python-control's root locus at K' passes through the designed poles",
-                    np.sort_complex(locus.loci[0]), poles, atol=1e-9)
+                    np.sort_complex(locus.loci[0]), poles, atol=1e-9, reference="other library")
     larger = design_position_feedback(drive, ZETA * 0.9, T_P).K_P
     sol.check("ζ decreases along the locus beyond the design (K_P is the largest gain with ζ ≥ 0.4)",
               larger > K_P, f"K_P(ζ = 0.36) = {larger:.4g} > K_P(ζ = 0.4) = {K_P:.4g}")
@@ -366,7 +366,8 @@ def problem_8_6() -> Solution:
     sol.check("W(s) is the same transfer function as in 8.5", diff < 1e-9, f"max |difference| {diff:.2e}")
     z = ZETA
     closed_form = OMEGA_N * np.sqrt(1 - 2 * z**2 + np.sqrt(2 - 4 * z**2 + 4 * z**4))
-    sol.check_close("ω_3 = ω_n √(1 − 2ζ² + √(2 − 4ζ² + 4ζ⁴)) = 27.49 rad/s", omega_3, closed_form, atol=1e-6)
+    sol.check_close("ω_3 = ω_n √(1 − 2ζ² + √(2 − 4ζ² + 4ζ⁴)) = 27.49 rad/s", omega_3, closed_form, atol=1e-6,
+                    reference="closed form")
     sol.check("manual erratum: the manual's ω_3 = 26.84 rad/s is not the −3 dB bandwidth",
               abs(omega_3 - 26.84) > 0.5 and abs(abs(frequency_samples(W, [26.84])[0]) - 1 / np.sqrt(2)) > 0.01,
               f"computed ω_3 = {omega_3:.2f} rad/s; |W(j26.84)| = {abs(frequency_samples(W, [26.84])[0]):.4f} ≠ 0.7071")
@@ -376,7 +377,8 @@ def problem_8_6() -> Solution:
     sol.check("reconstructed acceleration accurate up to ω_3 (gain ≥ 0.99, lag < 5°)",
               abs(at_w3) >= 0.99 and abs(np.degrees(np.angle(at_w3))) < 5,
               f"|Â/(sΩ)| = {abs(at_w3):.4f}, phase {np.degrees(np.angle(at_w3)):.2f}°")
-    sol.check_close("filter −3 dB bandwidth = k_f", bandwidth(control.minreal(F * control.tf([1], [1, 0]), verbose=False)), k_f, rtol=1e-6)
+    sol.check_close("filter −3 dB bandwidth = k_f", bandwidth(control.minreal(F * control.tf([1], [1, 0]), verbose=False)), k_f, rtol=1e-6,
+                    reference="closed form")
     return sol
 
 
@@ -518,12 +520,13 @@ def problem_8_9() -> Solution:
         if payload == 0.0:
             c2 = np.cos(q2)
             closed = np.array([[[200.01 + 50 * c, 23.5 + 25 * c], [23.5 + 25 * c, 122.5]] for c in c2])
-            sol.check_close("B(q) = closed form (7.82) on the grid", Bs, closed, atol=1e-9)
+            sol.check_close("B(q) = closed form (7.82) on the grid", Bs, closed, atol=1e-9, reference="closed form")
             ref = inertia_bounds(closed)
-            sol.check_close("α from the closed-form B(q) (independent reference) = 0.43009", alpha, ref.alpha, atol=1e-9)
+            sol.check_close("α from the closed-form B(q) (independent reference) = 0.43009", alpha, ref.alpha, atol=1e-9,
+                            reference="closed form")
             sol.check_close("α ≈ 0.43009, B̂ ≈ 151.80 I (catalogue values)", [alpha, bounds.B_hat[0, 0]],
-                            [0.43009, 151.80], rtol=2e-4)
+                            [0.43009, 151.80], rtol=2e-4, reference="manual number")
         else:
             sol.check_close("payload: α ≈ 0.49408, B̂ ≈ 159.68 I (catalogue values)", [alpha, bounds.B_hat[0, 0]],
-                            [0.49408, 159.68], rtol=2e-4)
+                            [0.49408, 159.68], rtol=2e-4, reference="manual number")
     return sol

@@ -115,9 +115,26 @@ def problem_2_2() -> Solution:
               f"+ for theta = 0, - for theta = pi; max error (mod 2pi) = {max_error(atan):.2e}")
     sol.check("singularity_flagged", all(flags), f"{sum(flags)}/{len(flags)} inverses flagged singular")
     sol.check_error("representative_reproduces_R", max_error(rep), 1e-12)
-    regular = rot.rotation_to_euler_zyz(rot.euler_zyz_to_rotation([0.1, 0.2, 0.3]))
-    sol.check("regular_case_not_flagged", not regular.singular, "theta = 0.2 is not singular")
+    _zyz_generic_check(sol, np.random.default_rng(2202))
     return sol
+
+
+def _zyz_generic_check(sol: Solution, rng: np.random.Generator) -> None:
+    """(2.19)–(2.20) on generic rotations (every r_ij ≠ 0, unlike the problems' data with r23 = 0):
+    R = Rz(φ) Ry(θ) Rz(ψ) composed with ``pin.exp3``; both branches give back [φ, θ, ψ] and
+    [φ + π, −θ, ψ + π] (mod 2π), unflagged."""
+    worst, flagged = 0.0, False
+    z, y = np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])
+    for _ in range(N_RANDOM):
+        angles = np.array([rng.uniform(-3.0, 3.0), rng.uniform(0.2, 2.9), rng.uniform(-3.0, 3.0)])
+        R = pin.exp3(angles[0] * z) @ pin.exp3(angles[1] * y) @ pin.exp3(angles[2] * z)
+        for branch, expected in ((1, angles), (-1, angles * [1, -1, 1] + [np.pi, 0.0, np.pi])):
+            found = rot.rotation_to_euler_zyz(R, branch)
+            flagged |= found.singular
+            worst = max(worst, float(np.max(np.abs(rot.wrap_angle(found.angles - expected)))))
+    sol.check_error("generic rotations: both ZYZ branches give back the composed angles", worst, 1e-10,
+                    reference="second algorithm")
+    sol.check("generic rotations: not flagged singular", not flagged)
 
 
 @problem("2.3", "RPY angles: inverse solution when cos θ = 0", kind="derivation")
@@ -512,6 +529,7 @@ def problem_2_15() -> Solution:
     sol.check("not_commutative", np.max(np.abs(R1R2 - R2R1)) > 0.5, f"max |R1R2 - R2R1| = {np.max(np.abs(R1R2 - R2R1)):g}")
     R_sum = sol.value("R_phi1_plus_phi2", rot.euler_zyz_to_rotation(phi1 + phi2))
     sol.check_close("direct_sum_gives_identity", R_sum, np.eye(3), atol=1e-15)
+    _zyz_generic_check(sol, np.random.default_rng(2215))
     return sol
 
 

@@ -19,7 +19,7 @@ from matplotlib.path import Path as PolygonPath
 from scipy.spatial import cKDTree
 
 from planners.configuration_space import polyline_distance
-from problems.common import label_axes, max_error, random_quaternion, random_rotation, subplots, unit
+from problems.common import frames_figure, label_axes, max_error, random_quaternion, random_rotation, subplots, unit
 from problems.registry import Solution, problem
 from rigid_body import rotations as rot
 from rigid_body.closed_chain import (FourLinkClosedChain, closed_chain_direct_kinematics,
@@ -430,6 +430,7 @@ def problem_2_12() -> Solution:
                   (direct_kinematics(robot, q), manual)]
     sol.check("pinocchio_equals_manual_T30", max_error(pairs) < 1e-12,
               f"{N_RANDOM} random q: max |error| = {max_error(pairs):.2e}")
+    sol.figure(frames_figure(robot, [0.5, 0.4, 0.5], "Fig. S2.2 — DH frames of the cylindrical arm (θ1 = 0.5, d2 = 0.4, d3 = 0.5)"))
     return sol
 
 
@@ -450,6 +451,8 @@ def problem_2_13() -> Solution:
         pairs.append((direct_kinematics(robot, q), manual))
     sol.check("pinocchio_equals_S2_3", max_error(pairs) < 1e-12, f"{N_RANDOM} random q: max |error| = "
               f"{max_error(pairs):.2e} (a three-link planar arm with a3 = 0, theta4 for theta3, z = d3)")
+    sol.figure(frames_figure(robot, [0.4, 0.8, 0.2, 0.3], "Fig. S2.3 — DH frames of the SCARA (z0 down; q = [0.4, 0.8, 0.2, 0.3])",
+                             z_down=True))
     return sol
 
 

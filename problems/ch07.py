@@ -29,7 +29,7 @@ import numpy as np
 from controllers.plants import ArmPlant
 from controllers.simulation import simulate
 from planners.timing import sample, trapezoidal_law
-from problems.common import label_axes, max_abs_error, subplots
+from problems.common import frames_figure, label_axes, max_abs_error, subplots
 from problems.registry import Solution, problem
 from rigid_body import dynamics as dyn
 from rigid_body import lagrange as lg
@@ -128,6 +128,7 @@ def problem_7_1() -> Solution:
                         ("g = [(mℓ1 + mm2 + mℓ2) g, mℓ2 g/√2] (7.39)", worst["g"], 1e-9, "closed form"),
                         ("Pinocchio (URDF with mimic rotors) gives the same B and g (relative)", worst["pin"], 1e-12,
                          "closed form")])
+    sol.figure(frames_figure(robot, [0.4, 0.3], "Fig. S7.1 — frames of the Cartesian arm with joint axis 2 at π/4 (d1 = 0.4, d2 = 0.3)"))
     return sol
 
 
@@ -520,6 +521,7 @@ def problem_7_5() -> Solution:
     sol.check_error("payload: m'ℓ2, ℓ'2, I'ℓ2 in the same formal model = Lagrange model with the payload", worst["payload"], 1e-9,
                     reference="closed form")
     sol.check_error("minimum parameters π' and regressor Y' reproduce the model with payload", worst["Y"], 1e-9)
+    sol.figure(frames_figure(load("planar_pr"), [0.4, 0.6], "Fig. S7.2 — frames of the PR arm (d1 = 0.4, ϑ2 = 0.6)"))
     return sol
 
 

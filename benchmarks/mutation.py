@@ -26,9 +26,15 @@ ROOT = Path(__file__).resolve().parent.parent
 
 TARGETS = {
     "rigid_body/rotations.py": ["tests/rigid_body/test_rotations.py", "tests/rigid_body/test_rpy_orders.py",
-                                "tests/rigid_body/test_orientation_errors.py"],
-    "planners/timing.py": ["tests/planners/test_timing.py", "tests/planners/test_multi_segment.py"],
-    "planners/inverse_kinematics.py": ["tests/planners/test_inverse_kinematics.py"],
+                                "tests/rigid_body/test_orientation_errors.py",
+                                "tests/rigid_body/test_independent_references.py",
+                                "tests/rigid_body/test_mutation_survivors.py"],
+    "planners/timing.py": ["tests/planners/test_timing.py", "tests/planners/test_multi_segment.py",
+                           "tests/rigid_body/test_independent_references.py",
+                           "tests/rigid_body/test_mutation_survivors.py"],
+    "planners/inverse_kinematics.py": ["tests/planners/test_inverse_kinematics.py",
+                                       "tests/rigid_body/test_independent_references.py",
+                                       "tests/rigid_body/test_mutation_survivors.py"],
     "controllers/simulation.py": ["tests/controllers/test_simulation.py"],
 }
 

@@ -194,10 +194,10 @@ def problem_8_11() -> Solution:
         sol.value(f"max_abs_tau_{k}", np.abs(runs[k, True]["tau"]).max(axis=0))
         final = np.abs(runs[k, True]["e"][-1]).max()
         sol.check(f"gains {k}: errors small and recovered", err[k, True].max() < 0.05 and final < 1e-3,
-                  f"max |q~| = {err[k, True].max():.2e} < 0.05 rad, |q~(t_d)| = {final:.2e} < 1e-3 rad")
+                  f"max |q̃| = {err[k, True].max():.2e} < 0.05 rad, |q̃(t_d)| = {final:.2e} < 1e-3 rad")
         sol.check(f"gains {k}: computed-torque feedforward reduces the error",
                   err[k, True].max() < 0.5 * err[k, False].max(),
-                  f"max |q~| {err[k, True].max():.2e} with vs {err[k, False].max():.2e} without")
+                  f"max |q̃| {err[k, True].max():.2e} with vs {err[k, False].max():.2e} without")
     # Sharpness of the torques (the manual: "sharper" with the second gains): the peaks hardly differ, so
     # measure the steepest torque change max |dτ/dt| at the trapezoid's acceleration steps instead.
     rate = {k: np.abs(np.gradient(runs[k, True]["tau"], runs[k, True].t, axis=0)).max(axis=0) for k in (1, 2)}
@@ -210,12 +210,12 @@ def problem_8_11() -> Solution:
               f"{100 * np.max(np.abs(sol.values['max_abs_tau_2'] / sol.values['max_abs_tau_1'] - 1)):.1f} %",
               "simulation vs prediction", actual=rate[2] / rate[1], expected=np.ones(2))
     sol.check("second gains track considerably better", err[2, True].max() < 0.5 * err[1, True].max(),
-              f"max |q~|: {err[2, True].max():.2e} (ω_n = 10) vs {err[1, True].max():.2e} (ω_n = 5)")
+              f"max |q̃|: {err[2, True].max():.2e} (ω_n = 10) vs {err[1, True].max():.2e} (ω_n = 5)")
     fig, axes = subplots(2, 2, sharex=True, figsize=(9, 5.5))
     for k in (1, 2):
         r = runs[k, True]
         _plot_pair(axes[0, k - 1], r.t, r["tau"], "τ [N·m]")
-        _plot_pair(axes[1, k - 1], r.t, r["e"], "q~ [rad]")
+        _plot_pair(axes[1, k - 1], r.t, r["e"], "q̃ [rad]")
         axes[0, k - 1].set_title(("K_P = 5, K_V = 10", "K_P = 6.25, K_V = 32")[k - 1])
     sol.figure(fig, "Fig. S8.12: computed-torque feedforward + independent joint PV control")
     return sol
@@ -249,10 +249,10 @@ def problem_8_12() -> Solution:
     rc, rn = runs["compensated"], runs["not_compensated"]
     sol.animation(armL, rc, "inverse dynamics control, payload compensated")
     sol.check("compensated: excellent tracking", np.abs(rc["e"]).max() < 1e-3 and np.abs(rc["e"][_at(rc, 2.0)]).max() < 1e-6,
-              f"max |q~| = {np.abs(rc['e']).max():.2e} < 1e-3, |q~(2 s)| = {np.abs(rc['e'][_at(rc, 2.0)]).max():.2e} < 1e-6")
+              f"max |q̃| = {np.abs(rc['e']).max():.2e} < 1e-3, |q̃(2 s)| = {np.abs(rc['e'][_at(rc, 2.0)]).max():.2e} < 1e-6")
     q_ss = inverse_dynamics_steady_state(armL, arm, K_P, Q_F)
     e_ss = sol.value("steady_state_error_fixed_point", Q_F - q_ss)
-    sol.check_close("not compensated: steady state = fixed point of B̂ K_P q~ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5,
+    sol.check_close("not compensated: steady state = fixed point of B̂ K_P q̃ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5,
                     reference="closed form")
     sol.check_close("fixed point vs the catalogue's (−4.09e-3, −7.23e-3) rad", e_ss, [-4.09e-3, -7.23e-3], atol=1e-5,
                     reference="manual number")
@@ -263,10 +263,10 @@ def problem_8_12() -> Solution:
     sol.value("steady_state_error_linearised", linear)
     sol.check_close("fixed point ≈ its linearisation K_P⁻¹ B̂⁻¹ Δg_L", e_ss, linear, rtol=0.02)
     sol.check("not compensated: degraded transient", np.abs(rn["e"]).max() > 5e-3,
-              f"max |q~| = {np.abs(rn['e']).max():.2e} > 5e-3 (vs {np.abs(rc['e']).max():.2e} compensated)")
+              f"max |q̃| = {np.abs(rn['e']).max():.2e} > 5e-3 (vs {np.abs(rc['e']).max():.2e} compensated)")
     fig, axes = subplots(1, 2, figsize=(9, 3.6))
-    _plot_pair(axes[0], rn.t, rn["e"], "q~ [rad]")
-    _plot_pair(axes[1], rc.t, rc["e"], "q~ [rad]")
+    _plot_pair(axes[0], rn.t, rn["e"], "q̃ [rad]")
+    _plot_pair(axes[1], rc.t, rc["e"], "q̃ [rad]")
     axes[0].set_title("payload not compensated")
     axes[1].set_title("payload compensated")
     sol.figure(fig, "Fig. S8.14: joint-space inverse dynamics control")
@@ -303,7 +303,7 @@ def problem_8_13() -> Solution:
                     [pi[0] + pi[1] + pi[2] + pi[3], pi[2] + pi[3] + K_R**2 * pi[4]], atol=1e-9, reference="closed form")
     Q = sol.value("Q", lyapunov_matrix(K_P * np.eye(2), K_D * np.eye(2)))
     H = np.block([[np.zeros((2, 2)), np.eye(2)], [-K_P * np.eye(2), -K_D * np.eye(2)]])
-    sol.check_close("Q solves H~ᵀQ + QH~ = −I (8.81)", H.T @ Q + Q @ H, -np.eye(4), atol=1e-12, reference="closed form")
+    sol.check_close("Q solves H̃ᵀQ + QH̃ = −I (8.81)", H.T @ Q + Q @ H, -np.eye(4), atol=1e-12, reference="closed form")
     sol.check("Q positive definite", np.min(np.linalg.eigvalsh(Q)) > 0, f"min eig {np.min(np.linalg.eigvalsh(Q)):.3g}")
     sol.check_close("Q per joint = [[3.23625, 0.005], [0.005, 0.0315625]]", Q[np.ix_([0, 2], [0, 2])],
                     [[3.23625, 0.005], [0.005, 0.0315625]], atol=1e-9, reference="manual number")
@@ -317,9 +317,9 @@ def problem_8_13() -> Solution:
     sol.animation(armL, runs[rho], "robust control")
     sol.value("max_error", e_r)
     sol.value("max_error_without_robust_term", e_0)
-    sol.check("errors bounded despite the model mismatch", e_r.max() < 1e-2, f"max |q~| = {e_r.max():.2e} < 1e-2 rad")
+    sol.check("errors bounded despite the model mismatch", e_r.max() < 1e-2, f"max |q̃| = {e_r.max():.2e} < 1e-2 rad")
     sol.check("the robust term reduces the error", e_r.max() < 0.25 * e_0.max(),
-              f"max |q~| = {e_r.max():.2e} with ρ = 70 vs {e_0.max():.2e} with ρ = 0")
+              f"max |q̃| = {e_r.max():.2e} with ρ = 70 vs {e_0.max():.2e} with ρ = 0")
     tv = sol.value("torque_total_variation", np.abs(np.diff(runs[rho].u, axis=0)).sum(axis=0))
     sol.value("torque_total_variation_without_robust_term", np.abs(np.diff(runs[0.0].u, axis=0)).sum(axis=0))
     # What the chattering costs: the same law with a boundary layer the 1 ms sampling resolves.
@@ -395,14 +395,14 @@ def problem_8_14() -> Solution:
     e = sol.value("max_error", np.abs(res["e"]).max(axis=0))
     sol.check("payload estimate converges to the true mass", abs(m_hat[-1] - M_L) < 0.05,
               f"m̂_L(t_d) = {m_hat[-1]:.5f} kg vs m_L = {M_L} kg")
-    sol.check("tracking satisfactory", e.max() < 2e-3, f"max |q~| = {e.max():.2e} < 2e-3 rad")
+    sol.check("tracking satisfactory", e.max() < 2e-3, f"max |q̃| = {e.max():.2e} < 2e-3 rad")
     wrong = simulate(plant, AdaptivePayloadControl(arm, K_D, Lam, k_pi, tra, viscous_friction=F_V),
                      (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C)["m_hat"]
     sol.value("m_hat_final_gain_0.005", float(wrong[-1]))
     sol.check("erratum: k_π must divide (gain 1/0.005)", abs(wrong[-1]) < 0.1 * M_L,
               f"with gain 0.005 the estimate only reaches {wrong[-1]:.4f} kg; with 1/0.005 it reaches {m_hat[-1]:.4f} kg")
     fig, axes = subplots(1, 2, figsize=(9, 3.6))
-    _plot_pair(axes[0], res.t, res["e"], "q~ [rad]")
+    _plot_pair(axes[0], res.t, res["e"], "q̃ [rad]")
     axes[1].plot(res.t, m_hat, "C0-", label="estimate")
     axes[1].axhline(M_L, color="k", ls="--", lw=1, label="true")
     label_axes(axes[1], "t [s]", "m_L [kg]", legend=True)
@@ -439,7 +439,7 @@ def problem_8_15() -> Solution:
         sol.value(f"p_final_{k}", p[-1])
         sol.value(f"q_final_{k}", res.q[-1])
         sol.check(f"tip position {k} reached", err < 1e-5,
-                  f"|p_d − p(t_d)|_inf = {err:.2e} < 1e-5 m (|x~| at 1 s: {np.abs(res['e'][_at(res, 1.0)]).max():.2e})")
+                  f"|p_d − p(t_d)|_inf = {err:.2e} < 1e-5 m (|x̃| at 1 s: {np.abs(res['e'][_at(res, 1.0)]).max():.2e})")
         fig, axes = subplots(2, 1, sharex=True, figsize=(6.4, 4.8))
         _plot_pair(axes, res.t, p, "p [m],", labels=("x", "y"), reference=np.tile(p_d, (len(res.t), 1)))
         sol.figure(fig, f"Fig. S8.{19 + k}: operational-space PD + gravity, p_d = [{p_d[0]}, {p_d[1]}] m")
@@ -458,7 +458,7 @@ def problem_8_16() -> Solution:
     t_f = 1 s; q(0) elbow-up (companion ``i8_16``: [1.47653, −2.39646]). Payload in the plant, not
     compensated (c = 0) or compensated (c = 1). Figure S8.23.
 
-    Without compensation the tip settles where B̂(q) J_A⁻¹(q) K_P x~ = g(q) − ĝ(q) (fixed point solved
+    Without compensation the tip settles where B̂(q) J_A⁻¹(q) K_P x̃ = g(q) − ĝ(q) (fixed point solved
     independently).
     """
     sol = Solution()
@@ -481,18 +481,18 @@ def problem_8_16() -> Solution:
                   overlays=lambda s: s.polyline("path", np.array([p_i, p_f]), radius=0.005))
     rc, rn = runs["compensated"], runs["not_compensated"]
     sol.check("compensated: excellent tracking", np.abs(rc["e"]).max() < 1e-3 and np.abs(rc["e"][_at(rc, 2.0)]).max() < 1e-6,
-              f"max |x~| = {np.abs(rc['e']).max():.2e} < 1e-3 m, |x~(2 s)| = {np.abs(rc['e'][_at(rc, 2.0)]).max():.2e} < 1e-6")
+              f"max |x̃| = {np.abs(rc['e']).max():.2e} < 1e-3 m, |x̃(2 s)| = {np.abs(rc['e'][_at(rc, 2.0)]).max():.2e} < 1e-6")
     q_ss = operational_inverse_dynamics_steady_state(armL, arm, 100.0, p_f[:2], rn.q[-1], rows=(0, 1))
     e_ss = sol.value("steady_state_error_fixed_point", p_f[:2] - direct_kinematics(armL, q_ss)[:2, 3])
-    sol.check_close("not compensated: steady state = fixed point of B̂ J⁻¹ K_P x~ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5,
+    sol.check_close("not compensated: steady state = fixed point of B̂ J⁻¹ K_P x̃ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5,
                     reference="closed form")
     sol.check_close("fixed point vs the catalogue's s2 < 0 value (−2.82e-3, 6.39e-3) m", e_ss, [-2.82e-3, 6.39e-3],
                     atol=1e-5, reference="manual number")
     sol.check("not compensated: degraded transient", np.abs(rn["e"]).max() > 5e-3,
-              f"max |x~| = {np.abs(rn['e']).max():.2e} > 5e-3 (vs {np.abs(rc['e']).max():.2e} compensated)")
+              f"max |x̃| = {np.abs(rn['e']).max():.2e} > 5e-3 (vs {np.abs(rc['e']).max():.2e} compensated)")
     fig, axes = subplots(1, 2, figsize=(9, 3.6))
-    _plot_pair(axes[0], rn.t, rn["e"], "x~ [m]", labels=("x", "y"))
-    _plot_pair(axes[1], rc.t, rc["e"], "x~ [m]", labels=("x", "y"))
+    _plot_pair(axes[0], rn.t, rn["e"], "x̃ [m]", labels=("x", "y"))
+    _plot_pair(axes[1], rc.t, rc["e"], "x̃ [m]", labels=("x", "y"))
     axes[0].set_title("payload not compensated")
     axes[1].set_title("payload compensated")
     sol.figure(fig, "Fig. S8.23: operational-space inverse dynamics control")

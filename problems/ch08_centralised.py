@@ -75,7 +75,7 @@ def _plot_pair(axes: Any, t: np.ndarray, y: np.ndarray, ylabel: str, labels=("jo
         for j, ax in enumerate(axes):
             ax.plot(t, reference[:, j], "k--", lw=1, label="desired")
             ax.plot(t, y[:, j], "C0-", label="actual")
-            label_axes(ax, "t [s]" if j == len(axes) - 1 else None, f"{ylabel} {labels[j]}", legend=j == 0)
+            label_axes(ax, "t [s]" if j == len(axes) - 1 else None, f"{ylabel} {labels[j]}", legend=True)
         return
     axes.plot(t, y[:, 0], "C0-", label=labels[0])
     axes.plot(t, y[:, 1], "C1--", label=labels[1])

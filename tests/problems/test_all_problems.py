@@ -20,19 +20,16 @@ def _same_side(a, b) -> bool:
 
 
 def _is_echo(check, values: dict) -> bool:
-    """Both sides equal one recorded value whose name the check carries: an input or a result echoed back."""
-    if check.actual is None or check.expected is None:
+    """Both sides equal (exactly) the recorded value whose name the check bears: a value echoed back
+    under its own name (a check named "x" comparing the recorded x with itself or a copy)."""
+    if check.actual is None or check.expected is None or check.name not in values:
         return False
-    for name, v in values.items():
-        if name in check.name:
-            try:
-                if (np.array_equal(np.asarray(v), np.asarray(check.actual))
-                        and np.array_equal(np.asarray(v), np.asarray(check.expected))
-                        and np.asarray(v).dtype.kind == "f" and not np.all(np.asarray(v) == np.round(v))):
-                    return True
-            except (TypeError, ValueError):
-                continue
-    return False
+    v = values[check.name]
+    try:
+        return bool(np.array_equal(np.asarray(v), np.asarray(check.actual))
+                    and np.array_equal(np.asarray(v), np.asarray(check.expected)))
+    except (TypeError, ValueError):
+        return False
 
 
 def dishonest_checks(sol) -> list[str]:
@@ -56,7 +53,8 @@ def test_the_honesty_lint_catches_a_value_compared_with_itself():
     sol.value("x", x)
     sol.check_close("x == x", x, x)
     sol.check_close("view", x, x[:])
-    sol.check_close("x recorded and echoed", x.copy(), x.copy())
+    sol.value("x echoed", x)
+    sol.check_close("x echoed", x.copy(), x.copy())
     sol.check_close("independent", np.array([0.3, 0.7]), np.array([0.1 + 0.2, 0.7]), atol=1e-12)
     assert len(dishonest_checks(sol)) == 3
 

@@ -65,6 +65,7 @@ def test_cubic_spline_defaults_to_rest_and_matches_scipy_on_unequal_intervals():
 def test_cosine_pose_reference_goes_from_the_initial_to_the_final_point():
     p_i, p_f = np.array([0.7, 0.0, 0.0]), np.array([0.0, 0.8, 0.5])
     ref = cosine_pose_reference(p_i, p_f, 2.0, 0.0, np.pi / 2)
+    assert ref(0.0)[0].shape == (4, 4) and ref(0.0)[1].shape == (6,)
     assert np.allclose(ref(0.0)[0][:3, 3], p_i) and np.allclose(ref(2.0)[0][:3, 3], p_f)
     assert np.allclose(ref(1.0)[0][:3, 3], 0.5 * (p_i + p_f))
     assert np.allclose(ref(1.0)[1][:3], 0.5 * np.pi / 2.0 * (p_f - p_i))   # ṡ(t_f/2) = π/(2 t_f)

@@ -11,13 +11,15 @@ and its solution manual (Problems 2.1–2.20, Tables S2.1–S2.3, (S2.1)–(S2.7
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pinocchio as pin
 from matplotlib.path import Path as PolygonPath
 from scipy.spatial import cKDTree
 
 from planners.configuration_space import polyline_distance
-from problems.common import label_axes, max_error, random_quaternion, random_rotation, subplots, unit
+from problems.common import frames_figure, label_axes, max_error, random_quaternion, random_rotation, subplots, unit
 from problems.registry import Solution, problem
 from rigid_body import rotations as rot
 from rigid_body.closed_chain import (FourLinkClosedChain, closed_chain_direct_kinematics,
@@ -108,14 +110,31 @@ def problem_2_2() -> Solution:
                 flags.append(res.singular)
                 rep.append((rot.euler_zyz_to_rotation(res.angles), R))
                 atan.append((rot.wrap_angle(res.angles[0] + sign * res.angles[2] - g), 0.0))
-    sol.check_error("closed_forms_theta_0_and_pi", max_error(closed), 1e-12)
+    sol.check_error("closed_forms_theta_0_and_pi", max_error(closed), 1e-12, reference="closed form")
     sol.check("phi_pm_psi_is_atan2(-r12, r22)", max_error(atan) < 1e-9,
               f"+ for theta = 0, - for theta = pi; max error (mod 2pi) = {max_error(atan):.2e}")
     sol.check("singularity_flagged", all(flags), f"{sum(flags)}/{len(flags)} inverses flagged singular")
     sol.check_error("representative_reproduces_R", max_error(rep), 1e-12)
-    regular = rot.rotation_to_euler_zyz(rot.euler_zyz_to_rotation([0.1, 0.2, 0.3]))
-    sol.check("regular_case_not_flagged", not regular.singular, "theta = 0.2 is not singular")
+    _zyz_generic_check(sol, np.random.default_rng(2202))
     return sol
+
+
+def _zyz_generic_check(sol: Solution, rng: np.random.Generator) -> None:
+    """(2.19)–(2.20) on generic rotations (every r_ij ≠ 0, unlike the problems' data with r23 = 0):
+    R = Rz(φ) Ry(θ) Rz(ψ) composed with ``pin.exp3``; both branches give back [φ, θ, ψ] and
+    [φ + π, −θ, ψ + π] (mod 2π), unflagged."""
+    worst, flagged = 0.0, False
+    z, y = np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])
+    for _ in range(N_RANDOM):
+        angles = np.array([rng.uniform(-3.0, 3.0), rng.uniform(0.2, 2.9), rng.uniform(-3.0, 3.0)])
+        R = pin.exp3(angles[0] * z) @ pin.exp3(angles[1] * y) @ pin.exp3(angles[2] * z)
+        for branch, expected in ((1, angles), (-1, angles * [1, -1, 1] + [np.pi, 0.0, np.pi])):
+            found = rot.rotation_to_euler_zyz(R, branch)
+            flagged |= found.singular
+            worst = max(worst, float(np.max(np.abs(rot.wrap_angle(found.angles - expected)))))
+    sol.check_error("generic rotations: both ZYZ branches give back the composed angles", worst, 1e-10,
+                    reference="second algorithm")
+    sol.check("generic rotations: not flagged singular", not flagged)
 
 
 @problem("2.3", "RPY angles: inverse solution when cos θ = 0", kind="derivation")
@@ -384,6 +403,12 @@ def problem_2_11() -> Solution:
     return sol
 
 
+def _random_postures(name: str, seed: int) -> tuple[Any, np.ndarray]:
+    """The book robot ``name`` and N_RANDOM configurations drawn (seeded) uniformly within its joint ranges."""
+    robot = load(name)
+    return robot, np.random.default_rng(seed).uniform(robot.lower, robot.upper, (N_RANDOM, len(robot.lower)))
+
+
 @problem("2.12", "Direct kinematics of the cylindrical arm", kind="derivation")
 def problem_2_12() -> Solution:
     """Direct kinematics of the cylindrical arm of Fig. 2.35 with the DH table S2.2.
@@ -392,11 +417,9 @@ def problem_2_12() -> Solution:
     Pinocchio on ``urdf/cylindrical.urdf`` at random q within the joint ranges.
     """
     sol = Solution()
-    rng = np.random.default_rng(212)
-    robot = load("cylindrical")
+    robot, postures = _random_postures("cylindrical", 212)
     pairs = []
-    for _ in range(N_RANDOM):
-        q = rng.uniform(robot.lower, robot.upper)
+    for q in postures:
         th1, d2, d3 = q
         manual = [[c(th1), 0, -s(th1), -d3 * s(th1)], [s(th1), 0, c(th1), d3 * c(th1)], [0, -1, 0, d2], [0, 0, 0, 1]]
         A1 = [[c(th1), -s(th1), 0, 0], [s(th1), c(th1), 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]
@@ -407,6 +430,7 @@ def problem_2_12() -> Solution:
                   (direct_kinematics(robot, q), manual)]
     sol.check("pinocchio_equals_manual_T30", max_error(pairs) < 1e-12,
               f"{N_RANDOM} random q: max |error| = {max_error(pairs):.2e}")
+    sol.figure(frames_figure(robot, [0.5, 0.4, 0.5], "Fig. S2.2 — DH frames of the cylindrical arm (θ1 = 0.5, d2 = 0.4, d3 = 0.5)"))
     return sol
 
 
@@ -416,12 +440,10 @@ def problem_2_13() -> Solution:
     T_4^0 = [[c124, −s124, 0, a1 c1 + a2 c12], [s124, c124, 0, a1 s1 + a2 s12], [0, 0, 1, d3], [0, 0, 0, 1]].
     Compared with Pinocchio on ``urdf/scara.urdf`` (root = DH frame 0, z₀ down); a1 = a2 = 0.5 m."""
     sol = Solution()
-    rng = np.random.default_rng(213)
-    robot = load("scara")
+    robot, postures = _random_postures("scara", 213)
     a1 = a2 = 0.5
     pairs = []
-    for _ in range(N_RANDOM):
-        q = rng.uniform(robot.lower, robot.upper)
+    for q in postures:
         t1, t2, d3, t4 = q
         t = t1 + t2 + t4
         manual = [[c(t), -s(t), 0, a1 * c(t1) + a2 * c(t1 + t2)], [s(t), c(t), 0, a1 * s(t1) + a2 * s(t1 + t2)],
@@ -429,6 +451,8 @@ def problem_2_13() -> Solution:
         pairs.append((direct_kinematics(robot, q), manual))
     sol.check("pinocchio_equals_S2_3", max_error(pairs) < 1e-12, f"{N_RANDOM} random q: max |error| = "
               f"{max_error(pairs):.2e} (a three-link planar arm with a3 = 0, theta4 for theta3, z = d3)")
+    sol.figure(frames_figure(robot, [0.4, 0.8, 0.2, 0.3], "Fig. S2.3 — DH frames of the SCARA (z0 down; q = [0.4, 0.8, 0.2, 0.3])",
+                             z_down=True))
     return sol
 
 
@@ -508,6 +532,7 @@ def problem_2_15() -> Solution:
     sol.check("not_commutative", np.max(np.abs(R1R2 - R2R1)) > 0.5, f"max |R1R2 - R2R1| = {np.max(np.abs(R1R2 - R2R1)):g}")
     R_sum = sol.value("R_phi1_plus_phi2", rot.euler_zyz_to_rotation(phi1 + phi2))
     sol.check_close("direct_sum_gives_identity", R_sum, np.eye(3), atol=1e-15)
+    _zyz_generic_check(sol, np.random.default_rng(2215))
     return sol
 
 
@@ -686,11 +711,9 @@ def problem_2_19() -> Solution:
     θ1 = Atan2(−px, py), d3 = √(px² + py²), d2 = pz (the manual takes d3 ≥ 0; the other solution
     θ1 + π, −d3 is outside the joint range). Checked by Pinocchio FK and ik(fk(q)) = q."""
     sol = Solution()
-    rng = np.random.default_rng(219)
-    robot = load("cylindrical")
+    robot, postures = _random_postures("cylindrical", 219)
     pairs = []
-    for _ in range(N_RANDOM):
-        q = rng.uniform(robot.lower, robot.upper)
+    for q in postures:
         p = direct_kinematics(robot, q)[:3, 3]
         q_hat = inverse_kinematics_cylindrical(p)[0]
         manual = [np.arctan2(-p[0], p[1]), p[2], np.hypot(p[0], p[1])]
@@ -707,11 +730,9 @@ def problem_2_20() -> Solution:
     one returns the configuration the pose came from; the companion file inv_ksu's example checks the
     elbow-up (s2 < 0) convention."""
     sol = Solution()
-    rng = np.random.default_rng(220)
-    robot = load("scara")
+    robot, postures = _random_postures("scara", 220)
     fk, found = [], []
-    for _ in range(N_RANDOM):
-        q = rng.uniform(robot.lower, robot.upper)
+    for q in postures:
         T = direct_kinematics(robot, q)
         x = [T[0, 3], T[1, 3], T[2, 3], np.arctan2(T[1, 0], T[0, 0])]
         qs = inverse_kinematics_scara(x)
@@ -726,5 +747,6 @@ def problem_2_20() -> Solution:
     sol.check("both_branches_satisfy_fk", max_error(fk) < 1e-10, f"max error {max_error(fk):.2e}")
     sol.check("one_branch_returns_q", max(found) < 1e-10, f"max distance to the true q: {max(found):.2e}")
     q_up = sol.value("q_companion_example", inverse_kinematics_scara([1.0, 1.0, 0.5, np.pi / 4], a=(1.0, 1.0))[ELBOW_UP])
-    sol.check_close("companion_inv_ksu_example", q_up, [np.pi / 2, -np.pi / 2, 0.5, np.pi / 4], atol=1e-12)
+    sol.check_close("companion_inv_ksu_example", q_up, [np.pi / 2, -np.pi / 2, 0.5, np.pi / 4], atol=1e-12,
+                    reference="manual number")
     return sol

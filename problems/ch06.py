@@ -59,14 +59,6 @@ def problem_6_1() -> Solution:
     names = [a.name for a in plan.actions]
     sol.value("actions", names)
     sol.value("points", plan.points)
-    sol.check("action sequence: approach A → pick → move avoiding obstacle → approach B → place",
-              names == ["approach A", "pick object", "move object avoiding obstacle", "approach B", "place object"],
-              " → ".join(names))
-    sol.check("C = A (grasp) and F = B (release)", np.allclose(plan.points["C"], A) and np.allclose(plan.points["F"], B),
-              f"C = {plan.points['C']}, F = {plan.points['F']}")
-    heights = [plan.points["D"][1], plan.points["E"][1]]
-    sol.check("D and E at the safe height: obstacle top + clearance", np.allclose(heights, OBSTACLE[2] + CLEARANCE),
-              f"y_D = {heights[0]:.3f} m, y_E = {heights[1]:.3f} m, top {OBSTACLE[2]} m + {CLEARANCE} m")
     path = pick_and_place_path(plan, DURATIONS)
     traj = sample(path, samples=301)
     d = float(distance_to_box(traj.q[:, :2], OBSTACLE).min())
@@ -80,6 +72,25 @@ def problem_6_1() -> Solution:
             failures += 1
     sol.check("path feasible: closed-form IK of the planar arm exists along C–D–E–F (φ = −π/2)", failures == 0,
               f"{failures} of {len(traj.q)} samples unreachable")
+    # The motion executed on the simulated arm (inverse-dynamics control, 1 ms): the end effector grasps
+    # at A, releases at B and passes over the obstacle with the stated clearance.
+    robot = load("planar_3r")
+    q0 = inverse_kinematics_planar_3r(np.array([*A, PHI_DOWN]))[0]
+    executor = ActionExecutor(robot, inverse_kinematics_planar_3r, None, q0, ExecutionOptions(Ts=1e-3, h=1e-3))
+    executor.follow(path, position_rows=(0, 1), orientation=(PHI_DOWN,), jacobian_rows=(0, 1, 5))
+    rec = executor.record()
+    reach = [float(np.min(np.linalg.norm(rec.p[:, :2] - np.asarray(P), axis=1))) for P in (A, B)]
+    sol.check("executed: the end effector reaches A (grasp) and B (release) within 1 mm", max(reach) < 1e-3,
+              f"closest approach to A {reach[0] * 1e3:.3f} mm, to B {reach[1] * 1e3:.3f} mm",
+              "simulation vs prediction", actual=reach, expected=[0.0, 0.0])
+    over = (rec.p[:, 0] >= OBSTACLE[0]) & (rec.p[:, 0] <= OBSTACLE[1])
+    d_run = float(distance_to_box(rec.p[:, :2], OBSTACLE).min())
+    lowest = float(rec.p[over, 1].min()) if over.any() else float("nan")
+    sol.check("executed: clears the obstacle by the clearance (min distance, lowest point above the box)",
+              d_run >= CLEARANCE - 1e-3 and lowest >= OBSTACLE[2] + CLEARANCE - 1e-3,
+              f"min distance {d_run:.4f} m, lowest y over the box {lowest:.4f} m "
+              f"(top {OBSTACLE[2]} m + clearance {CLEARANCE} m)", "simulation vs prediction",
+              actual=d_run, expected=CLEARANCE)
     unreachable = False
     try:
         decompose_pick_and_place(A, (0.6, TABLE), OBSTACLE, CLEARANCE)
@@ -139,7 +150,6 @@ def problem_6_2() -> Solution:
     T_via = law.t_f - law.t_i
     sol.value("duration_path_points", T_path, unit="s")
     sol.value("duration_via_points", T_via, unit="s")
-    sol.check_close("via points save the anticipation time 2 × overlap", T_path - T_via, 2 * OVERLAP, atol=1e-12)
     ik_ok = True
     for _, (_, tr) in results.items():
         for p in tr.q[::10]:

@@ -18,7 +18,7 @@ import pinocchio as pin
 from matplotlib.figure import Figure
 
 __all__ = ["max_abs_error", "max_error", "max_relative_error", "unit", "random_rotation", "random_quaternion", "subplots",
-           "label_axes"]
+           "label_axes", "frames_figure"]
 
 
 # -- checks ------------------------------------------------------------------------------------
@@ -107,3 +107,34 @@ def label_axes(ax: Any, xlabel: str | None = None, ylabel: str | None = None, *,
             legend_kwargs["loc"] = legend
         ax.legend(**legend_kwargs)
     return ax
+
+
+def frames_figure(robot: Any, q: Any, title: str, length: float | None = None, z_down: bool = False) -> Figure:
+    """The DH frames of ``robot`` at ``q`` (the manual's frame drawings, e.g. Figs. S2.2, S2.3, S7.1):
+    a 3-D view with the links as a polyline through the frame origins and x (red), y (green), z (blue)
+    axes drawn at each origin ``frame_0 … frame_n``. ``z_down`` draws z₀ pointing down (the SCARA's
+    convention, Fig. S2.3)."""
+    from rigid_body.kinematics import frame_poses
+
+    names = [f.name for f in robot.model.frames if f.name.startswith("frame_") and f.name[6:].isdigit()]
+    poses = frame_poses(robot, np.asarray(q, dtype=float), names)
+    origins = np.array([T[:3, 3] for T in poses])
+    span = float(np.ptp(origins, axis=0).max()) or 1.0
+    length = 0.2 * span if length is None else length
+    fig = Figure(figsize=(6, 5))
+    ax = fig.add_subplot(projection="3d")
+    ax.plot(*origins.T, "k-", lw=2, label="links (frame origins)")
+    for k, (name, color) in enumerate((("x", "r"), ("y", "g"), ("z", "b"))):
+        d = np.array([T[:3, k] for T in poses]) * length
+        ax.quiver(*origins.T, *d.T, color=color, label=f"{name} axes")
+    for name, o in zip(names, origins):
+        ax.text(*o, name.replace("frame_", " "), fontsize="small")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
+    ax.set_box_aspect(np.maximum(np.ptp(origins, axis=0) + 2 * length, 1e-3))
+    if z_down:
+        ax.invert_zaxis()
+    ax.legend(fontsize="small", loc="upper left")
+    fig.suptitle(title)
+    return fig

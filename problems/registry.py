@@ -19,14 +19,33 @@ import numpy as np
 
 KINDS = ("derivation", "numeric", "simulation", "programming", "qualitative")
 
+#: What a check compares with: the kind of its independent reference. ``"property"`` is a bare
+#: boolean statement (a named property the figures show); every comparison names its reference.
+REFERENCES = ("manual number", "closed form", "finite differences", "second algorithm", "other library",
+              "simulation vs prediction", "property")
+
+
+def _reference(reference: str | None) -> str | None:
+    if reference is not None and reference not in REFERENCES:
+        raise ValueError(f"reference must be one of {REFERENCES} or None, got {reference!r}")
+    return reference
+
 
 @dataclass(frozen=True)
 class Check:
-    """One verified statement: a comparison with the manual, or a property a figure shows."""
+    """One verified statement: a comparison with an independent reference, or a named property.
+
+    ``actual`` and ``expected`` are the two sides as given (kept as objects, so a test can tell a value
+    compared with itself); ``reference`` the kind of reference (:data:`REFERENCES`, ``None`` when the
+    check does not say).
+    """
 
     name: str
     passed: bool
     detail: str = ""
+    actual: Any = None
+    expected: Any = None
+    reference: str | None = None
 
 
 @dataclass
@@ -56,22 +75,27 @@ class Solution:
             self.units[name] = unit
         return value
 
-    def check(self, name: str, passed: bool, detail: str = "") -> bool:
-        """Record a check; ``passed`` is coerced to ``bool``."""
-        self.checks.append(Check(name, bool(passed), detail))
+    def check(self, name: str, passed: bool, detail: str = "", reference: str | None = "property", *,
+              actual: Any = None, expected: Any = None) -> bool:
+        """Record a check; ``passed`` is coerced to ``bool``. A bare boolean is a named ``"property"``;
+        a comparison written by hand names its ``reference`` and may record both sides."""
+        self.checks.append(Check(name, bool(passed), detail, actual, expected, _reference(reference)))
         return bool(passed)
 
     def check_close(self, name: str, actual: Any, expected: Any, *, atol: float = 1e-9,
-                    rtol: float = 0.0) -> bool:
-        """Record a numerical comparison ``|actual - expected| <= atol + rtol |expected|``."""
+                    rtol: float = 0.0, reference: str | None = None) -> bool:
+        """Record a numerical comparison ``|actual - expected| <= atol + rtol |expected|``; ``reference``
+        says what ``expected`` is (:data:`REFERENCES`)."""
         a = np.asarray(actual, dtype=complex if np.iscomplexobj(actual) else float)
         e = np.asarray(expected, dtype=complex if np.iscomplexobj(expected) else float)
         if a.shape != e.shape:
-            return self.check(name, False, f"shape {a.shape} != expected {e.shape}")
+            return self.check(name, False, f"shape {a.shape} != expected {e.shape}", reference,
+                              actual=actual, expected=expected)
         err = np.abs(a - e)
         ok = bool(np.all(np.isfinite(a)) and np.all(err <= atol + rtol * np.abs(e)))
         max_err = float(np.max(err)) if err.size else 0.0
-        return self.check(name, ok, f"max |error| = {max_err:.3g} (atol {atol:g}, rtol {rtol:g})")
+        return self.check(name, ok, f"max |error| = {max_err:.3g} (atol {atol:g}, rtol {rtol:g})", reference,
+                          actual=actual, expected=expected)
 
     def animation(self, robot: Any, motion: Any, title: str = "", **options: Any) -> None:
         """Attach a 3-D animation of ``robot`` along ``motion`` (a SimulationResult, a Trajectory or
@@ -79,11 +103,12 @@ class Solution:
         ``viewer.animate`` (``speed``, ``overlays=lambda scene: ...``, ``tracks``)."""
         self.animations.append({"robot": robot, "motion": motion, "title": title, **options})
 
-    def check_error(self, name: str, error: float, tol: float) -> bool:
+    def check_error(self, name: str, error: float, tol: float, reference: str | None = None) -> bool:
         """Record that an error measure (e.g. the largest difference from an independent reference over
-        many samples) is below ``tol``; NaN fails."""
+        many samples) is below ``tol``; NaN fails. ``actual`` is the error, ``expected`` 0."""
         error = float(error)
-        return self.check(name, error < tol, f"max |error| = {error:.2g} (< {tol:g})")
+        return self.check(name, error < tol, f"max |error| = {error:.2g} (< {tol:g})", reference,
+                          actual=error, expected=0.0)
 
     def figure(self, fig: Any, title: str | None = None, tight: bool = True) -> Any:
         """The figure epilogue: give ``fig`` its title (``suptitle``, also its file name in a report),

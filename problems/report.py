@@ -96,6 +96,25 @@ def figure_title(fig: Any, k: int) -> str:
     return f"figure {k + 1}"
 
 
+CHECK_VALUE_SIZE = 64  # larger sides are written as their shape
+
+
+def _side(value: Any) -> Any:
+    """One side of a check for JSON: small values as they are, large arrays as ``"array (shape)"``."""
+    if value is None:
+        return None
+    size = np.size(value) if isinstance(value, (np.ndarray, list, tuple)) else 1
+    if size > CHECK_VALUE_SIZE:
+        return f"array {np.shape(value)}"
+    return to_json(value)
+
+
+def _check_dict(c: Any) -> dict:
+    """A check as JSON: the required ``name, passed, detail`` and ``actual, expected, reference``."""
+    return {"name": c.name, "passed": c.passed, "detail": c.detail, "actual": _side(getattr(c, "actual", None)),
+            "expected": _side(getattr(c, "expected", None)), "reference": getattr(c, "reference", None)}
+
+
 def solution_dict(sol: Any, figures: list[str] | None = None) -> dict:
     """The JSON object of ``rmpc solve --json``: id, title, kind, values (full precision), units,
     checks, figures (the written files' paths, or the figures' titles when none were written)."""
@@ -106,7 +125,7 @@ def solution_dict(sol: Any, figures: list[str] | None = None) -> dict:
         "statement": getattr(sol, "statement", ""),
         "values": to_json(sol.values),
         "units": dict(getattr(sol, "units", {})),
-        "checks": [{"name": c.name, "passed": c.passed, "detail": c.detail} for c in sol.checks],
+        "checks": [_check_dict(c) for c in sol.checks],
         "figures": figures if figures is not None else [figure_title(f, k) for k, f in enumerate(sol.figures)],
     }
 
@@ -149,8 +168,11 @@ def solution_html(d: dict, figure_sources: Iterable[str] = (), extras: Iterable[
     parts.append("<ul>")
     for c in d["checks"]:
         mark, cls = ("✔", "pass") if c["passed"] else ("✘", "fail")
+        reference = c.get("reference") or "unclassified"
+        tag = (f'<span class="ref" style="font-size:small;border:1px solid #999;border-radius:3px;'
+               f'padding:0 3px;color:#555">{html.escape(reference)}</span>')
         parts.append(f'<li class="{cls}" style="color:{"#070" if c["passed"] else "#b00"}">{mark} '
-                     f'<b>{html.escape(c["name"])}</b> <pre style="display:inline;white-space:pre-wrap">'
+                     f'<b>{html.escape(c["name"])}</b> {tag} <pre style="display:inline;white-space:pre-wrap">'
                      f'{html.escape(c["detail"])}</pre></li>')
     parts.append("</ul>")
     captions = d.get("figure_titles") or [f"figure {k + 1}" for k in range(len(d["figures"]))]

@@ -1,5 +1,6 @@
-"""Every notebook executes top to bottom without an error."""
+"""Every notebook executes top to bottom without an error, and no cell shows a failed check."""
 
+import re
 from pathlib import Path
 
 import nbformat
@@ -8,8 +9,38 @@ from nbclient import NotebookClient
 
 NOTEBOOKS = sorted((Path(__file__).resolve().parent.parent / "notebooks").glob("*.ipynb"))
 
+# A failed check as the notebooks print it: "FAIL name — detail", "[FAIL] name" (rmpc solve), or the
+# ✘ of a Solution's HTML view.
+FAILED = re.compile(r"(^|\n)\s*(\[FAIL\]|FAIL\b)|✘")
+
+
+def failed_outputs(nb) -> list[str]:
+    """The outputs (text or HTML) of the code cells that show a failed check."""
+    found = []
+    for k, cell in enumerate(nb.cells):
+        for out in cell.get("outputs", []) if cell.cell_type == "code" else []:
+            texts = [out.get("text", "")] + [str(v) for key, v in out.get("data", {}).items()
+                                             if key in ("text/plain", "text/html", "text/markdown")]
+            for text in texts:
+                match = FAILED.search(text)
+                if match:
+                    found.append(f"cell {k}: …{text[max(0, match.start() - 40):match.end() + 80]}…")
+    return found
+
+
+def test_the_scan_sees_a_failed_check():
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("")])
+    nb.cells[0].outputs = [nbformat.v4.new_output("stream", text="PASS a — ok\nFAIL b — 2e-3\n")]
+    assert failed_outputs(nb)
+    nb.cells[0].outputs = [nbformat.v4.new_output("display_data", data={"text/html": "<li>✘ <b>x</b></li>"})]
+    assert failed_outputs(nb)
+    nb.cells[0].outputs = [nbformat.v4.new_output("stream", text="PASS a — FAILSAFE\n")]
+    assert not failed_outputs(nb)
+
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.name for p in NOTEBOOKS])
 def test_notebook_executes(path, tmp_path):
     nb = nbformat.read(path, as_version=4)
     NotebookClient(nb, timeout=300, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}).execute()
+    failed = failed_outputs(nb)
+    assert not failed, f"{path.name} shows failed checks: {failed}"

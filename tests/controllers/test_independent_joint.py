@@ -6,6 +6,7 @@ import pytest
 
 from controllers.independent_joint import (JointDrive, PositionVelocityController, Transducers,
                                            bandwidth, design_position_feedback, design_position_velocity,
+                                           feedforward_reference,
                                            design_position_velocity_acceleration, inertia_bounds, position_feedback,
                                            position_velocity_acceleration_feedback, position_velocity_feedback)
 from controllers.plants import JointDrivePlant
@@ -89,3 +90,23 @@ def test_bad_gains_transducers_and_systems_raise():
         bandwidth(control.tf([1.0], [1.0, -1.0]))
     with pytest.raises(ValueError, match="finite"):
         inertia_bounds(np.full((1, 2, 2), np.nan))
+
+
+def test_feedforward_references_equal_the_closed_forms_of_problem_8_7():
+    """Θ'_r/Θ_d of Figs. 8.12–8.14 against the manual's polynomials, at several frequencies, for a
+    drive with non-unit transducers (a dropped k_TV, k_TA or K_A term shows here)."""
+    drive = JointDrive(I=6.0, Ra=0.3, kt=0.5, kv=0.5)
+    t = Transducers(1.3, 0.7, 0.4)
+    km, Tm = drive.k_m, drive.T_m
+    s = 1j * np.array([0.1, 1.0, 7.0, 40.0])
+    P = design_position_feedback(drive, 0.4, 10 * Tm)
+    V = design_position_velocity(drive, 0.4, 20.0)
+    A = design_position_velocity_acceleration(drive, 0.4, 20.0, 400.0)
+    cases = [
+        (P, t.k_TP + s**2 * (1 + s * Tm) / (km * P.K_P * (1 + s * P.T_P))),
+        (V, t.k_TP + s * t.k_TV / V.K_P + s**2 / (km * V.K_P * V.K_V)),
+        (A, t.k_TP + s * t.k_TV / A.K_P + (1 + km * A.K_A * t.k_TA) * s**2 / (km * A.K_P * A.K_V * A.K_A)),
+    ]
+    for design, manual in cases:
+        G = feedforward_reference(drive, design, t)
+        assert np.allclose(G(s), manual, rtol=1e-10)

@@ -260,3 +260,24 @@ def test_clik_and_reference_arguments_are_named(panda):
     from planners.inverse_kinematics import numerical_gradient
     with pytest.raises(ValueError, match="`step`"):
         numerical_gradient(lambda q: 0.0, np.zeros(2), step=0.0)
+
+
+def _independent_residual(robot, q, T_d):
+    """max(‖p_d − p_e‖, angle of R_eᵀ R_d) from FK and the trace formula (not the solver's own residual)."""
+    T_e = direct_kinematics(robot, q)
+    cos_angle = np.clip((np.trace(T_e[:3, :3].T @ T_d[:3, :3]) - 1.0) / 2.0, -1.0, 1.0)
+    return max(float(np.linalg.norm(T_d[:3, 3] - T_e[:3, 3])), float(np.arccos(cos_angle)))
+
+
+def test_solve_clik_success_flag_agrees_with_an_independent_residual():
+    """``success`` and ``residual`` against FK of the returned q: a flag set from a stale or wrong
+    residual (e.g. the initial guess's) is caught."""
+    robot = load("ur5")
+    rng = np.random.default_rng(11)
+    for start_offset, iterations in ((0.1, 500), (0.6, 3), (0.3, 500)):
+        q_goal = robot.random_configuration(rng)
+        T = direct_kinematics(robot, q_goal)
+        res = solve_clik(robot, T, q_goal + start_offset, max_iterations=iterations)
+        independent = _independent_residual(robot, res.q, T)
+        assert independent == pytest.approx(res.residual, abs=1e-7)
+        assert res.success == (independent < 1e-6)

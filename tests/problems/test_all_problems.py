@@ -1,11 +1,62 @@
-"""Every registered problem solves and every one of its checks passes; the registry's own contract."""
+"""Every registered problem solves and every one of its checks passes and can fail; the registry's contract."""
 
 import matplotlib.pyplot as plt
+import numpy as np
 import pytest
 
-from problems.registry import KINDS, all_problems
+from problems.registry import KINDS, REFERENCES, all_problems
+from tests.problems.figure_lint import lint_figure
 
 PROBLEMS = [p for p in all_problems() if p.chapter != 99]  # 99.x: test_cli.py's own
+
+
+def _same_side(a, b) -> bool:
+    """The two sides of a check are one object (or share memory): the check compares a value with itself."""
+    if a is None or b is None:
+        return False
+    if a is b:
+        return True
+    return isinstance(a, np.ndarray) and isinstance(b, np.ndarray) and a.size > 0 and np.shares_memory(a, b)
+
+
+def _is_echo(check, values: dict) -> bool:
+    """Both sides equal (exactly) the recorded value whose name the check bears: a value echoed back
+    under its own name (a check named "x" comparing the recorded x with itself or a copy)."""
+    if check.actual is None or check.expected is None or check.name not in values:
+        return False
+    v = values[check.name]
+    try:
+        return bool(np.array_equal(np.asarray(v), np.asarray(check.actual))
+                    and np.array_equal(np.asarray(v), np.asarray(check.expected)))
+    except (TypeError, ValueError):
+        return False
+
+
+def dishonest_checks(sol) -> list[str]:
+    """The checks of a solution that cannot fail by construction (detectable cases)."""
+    bad = []
+    for c in sol.checks:
+        if c.reference is not None and c.reference not in REFERENCES:
+            bad.append(f"{c.name}: unknown reference {c.reference!r}")
+        if _same_side(c.actual, c.expected):
+            bad.append(f"{c.name}: actual and expected are the same object")
+        elif _is_echo(c, sol.values):
+            bad.append(f"{c.name}: both sides equal the recorded value it is named after")
+    return bad
+
+
+def test_the_honesty_lint_catches_a_value_compared_with_itself():
+    from problems.registry import Solution
+
+    sol = Solution()
+    x = np.array([0.3, 0.7])
+    sol.value("x", x)
+    sol.check_close("x == x", x, x)
+    sol.check_close("view", x, x[:])
+    sol.value("x echoed", x)
+    sol.check_close("x echoed", x.copy(), x.copy())
+    sol.check_close("independent", np.array([0.3, 0.7]), np.array([0.1 + 0.2, 0.7]), atol=1e-12)
+    assert len(dishonest_checks(sol)) == 3
 
 
 @pytest.mark.parametrize("prob", PROBLEMS, ids=[p.id for p in PROBLEMS])
@@ -15,13 +66,17 @@ def test_problem_checks_pass(prob):
         assert sol.checks, f"problem {prob.id} has no checks"
         failed = [f"{c.name}: {c.detail}" for c in sol.checks if not c.passed]
         assert not failed, f"problem {prob.id} failed checks: {failed}"
+        bad = dishonest_checks(sol)
+        assert not bad, f"problem {prob.id} has checks that cannot fail: {bad}"
+        unreadable = [m for fig in sol.figures for m in lint_figure(fig)]
+        assert not unreadable, f"problem {prob.id}: figures a reader cannot use: {unreadable}"
     finally:
         for fig in sol.figures:
             plt.close(fig)
 
 
-@pytest.mark.parametrize("prob", PROBLEMS, ids=[p.id for p in PROBLEMS])
-def test_problem_is_documented(prob):
-    doc = prob.function.__doc__ or ""
-    assert len(doc.strip()) > 20, f"problem {prob.id} needs a docstring paraphrasing the problem"
-    assert prob.kind in KINDS and prob.title
+def test_every_problem_is_documented():
+    """Not a behaviour test: one lint over all problems (docstring paraphrasing the problem, kind, title)."""
+    missing = [p.id for p in PROBLEMS if len((p.function.__doc__ or "").strip()) <= 20 or p.kind not in KINDS
+               or not p.title]
+    assert not missing, f"problems without a docstring, kind or title: {missing}"

@@ -5,6 +5,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 from problems.common import label_axes, subplots
 from problems.registry import Solution
@@ -98,3 +99,20 @@ def test_report_page_has_chapters_statements_captions_and_a_fresh_figures_folder
     assert "summary.json" in page and "1 m" in page
     assert json.loads((tmp_path / "summary.json").read_text())[0]["units"] == {"a": "m"}
     assert summary[0]["statement"].startswith("Find the answer")
+
+
+def test_checks_record_both_sides_and_their_reference():
+    from problems.report import solution_dict
+
+    sol = Solution(id="0.1", title="t", kind="numeric")
+    sol.check_close("x", [1.0, 2.0], [1.0, 2.0 + 1e-12], atol=1e-9, reference="closed form")
+    sol.check("monotone", True)
+    sol.check_error("fd", 1e-8, 1e-6, reference="finite differences")
+    sol.check_close("big", np.zeros(100), np.zeros(100))
+    rows = solution_dict(sol)["checks"]
+    assert [r["reference"] for r in rows] == ["closed form", "property", "finite differences", None]
+    assert rows[0]["actual"] == [1.0, 2.0] and rows[2]["actual"] == 1e-8 and rows[3]["actual"] == "array (100,)"
+    assert {"name", "passed", "detail", "actual", "expected", "reference"} <= set(rows[0])
+    with pytest.raises(ValueError, match="reference"):
+        sol.check_close("y", 1.0, 1.0, reference="manual")
+    assert "closed form</span>" in solution_html(solution_dict(sol))

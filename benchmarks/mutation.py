@@ -1,0 +1,154 @@
+"""A small hand-rolled mutation run: does the test suite notice when one operator or constant changes?
+
+For each named module, every arithmetic/comparison operator, numeric constant and unary minus is a
+mutation point (``+``↔``-``, ``*``↔``/``, ``<``↔``<=``/``>``, ``==``↔``!=``, ``c`` → ``c + 1`` (``0`` → ``1``),
+``-x`` → ``x``); a seeded sample of at most ``--per-module`` points is mutated one at a time in a copy of
+the tree, and the module's tests run against the copy. A mutant *survives* when those tests still pass.
+
+    python benchmarks/mutation.py --per-module 50 --out /tmp/mutation.txt
+
+Docstrings and ``raise ValueError`` messages are skipped (they carry no behaviour the tests measure).
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import random
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+TARGETS = {
+    "rigid_body/rotations.py": ["tests/rigid_body/test_rotations.py", "tests/rigid_body/test_rpy_orders.py",
+                                "tests/rigid_body/test_orientation_errors.py",
+                                "tests/rigid_body/test_independent_references.py",
+                                "tests/rigid_body/test_mutation_survivors.py"],
+    "planners/timing.py": ["tests/planners/test_timing.py", "tests/planners/test_multi_segment.py",
+                           "tests/rigid_body/test_independent_references.py",
+                           "tests/rigid_body/test_mutation_survivors.py"],
+    "planners/inverse_kinematics.py": ["tests/planners/test_inverse_kinematics.py",
+                                       "tests/rigid_body/test_independent_references.py",
+                                       "tests/rigid_body/test_mutation_survivors.py"],
+    "controllers/simulation.py": ["tests/controllers/test_simulation.py"],
+}
+
+SWAP = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult,
+        ast.FloorDiv: ast.Mult, ast.Mod: ast.FloorDiv,
+        ast.Lt: ast.LtE, ast.LtE: ast.Lt, ast.Gt: ast.GtE, ast.GtE: ast.Gt, ast.Eq: ast.NotEq,
+        ast.NotEq: ast.Eq, ast.And: ast.Or, ast.Or: ast.And}
+
+
+def _skipped_lines(tree: ast.AST) -> set[int]:
+    """Lines of docstrings and of ``raise`` statements (messages, not behaviour)."""
+    lines: set[int] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef, ast.Module, ast.AsyncFunctionDef)) and node.body:
+            first = node.body[0]
+            if isinstance(first, ast.Expr) and isinstance(getattr(first, "value", None), ast.Constant):
+                lines.update(range(first.lineno, first.end_lineno + 1))
+        if isinstance(node, ast.Raise):
+            lines.update(range(node.lineno, node.end_lineno + 1))
+    return lines
+
+
+def mutation_points(source: str) -> list[tuple[int, str]]:
+    """(index in ``ast.walk`` order, description) of every mutable node."""
+    tree = ast.parse(source)
+    skip = _skipped_lines(tree)
+    points = []
+    for k, node in enumerate(ast.walk(tree)):
+        line = getattr(node, "lineno", None)
+        if line is None or line in skip:
+            continue
+        if isinstance(node, (ast.BinOp, ast.BoolOp)) and type(node.op) in SWAP:
+            points.append((k, f"line {line}: {type(node.op).__name__} -> {SWAP[type(node.op)].__name__}"))
+        elif isinstance(node, ast.Compare) and type(node.ops[0]) in SWAP:
+            points.append((k, f"line {line}: {type(node.ops[0]).__name__} -> {SWAP[type(node.ops[0])].__name__}"))
+        elif isinstance(node, ast.Constant) and type(node.value) in (int, float) and not isinstance(node.value, bool):
+            points.append((k, f"line {line}: constant {node.value!r} -> {node.value + 1!r}"))
+        elif isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
+            points.append((k, f"line {line}: unary minus removed"))
+    return points
+
+
+def mutate(source: str, index: int) -> str:
+    tree = ast.parse(source)
+    for k, node in enumerate(ast.walk(tree)):
+        if k != index:
+            continue
+        if isinstance(node, (ast.BinOp, ast.BoolOp)):
+            node.op = SWAP[type(node.op)]()
+        elif isinstance(node, ast.Compare):
+            node.ops[0] = SWAP[type(node.ops[0])]()
+        elif isinstance(node, ast.Constant):
+            node.value = node.value + 1
+        elif isinstance(node, ast.UnaryOp):
+            return ast.unparse(_replace(tree, node, node.operand))
+        return ast.unparse(tree)
+    raise IndexError(index)
+
+
+def _replace(tree: ast.AST, old: ast.AST, new: ast.AST) -> ast.AST:
+    for parent in ast.walk(tree):
+        for name, value in ast.iter_fields(parent):
+            if value is old:
+                setattr(parent, name, new)
+            elif isinstance(value, list):
+                for i, item in enumerate(value):
+                    if item is old:
+                        value[i] = new
+    return tree
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--per-module", type=int, default=50)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--timeout", type=float, default=120.0)
+    parser.add_argument("--out", type=Path, default=Path("mutation.txt"))
+    parser.add_argument("modules", nargs="*", default=list(TARGETS))
+    args = parser.parse_args()
+    work = Path(tempfile.mkdtemp(prefix="rmpc-mutation-"))
+    shutil.copytree(ROOT, work / "tree", ignore=shutil.ignore_patterns(".git", "__pycache__", "notebooks"))
+    tree = work / "tree"
+    rng = random.Random(args.seed)
+    total = survived = 0
+    with args.out.open("w") as log:
+        for module in args.modules:
+            original = (ROOT / module).read_text()
+            points = mutation_points(original)
+            sample = sorted(rng.sample(points, min(args.per_module, len(points))))
+            print(f"# {module}: {len(points)} points, {len(sample)} sampled", file=log, flush=True)
+            for index, what in sample:
+                try:
+                    mutated = mutate(original, index)
+                except Exception as exc:  # a mutant that does not unparse is skipped
+                    print(f"SKIP {module} {what} ({exc})", file=log, flush=True)
+                    continue
+                (tree / module).write_text(mutated)
+                t0 = time.time()
+                try:
+                    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-x", "-p", "no:cacheprovider",
+                                          *TARGETS[module]], cwd=tree, capture_output=True,
+                                         timeout=args.timeout, env={"PYTHONPATH": str(tree), "PATH": "/usr/bin:/bin",
+                                                                    "MPLBACKEND": "Agg"})
+                    status = "SURVIVED" if run.returncode == 0 else "killed"
+                except subprocess.TimeoutExpired:
+                    status = "killed (timeout)"
+                total += 1
+                survived += status == "SURVIVED"
+                print(f"{status:16s} {module} {what} [{time.time() - t0:.0f} s]", file=log, flush=True)
+            (tree / module).write_text(original)
+        rate = survived / total if total else float("nan")
+        print(f"# {survived} of {total} mutants survived ({100 * rate:.0f} %)", file=log, flush=True)
+    shutil.rmtree(work, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()

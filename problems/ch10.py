@@ -656,7 +656,7 @@ def _loop_figures(sol: Solution, run: _Run, figs: str, what: str) -> None:
     fig, axes = subplots(1, 2, figsize=(11, 3.8))
     for i, name in enumerate(("x_m [-]", "y_m [-]", "L [-]", "α [rad]")):
         axes[0].plot(t, run.s[:, i], label=name)
-    label_axes(axes[0], "t [s]", "segment features s", legend=True)
+    label_axes(axes[0], "t [s]", "segment features s [-, -, -, rad]", legend=True)
     for i, name in enumerate(("P₁", "P₂")):
         axes[1].plot(run.xy[:, i, 0], run.xy[:, i, 1], label=name)
         axes[1].plot(*run.xy[0, i], "kx")

@@ -77,15 +77,12 @@ def toolbox_fdyn(t_end: float = 0.05) -> float | None:
     """Wall time per simulated second of the Robotics Toolbox's ``fdyn`` (its Puma 560 without friction,
     the same PD + gravity law, output every 1 ms), or None when the Toolbox is absent. Its scipy
     integrator costs ~1000 s per simulated second here, so a short run ``t_end`` is timed."""
-    try:
-        import roboticstoolbox as rtb
-    except ImportError:
+    from benchtools import toolbox_puma_pd
+
+    toolbox = toolbox_puma_pd(K_P, K_D, Q_D)
+    if toolbox is None:
         return None
-    puma = rtb.models.DH.Puma560().nofriction(coulomb=True, viscous=True)
-
-    def law(robot, t, q, qd):
-        return robot.gravload(q) + K_P * (Q_D - q) - K_D * qd
-
+    puma, law = toolbox
     t0 = time.perf_counter()
     puma.fdyn(t_end, Q0, law, dt=H)
     return (time.perf_counter() - t0) / t_end

@@ -66,15 +66,12 @@ def pinocchio_floor(xs: np.ndarray) -> float:
 
 def toolbox(rtol: float | None = None):
     """The Toolbox's fdyn on its Puma 560 (friction off, as ArmPlant) with the same law, or None."""
-    try:
-        import roboticstoolbox as rtb
-    except ImportError:
+    from benchtools import toolbox_puma_pd
+
+    toolbox = toolbox_puma_pd(K_P, K_D, Q_D)
+    if toolbox is None:
         return None
-    puma = rtb.models.DH.Puma560().nofriction(coulomb=True, viscous=True)
-
-    def law(robot, t, q, qd):
-        return robot.gravload(q) + K_P * (Q_D - q) - K_D * qd
-
+    puma, law = toolbox
     args = {} if rtol is None else {"solver_args": {"rtol": rtol, "atol": 1e-12}}
     return lambda: puma.fdyn(T_END, np.zeros(6), law, **args)
 

@@ -47,3 +47,18 @@ def print_rows(rows: list[dict]) -> None:
         ref_s = f"{ref:10.4g}" if ref is not None else " " * 10
         print(f"{row['measurement']:58s} {row['rmpc']:10.4g} {ref_s} {ratio}  {target_s:<12s} {ok_s:<4s} "
               f"{row.get('ref_name', '')}")
+
+
+def toolbox_puma_pd(K_P: float, K_D: float, q_d):
+    """The Robotics Toolbox's Puma 560 (friction off, as rmpc's ``ArmPlant``) and the PD + gravity law
+    ``τ = g(q) + K_P (q_d − q) − K_D q̇`` in its ``fdyn`` callback form, or None without the Toolbox."""
+    try:
+        import roboticstoolbox as rtb
+    except ImportError:
+        return None
+    puma = rtb.models.DH.Puma560().nofriction(coulomb=True, viscous=True)
+
+    def law(robot, t, q, qd):
+        return robot.gravload(q) + K_P * (q_d - q) - K_D * qd
+
+    return puma, law

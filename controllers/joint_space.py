@@ -165,7 +165,7 @@ def sampled_error_poles(K_P: Any, K_D: Any, Ts: float) -> np.ndarray:
     x⁺ = (A − b k) x with A = [[1, Ts], [0, 1]], b = (Ts²/2, Ts), k = (K_P,i, K_D,i). The loop is
     stable iff both eigenvalues lie inside the unit circle. Only the diagonal of the gains is used.
 
-    >>> np.abs(sampled_error_poles(100.0, 20.0, 1e-3)).max() < 1
+    >>> bool(np.abs(sampled_error_poles(100.0, 20.0, 1e-3)).max() < 1)
     True
     """
     kp = np.atleast_1d(np.diag(np.atleast_2d(np.asarray(K_P, dtype=float))))

@@ -93,7 +93,7 @@ def planar_3r(a: Any = (0.5, 0.3, 0.2), lower: Any = (-np.pi / 3, -2 * np.pi / 3
                          lower=lower[i], upper=upper[i]) for i in range(3))
     # Problem 3.21's q_i = [0.51469, −1.55168, 1.82239] (for a₃ = 0.3 m) breaks 2.17's limit |θ3| ≤ π/2; its
     # first two angles with θ3 = π/3 instead: non-singular (θ2 ≠ 0), inside the limits.
-    configurations = {"p3_21_start": (0.51469, -1.55168, np.pi / 3)}
+    configurations = {"p3_21_within_limits": (0.51469, -1.55168, np.pi / 3)}
     return BookRobot("planar_3r", links, (0.0, -G, 0.0), payload, configurations=configurations)
 
 

@@ -20,7 +20,7 @@ def test_every_named_configuration_lies_within_the_joint_limits(name):
 
 def test_the_problem_postures_are_named_and_carried_with_a_payload():
     assert set(load("planar_2r").configurations) >= {"p8_10_target", "p8_15_start"}
-    assert "p3_21_start" in load("planar_3r").configurations
+    assert "p3_21_within_limits" in load("planar_3r").configurations
     assert "bent" in load("anthropomorphic_wrist", payload=1.0).configurations
     # 8.15's start is inv_k2u([0.4, 0.4]) for a = (1, 1): its tip, by the planar closed form
     q = load("planar_2r").configurations["p8_15_start"]

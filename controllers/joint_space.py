@@ -157,6 +157,24 @@ def sampled_stability(robot: Robot, K_P: Any, K_D: Any, Ts: float, q: Any) -> li
     return problems
 
 
+def sampled_error_poles(K_P: Any, K_D: Any, Ts: float) -> np.ndarray:
+    """The discrete poles (n, 2) of q̃̈_i + K_D,i q̃̇_i + K_P,i q̃_i = 0 sampled at Ts, one row per joint.
+
+    Inverse dynamics control (8.57) leaves each joint a unit double integrator q̈_i = y_i; with y_i
+    from (8.60) held by a zero-order hold over Ts, the error state x = (q̃_i, q̃̇_i) evolves as
+    x⁺ = (A − b k) x with A = [[1, Ts], [0, 1]], b = (Ts²/2, Ts), k = (K_P,i, K_D,i). The loop is
+    stable iff both eigenvalues lie inside the unit circle. Only the diagonal of the gains is used.
+
+    >>> bool(np.abs(sampled_error_poles(100.0, 20.0, 1e-3)).max() < 1)
+    True
+    """
+    kp = np.atleast_1d(np.diag(np.atleast_2d(np.asarray(K_P, dtype=float))))
+    kd = np.atleast_1d(np.diag(np.atleast_2d(np.asarray(K_D, dtype=float))))
+    A = np.array([[1.0, Ts], [0.0, 1.0]])
+    b = np.array([[0.5 * Ts**2], [Ts]])
+    return np.array([np.linalg.eigvals(A - b @ np.array([[p, d]])) for p, d in zip(kp, kd)])
+
+
 # --------------------------------------------------------------------------------------------
 # PD control with gravity compensation (8.51)
 # --------------------------------------------------------------------------------------------
@@ -338,6 +356,22 @@ class InverseDynamicsControl(LoggedController):
         self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
         self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
+
+    def diagnose(self, plant: Any, Ts: float, meas: ArmMeasurement) -> str:
+        """The joints whose sampled error dynamics (:func:`sampled_error_poles`) leave the unit
+        circle and what to lower (called by :func:`~controllers.simulation.simulate`); "" if none."""
+        poles = np.abs(sampled_error_poles(self.K_P, self.K_D, Ts))
+        kp, kd = np.diag(self.K_P), np.diag(self.K_D)
+        problems = []
+        for i in np.flatnonzero(poles.max(axis=1) >= 1.0):
+            j = i + 1
+            if kd[i] * Ts >= 2:  # the damping alone overshoots within one sample
+                fix = f"lower K_D,{j} below {2 / Ts:.4g} or shorten Ts below {2 / kd[i]:.3g} s"
+            else:  # K_P,i Ts² ≥ 2 K_D,i Ts: stiffness too high for the damping
+                fix = f"lower K_P,{j} below {2 * kd[i] / Ts:.4g}, raise K_D,{j} or shorten Ts"
+            problems.append(f"joint {j}: sampled error poles |z| = {poles[i].max():.4g} ≥ 1 "
+                            f"(K_P,{j} = {kp[i]:.4g}, K_D,{j} = {kd[i]:.4g}, Ts = {Ts:.4g} s): {fix}")
+        return "; ".join(problems)
 
     def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
         q, qd = meas.q, meas.qd

@@ -520,8 +520,8 @@ def problem_2_15() -> Solution:
     R2 = sol.value("R2", rot.euler_zyz_to_rotation(phi2))
     R1R2 = sol.value("R1R2", R1 @ R2)
     R2R1 = sol.value("R2R1", R2 @ R1)
-    e12 = sol.value("euler_R1R2", np.array([rot.rotation_to_euler_zyz(R1R2, b).angles for b in (1, -1)]))
-    e21 = sol.value("euler_R2R1", np.array([rot.rotation_to_euler_zyz(R2R1, b).angles for b in (1, -1)]))
+    e12 = sol.value("euler_R1R2", np.array([rot.rotation_to_euler_zyz(R1R2, b).angles for b in (1, -1)]), unit="rad")
+    e21 = sol.value("euler_R2R1", np.array([rot.rotation_to_euler_zyz(R2R1, b).angles for b in (1, -1)]), unit="rad")
     h = np.pi / 2
     sol.check_close("R1", R1, [[0, -1, 0], [0, 0, 1], [-1, 0, 0]], atol=1e-15)
     sol.check_close("R2", R2, [[0, 1, 0], [0, 0, 1], [1, 0, 0]], atol=1e-15)
@@ -626,9 +626,9 @@ def problem_2_17() -> Solution:
               f"Hausdorff(contour, mirror) = {sym:.1e} m; mirrored samples inside: {mirrored_inside.mean():.4f} "
               f"vs {inside.mean():.4f}")
     area = 0.5 * abs(np.dot(poly[:-1, 0], poly[1:, 1]) - np.dot(poly[1:, 0], poly[:-1, 1]))
-    sol.value("area", area)
-    sol.value("corners", {k: v for k, v in pts.items()})
-    sol.value("radius_inner_circle", radii[0])
+    sol.value("area", area, unit="m²")
+    sol.value("corners", {k: v for k, v in pts.items()}, unit="m")
+    sol.value("radius_inner_circle", radii[0], unit="m")
 
     fig, ax = subplots(figsize=(6.5, 6.5))
     ax.plot(samples[::20, 0], samples[::20, 1], ".", ms=1, color="0.75", label="random joint samples")
@@ -746,7 +746,8 @@ def problem_2_20() -> Solution:
         fk.append((np.sign(qs[[ELBOW_UP, ELBOW_DOWN], 1]), [-1.0, 1.0]))
     sol.check("both_branches_satisfy_fk", max_error(fk) < 1e-10, f"max error {max_error(fk):.2e}")
     sol.check("one_branch_returns_q", max(found) < 1e-10, f"max distance to the true q: {max(found):.2e}")
-    q_up = sol.value("q_companion_example", inverse_kinematics_scara([1.0, 1.0, 0.5, np.pi / 4], a=(1.0, 1.0))[ELBOW_UP])
+    q_up = sol.value("q_companion_example", inverse_kinematics_scara([1.0, 1.0, 0.5, np.pi / 4], a=(1.0, 1.0))[ELBOW_UP],
+                   unit="rad (q3 in m)")
     sol.check_close("companion_inv_ksu_example", q_up, [np.pi / 2, -np.pi / 2, 0.5, np.pi / 4], atol=1e-12,
                     reference="manual number")
     return sol

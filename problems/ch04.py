@@ -73,7 +73,7 @@ def problem_4_1() -> Solution:
     sol = Solution()
     q_i, q_f, t_f = 1.0, 4.0, 2.0
     law = timing.quintic_law(q_i, q_f, t_f)
-    a = sol.value("coefficients", law.coefficients[0].tolist())
+    a = sol.value("coefficients", law.coefficients[0].tolist(), unit="a_j in rad/s^j")
     a0, a1, a2, a3, a4, a5 = a
     manual = [a0 - q_i, a1 - 0.0, 2 * a2 - 0.0,
               a5 * t_f**5 + a4 * t_f**4 + a3 * t_f**3 + a2 * t_f**2 + a1 * t_f + a0 - q_f,
@@ -107,7 +107,7 @@ def problem_4_2() -> Solution:
     sol = Solution()
     q_i, q_f, t_f = 0.0, 3.0, 2.0
     law = timing.raised_cosine_law(q_i, q_f, t_f)
-    k, k1 = sol.value("k", float(law.k)), sol.value("k1", float(law.k1))
+    k, k1 = sol.value("k", float(law.k), unit="rad/s"), sol.value("k1", float(law.k1), unit="rad")
     sol.check_close("k = 1.5, k1 = 0 (manual)", [k, k1], [1.5, 0.0], atol=1e-12, reference="closed form")
     sol.check_close("a = 2π/t_f = π", law.a, np.pi, atol=1e-12, reference="closed form")
     t = np.linspace(0, t_f, 401)
@@ -141,13 +141,13 @@ def problem_4_3() -> Solution:
     qd_a, qd_b = (q[1] - q[0]) / (t[1] - t[0]), (q[2] - q[1]) / (t[2] - t[1])
     qd_m = (qd_a + qd_b) / 2
     qdd_m = ((qd_m - 0) / (t[1] - t[0]) + (0 - qd_m) / (t[2] - t[1])) / 2
-    sol.value("qd_m", float(qd[1]))
-    sol.value("qdd_m", float(qdd[1]))
+    sol.value("qd_m", float(qd[1]), unit="rad/s")
+    sol.value("qdd_m", float(qdd[1]), unit="rad/s²")
     sol.check_close("q̇_m = (q̇_a + q̇_b)/2 = 0.75, q̈_m = 0 (manual's rule; not −0.3125 of the s4_3 slip)",
                     [qd[1], qdd[1]], [qd_m, qdd_m], atol=1e-12, reference="manual number")
     law = timing.polynomial_sequence_law(t, q, qd, qdd, degree=5)
-    sol.value("coefficients_1", law.coefficients[0].tolist())
-    sol.value("coefficients_2", law.coefficients[1].tolist())
+    sol.value("coefficients_1", law.coefficients[0].tolist(), unit="a_j in rad/s^j")
+    sol.value("coefficients_2", law.coefficients[1].tolist(), unit="a_j in rad/s^j")
     sol.check_close("segment coefficients [0, 0, 0, 1.75, −1.21875, 0.234375], [2, 0.75, 0, 0.125, −0.1875, 0.046875]",
                     law.coefficients, [[0, 0, 0, 1.75, -1.21875, 0.234375], [2, 0.75, 0, 0.125, -0.1875, 0.046875]],
                     atol=1e-12, reference="manual number")
@@ -257,9 +257,9 @@ def problem_4_5() -> Solution:
     sol.value("A", system.A.tolist())
     sol.value("b", system.b.tolist())
     law = _spline_checks(sol, "data of 4.5", t, q, 0.0, 0.0, 0.0, 0.0, (1.0, 3.0))
-    sol.value("accelerations", law(np.array([1.0, 2.0, 3.0]))[2].tolist())
-    sol.value("virtual_points", law(np.array([1.0, 3.0]))[0].tolist())
-    sol.value("knot_velocities", law(np.array([1.0, 2.0, 3.0]))[1].tolist())
+    sol.value("accelerations", law(np.array([1.0, 2.0, 3.0]))[2].tolist(), unit="rad/s²")
+    sol.value("virtual_points", law(np.array([1.0, 3.0]))[0].tolist(), unit="rad")
+    sol.value("knot_velocities", law(np.array([1.0, 2.0, 3.0]))[1].tolist(), unit="rad/s")
     sol.figure(_figure(timing.sample(law, dt=TS), "Fig. S4.4 — cubic spline timing law", points=(t, q)))
     return sol
 
@@ -282,11 +282,11 @@ def problem_4_6() -> Solution:
     t, q, blend = np.array([0.0, 2.0, 4.0]), np.array([0.0, 2.0, 3.0]), 0.2
     c = timing.blend_coefficients(t, q, blend)
     for k in range(2):
-        sol.value(f"a{k + 1}0", float(c.a[k, 0]))
-        sol.value(f"a{k + 1}1", float(c.a[k, 1]))
+        sol.value(f"a{k + 1}0", float(c.a[k, 0]), unit="rad")
+        sol.value(f"a{k + 1}1", float(c.a[k, 1]), unit="rad/s")
     for k in range(3):
         for j in range(3):
-            sol.value(f"b{k + 1}{j}", float(c.b[k, j]))
+            sol.value(f"b{k + 1}{j}", float(c.b[k, j]), unit=("rad", "rad/s", "rad/s²")[j])
     # the manual's formulas, written out
     v = np.array([0.0, (q[1] - q[0]) / 2, (q[2] - q[1]) / 2, 0.0])  # q̇_{k−1,k}, k = 1..4
     b_ref = [[q[k] + (v[k + 1] - v[k]) * blend / 8, (v[k + 1] + v[k]) / 2, (v[k + 1] - v[k]) / (2 * blend)]
@@ -324,7 +324,7 @@ def _trapezoid_checks(sol: Solution, law, s_f: float, t_f: float, sd_c: float) -
     t_c = (0.0 - s_f + sd_c * t_f) / sd_c
     sdd_c = sd_c**2 / (0.0 - s_f + sd_c * t_f)
     sol.value("t_c", float(law.breaks[1]), unit="s")
-    sol.value("sdd_c", float(law(0.5 * t_c)[2]))
+    sol.value("sdd_c", float(law(0.5 * t_c)[2]), unit="m/s²")
     sol.check_close("t_c = (s_i − s_f + ṡ_c t_f)/ṡ_c and s̈_c = ṡ_c²/(s_i − s_f + ṡ_c t_f), Eq. (4.8)",
                     [law.breaks[1], law(0.5 * t_c)[2], law(t_f / 2)[1]], [t_c, sdd_c, sd_c], atol=1e-12,
                         reference="closed form")

@@ -78,7 +78,11 @@ def planar_2r(a: Any = (1.0, 1.0), l: Any = (0.5, 0.5), m_l: Any = (50.0, 50.0),
             a=a[i], mass=m_l[i], com=(l[i] - a[i], 0.0, 0.0), inertia=np.diag([0.0, I_l[i], I_l[i]]),
             motor_inertia=I_m[i] if motors else 0.0, motor_mass=m_m[i] if motors else 0.0,
             gear_ratio=k_r[i]))
-    return BookRobot("planar_2r", tuple(links), (0.0, -G, 0.0), payload)
+    configurations = {
+        "p8_10_target": (np.pi / 4, -np.pi / 2),  # Problem 8.10, case c = 0: the desired posture q_d
+        "p8_15_start": (2.06944, -2.56808),  # Problem 8.15, case c = 0: q(0) = inv_k2u([0.4, 0.4]) (elbow up)
+    }
+    return BookRobot("planar_2r", tuple(links), (0.0, -G, 0.0), payload, configurations=configurations)
 
 
 def planar_3r(a: Any = (0.5, 0.3, 0.2), lower: Any = (-np.pi / 3, -2 * np.pi / 3, -np.pi / 2),
@@ -87,7 +91,10 @@ def planar_3r(a: Any = (0.5, 0.3, 0.2), lower: Any = (-np.pi / 3, -2 * np.pi / 3
     """Three-link planar arm of Fig. 2.20 with the joint limits of Problem 2.17."""
     links = tuple(DHLink(a=a[i], mass=mass, com=(-a[i] / 2, 0.0, 0.0), inertia=rod_inertia(mass, a[i]),
                          lower=lower[i], upper=upper[i]) for i in range(3))
-    return BookRobot("planar_3r", links, (0.0, -G, 0.0), payload)
+    # Problem 3.21's q_i = [0.51469, −1.55168, 1.82239] (for a₃ = 0.3 m) breaks 2.17's limit |θ3| ≤ π/2; its
+    # first two angles with θ3 = π/3 instead: non-singular (θ2 ≠ 0), inside the limits.
+    configurations = {"p3_21_within_limits": (0.51469, -1.55168, np.pi / 3)}
+    return BookRobot("planar_3r", links, (0.0, -G, 0.0), payload, configurations=configurations)
 
 
 def scara(a: Any = (0.5, 0.5), d3_range: Any = (0.0, 1.0), payload: float = 0.0) -> BookRobot:
@@ -144,7 +151,9 @@ def _wrist_links(d6: float, first: int = 4) -> tuple[DHLink, ...]:
 
 def spherical_wrist(d6: float = 0.1, payload: float = 0.0) -> BookRobot:
     """Spherical wrist: (0,−π/2,0,θ4), (0,π/2,0,θ5), (0,0,d6,θ6); joints named joint_4..joint_6."""
-    return BookRobot("spherical_wrist", _wrist_links(d6), (0.0, 0.0, -G), payload)
+    # Away from the wrist singularity θ5 = 0, π (Sect. 3.3.2: z₃ ∥ z₅): an illustrative posture.
+    configurations = {"bent": (0.0, np.pi / 2, 0.0)}
+    return BookRobot("spherical_wrist", _wrist_links(d6), (0.0, 0.0, -G), payload, configurations=configurations)
 
 
 def anthropomorphic_wrist(a2: float = 0.5, d4: float = 0.5, d6: float = 0.1, payload: float = 0.0) -> BookRobot:
@@ -157,7 +166,10 @@ def anthropomorphic_wrist(a2: float = 0.5, d4: float = 0.5, d6: float = 0.1, pay
         DHLink(alpha=np.pi / 2, mass=0.5, inertia=np.diag([0.005] * 3)),
         DHLink(d=d6, mass=0.2, com=(0, 0, -d6 / 2), inertia=np.diag([0.002] * 3)),
     )
-    return BookRobot("anthropomorphic_wrist", links, (0.0, 0.0, -G), payload)
+    # Away from the shoulder (wrist centre on z₀), elbow (θ3 = 0, π for this table) and wrist (θ5 = 0, π)
+    # singularities of Sect. 3.3.2: an illustrative posture (the manual gives none).
+    configurations = {"bent": (0.0, np.pi / 4, np.pi / 2 + np.pi / 4, 0.0, np.pi / 2, 0.0)}
+    return BookRobot("anthropomorphic_wrist", links, (0.0, 0.0, -G), payload, configurations=configurations)
 
 
 def cartesian_skew(m_l: Any = (10.0, 5.0), m_m: Any = (2.0, 2.0), I_m: Any = (0.01, 0.01),

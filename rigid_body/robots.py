@@ -524,6 +524,7 @@ def load(name_or_path: str | os.PathLike, payload: float = 0.0, **params: Any) -
             robot = _build(path.read_text(), spec.gravity, key, "ee", path)
         else:
             robot = _build(spec.urdf(), spec.gravity, key, "ee", None)
+        robot.configurations.update({k: np.array(v, dtype=float) for k, v in spec.configurations.items()})
         return _with_dh_payload(robot, spec.payload)
     if params:
         raise TypeError(f"parameters {sorted(params)} are only accepted for the book's robots")

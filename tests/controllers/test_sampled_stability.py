@@ -61,3 +61,40 @@ def test_the_docstring_gains_for_the_ur5_pass_the_check():
     ur5 = load("ur5")
     assert sampled_stability(ur5, [600, 600, 400, 100, 100, 50], [60, 60, 40, 10, 10, 8], 1e-3,
                              ur5.configurations["home"]) == []
+
+
+# ---- inverse dynamics control: the sampled unit double integrator per joint ------------------
+
+def test_sampled_error_poles_match_the_closed_form_characteristic_polynomial():
+    """Eigenvalues of A − b k against the roots of z² − (2 − d − p/2) z + 1 − d + p/2 (d = K_D Ts, p = K_P Ts²)."""
+    from controllers.joint_space import sampled_error_poles
+
+    Ts = 2e-3
+    for kp, kd in [(100.0, 16.0), (1e5, 900.0), (4e6, 100.0), (1e4, 1500.0)]:
+        d, p = kd * Ts, kp * Ts**2
+        expected = np.sort_complex(np.roots([1.0, -(2 - d - p / 2), 1 - d + p / 2]).astype(complex))
+        got = np.sort_complex(sampled_error_poles(kp, kd, Ts)[0].astype(complex))
+        np.testing.assert_allclose(got, expected, atol=1e-12)
+
+
+def test_inverse_dynamics_divergence_names_the_joint_and_the_gain_to_lower():
+    from controllers.joint_space import InverseDynamicsControl
+
+    arm = load("planar_2r")
+    q_d = np.array([0.3, 0.5])
+    plant = ArmPlant(arm)
+    ctrl = InverseDynamicsControl(arm, [100.0, 100.0], [16.0, 2500.0], q_d)  # K_D,2 Ts = 2.5 ≥ 2
+    with pytest.raises(SimulationDiverged) as err:
+        simulate(plant, ctrl, (0.0, 0.5), plant.initial_state(q_d + 0.05), h=1e-3, Ts=1e-3)
+    message = str(err.value)
+    assert "joint 2: sampled error poles" in message and "lower K_D,2 below 2000" in message
+    assert "joint 1" not in message
+
+
+def test_inverse_dynamics_with_stable_gains_diagnoses_nothing():
+    from controllers.joint_space import InverseDynamicsControl
+    from controllers.plants import ArmMeasurement
+
+    arm = load("planar_2r")
+    ctrl = InverseDynamicsControl(arm, 100.0, 16.0, np.zeros(2))
+    assert ctrl.diagnose(None, 1e-3, ArmMeasurement(np.zeros(2), np.zeros(2))) == ""

@@ -371,7 +371,7 @@ def problem_5_6() -> Solution:
                     reference="closed form")
     F = pin.SE3(R, r).act(pin.Force(h_s[:3], h_s[3:]))
     sol.check_close("Pinocchio: SE3(R_s^c, r_cs^c).act(force) gives the same wrench",
-                    np.concatenate([F.linear, F.angular]), h_c, atol=1e-12)
+                    np.concatenate([F.linear, F.angular]), h_c, atol=1e-12, reference="other library")
     return sol
 
 

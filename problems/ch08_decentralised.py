@@ -307,7 +307,7 @@ def problem_8_5() -> Solution:
     sol.check("library closed loop = manual's W(s)", _rel(design.closed_loop.reference, manual) < 1e-9,
               f"max rel. error {_rel(design.closed_loop.reference, manual):.2e}")
     sol.check_close("poles −ζω_n ± jω_n√(1−ζ²)", poles,
-                    np.sort_complex(np.roots([1 / (2 * K_P * K_V), 1 / K_P, 1])), atol=1e-9)
+                    np.sort_complex(np.roots([1 / (2 * K_P * K_V), 1 / K_P, 1])), atol=1e-9, reference="closed form")
     # Sampled-data simulation of a unit disturbance step at t = 0.1 s, θ_d = 0.
     step_time = 0.1
     ctrl = PositionVelocityController(design, drive, lambda t: (0.0, 0.0, 0.0), Ts=1e-3,
@@ -524,9 +524,9 @@ def problem_8_9() -> Solution:
             ref = inertia_bounds(closed)
             sol.check_close("α from the closed-form B(q) (independent reference) = 0.43009", alpha, ref.alpha, atol=1e-9,
                             reference="closed form")
-            sol.check_close("α ≈ 0.43009, B̂ ≈ 151.80 I (catalogue values)", [alpha, bounds.B_hat[0, 0]],
+            sol.check_close("α ≈ 0.43009, B̂ ≈ 151.80 I (manual values)", [alpha, bounds.B_hat[0, 0]],
                             [0.43009, 151.80], rtol=2e-4, reference="manual number")
         else:
-            sol.check_close("payload: α ≈ 0.49408, B̂ ≈ 159.68 I (catalogue values)", [alpha, bounds.B_hat[0, 0]],
+            sol.check_close("payload: α ≈ 0.49408, B̂ ≈ 159.68 I (manual values)", [alpha, bounds.B_hat[0, 0]],
                             [0.49408, 159.68], rtol=2e-4, reference="manual number")
     return sol

@@ -80,9 +80,10 @@ def problem_2_1() -> Solution:
     sol.value("R_example", rot.euler_zxz_to_rotation([0.3, 0.5, -0.2]))
     sol.check("zxz_matrix_matches_manual", max_error(pairs) < 1e-12,
               f"max |error| = {max_error(pairs):.2e} over {N_RANDOM} random angle sets "
-              "(manual erratum: third factor is R_z''(psi), printed R_z''(varphi))")
+              "(manual erratum: third factor is R_z''(psi), printed R_z''(varphi))", reference="closed form")
     sol.check("inverse_matches_manual_both_ranges", max_error(inv_pairs) < 1e-9,
-              f"theta in (0, pi) and (-pi, 0): max angle error (mod 2pi) = {max_error(inv_pairs):.2e}")
+              f"theta in (0, pi) and (-pi, 0): max angle error (mod 2pi) = {max_error(inv_pairs):.2e}",
+              reference="closed form")
     sol.check("inverse_reproduces_R", max_error(back) < 1e-12, f"max |R(phi(R)) - R| = {max_error(back):.2e}")
     return sol
 
@@ -385,7 +386,8 @@ def problem_2_11() -> Solution:
     sol.check("loop_constraints_2_60_hold", max(residual) < 1e-12,
               f"(S2.1)-(S2.2) joints on the Pinocchio tree: max constraint residual {max(residual):.2e}")
     sol.check("A_matrices_match_manual", max_error(forms) < 1e-12,
-              f"A_3'^2', A_3'^0, A_1''^0, T_4^0 = A_3'^0 A_4^3' vs Pinocchio: max |error| = {max_error(forms):.2e}")
+              f"A_3'^2', A_3'^0, A_1''^0, T_4^0 = A_3'^0 A_4^3' vs Pinocchio: max |error| = {max_error(forms):.2e}",
+              reference="closed form")
     grid = np.linspace(-np.pi, np.pi, 25)
     closes = all(np.all(np.isfinite(closed_chain_joints(chain, [x, y]))) for x in grid for y in grid)
     sol.check("solution_exists_everywhere_when_a1p_plus_a1pp_le_a2p", closes,
@@ -429,7 +431,7 @@ def problem_2_12() -> Solution:
         pairs += [(T3, manual), (T1, A1), (T2, np.array(A1) @ A2), (T3, np.array(A1) @ A2 @ A3),
                   (direct_kinematics(robot, q), manual)]
     sol.check("pinocchio_equals_manual_T30", max_error(pairs) < 1e-12,
-              f"{N_RANDOM} random q: max |error| = {max_error(pairs):.2e}")
+              f"{N_RANDOM} random q: max |error| = {max_error(pairs):.2e}", reference="closed form")
     sol.figure(frames_figure(robot, [0.5, 0.4, 0.5], "Fig. S2.2 — DH frames of the cylindrical arm (θ1 = 0.5, d2 = 0.4, d3 = 0.5)"))
     return sol
 

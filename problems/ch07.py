@@ -165,10 +165,11 @@ def problem_7_2() -> Solution:
     N = Bdot - 2 * C_alt
     qdv = sp.Matrix(qds)
     sol.check("sympy: C equals the manual's [[2hϑ̇2, hϑ̇2], [−hϑ̇1 + hϑ̇2/2, −hϑ̇1/2]]",
-              sp.simplify(C_alt - C_manual) == sp.zeros(2, 2))
-    sol.check("sympy: Ḃ equals the manual's [[2hϑ̇2, hϑ̇2], [hϑ̇2, 0]]", sp.simplify(Bdot - Bdot_manual) == sp.zeros(2, 2))
+              sp.simplify(C_alt - C_manual) == sp.zeros(2, 2), reference="closed form")
+    sol.check("sympy: Ḃ equals the manual's [[2hϑ̇2, hϑ̇2], [hϑ̇2, 0]]", sp.simplify(Bdot - Bdot_manual) == sp.zeros(2, 2),
+              reference="closed form")
     sol.check("sympy: N = Ḃ − 2C equals the manual's [[−2hϑ̇2, −hϑ̇2], [2hϑ̇1, hϑ̇1]]",
-              sp.simplify(N - N_manual) == sp.zeros(2, 2))
+              sp.simplify(N - N_manual) == sp.zeros(2, 2), reference="closed form")
     sol.check("sympy: N + Nᵀ ≠ 0 (not skew-symmetric)", sp.simplify(N + N.T) != sp.zeros(2, 2))
     sol.check("sympy: q̇ᵀ N q̇ ≡ 0 (7.49)", sp.simplify((qdv.T * N * qdv)[0, 0]) == 0)
 

@@ -170,7 +170,8 @@ def problem_8_11() -> Solution:
                     reference="manual number")
     plant = VoltageControlledArm(armL, K_R, drives, viscous_friction=F_V)
     sol.check_close("voltage-to-torque gain and electrical damping (Fig. 8.3)",
-                    np.r_[plant.voltage_gain, plant.electrical_damping], [20, 20, 4000, 4000], atol=1e-9, reference="manual number")
+                    np.r_[plant.voltage_gain, plant.electrical_damping], [20, 20, 4000, 4000], atol=1e-9,
+                    reference="manual number")
     tra = _tra_4()
     x0 = plant.initial_state(Q_I)
     runs: dict[tuple[int, bool], SimulationResult] = {}

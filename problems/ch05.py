@@ -207,7 +207,7 @@ def problem_5_3() -> Solution:
     """
     sol = Solution()
     m = DCServomotor(**MOTOR_52, ki=1.0)
-    zeta, t_s = 0.7, 2e-3
+    zeta, t_s = sol.given("zeta", 0.7), sol.given("t_s", 2e-3, unit="s")
     pi, omega_n = design_pi_current_loop(m, zeta, t_s)
     K_I, T_I = sol.value("K_I", pi.K), sol.value("T_I", pi.T)
     sol.value("omega_n", omega_n, unit="rad/s")
@@ -215,8 +215,8 @@ def problem_5_3() -> Solution:
     a1, a2 = (0.2 + K_I * T_I) / K_I, 0.002 / K_I
     wn = 1 / np.sqrt(a2)
     z = a1 * wn / 2
-    sol.check_close("manual's denominator with the designed K_I, T_I has ζ = 0.7", z, zeta, atol=1e-9,
-                    reference="closed form")
+    sol.check_close("specification met: the manual's denominator with the designed K_I, T_I has ζ = 0.7", z, zeta,
+                    atol=1e-9, reference="property")
     lib = servomotor_transfer_functions(DCServomotor(**{**MOTOR_52, "Tv": 0.0, "kv": 1e-12}, ki=1.0), pi)
     manual = (1 + 1j * OMEGA * T_I) / (1 + 1j * OMEGA * a1 - OMEGA**2 * a2)
     err = max_relative_error(frequency_samples(lib.current_input, OMEGA), manual)

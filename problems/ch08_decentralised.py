@@ -233,7 +233,7 @@ def problem_8_4() -> Solution:
     the manual rounds it (withheld there, computed here).
     """
     sol = Solution()
-    drive = JointDrive(**DRIVE_84)
+    drive = JointDrive(**sol.given("drive", DRIVE_84))
     _drive_checks(sol, drive)
     T_P = 10 * drive.T_m
     design = design_position_feedback(drive, ZETA, T_P)

@@ -80,9 +80,10 @@ def problem_2_1() -> Solution:
     sol.value("R_example", rot.euler_zxz_to_rotation([0.3, 0.5, -0.2]))
     sol.check("zxz_matrix_matches_manual", max_error(pairs) < 1e-12,
               f"max |error| = {max_error(pairs):.2e} over {N_RANDOM} random angle sets "
-              "(manual erratum: third factor is R_z''(psi), printed R_z''(varphi))")
+              "(manual erratum: third factor is R_z''(psi), printed R_z''(varphi))", reference="closed form")
     sol.check("inverse_matches_manual_both_ranges", max_error(inv_pairs) < 1e-9,
-              f"theta in (0, pi) and (-pi, 0): max angle error (mod 2pi) = {max_error(inv_pairs):.2e}")
+              f"theta in (0, pi) and (-pi, 0): max angle error (mod 2pi) = {max_error(inv_pairs):.2e}",
+              reference="closed form")
     sol.check("inverse_reproduces_R", max_error(back) < 1e-12, f"max |R(phi(R)) - R| = {max_error(back):.2e}")
     return sol
 
@@ -114,7 +115,7 @@ def problem_2_2() -> Solution:
     sol.check("phi_pm_psi_is_atan2(-r12, r22)", max_error(atan) < 1e-9,
               f"+ for theta = 0, - for theta = pi; max error (mod 2pi) = {max_error(atan):.2e}")
     sol.check("singularity_flagged", all(flags), f"{sum(flags)}/{len(flags)} inverses flagged singular")
-    sol.check_error("representative_reproduces_R", max_error(rep), 1e-12)
+    sol.check_error("representative_reproduces_R", max_error(rep), 1e-12, reference="closed form")
     _zyz_generic_check(sol, np.random.default_rng(2202))
     return sol
 
@@ -164,7 +165,7 @@ def problem_2_3() -> Solution:
     sol.check("psi_pm_phi_is_atan2(-r23, r22)", max_error(atan) < 1e-9,
               f"+ for theta = -pi/2, - for theta = pi/2; max error (mod 2pi) = {max_error(atan):.2e}")
     sol.check("singularity_flagged", all(flags), f"{sum(flags)}/{len(flags)} inverses flagged singular")
-    sol.check_error("representative_reproduces_R", max_error(rep), 1e-12)
+    sol.check_error("representative_reproduces_R", max_error(rep), 1e-12, reference="closed form")
     return sol
 
 
@@ -215,7 +216,7 @@ def problem_2_5() -> Solution:
         manual_r = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]]) / (2 * np.sin(manual_th))
         manual += [(th, manual_th), (r, manual_r), (th * r, pin.log3(R))]
         pairs.append((rot.axis_angle_to_rotation(th, r), R))
-    sol.check_error("general_case_matches_2_27_and_log3", max_error(manual), 1e-8)
+    sol.check_error("general_case_matches_2_27_and_log3", max_error(manual), 1e-8, reference="other library")
     pi_axes = [np.array(v, float) for v in ([0, 1, 0], [0, 1 / np.sqrt(2), 1 / np.sqrt(2)], [1, 0, 0],
                                              [0.6, 0, -0.8])] + [unit(rng.normal(size=3)) for _ in range(10)]
     pi_err = []
@@ -228,7 +229,7 @@ def problem_2_5() -> Solution:
               f"{len(pi_axes)} axes incl. r_x = 0: max error {max(pi_err):.2e} (largest-diagonal column)")
     th0, r0 = rot.rotation_to_axis_angle(np.eye(3))
     sol.check("theta_zero_any_unit_axis", th0 == 0.0 and abs(np.linalg.norm(r0) - 1) < 1e-15, f"theta = {th0}")
-    sol.check_error("recomposition", max_error(pairs), 1e-12)
+    sol.check_error("recomposition", max_error(pairs), 1e-12, reference="closed form")
     return sol
 
 
@@ -261,7 +262,7 @@ def problem_2_7() -> Solution:
         Q = random_quaternion(rng)
         R = rot.quaternion_to_rotation(Q)
         pairs += [(R @ Q[1:], Q[1:]), (R.T @ Q[1:], Q[1:])]
-    sol.check_error("R_eps_equals_eps", max_error(pairs), 1e-12)
+    sol.check_error("R_eps_equals_eps", max_error(pairs), 1e-12, reference="closed form")
     return sol
 
 
@@ -341,7 +342,7 @@ def problem_2_10() -> Solution:
         T = rot.homogeneous_transform(random_rotation(rng), rng.uniform(-2, 2, 3))
         Ti = rot.homogeneous_inverse(T)
         pairs += [(Ti, np.linalg.inv(T)), (Ti, pin.SE3(T).inverse().homogeneous), (Ti @ T, np.eye(4))]
-    sol.check_error("inverse_matches_linalg_and_se3", max_error(pairs), 1e-12)
+    sol.check_error("inverse_matches_linalg_and_se3", max_error(pairs), 1e-12, reference="other library")
     return sol
 
 
@@ -385,7 +386,8 @@ def problem_2_11() -> Solution:
     sol.check("loop_constraints_2_60_hold", max(residual) < 1e-12,
               f"(S2.1)-(S2.2) joints on the Pinocchio tree: max constraint residual {max(residual):.2e}")
     sol.check("A_matrices_match_manual", max_error(forms) < 1e-12,
-              f"A_3'^2', A_3'^0, A_1''^0, T_4^0 = A_3'^0 A_4^3' vs Pinocchio: max |error| = {max_error(forms):.2e}")
+              f"A_3'^2', A_3'^0, A_1''^0, T_4^0 = A_3'^0 A_4^3' vs Pinocchio: max |error| = {max_error(forms):.2e}",
+              reference="closed form")
     grid = np.linspace(-np.pi, np.pi, 25)
     closes = all(np.all(np.isfinite(closed_chain_joints(chain, [x, y]))) for x in grid for y in grid)
     sol.check("solution_exists_everywhere_when_a1p_plus_a1pp_le_a2p", closes,
@@ -429,7 +431,7 @@ def problem_2_12() -> Solution:
         pairs += [(T3, manual), (T1, A1), (T2, np.array(A1) @ A2), (T3, np.array(A1) @ A2 @ A3),
                   (direct_kinematics(robot, q), manual)]
     sol.check("pinocchio_equals_manual_T30", max_error(pairs) < 1e-12,
-              f"{N_RANDOM} random q: max |error| = {max_error(pairs):.2e}")
+              f"{N_RANDOM} random q: max |error| = {max_error(pairs):.2e}", reference="closed form")
     sol.figure(frames_figure(robot, [0.5, 0.4, 0.5], "Fig. S2.2 — DH frames of the cylindrical arm (θ1 = 0.5, d2 = 0.4, d3 = 0.5)"))
     return sol
 
@@ -481,7 +483,7 @@ def problem_2_14() -> Solution:
               np.allclose(T_l[:3, 2], T_l[:3, 3] / hum.d_l) and np.allclose(T_r[:3, 2], T_r[:3, 3] / hum.d_r),
               "z_l ∥ o_tl = d_l [cβ, 0, sβ], z_r ∥ o_tr = d_r [cβ, 0, −sβ]")
     mirror = np.diag([1.0, 1.0, -1.0, 1.0]) @ T_l @ np.diag([1.0, -1.0, 1.0, 1.0])
-    sol.check_close("right_shoulder_is_mirror_of_left", mirror, T_r, atol=1e-15)
+    sol.check_close("right_shoulder_is_mirror_of_left", mirror, T_r, atol=1e-15, reference="closed form")
     pairs, torso = [], []
     for _ in range(N_RANDOM):
         q = rng.uniform(-np.pi, np.pi, robot.nq)
@@ -495,7 +497,7 @@ def problem_2_14() -> Solution:
         torso.append((T3, manual_T3))
         A_l, A_r = hum.hand_poses(q)
         pairs += [(T_lh, A_l), (T_rh, A_r)]
-    sol.check_error("torso_is_anthropomorphic_2_66", max_error(torso), 1e-12)
+    sol.check_error("torso_is_anthropomorphic_2_66", max_error(torso), 1e-12, reference="closed form")
     sol.check("hand_poses_equal_2_78_2_79", max_error(pairs) < 1e-12,
               f"Pinocchio tree vs T_3^0 T_t^3 T_l^t T_lh^l and T_3^0 T_t^3 T_r^t T_rh^r: max |error| = "
               f"{max_error(pairs):.2e} ({N_RANDOM} random q, nq = {robot.nq})")
@@ -523,15 +525,19 @@ def problem_2_15() -> Solution:
     e12 = sol.value("euler_R1R2", np.array([rot.rotation_to_euler_zyz(R1R2, b).angles for b in (1, -1)]), unit="rad")
     e21 = sol.value("euler_R2R1", np.array([rot.rotation_to_euler_zyz(R2R1, b).angles for b in (1, -1)]), unit="rad")
     h = np.pi / 2
-    sol.check_close("R1", R1, [[0, -1, 0], [0, 0, 1], [-1, 0, 0]], atol=1e-15)
-    sol.check_close("R2", R2, [[0, 1, 0], [0, 0, 1], [1, 0, 0]], atol=1e-15)
-    sol.check_close("R1R2_current_frame", R1R2, [[0, 0, -1], [1, 0, 0], [0, -1, 0]], atol=1e-15)
-    sol.check_close("R2R1_fixed_frame", R2R1, [[0, 0, 1], [-1, 0, 0], [0, -1, 0]], atol=1e-15)
-    sol.check_close("euler_R1R2_mod_2pi", rot.wrap_angle(e12 - [[np.pi, h, -h], [0, -h, h]]), np.zeros((2, 3)), atol=1e-12)
-    sol.check_close("euler_R2R1_mod_2pi", rot.wrap_angle(e21 - [[0, h, -h], [np.pi, -h, h]]), np.zeros((2, 3)), atol=1e-12)
+    sol.check_close("R1", R1, [[0, -1, 0], [0, 0, 1], [-1, 0, 0]], atol=1e-15, reference="manual number")
+    sol.check_close("R2", R2, [[0, 1, 0], [0, 0, 1], [1, 0, 0]], atol=1e-15, reference="manual number")
+    sol.check_close("R1R2_current_frame", R1R2, [[0, 0, -1], [1, 0, 0], [0, -1, 0]], atol=1e-15,
+                    reference="manual number")
+    sol.check_close("R2R1_fixed_frame", R2R1, [[0, 0, 1], [-1, 0, 0], [0, -1, 0]], atol=1e-15,
+                    reference="manual number")
+    sol.check_close("euler_R1R2_mod_2pi", rot.wrap_angle(e12 - [[np.pi, h, -h], [0, -h, h]]), np.zeros((2, 3)), atol=1e-12,
+                    reference="manual number")
+    sol.check_close("euler_R2R1_mod_2pi", rot.wrap_angle(e21 - [[0, h, -h], [np.pi, -h, h]]), np.zeros((2, 3)), atol=1e-12,
+                    reference="manual number")
     sol.check("not_commutative", np.max(np.abs(R1R2 - R2R1)) > 0.5, f"max |R1R2 - R2R1| = {np.max(np.abs(R1R2 - R2R1)):g}")
     R_sum = sol.value("R_phi1_plus_phi2", rot.euler_zyz_to_rotation(phi1 + phi2))
-    sol.check_close("direct_sum_gives_identity", R_sum, np.eye(3), atol=1e-15)
+    sol.check_close("direct_sum_gives_identity", R_sum, np.eye(3), atol=1e-15, reference="closed form")
     _zyz_generic_check(sol, np.random.default_rng(2215))
     return sol
 
@@ -612,13 +618,14 @@ def problem_2_17() -> Solution:
     sol.check("interior_is_covered", float(np.max(gap)) < 0.015,
               f"{len(grid)} grid points inside (> 0.015 m from the contour): nearest sample within {np.max(gap):.4f} m")
     r_contour = np.linalg.norm(poly, axis=1)
-    sol.check_close("max_radius_is_a1_a2_a3", np.max(r_contour), a.sum(), atol=1e-12)
+    sol.check_close("max_radius_is_a1_a2_a3", np.max(r_contour), a.sum(), atol=1e-12, reference="closed form")
     sol.check("samples_within_max_radius", float(np.max(np.linalg.norm(samples, axis=1))) <= a.sum() + 1e-12,
               f"max sample radius {np.max(np.linalg.norm(samples, axis=1)):.6f} <= {a.sum()}")
     qr = joint_arc(robot, configs["Q"], 0, up[0], 50)[:, :2]
-    sol.check_close("arc_QR_has_radius_a1_a2_a3", np.linalg.norm(qr, axis=1), np.full(50, a.sum()), atol=1e-12)
+    sol.check_close("arc_QR_has_radius_a1_a2_a3", np.linalg.norm(qr, axis=1), np.full(50, a.sum()), atol=1e-12,
+                    reference="closed form")
     radii = [np.linalg.norm(pts[k]) for k in "HEDA"]
-    sol.check_close("H_E_D_A_on_one_circle", np.array(radii), np.full(4, radii[0]), atol=1e-12)
+    sol.check_close("H_E_D_A_on_one_circle", np.array(radii), np.full(4, radii[0]), atol=1e-12, reference="closed form")
     mirrored = poly * [1.0, -1.0]
     sym = max(float(np.max(polyline_distance(mirrored, poly))), float(np.max(polyline_distance(poly, mirrored))))
     mirrored_inside = PolygonPath(poly).contains_points(samples * [1.0, -1.0])

@@ -112,7 +112,8 @@ def problem_4_2() -> Solution:
     sol.check_close("a = 2π/t_f = π", law.a, np.pi, atol=1e-12, reference="closed form")
     t = np.linspace(0, t_f, 401)
     q, qd, qdd = law(t)
-    sol.check_close("velocity profile is k(1 − cos(a t))", qd, k * (1 - np.cos(law.a * t)), atol=1e-12)
+    sol.check_close("velocity profile is k(1 − cos(a t))", qd, k * (1 - np.cos(law.a * t)), atol=1e-12,
+                    reference="closed form")
     sol.check_close("q(0) = 0, q(2) = 3, q̇(0) = q̇(2) = 0", [q[0], q[-1], qd[0], qd[-1]], [0, 3, 0, 0], atol=1e-12,
                     reference="closed form")
     sol.check_close("peaks: q̇ = 2k = 3 at t = 1, q̈ = k a = 4.7124 at t = 0.5",
@@ -211,12 +212,14 @@ def _spline_checks(sol: Solution, label: str, t, q, vi, vf, ai, af, t_virtual) -
                     np.concatenate([A_ref.ravel(), b_ref]), atol=1e-12, reference="closed form")
     sol.check(f"{label}: A is tridiagonal", np.allclose(np.triu(system.A, 2), 0) and np.allclose(np.tril(system.A, -2), 0))
     law = timing.cubic_spline_law(t, q, vi, vf, ai, af, t_virtual=t_virtual)
-    sol.check_close(f"{label}: interpolates the given points", law(np.asarray(t, float))[0], q, atol=1e-10)
+    sol.check_close(f"{label}: interpolates the given points", law(np.asarray(t, float))[0], q, atol=1e-10,
+                    reference="property")
     inner = system.knots[1:-1]
     jumps = [_jumps(law, inner, k) for k in range(3)]
     sol.check(f"{label}: C2 at every knot (virtual points included)", max(jumps) < 1e-7, f"jumps {jumps}")
     (_, v0, a0), (_, v1, a1) = law(float(t[0])), law(float(t[-1]))
-    sol.check_close(f"{label}: boundary velocities and accelerations", [v0, a0, v1, a1], [vi, ai, vf, af], atol=1e-10)
+    sol.check_close(f"{label}: boundary velocities and accelerations", [v0, a0, v1, a1], [vi, ai, vf, af], atol=1e-10,
+                    reference="property")
     return law
 
 
@@ -296,16 +299,17 @@ def problem_4_6() -> Solution:
     sol.check_close("b_k0, b_k1, b_k2 as the manual's formulas", c.b, b_ref, atol=1e-12, reference="closed form")
     law = timing.linear_parabolic_blends_law(t, q, blend)
     edges = [-0.1, 0.1, 1.9, 2.1, 3.9, 4.1]
-    sol.check_close("trajectory on [−0.1, 4.1] (blends centred on the knots)", [law.t_i, law.t_f], [-0.1, 4.1], atol=1e-12)
+    sol.check_close("trajectory on [−0.1, 4.1] (blends centred on the knots)", [law.t_i, law.t_f], [-0.1, 4.1], atol=1e-12,
+                    reference="closed form")
     sol.check("position and velocity continuous at every t_k ± Δt'/2",
               max(_jumps(law, edges[1:-1], 0), _jumps(law, edges[1:-1], 1)) < 1e-7)
     sol.check_close("constant velocity 1 on [0.1, 1.9] and 0.5 on [2.1, 3.9]",
                     [law(np.linspace(0.1, 1.9, 9))[1], law(np.linspace(2.1, 3.9, 9))[1]], [np.ones(9), 0.5 * np.ones(9)],
-                    atol=1e-12)
+                    atol=1e-12, reference="closed form")
     sol.check_close("blend accelerations 2 b_k2 = (q̇_{k,k+1} − q̇_{k−1,k})/Δt'_k = 5, −2.5, −2.5",
                     law(np.array([0.0, 2.0, 4.0]))[2], [(v[k + 1] - v[k]) / blend for k in range(3)], atol=1e-12,
                         reference="closed form")
-    sol.check("catalogue slip: its 'accelerations 2.5, −1.25, −1.25' are the coefficients b_k2 = q̈/2",
+    sol.check("the tabulated 'accelerations 2.5, −1.25, −1.25' are the coefficients b_k2 = q̈/2",
               np.allclose(c.b[:, 2], [2.5, -1.25, -1.25]) and np.allclose(law(np.array([0.0, 2.0, 4.0]))[2], 2 * c.b[:, 2]))
     sol.check_close("q(−0.1) = 0, q(4.1) = 3, null end velocities",
                     [law(-0.1)[0], law(4.1)[0], law(-0.1)[1], law(4.1)[1]], [0, 3, 0, 0], atol=1e-12,
@@ -353,7 +357,7 @@ def problem_4_7() -> Solution:
     sol.check_close("‖ṗ‖ = ṡ, direction constant (ṗ = ṡ t̂, p̈ = s̈ t̂)", np.concatenate([pd, pdd]),
                     np.concatenate([np.outer(sd, seg.tangent), np.outer(sdd, seg.tangent)]), atol=1e-12,
                         reference="closed form")
-    sol.check_close("z constant", p[:, 2], np.zeros(t.size), atol=1e-12)
+    sol.check_close("z constant", p[:, 2], np.zeros(t.size), atol=1e-12, reference="closed form")
     cruise = (t > s_law.breaks[1] + 1e-9) & (t < t_f - s_law.breaks[1] - 1e-9)
     sol.check_close("|ẋ| = |ẏ| = ṡ_c/√2 = 0.7071 while cruising", np.abs(pd[cruise, :2]),
                     np.full((cruise.sum(), 2), sd_c / np.sqrt(2)), atol=1e-12, reference="manual number")
@@ -386,7 +390,8 @@ def problem_4_8() -> Solution:
     sol.value("R", circle.R.tolist())
     sol.check_close("circle frame R = [x' y' z'] with x' = y, y' = −z, z' = −x", circle.R,
                     [[0, 0, -1], [1, 0, 0], [0, -1, 0]], atol=1e-12, reference="closed form")
-    sol.check_close("centre and radius", np.concatenate([circle.center, [circle.radius]]), [0, 0, 1, 0.5], atol=1e-12)
+    sol.check_close("centre and radius", np.concatenate([circle.center, [circle.radius]]), [0, 0, 1, 0.5], atol=1e-12,
+                    reference="closed form")
     s = np.linspace(0, s_f, 50)
     sol.check_close("p(s) = [0, 0.5 cos 2s, 1 − 0.5 sin 2s] (manual)", circle(s)[0],
                     np.column_stack([0 * s, 0.5 * np.cos(2 * s), 1 - 0.5 * np.sin(2 * s)]), atol=1e-12,

@@ -126,7 +126,7 @@ def problem_5_1() -> Solution:
               rel_1 and rel_2 and gap == 0 and sp.limit(ratio, K, sp.oo) == 1,
               f"c_m/((k_t/k_i)(v'_c − (k_v/K) ω_m)) = {ratio} → 1")
     sol.check("Fig. 5.3 transfer functions Ω_m/V'_c and Ω_m/C_r (block reduction vs manual)", worst_53 < 1e-9,
-              f"max relative error {worst_53:.2e} at 60 frequencies × 5 motors")
+              f"max relative error {worst_53:.2e} at 60 frequencies × 5 motors", reference="closed form")
     sol.check("Fig. 5.3 with F_m → 0: (K/k_v)/(1 + s R_a I_m/(k_v k_t)) and −(R_a/(k_v k_t))/(1 + ·)",
               worst_53_approx < 1e-9, f"max relative error {worst_53_approx:.2e}")
     sol.check("Fig. 5.4 torque-controlled generator: (k_t/(k_i F_m))/(1 + s I_m/F_m), −(1/F_m)/(1 + ·)",
@@ -207,7 +207,7 @@ def problem_5_3() -> Solution:
     """
     sol = Solution()
     m = DCServomotor(**MOTOR_52, ki=1.0)
-    zeta, t_s = 0.7, 2e-3
+    zeta, t_s = sol.given("zeta", 0.7), sol.given("t_s", 2e-3, unit="s")
     pi, omega_n = design_pi_current_loop(m, zeta, t_s)
     K_I, T_I = sol.value("K_I", pi.K), sol.value("T_I", pi.T)
     sol.value("omega_n", omega_n, unit="rad/s")
@@ -215,13 +215,13 @@ def problem_5_3() -> Solution:
     a1, a2 = (0.2 + K_I * T_I) / K_I, 0.002 / K_I
     wn = 1 / np.sqrt(a2)
     z = a1 * wn / 2
-    sol.check_close("manual's denominator with the designed K_I, T_I has ζ = 0.7", z, zeta, atol=1e-9,
-                    reference="closed form")
+    sol.check_close("specification met: the manual's denominator with the designed K_I, T_I has ζ = 0.7", z, zeta,
+                    atol=1e-9, reference="property")
     lib = servomotor_transfer_functions(DCServomotor(**{**MOTOR_52, "Tv": 0.0, "kv": 1e-12}, ki=1.0), pi)
     manual = (1 + 1j * OMEGA * T_I) / (1 + 1j * OMEGA * a1 - OMEGA**2 * a2)
     err = max_relative_error(frequency_samples(lib.current_input, OMEGA), manual)
     sol.check("current loop I_a/V'_c (block reduction, Ω_m ≈ 0, T_v = 0) = manual's transfer function",
-              err < 1e-6, f"max relative error {err:.2e}")
+              err < 1e-6, f"max relative error {err:.2e}", reference="closed form")
     info = control.step_info(lib.current_input, SettlingTimeThreshold=0.01)
     sol.value("design_current_overshoot_percent", float(info["Overshoot"]), unit="%")
     sol.check("design model (T_v = 0): current settles within 1 % in ≤ 2 ms", info["SettlingTime"] <= t_s,
@@ -308,7 +308,7 @@ def problem_5_4() -> Solution:
     manual = (kx * Gs / (kr * kq)) / (s_ * (1 + s_ * Ts) * common) * Vc - (ch / (kt * kr * kq)) / (s_ * common) * Cr
     sol.check("sympy: the relations of Fig. S5.5 solved for Θ_m equal the manual's closed form",
               sp.simplify(theta - manual) == 0, "simplify(Θ_m − manual) = 0 (manual erratum: garbled equation "
-              "labels '(S5.6) into (S5.6)')")
+              "labels '(S5.6) into (S5.6)')", reference="closed form")
     return sol
 
 
@@ -371,7 +371,7 @@ def problem_5_6() -> Solution:
                     reference="closed form")
     F = pin.SE3(R, r).act(pin.Force(h_s[:3], h_s[3:]))
     sol.check_close("Pinocchio: SE3(R_s^c, r_cs^c).act(force) gives the same wrench",
-                    np.concatenate([F.linear, F.angular]), h_c, atol=1e-12)
+                    np.concatenate([F.linear, F.angular]), h_c, atol=1e-12, reference="other library")
     return sol
 
 

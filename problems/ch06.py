@@ -133,7 +133,7 @@ def problem_6_2() -> Solution:
         sol.check(f"{label}: null velocity at D and E (the arm stops)", max(np.abs(vD).max(), np.abs(vE).max()) < 1e-12,
                   f"|v(t_D)| = {np.abs(vD).max():.1e}, |v(t_E)| = {np.abs(vE).max():.1e}")
         sol.check_close(f"{label}: passes through D and E", [law(t_D)[0][:2], law(t_E)[0][:2]],
-                        [plan.points["D"], plan.points["E"]], atol=1e-12)
+                        [plan.points["D"], plan.points["E"]], atol=1e-12, reference="property")
     law, traj = results["via points"]
     p0, v0, a0 = law(law.t_i)
     pf, vf, af = law(law.t_f)
@@ -309,7 +309,8 @@ def problem_6_4() -> Solution:
     gaps = np.linalg.norm(placed[:, None] - placed[None], axis=2) + np.eye(16)
     sol.check("all 16 slots distinct (no two objects stacked)", gaps.min() > 0.5 * min(LENGTH, WIDTH),
               f"min distance between objects {gaps.min():.3f} m")
-    sol.check_close("end effector back home at the end", record.p[-1], HOME[:3], atol=1e-3)
+    sol.check_close("end effector back home at the end", record.p[-1], HOME[:3], atol=1e-3,
+                    reference="simulation vs prediction")
     sol.check("the gripper is empty at the end", cell.held is None, "")
     sol.animation(robot, record, "FILL_PALLET on the SCARA", speed=4.0,
                   overlays=lambda s: s.points("slots", slots, size=0.03))

@@ -170,14 +170,16 @@ def problem_8_11() -> Solution:
                     reference="manual number")
     plant = VoltageControlledArm(armL, K_R, drives, viscous_friction=F_V)
     sol.check_close("voltage-to-torque gain and electrical damping (Fig. 8.3)",
-                    np.r_[plant.voltage_gain, plant.electrical_damping], [20, 20, 4000, 4000], atol=1e-9)
+                    np.r_[plant.voltage_gain, plant.electrical_damping], [20, 20, 4000, 4000], atol=1e-9,
+                    reference="manual number")
     tra = _tra_4()
     x0 = plant.initial_state(Q_I)
     runs: dict[tuple[int, bool], SimulationResult] = {}
     for k, (zeta, omega_n, expect, omega_3) in enumerate(((0.5, 5.0, (5.0, 10.0, 50.0), 6.36),
                                                           (0.8, 10.0, (6.25, 32.0, 200.0), 8.71)), start=1):
         designs = [design_position_velocity(d, zeta, omega_n) for d in drives]
-        sol.check_close(f"gains {k}: K_P, K_V, X_R", [designs[0].K_P, designs[0].K_V, designs[0].X_R], expect, atol=1e-9)
+        sol.check_close(f"gains {k}: K_P, K_V, X_R", [designs[0].K_P, designs[0].K_V, designs[0].X_R], expect, atol=1e-9,
+                        reference="manual number")
         w3 = bandwidth(designs[0].closed_loop.reference)
         sol.value(f"omega_3_{k}", w3, unit="rad/s")
         sol.check(f"gains {k}: bandwidth ω3", abs(w3 - omega_3) < 0.01,
@@ -254,14 +256,14 @@ def problem_8_12() -> Solution:
     e_ss = sol.value("steady_state_error_fixed_point", Q_F - q_ss, unit="rad")
     sol.check_close("not compensated: steady state = fixed point of B̂ K_P q̃ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5,
                     reference="closed form")
-    sol.check_close("fixed point vs the catalogue's (−4.09e-3, −7.23e-3) rad", e_ss, [-4.09e-3, -7.23e-3], atol=1e-5,
+    sol.check_close("fixed point vs the manual's (−4.09e-3, −7.23e-3) rad", e_ss, [-4.09e-3, -7.23e-3], atol=1e-5,
                     reference="manual number")
     a1 = a2 = 1.0
     c1, c12 = np.cos(Q_F[0]), np.cos(Q_F.sum())
     dg_L = M_L * G * np.array([a1 * c1 + a2 * c12, a2 * c12])
     linear = np.linalg.solve(inertia_matrix(arm, Q_F), dg_L) / K_P
     sol.value("steady_state_error_linearised", linear, unit="rad")
-    sol.check_close("fixed point ≈ its linearisation K_P⁻¹ B̂⁻¹ Δg_L", e_ss, linear, rtol=0.02)
+    sol.check_close("fixed point ≈ its linearisation K_P⁻¹ B̂⁻¹ Δg_L", e_ss, linear, rtol=0.02, reference="closed form")
     sol.check("not compensated: degraded transient", np.abs(rn["e"]).max() > 5e-3,
               f"max |q̃| = {np.abs(rn['e']).max():.2e} > 5e-3 (vs {np.abs(rc['e']).max():.2e} compensated)")
     fig, axes = subplots(1, 2, figsize=(9, 3.6))
@@ -465,7 +467,7 @@ def problem_8_16() -> Solution:
     arm, armL = _arm(), _arm(M_L)
     p_i, p_f = np.array([0.7, 0.2, 0.0]), np.array([0.1, -0.6, 0.0])
     segment = Segment(p_i, p_f)
-    sol.check_close("path length", segment.length, 1.0, atol=1e-12)
+    sol.check_close("path length", segment.length, 1.0, atol=1e-12, reference="closed form")
     law = PathLaw(segment, trapezoidal_law(0.0, segment.length, 1.0, 1.5))
     q0 = inverse_kinematics_planar_2r(p_i[:2])[ELBOW_UP]  # companion inv_k2u: s2 < 0
     sol.check_close("initial posture = companion's inv_k2u(p_i)", q0, [1.47653, -2.39646], atol=1e-5,
@@ -486,7 +488,7 @@ def problem_8_16() -> Solution:
     e_ss = sol.value("steady_state_error_fixed_point", p_f[:2] - direct_kinematics(armL, q_ss)[:2, 3], unit="m")
     sol.check_close("not compensated: steady state = fixed point of B̂ J⁻¹ K_P x̃ = g − ĝ", rn["e"][-1], e_ss, atol=1e-5,
                     reference="closed form")
-    sol.check_close("fixed point vs the catalogue's s2 < 0 value (−2.82e-3, 6.39e-3) m", e_ss, [-2.82e-3, 6.39e-3],
+    sol.check_close("fixed point vs the manual's s2 < 0 value (−2.82e-3, 6.39e-3) m", e_ss, [-2.82e-3, 6.39e-3],
                     atol=1e-5, reference="manual number")
     sol.check("not compensated: degraded transient", np.abs(rn["e"]).max() > 5e-3,
               f"max |x̃| = {np.abs(rn['e']).max():.2e} > 5e-3 (vs {np.abs(rc['e']).max():.2e} compensated)")

@@ -99,7 +99,8 @@ def problem_8_1() -> Solution:
     den = 1 + S**2 * (1 + S * TM) / (KM * K_P * k_TP * (1 + S * T_P))
     sol.check("sympy: block equation of Fig. 5.10 solved = manual's Θ_m/Θ_r and Θ_m/D",
               sp.simplify(ref - (1 / k_TP) / den) == 0
-              and sp.simplify(dist + (S * RA_KT / (K_P * k_TP * (1 + S * T_P))) / den) == 0, "simplify(difference) = 0")
+              and sp.simplify(dist + (S * RA_KT / (K_P * k_TP * (1 + S * T_P))) / den) == 0, "simplify(difference) = 0",
+              reference="closed form")
     sol.check("P(s) = k_m K_P(1 + sT_P)/(s²(1 + sT_m)), H(s) = k_TP", worst[2] < 1e-9, f"max rel. error {worst[2]:.2e}")
     sol.check("Θ_m/Θ_r = (1/k_TP)/(1 + s²(1 + sT_m)/(k_m K_P k_TP(1 + sT_P)))", worst[0] < 1e-9,
               f"max relative error {worst[0]:.2e} (61 frequencies × 5 random cases)")
@@ -133,7 +134,7 @@ def problem_8_2() -> Solution:
     sol.check("sympy: block equation of Fig. 5.11 (T_V = T_m) solved = manual's Θ_m/Θ_r and Θ_m/D",
               sp.simplify(ref - (1 / k_TP) / den) == 0
               and sp.simplify(dist + (S * RA_KT / (K_P * k_TP * K_V * (1 + S * TM))) / den) == 0,
-              "simplify(difference) = 0")
+              "simplify(difference) = 0", reference="closed form")
     sol.check("H(s) = k_TP(1 + s k_TV/(K_P k_TP)) (Fig. S8.1)", worst[2] < 1e-9, f"max rel. error {worst[2]:.2e}")
     sol.check("Θ_m/Θ_r = (1/k_TP)/(1 + s k_TV/(K_P k_TP) + s²/(k_m K_P k_TP K_V)) for T_V = T_m", worst[0] < 1e-9,
               f"max relative error {worst[0]:.2e}")
@@ -171,7 +172,7 @@ def problem_8_3() -> Solution:
     sol.check("sympy: block equation of Figs. 8.6/8.9 (T_A = T_m) solved = manual's Θ_m/Θ_r and Θ_m/D",
               sp.simplify(ref - (1 / k_TP) / den) == 0
               and sp.simplify(dist + (S * RA_KT / (K_P * k_TP * K_V * K_A * (1 + S * TM))) / den) == 0,
-              "simplify(difference) = 0")
+              "simplify(difference) = 0", reference="closed form")
     sol.check("sM(s) = (k_t/(sR_a I))/(1 + k_t k_v/(sR_a I)) = k_m/(1 + sT_m) (Fig. S8.2)", worst[2] < 1e-9,
               f"max rel. error {worst[2]:.2e}")
     sol.check("Θ_m/Θ_r = (1/k_TP)/(1 + s k_TV/(K_P k_TP) + s²(1 + k_m K_A k_TA)/(k_m K_P k_TP K_V K_A)), T_A = T_m",
@@ -232,7 +233,7 @@ def problem_8_4() -> Solution:
     the manual rounds it (withheld there, computed here).
     """
     sol = Solution()
-    drive = JointDrive(**DRIVE_84)
+    drive = JointDrive(**sol.given("drive", DRIVE_84))
     _drive_checks(sol, drive)
     T_P = 10 * drive.T_m
     design = design_position_feedback(drive, ZETA, T_P)
@@ -305,9 +306,9 @@ def problem_8_5() -> Solution:
     _damping_checks(sol, design, OMEGA_N)
     manual = 1 / (1 + 1j * OMEGA / K_P - OMEGA**2 / (2 * K_P * K_V))
     sol.check("library closed loop = manual's W(s)", _rel(design.closed_loop.reference, manual) < 1e-9,
-              f"max rel. error {_rel(design.closed_loop.reference, manual):.2e}")
+              f"max rel. error {_rel(design.closed_loop.reference, manual):.2e}", reference="closed form")
     sol.check_close("poles −ζω_n ± jω_n√(1−ζ²)", poles,
-                    np.sort_complex(np.roots([1 / (2 * K_P * K_V), 1 / K_P, 1])), atol=1e-9)
+                    np.sort_complex(np.roots([1 / (2 * K_P * K_V), 1 / K_P, 1])), atol=1e-9, reference="closed form")
     # Sampled-data simulation of a unit disturbance step at t = 0.1 s, θ_d = 0.
     step_time = 0.1
     ctrl = PositionVelocityController(design, drive, lambda t: (0.0, 0.0, 0.0), Ts=1e-3,
@@ -482,7 +483,8 @@ def problem_8_8() -> Solution:
                    + (K_V * k_TV * K_A * TM + K_A * k_TA) / k_TP * S + K_A * TM * k_TA / k_TP * S**2) * E
                   + S * TH_D / KM + TM * S**2 * TH_D / KM)
     sol.check("sympy: K_V(1 + sT_V)/s · U and K_A(1 + sT_A)/s · U expand to the manual's Y (T_V = T_A = T_m)",
-              sp.expand(Y_pv - manual_pv) == 0 and sp.expand(Y_pva - manual_pva) == 0, "expand(difference) = 0")
+              sp.expand(Y_pv - manual_pv) == 0 and sp.expand(Y_pva - manual_pva) == 0, "expand(difference) = 0",
+              reference="closed form")
     sol.check("Fig. 8.15 ≡ Fig. 8.12: K_P(1 + sT_P)/s = K_P T_P + K_P/s", w_815 < 1e-9, f"max rel. error {w_815:.2e}")
     sol.check("Fig. 8.16 ≡ Fig. 8.13 (manual: 'Fig. 8.28', erratum): Y = (K_P K_V T_V + K_V k_TV/k_TP + K_P K_V/s "
               "+ K_V T_V k_TV s/k_TP)E + Θ̇_d/k_m + T_m Θ̈_d/k_m", w_PV < 1e-9, f"max rel. error {w_PV:.2e}")
@@ -524,9 +526,9 @@ def problem_8_9() -> Solution:
             ref = inertia_bounds(closed)
             sol.check_close("α from the closed-form B(q) (independent reference) = 0.43009", alpha, ref.alpha, atol=1e-9,
                             reference="closed form")
-            sol.check_close("α ≈ 0.43009, B̂ ≈ 151.80 I (catalogue values)", [alpha, bounds.B_hat[0, 0]],
+            sol.check_close("α ≈ 0.43009, B̂ ≈ 151.80 I (manual values)", [alpha, bounds.B_hat[0, 0]],
                             [0.43009, 151.80], rtol=2e-4, reference="manual number")
         else:
-            sol.check_close("payload: α ≈ 0.49408, B̂ ≈ 159.68 I (catalogue values)", [alpha, bounds.B_hat[0, 0]],
+            sol.check_close("payload: α ≈ 0.49408, B̂ ≈ 159.68 I (manual values)", [alpha, bounds.B_hat[0, 0]],
                             [0.49408, 159.68], rtol=2e-4, reference="manual number")
     return sol

@@ -60,6 +60,7 @@ class Solution:
     figures: list[Any] = field(default_factory=list)  # matplotlib Figure objects
     animations: list[dict[str, Any]] = field(default_factory=list)  # 3-D animations for the report (viewer/)
     units: dict[str, str] = field(default_factory=dict)  # value name -> unit ("m", "rad", "N·m", …)
+    data: dict[str, Any] = field(default_factory=dict)  # the problem's given data (sol.given): no check expects these
     statement: str = ""  # the problem function's docstring, first paragraph: what is asked, the data
 
     @property
@@ -71,6 +72,14 @@ class Solution:
         """Record a named value (with its ``unit``, e.g. ``"rad"``, ``"N·m"``) and return it (so it
         can be used inline)."""
         self.values[name] = value
+        if unit:
+            self.units[name] = unit
+        return value
+
+    def given(self, name: str, value: Any, unit: str = "") -> Any:
+        """Declare a datum of the problem statement (with its ``unit``) and return it. A check whose
+        ``expected`` is a given datum echoes the input back; the problems' lint rejects it."""
+        self.data[name] = value
         if unit:
             self.units[name] = unit
         return value

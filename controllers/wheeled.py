@@ -24,7 +24,6 @@ Eqs. (11.56)–(11.85); solution manual, Problems 11.14–11.18.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np

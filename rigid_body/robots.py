@@ -24,7 +24,7 @@ import numpy as np
 import pinocchio as pin
 
 from rigid_body.book_robots import BOOK_ROBOTS, DH_ROBOTS, URDF_DIR, book_robot_spec
-from rigid_body.dh import GRAVITY, MOTOR_MODELS, DHLink, as_links, urdf_from_dh
+from rigid_body.dh import GRAVITY, DHLink, as_links, urdf_from_dh
 
 __all__ = [
     "Robot", "JointFriction", "load", "available", "with_payload", "robot_from_dh", "robot_from_urdf_string",

@@ -1,6 +1,5 @@
 """A rigid wall (Pinocchio's constrained dynamics) as the limit of the compliant wall (beyond the book)."""
 
-import numpy as np
 
 from examples.rigid_contact import rigid_versus_compliant
 

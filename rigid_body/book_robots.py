@@ -105,7 +105,9 @@ def scara(a: Any = (0.5, 0.5), d3_range: Any = (0.0, 1.0), payload: float = 0.0)
         DHLink(joint="prismatic", lower=d3_range[0], upper=d3_range[1]),
         DHLink(mass=2.0, inertia=np.diag([1.0, 1.0, 1.0])),
     )
-    return BookRobot("scara", links, (0.0, 0.0, G), payload)
+    # Problem 5.7: the camera on the end effector at q = [0, π/4, 0.1, 0] (θ2 ≠ 0, π: non-singular)
+    configurations = {"p5_7_camera": (0.0, np.pi / 4, 0.1, 0.0)}
+    return BookRobot("scara", links, (0.0, 0.0, G), payload, configurations=configurations)
 
 
 def cylindrical(d2_range: Any = (0.0, 1.0), d3_range: Any = (0.1, 1.0), payload: float = 0.0) -> BookRobot:
@@ -117,7 +119,9 @@ def cylindrical(d2_range: Any = (0.0, 1.0), d3_range: Any = (0.1, 1.0), payload:
         DHLink(joint="prismatic", mass=2.0, com=(0, 0, -0.25), inertia=rod_inertia(2.0, 0.5, axis=2),
                lower=d3_range[0], upper=d3_range[1]),
     )
-    return BookRobot("cylindrical", links, (0.0, 0.0, -G), payload)
+    # Both strokes at mid-range (d3 > 0: off the singularity of Problem 3.6); illustrative, the manual gives none.
+    configurations = {"mid_stroke": (0.0, float(np.mean(d2_range)), float(np.mean(d3_range)))}
+    return BookRobot("cylindrical", links, (0.0, 0.0, -G), payload, configurations=configurations)
 
 
 def spherical(d2: float = 0.2, d3_range: Any = (0.1, 1.0), payload: float = 0.0) -> BookRobot:
@@ -128,7 +132,9 @@ def spherical(d2: float = 0.2, d3_range: Any = (0.1, 1.0), payload: float = 0.0)
         DHLink(joint="prismatic", mass=2.0, com=(0, 0, -0.25), inertia=rod_inertia(2.0, 0.5, axis=2),
                lower=d3_range[0], upper=d3_range[1]),
     )
-    return BookRobot("spherical", links, (0.0, 0.0, -G), payload)
+    # θ2 = π/4, d3 at mid-range: away from θ2 = 0, π and d3 = 0 (Problem 3.5); illustrative.
+    configurations = {"bent": (0.0, np.pi / 4, float(np.mean(d3_range)))}
+    return BookRobot("spherical", links, (0.0, 0.0, -G), payload, configurations=configurations)
 
 
 def anthropomorphic(a2: float = 0.5, a3: float = 0.4, payload: float = 0.0) -> BookRobot:
@@ -138,7 +144,10 @@ def anthropomorphic(a2: float = 0.5, a3: float = 0.4, payload: float = 0.0) -> B
         DHLink(a=a2, mass=4.0, com=(-a2 / 2, 0, 0), inertia=rod_inertia(4.0, a2)),
         DHLink(a=a3, mass=3.0, com=(-a3 / 2, 0, 0), inertia=rod_inertia(3.0, a3)),
     )
-    return BookRobot("anthropomorphic", links, (0.0, 0.0, -G), payload)
+    # Shoulder up, forearm bent down: away from the elbow (θ3 = 0, π) and shoulder (wrist point on z₀)
+    # singularities of Sect. 3.3.2; illustrative (the manual gives no posture).
+    configurations = {"bent": (0.0, np.pi / 4, -np.pi / 2)}
+    return BookRobot("anthropomorphic", links, (0.0, 0.0, -G), payload, configurations=configurations)
 
 
 def _wrist_links(d6: float, first: int = 4) -> tuple[DHLink, ...]:
@@ -185,7 +194,9 @@ def cartesian_skew(m_l: Any = (10.0, 5.0), m_m: Any = (2.0, 2.0), I_m: Any = (0.
         DHLink(joint="prismatic", mass=m_l[1], inertia=np.diag([0.05] * 3), motor_inertia=I_m[1],
                motor_mass=m_m[1], gear_ratio=k_r[1], lower=-1.0, upper=1.0),
     )
-    return BookRobot("cartesian_skew", links, (0.0, 0.0, -G), payload)
+    # Both joints half way out; illustrative: the Jacobian is constant (never singular, σ = √(1 ± 1/√2)).
+    configurations = {"extended": (0.5, 0.5)}
+    return BookRobot("cartesian_skew", links, (0.0, 0.0, -G), payload, configurations=configurations)
 
 
 def planar_pr(a2: float = 0.5, l2: float = 0.25, m_l: Any = (10.0, 5.0), I_l2: float = 0.1,
@@ -199,7 +210,8 @@ def planar_pr(a2: float = 0.5, l2: float = 0.25, m_l: Any = (10.0, 5.0), I_l2: f
                lower=-1.0, upper=1.0),
         DHLink(a=a2, mass=m_l[1], com=(l2 - a2, 0, 0), inertia=np.diag([0.0, I_l2, I_l2])),
     )
-    return BookRobot("planar_pr", links, (-G, 0.0, 0.0), payload)
+    configurations = {"fig_s7_2": (0.4, 0.6)}  # the posture drawn in Fig. S7.2 (Problem 7.5): d1 = 0.4 m, ϑ2 = 0.6
+    return BookRobot("planar_pr", links, (-G, 0.0, 0.0), payload, configurations=configurations)
 
 
 # --------------------------------------------------------------------------------------------

@@ -146,8 +146,11 @@ class Robot:
     urdf_path : the URDF file, or None for a model built in memory.
     urdf_xml : the URDF text the model was built from.
     configurations : named joint configurations, all within the joint limits: ``"neutral"`` (Pinocchio's
-        neutral moved onto the limits) for every robot, the Panda's ``"ready"``, the UR arms' ``"home"``,
-        the Puma 560's ``"qz"``, ``"qr"``, ``"qs"``, ``"qn"``.
+        neutral moved onto the limits; often singular) for every robot, the Panda's ``"ready"``, the UR
+        arms' ``"home"``, the Puma 560's ``"qz"``, ``"qr"``, ``"qs"``, ``"qn"``, and for each book robot
+        at least one non-singular posture, the manual's where it gives one (``planar_2r``:
+        ``"p8_10_target"``, ``"p8_15_start"``; ``scara``: ``"p5_7_camera"``; ``planar_pr``: ``"fig_s7_2"``),
+        otherwise an illustrative one (``"bent"``, ``"mid_stroke"``, ``"extended"``, ...).
     friction : the joint friction (:class:`JointFriction`); by default Pinocchio's ``model.damping`` and
         ``model.friction`` (URDF ``<dynamics>``); a DH table's friction fields for :func:`robot_from_dh`.
     geometry_loader : builds ``(collision, visual)`` geometry models on first use (meshes take ~0.5 s).
@@ -499,6 +502,16 @@ def available() -> list[str]:
     return sorted(BOOK_ROBOTS) + sorted(DH_ROBOTS) + sorted(EXAMPLE_ROBOTS)
 
 
+def _with_table_configurations(robot: Robot, configurations: dict[str, tuple[float, ...]]) -> Robot:
+    """Add a table's named configurations to ``robot``, leaving out any that changed parameters (a shorter
+    stroke, ``load("scara", d3_range=(0.2, 1.0))``) put outside the joint limits."""
+    for key, value in configurations.items():
+        q = np.array(value, dtype=float)
+        if np.all(q >= robot.model.lowerPositionLimit) and np.all(q <= robot.model.upperPositionLimit):
+            robot.configurations[key] = q
+    return robot
+
+
 def load(name_or_path: str | os.PathLike, payload: float = 0.0, **params: Any) -> Robot:
     """Load a robot by name (book or example-robot-data) or from a URDF path.
 
@@ -515,8 +528,7 @@ def load(name_or_path: str | os.PathLike, payload: float = 0.0, **params: Any) -
     if key in DH_ROBOTS:
         spec = book_robot_spec(key, payload=payload, **params)
         robot = robot_from_dh(spec.links, gravity=spec.gravity, name=key, motors=spec.motors)
-        robot.configurations.update({k: np.array(v, dtype=float) for k, v in spec.configurations.items()})
-        return _with_dh_payload(robot, spec.payload)
+        return _with_dh_payload(_with_table_configurations(robot, spec.configurations), spec.payload)
     if key in BOOK_ROBOTS:
         spec = book_robot_spec(key, payload=payload, **params)
         path = URDF_DIR / f"{key}.urdf"
@@ -524,8 +536,7 @@ def load(name_or_path: str | os.PathLike, payload: float = 0.0, **params: Any) -
             robot = _build(path.read_text(), spec.gravity, key, "ee", path)
         else:
             robot = _build(spec.urdf(), spec.gravity, key, "ee", None)
-        robot.configurations.update({k: np.array(v, dtype=float) for k, v in spec.configurations.items()})
-        return _with_dh_payload(robot, spec.payload)
+        return _with_dh_payload(_with_table_configurations(robot, spec.configurations), spec.payload)
     if params:
         raise TypeError(f"parameters {sorted(params)} are only accepted for the book's robots")
     if key in EXAMPLE_ROBOTS:

@@ -5,7 +5,7 @@ import pytest
 
 from planners.inverse_kinematics import solve_ik
 from rigid_body.book_robots import BOOK_ROBOTS
-from rigid_body.kinematics import direct_kinematics
+from rigid_body.kinematics import direct_kinematics, geometric_jacobian
 from rigid_body.robots import load
 
 
@@ -28,7 +28,36 @@ def test_the_problem_postures_are_named_and_carried_with_a_payload():
     np.testing.assert_allclose(tip, [0.4, 0.4], atol=1e-4)
 
 
-@pytest.mark.parametrize("name", ["planar_2r", "planar_3r", "spherical_wrist", "anthropomorphic_wrist"])
+def test_the_book_figures_postures_are_named():
+    # Problem 5.7's camera posture: the SCARA's tip at (a1 + a2 c2, a2 s2, d3) by (S2.3), a1 = a2 = 0.5 m
+    q = load("scara").configurations["p5_7_camera"]
+    np.testing.assert_allclose(direct_kinematics(load("scara"), q)[:3, 3],
+                               [0.5 + 0.5 * np.cos(np.pi / 4), 0.5 * np.sin(np.pi / 4), 0.1], atol=1e-12)
+    np.testing.assert_allclose(load("planar_pr").configurations["fig_s7_2"], [0.4, 0.6])
+
+
+@pytest.mark.parametrize("name", sorted(BOOK_ROBOTS))
+def test_every_book_robot_has_a_non_singular_named_posture(name):
+    """Beyond ``neutral`` (often singular: the SCARA stretched, the spherical arm with θ2 = 0), each book robot
+    names a posture where its Jacobian has the rank it has at generic configurations."""
+    robot = load(name)
+    named = {k: q for k, q in robot.configurations.items() if k != "neutral"}
+    assert named, name
+    rng = np.random.default_rng(7)
+    generic = max(np.linalg.matrix_rank(geometric_jacobian(robot, robot.random_configuration(rng)))
+                  for _ in range(20))
+    for key, q in named.items():
+        sv = np.linalg.svd(geometric_jacobian(robot, q), compute_uv=False)
+        assert sv[generic - 1] > 0.1, (name, key, sv)  # the generic rank, well conditioned
+
+
+def test_a_changed_stroke_leaves_out_the_postures_it_puts_outside_the_limits():
+    assert "p5_7_camera" not in load("scara", d3_range=(0.2, 1.0)).configurations  # its d3 = 0.1 m
+    q = load("cylindrical", d3_range=(0.3, 0.5)).configurations["mid_stroke"]  # follows the stroke
+    assert q[2] == pytest.approx(0.4)
+
+
+@pytest.mark.parametrize("name", sorted(BOOK_ROBOTS))
 def test_ik_from_each_configuration_reaches_a_nearby_pose(name):
     robot = load(name)
     for key, q in robot.configurations.items():

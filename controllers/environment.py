@@ -60,7 +60,7 @@ class CompliantPlane(ContactEnvironment):
 
     With penetration δ = n·(p_0 − p) > 0 the material pushes back along its outward normal n with
     N = max(K δ + D δ̇, 0) (it only pushes), so the end effector exerts h_e = −N n, no moment: the
-    compliant environment of Sect. 9.2, K = k n nᵀ in the base frame (MODEL-B of Problems 9.3, 9.10 for
+    compliant environment of Sect. 9.2, K = k n nᵀ in the base frame (the plane of Fig. 9.16, Problems 9.3, 9.10, for
     a planar arm). Contact is lost when δ ≤ 0 (:meth:`in_contact`; the sensed wrench is then zero).
 
     Options

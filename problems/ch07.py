@@ -229,7 +229,7 @@ def problem_7_3() -> Solution:
     with k = −mℓ2 a1 ℓ2 s2 − mℓ3 a1 a2 s2, and g3 = mℓ3 g. These are checked against the library's
     Lagrange model and Pinocchio at random states; m_ℓ3 and I_ℓ4 are drawn at random.
 
-    Erratum (catalogue 7.3): with the manual's own convention (Fig. S2.3, joint axes pointing down,
+    Erratum: with the manual's own convention (Fig. S2.3, joint axes pointing down,
     so gravity is +g along z₀) the gravity term is g3 = −mℓ3 g. The manual's +mℓ3 g holds with
     gravity along −z₀, that is, with the axes pointing up. Both are checked. Second erratum: the
     manual refers the frames to "Fig. S7.1"; they are those of Fig. 2.36 / Fig. S2.3 (used here).
@@ -455,7 +455,7 @@ def problem_7_5() -> Solution:
     (only c122 ≠ 0), N = Ḃ − 2C (skew), g, (S7.4)–(S7.5), the payload-modified parameters and the
     regressor Y'π'.
 
-    Erratum (catalogue 7.5): I_ℓ2 is described as the inertia "about Joint 2 axis", but the formulas
+    Erratum: I_ℓ2 is described as the inertia "about Joint 2 axis", but the formulas
     (and 7.8, Ī_2zz = I_ℓ2) use the moment about the centre of mass. That meaning is used here.
     """
     sol = Solution()
@@ -540,7 +540,7 @@ def problem_7_6() -> Solution:
     k_r2(1 − k_r2) I_m2 in b_A12. The diagonal of B_A does not depend on the configuration, and
     C_A ẋ = [h ẋ2², −h ẋ1²] has no Coriolis term (h = −mℓ2 a1 ℓ2 sin(x2 − x1)).
 
-    Errata (catalogue 7.6): "Sect. 4.3.2" should read Sect. 7.3.2, and the manual's displayed
+    Errata: "Sect. 4.3.2" should read Sect. 7.3.2, and the manual's displayed
     "C_A ẋ" matrix is garbled (a matrix is printed where a vector is meant).
     """
     sol = Solution()
@@ -638,7 +638,7 @@ def problem_7_7() -> Solution:
     are built by the companion files tra_1/2/3; they are checked to reach their end points, and the
     torques are plotted (Figs. S7.3–S7.5).
 
-    Caution from the catalogue: the companion's ``inv_d`` codes the tip-force torques inconsistently
+    Caution: the companion's ``inv_d`` codes the tip-force torques inconsistently
     with Jᵀf (row 2 contains a1 c1 f_x). The correct (7.42) is used here, so the manual's figures may
     differ in the force part.
     """
@@ -858,8 +858,8 @@ def problem_7_11() -> Solution:
     """Define the dynamic manipulability measure by analogy with (3.56): w'(q) = √det(J B⁻¹ B⁻ᵀ Jᵀ).
 
     For square J and det B > 0, w' = |det J| / det B = w / det B. This is checked on the two-link arm
-    (position Jacobian, det J = a1 a2 s2) at random postures. w'(q2) is then swept; the catalogue's
-    [D] numbers are a peak w' ≈ 4.273e-5 at q2 ≈ 1.790 rad, and w' = 4.176e-5 with det B = 23948.98
+    (position Jacobian, det J = a1 a2 s2) at random postures. w'(q2) is then swept; the numbers
+    derived for this arm are a peak w' ≈ 4.273e-5 at q2 ≈ 1.790 rad, and w' = 4.176e-5 with det B = 23948.98
     at q2 = π/2. The dynamic manipulability ellipsoids (7.149) are drawn at three postures.
     """
     sol = Solution()

@@ -5,7 +5,7 @@ Sect. 7.3.2 with its motors (``load("planar_2r")``, the authors' ``param.m``; jo
 F_v = diag(100, 100) N·m·s/rad), a controller sampled at T_c = 1 ms with zero-order hold and the plant
 integrated by RK4 at 1 ms (the manual's minimum step), for the authors' t_d = 2.5 s.
 
-The environment is MODEL-B (Fig. 9.16, companion ``i9_3``): a compliant plane through o_r = [1, 0]
+The environment is the compliant plane of Fig. 9.16 (companion ``i9_3``): a compliant plane through o_r = [1, 0]
 at π/4 to x₀, stiffness k_y = 5·10³ N/m along its normal y_c, none along x_c; the constraint ("rotated
 base") frame R_c has x_c along the plane and y_c along its outward normal; the material lies on the
 side y_c < y_r^c. It is a :class:`controllers.environment.CompliantPlane` (unilateral: it only
@@ -59,7 +59,7 @@ def _arm() -> Robot:
 
 
 def _plane() -> CompliantPlane:
-    """MODEL-B: the plane through o_r with outward normal y_c, stiffness k_y."""
+    """The compliant plane of Fig. 9.16: the plane through o_r with outward normal y_c, stiffness k_y."""
     return CompliantPlane(np.r_[O_R, 0.0], np.r_[R_C[:, 1], 0.0], K_Y)
 
 
@@ -219,7 +219,7 @@ def problem_9_2() -> Solution:
 
     Checks: the closed forms against a direct solve of the 12 × 12 linear system for random SPD K_P and
     PSD K of every rank 1–6; and the rest of a simulated compliance controller (operational-space PD
-    with gravity compensation, Eq. 8.110) pressing the two-link arm into the MODEL-B plane.
+    with gravity compensation, Eq. 8.110) pressing the two-link arm into the plane of Fig. 9.16.
     """
     sol = Solution()
     rng = np.random.default_rng(902)
@@ -238,7 +238,7 @@ def problem_9_2() -> Solution:
     sol.check("(9.22)–(9.23) = direct solution of {h = K_P dx_ed, h = K (dx_rd − dx_ed)}, K of rank 1..6",
               max(errs) < 1e-10, f"max relative error {max(errs):.2e} < 1e-10")
 
-    # Closed loop: PD + gravity (8.110) of the two-link arm pushing into the MODEL-B plane
+    # Closed loop: PD + gravity (8.110) of the two-link arm pushing into the plane of Fig. 9.16
     arm = _arm()
     K_P, K_D = 5000.0, 3000.0
     n = np.r_[R_C[:, 1]]
@@ -273,8 +273,8 @@ def _impedance_run(reference: Any, q0: np.ndarray) -> SimulationResult:
 @problem("9.3", "Impedance control of the two-link arm in contact with a compliant plane inclined by π/4",
          kind="simulation")
 def problem_9_3() -> Solution:
-    """Impedance control with force measurement (9.30)–(9.31) of the two-link arm against the MODEL-B
-    plane; M_d = 100 I, K_D = 1600 I, K_P = 5000 I (equal in the rotated frame, so isotropic in the
+    """Impedance control with force measurement (9.30)–(9.31) of the two-link arm against the compliant
+    plane of Fig. 9.16; M_d = 100 I, K_D = 1600 I, K_P = 5000 I (equal in the rotated frame, so isotropic in the
     base frame). The tip follows tra_5 (companion ``i9_3``): the segment from p_i = [1 + 0.1√2, 0] to
     p_f = [1.2 + 0.1√2, 0.2] m along x_c, 0.1 m inside the undeformed plane, trapezoidal with ṡ_c =
     0.5 m/s, t_f = 1 s, from q(0) = inv_k2u(p_i). Fig. S9.2.
@@ -355,7 +355,7 @@ def problem_9_4() -> Solution:
     """At the rest of Fig. 9.8 the input of K_P is null, x_d + x_F − x_e = 0, so with (9.21) and (9.41)
     x_e = x_d + C_F(K(x_r − x_e) + f_d).
 
-    Checked on the closed loop: the two-link arm against the MODEL-B plane, inverse dynamics with the
+    Checked on the closed loop: the two-link arm against the plane of Fig. 9.16, inverse dynamics with the
     position loop M_d = I, K_D = 40 I, K_P = 400 I, a proportional C_F = 10⁻⁴ m/N (rest compared with
     (I + C_F K)⁻¹(x_d + C_F(K x_r + f_d)), where f_e ≠ f_d) and a PI C_F (integral gain 10⁻³ m/(N·s):
     f_e → f_d). f_d = −40 N along y_c, x_d 2 cm inside the plane.

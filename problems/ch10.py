@@ -1,12 +1,12 @@
 """Chapter 10 — Visual servoing: Problems 10.1–10.13.
 
-Data (MODEL-C of the catalogue): the SCARA of Table S2.3 with a₁ = a₂ = 1 m, links 1–2 of the two-link
+Data (the eye-in-hand SCARA of Example 10.3): the SCARA of Table S2.3 with a₁ = a₂ = 1 m, links 1–2 of the two-link
 arm of Sect. 7.3.2 (with motors), last link m₃ = 2 kg, I₄ = 1 kg·m², F_v = diag(100, 100, 0, 0); the
 camera frame is the end-effector frame (z down, the optical axis); normalised image coordinates.
 Object frame x_o = [1, 1, 1, π/4] with feature points P₁ = [0, 0, 0], P₂ = [0.1, 0, 0] m; camera start
 x_c(0) = [1, 1, 0.5, π/4]; desired relative pose x_{d,o} = [−0.1, 0.1, 0.6, −π/3]. Gains, periods and
 durations are the authors' companion files' (i10_4 … i10_11), which win over the manual's text where
-they differ (companion-data.md): controller period T_c = 40 ms, 10.9's K(4,4) = 2. The manual's text
+they differ: controller period T_c = 40 ms, 10.9's K(4,4) = 2. The manual's text
 values (4 ms, K = I₄) run as a named variant beside the primary run.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Ch. 10,
@@ -42,7 +42,7 @@ from rigid_body.rotations import nearest_rotation, skew
 from rigid_body.vision import (homography_between_views, homography_dlt, homography_dlt_matrix, depth_ratio,
                                pose_from_homography, register_point_clouds, registration_cost)
 
-# -- MODEL-C and the visual target ------------------------------------------------------------
+# -- The eye-in-hand SCARA and the visual target ---------------------------------------------------------
 X_O = np.array([1.0, 1.0, 1.0, np.pi / 4])            # object pose in the base frame [C i10_8]
 X_C0 = np.array([1.0, 1.0, 0.5, np.pi / 4])           # initial camera pose [M]
 X_DO = np.array([-0.1, 0.1, 0.6, -np.pi / 3])         # desired pose of the object in the camera frame [M]
@@ -472,7 +472,7 @@ def problem_10_13() -> Solution:
 
 
 # --------------------------------------------------------------------------------------------
-# 10.8–10.11: closed loops on the eye-in-hand SCARA (MODEL-C)
+# 10.8–10.11: closed loops on the eye-in-hand SCARA (Example 10.3)
 # --------------------------------------------------------------------------------------------
 
 T_FINAL = 8.0                                          # t_d = 8 s [C]
@@ -486,7 +486,7 @@ Q0 = np.array([np.pi / 2, -np.pi / 2, 0.5, np.pi / 4])  # inv_ksu(x_c(0)) [C]
 
 @lru_cache(maxsize=1)
 def scara_eye_in_hand():
-    """MODEL-C: the SCARA of Table S2.3 with a₁ = a₂ = 1 m, links 1–2 of the two-link arm (Sect. 7.3.2,
+    """The eye-in-hand SCARA of Example 10.3: the SCARA of Table S2.3 with a₁ = a₂ = 1 m, links 1–2 of the two-link arm (Sect. 7.3.2,
     with motors), the last link m₃ = 2 kg, I₄ = 1 kg·m² (its motors negligible), z₀ down (gravity +g z₀);
     the camera frame is the end-effector frame ``ee``."""
     two_link = book_robot_spec("planar_2r").links
@@ -496,7 +496,7 @@ def scara_eye_in_hand():
 
 
 def _model_c_inertia(q: np.ndarray) -> np.ndarray:
-    """B(q) of Problem 7.3 (manual) for MODEL-C: the two-link entries plus the last link's."""
+    """B(q) of Problem 7.3 (manual) for the eye-in-hand SCARA: the two-link entries plus the last link's."""
     c2 = np.cos(q[1])
     m3, I4 = 2.0, 1.0
     b11 = 200.01 + 50 * c2 + m3 * (2 + 2 * c2) + I4
@@ -668,7 +668,7 @@ def _loop_figures(sol: Solution, run: _Run, figs: str, what: str) -> None:
 
 @problem("10.8", "PBVS with PD + gravity compensation (Fig. 10.14) on the eye-in-hand SCARA", kind="simulation")
 def problem_10_8() -> Solution:
-    """Position-based visual servoing of the SCARA's camera (MODEL-C, dynamics of Problem 7.3):
+    """Position-based visual servoing of the SCARA's camera (Example 10.3's arm, dynamics of Problem 7.3):
     u = g(q) + J_Adᵀ(K_P x̃ − K_D J_Ad q̇), x̃ = x_{d,o} − x̂_{c,o}, K_P = K_D = diag{500, 500, 10, 10}; the pose
     estimated at 1 ms from the segment P₁P₂ as in 10.5 (K_s = 160 I₄, x̂(0) = x_{d,o}); x_c(0) = [1, 1, 0.5, π/4],
     x_{d,o} = [−0.1, 0.1, 0.6, −π/3]; arm RK4 at 1 ms, 8 s (Figs. S10.8–S10.9).

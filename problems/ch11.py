@@ -5,7 +5,7 @@ Lie brackets by finite differences against sympy, the centre of rotation built a
 wheel axes); the planners (11.10–11.13) against the manual's closed forms and against the chained form or the
 unicycle integrated by :func:`controllers.simulation.simulate`; the controllers (11.14–11.18) in closed loop.
 
-Data: the catalogue's test examples where the manual leaves symbols (r = 0.1 m, d = 0.5 m, ω_RL = 10 rad/s;
+Data: test values chosen here where the manual leaves symbols (r = 0.1 m, d = 0.5 m, ω_RL = 10 rad/s;
 ℓ = 1 m, b = 0.5 m; N = 3 trailers); the authors' companion files for 11.13 (q_i = 0, q_f = (2, 1, π/2),
 k = 1), 11.16 (start (−1, −2, −π/2), k1 = 1, k2 = 3, 10 s) and 11.18 (start (−1, −2, −π/2), k = (1, 2.5, 3),
 10 s, T_s = 0.01 s and 0.1 s). The unicycle is integrated by RK4 with the manual's maximum step 0.01 s.
@@ -122,7 +122,8 @@ def problem_11_1() -> Solution:
 
 
 def _three_wheel_A(q: np.ndarray, ell: float, r: float) -> np.ndarray:
-    """The 3×6 constraint matrix of Problem 11.2 (three wheels at 120°, catalogue's transcription)."""
+    """The 3×6 constraint matrix of Problem 11.2 (three wheels at 120°): the manual does not print it;
+    from a public transcription of the book's statement."""
     c, s, a = np.cos(q[2]), np.sin(q[2]), np.sqrt(3) / 2
     return np.array([[a * c - s / 2, c / 2 + a * s, ell, r, 0, 0],
                      [s, -c, ell, 0, r, 0],

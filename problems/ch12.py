@@ -8,7 +8,7 @@ planned path, a collision certificate on a dense re-sampling (clearance at the s
 on how far the robot moves between them).
 
 Scenes: 12.7, 12.8 and 12.13 from the authors' companion files (s12_7, s12_8, s12_13); 12.3, 12.6,
-12.10, 12.11 from the catalogue's constructed examples; 12.4, 12.5 and 12.12 defined here (the book's
+12.10, 12.11 constructed here to show the stated effect; 12.4, 12.5 and 12.12 defined here (the book's
 figures are not transcribed). Errata: 12.2 (the √2π claim), 12.10 (the single-disc point is a saddle),
 12.11 (the sign of the force balance).
 
@@ -369,7 +369,7 @@ def problem_12_6() -> Solution:
     """Show that extracting a path from a channel through the midpoints of the common boundaries only
     can give a path touching an obstacle, and fix it.
 
-    Scene [D]: workspace [0, 10]², diamond {(5,5), (6,4), (7,5), (6,6)}, start above it (5.5, 7), goal
+    Scene (constructed here): workspace [0, 10]², diamond {(5,5), (6,4), (7,5), (6,6)}, start above it (5.5, 7), goal
     below (5.5, 3). The trapezoidal decomposition's channel is above → left cell → below; the midpoint path
     (5, 7.5) → (5, 2.5) runs along the cell boundary x = 5 through the vertex (5, 5): clearance 0. The fix
     (manual): insert the centroid of every channel cell except c_s and c_g — here (2.5, 5) — and the

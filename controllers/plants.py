@@ -144,7 +144,11 @@ class ArmPlant:
             self._tau_min = -self.tau_max
 
     def initial_state(self, q0: Any, qd0: Any = None) -> np.ndarray:
-        """x0 = [q0, q̇0] (q̇0 = 0 by default)."""
+        """x0 = [q0, q̇0] (q̇0 = 0 by default).
+
+        The plant has no joint stops: q0 and the motion may leave ``robot.lower``/``robot.upper`` (the
+        Panda's all-zero q breaks its q4 ≤ −0.07 rad: start from ``robot.configurations``).
+        """
         q0 = as_vector(q0, self.nq, "q0")
         qd0 = np.zeros(self.n) if qd0 is None else as_vector(qd0, self.n, "qd0")
         return np.concatenate([q0, qd0])

@@ -70,8 +70,11 @@ def model_frame_id(model: pin.Model, frame: str | int | np.integer) -> int:
     if not isinstance(frame, str):
         raise ValueError(f"`frame` must be a frame name or an integer id, got {frame!r}")
     if not model.existFrame(frame):
-        near = difflib.get_close_matches(frame, [f.name for f in model.frames], n=5)
-        raise ValueError(f"`frame`: model {model.name!r} has no frame {frame!r}; nearest: {near}")
+        names = [f.name for f in model.frames]
+        containing = sorted((n for n in names if frame.lower() in n.lower()), key=len)  # "hand" → "panda_hand"
+        near = list(dict.fromkeys(containing + difflib.get_close_matches(frame, names, n=5)))[:5]
+        hint = f"nearest: {near}" if near else f"its frames: {names}"
+        raise ValueError(f"`frame`: model {model.name!r} has no frame {frame!r}; {hint}")
     return model.getFrameId(frame)
 
 
@@ -130,6 +133,13 @@ class JointFriction:
         return not (np.any(self.viscous) or np.any(self.coulomb_positive) or np.any(self.coulomb_negative))
 
 
+class Configurations(dict):
+    """``robot.configurations``: a dict of named joint configurations whose missing key lists the names."""
+
+    def __missing__(self, key: str) -> np.ndarray:
+        raise KeyError(f"no configuration named {key!r}; this robot has {sorted(self)}")
+
+
 @dataclass
 class Robot:
     """A Pinocchio model with its data, end-effector frame, geometry and source URDF.
@@ -164,7 +174,7 @@ class Robot:
     ee_frame: int
     urdf_path: Path | None = None
     urdf_xml: str = ""
-    configurations: dict[str, np.ndarray] = field(default_factory=dict)
+    configurations: dict[str, np.ndarray] = field(default_factory=Configurations)
     geometry_loader: Callable[[], Geometry] | None = field(default=None, repr=False)
     friction: JointFriction | None = field(default=None, repr=False)
 
@@ -184,6 +194,8 @@ class Robot:
     def __post_init__(self) -> None:
         # True when the model has mimic joints (the book's rotors): ABA is then unavailable.
         self.has_mimic = len(getattr(self.model, "mimicking_joints", ())) > 0
+        if not isinstance(self.configurations, Configurations):
+            self.configurations = Configurations(self.configurations)
         if self.friction is None:
             self.friction = JointFriction.from_model(self.model)
 

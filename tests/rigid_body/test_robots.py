@@ -127,3 +127,17 @@ def test_panda_collision_distance_between_far_links_changes_with_q():
     for q, d in ((np.zeros(7), d_neutral), (q_folded, d_folded)):
         p_hand = direct_kinematics(panda, q)[:3, 3]
         assert np.linalg.norm(p_hand) - 0.3 < d < np.linalg.norm(p_hand)
+
+
+def test_a_frame_name_typo_suggests_the_frames_containing_it():
+    panda = load("panda")
+    with pytest.raises(ValueError, match=r"no frame 'hand'; nearest: \['panda_hand', "):
+        panda.frame("hand")
+    with pytest.raises(ValueError, match=r"no frame 'zzz'; its frames: \['universe', "):
+        panda.frame("zzz")
+
+
+def test_a_missing_named_configuration_lists_the_names():
+    with pytest.raises(KeyError, match=r"no configuration named 'home'.*\['neutral', 'ready'\]"):
+        load("panda").configurations["home"]
+    assert "ready" in load("panda", payload=1.0).configurations  # kept by with_payload

@@ -435,7 +435,9 @@ class KinematicArm(JointIntegrator):
 # Wheeled mobile robots (Chapter 11): kinematic plants
 # --------------------------------------------------------------------------------------------
 
-POSTURE_UNITS = {"x": "m", "y": "m", "theta": "rad", "p": "m", "u": "m/s, rad/s"}
+# the posture, the inputs, and the polar coordinates the regulators of Sect. 11.6.2 log (ρ, γ, δ)
+POSTURE_UNITS = {"x": "m", "y": "m", "theta": "rad", "p": "m", "u": "m/s, rad/s", "rho": "m", "gamma": "rad",
+                 "delta": "rad"}
 
 
 @dataclass(frozen=True, slots=True)

@@ -19,7 +19,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from problems.format import format_value
+from problems.format import solution_text
 from problems.registry import all_problems, get
 from problems.report import save_figures, solution_dict, to_json, write_report
 
@@ -103,19 +103,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
     if args.json:  # full precision
         print(json.dumps(solution_dict(sol, figures) | {"passed": sol.passed, "seconds": seconds}))
     else:  # for reading: 4 significant digits, matrices as tables, units
-        print(f"Problem {sol.id} — {sol.title} [{sol.kind}, {seconds:.2f} s]")
-        for name, value in sol.values.items():
-            text = format_value(value, sol.units.get(name, ""))
-            lines = text.splitlines() or [""]
-            if len(lines) > 12:
-                lines = lines[:12] + [f"... ({len(lines) - 12} more lines; all of it with --json)"]
-            pad = " " * (len(name) + 5)
-            print(f"  {name} = " + f"\n{pad}".join(lines))
-        for c in sol.checks:
-            print(f"  [{'PASS' if c.passed else 'FAIL'}] {c.name}: {c.detail}")
-        for f in figures or []:
-            print(f"  figure: {f}")
-        print(f"{'PASS' if sol.passed else 'FAIL'}: {sum(c.passed for c in sol.checks)} of {len(sol.checks)} checks")
+        print(solution_text(sol, seconds, figures))
     return 0 if sol.passed else 1
 
 

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["DIGITS", "format_number", "format_value", "format_value_html"]
+__all__ = ["DIGITS", "format_number", "format_value", "format_value_html", "solution_text"]
 
 DIGITS = 4          # significant digits shown
 ARRAY_ZERO = 1e-12  # entries below this fraction of an array's largest magnitude are shown as 0
@@ -107,3 +107,22 @@ def format_value_html(value: Any, unit: str = "") -> str:
         rows = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>" for row in cells)
         return f"<table class='matrix'>{rows}</table>{tail}"
     return f"<code>{html.escape(format_value(value))}</code>{tail}"
+
+
+MAX_LINES = 12  # a value longer than this is cut in the text view (all of it in --json)
+
+
+def solution_text(sol: Any, seconds: float | None = None, figures: list[str] | None = None) -> str:
+    """A solved problem as text (``rmpc solve ID``, ``print(sol)``): title, values with units, checks, verdict."""
+    timing = f", {seconds:.2f} s" if seconds is not None else ""
+    out = [f"Problem {sol.id} — {sol.title} [{sol.kind}{timing}]"]
+    for name, value in sol.values.items():
+        lines = format_value(value, sol.units.get(name, "")).splitlines() or [""]
+        if len(lines) > MAX_LINES:
+            lines = lines[:MAX_LINES] + [f"... ({len(lines) - MAX_LINES} more lines; all of it with --json)"]
+        pad = " " * (len(name) + 5)
+        out.append(f"  {name} = " + f"\n{pad}".join(lines))
+    out += [f"  [{'PASS' if c.passed else 'FAIL'}] {c.name}: {c.detail}" for c in sol.checks]
+    out += [f"  figure: {f}" for f in figures or []]
+    out.append(f"{'PASS' if sol.passed else 'FAIL'}: {sum(c.passed for c in sol.checks)} of {len(sol.checks)} checks")
+    return "\n".join(out)

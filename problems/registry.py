@@ -130,10 +130,16 @@ class Solution:
         return fig
 
     def __repr__(self) -> str:
-        """One line (a notebook shows :meth:`_repr_html_`; ``print(sol.values)`` for the numbers)."""
+        """One line (a notebook shows :meth:`_repr_html_`; ``print(sol)`` the values and checks)."""
         ok = sum(c.passed for c in self.checks)
         return (f"Solution({self.id!r}, {self.title!r}, {len(self.values)} values, {ok}/{len(self.checks)} "
                 f"checks passed, {len(self.figures)} figures)")
+
+    def __str__(self) -> str:
+        """What ``rmpc solve ID`` prints: title, values (4 significant digits, units), checks, verdict."""
+        from problems.format import solution_text
+
+        return solution_text(self)
 
     def _repr_html_(self) -> str:
         """Jupyter's view: title, values table, checks (✔/✘), figures inline as PNG."""

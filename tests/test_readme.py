@@ -39,5 +39,8 @@ def test_library_tour_runs_in_order_and_shows_what_it_says():
     assert ns["fastest"].success and ns["fastest"].t_f < 2.0 and ns["fastest"].ratios["tau"] > 0.99
     np.testing.assert_allclose(ns["res_pd"].q[-1], ns["q_f"], atol=2e-3)   # PD + g reaches its set point
     assert np.abs(ns["res_id"]["e"]).max() < 1e-2                           # computed torque tracks
+    np.testing.assert_allclose(ns["res_pd_panda"].q[-1], ns["ik"].q, atol=1e-3)  # the Panda's gains converge
+    assert np.abs(ns["res_ct_panda"]["e"]).max() < 1e-3
+    np.testing.assert_allclose(ns["res_ct_panda"].q[-1], ns["ik"].q, atol=1e-4)
     assert ns["extra"][3] > 0 and np.abs(ns["extra"]).max() < 2.0 * 9.81     # at most m g · 1 m on the Panda
     assert repr(ns["arm"]).count("\n") == 0 and len(repr(ns["res_id"])) < 200

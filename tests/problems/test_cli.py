@@ -182,3 +182,16 @@ def test_solve_text_rounds_to_four_digits_and_lays_matrices_out(capsys):
     out = capsys.readouterr().out
     assert "  M = [[ 1  0 ]\n       [ 0  1 ]]" in out and "z = 1 + 2j" in out
     assert out.rstrip().endswith("FAIL: 1 of 2 checks")
+
+
+def test_print_of_a_solution_is_the_solve_text(capsys):
+    """``print(rmpc.solve(id))`` in a terminal shows what ``rmpc solve id`` prints (without the timing)."""
+    from problems.registry import get
+
+    sol = get("99.1").solve()
+    assert cli.main(["solve", "99.1"]) == 1
+    cli_lines = capsys.readouterr().out.rstrip().splitlines()
+    text = str(sol).splitlines()
+    assert text[0] == "Problem 99.1 — A test problem with a failing check [numeric]"
+    assert text[1:] == cli_lines[1:] and "[FAIL] wrong" in str(sol)
+    assert repr(sol).count("\n") == 0  # the one-line summary stays the repr

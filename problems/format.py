@@ -16,6 +16,7 @@ Full precision stays in ``rmpc solve --json`` and ``summary.json`` (:func:`probl
 from __future__ import annotations
 
 import html
+import textwrap
 from typing import Any
 
 import numpy as np
@@ -113,9 +114,12 @@ MAX_LINES = 12  # a value longer than this is cut in the text view (all of it in
 
 
 def solution_text(sol: Any, seconds: float | None = None, figures: list[str] | None = None) -> str:
-    """A solved problem as text (``rmpc solve ID``, ``print(sol)``): title, values with units, checks, verdict."""
+    """A solved problem as text (``rmpc solve ID``, ``print(sol)``): title, statement, values with units, checks,
+    verdict."""
     timing = f", {seconds:.2f} s" if seconds is not None else ""
     out = [f"Problem {sol.id} — {sol.title} [{sol.kind}{timing}]"]
+    if getattr(sol, "statement", ""):  # what is asked and the data, so the output reads without the book
+        out += textwrap.wrap(sol.statement, 100, initial_indent="  ", subsequent_indent="  ")
     for name, value in sol.values.items():
         lines = format_value(value, sol.units.get(name, "")).splitlines() or [""]
         if len(lines) > MAX_LINES:

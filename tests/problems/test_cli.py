@@ -194,4 +194,5 @@ def test_print_of_a_solution_is_the_solve_text(capsys):
     text = str(sol).splitlines()
     assert text[0] == "Problem 99.1 — A test problem with a failing check [numeric]"
     assert text[1:] == cli_lines[1:] and "[FAIL] wrong" in str(sol)
+    assert text[1] == "  A problem registered by the tests only: one check passes, one fails."  # the statement
     assert repr(sol).count("\n") == 0  # the one-line summary stays the repr

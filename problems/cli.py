@@ -156,18 +156,23 @@ def main(argv: list[str] | None = None) -> int:
                     "Robotics: Modelling, Planning and Control: rmpc list, rmpc solve ID, rmpc report.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser, metavar="COMMAND")
-    p_list = sub.add_parser("list", help="list the problems: id, kind, title")
+    about = "list the problems: id, kind (derivation, numeric, simulation, programming, qualitative), title"
+    p_list = sub.add_parser("list", help=about, description=about,
+                            epilog="exit codes: 0 listed, 2 bad input (one line on stderr)")
     p_list.add_argument("--chapter", type=chapter_number, action="append",
                         help="only this chapter: 8, 08 or ch08 (repeatable)")
     p_list.set_defaults(func=cmd_list)
-    p_solve = sub.add_parser("solve", help="solve one problem, print its values and checks")
+    about = "solve one problem; print its statement, values (4 significant digits, units) and checks"
+    p_solve = sub.add_parser("solve", help=about, description=about)
     p_solve.add_argument("id", help="the problem's number in the book, e.g. 3.21 (see rmpc list)")
     p_solve.add_argument("--json", action="store_true",
                          help="print one JSON object (full precision): id, title, kind, statement, values, "
                               "units, checks, figures, passed, seconds")
     p_solve.add_argument("--figures", metavar="DIR", help="write the figures as PNG into DIR")
     p_solve.set_defaults(func=cmd_solve)
-    p_report = sub.add_parser("report", help="solve every problem, write DIR/index.html and DIR/summary.json")
+    about = ("solve every problem (or a chapter's); write DIR/index.html (values, checks, figures), "
+             "DIR/figures/ (PNG) and DIR/summary.json (full precision)")
+    p_report = sub.add_parser("report", help=about, description=about)
     p_report.add_argument("--out", default="report", metavar="DIR",
                           help="the report's directory (created; default: report)")
     p_report.add_argument("--chapter", type=chapter_number, action="append",

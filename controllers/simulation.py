@@ -267,7 +267,8 @@ class SimulationResult:
         import matplotlib.pyplot as plt
 
         names = names or ("q",)
-        if ax is None:
+        new_figure = ax is None
+        if new_figure:
             _, ax = plt.subplots()
         lines: list[str] = []
         for name in names:
@@ -282,6 +283,8 @@ class SimulationResult:
         if len(lines) > 4:  # many curves: the legend beside the axes, clear of them
             ax.legend(list(labels) if labels is not None else lines, fontsize="small",
                       loc="upper left", bbox_to_anchor=(1.01, 1.0))
+            if new_figure:  # room for it inside the figure (else a saved PNG cuts it off)
+                ax.figure.subplots_adjust(right=0.82)
         elif len(lines) > 1:
             ax.legend(list(labels) if labels is not None else lines, fontsize="small", loc="best")
         return ax

@@ -46,3 +46,14 @@ def test_simulation_result_units_come_from_the_arm_joint_types():
     assert ax.get_ylabel() == "q [rad | m]"
     assert ArmPlant(load("planar_2r")).units["u"] == "N·m"
     plt.close("all")
+
+
+def test_simulation_result_legend_beside_the_axes_stays_inside_the_figure():
+    """Seven joints' errors: the legend goes beside the axes, and a saved PNG still shows all of it."""
+    res = simulate(lambda t, x, u: -x, lambda t, m: np.zeros(1), (0.0, 0.01), np.ones(7), h=1e-3)
+    ax = res.plot("x")
+    fig = ax.figure
+    fig.canvas.draw()
+    box, area, page = ax.get_legend().get_window_extent(), ax.get_window_extent(), fig.bbox
+    assert box.x0 >= area.x1 - 1 and box.x1 <= page.x1  # clear of the curves, not cut off
+    plt.close("all")

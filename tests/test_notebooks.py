@@ -44,3 +44,19 @@ def test_notebook_executes(path, tmp_path):
     NotebookClient(nb, timeout=300, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}).execute()
     failed = failed_outputs(nb)
     assert not failed, f"{path.name} shows failed checks: {failed}"
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.name for p in NOTEBOOKS])
+def test_notebook_is_committed_with_its_outputs_and_figures_as_images(path):
+    """GitHub shows a committed notebook read-only: its cells carry their outputs, and a returned figure is an
+    image (``%matplotlib inline``), not the text ``<Figure size 640x480 with 1 Axes>``."""
+    nb = nbformat.read(path, as_version=4)
+    code = [c for c in nb.cells if c.cell_type == "code" and c.source.strip()]
+    with_outputs = [c for c in code if c.get("outputs")]
+    assert len(with_outputs) >= len(code) // 2, f"{path.name}: {len(with_outputs)} of {len(code)} cells have outputs"
+    for k, cell in enumerate(code):
+        for out in cell.get("outputs", []):
+            data = out.get("data", {})
+            text = str(data.get("text/plain", ""))
+            assert not (text.startswith("<Figure size") and "image/png" not in data), \
+                f"{path.name}, code cell {k}: a figure stored as text"

@@ -25,6 +25,7 @@ import pinocchio as pin
 
 from rigid_body.book_robots import BOOK_ROBOTS, DH_ROBOTS, URDF_DIR, book_robot_spec
 from rigid_body.dh import GRAVITY, DHLink, as_links, urdf_from_dh
+from rigid_body.validation import as_positive
 
 __all__ = [
     "Robot", "JointFriction", "load", "available", "with_payload", "robot_from_dh", "robot_from_urdf_string",
@@ -536,6 +537,7 @@ def load(name_or_path: str | os.PathLike, payload: float = 0.0, **params: Any) -
     >>> load("planar_2r").model.nq
     2
     """
+    payload = as_positive(payload, "payload", allow_zero=True)  # [kg]
     key = str(name_or_path)
     if key in DH_ROBOTS:
         spec = book_robot_spec(key, payload=payload, **params)

@@ -74,7 +74,7 @@ def test_payload_on_panda_adds_the_weight_through_the_jacobian_transpose(rng):
     dg = gravity_torques(arm_loaded, q) - gravity_torques(arm, q)
     np.testing.assert_allclose(dg, m * 9.81 * np.array([np.cos(0.4) + np.cos(1.1), np.cos(1.1)]), atol=1e-10)
     with pytest.raises(ValueError, match="`mass`"):
-        load("panda", payload=-1.0)
+        with_payload(load("panda"), -1.0)
 
 
 @pytest.mark.parametrize("name", ["planar_2r", "scara", "anthropomorphic_wrist", "panda", "ur5"])
@@ -141,3 +141,9 @@ def test_a_missing_named_configuration_lists_the_names():
     with pytest.raises(KeyError, match=r"no configuration named 'home'.*\['neutral', 'ready'\]"):
         load("panda").configurations["home"]
     assert "ready" in load("panda", payload=1.0).configurations  # kept by with_payload
+
+
+@pytest.mark.parametrize("name", ["ur5", "planar_2r", "puma560"])
+def test_a_negative_payload_names_the_argument(name):
+    with pytest.raises(ValueError, match="`payload`"):
+        load(name, payload=-1.0)

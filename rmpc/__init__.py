@@ -8,7 +8,8 @@ Models (``rigid_body``)
     ``direct_kinematics``, ``geometric_jacobian``, ``inertia_matrix``, ``gravity_torques``,
     ``inverse_dynamics``, ``forward_dynamics``
 References (``planners``)
-    ``solve_ik`` (the recommended IK), ``solve_clik``, ``CLIK``, ``quintic``, ``trapezoidal``,
+    ``solve_ik`` (the recommended IK), ``solve_clik``, ``CLIK``, ``TaskSpace`` (which pose rows an IK or
+    CLIK controls: ``TaskSpace(rows=(0, 1, 2))`` the position only), ``quintic``, ``trapezoidal``,
     ``Trajectory``, ``JointLimits``, ``minimum_time_trajectory``
 Closed loops (``controllers``)
     ``simulate``, ``ArmPlant``, ``PDGravityCompensation``, ``InverseDynamicsControl``,
@@ -46,6 +47,7 @@ _HOMES: dict[str, str] = {
     "solve_ik": "planners.inverse_kinematics",
     "solve_clik": "planners.inverse_kinematics",
     "CLIK": "planners.inverse_kinematics",
+    "TaskSpace": "planners.inverse_kinematics",
     "IKResult": "planners.inverse_kinematics",
     "Trajectory": "planners.timing",
     "quintic": "planners.timing",
@@ -71,7 +73,10 @@ __all__ = sorted(_HOMES)
 def __getattr__(name: str) -> Any:
     home = _HOMES.get(name)
     if home is None:
-        raise AttributeError(f"module 'rmpc' has no attribute {name!r}")
+        import difflib
+
+        near = difflib.get_close_matches(name, list(_HOMES), n=3)
+        raise AttributeError(f"module 'rmpc' has no attribute {name!r}" + (f"; did you mean {near}?" if near else ""))
     value = getattr(importlib.import_module(home), name)
     globals()[name] = value  # later look-ups skip this function
     return value

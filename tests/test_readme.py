@@ -35,6 +35,8 @@ def test_library_tour_runs_in_order_and_shows_what_it_says():
         exec(compile(code, f"README.md python block {i + 1}", "exec"), ns)
     np.testing.assert_allclose(ns["gravity_torques"](ns["arm"], np.zeros(2)), [98.1, 24.525])  # m g l/2 by hand
     assert ns["ik"].success and ns["ik"].residual < 1e-6
+    assert ns["tip"].success  # position-only IK of a 3-DOF arm, checked against the direct kinematics
+    np.testing.assert_allclose(ns["direct_kinematics"](ns["elbow"], ns["tip"].q)[:3, 3], [0.4, 0.2, 0.3], atol=1e-6)
     # the minimum time beats the 2 s quintic and reaches a torque limit
     assert ns["fastest"].success and ns["fastest"].t_f < 2.0 and ns["fastest"].ratios["tau"] > 0.99
     np.testing.assert_allclose(ns["res_pd"].q[-1], ns["q_f"], atol=2e-3)   # PD + g reaches its set point

@@ -20,7 +20,7 @@ def test_every_name_is_the_object_of_its_home_module(name):
 
 def test_dir_lists_the_api_and_unknown_names_raise():
     assert {"load", "simulate", "ArmPlant", "solve_ik", "direct_kinematics"} <= set(dir(rmpc))
-    with pytest.raises(AttributeError, match="no attribute 'lod'"):
+    with pytest.raises(AttributeError, match=r"no attribute 'lod'; did you mean \['load'"):
         rmpc.lod  # noqa: B018
 
 

@@ -114,7 +114,8 @@ def cmd_report(args: argparse.Namespace) -> int:
         summary = write_report(problems, out, jobs=args.jobs)
     except OSError as exc:
         raise BadInput(f"--out {args.out}: cannot write the report ({exc.strerror or exc})") from None
-    print(f"report written to {out / 'index.html'}")
+    print(f"report written to {out / 'index.html'} (figures in {out / 'figures'}, full-precision values in "
+          f"{out / 'summary.json'})")
     if args.open:  # the default browser, where one exists (a headless machine has none: say so, go on)
         import webbrowser
 

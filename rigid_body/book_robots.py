@@ -3,7 +3,10 @@
 Every ``urdf/<name>.urdf`` file is generated from these tables by ``python -m rigid_body.book_robots``
 (a test regenerates them and compares); ``urdf/`` holds those generated files only. All parameters are
 in SI units: m, rad, kg, kg·m². A table's ``payload`` is not written into the file:
-``load(name, payload=m)`` adds it to the model (:func:`rigid_body.robots.with_payload`).
+``load(name, payload=m)`` adds it to the model (:func:`rigid_body.robots.with_payload`). Each table names
+joint configurations inside its limits and away from its singularities (``robot.configurations``): the
+manual's postures where it gives one (``planar_2r`` ``p8_10_target``, ``scara`` ``p5_7_camera``, ...),
+else an illustrative one (``bent``, ``mid_stroke``, ``extended``), a start for IK and simulation.
 
 Provenance:
 

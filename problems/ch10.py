@@ -43,11 +43,11 @@ from rigid_body.vision import (homography_between_views, homography_dlt, homogra
                                pose_from_homography, register_point_clouds, registration_cost)
 
 # -- The eye-in-hand SCARA and the visual target ---------------------------------------------------------
-X_O = np.array([1.0, 1.0, 1.0, np.pi / 4])            # object pose in the base frame [C i10_8]
-X_C0 = np.array([1.0, 1.0, 0.5, np.pi / 4])           # initial camera pose [M]
-X_DO = np.array([-0.1, 0.1, 0.6, -np.pi / 3])         # desired pose of the object in the camera frame [M]
+X_O = np.array([1.0, 1.0, 1.0, np.pi / 4])            # object pose in the base frame (companion i10_8)
+X_C0 = np.array([1.0, 1.0, 0.5, np.pi / 4])           # initial camera pose (manual)
+X_DO = np.array([-0.1, 0.1, 0.6, -np.pi / 3])         # desired pose of the object in the camera frame (manual)
 P_O = np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0]])    # feature points in the object frame
-S_POINTS_MEASURED = np.array([-0.1667, 0.1667, -0.0833, 0.0223])   # 10.4's measured features [C i10_4]
+S_POINTS_MEASURED = np.array([-0.1667, 0.1667, -0.0833, 0.0223])   # 10.4's measured features (companion i10_4)
 K_S_ESTIMATOR = 160.0                                 # K_s = 160 I₄ [M, C]
 T_ESTIMATOR = 1e-3                                    # 1 ms Euler [M, C]
 
@@ -266,7 +266,7 @@ def _estimator_figure(sol: Solution, title: str, es: np.ndarray, xs: np.ndarray,
          kind="simulation")
 def problem_10_4() -> Solution:
     """Estimate the pose x_{c,o} = [x, y, z, φ] of the object from the normalised image coordinates of two
-    points, s = [−0.1667, 0.1667, −0.0833, 0.0223] [C i10_4], by (10.40)–(10.41):
+    points, s = [−0.1667, 0.1667, −0.0833, 0.0223] (companion file i10_4), by (10.40)–(10.41):
     x̂̇ = Γ(ô) L_s⁻¹ K_s e_s, L_s = the (4×6) two-point interaction matrix without its 4th and 5th columns,
     K_s = 160 I₄, x̂(0) = [0, 0, 0.5, 0], Euler at 1 ms, 40 steps (Figs. S10.2–S10.3).
 
@@ -475,13 +475,13 @@ def problem_10_13() -> Solution:
 # 10.8–10.11: closed loops on the eye-in-hand SCARA (Example 10.3)
 # --------------------------------------------------------------------------------------------
 
-T_FINAL = 8.0                                          # t_d = 8 s [C]
+T_FINAL = 8.0                                          # t_d = 8 s (companion files)
 FIGURE_SOURCE = ("the companion files are the solution files the manual points to (\"Folder 10_x\"), so the primary "
                  "run (their data) is the one behind the manual's figures; the text's values run as the variant")
-H_ARM = 1e-3                                           # the arm's (maximum) integration step [M]
+H_ARM = 1e-3                                           # the arm's (maximum) integration step (manual)
 TC_COMPANION, TC_MANUAL = 0.04, 0.004                  # controller period: companion files vs manual's text
-F_V = np.array([100.0, 100.0, 0.0, 0.0])              # K_r diag(0.01, 0.01, 0, 0) K_r [C]
-Q0 = np.array([np.pi / 2, -np.pi / 2, 0.5, np.pi / 4])  # inv_ksu(x_c(0)) [C]
+F_V = np.array([100.0, 100.0, 0.0, 0.0])              # K_r diag(0.01, 0.01, 0, 0) K_r (companion files)
+Q0 = np.array([np.pi / 2, -np.pi / 2, 0.5, np.pi / 4])  # inv_ksu(x_c(0)) (companion files)
 
 
 @lru_cache(maxsize=1)

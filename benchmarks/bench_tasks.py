@@ -56,8 +56,10 @@ def rows() -> list[dict]:
     wall = time.perf_counter() - t0
     simulated = ex.t
     steps = simulated / 2e-3
-    row = lambda label, t, ref, ref_name: dict(measurement=f"{label} [µs]", rmpc=t * 1e6, reference=ref * 1e6,  # noqa: E731
-                                               ref_name=ref_name, target=None)
+
+    def row(label: str, t: float, ref: float, ref_name: str) -> dict:
+        return dict(measurement=f"{label} [µs]", rmpc=t * 1e6, reference=ref * 1e6, ref_name=ref_name, target=None)
+
     return [row("ServomotorPlant.derivative", t_motor, raw_rnea, "raw pin.rnea, planar 3R"),
             row("ArmInContact.derivative (planar 3R in contact)", t_arm, raw_rnea, "raw pin.rnea, planar 3R"),
             row("PegInHoleController call", t_ctrl, raw_jac, "raw pin.computeFrameJacobian, planar 3R"),

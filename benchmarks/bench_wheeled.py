@@ -24,7 +24,7 @@ Q0 = np.array([-1.0, -2.0, -np.pi / 2])  # companion i11_16 / i11_18
 
 
 def real_time_factor(label: str, run, t_end: float, rounds: int = 3, target: bool = True) -> dict:
-    """A row: simulated seconds per wall second of ``run`` (best of ``rounds``), target ≥ 20 for the manual's loops."""
+    """A row: simulated seconds per wall second of ``run`` (best of ``rounds``); target ≥ 20 for the manual's."""
     best = float("inf")
     for _ in range(rounds):
         t0 = time.perf_counter()

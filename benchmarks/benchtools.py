@@ -83,7 +83,8 @@ def print_rows(rows: list[dict]) -> None:
 
 def markdown(rows: list[dict]) -> str:
     """The table in Markdown (for the README's performance section)."""
-    lines = ["| measurement | rmpc | reference | ratio | target | met | reference is |", "|---|---:|---:|---:|---|---|---|"]
+    lines = ["| measurement | rmpc | reference | ratio | target | met | reference is |",
+             "|---|---:|---:|---:|---|---|---|"]
     for row in rows:
         ref, r, ok = row.get("reference"), ratio(row), met(row)
         cells = [row["measurement"].strip(), f"{row['rmpc']:.4g}", "" if ref is None else f"{ref:.4g}",

@@ -4,16 +4,17 @@ The book's motor model (rotor i carried by link i−1, spinning at k_ri q̇_i, S
 URDF as mimic joints, so CRBA/RNEA here include the k_r I_m terms of (7.32). With mimic joints
 Pinocchio refuses ABA; forward dynamics is then the Cholesky solve of B q̈ = τ − h.
 Every result is a new array, never a view of ``robot.data``: Pinocchio 4's bindings return copies
-(checked by tests/rigid_body/test_wrapper_costs.py), so no second copy is made.
+(checked by tests/rigid_body/test_wrapper_costs.py), so no second copy is made. :func:`inverse_dynamics` is
+the rigid-body model; friction, F_v q̇ + F_s sgn(q̇) in (7.42), is :func:`friction_torques` (``robot.friction``).
 
-Fast path of the wrappers (they cost ≈ 1.3–1.6× the raw Pinocchio call, ``benchmarks/bench_wrappers.py``):
-``math.isfinite(sum(q.tolist()) + ...)`` is the whole check of well-formed input — it raises for anything but
-a 1-D numeric array (a nested list does not sum, a list has no ``tolist``) and is non-finite when an entry
-is NaN or ±inf — and Pinocchio checks the sizes. Any failure (or an overflowing sum) re-runs the call with
-:func:`~rigid_body.validation.as_vector` on every argument, whose ValueError names the argument. The fast path
-reads the calling thread's ``pin.Data`` from the store behind ``robot.data`` (``robot._local.data``: 40 ns less
-than the property; in a thread's first call it is missing and the full path creates it). :func:`inverse_dynamics` is the rigid-body
-model; friction, F_v q̇ + F_s sgn(q̇) in (7.42), is :func:`friction_torques` (from ``robot.friction``).
+Fast path of the wrappers (≈ 1.5–1.7× the raw Pinocchio call on the Panda, at the floor of any validating
+Python wrapper: ``benchmarks/bench_wrappers.py``): ``math.isfinite(sum(q.tolist()) + ...)`` is the whole check
+of well-formed input — it raises for anything but a 1-D numeric array (a nested list does not sum, a list
+has no ``tolist``) and is non-finite when an entry is NaN or ±inf — and Pinocchio checks the sizes. Any
+failure (or an overflowing sum) re-runs the call with :func:`~rigid_body.validation.as_vector` on every
+argument, whose ValueError names the argument. The fast path reads the calling thread's ``pin.Data`` from
+the store behind ``robot.data`` (``robot._local.data``, 40 ns less than the property; missing in a thread's
+first call, where the full path creates it).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
 Eqs. (7.32) B(q), (7.42) the model, (7.45) Christoffel C, (7.39) g, Sect. 7.5 Newton–Euler.

@@ -520,9 +520,10 @@ def workspace_points(robot: Robot, n: int, rng: np.random.Generator, frame: str 
     fid = robot.frame(frame)
     qs = rng.uniform(robot.lower, robot.upper, size=(int(n), robot.nq))
     out = np.empty((int(n), 3))
+    model, data = robot.model, robot.data
     for k, q in enumerate(qs):
-        pin.forwardKinematics(robot.model, robot.data, q)
-        out[k] = pin.updateFramePlacement(robot.model, robot.data, fid).translation
+        pin.forwardKinematics(model, data, q)
+        out[k] = pin.updateFramePlacement(model, data, fid).translation
     return out
 
 
@@ -537,11 +538,12 @@ def joint_arc(robot: Robot, q_start: np.ndarray, joint: int, q_end: float, n: in
     joint = int(joint)
     fid = robot.frame(frame)
     out = np.empty((n, 3))
+    model, data = robot.model, robot.data
     for k, value in enumerate(np.linspace(q_start[joint], q_end, n)):
         q = q_start.copy()
         q[joint] = value
-        pin.forwardKinematics(robot.model, robot.data, q)
-        out[k] = pin.updateFramePlacement(robot.model, robot.data, fid).translation
+        pin.forwardKinematics(model, data, q)
+        out[k] = pin.updateFramePlacement(model, data, fid).translation
     return out
 
 

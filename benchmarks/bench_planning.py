@@ -163,24 +163,26 @@ def panda_vs_ompl(n_queries: int = N_QUERIES, step: float = 0.5) -> list[dict]:
         planners["OMPL"] = _ompl_planner(space, step)
     except ImportError:
         pass
-    stats = {}
-    for name, plan in planners.items():
-        ok, times, calls, lengths, failures = 0, [], [], [], []
-        for k, (qs, qg) in enumerate(queries):
+    runs = {name: dict(ok=0, times=[], calls=[], lengths=[], failures=[]) for name in planners}
+    for k, (qs, qg) in enumerate(queries):  # the planners take turns on each query: the load hits both alike
+        for name, plan in planners.items():
+            run = runs[name]
             checker.calls = 0
             t0 = time.perf_counter()
             path = plan(qs, qg, k + 1)
-            times.append(time.perf_counter() - t0)
-            calls.append(checker.calls)
+            run["times"].append(time.perf_counter() - t0)
+            run["calls"].append(checker.calls)
             if path is None:
                 continue
-            ok += 1
-            lengths.append(path_length(space, path))
+            run["ok"] += 1
+            run["lengths"].append(path_length(space, path))
             ends = np.allclose(path[0], qs) and np.allclose(path[-1], qg)
             if not (ends and recheck_path(checker, path)[0]):
-                failures.append(k)
-        stats[name] = dict(success=100.0 * ok / len(queries), time=np.median(times) * 1e3, calls=np.median(calls),
-                           length=np.median(lengths) if lengths else float("nan"), failures=failures)
+                run["failures"].append(k)
+    stats = {name: dict(success=100.0 * run["ok"] / len(queries), time=np.median(run["times"]) * 1e3,
+                        calls=np.median(run["calls"]), failures=run["failures"],
+                        length=np.median(run["lengths"]) if run["lengths"] else float("nan"))
+             for name, run in runs.items()}
     ref = stats.get("OMPL")
     ref_name = "OMPL RRTConnect, same checker and resolution" if ref else "OMPL not installed (pip install ompl)"
     for key, label in (("time", "median planning time [ms]"), ("success", "success [%]"),

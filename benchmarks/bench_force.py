@@ -1,6 +1,6 @@
 """Cost of the chapter-9 closed loops: simulated seconds per wall second, and one step's parts.
 
-Run: ``python benchmarks/bench_force.py``. Prints, for the two-link arm against the compliant plane
+Run: ``python benchmarks/bench_force.py``. The table gives, for the two-link arm against the compliant plane
 (MODEL-B), the time of one contact-plant derivative (forward dynamics + the environment's wrench),
 one measurement and one call of the impedance (9.3) and hybrid (9.10) controllers; then the
 simulated seconds per wall second of Problems 9.3 and 9.10 and of the Panda wall run (two 3.5 s
@@ -46,13 +46,14 @@ from rigid_body.task_space import selection_matrices
 from benchtools import per_call
 
 
-def simulated_per_wall_second(label: str, run: Callable[[], object], simulated: float) -> None:
-    """Wall time and CPU time of the process (the CPU time is the fair measure on a shared machine)."""
+def simulated_per_wall_second(label: str, run: Callable[[], object], simulated: float, target: bool = True) -> dict:
+    """A row: simulated seconds per wall second (target ≥ 20 for the manual's loops), the CPU figure beside it
+    (on a shared machine the wall time depends on the load, the process's CPU time much less)."""
     t0, c0 = time.perf_counter(), time.process_time()
     run()
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-    print(f"  {label:<40s} {simulated:4.2f} s simulated: {wall:5.2f} s wall = {simulated / wall:5.2f}x real time,"
-          f" {cpu:5.2f} s CPU = {simulated / cpu:5.2f}x")
+    return dict(measurement=f"{label} [simulated s / wall s]", rmpc=simulated / wall, reference=None,
+                ref_name=f"{simulated / cpu:.1f} per CPU s", target=(">=", 20.0) if target else None)
 
 
 def pinocchio_floor(robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, fid: int, samples: int = 1000) -> float:
@@ -77,7 +78,9 @@ def pinocchio_floor(robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, fid: 
     return time.process_time() - c0
 
 
-if __name__ == "__main__":
+def rows(quick: bool = False) -> list[dict]:
+    """One call of the contact plant and the two laws (µs, no target), the Pinocchio floor of one simulated
+    second, and the closed loops of 9.3 and 9.10 (target ≥ 20× real time) and of the Panda wall example."""
     arm = load("planar_2r")
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
     q0 = inverse_kinematics_planar_2r(_tra_5()(0.0)[0][:2])[ELBOW_UP]
@@ -89,18 +92,27 @@ if __name__ == "__main__":
     S_f, S_v = selection_matrices(("x",), R_C, axes=("x", "y"))
     hyb = HybridForceMotionControl(arm, S_f, S_v, [-50.0], [0.1], 16, 100, 16, 100, compliance=np.eye(2) / K_HAT,
                                    rows=(0, 1), viscous_friction=F_V)
-    print("two-link arm on the compliant plane: one call")
-    for label, f in (("plant derivative (forward dynamics + contact wrench)", lambda: plant.derivative(0.0, x, u)),
-                     ("measurement (q, q̇, sensed wrench)", lambda: plant.measure(0.0, x)),
-                     ("impedance controller (9.30)–(9.31)", lambda: imp(0.3, meas)),
-                     ("hybrid force/motion controller (9.77)–(9.81)", lambda: hyb(0.3, meas))):
-        print(f"  {label:<58s} {per_call(f) * 1e6:8.1f} us")
+    out = [dict(measurement=f"9.x two-link arm on the plane: {label} [µs]", rmpc=per_call(f) * 1e6, reference=None,
+                ref_name="", target=None)
+           for label, f in (("contact-plant derivative", lambda: plant.derivative(0.0, x, u)),
+                            ("measurement (q, q̇, sensed wrench)", lambda: plant.measure(0.0, x)),
+                            ("impedance law (9.30)-(9.31)", lambda: imp(0.3, meas)),
+                            ("hybrid force/motion law (9.77)-(9.81)", lambda: hyb(0.3, meas)))]
     floor = pinocchio_floor(arm, q0, np.array([0.1, -0.2]), u, plant._fid)
-    print(f"  {'Pinocchio calls alone, one simulated second':<58s} {floor * 1e3:8.1f} ms CPU = {1 / floor:5.1f}x real time")
-    print("\nWhole simulations (T_c = h = 1 ms):")
-    simulated_per_wall_second("9.3 impedance control", lambda: _impedance_run(_held(_tra_5()), q0), T_D)
-    simulated_per_wall_second("9.10 hybrid force/motion control", lambda: _hybrid_run(K_HAT), T_D)
-    simulated_per_wall_second("9.10 with the exact stiffness", lambda: _hybrid_run(K_Y), T_D)
-    scene = _panda_wall_scene()
-    simulated_per_wall_second("Panda on the stepped wall, hybrid", lambda: _panda_hybrid(scene), T_PANDA)
-    simulated_per_wall_second("Panda on the stepped wall, impedance", lambda: _panda_impedance(scene, 0.021), T_PANDA)
+    out.append(dict(measurement="9.x Pinocchio calls alone, one simulated second [simulated s / CPU s]",
+                    rmpc=1.0 / floor, reference=None, ref_name="the floor of any Python loop on Pinocchio", target=None))
+    out.append(simulated_per_wall_second("9.3 impedance control", lambda: _impedance_run(_held(_tra_5()), q0), T_D))
+    out.append(simulated_per_wall_second("9.10 hybrid force/motion control", lambda: _hybrid_run(K_HAT), T_D))
+    if not quick:
+        scene = _panda_wall_scene()
+        out.append(simulated_per_wall_second("Panda on the stepped wall, hybrid", lambda: _panda_hybrid(scene),
+                                             T_PANDA, target=False))
+        out.append(simulated_per_wall_second("Panda on the stepped wall, impedance",
+                                             lambda: _panda_impedance(scene, 0.021), T_PANDA, target=False))
+    return out
+
+
+if __name__ == "__main__":
+    from benchtools import print_rows
+
+    print_rows(rows())

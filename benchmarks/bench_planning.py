@@ -14,7 +14,8 @@ Euclidean, ⌈d/h⌉ equal steps in both) and the same extension range (0.5 rad)
 calls per plan, median planning time and path length, every returned path re-checked independently
 (pairwise narrow phase on a 5 mrad grid).
 
-Run: ``python benchmarks/bench_planning.py`` (``--panda`` for the Panda/OMPL part only).
+Run: ``python benchmarks/bench_planning.py`` (``--panda`` for the Panda/OMPL part only); ``rows(quick=True)``
+runs 10 queries instead of 50.
 """
 
 from __future__ import annotations
@@ -51,7 +52,8 @@ def _planner_row(name: str, plan, seeds: int = 5) -> tuple[str, float, str]:
     return name, t / seeds, note
 
 
-def main() -> None:
+def book_rows(seeds: int = 5) -> list[dict]:
+    """Per-call times of the chapter-12 operations on the book's scenes (ms; no target)."""
     space, qs, qg = scene_12_7()
     rng = np.random.default_rng(0)
     Q = rng.uniform(-np.pi, np.pi, (1000, 2))
@@ -59,14 +61,15 @@ def main() -> None:
             ("2R clearance, shape by shape",
              per_call(lambda: space.scene.clearance(space.robot.bodies(Q[0])), 200), "")]
     rows.append(_planner_row("PRM 12.7 (50 → 300 vertices)",
-                             lambda g: prm(space, qs, qg, g, n_vertices=50, max_vertices=300)))
-    rows.append(_planner_row("RRT 12.7 (step 0.3 rad)", lambda g: rrt(space, qs, qg, g, step=0.3)))
-    rows.append(_planner_row("RRT-Connect 12.7 (step 0.3 rad)", lambda g: rrt_connect(space, qs, qg, g, step=0.3)))
+                             lambda g: prm(space, qs, qg, g, n_vertices=50, max_vertices=300), seeds))
+    rows.append(_planner_row("RRT 12.7 (step 0.3 rad)", lambda g: rrt(space, qs, qg, g, step=0.3), seeds))
+    rows.append(_planner_row("RRT-Connect 12.7 (step 0.3 rad)", lambda g: rrt_connect(space, qs, qg, g, step=0.3),
+                             seeds))
     uspace, us, ug = scene_12_8()
     prims = [MotionPrimitive(1.0, 0.0), MotionPrimitive(1.0, 1.3), MotionPrimitive(1.0, -1.3)]
     rows.append(_planner_row("unicycle RRT 12.8 (200 vertices)",
                              lambda g: unicycle_rrt(uspace, us, ug, g, prims, 0.9, max_vertices=200,
-                                                    goal_threshold=0.3), seeds=3))
+                                                    goal_threshold=0.3), min(seeds, 3)))
     diamond = Polygon([[5, 5], [6, 4], [7, 5], [6, 6]])
     rows.append(("trapezoidal decomposition + channel path 12.6",
                  per_call(lambda: channel_path(trapezoidal_decomposition((0, 10, 0, 10), [diamond]),
@@ -81,9 +84,8 @@ def main() -> None:
                            tuple(RepulsivePotential(Disc([3.0, s], 0.5), 1.0, 1.0) for s in (0.8, -0.8)))
     rows.append(("gradient descent 12.10 (to the local minimum)",
                  per_call(lambda: gradient_descent(field.force, [3.67, 0.05], step=0.01, tol=1e-8), 20), ""))
-    print(f"{'operation':48s} {'per call':>12s}  notes")
-    for name, t, note in rows:
-        print(f"{name:48s} {t * 1e3:9.3f} ms  {note}")
+    return [dict(measurement=f"{name} [ms]", rmpc=t * 1e3, reference=None, ref_name=note, target=None)
+            for name, t, note in rows]
 
 
 def panda_queries(space, n: int, seed: int = 2024) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -136,8 +138,9 @@ def _ompl_planner(space, step: float, seed: int = 1):
     return plan
 
 
-def panda_vs_ompl(n_queries: int = N_QUERIES, step: float = 0.5) -> None:
-    """Collision check per configuration and RRT-Connect (ours and OMPL's) on the Panda among boxes."""
+def panda_vs_ompl(n_queries: int = N_QUERIES, step: float = 0.5) -> list[dict]:
+    """Collision check per configuration and RRT-Connect (ours and OMPL's) on the Panda among boxes: rows with
+    OMPL as the reference (none when it is not installed), and the paths failing the independent re-check."""
     from examples.planning import panda_shelf, recheck_path
     from planners.sampling import path_length
 
@@ -145,49 +148,56 @@ def panda_vs_ompl(n_queries: int = N_QUERIES, step: float = 0.5) -> None:
     space, checker = scene.space, scene.space.checker
     rng = np.random.default_rng(0)
     Q = np.array([space.sample(rng) for _ in range(2000)])
-    print(f"Panda among {len(scene.boxes)} boxes: {checker.n_pairs} active pairs "
-          f"({checker.n_self_pairs} self-collision after SRDF + adjacency)")
-    for name, f in (("broad phase (dynamic AABB tree)", checker.in_collision),
-                    ("pairwise (every active pair)", checker.in_collision_pairwise)):
-        t0, c0 = time.perf_counter(), time.process_time()
-        hits = sum(f(q) for q in Q)
-        wall, cpu = (time.perf_counter() - t0) / len(Q), (time.process_time() - c0) / len(Q)
-        print(f"  collision check, {name:34s} {wall * 1e6:7.1f} µs wall, {cpu * 1e6:7.1f} µs CPU "
-              f"per configuration ({hits}/{len(Q)} in collision)")
+    per_q = {}
+    for name, f in (("broad", checker.in_collision), ("pairwise", checker.in_collision_pairwise)):
+        t0 = time.perf_counter()
+        for q in Q:
+            f(q)
+        per_q[name] = (time.perf_counter() - t0) / len(Q)
+    out = [dict(measurement=f"Panda among {len(scene.boxes)} boxes: collision check, broad phase [µs]",
+                rmpc=per_q["broad"] * 1e6, reference=per_q["pairwise"] * 1e6,
+                ref_name=f"every active pair ({checker.n_pairs})", target=None)]
     queries = panda_queries(space, n_queries)
-    planners = {"rmpc rrt_connect": lambda qs, qg, k: _ours(space, qs, qg, k, step)}
+    planners = {"rmpc": lambda qs, qg, k: _ours(space, qs, qg, k, step)}
     try:
-        planners["OMPL RRTConnect"] = _ompl_planner(space, step)
+        planners["OMPL"] = _ompl_planner(space, step)
     except ImportError:
-        print("  (ompl not installed: `pip install ompl` for the side-by-side comparison)")
-    print(f"  {n_queries} queries (free start/goal, straight segment blocked), range {step} rad, "
-          f"local paths every {space.resolution} rad")
-    print(f"  {'planner':18s} {'success':>8s} {'re-check':>9s} {'median t':>10s} {'median CPU':>11s} "
-          f"{'calls/plan':>11s} {'median length':>14s}")
-    failures = []
-    for name, plan in planners.items():
-        ok, free, times, cpus, calls, lengths = 0, 0, [], [], [], []
-        for k, (qs, qg) in enumerate(queries):
+        pass
+    runs = {name: dict(ok=0, times=[], calls=[], lengths=[], failures=[]) for name in planners}
+    for k, (qs, qg) in enumerate(queries):  # the planners take turns on each query: the load hits both alike
+        for name, plan in planners.items():
+            run = runs[name]
             checker.calls = 0
-            t0, c0 = time.perf_counter(), time.process_time()
+            t0 = time.perf_counter()
             path = plan(qs, qg, k + 1)
-            times.append(time.perf_counter() - t0)
-            cpus.append(time.process_time() - c0)
-            calls.append(checker.calls)
+            run["times"].append(time.perf_counter() - t0)
+            run["calls"].append(checker.calls)
             if path is None:
                 continue
-            ok += 1
-            lengths.append(path_length(space, path))
+            run["ok"] += 1
+            run["lengths"].append(path_length(space, path))
             ends = np.allclose(path[0], qs) and np.allclose(path[-1], qg)
-            clear = recheck_path(checker, path)[0]
-            free += ends and clear
-            if not (ends and clear):
-                failures.append(f"{name}, query {k}: " + ("wrong end points" if not ends else
-                                "a contact between states its checker accepted (re-check grid 5 mrad)"))
-        print(f"  {name:18s} {ok:4d}/{len(queries):<3d} {free:5d}/{ok:<3d} {np.median(times) * 1e3:8.1f} ms "
-              f"{np.median(cpus) * 1e3:8.1f} ms {np.median(calls):11.0f} {np.median(lengths):14.2f}")
-    for f in failures:
-        print(f"  re-check failed: {f}")
+            if not (ends and recheck_path(checker, path)[0]):
+                run["failures"].append(k)
+    stats = {name: dict(success=100.0 * run["ok"] / len(queries), time=np.median(run["times"]) * 1e3,
+                        calls=np.median(run["calls"]), failures=run["failures"],
+                        length=np.median(run["lengths"]) if run["lengths"] else float("nan"))
+             for name, run in runs.items()}
+    ref = stats.get("OMPL")
+    ref_name = "OMPL RRTConnect, same checker and resolution" if ref else "OMPL not installed (pip install ompl)"
+    for key, label in (("time", "median planning time [ms]"), ("success", "success [%]"),
+                       ("calls", "median validity checks per plan"), ("length", "median path length [rad]")):
+        out.append(dict(measurement=f"Panda RRT-Connect, {n_queries} queries: {label}", rmpc=stats["rmpc"][key],
+                        reference=ref[key] if ref else None, ref_name=ref_name, target=None))
+    out.append(dict(measurement="Panda RRT-Connect: returned paths failing the 5 mrad re-check",
+                    rmpc=float(len(stats["rmpc"]["failures"])), reference=len(ref["failures"]) if ref else None,
+                    ref_name=f"queries {stats['rmpc']['failures']}; OMPL's: {ref['failures'] if ref else '-'}",
+                    target=("<=", 0.0)))
+    return out
+
+
+def rows(quick: bool = False) -> list[dict]:
+    return book_rows(2 if quick else 5) + panda_vs_ompl(10 if quick else N_QUERIES)
 
 
 def _ours(space, qs, qg, seed, step):
@@ -196,6 +206,6 @@ def _ours(space, qs, qg, seed, step):
 
 
 if __name__ == "__main__":
-    if "--panda" not in sys.argv:
-        main()
-    panda_vs_ompl()
+    from benchtools import print_rows
+
+    print_rows((book_rows() if "--panda" not in sys.argv else []) + panda_vs_ompl())

@@ -3,25 +3,30 @@
 Per-call times of: the servomotor plant derivative, the arm-in-contact derivative (planar 3R in
 contact), the peg-in-hole state-machine controller, and one simulated second of a SCARA MOVETO
 (inverse-dynamics control at 2 ms); each compared with a raw Pinocchio call on the same robot.
+Run: ``python benchmarks/bench_tasks.py``.
 """
+
+from __future__ import annotations
 
 import time
 
 import numpy as np
 import pinocchio as pin
 
+from controllers.environment import SurfaceWithHole
+from controllers.force import PegInHoleController, PegInHoleTask
+from controllers.plants import ArmInContact, ServomotorPlant
+from controllers.tasks import ActionExecutor, Workcell, moveto
+from rigid_body.actuators import DCServomotor, PIRegulator
+from rigid_body.kinematics import inverse_kinematics_planar_3r, inverse_kinematics_scara
+from rigid_body.robots import load
+
 from benchtools import per_call
 
 
-if __name__ == "__main__":
-    from controllers.environment import SurfaceWithHole
-    from controllers.force import PegInHoleController, PegInHoleTask
-    from controllers.plants import ArmInContact, ServomotorPlant
-    from controllers.tasks import ActionExecutor, Workcell, moveto
-    from rigid_body.actuators import DCServomotor, PIRegulator
-    from rigid_body.kinematics import inverse_kinematics_planar_3r, inverse_kinematics_scara
-    from rigid_body.robots import load
-
+def rows() -> list[dict]:
+    """The chapter 5/6 hot calls against a raw Pinocchio call on the same robot (no target), and the SCARA
+    MOVETO's wall time per 2 ms sample against raw RNEA."""
     r3 = load("planar_3r")
     q = inverse_kinematics_planar_3r(np.array([0.6, -0.001, -np.pi / 2]))[0]
     x = np.concatenate([q, np.zeros(3)])
@@ -50,12 +55,18 @@ if __name__ == "__main__":
     ex.run([moveto((0.4, 0.3, 0.7, 0.3), 0.5)])
     wall = time.perf_counter() - t0
     simulated = ex.t
-
-    print(f"raw pin.computeFrameJacobian (planar 3R):  {raw_jac * 1e6:8.2f} µs")
-    print(f"raw pin.rnea (planar 3R):                  {raw_rnea * 1e6:8.2f} µs")
-    print(f"ServomotorPlant.derivative:                {t_motor * 1e6:8.2f} µs  ({t_motor / raw_rnea:5.1f} × rnea)")
-    print(f"ArmInContact.derivative (in contact):      {t_arm * 1e6:8.2f} µs  ({t_arm / raw_rnea:5.1f} × rnea)")
-    print(f"PegInHoleController.__call__:              {t_ctrl * 1e6:8.2f} µs  ({t_ctrl / raw_jac:5.1f} × frame Jacobian)")
     steps = simulated / 2e-3
-    print(f"SCARA MOVETO: {simulated:.3f} s simulated in {wall:.3f} s wall = {wall / steps * 1e6:.1f} µs per 2 ms sample "
-          f"({wall / steps / raw_scara:5.1f} × raw rnea {raw_scara * 1e6:.2f} µs)")
+
+    def row(label: str, t: float, ref: float, ref_name: str) -> dict:
+        return dict(measurement=f"{label} [µs]", rmpc=t * 1e6, reference=ref * 1e6, ref_name=ref_name, target=None)
+
+    return [row("ServomotorPlant.derivative", t_motor, raw_rnea, "raw pin.rnea, planar 3R"),
+            row("ArmInContact.derivative (planar 3R in contact)", t_arm, raw_rnea, "raw pin.rnea, planar 3R"),
+            row("PegInHoleController call", t_ctrl, raw_jac, "raw pin.computeFrameJacobian, planar 3R"),
+            row("SCARA MOVETO, wall time per 2 ms sample", wall / steps, raw_scara, "raw pin.rnea, SCARA")]
+
+
+if __name__ == "__main__":
+    from benchtools import print_rows
+
+    print_rows(rows())

@@ -4,8 +4,17 @@ The book's motor model (rotor i carried by link i−1, spinning at k_ri q̇_i, S
 URDF as mimic joints, so CRBA/RNEA here include the k_r I_m terms of (7.32). With mimic joints
 Pinocchio refuses ABA; forward dynamics is then the Cholesky solve of B q̈ = τ − h.
 Every result is a new array, never a view of ``robot.data``: Pinocchio 4's bindings return copies
-(checked by tests/rigid_body/test_wrapper_costs.py), so no second copy is made. :func:`inverse_dynamics` is the rigid-body
-model; friction, F_v q̇ + F_s sgn(q̇) in (7.42), is :func:`friction_torques` (from ``robot.friction``).
+(checked by tests/rigid_body/test_wrapper_costs.py), so no second copy is made. :func:`inverse_dynamics` is
+the rigid-body model; friction, F_v q̇ + F_s sgn(q̇) in (7.42), is :func:`friction_torques` (``robot.friction``).
+
+Fast path of the wrappers (≈ 1.5–1.7× the raw Pinocchio call on the Panda, at the floor of any validating
+Python wrapper: ``benchmarks/bench_wrappers.py``): ``math.isfinite(sum(q.tolist()) + ...)`` is the whole check
+of well-formed input — it raises for anything but a 1-D numeric array (a nested list does not sum, a list
+has no ``tolist``) and is non-finite when an entry is NaN or ±inf — and Pinocchio checks the sizes. Any
+failure (or an overflowing sum) re-runs the call with :func:`~rigid_body.validation.as_vector` on every
+argument, whose ValueError names the argument. The fast path reads the calling thread's ``pin.Data`` from
+the store behind ``robot.data`` (``robot._local.data``, 40 ns less than the property; missing in a thread's
+first call, where the full path creates it).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
 Eqs. (7.32) B(q), (7.42) the model, (7.45) Christoffel C, (7.39) g, Sect. 7.5 Newton–Euler.
@@ -13,7 +22,7 @@ Eqs. (7.32) B(q), (7.42) the model, (7.45) Christoffel C, (7.39) g, Sect. 7.5 Ne
 
 from __future__ import annotations
 
-import math
+from math import isfinite
 
 import numpy as np
 import pinocchio as pin
@@ -25,8 +34,12 @@ from rigid_body.validation import as_vector
 
 def inertia_matrix(robot: Robot, q: np.ndarray) -> np.ndarray:
     """B(q), (nv, nv), symmetric positive definite, Eq. (7.32) (CRBA)."""
-    model = robot.model
-    return pin.crba(model, robot.data, as_vector(q, model.nq, "q"))  # Pinocchio 4 fills both triangles
+    try:  # fast path (module docstring); Pinocchio 4's crba fills both triangles
+        if isfinite(sum(q.tolist())):
+            return pin.crba(robot.model, robot._local.data, q)
+    except Exception:
+        pass
+    return pin.crba(robot.model, robot.data, as_vector(q, robot.nq, "q"))
 
 
 def coriolis_matrix(robot: Robot, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
@@ -67,21 +80,34 @@ def christoffel_symbols(robot: Robot, q: np.ndarray) -> np.ndarray:
 
 def gravity_torques(robot: Robot, q: np.ndarray) -> np.ndarray:
     """g(q), Eq. (7.39)."""
-    model = robot.model
-    return pin.computeGeneralizedGravity(model, robot.data, as_vector(q, model.nq, "q"))
+    try:  # fast path (module docstring)
+        if isfinite(sum(q.tolist())):
+            return pin.computeGeneralizedGravity(robot.model, robot._local.data, q)
+    except Exception:
+        pass
+    return pin.computeGeneralizedGravity(robot.model, robot.data, as_vector(q, robot.nq, "q"))
 
 
 def nonlinear_effects(robot: Robot, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
     """h(q, q̇) = C(q, q̇) q̇ + g(q)."""
-    model = robot.model
-    return pin.nonLinearEffects(model, robot.data, as_vector(q, model.nq, "q"), as_vector(qd, model.nv, "qd"))
+    try:  # fast path (module docstring)
+        if isfinite(sum(q.tolist()) + sum(qd.tolist())):
+            return pin.nonLinearEffects(robot.model, robot._local.data, q, qd)
+    except Exception:
+        pass
+    return pin.nonLinearEffects(robot.model, robot.data, as_vector(q, robot.nq, "q"), as_vector(qd, robot.nv, "qd"))
 
 
 def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
     """τ = B(q) q̈ + C(q, q̇) q̇ + g(q) by recursive Newton–Euler (Sect. 7.5)."""
-    model = robot.model
-    nv = model.nv
-    return pin.rnea(model, robot.data, as_vector(q, model.nq, "q"), as_vector(qd, nv, "qd"), as_vector(qdd, nv, "qdd"))
+    try:  # fast path (module docstring)
+        if isfinite(sum(q.tolist()) + sum(qd.tolist()) + sum(qdd.tolist())):
+            return pin.rnea(robot.model, robot._local.data, q, qd, qdd)
+    except Exception:
+        pass
+    nv = robot.nv
+    return pin.rnea(robot.model, robot.data, as_vector(q, robot.nq, "q"), as_vector(qd, nv, "qd"),
+                    as_vector(qdd, nv, "qdd"))
 
 
 def friction_torques(robot: Robot, qd: np.ndarray, smoothing: float = 0.0,
@@ -126,24 +152,40 @@ def forward_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, tau: np.ndarra
 
     ``check=False`` skips the input validation (for simulation hot loops whose inputs are known good).
     ValueError on both paths when B(q) is singular (e.g. a link with neither mass nor inertia): ABA then
-    returns NaN/inf (one dot product checks it), Cholesky fails.
+    returns NaN/inf (one sum checks it), Cholesky fails.
     """
-    model, data = robot.model, robot.data
     if check:
-        nv = model.nv
-        q, qd, tau = as_vector(q, model.nq, "q"), as_vector(qd, nv, "qd"), as_vector(tau, nv, "tau")
-    if not robot.has_mimic:
-        qdd = pin.aba(model, data, q, qd, tau)
-        if not math.isfinite(qdd.dot(qdd)) and not np.isfinite(qdd).all():  # the dot may overflow: recheck
-            for name, x in (("q", q), ("qd", qd), ("tau", tau)):  # unchecked inputs (check=False)
-                as_vector(x, None, name)
-            raise _singular_inertia(q, "ABA returned a non-finite q̈")
-        return qdd
-    B = pin.crba(model, data, q)  # upper triangle is what LAPACK's posv reads
-    _, qdd, info = _posv(B, tau - pin.nonLinearEffects(model, data, q, qd), lower=False)
-    if info != 0:
-        raise _singular_inertia(q, f"LAPACK posv info {info}")
-    return qdd
+        try:  # fast path (module docstring); Pinocchio's size checks raise below
+            check = not isfinite(sum(q.tolist()) + sum(qd.tolist()) + sum(tau.tolist()))
+        except Exception:
+            pass
+        if check:
+            q, qd, tau = _state_and_torque(robot, q, qd, tau)
+    model, data = robot.model, robot.data
+    try:
+        if not robot.has_mimic:
+            qdd = pin.aba(model, data, q, qd, tau)
+            if isfinite(sum(qdd.tolist())) or np.isfinite(qdd).all():  # the sum may overflow: recheck
+                return qdd
+            detail = "ABA returned a non-finite q̈"
+        else:
+            if len(tau) != model.nv:  # τ − h would broadcast a wrong size
+                raise ValueError("size of tau")
+            B = pin.crba(model, data, q)  # upper triangle is what LAPACK's posv reads
+            _, qdd, info = _posv(B, tau - pin.nonLinearEffects(model, data, q, qd), lower=False)
+            if info == 0:
+                return qdd
+            detail = f"LAPACK posv info {info}"
+    except ValueError:
+        _state_and_torque(robot, q, qd, tau)  # a size error found by Pinocchio: name the argument
+        raise
+    _state_and_torque(robot, q, qd, tau)  # non-finite inputs (check=False) are named first
+    raise _singular_inertia(q, detail)
+
+
+def _state_and_torque(robot: Robot, q, qd, tau) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    nv = robot.nv
+    return as_vector(q, robot.nq, "q"), as_vector(qd, nv, "qd"), as_vector(tau, nv, "tau")
 
 
 def _singular_inertia(q: np.ndarray, detail: str) -> ValueError:

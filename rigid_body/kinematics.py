@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from math import isfinite
 from typing import Sequence
 
 import numpy as np
@@ -21,7 +22,7 @@ import pinocchio as pin
 
 from rigid_body.book_robots import book_robot_spec
 from rigid_body.dh import DHLink, as_links, dh_chain
-from rigid_body.robots import Robot
+from rigid_body.robots import Robot, model_frame_id
 from rigid_body.rotations import (as_homogeneous, as_rotation, euler_rate_matrix_rpy, euler_rate_matrix_zyz, rot_z,
                                   rotation_to_euler_zyz, rotation_to_rpy, wrap_angle)
 from rigid_body.validation import as_count, as_scalar, as_tolerance, as_vector
@@ -31,10 +32,18 @@ LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 def direct_kinematics(robot: Robot, q: np.ndarray, frame: str | int | None = None) -> np.ndarray:
     """T_e^0(q): (4, 4) pose of ``frame`` (default the end effector) in the base frame, Eq. (2.50)."""
-    model, data = robot.model, robot.data
-    fid = robot.frame(frame)
+    model = robot.model
+    fid = robot.ee_frame if frame is None else model_frame_id(model, frame)
+    try:  # fast path, as in rigid_body.dynamics: a 1-D numeric q with a finite sum; Pinocchio checks the size
+        if isfinite(sum(q.tolist())):
+            data = robot._local.data
+            pin.forwardKinematics(model, data, q)
+            return pin.updateFramePlacement(model, data, fid).homogeneous  # a new array
+    except Exception:
+        pass
+    data = robot.data
     pin.forwardKinematics(model, data, as_vector(q, model.nq, "q"))
-    return pin.updateFramePlacement(model, data, fid).homogeneous  # a new array
+    return pin.updateFramePlacement(model, data, fid).homogeneous
 
 
 def frame_poses(robot: Robot, q: np.ndarray, frames: list[str | int]) -> list[np.ndarray]:
@@ -47,7 +56,13 @@ def frame_poses(robot: Robot, q: np.ndarray, frames: list[str | int]) -> list[np
 def geometric_jacobian(robot: Robot, q: np.ndarray, frame: str | int | None = None) -> np.ndarray:
     """J(q) = [J_P; J_O], (6, nv): book convention (Pinocchio LOCAL_WORLD_ALIGNED), Eq. (3.30)."""
     model = robot.model
-    return pin.computeFrameJacobian(model, robot.data, as_vector(q, model.nq, "q"), robot.frame(frame), LWA)  # a new array
+    fid = robot.ee_frame if frame is None else model_frame_id(model, frame)
+    try:  # fast path, as in rigid_body.dynamics
+        if isfinite(sum(q.tolist())):
+            return pin.computeFrameJacobian(model, robot._local.data, q, fid, LWA)  # a new array
+    except Exception:
+        pass
+    return pin.computeFrameJacobian(model, robot.data, as_vector(q, model.nq, "q"), fid, LWA)
 
 
 def jacobian_derivative_times_qd(robot: Robot, q: np.ndarray, qd: np.ndarray,
@@ -505,9 +520,10 @@ def workspace_points(robot: Robot, n: int, rng: np.random.Generator, frame: str 
     fid = robot.frame(frame)
     qs = rng.uniform(robot.lower, robot.upper, size=(int(n), robot.nq))
     out = np.empty((int(n), 3))
+    model, data = robot.model, robot.data
     for k, q in enumerate(qs):
-        pin.forwardKinematics(robot.model, robot.data, q)
-        out[k] = pin.updateFramePlacement(robot.model, robot.data, fid).translation
+        pin.forwardKinematics(model, data, q)
+        out[k] = pin.updateFramePlacement(model, data, fid).translation
     return out
 
 
@@ -522,11 +538,12 @@ def joint_arc(robot: Robot, q_start: np.ndarray, joint: int, q_end: float, n: in
     joint = int(joint)
     fid = robot.frame(frame)
     out = np.empty((n, 3))
+    model, data = robot.model, robot.data
     for k, value in enumerate(np.linspace(q_start[joint], q_end, n)):
         q = q_start.copy()
         q[joint] = value
-        pin.forwardKinematics(robot.model, robot.data, q)
-        out[k] = pin.updateFramePlacement(robot.model, robot.data, fid).translation
+        pin.forwardKinematics(model, data, q)
+        out[k] = pin.updateFramePlacement(model, data, fid).translation
     return out
 
 

@@ -1,8 +1,9 @@
 """Input checks shared by the whole package: one place for the error messages.
 
 Every check raises ``ValueError`` naming the argument (shape, non-numeric, NaN/inf, range); the fast
-path (a well-formed float array) costs a type test and one finiteness test (:func:`as_vector`: one dot
-product), so that the wrappers of :mod:`rigid_body.dynamics` stay close to the raw Pinocchio calls.
+path (a well-formed float array) costs a type test and one finiteness test (:func:`as_vector`: the sum of
+the entries). The Pinocchio wrappers of :mod:`rigid_body.dynamics` and :mod:`rigid_body.kinematics` inline
+that test and fall back on :func:`as_vector` for the messages (their docstring).
 """
 
 from __future__ import annotations

@@ -1,6 +1,10 @@
 """The fast paths of the dynamics/kinematics wrappers: still validated, results never views of robot.data."""
 
+import re
+import threading
+
 import numpy as np
+import pinocchio as pin
 import pytest
 
 from rigid_body import dynamics as dyn
@@ -92,3 +96,83 @@ def test_as_vector_fast_path_and_overflow():
     long[50] = np.nan
     with pytest.raises(ValueError, match="`x` must be finite"):
         as_vector(long, 100, "x")
+
+
+# The fast path (rigid_body/dynamics.py's docstring): one tolist+sum per vector, Pinocchio's own size checks.
+# Every entry of every argument, every wrapper, robots with and without mimic rotors and with a prismatic joint.
+ARGUMENTS = {  # wrapper: (its callable on a robot, the names of its vector arguments)
+    "inertia_matrix": (dyn.inertia_matrix, ("q",)),
+    "gravity_torques": (dyn.gravity_torques, ("q",)),
+    "nonlinear_effects": (dyn.nonlinear_effects, ("q", "qd")),
+    "inverse_dynamics": (dyn.inverse_dynamics, ("q", "qd", "qdd")),
+    "forward_dynamics": (dyn.forward_dynamics, ("q", "qd", "tau")),
+    "direct_kinematics": (kin.direct_kinematics, ("q",)),
+    "geometric_jacobian": (kin.geometric_jacobian, ("q",)),
+}
+FAST_ROBOTS = {name: load(name) for name in ("panda", "planar_2r", "scara")}  # 7R; 2R with rotors; RRPR
+
+
+def _arguments(robot, names):
+    rng = np.random.default_rng(3)
+    return [robot.random_configuration(rng) if n == "q" else rng.normal(size=robot.nv) for n in names]
+
+
+@pytest.mark.parametrize("robot_name", FAST_ROBOTS)
+@pytest.mark.parametrize("name", ARGUMENTS)
+def test_every_non_finite_entry_of_every_argument_is_named(name, robot_name):
+    robot, (f, names) = FAST_ROBOTS[robot_name], ARGUMENTS[name]
+    good = _arguments(robot, names)
+    for k, arg in enumerate(names):
+        for i in range(len(good[k])):
+            for bad in (np.nan, np.inf, -np.inf):
+                args = [a.copy() for a in good]
+                args[k][i] = bad
+                with pytest.raises(ValueError, match=f"`{arg}` must be finite"):
+                    f(robot, *args)
+
+
+@pytest.mark.parametrize("name", ARGUMENTS)
+def test_a_column_or_a_wrong_size_is_refused_by_name_though_pinocchio_takes_a_column(name):
+    """Pinocchio accepts an (n, 1) column for an (n,) vector; the wrappers keep to shape (n,)."""
+    robot, (f, names) = ROBOT, ARGUMENTS[name]
+    good = _arguments(robot, names)
+    for k, arg in enumerate(names):
+        for wrong in (good[k][:, None], good[k][:-1], np.r_[good[k], 0.0]):
+            args = list(good)
+            args[k] = wrong
+            with pytest.raises(ValueError, match=re.escape(f"`{arg}` must have shape ({len(good[k])},), got {wrong.shape}")):
+                f(robot, *args)
+
+
+def test_mimic_forward_dynamics_refuses_a_short_tau_that_would_broadcast():
+    """With rotors, q̈ is the Cholesky solve of B q̈ = τ − h: a (1,) τ would broadcast against h."""
+    arm = load("planar_2r")
+    for check in (True, False):
+        with pytest.raises(ValueError, match=r"`tau` must have shape \(2,\), got \(1,\)"):
+            dyn.forward_dynamics(arm, np.zeros(2), np.zeros(2), np.ones(1), check=check)
+
+
+def test_a_sum_that_overflows_is_not_mistaken_for_a_non_finite_entry():
+    """Finite entries whose sum overflows to inf take the full checks, which accept them."""
+    q = np.full(ROBOT.nq, 1e308)
+    np.testing.assert_array_equal(dyn.inertia_matrix(ROBOT, q), pin.crba(ROBOT.model, ROBOT.model.createData(), q))
+    np.testing.assert_array_equal(kin.direct_kinematics(ROBOT, q),
+                                  kin.direct_kinematics(ROBOT, [float(v) for v in q]))
+
+
+def test_the_first_call_in_a_new_thread_gets_its_own_data():
+    """The fast path reads the thread's data directly; a thread's first call creates it (the full path)."""
+    expected = {name: f(ROBOT, *_arguments(ROBOT, names)) for name, (f, names) in ARGUMENTS.items()}
+    results, seen = {}, []
+
+    def work():
+        for name, (f, names) in ARGUMENTS.items():
+            results[name] = f(ROBOT, *_arguments(ROBOT, names))
+        seen.append(ROBOT.data)
+
+    thread = threading.Thread(target=work)
+    thread.start()
+    thread.join()
+    assert seen[0] is not ROBOT.data
+    for name in ARGUMENTS:
+        np.testing.assert_array_equal(results[name], expected[name])

@@ -175,7 +175,7 @@ def problem_12_2() -> Solution:
     d3 = torus_distance(A, B)
     lifts = np.array([[i, j] for i in (-1, 0, 1) for j in (-1, 0, 1)]) * 2 * np.pi
     brute = np.min(np.linalg.norm(B[:, None, :] + lifts[None] - A[:, None, :], axis=-1), axis=1)
-    sol.check_close("d₃ = min over the lifts q_B + 2πk of ‖q_A − q_B − 2πk‖ (2000 pairs)", d3, brute, atol=1e-12)
+    sol.check_close("d₃ = min over the lifts q_B + 2πk of ‖q_A − q_B − 2πk‖ (2000 pairs)", d3, brute, atol=1e-12, reference="second algorithm")
     sol.check("symmetric", np.allclose(d3, torus_distance(B, A), atol=1e-12))
     sol.check("triangle inequality d₃(A,C) ≤ d₃(A,B) + d₃(B,C)",
               np.all(torus_distance(A, C) <= d3 + torus_distance(B, C) + 1e-12))
@@ -222,7 +222,7 @@ def problem_12_3() -> Solution:
               key(COs[0]).shape == key(COs[1]).shape and np.allclose(key(COs[0]), key(COs[1])))
     expected = np.array(sorted([(-1, 0), (0, -1), (2, -1), (2, 2), (-1, 2)]), dtype=float)
     sol.check_close("CO = pentagon {(−1,0), (0,−1), (2,−1), (2,2), (−1,2)} (constructed by hand)",
-                    key(COs[0]), expected, atol=1e-12)
+                    key(COs[0]), expected, atol=1e-12, reference="closed form")
     rng = np.random.default_rng(SEED)
     Qs = rng.uniform(-2, 3, (1500, 2))
     for k, ((B, O), CO) in enumerate(zip(scenes, COs), start=1):
@@ -324,11 +324,11 @@ def problem_12_5() -> Solution:
     inner = nodes[nodes[:, 2] > 1e-9]
     sol.value("nodes", inner[:, :2])
     sol.check_close("nodes (b/2, b/2), (a − b/2, b/2), clearance b/2", inner,
-                    [[b / 2, b / 2, b / 2], [a - b / 2, b / 2, b / 2]], atol=1e-9)
+                    [[b / 2, b / 2, b / 2], [a - b / 2, b / 2, b / 2]], atol=1e-9, reference="closed form")
     corners = nodes[nodes[:, 2] <= 1e-9, :2]
     sol.check_close("the other nodes are the four corners (clearance 0)",
                     np.array(sorted(map(tuple, np.round(corners, 9) + 0.0))),
-                    np.array(sorted(map(tuple, K.vertices))), atol=1e-9)
+                    np.array(sorted(map(tuple, K.vertices))), atol=1e-9, reference="closed form")
     segs = sampled_gvd(K, spacing=0.02)
     P = segs.reshape(-1, 2)
     x, y = P[:, 0], P[:, 1]
@@ -390,16 +390,16 @@ def problem_12_6() -> Solution:
     sol.value("clearance_midpoint_path", c_naive)
     sol.value("clearance_fixed_path", c_fixed)
     sol.check("channel has 3 cells: above, left, below", len(chan) == 3, str(chan))
-    sol.check_close("midpoint path: q_s, (5, 7.5), (5, 2.5), q_g", naive, [qs, [5, 7.5], [5, 2.5], qg], atol=1e-9)
+    sol.check_close("midpoint path: q_s, (5, 7.5), (5, 2.5), q_g", naive, [qs, [5, 7.5], [5, 2.5], qg], atol=1e-9, reference="closed form")
     sol.check("midpoint path touches the obstacle's leftmost vertex (clearance 0)", c_naive == 0.0, f"{c_naive}")
     sol.check_close("fixed path has 5 vertices, the left cell's centroid (2.5, 5) inserted", fixed,
-                    [qs, [5, 7.5], [2.5, 5], [5, 2.5], qg], atol=1e-9)
+                    [qs, [5, 7.5], [2.5, 5], [5, 2.5], qg], atol=1e-9, reference="closed form")
     # closed forms: the new edges pass (5, 5) at 2.5/√2; the path's clearance is then set by q_s, q_g
     d_vertex = min(float(point_segment_distance([5, 5], a, b)) for a, b in zip(fixed[1:-2], fixed[2:-1]))
     sol.check_close("fixed path: the edges through the centroid pass the vertex (5, 5) at 2.5/√2 = 1.768 m",
-                    d_vertex, 2.5 / np.sqrt(2), atol=1e-12)
+                    d_vertex, 2.5 / np.sqrt(2), atol=1e-12, reference="closed form")
     sol.check_close("fixed path clearance = distance of q_s from the vertex (6, 6) = √1.25 = 1.118 m",
-                    c_fixed, np.sqrt(1.25), atol=1e-12)
+                    c_fixed, np.sqrt(1.25), atol=1e-12, reference="closed form")
     quad = quadtree_decomposition((0, 10, 0, 10), [diamond], min_size=0.25)
     qpath, qchan = channel_path(quad, qs, qg)
     c_quad = polyline_clearance(qpath, [diamond])
@@ -408,7 +408,7 @@ def problem_12_6() -> Solution:
     vis = visibility_graph(qs, qg, [diamond])
     sol.value("visibility_length", vis.length)
     sol.check_close("visibility graph: shortest path via (5, 5), length 2√(0.5² + 2²)", vis.length,
-                    2 * np.hypot(0.5, 2), atol=1e-12)
+                    2 * np.hypot(0.5, 2), atol=1e-12, reference="closed form")
     lengths = [float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1))) for p in (fixed, qpath)]
     sol.value("cell_path_lengths", lengths)
     sol.check("the cell paths are no shorter than the visibility path", min(lengths) >= vis.length - 1e-12)
@@ -458,7 +458,7 @@ def problem_12_7() -> Solution:
         return sol
     sol.value("path", res.path)
     sol.value("path_length", res.length)
-    sol.check_close("path starts at q_s and ends at q_g", [res.path[0], res.path[-1]], [qs, qg], atol=1e-12)
+    sol.check_close("path starts at q_s and ends at q_g", [res.path[0], res.path[-1]], [qs, qg], atol=1e-12, reference="property")
     ok, cmin, n_eval = certify_straight_path(space, res.path, 0.05)
     sol.value("path_min_clearance", cmin)
     sol.check("path certified collision-free (0.05 rad re-sampling, bisected where inconclusive; exact geometry, "
@@ -468,7 +468,7 @@ def problem_12_7() -> Solution:
     sol.value("wrapping_edges", int(sum(wrapped)))
     sol.check("C is treated as a torus: some roadmap edges cross q_i = ±π", sum(wrapped) > 0, f"{sum(wrapped)} edges")
     d_seg = torus_distance(res.path[:-1], res.path[1:])
-    sol.check_close("path length = Σ d₃ over its edges (each ≤ 3)", res.length, float(d_seg.sum()), atol=1e-12)
+    sol.check_close("path length = Σ d₃ over its edges (each ≤ 3)", res.length, float(d_seg.sum()), atol=1e-12, reference="second algorithm")
     sol.check("every edge within the neighbour distance 3", np.all(d_seg <= 3.0 + 1e-12))
     rc = rrt_connect(space, qs, qg, np.random.default_rng(SEED), step=0.3)
     short = shortcut(space, rc.path, np.random.default_rng(SEED), attempts=200) if rc.success else rc.path
@@ -561,7 +561,7 @@ def problem_12_8() -> Solution:
               loose.success and d_loose <= 0.3 and np.all(space.distance(loose.nodes[:-1], qg) > 0.3), loose.message)
     d_all = space.distance(res.nodes, qg)
     sol.check("the path ends at the tree vertex closest to q_g", abs(d_end - float(d_all.min())) < 1e-12)
-    sol.check_close("path starts at q_s", res.path[0], qs, atol=1e-12)
+    sol.check_close("path starts at q_s", res.path[0], qs, atol=1e-12, reference="property")
 
     def unicycle(t, x, v, w):
         return [v * np.cos(x[2]), v * np.sin(x[2]), w]
@@ -571,7 +571,7 @@ def problem_12_8() -> Solution:
                     for a, b, (v, w) in zip(res.path[:-1], res.path[1:], res.controls))
     sol.value("max_edge_error_vs_rk45", err)
     sol.check_error("every edge is one primitive over Δ: closed-form arc (exact integration (11.85)) = RK45 on the model",
-                    err, 1e-8)
+                    err, 1e-8, reference="other library")
     sol.check("every edge uses one of the three primitives",
               all(any(np.allclose(c, [p.v, p.omega]) for p in prims) for c in res.controls))
     h = 0.005
@@ -668,17 +668,17 @@ def problem_12_9() -> Solution:
     eps = 1e-9
     q_in, q_out = att.goal - (att.rho - eps) * u, att.goal - (att.rho + eps) * u
     sol.check_error("force continuous across ‖e‖ = ρ (200 directions)",
-                    max_error([(att.force(q_in), att.force(q_out))]), 1e-7)
+                    max_error([(att.force(q_in), att.force(q_out))]), 1e-7, reference="closed form")
     sol.check_error("potential continuous with the offset −½k_aρ²",
-                    max_error([(att.potential(q_in), att.potential(q_out))]), 1e-7)
+                    max_error([(att.potential(q_in), att.potential(q_out))]), 1e-7, reference="closed form")
     sol.check_close("without the offset U would jump by ½k_aρ² = 0.49 (sympy: ρ²k_a/2)",
-                    float(jump.subs({k_a: 2.0, rho: 0.7})), 0.5 * 2.0 * 0.7 ** 2, atol=1e-12)
+                    float(jump.subs({k_a: 2.0, rho: 0.7})), 0.5 * 2.0 * 0.7 ** 2, atol=1e-12, reference="closed form")
     qs = att.goal - np.linspace(0, 2, 401)[:, None] * u[0]
     h = 1e-6
     fd = np.array([-(att.potential(qs + d) - att.potential(qs - d)) / (2 * h) for d in np.eye(2) * h]).T
     good = np.abs(np.linalg.norm(qs - att.goal, axis=1) - att.rho) > 1e-4
     good &= np.linalg.norm(qs - att.goal, axis=1) > 1e-4
-    sol.check_close("force = −∇U (finite differences, both regions)", att.force(qs[good]), fd[good], atol=1e-6)
+    sol.check_close("force = −∇U (finite differences, both regions)", att.force(qs[good]), fd[good], atol=1e-6, reference="finite differences")
     fig, axes = subplots(1, 2, figsize=(10, 3.8))
     r = np.linspace(0, 2, 401)
     q_line = att.goal - r[:, None] * u[0]
@@ -733,13 +733,13 @@ def problem_12_10() -> Solution:
     single = _disc_field([[3.0, 0.0]])
     P = stationary_point(single, [3.9, 0.1])
     sol.value("P_single", P)
-    sol.check_close("single disc: ∇U(P) = 0 on the goal–centre axis, at (4, 0) (η = 0.5)", P, [4.0, 0.0], atol=1e-9)
+    sol.check_close("single disc: ∇U(P) = 0 on the goal–centre axis, at (4, 0) (η = 0.5)", P, [4.0, 0.0], atol=1e-9, reference="closed form")
     H = single.hessian(P)
     H_cf = _hessian_closed_form(P, [[3.0, 0.0]], 0.5, 1.0, 1.0, 1.0)
-    sol.check_close("Hessian: finite differences of the force = closed form", H, H_cf, atol=1e-5)
+    sol.check_close("Hessian: finite differences of the force = closed form", H, H_cf, atol=1e-5, reference="finite differences")
     ev = np.linalg.eigvalsh(H_cf)
     sol.value("eig_single", ev)
-    sol.check_close("eigenvalues −k_a D/(ρ + η) = −3 (tangential) and +33 (radial)", ev, [-3.0, 33.0], atol=1e-9)
+    sol.check_close("eigenvalues −k_a D/(ρ + η) = −3 (tangential) and +33 (radial)", ev, [-3.0, 33.0], atol=1e-9, reference="closed form")
     sol.check("erratum: the single-disc stationary point is a saddle (indefinite Hessian), not a minimum",
               ev[0] < 0 < ev[1])
     double = _disc_field([[3.0, 0.8], [3.0, -0.8]])
@@ -750,7 +750,7 @@ def problem_12_10() -> Solution:
     sol.value("U_minimum", U_M)
     sol.value("eig_two_discs", ev2)
     sol.check_close("two discs: stationary point ≈ (3.669, 0), U ≈ 7.4399", [M[0], M[1], U_M],
-                    [3.669, 0.0, 7.4399], atol=1e-3)
+                    [3.669, 0.0, 7.4399], atol=1e-3, reference="manual number")
     sol.check("two discs: positive-definite Hessian ⇒ a true local minimum", ev2[0] > 0, f"{ev2}")
     run = gradient_descent(double.force, [3.67, 0.05], step=0.01, tol=1e-8)
     sol.check("gradient descent from (3.67, 0.05) is trapped there, not at the goal",
@@ -809,7 +809,7 @@ def problem_12_11() -> Solution:
     sol.check("‖f_t‖ < 1e-9 at the three points (the other obstacles out of range)", np.all(f_norm < 1e-9),
               f"{f_norm}")
     roots = np.array([stationary_point(field, q + [0.05, -0.05]) for q in saddles])
-    sol.check_close("2-D root finder on f_t (from perturbed seeds) finds the same points", roots, saddles, atol=1e-9)
+    sol.check_close("2-D root finder on f_t (from perturbed seeds) finds the same points", roots, saddles, atol=1e-9, reference="second algorithm")
     eig = np.array([np.linalg.eigvalsh(_hessian_closed_form(q, centers, rho, k_a, k_r, eta0)) for q in saddles])
     sol.value("hessian_eigenvalues", eig)
     sol.check("each is a saddle: one negative, one positive Hessian eigenvalue", np.all((eig[:, 0] < 0) & (eig[:, 1] > 0)))
@@ -825,7 +825,7 @@ def problem_12_11() -> Solution:
     h = 1e-6
     fd = np.array([-(field.potential(Q + d) - field.potential(Q - d)) / (2 * h) for d in np.eye(2) * h]).T
     sol.check_close(f"analytic f_t = −∇U_t (finite differences, {len(Q)} random points)", field.force(Q), fd,
-                    atol=1e-4, rtol=1e-6)
+                    atol=1e-4, rtol=1e-6, reference="finite differences")
     fig, ax = subplots(figsize=(6.5, 6))
     X, Y = np.meshgrid(np.linspace(-5, 5, 300), np.linspace(-5, 6, 330))
     U = field.potential(np.stack([X, Y], -1))
@@ -969,7 +969,7 @@ def problem_12_13() -> Solution:
         sol.check(f"{adj}-adjacency: path from (1,1) to (7,7) through free {4 * adj}-neighbours, V strictly decreasing",
                   tuple(path[0]) == start and tuple(path[-1]) == goal and steps_ok
                   and not occ[tuple(path.T)].any() and np.all(np.diff(V[tuple(path.T)]) < 0))
-        sol.check_close(f"{adj}-adjacency: path length = the optimum V(start)", L, V[start], atol=1e-12)
+        sol.check_close(f"{adj}-adjacency: path length = the optimum V(start)", L, V[start], atol=1e-12, reference="second algorithm")
     L1, L2 = results[1][2], results[2][2]
     sol.check("2-adjacency path shorter; L₂ ≤ L₁ ≤ √2 L₂", L2 < L1 <= np.sqrt(2) * L2 + 1e-12,
               f"L₁ = {L1:.4f}, L₂ = {L2:.4f}, ratio {L1 / L2:.4f}")

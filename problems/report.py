@@ -110,14 +110,15 @@ def _side(value: Any) -> Any:
 
 
 def _check_dict(c: Any) -> dict:
-    """A check as JSON: the required ``name, passed, detail`` and ``actual, expected, reference``."""
+    """A check as JSON: the required ``name, passed, detail`` and ``actual, expected, reference, relation``."""
     return {"name": c.name, "passed": c.passed, "detail": c.detail, "actual": _side(getattr(c, "actual", None)),
-            "expected": _side(getattr(c, "expected", None)), "reference": getattr(c, "reference", None)}
+            "expected": _side(getattr(c, "expected", None)), "reference": getattr(c, "reference", None),
+            "relation": getattr(c, "relation", "==")}
 
 
 def solution_dict(sol: Any, figures: list[str] | None = None) -> dict:
     """The JSON object of ``rmpc solve --json``: id, title, kind, values (full precision), units,
-    checks, figures (the written files' paths, or the figures' titles when none were written)."""
+    given (the problem's data, ``sol.given``), checks, figures (the written files' paths, or the figures' titles when none were written)."""
     return {
         "id": sol.id,
         "title": sol.title,
@@ -125,6 +126,7 @@ def solution_dict(sol: Any, figures: list[str] | None = None) -> dict:
         "statement": getattr(sol, "statement", ""),
         "values": to_json(sol.values),
         "units": dict(getattr(sol, "units", {})),
+        "given": to_json(getattr(sol, "data", {})),
         "checks": [_check_dict(c) for c in sol.checks],
         "figures": figures if figures is not None else [figure_title(f, k) for k, f in enumerate(sol.figures)],
     }

@@ -63,12 +63,23 @@ def _plane() -> CompliantPlane:
     return CompliantPlane(np.r_[O_R, 0.0], np.r_[R_C[:, 1], 0.0], K_Y)
 
 
-def _tra_5() -> PathLaw:
+def _given_plane(sol: Solution) -> None:
+    """Declare the compliant plane of 9.3, 9.4 and 9.10 (stiffness, a point, the constraint frame) and
+    the joint friction as the problem's data."""
+    sol.given("k_y (plane stiffness)", K_Y, unit="N/m"), sol.given("o_r (point of the plane)", O_R, unit="m")
+    sol.given("R_c (constraint frame)", R_C), sol.given("F_v", F_V, unit="N·m·s/rad")
+
+
+def _tra_5(sol: Solution | None = None) -> PathLaw:
     """The companion's tra_5 (9.3, 9.10): p_i = [1 + 0.2 cos(π/4), 0] → p_f = [1.2 + 0.2 cos(π/4), 0.2],
-    trapezoidal s(t) with cruise ṡ_c = 0.5 m/s over t_f = 1 s, then held."""
+    trapezoidal s(t) with cruise ṡ_c = 0.5 m/s over t_f = 1 s, then held (with ``sol``, declared given)."""
     p_i = np.array([1.0 + 0.2 * np.cos(np.pi / 4), 0.0, 0.0])
-    segment = Segment(p_i, p_i + np.array([0.2, 0.2, 0.0]))
-    return PathLaw(segment, trapezoidal_law(0.0, segment.length, 1.0, 0.5))
+    step, t_f, sd_c = np.array([0.2, 0.2, 0.0]), 1.0, 0.5
+    if sol is not None:
+        sol.given("p_i", p_i, unit="m"), sol.given("p_f − p_i", step, unit="m")
+        sol.given("t_f", t_f, unit="s"), sol.given("ṡ_c", sd_c, unit="m/s")
+    segment = Segment(p_i, p_i + step)
+    return PathLaw(segment, trapezoidal_law(0.0, segment.length, t_f, sd_c))
 
 
 def _held(law: Callable[[Any], Any]) -> Callable[[float], Any]:
@@ -284,7 +295,9 @@ def problem_9_3() -> Solution:
     measured on a second run that starts 2 cm off the (constant) reference along x_c.
     """
     sol = Solution()
-    law = _tra_5()
+    _given_plane(sol)
+    sol.given("M_d, K_D, K_P (impedance)", np.array([M_D, K_D_IMP, K_P_IMP]), unit="kg, N·s/m, N/m")
+    law = _tra_5(sol)
     p_i = law(0.0)[0]
     q0 = inverse_kinematics_planar_2r(p_i[:2])[ELBOW_UP]
     sol.check_close("initial posture = companion's inv_k2u(p_i)", q0, [0.96343, -1.92685], atol=1e-5, reference="manual number")
@@ -361,12 +374,13 @@ def problem_9_4() -> Solution:
     f_e → f_d). f_d = −40 N along y_c, x_d 2 cm inside the plane.
     """
     sol = Solution()
+    _given_plane(sol)
     arm = _arm()
     n = R_C[:, 1]
     K = K_Y * np.outer(n, n)
-    x_d = O_R + R_C @ np.array([0.15, -0.02])
-    f_d = -40.0 * n
-    c_F = 1e-4
+    x_d = O_R + R_C @ sol.given("x_d^c", np.array([0.15, -0.02]), unit="m")
+    f_d = sol.given("f_d", -40.0 * n, unit="N")
+    c_F = sol.given("c_F", 1e-4, unit="m/N")
     q0 = inverse_kinematics_planar_2r(O_R + R_C @ np.array([0.15, 0.0]))[ELBOW_UP]
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
     x_pred = inner_position_loop_equilibrium(x_d, O_R, K, c_F, f_d)
@@ -612,6 +626,10 @@ def problem_9_10() -> Solution:
     A second run with the true stiffness (l_f = 1) gives ω = 10 rad/s, ζ = 0.8 and a smaller overshoot.
     """
     sol = Solution()
+    _given_plane(sol)
+    sol.given("k̂ (estimated stiffness)", K_HAT, unit="N/m"), sol.given("λ_d", LAMBDA_D, unit="N")
+    sol.given("K_Pν, K_Iν, K_Dλ, K_Pλ", np.array([K_P_NU, K_I_NU, K_D_LAMBDA, K_P_LAMBDA]))
+    _tra_5(sol)                                                     # its data declared; _hybrid_run follows it
     q0 = inverse_kinematics_planar_2r(O_R)[ELBOW_UP]
     sol.check_close("q(0) = [π/3, −2π/3] puts the tip at o_e(0) = [1, 0]", q0, [np.pi / 3, -2 * np.pi / 3], atol=1e-12, reference="manual number")
     res, exact = _hybrid_run(K_HAT), _hybrid_run(K_Y)

@@ -226,6 +226,16 @@ def _run_estimator(target: TargetFeatures, s: np.ndarray, steps: int) -> tuple[n
         np.array(pts)
 
 
+def _given_scene(sol: Solution, servo: bool = True) -> None:
+    """Declare the visual-servoing data: the feature points in the object frame, the desired object pose in
+    the camera frame and (``servo``) the object and initial camera poses in the base frame, the friction."""
+    sol.given("feature points in the object frame", P_O, unit="m")
+    sol.given("x_{d,o} (desired object pose in the camera frame)", X_DO, unit="m, m, m, rad")
+    if servo:
+        sol.given("x_o (object pose)", X_O, unit="m, m, m, rad"), sol.given("x_c(0)", X_C0, unit="m, m, m, rad")
+        sol.given("F_v", F_V, unit="N·m·s/rad (N·s/m)"), sol.given("t_d", T_FINAL, unit="s")
+
+
 def _estimation(sol: Solution, target: TargetFeatures, s: np.ndarray, tol: float, ratio_tol: float):
     """The checks 10.4 and 10.5 share: 40 steps from s (the manual's data), the final estimate, the decay of
     ‖e_s‖ by 1 − K_s T = 0.84 a step, and exact convergence from the unrounded features in 200 steps."""
@@ -275,6 +285,8 @@ def problem_10_4() -> Solution:
     after ≈ 30 steps; the estimated image points move along straight lines (scalar K_s).
     """
     sol = Solution()
+    _given_scene(sol, servo=False)
+    sol.given("measured features s", S_POINTS_MEASURED), sol.given("K_s", K_S_ESTIMATOR), sol.given("T", T_ESTIMATOR, unit="s")
     target = TargetFeatures(P_O, kind="points")
     s_true = target.features(target.view_from_pose(planar_pose(X_DO)).xy)
     sol.check_error("measured s = projection of x_{d,o} = [−0.1, 0.1, 0.6, −π/3] (4 decimals)",
@@ -303,6 +315,8 @@ def problem_10_5() -> Solution:
     from 10.4's.
     """
     sol = Solution()
+    _given_scene(sol, servo=False)
+    sol.given("measured points", S_POINTS_MEASURED), sol.given("K_s", K_S_ESTIMATOR), sol.given("T", T_ESTIMATOR, unit="s")
     pts_measured = S_POINTS_MEASURED.reshape(2, 2)
     s = sol.value("s", segment_features(pts_measured[0], pts_measured[1]).as_array())
     target = TargetFeatures(P_O, kind="segment")
@@ -678,6 +692,7 @@ def problem_10_8() -> Solution:
     estimator's tracking lag (1/K_s, "fast dynamics with negligible effects"); the features reach s_d.
     """
     sol = Solution()
+    _given_scene(sol)
     robot = scara_eye_in_hand()
     rng = np.random.default_rng(108)
     worst_B = max(max_abs_error(inertia_matrix(robot, q), _model_c_inertia(q))
@@ -685,7 +700,8 @@ def problem_10_8() -> Solution:
     sol.check_error("MODEL-C B(q) (Pinocchio, mimic rotors) = Problem 7.3's closed form [kg·m²]", worst_B, 1e-9, reference="closed form")
     sol.check_close("|g₃| = m₃ g = 19.62 N, on joint 3 only", np.abs(gravity_torques(robot, Q0)), [0, 0, 19.62, 0],
                     atol=1e-9, reference="closed form")
-    gains = dict(K_P=[500, 500, 10, 10], K_D=[500, 500, 10, 10])
+    gains = sol.given("gains", dict(K_P=[500, 500, 10, 10], K_D=[500, 500, 10, 10]))
+    sol.given("T_c (companion, manual)", np.array([TC_COMPANION, TC_MANUAL]), unit="s")
     run = _pbvs_run(TC_COMPANION, **gains)
     variant = _pbvs_run(TC_MANUAL, **gains)
     sol.value("primary_run", "companion i10_8: controller period T_c = 40 ms")
@@ -731,6 +747,9 @@ def problem_10_9() -> Solution:
     convergence; the final camera pose.
     """
     sol = Solution()
+    _given_scene(sol)
+    sol.given("K (companion), K (manual)", np.array([[1.0, 1, 1, 2], [1, 1, 1, 1]]))
+    sol.given("T_c (companion, manual)", np.array([TC_COMPANION, TC_MANUAL]), unit="s")
     sol.value("primary_run", "companion i10_9: K = diag(1, 1, 1, 2), T_c = 40 ms")
     sol.value("variant_run", "manual's text: K = I₄, T_c = 4 ms")
     sol.value("figure_source", FIGURE_SOURCE)
@@ -775,7 +794,9 @@ def problem_10_10() -> Solution:
     than with the two point features and the same gains (the manual: retreat "mitigated").
     """
     sol = Solution()
-    gains = dict(K_Ps=[300, 300, 150, 50], K_Ds=[330, 330, 165, 40])
+    _given_scene(sol)
+    gains = sol.given("gains", dict(K_Ps=[300, 300, 150, 50], K_Ds=[330, 330, 165, 40]))
+    sol.given("T_c", TC_MANUAL, unit="s")
     run = _ibvs_run(TC_MANUAL, "segment", **gains)
     sol.value("primary_run", "manual's text: T_c = 4 ms (no companion file exists for 10.10)")
     points = _ibvs_run(TC_MANUAL, "points", **gains)
@@ -806,6 +827,8 @@ def problem_10_11() -> Solution:
     segment's image length instead of z_d, the law still converges without retreat.
     """
     sol = Solution()
+    _given_scene(sol)
+    sol.given("K_s", 1.0), sol.given("T_c (companion, manual)", np.array([TC_COMPANION, TC_MANUAL]), unit="s")
     run = _ibvs_run(TC_COMPANION, "segment", K_s=1.0)
     variant = _ibvs_run(TC_MANUAL, "segment", K_s=1.0)
     sol.value("primary_run", "companion i10_11: T_c = 40 ms")

@@ -433,7 +433,7 @@ def problem_11_9() -> Solution:
     (11.14) against a numerical solve; the rhombus predicate against the wheel-speed check on random samples.
     """
     sol = Solution()
-    r, d, w_RL = 0.1, 0.5, 10.0
+    r, d, w_RL = sol.given("r", 0.1, unit="m"), sol.given("d", 0.5, unit="m"), sol.given("ω_RL", 10.0, unit="rad/s")
     v_max, w_max = differential_drive_limits(r, d, w_RL)
     sol.value("v_max", v_max)
     sol.value("omega_max", w_max)
@@ -575,8 +575,9 @@ def problem_11_13() -> Solution:
     (RK4) reaches q_f.
     """
     sol = Solution()
-    q_i, q_f = np.zeros(3), np.array([2.0, 1.0, np.pi / 2])
-    path = cartesian_polynomial_path(q_i, q_f, 1.0, 1.0)
+    q_i, q_f = sol.given("q_i", np.zeros(3), unit="m, m, rad"), sol.given("q_f", np.array([2.0, 1.0, np.pi / 2]), unit="m, m, rad")
+    k = sol.given("k = k_i = k_f", 1.0, unit="m")
+    path = cartesian_polynomial_path(q_i, q_f, k, k)
     sol.value("alpha_x", float(path.alpha[0]))
     sol.value("beta_x", float(path.beta[0]))
     sol.value("alpha_y", float(path.alpha[1]))
@@ -587,7 +588,11 @@ def problem_11_13() -> Solution:
     sol.value("max_v", float(np.max(np.abs(v))))
     sol.value("max_omega", float(np.max(np.abs(w))))
     sol.value("s_at_max_v", float(s[np.argmax(v)]))
-    sol.check_close("boundary positions p(0) = (0, 0), p(1) = (2, 1)", [p[0], p[-1]], [q_i[:2], q_f[:2]], atol=1e-14, reference="property")
+    # (11.52) with the manual's α = [cos θ_f − 3x_f, sin θ_f − 3y_f] = [−6, −2], β = [cos θ_i + 3x_i, ·] = [1, 0]:
+    # p(0) = (0, 0) and p(1) = (2, 1) follow from the cubic, evaluated here term by term.
+    cubic = (np.outer(s**3, [2.0, 1.0]) + np.outer(s**2 * (s - 1), [-6.0, -2.0]) + np.outer(s * (s - 1) ** 2, [1.0, 0.0]))
+    sol.check_close("p(s) = s³p_f − (s − 1)³p_i + α s²(s − 1) + β s(s − 1)², the manual's α, β (100001 s)", p, cubic,
+                    atol=1e-12, reference="closed form")
     sol.check_close("boundary headings Atan2(y', x') = 0, π/2 and speeds ṽ(0) = k_i, ṽ(1) = k_f",
                     [theta[0], theta[-1], v[0], v[-1]], [0.0, np.pi / 2, 1.0, 1.0], atol=1e-14, reference="closed form")
     sol.check_close("manual: max|ω̃| = 10 rad/s with s = t", float(np.max(np.abs(w))), 10.0, atol=1e-6, reference="manual number")
@@ -771,7 +776,8 @@ def problem_11_16() -> Solution:
     from the obtuse start; the manual's S11.2 is the Simulink diagram) and S11.3.
     """
     sol = Solution()
-    k1, k2 = 1.0, 3.0
+    k1, k2 = sol.given("k1", 1.0), sol.given("k2", 3.0)
+    sol.given("q(0)", Q0_COMPANION, unit="m, m, rad")
     mod = _regulate(CartesianRegulator(k1, k2, backward=True), Q0_COMPANION)
     orig = _regulate(CartesianRegulator(k1, k2), Q0_COMPANION)
     n_e0 = -(Q0_COMPANION[0] * np.cos(Q0_COMPANION[2]) + Q0_COMPANION[1] * np.sin(Q0_COMPANION[2]))
@@ -891,6 +897,8 @@ def problem_11_18() -> Solution:
     """
     sol = Solution()
     runs = {}
+    sol.given("q(0)", Q0_COMPANION, unit="m, m, rad"), sol.given("k1, k2, k3", np.array(K_POSTURE))
+    sol.given("T_s (two runs)", np.array([0.01, 0.1]), unit="s")
     for Ts, fig_name in ((0.01, "Fig. S11.5"), (0.1, "Fig. S11.6")):
         res = posture_with_odometry(Ts)
         runs[Ts] = res

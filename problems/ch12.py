@@ -262,10 +262,12 @@ def problem_12_4() -> Solution:
     """
     sol = Solution()
     scene = scene_12_4()
-    arm = PlanarArm((1.0, 1.0), 0.1)
+    arm = PlanarArm(tuple(sol.given("a1, a2", np.array([1.0, 1.0]), unit="m")), sol.given("link radius", 0.1, unit="m"))
     space = PlanarCSpace(arm, scene, [-np.pi, -np.pi], [np.pi, np.pi])
     q = {"q_a": np.array([np.pi / 4, np.pi / 2]), "q_b": np.array([4.12, np.pi / 6]),
          "q_c": np.array([4.12, 2.88])}
+    for name, q_k in q.items():
+        sol.given(name, q_k, unit="rad")
     results = {}
     for n in (160, 320):
         free, axis = _torus_grid(space, n)
@@ -318,7 +320,7 @@ def problem_12_5() -> Solution:
     also sampled with scipy's Voronoi of boundary points: every ridge must lie on the medial axis.
     """
     sol = Solution()
-    a, b = 4.0, 1.5
+    a, b = sol.given("a", 4.0, unit="m"), sol.given("b", 1.5, unit="m")
     K = box(0, 0, a, b)
     nodes = gvd_nodes(K)
     inner = nodes[nodes[:, 2] > 1e-9]
@@ -377,8 +379,8 @@ def problem_12_6() -> Solution:
     comparisons; the visibility-graph length 2√(0.5² + 2²) is the shortest possible.
     """
     sol = Solution()
-    diamond = Polygon([[5, 5], [6, 4], [7, 5], [6, 6]])
-    qs, qg = np.array([5.5, 7.0]), np.array([5.5, 3.0])
+    diamond = Polygon(sol.given("obstacle vertices", np.array([[5, 5], [6, 4], [7, 5], [6, 6]]), unit="m"))
+    qs, qg = sol.given("q_s", np.array([5.5, 7.0]), unit="m"), sol.given("q_g", np.array([5.5, 3.0]), unit="m")
     dec = trapezoidal_decomposition((0, 10, 0, 10), [diamond])
     naive, chan = channel_path(dec, qs, qg, centroids=False)
     fixed, _ = channel_path(dec, qs, qg, centroids=True)
@@ -449,6 +451,7 @@ def problem_12_7() -> Solution:
     """
     sol = Solution()
     space, qs, qg = scene_12_7()
+    sol.given("q_s", qs, unit="rad"), sol.given("q_g", qg, unit="rad")
     res = prm(space, qs, qg, np.random.default_rng(SEED), n_vertices=50, max_neighbors=3, max_distance=3.0,
               max_vertices=200)
     sol.value("roadmap_vertices", len(res.nodes))
@@ -458,7 +461,6 @@ def problem_12_7() -> Solution:
         return sol
     sol.value("path", res.path)
     sol.value("path_length", res.length)
-    sol.check_close("path starts at q_s and ends at q_g", [res.path[0], res.path[-1]], [qs, qg], atol=1e-12, reference="property")
     ok, cmin, n_eval = certify_straight_path(space, res.path, 0.05)
     sol.value("path_min_clearance", cmin)
     sol.check("path certified collision-free (0.05 rad re-sampling, bisected where inconclusive; exact geometry, "
@@ -539,8 +541,10 @@ def problem_12_8() -> Solution:
 
     sol = Solution()
     space, qs, qg = scene_12_8()
+    sol.given("q_s", qs, unit="m, m, rad"), sol.given("q_g", qg, unit="m, m, rad")
     prims = [MotionPrimitive(1.0, 0.0), MotionPrimitive(1.0, 1.3), MotionPrimitive(1.0, -1.3)]
-    delta = 0.9
+    sol.given("primitives (v, ω)", np.array([[1.0, 0.0], [1.0, 1.3], [1.0, -1.3]]), unit="m/s, rad/s")
+    delta = sol.given("Δ", 0.9, unit="s")
     res = unicycle_rrt(space, qs, qg, np.random.default_rng(SEED), prims, delta, max_vertices=200,
                        goal_threshold=0.01, goal_bias=0.2)
     d_end = float(space.distance(res.path[-1], qg))
@@ -561,10 +565,15 @@ def problem_12_8() -> Solution:
               loose.success and d_loose <= 0.3 and np.all(space.distance(loose.nodes[:-1], qg) > 0.3), loose.message)
     d_all = space.distance(res.nodes, qg)
     sol.check("the path ends at the tree vertex closest to q_g", abs(d_end - float(d_all.min())) < 1e-12)
-    sol.check_close("path starts at q_s", res.path[0], qs, atol=1e-12, reference="property")
 
     def unicycle(t, x, v, w):
         return [v * np.cos(x[2]), v * np.sin(x[2]), w]
+
+    replay = np.asarray(qs, float)
+    for v, w in res.controls:          # the whole control sequence applied from q_s (SciPy's RK45)
+        replay = solve_ivp(unicycle, (0, delta), replay, args=(v, w), method="RK45", rtol=1e-11, atol=1e-12).y[:, -1]
+    sol.check_error("the controls applied from q_s (RK45 on the model) end at the path's last vertex",
+                    float(np.max(np.abs(space.difference(replay, res.path[-1])))), 1e-7, reference="other library")
 
     err = max_error((space.difference(solve_ivp(unicycle, (0, delta), a, args=(v, w), method="RK45", rtol=1e-11,
                                                 atol=1e-12).y[:, -1], b), 0.0)
@@ -730,6 +739,7 @@ def problem_12_10() -> Solution:
     U ≈ 7.4399, where gradient descent from (3.67, 0.05) stops instead of reaching the goal (Fig. S12.5).
     """
     sol = Solution()
+    sol.given("disc centre", np.array([3.0, 0.0]), unit="m"), sol.given("ρ, k_a, k_r, η₀", np.array([0.5, 1.0, 1.0, 1.0]))
     single = _disc_field([[3.0, 0.0]])
     P = stationary_point(single, [3.9, 0.1])
     sol.value("P_single", P)
@@ -790,8 +800,9 @@ def problem_12_11() -> Solution:
     from scipy.optimize import brentq
 
     sol = Solution()
-    centers = np.array([[3.0, 0.0], [0.0, 4.0], [-3.0, -3.0]])
+    centers = sol.given("centres", np.array([[3.0, 0.0], [0.0, 4.0], [-3.0, -3.0]]), unit="m")
     rho, k_a, k_r, eta0 = 0.5, 1.0, 1.0, 1.0
+    sol.given("ρ, k_a, k_r, η₀", np.array([rho, k_a, k_r, eta0]))
     field = _disc_field(centers, rho, k_a, k_r, eta0)
     saddles, residual_manual = [], []
     for c in centers:
@@ -854,8 +865,10 @@ def problem_12_12() -> Solution:
     obstacles = [Polygon([[2, 1.0], [3.2, 0.6], [3.5, 2.0], [2.4, 2.3]]),
                  Polygon([[4.5, -2.2], [6.0, -1.8], [5.6, -0.6], [4.4, -0.9]]),
                  Polygon([[7.0, 1.2], [8.3, 1.0], [8.0, 2.6]])]
-    goal = np.array([12.0, 0.5])
+    goal = sol.given("goal", np.array([12.0, 0.5]), unit="m")
+    sol.given("R (laser range)", R, unit="m"), sol.given("rays", n_rays)
     k_a, k_r, eta0 = 1.0, 0.5, R
+    sol.given("k_a, k_r", np.array([k_a, k_r]))
     att = AttractivePotential(goal, k_a, rho=1.0)
     offline = PotentialField(att, tuple(RepulsivePotential(o, k_r, eta0) for o in obstacles))
 
@@ -940,8 +953,8 @@ def problem_12_13() -> Solution:
     from scipy.sparse.csgraph import dijkstra
 
     sol = Solution()
-    occ = SCENE_12_13
-    start, goal = (0, 0), (6, 6)                 # cells (1, 1) and (7, 7), 1-based in the manual
+    occ = sol.given("occupancy grid", SCENE_12_13)
+    start, goal = sol.given("start cell (0-based)", (0, 0)), sol.given("goal cell (0-based)", (6, 6))                 # cells (1, 1) and (7, 7), 1-based in the manual
     results = {}
     for adj in (1, 2):
         V = wavefront(occ, goal, adj)

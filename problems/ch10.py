@@ -345,6 +345,16 @@ def _clouds(rng: np.random.Generator, n: int = 12, noise: float = 0.0):
     return pp @ R.T + o + noise * rng.standard_normal((n, 3)), pp, R, o
 
 
+def _registration_checks(sol: Solution, errors: list[tuple[str, float, float, str]], optimum: str, better: int,
+                         what: str) -> Solution:
+    """The checks of 10.6–10.7: error measures ``(name, error, tol, reference)`` and the optimality of the
+    registration (``better`` random candidates did better: none may)."""
+    for name, error, tol, reference in errors:
+        sol.check_error(name, error, tol, reference=reference)
+    sol.check(optimum, better == 0, f"{better} {what}")
+    return sol
+
+
 @problem("10.6", "o = p̄ − R p̄' minimises the registration cost (10.55), Eq. (10.56)", kind="derivation")
 def problem_10_6() -> Solution:
     """Show that o = p̄ − R p̄' (10.56) minimises g(o) = Σ‖p_i − o − R p'_i‖² (10.55): with centred points,
@@ -370,10 +380,10 @@ def problem_10_6() -> Solution:
             worse += registration_cost(p, pp, R, o_star + delta) <= registration_cost(p, pp, R, o_star)
         grad = _fd(lambda o: registration_cost(p, pp, R, o), o_star)
         worst_grad = max(worst_grad, float(np.max(np.abs(grad))))
-    sol.check_error("g(o) = n‖p̄ − o − Rp̄'‖² + Σ‖p̄_i − Rp̄'_i‖² at 200 random o", worst_split, 1e-10, reference="closed form")
-    sol.check_error("∂g/∂o = 0 at o* = p̄ − Rp̄' (central differences)", worst_grad, 1e-6, reference="finite differences")
-    sol.check("g(o* + δ) > g(o*) for 200 random δ", worse == 0, f"{worse} not larger")
-    return sol
+    return _registration_checks(sol, [
+        ("g(o) = n‖p̄ − o − Rp̄'‖² + Σ‖p̄_i − Rp̄'_i‖² at 200 random o", worst_split, 1e-10, "closed form"),
+        ("∂g/∂o = 0 at o* = p̄ − Rp̄' (central differences)", worst_grad, 1e-6, "finite differences")],
+        "g(o* + δ) > g(o*) for 200 random δ", worse, "not larger")
 
 
 @problem("10.7", "The rotation minimising (10.57) maximises Tr(Rᵀ K), K = Σ p̄_i p̄'_iᵀ", kind="derivation")
@@ -405,11 +415,11 @@ def problem_10_7() -> Solution:
             lhs = np.sum((c - cp @ Rr.T) ** 2)
             worst_identity = max(worst_identity, abs(lhs - (np.sum(c**2) - 2 * np.trace(Rr.T @ K) + np.sum(cp**2))))
             beaten += registration_cost(pn, ppn, Rr, pn.mean(0) - Rr @ ppn.mean(0)) < best - 1e-12
-    sol.check_error("Σ‖p̄_i − Rp̄'_i‖² = Σ‖p̄_i‖² − 2Tr(RᵀK) + Σ‖p̄'_i‖² at 1000 rotations", worst_identity, 1e-10, reference="closed form")
-    sol.check_error("noise-free clouds: R and o recovered", worst_exact, 1e-10, reference="closed form")
-    sol.check_error("noisy clouds: R = SciPy's Kabsch rotation (align_vectors)", worst_kabsch, 1e-9, reference="other library")
-    sol.check("no random rotation gives a lower cost (1000 tries)", beaten == 0, f"{beaten} lower")
-    return sol
+    return _registration_checks(sol, [
+        ("Σ‖p̄_i − Rp̄'_i‖² = Σ‖p̄_i‖² − 2Tr(RᵀK) + Σ‖p̄'_i‖² at 1000 rotations", worst_identity, 1e-10, "closed form"),
+        ("noise-free clouds: R and o recovered", worst_exact, 1e-10, "closed form"),
+        ("noisy clouds: R = SciPy's Kabsch rotation (align_vectors)", worst_kabsch, 1e-9, "other library")],
+        "no random rotation gives a lower cost (1000 tries)", beaten, "lower")
 
 
 # --------------------------------------------------------------------------------------------
@@ -783,6 +793,16 @@ def _retreat(run: _Run) -> float:
     return float(np.max(run.x_co[:, 2]) - X_DO[2])
 
 
+def _depth_figure(sol: Solution, run: _Run, points: _Run, title: str) -> Solution:
+    """The object's depth z_{c,o}(t) with segment and with point features (10.10, 10.11); attached to ``sol``."""
+    fig, ax = subplots(figsize=(6, 3.5))
+    ax.plot(run.t, run.x_co[:, 2], label="segment features")
+    ax.plot(points.t, points.x_co[:, 2], "--", label="two point features")
+    label_axes(ax, "t [s]", "object depth z_{c,o} [m]", legend=True)
+    sol.figure(fig, title)
+    return sol
+
+
 @problem("10.10", "IBVS with PD + gravity compensation (Fig. 10.16), line-segment features", kind="simulation")
 def problem_10_10() -> Solution:
     """Image-based visual servoing of the SCARA's camera with the segment features (10.28):
@@ -808,12 +828,7 @@ def problem_10_10() -> Solution:
     sol.check("camera retreat smaller with the segment than with two point features (same gains)",
               r_seg < r_pts, f"max z_co − 0.6: segment {r_seg:.4f} m, points {r_pts:.4f} m")
     _loop_figures(sol, run, ("S10.14", "S10.15"), "IBVS PD + gravity, T_c = 4 ms")
-    fig, ax = subplots(figsize=(6, 3.5))
-    ax.plot(run.t, run.x_co[:, 2], label="segment features")
-    ax.plot(points.t, points.x_co[:, 2], "--", label="two point features")
-    label_axes(ax, "t [s]", "object depth z_{c,o} [m]", legend=True)
-    sol.figure(fig, "10.10 — depth of the object in the camera frame: retreat")
-    return sol
+    return _depth_figure(sol, run, points, "10.10 — depth of the object in the camera frame: retreat")
 
 
 @problem("10.11", "Resolved-velocity IBVS (Fig. 10.17), line-segment features", kind="simulation")
@@ -853,9 +868,4 @@ def problem_10_11() -> Solution:
     _loop_figures(sol, run, ("S10.17", "S10.18"), "resolved-velocity IBVS, K_s = I₄, T_c = 40 ms")
     eye_in_hand_animation(sol, scara_eye_in_hand(), run.res, _target_points_b(), "resolved-velocity IBVS "
                           "(segment features, T_c = 40 ms): the camera rises to z_d without retreat", depth=X_DO[2])
-    fig, ax = subplots(figsize=(6, 3.5))
-    ax.plot(run.t, run.x_co[:, 2], label="segment features")
-    ax.plot(points.t, points.x_co[:, 2], "--", label="two point features")
-    label_axes(ax, "t [s]", "object depth z_{c,o} [m]", legend=True)
-    sol.figure(fig, "10.11 — depth of the object in the camera frame: no retreat with the segment")
-    return sol
+    return _depth_figure(sol, run, points, "10.11 — depth of the object in the camera frame: no retreat with the segment")

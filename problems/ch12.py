@@ -104,6 +104,15 @@ def _workspace_axes(ax, bounds, title: str) -> None:
     label_axes(ax, "x [m]", "y [m]", title=title, legend=False, grid=False)
 
 
+def _potential_figure(sol: Solution, fig, ax, goal, bounds, title: str, legend_loc: str) -> Solution:
+    """Close a potential-field figure (12.11, 12.12): the goal marked, workspace axes, legend; attach it."""
+    ax.plot(*goal, "g*", ms=12, label="goal")
+    _workspace_axes(ax, bounds, "")
+    ax.legend(loc=legend_loc, fontsize=7)
+    sol.figure(fig, title)
+    return sol
+
+
 def _cspace_axes(ax, title: str) -> None:
     label_axes(ax, "q₁ [rad]", "q₂ [rad]", title=title, legend=False, grid=False)
 
@@ -843,11 +852,8 @@ def problem_12_11() -> Solution:
     ax.contour(X, Y, np.minimum(U, 25), levels=50, linewidths=0.5)
     draw_shapes(ax, [Disc(c, rho) for c in centers], label="obstacles")
     ax.plot(saddles[:, 0], saddles[:, 1], "rx", ms=10, label="saddle points")
-    ax.plot(0, 0, "g*", ms=12, label="goal")
-    _workspace_axes(ax, (-5, 5, -5, 6), "")
-    ax.legend(loc="lower right", fontsize=7)
-    sol.figure(fig, "Problem 12.11 — U_t and its saddle points")
-    return sol
+    return _potential_figure(sol, fig, ax, (0, 0), (-5, 5, -5, 6), "Problem 12.11 — U_t and its saddle points",
+                             "lower right")
 
 
 @problem("12.12", "Reactive potential-field planning from laser range data", kind="derivation")
@@ -932,11 +938,8 @@ def problem_12_12() -> Solution:
     ax.plot(P[:, 0], P[:, 1], "r.", ms=2, label=f"laser returns at one instant (R = {R} m)")
     ax.plot(run_off.path[:, 0], run_off.path[:, 1], "b-", lw=2, label="off-line potential")
     ax.plot(run_re.path[:, 0], run_re.path[:, 1], "y--", lw=1.5, label="reactive (from the scan)")
-    ax.plot(*goal, "g*", ms=12, label="goal")
-    _workspace_axes(ax, (-0.5, 11, -3.5, 4), "")
-    ax.legend(loc="lower left", fontsize=7)
-    sol.figure(fig, "Fig. S12.6 — reactive planning with a laser range finder")
-    return sol
+    return _potential_figure(sol, fig, ax, goal, (-0.5, 11, -3.5, 4),
+                             "Fig. S12.6 — reactive planning with a laser range finder", "lower left")
 
 
 @problem("12.13", "Wavefront navigation function on a grid: 1- vs 2-adjacency", kind="programming")

@@ -242,8 +242,9 @@ def problem_3_7() -> Solution:
     """det J_A of (S3.3) = a1 a2 s2: singular at θ2 = 0, π; the prismatic joint adds no singularity."""
     sol = Solution()
     robot = load("scara")
+    a1 = a2 = sol.given("a1 = a2", 0.5, unit="m")
     qs = _samples(307, (-np.pi, np.pi, 2), (0.0, 1.0), (-np.pi, np.pi))
-    _singularity_checks(sol, robot, [0, 1, 2, 5], qs, "det J_A == a1 a2 sin(th2)", lambda q: 0.25 * np.sin(q[1]),
+    _singularity_checks(sol, robot, [0, 1, 2, 5], qs, "det J_A == a1 a2 sin(th2)", lambda q: a1 * a2 * np.sin(q[1]),
                         [[0.2, 0.0, 0.3, 0.1], [0.2, np.pi, 0.3, 0.1]], 3)
     return sol
 
@@ -261,9 +262,10 @@ def problem_3_8() -> Solution:
             errs.append(abs(manipulability(J) - np.prod(np.linalg.svd(J, compute_uv=False))))
     sol.check_close("sqrt(det(J J^T)) == prod(sigma_i)", max(errs), 0.0, atol=1e-10, reference="closed form")
     robot = load("planar_2r")
+    a1 = a2 = sol.given("a1 = a2", 1.0, unit="m")
     qs = rng.uniform(-np.pi, np.pi, (N_RANDOM, 2))
     w = [manipulability(geometric_jacobian(robot, q)[:2]) for q in qs]
-    sol.check_close("two-link arm: w == a1 a2 |s2|", np.array(w), np.abs(np.sin(qs[:, 1])), atol=1e-12,
+    sol.check_close("two-link arm: w == a1 a2 |s2|", np.array(w), a1 * a2 * np.abs(np.sin(qs[:, 1])), atol=1e-12,
                     reference="closed form")
     return sol
 
@@ -767,6 +769,7 @@ def problem_3_23() -> Solution:
     draws both ellipses at several postures."""
     sol = Solution()
     robot = load("planar_2r")
+    sol.given("a1 = a2", 1.0, unit="m")
     rng = np.random.default_rng(323)
     axis_err, eig_err, semi_err = [], [], []
     for _ in range(N_RANDOM):

@@ -326,6 +326,7 @@ def problem_5_5() -> Solution:
     Table S5.1 and on every word of 1–12 bits.
     """
     sol = Solution()
+    sol.given("Table S5.1 (Gray codes of 0–15)", TABLE_S5_1)
     decoded = [bits_to_int(gray_to_binary([int(c) for c in g])) for g in TABLE_S5_1]
     sol.value("table_S5_1_binary", decoded)
     sol.check("XOR cascade reproduces Table S5.1 (16 codes)", decoded == list(range(16)),

@@ -376,7 +376,7 @@ def problem_8_6() -> Solution:
     sol.check("manual erratum: the manual's ω_3 = 26.84 rad/s is not the −3 dB bandwidth",
               abs(omega_3 - 26.84) > 0.5 and abs(abs(frequency_samples(W, [26.84])[0]) - 1 / np.sqrt(2)) > 0.01,
               f"computed ω_3 = {omega_3:.2f} rad/s; |W(j26.84)| = {abs(frequency_samples(W, [26.84])[0]):.4f} ≠ 0.7071")
-    k_f = sol.given("k_f", 400.0, unit="rad/s")
+    k_f = sol.value("k_f", sol.given("k_f", 400.0, unit="rad/s"))
     F = acceleration_filter(k_f)
     at_w3 = frequency_samples(F, [omega_3])[0] / (1j * omega_3)        # relative to the ideal s Ω
     sol.check("reconstructed acceleration accurate up to ω_3 (gain ≥ 0.99, lag < 5°)",

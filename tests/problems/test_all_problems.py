@@ -8,8 +8,26 @@ from problems.registry import KINDS, REFERENCES, all_problems
 from tests.problems.figure_lint import lint_figure
 
 PROBLEMS = [p for p in all_problems() if p.chapter != 99]  # 99.x: test_cli.py's own
-#: Chapters whose every check must name the kind of its reference.
+#: Chapters whose every check must name the kind of its reference and whose problems declare their data.
 CLASSIFIED_CHAPTERS = range(2, 13)
+
+#: The problems that declare no datum (``sol.given``): derivations proved symbolically or checked on random
+#: samples (angles, rotations, postures, motors, point clouds...), whose statement gives no numbers. Every
+#: other problem declares the data it takes from the manual or the companion files.
+NO_DATA = frozenset({
+    "2.1", "2.2", "2.3", "2.4", "2.5", "2.6", "2.7", "2.8", "2.9", "2.10",   # rotations at random angles
+    "2.12", "2.16", "2.19",                                                # random postures, infinitesimal angles
+    "3.1", "3.2", "3.6", "3.10", "3.11", "3.12", "3.13", "3.16", "3.17", "3.18", "3.19", "3.20",
+    "4.4",                                                                 # spline systems of random size
+    "5.4",                                                                 # random hydraulic parameters
+    "7.1", "7.3", "7.5", "7.8", "7.9", "7.10",                             # random inertial parameters
+    "8.1", "8.2", "8.3", "8.8",                                            # random drives
+    "9.1", "9.2", "9.5", "9.6", "9.7", "9.8", "9.9", "9.11",
+    "10.1", "10.2", "10.3", "10.6", "10.7", "10.12", "10.13",
+    "11.1", "11.2", "11.3", "11.4", "11.5", "11.6", "11.7", "11.8", "11.10", "11.11", "11.12", "11.14", "11.15",
+    "11.17",
+    "12.1", "12.2", "12.3", "12.9",
+})
 
 
 def _same_side(a, b) -> bool:
@@ -177,6 +195,9 @@ def test_problem_checks_pass(prob):
         if prob.chapter in CLASSIFIED_CHAPTERS:
             unnamed = [c.name for c in sol.checks if c.reference is None]
             assert not unnamed, f"problem {prob.id}: checks without a reference kind (REFERENCES): {unnamed}"
+            assert bool(sol.data) != (prob.id in NO_DATA), (
+                f"problem {prob.id}: " + ("listed in NO_DATA but declares data" if sol.data else
+                                          "declares no data: sol.given(name, value, unit) for each datum"))
         unreadable = [m for fig in sol.figures for m in lint_figure(fig)]
         assert not unreadable, f"problem {prob.id}: figures a reader cannot use: {unreadable}"
     finally:

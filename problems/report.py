@@ -167,10 +167,16 @@ def solution_html(d: dict, figure_sources: Iterable[str] = (), extras: Iterable[
         for name in d["values"]:
             parts.append(f"<tr><th>{html.escape(name)}</th><td>{_html_value(d, name)}</td></tr>")
         parts.append("</table>")
+    if d.get("given"):
+        units = d.get("units", {})
+        names = ", ".join(html.escape(n + (f" [{units[n]}]" if units.get(n) else "")) for n in d["given"])
+        parts.append(f'<p class="given" style="font-size:small;color:#555">Data of the problem (given): {names}</p>')
     parts.append("<ul>")
     for c in d["checks"]:
         mark, cls = ("✔", "pass") if c["passed"] else ("✘", "fail")
         reference = c.get("reference") or "unclassified"
+        if c.get("relation") in ("<=", "<", ">=", ">"):
+            reference += f", bound {c['relation']}"
         tag = (f'<span class="ref" style="font-size:small;border:1px solid #999;border-radius:3px;'
                f'padding:0 3px;color:#555">{html.escape(reference)}</span>')
         parts.append(f'<li class="{cls}" style="color:{"#070" if c["passed"] else "#b00"}">{mark} '

@@ -448,7 +448,8 @@ def problem_3_15() -> Solution:
     400; the steady error is below the bound and scales like 1/k."""
     sol = Solution()
     robot = load("planar_2r")
-    p_i, p_f = sol.given("p_i", np.array([1.2, 0.4, 0.0]), unit="m"), sol.given("p_f", np.array([1.2, 0.6, 0.0]), unit="m")
+    p_i = sol.given("p_i", np.array([1.2, 0.4, 0.0]), unit="m")
+    p_f = sol.given("p_f", np.array([1.2, 0.6, 0.0]), unit="m")
     t_f = sol.given("t_f", 2.0, unit="s")
     speed = np.linalg.norm(p_f - p_i) / t_f
 
@@ -658,7 +659,8 @@ def problem_3_21() -> Solution:
     robot = load("planar_3r", **arm)
     sol.given("a", np.array(arm["a"]), unit="m")
     o, R = sol.given("obstacle centre o", np.array([0.3, 0.0]), unit="m"), sol.given("obstacle radius", 0.1, unit="m")
-    p_i, p_f = sol.given("p_i", np.array([0.8, 0.2, 0.0]), unit="m"), sol.given("p_f", np.array([0.8, -0.2, 0.0]), unit="m")
+    p_i = sol.given("p_i", np.array([0.8, 0.2, 0.0]), unit="m")
+    p_f = sol.given("p_f", np.array([0.8, -0.2, 0.0]), unit="m")
     q0 = inverse_kinematics_planar_3r([0.8, 0.2, np.pi / 4], **arm)[ELBOW_UP]
     sol.value("q0", q0, unit="rad")
     sol.check_close("q(0) (i3_21)", q0, [0.51469, -1.55168, 1.82239], atol=5e-6, reference="manual number")

@@ -139,7 +139,8 @@ def problem_4_3() -> Solution:
     for the second difference, which would give q̈_m = −0.3125; the manual's formula gives 0.
     """
     sol = Solution()
-    t, q = sol.given("t_k", np.array([0.0, 2.0, 4.0]), unit="s"), sol.given("q_k", np.array([0.0, 2.0, 3.0]), unit="rad")
+    t = sol.given("t_k", np.array([0.0, 2.0, 4.0]), unit="s")
+    q = sol.given("q_k", np.array([0.0, 2.0, 3.0]), unit="rad")
     qd = timing.via_point_velocities(t, q)
     qdd = timing.via_point_accelerations(t, qd)
     qd_a, qd_b = (q[1] - q[0]) / (t[1] - t[0]), (q[2] - q[1]) / (t[2] - t[1])
@@ -295,7 +296,8 @@ def problem_4_6() -> Solution:
     claims at both ends of every blend.
     """
     sol = Solution()
-    t, q = sol.given("t_k", np.array([0.0, 2.0, 4.0]), unit="s"), sol.given("q_k", np.array([0.0, 2.0, 3.0]), unit="rad")
+    t = sol.given("t_k", np.array([0.0, 2.0, 4.0]), unit="s")
+    q = sol.given("q_k", np.array([0.0, 2.0, 3.0]), unit="rad")
     blend = sol.given("Δt'", 0.2, unit="s")
     c = timing.blend_coefficients(t, q, blend)
     for k in range(2):
@@ -356,7 +358,8 @@ def problem_4_7() -> Solution:
     file s4_7 (the manual does not print them).
     """
     sol = Solution()
-    p_i, p_f = sol.given("p_i", np.array([0.0, 0.5, 0.0]), unit="m"), sol.given("p_f", np.array([1.0, -0.5, 0.0]), unit="m")
+    p_i = sol.given("p_i", np.array([0.0, 0.5, 0.0]), unit="m")
+    p_f = sol.given("p_f", np.array([1.0, -0.5, 0.0]), unit="m")
     t_f, sd_c = sol.given("t_f", 2.0, unit="s"), sol.given("ṡ_c", 1.0, unit="m/s")
     seg = paths.Segment(p_i, p_f)
     s_f = sol.value("s_f", seg.length, unit="m")

@@ -475,7 +475,8 @@ def problem_8_16() -> Solution:
     """
     sol = Solution()
     arm, armL = _arm(), _arm(M_L)
-    p_i, p_f = sol.given("p_i", np.array([0.7, 0.2, 0.0]), unit="m"), sol.given("p_f", np.array([0.1, -0.6, 0.0]), unit="m")
+    p_i = sol.given("p_i", np.array([0.7, 0.2, 0.0]), unit="m")
+    p_f = sol.given("p_f", np.array([0.1, -0.6, 0.0]), unit="m")
     sol.given("t_f", 1.0, unit="s"), sol.given("ṡ_c", 1.5, unit="m/s"), sol.given("m_L", M_L, unit="kg")
     segment = Segment(p_i, p_f)
     sol.check_close("path length = 1 m (manual)", segment.length, 1, atol=1e-12, reference="manual number")

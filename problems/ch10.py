@@ -110,9 +110,12 @@ def problem_10_1() -> Solution:
             region, moments = (u / 3.0) ** 2 + v ** 2 <= 1.0, m
     sol.check_error("(10.2) α = ½Atan2(2μ11, μ20 − μ02) recovers the drawn orientation of 4 ellipses [rad]",
                     worst_alpha, 1e-3, reference="closed form")
-    sol.check_error("manual's λ, λ' = eigenvalues of the inertia matrix (numpy eigh), relative", worst_eig, 1e-12, reference="other library")
-    sol.check_error("a_λ = [μ11, λ − μ20] is the eigenvector of λ (1 − |cos| with eigh's)", worst_vec, 1e-12, reference="other library")
-    sol.check_error("manual's t_α = (μ02 − μ20 + √(4μ11² + (μ02 − μ20)²))/(2μ11) = tan α of (10.2)", worst_tan, 1e-9, reference="closed form")
+    sol.check_error("manual's λ, λ' = eigenvalues of the inertia matrix (numpy eigh), relative", worst_eig, 1e-12,
+                    reference="other library")
+    sol.check_error("a_λ = [μ11, λ − μ20] is the eigenvector of λ (1 − |cos| with eigh's)", worst_vec, 1e-12,
+                    reference="other library")
+    sol.check_error("manual's t_α = (μ02 − μ20 + √(4μ11² + (μ02 − μ20)²))/(2μ11) = tan α of (10.2)", worst_tan, 1e-9,
+                    reference="closed form")
     fig, ax = subplots(figsize=(5, 5))
     ax.contourf(grid, grid, region.astype(float), levels=[0.5, 1.5], colors=["#9ecae1"])
     r = np.array([-3.5, 3.5])
@@ -153,7 +156,8 @@ def problem_10_2() -> Solution:
               f"σ₈ = {sigma[7]:.3g}, σ₉ = {sigma[8]:.3g}")
     v9 = Vt[-1]
     sol.check_error("A v₉ = 0", np.max(np.abs(A @ v9)), 1e-12, reference="property")
-    sol.check_error("A v_i = σ_i u_i for i = 1…8", max_abs_error(A @ Vt[:8].T, U[:, :8] * sigma[:8]), 1e-12, reference="property")
+    sol.check_error("A v_i = σ_i u_i for i = 1…8", max_abs_error(A @ Vt[:8].T, U[:, :8] * sigma[:8]), 1e-12,
+                    reference="property")
     h_true = np.column_stack([R[:, 0], R[:, 1], o]).reshape(-1)
     cos = abs(float(v9 @ h_true)) / np.linalg.norm(h_true)
     sol.check_error("v₉ ∝ the true h = rows of [r₁ r₂ o] (1 − |cos angle|)", 1.0 - cos, 1e-12, reference="closed form")
@@ -201,7 +205,8 @@ def problem_10_3() -> Solution:
             worst_identity = max(worst_identity, abs(lhs - (3 + np.trace(Q.T @ Q) - 2 * np.trace(R.T @ Q))))
             beaten += lhs < d_star**2 - 1e-12
             worst_bound = max(worst_bound, max(0.0, np.trace(R.T @ Q) - sigma.sum()))
-    sol.check_error("‖R − Q‖² = 3 + Tr(QᵀQ) − 2Tr(RᵀQ) at 1000 random rotations", worst_identity, 1e-12, reference="closed form")
+    sol.check_error("‖R − Q‖² = 3 + Tr(QᵀQ) − 2Tr(RᵀQ) at 1000 random rotations", worst_identity, 1e-12,
+                    reference="closed form")
     sol.check_error("Tr(RᵀQ) ≤ Σσ_i, with equality at R = UVᵀ", worst_bound, 1e-12, reference="closed form")
     sol.check("no random rotation is closer to Q than UVᵀ (1000 tries)", beaten == 0, f"{beaten} closer")
     sol.check_error("UVᵀ = scipy.linalg.orthogonal_procrustes(I, Q)", worst_scipy, 1e-12, reference="other library")
@@ -242,11 +247,14 @@ def _estimation(sol: Solution, target: TargetFeatures, s: np.ndarray, tol: float
     xs, es, pts = _run_estimator(target, s, 40)
     x_hat = sol.value("x_hat_final", xs[-1])
     sol.value("e_s_norm", {"0": es[0], "30": es[30], "40": es[40]})
-    sol.check_error("x̂(0.04 s) ≃ manual's [−0.1, 0.1, 0.6, −π/3]", np.max(np.abs(_pose_error(x_hat, X_DO))), tol, reference="manual number")
+    sol.check_error("x̂(0.04 s) ≃ manual's [−0.1, 0.1, 0.6, −π/3]", np.max(np.abs(_pose_error(x_hat, X_DO))), tol,
+                    reference="manual number")
     ratio = es[1:41] / es[:40]
     sol.check_error("‖e_s‖ decays geometrically by 1 − K_s T = 0.84 per step (steps 1–40; Euler's "
-                    "second-order terms move the first ratios)", np.max(np.abs(ratio - 0.84)), ratio_tol, reference="closed form")
-    sol.check_error("… and the ratio tends to 0.84 (steps 31–40)", np.max(np.abs(ratio[30:] - 0.84)), 1e-3, reference="closed form")
+                    "second-order terms move the first ratios)", np.max(np.abs(ratio - 0.84)), ratio_tol,
+                    reference="closed form")
+    sol.check_error("… and the ratio tends to 0.84 (steps 31–40)", np.max(np.abs(ratio[30:] - 0.84)), 1e-3,
+                    reference="closed form")
     s_true = target.features(target.view_from_pose(planar_pose(X_DO)).xy)
     xs_exact, _, _ = _run_estimator(target, s_true, 200)
     sol.check_error("with the unrounded s, x̂(200 steps) = x_{d,o}", np.max(np.abs(_pose_error(xs_exact[-1], X_DO))),
@@ -286,7 +294,8 @@ def problem_10_4() -> Solution:
     """
     sol = Solution()
     _given_scene(sol, servo=False)
-    sol.given("measured features s", S_POINTS_MEASURED), sol.given("K_s", K_S_ESTIMATOR), sol.given("T", T_ESTIMATOR, unit="s")
+    sol.given("measured features s", S_POINTS_MEASURED)
+    sol.given("K_s", K_S_ESTIMATOR), sol.given("T", T_ESTIMATOR, unit="s")
     target = TargetFeatures(P_O, kind="points")
     s_true = target.features(target.view_from_pose(planar_pose(X_DO)).xy)
     sol.check_error("measured s = projection of x_{d,o} = [−0.1, 0.1, 0.6, −π/3] (4 decimals)",
@@ -298,7 +307,8 @@ def problem_10_4() -> Solution:
               20 <= steps_1pct <= 35, f"{steps_1pct} steps")
     worst = max(_chord_deviation(pts[:, i]) for i in range(2))
     sol.value("max_chord_deviation", worst)
-    sol.check_error("image paths of the estimated points are straight (max distance from the chord)", worst, 1e-3, reference="property")
+    sol.check_error("image paths of the estimated points are straight (max distance from the chord)", worst, 1e-3,
+                    reference="property")
     _estimator_figure(sol, "Figs. S10.2–S10.3 — pose estimation from two points", es, xs, pts)
     return sol
 
@@ -316,7 +326,8 @@ def problem_10_5() -> Solution:
     """
     sol = Solution()
     _given_scene(sol, servo=False)
-    sol.given("measured points", S_POINTS_MEASURED), sol.given("K_s", K_S_ESTIMATOR), sol.given("T", T_ESTIMATOR, unit="s")
+    sol.given("measured points", S_POINTS_MEASURED)
+    sol.given("K_s", K_S_ESTIMATOR), sol.given("T", T_ESTIMATOR, unit="s")
     pts_measured = S_POINTS_MEASURED.reshape(2, 2)
     s = sol.value("s", segment_features(pts_measured[0], pts_measured[1]).as_array())
     target = TargetFeatures(P_O, kind="segment")
@@ -458,8 +469,10 @@ def problem_10_12() -> Solution:
         m = H @ np.append(s_d, 1.0)
         worst_map = max(worst_map, max_abs_error(m[:2] / m[2], s_c))
     sol.check_error("(10.95) det H = d_c/d_d at 200 random poses/planes", worst_det, 1e-12, reference="closed form")
-    sol.check_error("(10.94) z_c/z_d from H and the two images = ratio of the true depths", worst_ratio, 1e-9, reference="closed form")
-    sol.check_error("H maps the desired image of a plane point to its current image", worst_map, 1e-9, reference="closed form")
+    sol.check_error("(10.94) z_c/z_d from H and the two images = ratio of the true depths", worst_ratio, 1e-9,
+                    reference="closed form")
+    sol.check_error("H maps the desired image of a plane point to its current image", worst_map, 1e-9,
+                    reference="closed form")
     return sol
 
 
@@ -490,7 +503,8 @@ def problem_10_13() -> Solution:
         fd = (e_p(1e-6) - e_p(-1e-6)) / 2e-6
         worst_fd = max(worst_fd, max_abs_error(fd, J_p @ v + J_o @ w))
         worst_skew = max(worst_skew, max_abs_error(skew(r), r[2] * np.array([[0, -1, Y], [1, 0, -X], [-Y, X, 0]])))
-    sol.check_error("ė_p (central differences) = J_p v + J_o ω at 100 random points and twists", worst_fd, 1e-6, reference="finite differences")
+    sol.check_error("ė_p (central differences) = J_p v + J_o ω at 100 random points and twists", worst_fd, 1e-6,
+                    reference="finite differences")
     sol.check_error("S(r_c^c) = z_c[[0, −1, Y], [1, 0, −X], [−Y, X, 0]]", worst_skew, 1e-12, reference="closed form")
     return sol
 
@@ -658,8 +672,10 @@ def _final_camera_pose() -> np.ndarray:
 
 def _check_convergence(sol: Solution, run: _Run, label: str = "") -> None:
     err = _pose_error(run.x_co[-1], X_DO)
-    sol.check_error(f"{label}x_{{c,o}}(8 s) → x_{{d,o}}: position [m]", np.max(np.abs(err[:3])), 1e-3, reference="simulation vs prediction")
-    sol.check_error(f"{label}x_{{c,o}}(8 s) → x_{{d,o}}: angle [rad]", abs(err[3]), 1e-2, reference="simulation vs prediction")
+    sol.check_error(f"{label}x_{{c,o}}(8 s) → x_{{d,o}}: position [m]", np.max(np.abs(err[:3])), 1e-3,
+                    reference="simulation vs prediction")
+    sol.check_error(f"{label}x_{{c,o}}(8 s) → x_{{d,o}}: angle [rad]", abs(err[3]), 1e-2,
+                    reference="simulation vs prediction")
     x_c_inf = _final_camera_pose()
     sol.check_error(f"{label}final camera pose (computed {np.round(x_c_inf, 4).tolist()}) = manual's "
                     "[1.0707, 1.1225, 0.4, 7π/12] and reached", max(max_abs_error(x_c_inf, [1.0707, 1.1225, 0.4,
@@ -707,7 +723,8 @@ def problem_10_8() -> Solution:
     rng = np.random.default_rng(108)
     worst_B = max(max_abs_error(inertia_matrix(robot, q), _model_c_inertia(q))
                   for q in (robot.random_configuration(rng) for _ in range(10)))
-    sol.check_error("MODEL-C B(q) (Pinocchio, mimic rotors) = Problem 7.3's closed form [kg·m²]", worst_B, 1e-9, reference="closed form")
+    sol.check_error("MODEL-C B(q) (Pinocchio, mimic rotors) = Problem 7.3's closed form [kg·m²]", worst_B, 1e-9,
+                    reference="closed form")
     sol.check_close("|g₃| = m₃ g = 19.62 N, on joint 3 only", np.abs(gravity_torques(robot, Q0)), [0, 0, 19.62, 0],
                     atol=1e-9, reference="closed form")
     gains = sol.given("gains", dict(K_P=[500, 500, 10, 10], K_D=[500, 500, 10, 10]))
@@ -723,7 +740,8 @@ def problem_10_8() -> Solution:
     _check_convergence(sol, run, "Tc = 40 ms: ")
     _check_convergence(sol, variant, "variant Tc = 4 ms: ")
     sol.check_error("q(8 s) = the SCARA joints of x_c(∞), elbow s₂ < 0: [1.492089, −1.366186, 0.4, 1.706693]",
-                    max_abs_error(run.res.q[-1], [1.492089, -1.366186, 0.4, 1.706693]), 1e-3, reference="simulation vs prediction")
+                    max_abs_error(run.res.q[-1], [1.492089, -1.366186, 0.4, 1.706693]), 1e-3,
+                    reference="simulation vs prediction")
     keep = np.searchsorted(run.res.t, run.t)
     est_err = np.abs(_pose_error(run.res["x_hat"][keep], run.x_co))
     speed = np.abs(np.gradient(run.x_co, run.t, axis=0))
@@ -734,8 +752,10 @@ def problem_10_8() -> Solution:
     sol.check("the estimator tracks the moving camera with the lag of a first-order filter: "
               "|x̂_i − x_i| = |ẋ_i|/K_s (1/160 s) within 10 % after 0.1 s", np.all(np.abs(lag * K_S_ESTIMATOR - 1) < 0.1),
               f"lag in [{lag.min():.5f}, {lag.max():.5f}] s")
-    sol.check_error("estimation error after 2 s (the camera has slowed down) [m, rad]", est_err[run.t >= 2].max(), 1e-3, reference="simulation vs prediction")
-    sol.check_error("features s(8 s) = s_d", max_abs_error(run.s[-1], _desired_segment()), 1e-3, reference="simulation vs prediction")
+    sol.check_error("estimation error after 2 s (the camera has slowed down) [m, rad]", est_err[run.t >= 2].max(), 1e-3,
+                    reference="simulation vs prediction")
+    sol.check_error("features s(8 s) = s_d", max_abs_error(run.s[-1], _desired_segment()), 1e-3,
+                    reference="simulation vs prediction")
     diff = float(np.max(np.abs(run.x_c - variant.x_c)))
     sol.value("max_difference_40ms_vs_4ms", diff)
     sol.check("the 4 ms variant follows the same path (max |Δx_c| < 2 cm): either reproduces the manual's "
@@ -853,7 +873,8 @@ def problem_10_11() -> Solution:
     sol.value("x_c_final", run.x_c[-1])
     sol.value("x_co_final", run.x_co[-1])
     for label, r in (("", run), ("variant Tc = 4 ms: ", variant)):
-        sol.check_error(f"{label}s(8 s) = s_d", max_abs_error(r.s[-1], _desired_segment()), 1e-3, reference="simulation vs prediction")
+        sol.check_error(f"{label}s(8 s) = s_d", max_abs_error(r.s[-1], _desired_segment()), 1e-3,
+                        reference="simulation vs prediction")
         _check_convergence(sol, r, label)
         z = r.x_co[:, 2]
         sol.check(f"{label}no camera retreat: z_{{c,o}} rises monotonically, max ≤ 0.6 + 1e-3",
@@ -868,4 +889,5 @@ def problem_10_11() -> Solution:
     _loop_figures(sol, run, ("S10.17", "S10.18"), "resolved-velocity IBVS, K_s = I₄, T_c = 40 ms")
     eye_in_hand_animation(sol, scara_eye_in_hand(), run.res, _target_points_b(), "resolved-velocity IBVS "
                           "(segment features, T_c = 40 ms): the camera rises to z_d without retreat", depth=X_DO[2])
-    return _depth_figure(sol, run, points, "10.11 — depth of the object in the camera frame: no retreat with the segment")
+    return _depth_figure(sol, run, points,
+                         "10.11 — depth of the object in the camera frame: no retreat with the segment")

@@ -184,7 +184,8 @@ def problem_12_2() -> Solution:
     d3 = torus_distance(A, B)
     lifts = np.array([[i, j] for i in (-1, 0, 1) for j in (-1, 0, 1)]) * 2 * np.pi
     brute = np.min(np.linalg.norm(B[:, None, :] + lifts[None] - A[:, None, :], axis=-1), axis=1)
-    sol.check_close("d₃ = min over the lifts q_B + 2πk of ‖q_A − q_B − 2πk‖ (2000 pairs)", d3, brute, atol=1e-12, reference="second algorithm")
+    sol.check_close("d₃ = min over the lifts q_B + 2πk of ‖q_A − q_B − 2πk‖ (2000 pairs)", d3, brute, atol=1e-12,
+                    reference="second algorithm")
     sol.check("symmetric", np.allclose(d3, torus_distance(B, A), atol=1e-12))
     sol.check("triangle inequality d₃(A,C) ≤ d₃(A,B) + d₃(B,C)",
               np.all(torus_distance(A, C) <= d3 + torus_distance(B, C) + 1e-12))
@@ -401,7 +402,8 @@ def problem_12_6() -> Solution:
     sol.value("clearance_midpoint_path", c_naive)
     sol.value("clearance_fixed_path", c_fixed)
     sol.check("channel has 3 cells: above, left, below", len(chan) == 3, str(chan))
-    sol.check_close("midpoint path: q_s, (5, 7.5), (5, 2.5), q_g", naive, [qs, [5, 7.5], [5, 2.5], qg], atol=1e-9, reference="closed form")
+    sol.check_close("midpoint path: q_s, (5, 7.5), (5, 2.5), q_g", naive, [qs, [5, 7.5], [5, 2.5], qg], atol=1e-9,
+                    reference="closed form")
     sol.check("midpoint path touches the obstacle's leftmost vertex (clearance 0)", c_naive == 0.0, f"{c_naive}")
     sol.check_close("fixed path has 5 vertices, the left cell's centroid (2.5, 5) inserted", fixed,
                     [qs, [5, 7.5], [2.5, 5], [5, 2.5], qg], atol=1e-9, reference="closed form")
@@ -479,7 +481,8 @@ def problem_12_7() -> Solution:
     sol.value("wrapping_edges", int(sum(wrapped)))
     sol.check("C is treated as a torus: some roadmap edges cross q_i = ±π", sum(wrapped) > 0, f"{sum(wrapped)} edges")
     d_seg = torus_distance(res.path[:-1], res.path[1:])
-    sol.check_close("path length = Σ d₃ over its edges (each ≤ 3)", res.length, float(d_seg.sum()), atol=1e-12, reference="second algorithm")
+    sol.check_close("path length = Σ d₃ over its edges (each ≤ 3)", res.length, float(d_seg.sum()), atol=1e-12,
+                    reference="second algorithm")
     sol.check("every edge within the neighbour distance 3", np.all(d_seg <= 3.0 + 1e-12))
     rc = rrt_connect(space, qs, qg, np.random.default_rng(SEED), step=0.3)
     short = shortcut(space, rc.path, np.random.default_rng(SEED), attempts=200) if rc.success else rc.path
@@ -696,7 +699,8 @@ def problem_12_9() -> Solution:
     fd = np.array([-(att.potential(qs + d) - att.potential(qs - d)) / (2 * h) for d in np.eye(2) * h]).T
     good = np.abs(np.linalg.norm(qs - att.goal, axis=1) - att.rho) > 1e-4
     good &= np.linalg.norm(qs - att.goal, axis=1) > 1e-4
-    sol.check_close("force = −∇U (finite differences, both regions)", att.force(qs[good]), fd[good], atol=1e-6, reference="finite differences")
+    sol.check_close("force = −∇U (finite differences, both regions)", att.force(qs[good]), fd[good], atol=1e-6,
+                    reference="finite differences")
     fig, axes = subplots(1, 2, figsize=(10, 3.8))
     r = np.linspace(0, 2, 401)
     q_line = att.goal - r[:, None] * u[0]
@@ -748,17 +752,21 @@ def problem_12_10() -> Solution:
     U ≈ 7.4399, where gradient descent from (3.67, 0.05) stops instead of reaching the goal (Fig. S12.5).
     """
     sol = Solution()
-    sol.given("disc centre", np.array([3.0, 0.0]), unit="m"), sol.given("ρ, k_a, k_r, η₀", np.array([0.5, 1.0, 1.0, 1.0]))
+    sol.given("disc centre", np.array([3.0, 0.0]), unit="m")
+    sol.given("ρ, k_a, k_r, η₀", np.array([0.5, 1.0, 1.0, 1.0]))
     single = _disc_field([[3.0, 0.0]])
     P = stationary_point(single, [3.9, 0.1])
     sol.value("P_single", P)
-    sol.check_close("single disc: ∇U(P) = 0 on the goal–centre axis, at (4, 0) (η = 0.5)", P, [4.0, 0.0], atol=1e-9, reference="closed form")
+    sol.check_close("single disc: ∇U(P) = 0 on the goal–centre axis, at (4, 0) (η = 0.5)", P, [4.0, 0.0], atol=1e-9,
+                    reference="closed form")
     H = single.hessian(P)
     H_cf = _hessian_closed_form(P, [[3.0, 0.0]], 0.5, 1.0, 1.0, 1.0)
-    sol.check_close("Hessian: finite differences of the force = closed form", H, H_cf, atol=1e-5, reference="finite differences")
+    sol.check_close("Hessian: finite differences of the force = closed form", H, H_cf, atol=1e-5,
+                    reference="finite differences")
     ev = np.linalg.eigvalsh(H_cf)
     sol.value("eig_single", ev)
-    sol.check_close("eigenvalues −k_a D/(ρ + η) = −3 (tangential) and +33 (radial)", ev, [-3.0, 33.0], atol=1e-9, reference="closed form")
+    sol.check_close("eigenvalues −k_a D/(ρ + η) = −3 (tangential) and +33 (radial)", ev, [-3.0, 33.0], atol=1e-9,
+                    reference="closed form")
     sol.check("erratum: the single-disc stationary point is a saddle (indefinite Hessian), not a minimum",
               ev[0] < 0 < ev[1])
     double = _disc_field([[3.0, 0.8], [3.0, -0.8]])
@@ -829,7 +837,8 @@ def problem_12_11() -> Solution:
     sol.check("‖f_t‖ < 1e-9 at the three points (the other obstacles out of range)", np.all(f_norm < 1e-9),
               f"{f_norm}")
     roots = np.array([stationary_point(field, q + [0.05, -0.05]) for q in saddles])
-    sol.check_close("2-D root finder on f_t (from perturbed seeds) finds the same points", roots, saddles, atol=1e-9, reference="second algorithm")
+    sol.check_close("2-D root finder on f_t (from perturbed seeds) finds the same points", roots, saddles, atol=1e-9,
+                    reference="second algorithm")
     eig = np.array([np.linalg.eigvalsh(_hessian_closed_form(q, centers, rho, k_a, k_r, eta0)) for q in saddles])
     sol.value("hessian_eigenvalues", eig)
     sol.check("each is a saddle: one negative, one positive Hessian eigenvalue", np.all((eig[:, 0] < 0) & (eig[:, 1] > 0)))
@@ -957,7 +966,8 @@ def problem_12_13() -> Solution:
 
     sol = Solution()
     occ = sol.given("occupancy grid", SCENE_12_13)
-    start, goal = sol.given("start cell (0-based)", (0, 0)), sol.given("goal cell (0-based)", (6, 6))                 # cells (1, 1) and (7, 7), 1-based in the manual
+    start = sol.given("start cell (0-based)", (0, 0))
+    goal = sol.given("goal cell (0-based)", (6, 6))     # cells (1, 1) and (7, 7), 1-based in the manual
     results = {}
     for adj in (1, 2):
         V = wavefront(occ, goal, adj)
@@ -985,7 +995,8 @@ def problem_12_13() -> Solution:
         sol.check(f"{adj}-adjacency: path from (1,1) to (7,7) through free {4 * adj}-neighbours, V strictly decreasing",
                   tuple(path[0]) == start and tuple(path[-1]) == goal and steps_ok
                   and not occ[tuple(path.T)].any() and np.all(np.diff(V[tuple(path.T)]) < 0))
-        sol.check_close(f"{adj}-adjacency: path length = the optimum V(start)", L, V[start], atol=1e-12, reference="second algorithm")
+        sol.check_close(f"{adj}-adjacency: path length = the optimum V(start)", L, V[start], atol=1e-12,
+                        reference="second algorithm")
     L1, L2 = results[1][2], results[2][2]
     sol.check("2-adjacency path shorter; L₂ ≤ L₁ ≤ √2 L₂", L2 < L1 <= np.sqrt(2) * L2 + 1e-12,
               f"L₁ = {L1:.4f}, L₂ = {L2:.4f}, ratio {L1 / L2:.4f}")

@@ -117,8 +117,9 @@ def _check_dict(c: Any) -> dict:
 
 
 def solution_dict(sol: Any, figures: list[str] | None = None) -> dict:
-    """The JSON object of ``rmpc solve --json``: id, title, kind, values (full precision), units,
-    given (the problem's data, ``sol.given``), checks, figures (the written files' paths, or the figures' titles when none were written)."""
+    """The JSON object of ``rmpc solve --json``: id, title, kind, values (full precision), units, given (the
+    problem's data, ``sol.given``), checks, figures (the written files' paths, or the figures' titles when none
+    were written)."""
     return {
         "id": sol.id,
         "title": sol.title,

@@ -408,3 +408,22 @@ def test_integer_controller_outputs_are_held_as_floats():
         seen.clear()
         res = simulate(Decay(), lambda t, m, out=output: out, (0.0, 0.1), [0.0, 0.0], h=0.01)
         assert res.u.dtype == np.float64 and set(seen) == {np.dtype(np.float64)}
+
+
+def test_result_plot_scales_the_signal_and_repr_names_the_time_span():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    class Decay:
+        def derivative(self, t, x, u):
+            return -x + u
+
+    res = simulate(Decay(), lambda t, m: np.ones(1), (0.0, 0.5), [0.0], h=0.01, Ts=0.1,
+                   log=lambda t, x, u: {"y": x[0]})
+    fig, ax = plt.subplots()
+    res.plot("y", ax=ax, scale=1e3)
+    np.testing.assert_allclose(ax.lines[0].get_ydata(), 1e3 * res["y"])
+    plt.close(fig)
+    assert "on [0, 0.5] s" in repr(res)

@@ -395,8 +395,9 @@ def test_the_loop_integrates_a_time_varying_plant_to_fourth_order():
     assert e2 < 1e-6 and 14.0 < e1 / e2 < 18.0
 
 
-def test_integer_controller_outputs_are_held_as_floats():
-    """A controller returning integers (a list, an int array): the plant and the log receive floats."""
+def test_integer_and_scalar_controller_outputs_are_held_as_float_vectors():
+    """A controller returning integers (a list, an int array) or a 0-d array: the plant and the log
+    receive 1-D float arrays."""
     seen = []
 
     class Decay:
@@ -408,6 +409,8 @@ def test_integer_controller_outputs_are_held_as_floats():
         seen.clear()
         res = simulate(Decay(), lambda t, m, out=output: out, (0.0, 0.1), [0.0, 0.0], h=0.01)
         assert res.u.dtype == np.float64 and set(seen) == {np.dtype(np.float64)}
+    res = simulate(Decay(), lambda t, m: np.array(1.0), (0.0, 0.1), [0.0], h=0.01)
+    assert res.u.shape == (len(res.t), 1)
 
 
 def test_result_plot_scales_the_signal_and_repr_names_the_time_span():

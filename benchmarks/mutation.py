@@ -6,6 +6,7 @@ mutation point (``+``↔``-``, ``*``↔``/``, ``<``↔``<=``/``>``, ``==``↔``!
 the tree, and the module's tests run against the copy. A mutant *survives* when those tests still pass.
 
     python benchmarks/mutation.py --per-module 50 --out /tmp/mutation.txt
+    python benchmarks/mutation.py --lines 294-316 controllers/simulation.py   # every point of rk4_step
 
 Docstrings and ``raise ValueError`` messages are skipped (they carry no behaviour the tests measure).
 """
@@ -112,6 +113,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--timeout", type=float, default=120.0)
     parser.add_argument("--out", type=Path, default=Path("mutation.txt"))
+    parser.add_argument("--lines", default="", help="FIRST-LAST: only the points on these lines (all of them)")
     parser.add_argument("modules", nargs="*", default=list(TARGETS))
     args = parser.parse_args()
     work = Path(tempfile.mkdtemp(prefix="rmpc-mutation-"))
@@ -123,6 +125,9 @@ def main() -> None:
         for module in args.modules:
             original = (ROOT / module).read_text()
             points = mutation_points(original)
+            if args.lines:
+                first, last = (int(n) for n in args.lines.split("-"))
+                points = [(k, what) for k, what in points if first <= int(what.split(":")[0][5:]) <= last]
             sample = sorted(rng.sample(points, min(args.per_module, len(points))))
             print(f"# {module}: {len(points)} points, {len(sample)} sampled", file=log, flush=True)
             for index, what in sample:

@@ -366,7 +366,8 @@ def problem_2_11() -> Solution:
     rng = np.random.default_rng(211)
     chain = CLOSED_CHAIN
     robot = robot_from_dh_tree(chain.branches(), name="closed_chain_four_link", ee="b1_ee")
-    a1p, a2p, a1pp, d4 = chain.a1p, chain.a2p, chain.a1pp, chain.d4
+    a1p, a2p, a1pp, d4 = sol.given("[a1', a2', a1'', d4]", np.array([chain.a1p, chain.a2p, chain.a1pp, chain.d4]),
+                                   unit="m")
     residual, forms = [], []
     for q in rng.uniform(-np.pi, np.pi, (N_RANDOM, 2)):
         for sign in (1, -1):
@@ -443,7 +444,7 @@ def problem_2_13() -> Solution:
     Compared with Pinocchio on ``urdf/scara.urdf`` (root = DH frame 0, z₀ down); a1 = a2 = 0.5 m."""
     sol = Solution()
     robot, postures = _random_postures("scara", 213)
-    a1 = a2 = 0.5
+    a1 = a2 = sol.given("a1 = a2", 0.5, unit="m")
     pairs = []
     for q in postures:
         t1, t2, d3, t4 = q
@@ -473,7 +474,8 @@ def problem_2_14() -> Solution:
     T_t3 = np.eye(4)
     T_t3[:3, :3] = rot.rot_y(np.pi / 2)  # an arbitrary constant torso frame (not given in the manual)
     T_t3[:3, 3] = [0.05, 0.0, 0.0]
-    hum = Humanoid(T_t3=T_t3)
+    hum = Humanoid(T_t3=sol.given("T_t3", T_t3))
+    sol.given("[a2, a3]", np.array([hum.a2, hum.a3]), unit="m")
     T_l, T_r = hum.shoulders()
     robot = hum.robot()
     proper = all(np.allclose(T[:3, :3].T @ T[:3, :3], np.eye(3)) and np.isclose(np.linalg.det(T[:3, :3]), 1.0)
@@ -516,8 +518,8 @@ def problem_2_15() -> Solution:
     not commutative: ZYZ φ1 = [π/2, π/2, 0], φ2 = [−π/2, −π/2, 0] (manual data). R(φ1)R(φ2) ≠ R(φ2)R(φ1),
     with the two ZYZ sets of each from (2.19)–(2.20); the plain sum φ1 + φ2 = 0 gives I."""
     sol = Solution()
-    phi1 = np.array([np.pi / 2, np.pi / 2, 0.0])
-    phi2 = np.array([-np.pi / 2, -np.pi / 2, 0.0])
+    phi1 = sol.given("phi1", np.array([np.pi / 2, np.pi / 2, 0.0]), unit="rad")
+    phi2 = sol.given("phi2", np.array([-np.pi / 2, -np.pi / 2, 0.0]), unit="rad")
     R1 = sol.value("R1", rot.euler_zyz_to_rotation(phi1))
     R2 = sol.value("R2", rot.euler_zyz_to_rotation(phi2))
     R1R2 = sol.value("R1R2", R1 @ R2)
@@ -583,8 +585,8 @@ def problem_2_17() -> Solution:
     sol = Solution()
     rng = np.random.default_rng(217)
     robot = load("planar_3r")
-    a = np.array([0.5, 0.3, 0.2])
-    lo, up = robot.lower, robot.upper
+    a = sol.given("a", np.array([0.5, 0.3, 0.2]), unit="m")
+    lo, up = sol.given("q_min", robot.lower, unit="rad"), sol.given("q_max", robot.upper, unit="rad")
     names = "ABCDEFGH"
     configs = {names[k]: np.array([[lo[0], up[0]][k >> 2], [lo[1], up[1]][(k >> 1) & 1], [lo[2], up[2]][k & 1]])
                for k in range(8)}
@@ -670,7 +672,7 @@ def problem_2_18() -> Solution:
     """
     sol = Solution()
     rng = np.random.default_rng(218)
-    a2, a3 = 0.5, 0.4
+    a2, a3 = sol.given("a2", 0.5, unit="m"), sol.given("a3", 0.4, unit="m")
     robot = load("anthropomorphic", a2=a2, a3=a3)
     counts, fk, manual = [], [], []
     for th3, (fa, fb) in ((0.0, (1.0, 1.0)), (np.pi, (a2 - a3, a2 - a3))):
@@ -753,7 +755,8 @@ def problem_2_20() -> Solution:
         fk.append((np.sign(qs[[ELBOW_UP, ELBOW_DOWN], 1]), [-1.0, 1.0]))
     sol.check("both_branches_satisfy_fk", max_error(fk) < 1e-10, f"max error {max_error(fk):.2e}")
     sol.check("one_branch_returns_q", max(found) < 1e-10, f"max distance to the true q: {max(found):.2e}")
-    q_up = sol.value("q_companion_example", inverse_kinematics_scara([1.0, 1.0, 0.5, np.pi / 4], a=(1.0, 1.0))[ELBOW_UP],
+    x_example = sol.given("x_companion_example", np.array([1.0, 1.0, 0.5, np.pi / 4]), unit="m, m, m, rad")
+    q_up = sol.value("q_companion_example", inverse_kinematics_scara(x_example, a=(1.0, 1.0))[ELBOW_UP],
                    unit="rad (q3 in m)")
     sol.check_close("companion_inv_ksu_example", q_up, [np.pi / 2, -np.pi / 2, 0.5, np.pi / 4], atol=1e-12,
                     reference="manual number")

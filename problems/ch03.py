@@ -133,7 +133,7 @@ def problem_3_3() -> Solution:
     against the RPY analytical Jacobian (3.66) restricted to [p; φ]."""
     sol = Solution()
     robot = load("scara")
-    a1 = a2 = 0.5
+    a1 = a2 = sol.given("a1 = a2", 0.5, unit="m")
     rng = np.random.default_rng(303)
     qs = [np.array([*rng.uniform(-np.pi, np.pi, 2), rng.uniform(0, 1), rng.uniform(-np.pi, np.pi)])
           for _ in range(N_RANDOM)]
@@ -180,7 +180,7 @@ def problem_3_4() -> Solution:
     """Analytical Jacobian of the three-link planar arm (3.35 rows p_x, p_y, φ): det J_A = a1 a2 s2,
     singular only at θ2 = 0, π (rank 2 there, 3 elsewhere). Lengths a = (0.5, 0.3, 0.3) of 3.21."""
     sol = Solution()
-    a = (0.5, 0.3, 0.3)
+    a = tuple(sol.given("a", np.array([0.5, 0.3, 0.3]), unit="m"))
     robot = load("planar_3r", a=a)
     rng = np.random.default_rng(304)
     qs = rng.uniform(-np.pi, np.pi, (N_RANDOM, 3))
@@ -209,7 +209,7 @@ def problem_3_5() -> Solution:
     from the textbook; d2 = 0.2): det J_P = −d3² s2, singular at θ2 = 0, π and at d3 = 0."""
     sol = Solution()
     robot = load("spherical")
-    d2 = 0.2
+    d2 = sol.given("d2", 0.2, unit="m")
     qs = _samples(305, (-np.pi, np.pi, 2), (0.1, 1.0))
 
     def J_closed(q):
@@ -242,8 +242,9 @@ def problem_3_7() -> Solution:
     """det J_A of (S3.3) = a1 a2 s2: singular at θ2 = 0, π; the prismatic joint adds no singularity."""
     sol = Solution()
     robot = load("scara")
+    a1 = a2 = sol.given("a1 = a2", 0.5, unit="m")
     qs = _samples(307, (-np.pi, np.pi, 2), (0.0, 1.0), (-np.pi, np.pi))
-    _singularity_checks(sol, robot, [0, 1, 2, 5], qs, "det J_A == a1 a2 sin(th2)", lambda q: 0.25 * np.sin(q[1]),
+    _singularity_checks(sol, robot, [0, 1, 2, 5], qs, "det J_A == a1 a2 sin(th2)", lambda q: a1 * a2 * np.sin(q[1]),
                         [[0.2, 0.0, 0.3, 0.1], [0.2, np.pi, 0.3, 0.1]], 3)
     return sol
 
@@ -261,9 +262,10 @@ def problem_3_8() -> Solution:
             errs.append(abs(manipulability(J) - np.prod(np.linalg.svd(J, compute_uv=False))))
     sol.check_close("sqrt(det(J J^T)) == prod(sigma_i)", max(errs), 0.0, atol=1e-10, reference="closed form")
     robot = load("planar_2r")
+    a1 = a2 = sol.given("a1 = a2", 1.0, unit="m")
     qs = rng.uniform(-np.pi, np.pi, (N_RANDOM, 2))
     w = [manipulability(geometric_jacobian(robot, q)[:2]) for q in qs]
-    sol.check_close("two-link arm: w == a1 a2 |s2|", np.array(w), np.abs(np.sin(qs[:, 1])), atol=1e-12,
+    sol.check_close("two-link arm: w == a1 a2 |s2|", np.array(w), a1 * a2 * np.abs(np.sin(qs[:, 1])), atol=1e-12,
                     reference="closed form")
     return sol
 
@@ -279,7 +281,7 @@ def problem_3_9() -> Solution:
     clamped projections, intersection (d < 0) and contact (d = 0); the analytic gradient used by
     3.21's null-space term is compared with central differences."""
     sol = Solution()
-    robot = load("planar_3r", a=(0.5, 0.3, 0.3))
+    robot = load("planar_3r", a=sol.given("a", (0.5, 0.3, 0.3), unit="m"))
     rng = np.random.default_rng(309)
     s = np.linspace(0.0, 1.0, 10_000)
     errs, clamped, negative = [], 0, 0
@@ -415,7 +417,8 @@ def problem_3_14() -> Solution:
     errors vanish; the result matches the full 6×6 CLIK (3.70) with the (3.88)–(3.89) law."""
     sol = Solution()
     robot = load("anthropomorphic_wrist")
-    q0 = np.array([0.2, 0.6, 0.3, 0.4, 0.8, -0.3])
+    q0 = sol.given("q0", np.array([0.2, 0.6, 0.3, 0.4, 0.8, -0.3]), unit="rad")
+    sol.given("K_P = K_O", 500.0, unit="1/s")
     rng = np.random.default_rng(314)
     blocks = max(np.max(np.abs(geometric_jacobian(robot, q, "frame_4")[:3, 3:])) for q in rng.uniform(-3, 3, (20, 6)))
     sol.check_close("J(p_W) upper-right 3x3 block == 0 (3.42)", blocks, 0.0, atol=1e-12, reference="closed form")
@@ -445,7 +448,9 @@ def problem_3_15() -> Solution:
     400; the steady error is below the bound and scales like 1/k."""
     sol = Solution()
     robot = load("planar_2r")
-    p_i, p_f, t_f = np.array([1.2, 0.4, 0.0]), np.array([1.2, 0.6, 0.0]), 2.0
+    p_i = sol.given("p_i", np.array([1.2, 0.4, 0.0]), unit="m")
+    p_f = sol.given("p_f", np.array([1.2, 0.6, 0.0]), unit="m")
+    t_f = sol.given("t_f", 2.0, unit="s")
     speed = np.linalg.norm(p_f - p_i) / t_f
 
     def ref(t, v=(p_f - p_i) / t_f):
@@ -453,7 +458,7 @@ def problem_3_15() -> Solution:
         T[:3, 3] = p_i + v * min(t, t_f)
         return T, np.r_[v if t < t_f else np.zeros(3), np.zeros(3)]
 
-    q0 = np.array([-0.3, 1.6])
+    q0 = sol.given("q0", np.array([-0.3, 1.6]), unit="rad")
     task = TaskSpace(orientation="none", rows=(0, 1))
     finals = []
     for k in (200.0, 400.0):
@@ -652,8 +657,10 @@ def problem_3_21() -> Solution:
     sol = Solution()
     arm = dict(a=(0.5, 0.3, 0.3), lower=(-np.pi,) * 3, upper=(np.pi,) * 3)  # not 2.17's limits: θ3(0) = 1.82
     robot = load("planar_3r", **arm)
-    o, R = np.array([0.3, 0.0]), 0.1
-    p_i, p_f = np.array([0.8, 0.2, 0.0]), np.array([0.8, -0.2, 0.0])
+    sol.given("a", np.array(arm["a"]), unit="m")
+    o, R = sol.given("obstacle centre o", np.array([0.3, 0.0]), unit="m"), sol.given("obstacle radius", 0.1, unit="m")
+    p_i = sol.given("p_i", np.array([0.8, 0.2, 0.0]), unit="m")
+    p_f = sol.given("p_f", np.array([0.8, -0.2, 0.0]), unit="m")
     q0 = inverse_kinematics_planar_3r([0.8, 0.2, np.pi / 4], **arm)[ELBOW_UP]
     sol.value("q0", q0, unit="rad")
     sol.check_close("q(0) (i3_21)", q0, [0.51469, -1.55168, 1.82239], atol=5e-6, reference="manual number")
@@ -706,10 +713,12 @@ def problem_3_22() -> Solution:
 
     sol = Solution()
     robot = load("scara")
-    q0 = inverse_kinematics_scara([0.7, 0.0, 0.0, 0.0])[ELBOW_UP]
+    x_i = sol.given("x_i = [p, φ]", np.array([0.7, 0.0, 0.0, 0.0]), unit="m, rad")
+    x_f = sol.given("x_f = [p, φ]", np.array([0.0, 0.8, 0.5, np.pi / 2]), unit="m, rad")
+    q0 = inverse_kinematics_scara(x_i)[ELBOW_UP]
     sol.value("q0", q0, unit="rad (q3 in m)")
     sol.check_close("q(0) (i3_22)", q0, [0.79540, -1.59080, 0.0, 0.79540], atol=5e-6, reference="manual number")
-    ref = cosine_pose_reference([0.7, 0.0, 0.0], [0.0, 0.8, 0.5], 2.0, 0.0, np.pi / 2)
+    ref = cosine_pose_reference(x_i[:3], x_f[:3], 2.0, x_i[3], x_f[3])
     task = TaskSpace(orientation="rpy", rows=(0, 1, 2, 3))
     out = {}
     for law, fig_name in (("inverse", "Fig. S3.7 (Jacobian inverse)"), ("transpose", "Fig. S3.9 (Jacobian transpose)")):
@@ -762,6 +771,7 @@ def problem_3_23() -> Solution:
     draws both ellipses at several postures."""
     sol = Solution()
     robot = load("planar_2r")
+    sol.given("a1 = a2", 1.0, unit="m")
     rng = np.random.default_rng(323)
     axis_err, eig_err, semi_err = [], [], []
     for _ in range(N_RANDOM):

@@ -15,6 +15,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from scipy.interpolate import BPoly, CubicSpline
 
 from planners import paths, timing
 from problems.common import label_axes, subplots
@@ -71,7 +72,8 @@ def problem_4_1() -> Solution:
     10Δq/(√3 t_f²) at t_f/2 (1 ∓ 1/√3) are the closed forms of the rest-to-rest quintic.
     """
     sol = Solution()
-    q_i, q_f, t_f = 1.0, 4.0, 2.0
+    q_i, q_f = sol.given("q_i", 1.0, unit="rad"), sol.given("q_f", 4.0, unit="rad")
+    t_f = sol.given("t_f", 2.0, unit="s")
     law = timing.quintic_law(q_i, q_f, t_f)
     a = sol.value("coefficients", law.coefficients[0].tolist(), unit="a_j in rad/s^j")
     a0, a1, a2, a3, a4, a5 = a
@@ -105,7 +107,8 @@ def problem_4_2() -> Solution:
     k = (q_f − q_i)/t_f. The manual prints k = 1.5, k1 = 0.
     """
     sol = Solution()
-    q_i, q_f, t_f = 0.0, 3.0, 2.0
+    q_i, q_f = sol.given("q_i", 0.0, unit="rad"), sol.given("q_f", 3.0, unit="rad")
+    t_f = sol.given("t_f", 2.0, unit="s")
     law = timing.raised_cosine_law(q_i, q_f, t_f)
     k, k1 = sol.value("k", float(law.k), unit="rad/s"), sol.value("k1", float(law.k1), unit="rad")
     sol.check_close("k = 1.5, k1 = 0 (manual)", [k, k1], [1.5, 0.0], atol=1e-12, reference="closed form")
@@ -136,7 +139,8 @@ def problem_4_3() -> Solution:
     for the second difference, which would give q̈_m = −0.3125; the manual's formula gives 0.
     """
     sol = Solution()
-    t, q = np.array([0.0, 2.0, 4.0]), np.array([0.0, 2.0, 3.0])
+    t = sol.given("t_k", np.array([0.0, 2.0, 4.0]), unit="s")
+    q = sol.given("q_k", np.array([0.0, 2.0, 3.0]), unit="rad")
     qd = timing.via_point_velocities(t, q)
     qdd = timing.via_point_accelerations(t, qd)
     qd_a, qd_b = (q[1] - q[0]) / (t[1] - t[0]), (q[2] - q[1]) / (t[2] - t[1])
@@ -152,7 +156,10 @@ def problem_4_3() -> Solution:
     sol.check_close("segment coefficients [0, 0, 0, 1.75, −1.21875, 0.234375], [2, 0.75, 0, 0.125, −0.1875, 0.046875]",
                     law.coefficients, [[0, 0, 0, 1.75, -1.21875, 0.234375], [2, 0.75, 0, 0.125, -0.1875, 0.046875]],
                     atol=1e-12, reference="manual number")
-    sol.check_close("positions at t = 0, 2, 4", law(t)[0], q, atol=1e-12, reference="closed form")
+    grid = np.linspace(t[0], t[-1], 201)
+    hermite = BPoly.from_derivatives(t, np.column_stack([q, qd, qdd]), orders=5)   # quintic Hermite (scipy)
+    sol.check_close("q(t) = SciPy's quintic Hermite interpolant of (q_k, q̇_k, q̈_k) on 201 instants", law(grid)[0],
+                    hermite(grid), atol=1e-12, reference="other library")
     sol.check("velocity and acceleration continuous at t = 2", max(_jumps(law, [2.0], 1), _jumps(law, [2.0], 2)) < 1e-7)
     sol.check_close("null velocity and acceleration at t = 0 and 4",
                     [law(0.0)[1], law(0.0)[2], law(4.0)[1], law(4.0)[2]], np.zeros(4), atol=1e-12,
@@ -212,8 +219,14 @@ def _spline_checks(sol: Solution, label: str, t, q, vi, vf, ai, af, t_virtual) -
                     np.concatenate([A_ref.ravel(), b_ref]), atol=1e-12, reference="closed form")
     sol.check(f"{label}: A is tridiagonal", np.allclose(np.triu(system.A, 2), 0) and np.allclose(np.tril(system.A, -2), 0))
     law = timing.cubic_spline_law(t, q, vi, vf, ai, af, t_virtual=t_virtual)
-    sol.check_close(f"{label}: interpolates the given points", law(np.asarray(t, float))[0], q, atol=1e-10,
-                    reference="property")
+    # SciPy's clamped cubic spline through the given points and the two virtual points (their positions
+    # from the law): equal everywhere only if the law interpolates the points and is C2 with these q̇.
+    values = np.asarray(q, float)
+    values = np.r_[values[0], law(float(system.knots[1]))[0], values[1:-1], law(float(system.knots[-2]))[0], values[-1]]
+    scipy_spline = CubicSpline(system.knots, values, bc_type=((1, vi), (1, vf)))
+    grid = np.linspace(system.knots[0], system.knots[-1], 201)
+    sol.check_close(f"{label}: q(t) = SciPy's clamped cubic spline through the points (201 instants)", law(grid)[0],
+                    scipy_spline(grid), atol=1e-10, reference="other library")
     inner = system.knots[1:-1]
     jumps = [_jumps(law, inner, k) for k in range(3)]
     sol.check(f"{label}: C2 at every knot (virtual points included)", max(jumps) < 1e-7, f"jumps {jumps}")
@@ -255,7 +268,8 @@ def problem_4_5() -> Solution:
     Problem 4.4.
     """
     sol = Solution()
-    t, q = [0.0, 2.0, 4.0], [0.0, 2.0, 3.0]
+    t, q = sol.given("t_k", [0.0, 2.0, 4.0], unit="s"), sol.given("q_k", [0.0, 2.0, 3.0], unit="rad")
+    sol.given("virtual points t", np.array([1.0, 3.0]), unit="s")
     system = timing.spline_system(t, q, t_virtual=(1.0, 3.0))
     sol.value("A", system.A.tolist())
     sol.value("b", system.b.tolist())
@@ -282,7 +296,9 @@ def problem_4_6() -> Solution:
     claims at both ends of every blend.
     """
     sol = Solution()
-    t, q, blend = np.array([0.0, 2.0, 4.0]), np.array([0.0, 2.0, 3.0]), 0.2
+    t = sol.given("t_k", np.array([0.0, 2.0, 4.0]), unit="s")
+    q = sol.given("q_k", np.array([0.0, 2.0, 3.0]), unit="rad")
+    blend = sol.given("Δt'", 0.2, unit="s")
     c = timing.blend_coefficients(t, q, blend)
     for k in range(2):
         sol.value(f"a{k + 1}0", float(c.a[k, 0]), unit="rad")
@@ -342,7 +358,9 @@ def problem_4_7() -> Solution:
     file s4_7 (the manual does not print them).
     """
     sol = Solution()
-    p_i, p_f, t_f, sd_c = np.array([0.0, 0.5, 0.0]), np.array([1.0, -0.5, 0.0]), 2.0, 1.0
+    p_i = sol.given("p_i", np.array([0.0, 0.5, 0.0]), unit="m")
+    p_f = sol.given("p_f", np.array([1.0, -0.5, 0.0]), unit="m")
+    t_f, sd_c = sol.given("t_f", 2.0, unit="s"), sol.given("ṡ_c", 1.0, unit="m/s")
     seg = paths.Segment(p_i, p_f)
     s_f = sol.value("s_f", seg.length, unit="m")
     sol.check_close("s_f = ‖p_f − p_i‖ = √2", s_f, np.sqrt(2), atol=1e-12, reference="closed form")
@@ -384,7 +402,8 @@ def problem_4_8() -> Solution:
     s_f = ρπ = π/2, and ṗ, p̈ by (4.44) with ṡ, s̈.
     """
     sol = Solution()
-    p_i, c, rho, t_f, sd_c = np.array([0.0, 0.5, 1.0]), np.array([0.0, 0.0, 1.0]), 0.5, 2.0, 1.0
+    p_i, c = sol.given("p_i", np.array([0.0, 0.5, 1.0]), unit="m"), sol.given("c", np.array([0.0, 0.0, 1.0]), unit="m")
+    rho, t_f, sd_c = sol.given("ρ", 0.5, unit="m"), sol.given("t_f", 2.0, unit="s"), sol.given("ṡ_c", 1.0, unit="m/s")
     s_f = rho * np.pi
     circle = paths.circle_through(p_i, [-1.0, 0.0, 0.0], c, length=s_f)
     sol.value("R", circle.R.tolist())

@@ -97,7 +97,7 @@ def problem_5_1() -> Solution:
               f"max relative error {worst_ss:.2e} over 5 random motors")
     sol.check("steady state (k_i ≠ 0): K v'_c = ((R_a + K k_i)/k_t) c_m + k_v ω_m", worst_cm < 1e-12,
               f"max residual {worst_cm:.2e}")
-    m = DCServomotor(**MOTOR_52)
+    m = DCServomotor(**sol.given("motor [MOT52]", MOTOR_52))
     omega_fm, _ = m.steady_state(1.0)
     ratio = m.Fm * m.Ra / (m.kv * m.kt)
     sol.value("omega_ss_unit_step", omega_fm)
@@ -159,7 +159,8 @@ def problem_5_2() -> Solution:
     ω = K k_t/(R_a F_m + k_v k_t) that (5.7) approximates by K/k_v = 5 rad/s.
     """
     sol = Solution()
-    m = DCServomotor(**MOTOR_52)
+    m = DCServomotor(**sol.given("motor [MOT52]", MOTOR_52))
+    sol.given("V'_c step", 1.0, unit="V")
     res = simulate(ServomotorPlant(m, 1.0), lambda t, x: np.array([1.0, 0.0]), (0.0, 0.2), ServomotorPlant.x0,
                    h=1e-4)
     t, i_a, omega = res.t, res["i_a"], res["omega"]
@@ -206,7 +207,7 @@ def problem_5_3() -> Solution:
     raises the current overshoot to ≈ 40 % while the 1 % settling still happens before 2.5 ms.
     """
     sol = Solution()
-    m = DCServomotor(**MOTOR_52, ki=1.0)
+    m = DCServomotor(**sol.given("motor [MOT52]", MOTOR_52), ki=sol.given("k_i", 1.0, unit="V/A"))
     zeta, t_s = sol.given("zeta", 0.7), sol.given("t_s", 2e-3, unit="s")
     pi, omega_n = design_pi_current_loop(m, zeta, t_s)
     K_I, T_I = sol.value("K_I", pi.K), sol.value("T_I", pi.T)
@@ -215,8 +216,8 @@ def problem_5_3() -> Solution:
     a1, a2 = (0.2 + K_I * T_I) / K_I, 0.002 / K_I
     wn = 1 / np.sqrt(a2)
     z = a1 * wn / 2
-    sol.check_close("specification met: the manual's denominator with the designed K_I, T_I has ζ = 0.7", z, zeta,
-                    atol=1e-9, reference="property")
+    sol.check_close("the manual's denominator with the designed K_I, T_I has ζ = 0.7", z, zeta,
+                    atol=1e-9, reference="specification met")
     lib = servomotor_transfer_functions(DCServomotor(**{**MOTOR_52, "Tv": 0.0, "kv": 1e-12}, ki=1.0), pi)
     manual = (1 + 1j * OMEGA * T_I) / (1 + 1j * OMEGA * a1 - OMEGA**2 * a2)
     err = max_relative_error(frequency_samples(lib.current_input, OMEGA), manual)
@@ -224,9 +225,9 @@ def problem_5_3() -> Solution:
               err < 1e-6, f"max relative error {err:.2e}", reference="closed form")
     info = control.step_info(lib.current_input, SettlingTimeThreshold=0.01)
     sol.value("design_current_overshoot_percent", float(info["Overshoot"]), unit="%")
-    sol.check("design model (T_v = 0): current settles within 1 % in ≤ 2 ms", info["SettlingTime"] <= t_s,
-              f"settling time {info['SettlingTime'] * 1e3:.2f} ms, overshoot {info['Overshoot']:.1f} % "
-              f"(caused by the zero −1/T_I)")
+    sol.check_bound("design model (T_v = 0, python-control step_info): current settles within 1 % in ≤ 2 ms",
+                    info["SettlingTime"], t_s, detail=f"settling time {info['SettlingTime'] * 1e3:.2f} ms, overshoot "
+                    f"{info['Overshoot']:.1f} % (caused by the zero −1/T_I)")
 
     plant = ServomotorPlant(m, pi)
     step = lambda t, x: np.array([1.0, 0.0])  # noqa: E731
@@ -325,6 +326,7 @@ def problem_5_5() -> Solution:
     Table S5.1 and on every word of 1–12 bits.
     """
     sol = Solution()
+    sol.given("Table S5.1 (Gray codes of 0–15)", TABLE_S5_1)
     decoded = [bits_to_int(gray_to_binary([int(c) for c in g])) for g in TABLE_S5_1]
     sol.value("table_S5_1_binary", decoded)
     sol.check("XOR cascade reproduces Table S5.1 (16 codes)", decoded == list(range(16)),
@@ -357,9 +359,9 @@ def problem_5_6() -> Solution:
     off S). Cross-checked with Pinocchio's SE3 action on a force.
     """
     sol = Solution()
-    R = np.array([[0.0, 0, 1], [0, -1, 0], [1, 0, 0]])
-    r = np.array([-0.3, 0.0, 0.2])
-    h_s = np.array([20.0, 0, 0, 0, 6, 0])
+    R = sol.given("R_s^c", np.array([[0.0, 0, 1], [0, -1, 0], [1, 0, 0]]))
+    r = sol.given("r_cs^c", np.array([-0.3, 0.0, 0.2]), unit="m")
+    h_s = sol.given("h_s", np.array([20.0, 0, 0, 0, 6, 0]), unit="N, N·m")
     W = sol.value("W", wrench_transform(R, r))
     h_c = W @ h_s
     f_c, mu_c = sol.value("f_c", h_c[:3], unit="N"), sol.value("mu_c", h_c[3:], unit="N·m")
@@ -387,9 +389,9 @@ def problem_5_7() -> Solution:
     """
     sol = Solution()
     robot = load("scara")
-    q = np.array([0.0, np.pi / 4, 0.1, 0.0])
+    q = sol.given("q", np.array([0.0, np.pi / 4, 0.1, 0.0]), unit="rad (q3 in m)")
     T = sol.value("T_bc", direct_kinematics(robot, q))
-    a1 = a2 = 0.5
+    a1 = a2 = sol.given("a1 = a2", 0.5, unit="m")
     c1, s1, c12, s12 = np.cos(q[0]), np.sin(q[0]), np.cos(q[0] + q[1]), np.sin(q[0] + q[1])
     c124, s124 = np.cos(q[0] + q[1] + q[3]), np.sin(q[0] + q[1] + q[3])
     T_S23 = np.array([[c124, -s124, 0, a1 * c1 + a2 * c12], [s124, c124, 0, a1 * s1 + a2 * s12],
@@ -397,8 +399,8 @@ def problem_5_7() -> Solution:
     sol.check_close("T_c^b from the URDF model = closed form (S2.3)", T, T_S23, atol=1e-12, reference="closed form")
     manual_T = np.array([[0.707, -0.707, 0, 0.854], [0.707, 0.707, 0, 0.354], [0, 0, 1, 0.1], [0, 0, 0, 1]])
     sol.check_close("T_c^b = manual's matrix (3 decimals)", T, manual_T, atol=1e-3, reference="manual number")
-    camera = PinholeCamera(633.6, 964.0, 250.0, 250.0)
-    p_b = np.array([0.8, 0.5, 0.9])
+    camera = PinholeCamera(*sol.given("f α_x, f α_y, X_0, Y_0", np.array([633.6, 964.0, 250.0, 250.0]), unit="pixel"))
+    p_b = sol.given("p^b", np.array([0.8, 0.5, 0.9]), unit="m")
     proj = project_from_robot(camera, robot, q, p_b)
     sol.value("p_c", proj.p_c)
     sol.value("x_I", proj.x_I)

@@ -44,6 +44,13 @@ LIFT, LENGTH, WIDTH, FAST, SLOW = 0.1, 0.08, 0.08, 1.0, 0.2
 OBJECT_MASS = 0.5
 
 
+def _given_scene(sol: Solution) -> tuple:
+    """Declare the scene of 6.1–6.2 (A, B, the obstacle box, the clearance) as the problem's data."""
+    return (sol.given("A", np.array(A), unit="m"), sol.given("B", np.array(B), unit="m"),
+            sol.given("obstacle [x_min, x_max, y_top]", np.array(OBSTACLE), unit="m"),
+            sol.given("clearance", CLEARANCE, unit="m"))
+
+
 @problem("6.1", "Task decomposition of a pick-and-place around an obstacle (Fig. 6.1)", kind="qualitative")
 def problem_6_1() -> Solution:
     """Describe the sequence of actions to pick an object at A and place it at B, avoiding an
@@ -55,7 +62,7 @@ def problem_6_1() -> Solution:
     has a closed-form inverse kinematics solution of the planar arm with the end effector pointing down.
     """
     sol = Solution()
-    plan = decompose_pick_and_place(A, B, OBSTACLE, CLEARANCE)
+    plan = decompose_pick_and_place(*_given_scene(sol))
     names = [a.name for a in plan.actions]
     sol.value("actions", names)
     sol.value("points", plan.points)
@@ -114,8 +121,10 @@ def problem_6_2() -> Solution:
     inverse-dynamics control at 1 ms). Fig. S6.1 (the scene's coordinates are chosen here).
     """
     sol = Solution()
-    plan = decompose_pick_and_place(A, B, OBSTACLE, CLEARANCE)
-    t_D, t_E = DURATIONS[0], DURATIONS[0] + DURATIONS[1]
+    plan = decompose_pick_and_place(*_given_scene(sol))
+    durations = sol.given("durations CD, DE, EF", np.array(DURATIONS), unit="s")
+    sol.given("overlap", OVERLAP, unit="s")
+    t_D, t_E = durations[0], durations[0] + durations[1]
     results = {}
     for label, kwargs in (("path points (cubic DE)", dict(middle="cubic")),
                           ("path points (trapezoidal DE)", dict(middle="trapezoidal")),
@@ -215,7 +224,8 @@ def problem_6_3() -> Solution:
     """
     sol = Solution()
     robot = load("planar_3r")
-    task = PegInHoleTask(x_H=0.6)
+    task = PegInHoleTask(x_H=sol.given("x_H", 0.6, unit="m"))
+    sol.given("Δy, Δx, f_push", np.array([task.dy, task.dx, task.f_push]), unit="m, m, N")
     q0 = inverse_kinematics_planar_3r(np.array([0.55, 0.15, task.phi]))[0]       # elbow up, within the limits
     fig, axes = subplots(3, 2, figsize=(11, 7), sharex="col")
     for col, (label, offset, duration) in enumerate((("hole 12 mm left of x_H", -0.012, 7.0),
@@ -276,6 +286,10 @@ def problem_6_4() -> Solution:
     """
     sol = Solution()
     robot = load("scara")
+    for name, datum in (("home", HOME), ("conveyor", CONVEYOR), ("pallet", PALLET)):
+        sol.given(name, np.array(datum), unit="m, m, m, rad")
+    sol.given("lift, length, width", np.array([LIFT, LENGTH, WIDTH]), unit="m")
+    sol.given("fast, slow", np.array([FAST, SLOW]), unit="m/s")
     program = fill_pallet_program(HOME, CONVEYOR, PALLET, LIFT, LENGTH, WIDTH, FAST, SLOW, up=(0.0, 0.0, -1.0))
     prims = [s.primitive for s in program]
     sol.value("program_length", len(program))

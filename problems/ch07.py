@@ -175,7 +175,7 @@ def problem_7_2() -> Solution:
 
     # (ii) numeric, on the book's arm with motors.
     spec = planar_2r()
-    model, robot, s = lg.serial_model(spec), load("planar_2r"), _arm2_symbols(spec)
+    model, robot, s = lg.serial_model(spec), load("planar_2r"), sol.given("two-link arm (7.82)", _arm2_symbols(spec))
     rng = np.random.default_rng(72)
     err_C = err_N = qNq = skew_std = skew_pin = 0.0
     min_asym = np.inf
@@ -319,6 +319,7 @@ def problem_7_4() -> Solution:
     """
     sol = Solution()
     spec = planar_2r()
+    sol.given("two-link arm (7.82)", _arm2_symbols(spec))
     pi = sol.value("pi_prime", minimum_parameters(spec.links))
     pi_c = sol.value("pi_prime_companion", minimum_parameters(spec.links, convention="companion"))
     p = two_link_parameters(spec.links)
@@ -376,7 +377,7 @@ def problem_7_4() -> Solution:
     sol.check("the 8-column regressor (7.84) reproduces RNEA but has rank 5 (columns scaled)",
               max_abs_error(Y8 @ pi8, Ybar @ pi) < 1e-9 and sv[4] > 1e-6 * sv[0] and sv[5] < 1e-12 * sv[0],
               f"singular values {np.array2string(sv, precision=2)}")
-    pi_L = minimum_parameters(spec.links, payload=10.0)
+    pi_L = minimum_parameters(spec.links, payload=sol.given("m_L", 10.0, unit="kg"))
     sol.check_close("payload m_L = 10 kg: Δπ' = [a1 m_L, 0, a2 m_L, 0, 0]", pi_L - pi, [10.0, 0, 10.0, 0, 0], atol=1e-12,
                     reference="closed form")
     robot_L = load("planar_2r", payload=10.0)
@@ -386,10 +387,10 @@ def problem_7_4() -> Solution:
                         reference="closed form")
 
     # Identification on a simulated run.
-    Fv = 100.0
+    Fv = sol.given("F_v", 100.0, unit="N·m·s/rad")
     plant = ArmPlant(robot, viscous_friction=Fv)
-    amp = np.array([[600.0, 300.0, 200.0], [200.0, 150.0, 100.0]])
-    omega = np.array([[1.3, 3.1, 7.3], [2.2, 4.7, 9.1]])
+    amp = sol.given("excitation amplitudes", np.array([[600.0, 300.0, 200.0], [200.0, 150.0, 100.0]]), unit="N·m")
+    omega = sol.given("excitation frequencies", np.array([[1.3, 3.1, 7.3], [2.2, 4.7, 9.1]]), unit="rad/s")
     phase = rng.uniform(0, 2 * np.pi, (2, 3))
     controller = lambda t, x: _excitation(t, amp, omega, phase)  # noqa: E731
     res = simulate(plant, controller, (0.0, 4.0), np.array([-np.pi / 2, 0.0, 0.0, 0.0]), h=1e-3, Ts=1e-2,
@@ -545,8 +546,8 @@ def problem_7_6() -> Solution:
     """
     sol = Solution()
     spec = planar_2r()
-    model, robot, s = lg.serial_model(spec), load("planar_2r"), _arm2_symbols(spec)
-    J_A = np.array([[1.0, 0.0], [1.0, 1.0]])
+    model, robot, s = lg.serial_model(spec), load("planar_2r"), sol.given("two-link arm (7.82)", _arm2_symbols(spec))
+    J_A = sol.given("J_A", np.array([[1.0, 0.0], [1.0, 1.0]]))
     rng = np.random.default_rng(76)
     err = dict(B=0.0, C=0.0, g=0.0, pin=0.0, diag=0.0)
     diag0 = None
@@ -645,8 +646,10 @@ def problem_7_7() -> Solution:
     sol = Solution()
     spec = planar_2r()
     model, robot = lg.serial_model(spec), load("planar_2r")
+    sol.given("two-link arm (7.82)", _arm2_symbols(spec))
+    sol.given("tip positions x_i, x_f (y = 0)", np.array([0.2, 1.8]), unit="m")
     pi = minimum_parameters(spec.links)
-    f3 = np.array([*TIP_FORCE, 0.0])
+    f3 = np.array([*sol.given("tip force", TIP_FORCE, unit="N"), 0.0])
     trajectories = example_7_2_trajectories()
     q_i = inverse_kinematics_planar_2r([0.2, 0.0])[ELBOW_DOWN]
     sol.check_close("lower-elbow initial posture q(0) = [−1.4706, 2.9413] rad (manual)", q_i, [-1.4706, 2.9413],
@@ -865,6 +868,7 @@ def problem_7_11() -> Solution:
     sol = Solution()
     spec = planar_2r()
     model = lg.serial_model(spec)
+    sol.given("two-link arm (7.82)", _arm2_symbols(spec))
     a1, a2 = spec.links[0].a, spec.links[1].a
     rng = np.random.default_rng(711)
     err = 0.0

@@ -55,7 +55,11 @@ def _arm(payload: float = 0.0) -> Robot:
     return load("planar_2r", payload=payload) if payload else load("planar_2r")
 
 
-def _tra_4():
+def _tra_4(sol: Solution | None = None):
+    """The trajectory tra_4; with ``sol``, its data (and the payload, the friction) declared as given."""
+    if sol is not None:
+        sol.given("q_i", Q_I, unit="rad"), sol.given("q_f", Q_F, unit="rad"), sol.given("t_f", T_F, unit="s")
+        sol.given("q̇_c", QD_C, unit="rad/s"), sol.given("m_L", M_L, unit="kg"), sol.given("F_v", F_V, unit="N·m·s/rad")
     return trapezoidal(Q_I, Q_F, T_F, QD_C, dt=T_C)
 
 
@@ -98,9 +102,10 @@ def problem_8_10() -> Solution:
     """
     sol = Solution()
     arm = _arm()
-    K_P, K_D, t_end = 3750.0, 750.0, 2 * T_D
+    K_P, K_D, t_end = sol.given("K_P", 3750.0), sol.given("K_D", 750.0), 2 * T_D
     plant = ArmPlant(arm, viscous_friction=F_V)
-    for k, q_d in enumerate((np.array([np.pi / 4, -np.pi / 2]), np.array([-np.pi, -3 * np.pi / 4])), start=1):
+    postures = sol.given("q_d (two runs)", np.array([[np.pi / 4, -np.pi / 2], [-np.pi, -3 * np.pi / 4]]), unit="rad")
+    for k, q_d in enumerate(postures, start=1):
         q0 = q_d - 0.1
         res = simulate(plant, PDGravityCompensation(arm, K_P, K_D, q_d), (0.0, t_end), np.r_[q0, 0.0, 0.0],
                        h=T_C, Ts=T_C)
@@ -172,11 +177,13 @@ def problem_8_11() -> Solution:
     sol.check_close("voltage-to-torque gain and electrical damping (Fig. 8.3)",
                     np.r_[plant.voltage_gain, plant.electrical_damping], [20, 20, 4000, 4000], atol=1e-9,
                     reference="manual number")
-    tra = _tra_4()
+    sol.given("R_a, k_t, k_v", np.array([10.0, 2.0, 2.0]), unit="Ω, N·m/A, V·s/rad")
+    tra = _tra_4(sol)
     x0 = plant.initial_state(Q_I)
     runs: dict[tuple[int, bool], SimulationResult] = {}
-    for k, (zeta, omega_n, expect, omega_3) in enumerate(((0.5, 5.0, (5.0, 10.0, 50.0), 6.36),
-                                                          (0.8, 10.0, (6.25, 32.0, 200.0), 8.71)), start=1):
+    specs = sol.given("ζ, ω_n of the two gain sets", np.array([[0.5, 5.0], [0.8, 10.0]]), unit="1, rad/s")
+    for k, ((zeta, omega_n), expect, omega_3) in enumerate(zip(specs, ((5.0, 10.0, 50.0), (6.25, 32.0, 200.0)),
+                                                                (6.36, 8.71)), start=1):
         designs = [design_position_velocity(d, zeta, omega_n) for d in drives]
         sol.check_close(f"gains {k}: K_P, K_V, X_R", [designs[0].K_P, designs[0].K_V, designs[0].X_R], expect, atol=1e-9,
                         reference="manual number")
@@ -239,9 +246,9 @@ def problem_8_12() -> Solution:
     """
     sol = Solution()
     arm, armL = _arm(), _arm(M_L)
-    K_P, K_D = 100.0, 16.0
+    K_P, K_D = sol.given("K_P", 100.0, unit="1/s²"), sol.given("K_D", 16.0, unit="1/s")
     plant = ArmPlant(armL, viscous_friction=F_V)
-    tra = _tra_4()
+    tra = _tra_4(sol)
     runs = {}
     for name, model in (("not_compensated", arm), ("compensated", armL)):
         runs[name] = simulate(plant, InverseDynamicsControl(model, K_P, K_D, tra, viscous_friction=F_V),
@@ -297,7 +304,8 @@ def problem_8_13() -> Solution:
     """
     sol = Solution()
     armL = _arm(M_L)
-    K_P, K_D, rho, eps = 100.0, 16.0, 70.0, 1e-3
+    K_P, K_D = sol.given("K_P", 100.0, unit="1/s²"), sol.given("K_D", 16.0, unit="1/s")
+    rho, eps = sol.given("ρ", 70.0), sol.given("ε", 1e-3)
     q2 = np.linspace(-np.pi, np.pi, 360, endpoint=False)
     B_bar = sol.value("B_hat", mean_diagonal_inertia(armL, np.c_[np.zeros_like(q2), q2]))
     pi = minimum_parameters(planar_2r().links, payload=M_L, convention="companion")
@@ -310,7 +318,7 @@ def problem_8_13() -> Solution:
     sol.check_close("Q per joint = [[3.23625, 0.005], [0.005, 0.0315625]]", Q[np.ix_([0, 2], [0, 2])],
                     [[3.23625, 0.005], [0.005, 0.0315625]], atol=1e-9, reference="manual number")
     plant = ArmPlant(armL, viscous_friction=F_V)
-    tra = _tra_4()
+    tra = _tra_4(sol)
     runs = {}
     for r in (rho, 0.0):
         runs[r] = simulate(plant, RobustControl(armL, B_bar, K_P, K_D, tra, r, eps, viscous_friction=F_V),
@@ -369,9 +377,9 @@ def problem_8_14() -> Solution:
     """
     sol = Solution()
     arm, armL = _arm(), _arm(M_L)
-    K_D, Lam, k_pi = 1e4, 10.0, 0.005
+    K_D, Lam, k_pi = sol.given("K_D", 1e4), sol.given("Λ", 10.0, unit="1/s"), sol.given("k_π", 0.005)
     plant = ArmPlant(armL, viscous_friction=F_V)
-    tra = _tra_4()
+    tra = _tra_4(sol)
     ctrl = AdaptivePayloadControl(arm, K_D, Lam, 1.0 / k_pi, tra, viscous_friction=F_V, mass0=0.0)
     rng = np.random.default_rng(814)
     pi_m = minimum_parameters(planar_2r().links)
@@ -426,7 +434,9 @@ def problem_8_15() -> Solution:
     armL = _arm(M_L)
     plant = ArmPlant(armL, viscous_friction=F_V)
     expected_q0 = ([2.06944, -2.56808], [0.73453, -2.54990])  # companion's inv_k2u(p(0))
-    for k, p_d in enumerate((np.array([0.5, 0.5]), np.array([0.6, -0.2])), start=1):
+    sol.given("m_L", M_L, unit="kg"), sol.given("K_P", 16250.0), sol.given("K_D", 3250.0)
+    targets = sol.given("p_d (two runs)", np.array([[0.5, 0.5], [0.6, -0.2]]), unit="m")
+    for k, p_d in enumerate(targets, start=1):
         q0 = inverse_kinematics_planar_2r(p_d - 0.1)[ELBOW_UP]  # companion inv_k2u: s2 < 0
         sol.value(f"q0_{k}", q0, unit="rad")
         sol.check_close(f"initial posture {k} = companion's inv_k2u(p_d − 0.1)", q0, expected_q0[k - 1], atol=1e-5,
@@ -465,9 +475,11 @@ def problem_8_16() -> Solution:
     """
     sol = Solution()
     arm, armL = _arm(), _arm(M_L)
-    p_i, p_f = np.array([0.7, 0.2, 0.0]), np.array([0.1, -0.6, 0.0])
+    p_i = sol.given("p_i", np.array([0.7, 0.2, 0.0]), unit="m")
+    p_f = sol.given("p_f", np.array([0.1, -0.6, 0.0]), unit="m")
+    sol.given("t_f", 1.0, unit="s"), sol.given("ṡ_c", 1.5, unit="m/s"), sol.given("m_L", M_L, unit="kg")
     segment = Segment(p_i, p_f)
-    sol.check_close("path length", segment.length, 1.0, atol=1e-12, reference="closed form")
+    sol.check_close("path length = 1 m (manual)", segment.length, 1, atol=1e-12, reference="manual number")
     law = PathLaw(segment, trapezoidal_law(0.0, segment.length, 1.0, 1.5))
     q0 = inverse_kinematics_planar_2r(p_i[:2])[ELBOW_UP]  # companion inv_k2u: s2 < 0
     sol.check_close("initial posture = companion's inv_k2u(p_i)", q0, [1.47653, -2.39646], atol=1e-5,

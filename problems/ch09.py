@@ -63,12 +63,23 @@ def _plane() -> CompliantPlane:
     return CompliantPlane(np.r_[O_R, 0.0], np.r_[R_C[:, 1], 0.0], K_Y)
 
 
-def _tra_5() -> PathLaw:
+def _given_plane(sol: Solution) -> None:
+    """Declare the compliant plane of 9.3, 9.4 and 9.10 (stiffness, a point, the constraint frame) and
+    the joint friction as the problem's data."""
+    sol.given("k_y (plane stiffness)", K_Y, unit="N/m"), sol.given("o_r (point of the plane)", O_R, unit="m")
+    sol.given("R_c (constraint frame)", R_C), sol.given("F_v", F_V, unit="N·m·s/rad")
+
+
+def _tra_5(sol: Solution | None = None) -> PathLaw:
     """The companion's tra_5 (9.3, 9.10): p_i = [1 + 0.2 cos(π/4), 0] → p_f = [1.2 + 0.2 cos(π/4), 0.2],
-    trapezoidal s(t) with cruise ṡ_c = 0.5 m/s over t_f = 1 s, then held."""
+    trapezoidal s(t) with cruise ṡ_c = 0.5 m/s over t_f = 1 s, then held (with ``sol``, declared given)."""
     p_i = np.array([1.0 + 0.2 * np.cos(np.pi / 4), 0.0, 0.0])
-    segment = Segment(p_i, p_i + np.array([0.2, 0.2, 0.0]))
-    return PathLaw(segment, trapezoidal_law(0.0, segment.length, 1.0, 0.5))
+    step, t_f, sd_c = np.array([0.2, 0.2, 0.0]), 1.0, 0.5
+    if sol is not None:
+        sol.given("p_i", p_i, unit="m"), sol.given("p_f − p_i", step, unit="m")
+        sol.given("t_f", t_f, unit="s"), sol.given("ṡ_c", sd_c, unit="m/s")
+    segment = Segment(p_i, p_i + step)
+    return PathLaw(segment, trapezoidal_law(0.0, segment.length, t_f, sd_c))
 
 
 def _held(law: Callable[[Any], Any]) -> Callable[[float], Any]:
@@ -203,7 +214,8 @@ def problem_9_1() -> Solution:
     # ω^d_{d,e} = T(φ_{d,e}) φ̇_{d,e} with the book's T: the ZYZ rate matrix at a known angle (3.64)
     T0 = euler_rate_matrix_zyz([0.3, 0.7, -0.4])
     sol.check_close("T(φ) of (3.64) at φ = [0.3, 0.7, −0.4]", T0[:, 2],
-                    [np.cos(0.3) * np.sin(0.7), np.sin(0.3) * np.sin(0.7), np.cos(0.7)], atol=1e-15)
+                    [np.cos(0.3) * np.sin(0.7), np.sin(0.3) * np.sin(0.7), np.cos(0.7)], atol=1e-15,
+                    reference="closed form")
     return sol
 
 
@@ -250,8 +262,10 @@ def problem_9_2() -> Solution:
     h_pred, dx_ed_pred = compliance_equilibrium(K_P * np.eye(2), K_Y * np.outer(n, n), x_d - O_R)
     sol.value("h_e_simulated", res["h_e"][-1])
     sol.value("h_e_9_22", h_pred)
-    sol.check_close("simulated compliance control rests at h_e of (9.22) [N]", res["h_e"][-1], h_pred, atol=0.01)
-    sol.check_close("… and at x_d − x_e of (9.23) [m]", res["e"][-1], dx_ed_pred, atol=1e-5)
+    sol.check_close("simulated compliance control rests at h_e of (9.22) [N]", res["h_e"][-1], h_pred, atol=0.01,
+                    reference="simulation vs prediction")
+    sol.check_close("… and at x_d − x_e of (9.23) [m]", res["e"][-1], dx_ed_pred, atol=1e-5,
+                    reference="simulation vs prediction")
     return sol
 
 
@@ -284,10 +298,13 @@ def problem_9_3() -> Solution:
     measured on a second run that starts 2 cm off the (constant) reference along x_c.
     """
     sol = Solution()
-    law = _tra_5()
+    _given_plane(sol)
+    sol.given("M_d, K_D, K_P (impedance)", np.array([M_D, K_D_IMP, K_P_IMP]), unit="kg, N·s/m, N/m")
+    law = _tra_5(sol)
     p_i = law(0.0)[0]
     q0 = inverse_kinematics_planar_2r(p_i[:2])[ELBOW_UP]
-    sol.check_close("initial posture = companion's inv_k2u(p_i)", q0, [0.96343, -1.92685], atol=1e-5)
+    sol.check_close("initial posture = companion's inv_k2u(p_i)", q0, [0.96343, -1.92685], atol=1e-5,
+                    reference="manual number")
     res = _impedance_run(_held(law), q0)
     f_c, e_c = _in_constraint_frame(res["h_e"]), _in_constraint_frame(res["e"])
     e_base = res["e"]
@@ -297,7 +314,8 @@ def problem_9_3() -> Solution:
     y_dr = float((R_C.T @ (p_i[:2] - O_R))[1])                 # y_d^c − y_r^c = −0.1 m
     f_inf = K_Y * K_P_IMP / (K_P_IMP + K_Y) * y_dr             # −250 N
     e_inf = y_dr - f_inf / K_Y                                  # ỹ = y_d − y_e = −0.05 m
-    sol.check_close("f_y^c(0) = k_y (y_e − y_r) = −500 N (tip 0.1 m inside)", f_c[0, 1], K_Y * y_dr, atol=1e-6)
+    sol.check_close("f_y^c(0) = k_y (y_e − y_r) = −500 N (tip 0.1 m inside)", f_c[0, 1], K_Y * y_dr, atol=1e-6,
+                    reference="closed form")
     sol.check("f_y^c(t_d) = k_y k_P/(k_P + k_y)(y_d − y_r) = −250 N (±1 %)", abs(f_end[1] - f_inf) < 0.01 * abs(f_inf),
               f"{f_end[1]:.4f} N vs {f_inf:.4f} N")
     sol.check("x̃_y^c(t_d) = −0.05 m (±1 %)", abs(e_end[1] - e_inf) < 0.01 * abs(e_inf), f"{e_end[1]:.6f} m vs {e_inf:.6f} m")
@@ -305,15 +323,19 @@ def problem_9_3() -> Solution:
               f"max |x̃_x^c| = {np.abs(e_c[:, 0]).max():.2e} m < 1e-3 (catalogue's reference run: 5e-5)")
     sol.check("no force along x_c (frictionless plane)", np.abs(f_c[:, 0]).max() < 1e-6,
               f"max |f_x^c| = {np.abs(f_c[:, 0]).max():.1e} N")
-    sol.check_close("base-frame rest: f_e = [176.78, −176.78] N", res["h_e"][-1, :2], R_C @ [0.0, f_inf], atol=0.5)
+    sol.check_close("base-frame rest: f_e = [176.78, −176.78] N", res["h_e"][-1, :2], R_C @ [0.0, f_inf], atol=0.5,
+                    reference="simulation vs prediction")
 
     w_y, z_y = impedance_parameters(M_D, K_D_IMP, K_P_IMP, K_Y)
     w_x, z_x = impedance_parameters(M_D, K_D_IMP, K_P_IMP)
-    sol.check_close("manual: ω_nx = 7.07 rad/s, ζ_x = 1.13", [w_x, z_x], [7.07, 1.13], atol=0.005)
-    sol.check_close("manual: ω_ny = 10 rad/s, ζ_y = 0.8", [w_y, z_y], [10.0, 0.8], atol=1e-12)
+    sol.check_close("manual: ω_nx = 7.07 rad/s, ζ_x = 1.13", [w_x, z_x], [7.07, 1.13], atol=0.005,
+                    reference="manual number")
+    sol.check_close("manual: ω_ny = 10 rad/s, ζ_y = 0.8", [w_y, z_y], [10.0, 0.8], atol=1e-12,
+                    reference="manual number")
     fit_y = fit_second_order(res.t, f_c[:, 1], f_inf, guess=(5.0, 0.5))
     sol.value("omega_zeta_y_measured", np.array(fit_y))
-    sol.check_close("ω_n, ζ along y_c measured on the force transient", fit_y, [w_y, z_y], rtol=0.01)
+    sol.check_close("ω_n, ζ along y_c measured on the force transient", fit_y, [w_y, z_y], rtol=0.01,
+                    reference="simulation vs prediction")
     least = float(f_c[:, 1].max())
     sol.value("force_least_negative", least)
     sol.check("small overshoot: least-negative force = f_∞ − (f_0 − f_∞) e^{−ζπ/√(1−ζ²)} ≈ −246.2 N",
@@ -327,7 +349,8 @@ def problem_9_3() -> Solution:
     ex = _in_constraint_frame(free["e"])[:, 0]
     fit_x = fit_second_order(free.t, ex, 0.0, guess=(5.0, 1.5))
     sol.value("omega_zeta_x_measured", np.array(fit_x))
-    sol.check_close("ω_n, ζ along x_c measured on a 2 cm offset run", fit_x, [w_x, z_x], rtol=0.01)
+    sol.check_close("ω_n, ζ along x_c measured on a 2 cm offset run", fit_x, [w_x, z_x], rtol=0.01,
+                    reference="simulation vs prediction")
 
     fig, axes = subplots(2, 2, sharex=True, figsize=(10, 6))
     for row, (e, f, names) in enumerate(((e_base, res["h_e"][:, :2], ("x", "y")), (e_c, f_c, ("x_c", "y_c")))):
@@ -361,12 +384,13 @@ def problem_9_4() -> Solution:
     f_e → f_d). f_d = −40 N along y_c, x_d 2 cm inside the plane.
     """
     sol = Solution()
+    _given_plane(sol)
     arm = _arm()
     n = R_C[:, 1]
     K = K_Y * np.outer(n, n)
-    x_d = O_R + R_C @ np.array([0.15, -0.02])
-    f_d = -40.0 * n
-    c_F = 1e-4
+    x_d = O_R + R_C @ sol.given("x_d^c", np.array([0.15, -0.02]), unit="m")
+    f_d = sol.given("f_d", -40.0 * n, unit="N")
+    c_F = sol.given("c_F", 1e-4, unit="m/N")
     q0 = inverse_kinematics_planar_2r(O_R + R_C @ np.array([0.15, 0.0]))[ELBOW_UP]
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
     x_pred = inner_position_loop_equilibrium(x_d, O_R, K, c_F, f_d)
@@ -380,11 +404,12 @@ def problem_9_4() -> Solution:
         runs[name] = simulate(plant, ctrl, (0.0, 3.0), plant.initial_state(q0), h=T_C, Ts=T_C)
     p_run, pi_run = runs["P"], runs["PI"]
     sol.value("x_e_simulated", p_run["x_e"][-1])
-    sol.check_close("proportional C_F: simulated rest = x_e of Problem 9.4 [m]", p_run["x_e"][-1], x_pred, atol=1e-6)
+    sol.check_close("proportional C_F: simulated rest = x_e of Problem 9.4 [m]", p_run["x_e"][-1], x_pred, atol=1e-6,
+                    reference="simulation vs prediction")
     f_rest = K @ (x_pred - O_R)
     sol.check("proportional C_F: the force error does not vanish", abs((f_rest - f_d) @ n) > 1.0,
               f"f_e·y_c = {f_rest @ n:.3f} N vs f_d = {f_d @ n:.1f} N (simulated {p_run['f_e'][-1] @ n:.3f} N)")
-    sol.check_close("PI C_F: f_e → f_d [N]", pi_run["f_e"][-1], f_d, atol=0.05)
+    sol.check_close("PI C_F: f_e → f_d [N]", pi_run["f_e"][-1], f_d, atol=0.05, reference="simulation vs prediction")
     fig, ax = subplots(figsize=(6.4, 3.4))
     for name, r in runs.items():
         ax.plot(r.t, r["f_e"] @ n, label=f"{name} force regulator")
@@ -612,8 +637,13 @@ def problem_9_10() -> Solution:
     A second run with the true stiffness (l_f = 1) gives ω = 10 rad/s, ζ = 0.8 and a smaller overshoot.
     """
     sol = Solution()
+    _given_plane(sol)
+    sol.given("k̂ (estimated stiffness)", K_HAT, unit="N/m"), sol.given("λ_d", LAMBDA_D, unit="N")
+    sol.given("K_Pν, K_Iν, K_Dλ, K_Pλ", np.array([K_P_NU, K_I_NU, K_D_LAMBDA, K_P_LAMBDA]))
+    _tra_5(sol)                                                     # its data declared; _hybrid_run follows it
     q0 = inverse_kinematics_planar_2r(O_R)[ELBOW_UP]
-    sol.check_close("q(0) = [π/3, −2π/3] puts the tip at o_e(0) = [1, 0]", q0, [np.pi / 3, -2 * np.pi / 3], atol=1e-12)
+    sol.check_close("q(0) = [π/3, −2π/3] puts the tip at o_e(0) = [1, 0]", q0, [np.pi / 3, -2 * np.pi / 3], atol=1e-12,
+                    reference="manual number")
     res, exact = _hybrid_run(K_HAT), _hybrid_run(K_Y)
     lam, lam_x = res["lam"][:, 0], exact["lam"][:, 0]
     e_nu = res["nu_d"][:, 0] - res["nu"][:, 0]
@@ -624,14 +654,15 @@ def problem_9_10() -> Solution:
     l_f = (1.0 / K_HAT) / (1.0 / K_Y)
     w, z = force_loop_parameters(K_D_LAMBDA, K_P_LAMBDA, l_f)
     w1, z1 = force_loop_parameters(K_D_LAMBDA, K_P_LAMBDA)
-    sol.check_close("manual: l_f = 1.25, ω_nλ = 11.18 rad/s, ζ_λ = 0.71", [l_f, w, z], [1.25, 11.18, 0.71], atol=0.006)
+    sol.check_close("manual: l_f = 1.25, ω_nλ = 11.18 rad/s, ζ_λ = 0.71", [l_f, w, z], [1.25, 11.18, 0.71], atol=0.006,
+                    reference="manual number")
     sol.check_close("velocity loop: ω_nν = 10 rad/s, ζ_ν = 0.8", pi_velocity_parameters(K_P_NU, K_I_NU), [10.0, 0.8],
-                    atol=1e-12)
+                    atol=1e-12, reference="manual number")
     sol.check("λ(t_d) = λ_d = −50 N", abs(lam[-1] - LAMBDA_D) < 0.5, f"λ(2.5 s) = {lam[-1]:.4f} N")
     fit = fit_second_order(res.t, lam, LAMBDA_D, guess=(8.0, 0.6))
     sol.value("omega_zeta_measured", np.array(fit))
     sol.check_close("ω_nλ, ζ_λ measured on the force transient = √(l_f k_Pλ), k_Dλ/(2√(l_f k_Pλ))", fit, [w, z],
-                    rtol=0.02)
+                    rtol=0.02, reference="simulation vs prediction")
     peak = LAMBDA_D * (1.0 + _overshoot(z))
     sol.check("force peak = λ_d (1 + e^{−ζπ/√(1−ζ²)}) ≈ −51.97 N (4 % overshoot)", abs(lam.min() - peak) < 0.1,
               f"{lam.min():.3f} N vs {peak:.3f} N")
@@ -646,10 +677,13 @@ def problem_9_10() -> Solution:
     sol.check("path parallel to the undeformed plane after the force transient", np.abs(defl[settled] - LAMBDA_D / K_Y).max() < 2e-4,
               f"max |deflection + 0.01| for t > 0.6 s: {np.abs(defl[settled] - LAMBDA_D / K_Y).max():.1e} m")
     tip_end = O_R + R_C @ np.array([_tra_5().path.length, LAMBDA_D / K_Y])
-    sol.check_close("final tip = o_r + R_c [D_s, λ_d/k_y] ≈ [1.20707, 0.19293] m", res["p_e"][-1, :2], tip_end, atol=1e-5)
+    sol.check_close("final tip = o_r + R_c [D_s, λ_d/k_y] ≈ [1.20707, 0.19293] m", res["p_e"][-1, :2], tip_end,
+                    atol=1e-5,
+                    reference="simulation vs prediction")
     fit1 = fit_second_order(exact.t, lam_x, LAMBDA_D, guess=(8.0, 0.6))
     sol.value("omega_zeta_measured_known_stiffness", np.array(fit1))
-    sol.check_close("known stiffness: ω = 10 rad/s, ζ = 0.8 measured", fit1, [w1, z1], rtol=0.02)
+    sol.check_close("known stiffness: ω = 10 rad/s, ζ = 0.8 measured", fit1, [w1, z1], rtol=0.02,
+                    reference="simulation vs prediction")
     sol.check("the estimate makes the force loop faster and less damped: larger overshoot",
               lam.min() < lam_x.min() - 1.0 and abs(lam_x[-1] - LAMBDA_D) < 0.5,
               f"peaks {lam.min():.2f} N (ĉ₂₂⁻¹ = 4e3) vs {lam_x.min():.2f} N (exact)")

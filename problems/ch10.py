@@ -109,10 +109,13 @@ def problem_10_1() -> Solution:
             sol.value("alpha_0.4", m.orientation)
             region, moments = (u / 3.0) ** 2 + v ** 2 <= 1.0, m
     sol.check_error("(10.2) α = ½Atan2(2μ11, μ20 − μ02) recovers the drawn orientation of 4 ellipses [rad]",
-                    worst_alpha, 1e-3)
-    sol.check_error("manual's λ, λ' = eigenvalues of the inertia matrix (numpy eigh), relative", worst_eig, 1e-12)
-    sol.check_error("a_λ = [μ11, λ − μ20] is the eigenvector of λ (1 − |cos| with eigh's)", worst_vec, 1e-12)
-    sol.check_error("manual's t_α = (μ02 − μ20 + √(4μ11² + (μ02 − μ20)²))/(2μ11) = tan α of (10.2)", worst_tan, 1e-9)
+                    worst_alpha, 1e-3, reference="closed form")
+    sol.check_error("manual's λ, λ' = eigenvalues of the inertia matrix (numpy eigh), relative", worst_eig, 1e-12,
+                    reference="other library")
+    sol.check_error("a_λ = [μ11, λ − μ20] is the eigenvector of λ (1 − |cos| with eigh's)", worst_vec, 1e-12,
+                    reference="other library")
+    sol.check_error("manual's t_α = (μ02 − μ20 + √(4μ11² + (μ02 − μ20)²))/(2μ11) = tan α of (10.2)", worst_tan, 1e-9,
+                    reference="closed form")
     fig, ax = subplots(figsize=(5, 5))
     ax.contourf(grid, grid, region.astype(float), levels=[0.5, 1.5], colors=["#9ecae1"])
     r = np.array([-3.5, 3.5])
@@ -152,14 +155,15 @@ def problem_10_2() -> Solution:
               A.shape == (12, 9) and sigma[8] / sigma[0] < 1e-12 < 1e-6 < sigma[7] / sigma[0],
               f"σ₈ = {sigma[7]:.3g}, σ₉ = {sigma[8]:.3g}")
     v9 = Vt[-1]
-    sol.check_error("A v₉ = 0", np.max(np.abs(A @ v9)), 1e-12)
-    sol.check_error("A v_i = σ_i u_i for i = 1…8", max_abs_error(A @ Vt[:8].T, U[:, :8] * sigma[:8]), 1e-12)
+    sol.check_error("A v₉ = 0", np.max(np.abs(A @ v9)), 1e-12, reference="property")
+    sol.check_error("A v_i = σ_i u_i for i = 1…8", max_abs_error(A @ Vt[:8].T, U[:, :8] * sigma[:8]), 1e-12,
+                    reference="property")
     h_true = np.column_stack([R[:, 0], R[:, 1], o]).reshape(-1)
     cos = abs(float(v9 @ h_true)) / np.linalg.norm(h_true)
-    sol.check_error("v₉ ∝ the true h = rows of [r₁ r₂ o] (1 − |cos angle|)", 1.0 - cos, 1e-12)
+    sol.check_error("v₉ ∝ the true h = rows of [r₁ r₂ o] (1 − |cos angle|)", 1.0 - cos, 1e-12, reference="closed form")
     pose = pose_from_homography(v9.reshape(3, 3))
     sol.check_error("pose from v₉ and (10.12) = true R_o^c, o_{c,o}^c",
-                    max(max_abs_error(pose.R, R), max_abs_error(pose.o, o)), 1e-9)
+                    max(max_abs_error(pose.R, R), max_abs_error(pose.o, o)), 1e-9, reference="closed form")
     errors = []
     for noise in (1e-4, 1e-3):
         p = pose_from_homography(homography_dlt(zeta, s + noise * rng.standard_normal(s.shape)))
@@ -201,10 +205,11 @@ def problem_10_3() -> Solution:
             worst_identity = max(worst_identity, abs(lhs - (3 + np.trace(Q.T @ Q) - 2 * np.trace(R.T @ Q))))
             beaten += lhs < d_star**2 - 1e-12
             worst_bound = max(worst_bound, max(0.0, np.trace(R.T @ Q) - sigma.sum()))
-    sol.check_error("‖R − Q‖² = 3 + Tr(QᵀQ) − 2Tr(RᵀQ) at 1000 random rotations", worst_identity, 1e-12)
-    sol.check_error("Tr(RᵀQ) ≤ Σσ_i, with equality at R = UVᵀ", worst_bound, 1e-12)
+    sol.check_error("‖R − Q‖² = 3 + Tr(QᵀQ) − 2Tr(RᵀQ) at 1000 random rotations", worst_identity, 1e-12,
+                    reference="closed form")
+    sol.check_error("Tr(RᵀQ) ≤ Σσ_i, with equality at R = UVᵀ", worst_bound, 1e-12, reference="closed form")
     sol.check("no random rotation is closer to Q than UVᵀ (1000 tries)", beaten == 0, f"{beaten} closer")
-    sol.check_error("UVᵀ = scipy.linalg.orthogonal_procrustes(I, Q)", worst_scipy, 1e-12)
+    sol.check_error("UVᵀ = scipy.linalg.orthogonal_procrustes(I, Q)", worst_scipy, 1e-12, reference="other library")
     return sol
 
 
@@ -226,21 +231,34 @@ def _run_estimator(target: TargetFeatures, s: np.ndarray, steps: int) -> tuple[n
         np.array(pts)
 
 
+def _given_scene(sol: Solution, servo: bool = True) -> None:
+    """Declare the visual-servoing data: the feature points in the object frame, the desired object pose in
+    the camera frame and (``servo``) the object and initial camera poses in the base frame, the friction."""
+    sol.given("feature points in the object frame", P_O, unit="m")
+    sol.given("x_{d,o} (desired object pose in the camera frame)", X_DO, unit="m, m, m, rad")
+    if servo:
+        sol.given("x_o (object pose)", X_O, unit="m, m, m, rad"), sol.given("x_c(0)", X_C0, unit="m, m, m, rad")
+        sol.given("F_v", F_V, unit="N·m·s/rad (N·s/m)"), sol.given("t_d", T_FINAL, unit="s")
+
+
 def _estimation(sol: Solution, target: TargetFeatures, s: np.ndarray, tol: float, ratio_tol: float):
     """The checks 10.4 and 10.5 share: 40 steps from s (the manual's data), the final estimate, the decay of
     ‖e_s‖ by 1 − K_s T = 0.84 a step, and exact convergence from the unrounded features in 200 steps."""
     xs, es, pts = _run_estimator(target, s, 40)
     x_hat = sol.value("x_hat_final", xs[-1])
     sol.value("e_s_norm", {"0": es[0], "30": es[30], "40": es[40]})
-    sol.check_error("x̂(0.04 s) ≃ manual's [−0.1, 0.1, 0.6, −π/3]", np.max(np.abs(_pose_error(x_hat, X_DO))), tol)
+    sol.check_error("x̂(0.04 s) ≃ manual's [−0.1, 0.1, 0.6, −π/3]", np.max(np.abs(_pose_error(x_hat, X_DO))), tol,
+                    reference="manual number")
     ratio = es[1:41] / es[:40]
     sol.check_error("‖e_s‖ decays geometrically by 1 − K_s T = 0.84 per step (steps 1–40; Euler's "
-                    "second-order terms move the first ratios)", np.max(np.abs(ratio - 0.84)), ratio_tol)
-    sol.check_error("… and the ratio tends to 0.84 (steps 31–40)", np.max(np.abs(ratio[30:] - 0.84)), 1e-3)
+                    "second-order terms move the first ratios)", np.max(np.abs(ratio - 0.84)), ratio_tol,
+                    reference="closed form")
+    sol.check_error("… and the ratio tends to 0.84 (steps 31–40)", np.max(np.abs(ratio[30:] - 0.84)), 1e-3,
+                    reference="closed form")
     s_true = target.features(target.view_from_pose(planar_pose(X_DO)).xy)
     xs_exact, _, _ = _run_estimator(target, s_true, 200)
     sol.check_error("with the unrounded s, x̂(200 steps) = x_{d,o}", np.max(np.abs(_pose_error(xs_exact[-1], X_DO))),
-                    1e-8)
+                    1e-8, reference="simulation vs prediction")
     return xs, es, pts
 
 
@@ -275,10 +293,13 @@ def problem_10_4() -> Solution:
     after ≈ 30 steps; the estimated image points move along straight lines (scalar K_s).
     """
     sol = Solution()
+    _given_scene(sol, servo=False)
+    sol.given("measured features s", S_POINTS_MEASURED)
+    sol.given("K_s", K_S_ESTIMATOR), sol.given("T", T_ESTIMATOR, unit="s")
     target = TargetFeatures(P_O, kind="points")
     s_true = target.features(target.view_from_pose(planar_pose(X_DO)).xy)
     sol.check_error("measured s = projection of x_{d,o} = [−0.1, 0.1, 0.6, −π/3] (4 decimals)",
-                    max_abs_error(S_POINTS_MEASURED, s_true), 5.1e-5)
+                    max_abs_error(S_POINTS_MEASURED, s_true), 5.1e-5, reference="closed form")
     xs, es, pts = _estimation(sol, target, S_POINTS_MEASURED, 3e-3, 0.015)
     steps_1pct = int(np.argmax(np.max(np.abs(_pose_error(xs, X_DO)), axis=1) < 1e-2))
     sol.value("steps_to_1cm", steps_1pct)
@@ -286,7 +307,8 @@ def problem_10_4() -> Solution:
               20 <= steps_1pct <= 35, f"{steps_1pct} steps")
     worst = max(_chord_deviation(pts[:, i]) for i in range(2))
     sol.value("max_chord_deviation", worst)
-    sol.check_error("image paths of the estimated points are straight (max distance from the chord)", worst, 1e-3)
+    sol.check_error("image paths of the estimated points are straight (max distance from the chord)", worst, 1e-3,
+                    reference="property")
     _estimator_figure(sol, "Figs. S10.2–S10.3 — pose estimation from two points", es, xs, pts)
     return sol
 
@@ -303,12 +325,15 @@ def problem_10_5() -> Solution:
     from 10.4's.
     """
     sol = Solution()
+    _given_scene(sol, servo=False)
+    sol.given("measured points", S_POINTS_MEASURED)
+    sol.given("K_s", K_S_ESTIMATOR), sol.given("T", T_ESTIMATOR, unit="s")
     pts_measured = S_POINTS_MEASURED.reshape(2, 2)
     s = sol.value("s", segment_features(pts_measured[0], pts_measured[1]).as_array())
     target = TargetFeatures(P_O, kind="segment")
     s_true = target.features(target.view_from_pose(planar_pose(X_DO)).xy)
     sol.check_error("s (10.28) of the measured points = segment features of x_{d,o} (rounding of 10.4's data)",
-                    max_abs_error(s, s_true), 2e-4)
+                    max_abs_error(s, s_true), 2e-4, reference="closed form")
     xs, es, pts = _estimation(sol, target, s, 5e-3, 5e-3)
     worst = min(_chord_deviation(pts[:, i]) for i in range(2))
     sol.value("min_chord_deviation", worst)
@@ -329,6 +354,16 @@ def _clouds(rng: np.random.Generator, n: int = 12, noise: float = 0.0):
     R, o = random_rotation(rng), rng.uniform(-1, 1, 3)
     pp = rng.uniform(-0.5, 0.5, (n, 3))
     return pp @ R.T + o + noise * rng.standard_normal((n, 3)), pp, R, o
+
+
+def _registration_checks(sol: Solution, errors: list[tuple[str, float, float, str]], optimum: str, better: int,
+                         what: str) -> Solution:
+    """The checks of 10.6–10.7: error measures ``(name, error, tol, reference)`` and the optimality of the
+    registration (``better`` random candidates did better: none may)."""
+    for name, error, tol, reference in errors:
+        sol.check_error(name, error, tol, reference=reference)
+    sol.check(optimum, better == 0, f"{better} {what}")
+    return sol
 
 
 @problem("10.6", "o = p̄ − R p̄' minimises the registration cost (10.55), Eq. (10.56)", kind="derivation")
@@ -356,10 +391,10 @@ def problem_10_6() -> Solution:
             worse += registration_cost(p, pp, R, o_star + delta) <= registration_cost(p, pp, R, o_star)
         grad = _fd(lambda o: registration_cost(p, pp, R, o), o_star)
         worst_grad = max(worst_grad, float(np.max(np.abs(grad))))
-    sol.check_error("g(o) = n‖p̄ − o − Rp̄'‖² + Σ‖p̄_i − Rp̄'_i‖² at 200 random o", worst_split, 1e-10)
-    sol.check_error("∂g/∂o = 0 at o* = p̄ − Rp̄' (central differences)", worst_grad, 1e-6)
-    sol.check("g(o* + δ) > g(o*) for 200 random δ", worse == 0, f"{worse} not larger")
-    return sol
+    return _registration_checks(sol, [
+        ("g(o) = n‖p̄ − o − Rp̄'‖² + Σ‖p̄_i − Rp̄'_i‖² at 200 random o", worst_split, 1e-10, "closed form"),
+        ("∂g/∂o = 0 at o* = p̄ − Rp̄' (central differences)", worst_grad, 1e-6, "finite differences")],
+        "g(o* + δ) > g(o*) for 200 random δ", worse, "not larger")
 
 
 @problem("10.7", "The rotation minimising (10.57) maximises Tr(Rᵀ K), K = Σ p̄_i p̄'_iᵀ", kind="derivation")
@@ -391,11 +426,11 @@ def problem_10_7() -> Solution:
             lhs = np.sum((c - cp @ Rr.T) ** 2)
             worst_identity = max(worst_identity, abs(lhs - (np.sum(c**2) - 2 * np.trace(Rr.T @ K) + np.sum(cp**2))))
             beaten += registration_cost(pn, ppn, Rr, pn.mean(0) - Rr @ ppn.mean(0)) < best - 1e-12
-    sol.check_error("Σ‖p̄_i − Rp̄'_i‖² = Σ‖p̄_i‖² − 2Tr(RᵀK) + Σ‖p̄'_i‖² at 1000 rotations", worst_identity, 1e-10)
-    sol.check_error("noise-free clouds: R and o recovered", worst_exact, 1e-10)
-    sol.check_error("noisy clouds: R = SciPy's Kabsch rotation (align_vectors)", worst_kabsch, 1e-9)
-    sol.check("no random rotation gives a lower cost (1000 tries)", beaten == 0, f"{beaten} lower")
-    return sol
+    return _registration_checks(sol, [
+        ("Σ‖p̄_i − Rp̄'_i‖² = Σ‖p̄_i‖² − 2Tr(RᵀK) + Σ‖p̄'_i‖² at 1000 rotations", worst_identity, 1e-10, "closed form"),
+        ("noise-free clouds: R and o recovered", worst_exact, 1e-10, "closed form"),
+        ("noisy clouds: R = SciPy's Kabsch rotation (align_vectors)", worst_kabsch, 1e-9, "other library")],
+        "no random rotation gives a lower cost (1000 tries)", beaten, "lower")
 
 
 # --------------------------------------------------------------------------------------------
@@ -433,9 +468,11 @@ def problem_10_12() -> Solution:
         worst_ratio = max(worst_ratio, abs(depth_ratio(H, n_c, s_c, n_d, s_d) - p_c[2] / p_d[2]))
         m = H @ np.append(s_d, 1.0)
         worst_map = max(worst_map, max_abs_error(m[:2] / m[2], s_c))
-    sol.check_error("(10.95) det H = d_c/d_d at 200 random poses/planes", worst_det, 1e-12)
-    sol.check_error("(10.94) z_c/z_d from H and the two images = ratio of the true depths", worst_ratio, 1e-9)
-    sol.check_error("H maps the desired image of a plane point to its current image", worst_map, 1e-9)
+    sol.check_error("(10.95) det H = d_c/d_d at 200 random poses/planes", worst_det, 1e-12, reference="closed form")
+    sol.check_error("(10.94) z_c/z_d from H and the two images = ratio of the true depths", worst_ratio, 1e-9,
+                    reference="closed form")
+    sol.check_error("H maps the desired image of a plane point to its current image", worst_map, 1e-9,
+                    reference="closed form")
     return sol
 
 
@@ -466,8 +503,9 @@ def problem_10_13() -> Solution:
         fd = (e_p(1e-6) - e_p(-1e-6)) / 2e-6
         worst_fd = max(worst_fd, max_abs_error(fd, J_p @ v + J_o @ w))
         worst_skew = max(worst_skew, max_abs_error(skew(r), r[2] * np.array([[0, -1, Y], [1, 0, -X], [-Y, X, 0]])))
-    sol.check_error("ė_p (central differences) = J_p v + J_o ω at 100 random points and twists", worst_fd, 1e-6)
-    sol.check_error("S(r_c^c) = z_c[[0, −1, Y], [1, 0, −X], [−Y, X, 0]]", worst_skew, 1e-12)
+    sol.check_error("ė_p (central differences) = J_p v + J_o ω at 100 random points and twists", worst_fd, 1e-6,
+                    reference="finite differences")
+    sol.check_error("S(r_c^c) = z_c[[0, −1, Y], [1, 0, −X], [−Y, X, 0]]", worst_skew, 1e-12, reference="closed form")
     return sol
 
 
@@ -634,14 +672,16 @@ def _final_camera_pose() -> np.ndarray:
 
 def _check_convergence(sol: Solution, run: _Run, label: str = "") -> None:
     err = _pose_error(run.x_co[-1], X_DO)
-    sol.check_error(f"{label}x_{{c,o}}(8 s) → x_{{d,o}}: position [m]", np.max(np.abs(err[:3])), 1e-3)
-    sol.check_error(f"{label}x_{{c,o}}(8 s) → x_{{d,o}}: angle [rad]", abs(err[3]), 1e-2)
+    sol.check_error(f"{label}x_{{c,o}}(8 s) → x_{{d,o}}: position [m]", np.max(np.abs(err[:3])), 1e-3,
+                    reference="simulation vs prediction")
+    sol.check_error(f"{label}x_{{c,o}}(8 s) → x_{{d,o}}: angle [rad]", abs(err[3]), 1e-2,
+                    reference="simulation vs prediction")
     x_c_inf = _final_camera_pose()
     sol.check_error(f"{label}final camera pose (computed {np.round(x_c_inf, 4).tolist()}) = manual's "
                     "[1.0707, 1.1225, 0.4, 7π/12] and reached", max(max_abs_error(x_c_inf, [1.0707, 1.1225, 0.4,
                                                                                              7 * np.pi / 12]),
                                                                         np.max(np.abs(_pose_error(run.x_c[-1], x_c_inf)))),
-                    2e-3)
+                    2e-3, reference="manual number")
 
 
 def _loop_figures(sol: Solution, run: _Run, figs: str, what: str) -> None:
@@ -678,14 +718,17 @@ def problem_10_8() -> Solution:
     estimator's tracking lag (1/K_s, "fast dynamics with negligible effects"); the features reach s_d.
     """
     sol = Solution()
+    _given_scene(sol)
     robot = scara_eye_in_hand()
     rng = np.random.default_rng(108)
     worst_B = max(max_abs_error(inertia_matrix(robot, q), _model_c_inertia(q))
                   for q in (robot.random_configuration(rng) for _ in range(10)))
-    sol.check_error("MODEL-C B(q) (Pinocchio, mimic rotors) = Problem 7.3's closed form [kg·m²]", worst_B, 1e-9)
+    sol.check_error("MODEL-C B(q) (Pinocchio, mimic rotors) = Problem 7.3's closed form [kg·m²]", worst_B, 1e-9,
+                    reference="closed form")
     sol.check_close("|g₃| = m₃ g = 19.62 N, on joint 3 only", np.abs(gravity_torques(robot, Q0)), [0, 0, 19.62, 0],
-                    atol=1e-9)
-    gains = dict(K_P=[500, 500, 10, 10], K_D=[500, 500, 10, 10])
+                    atol=1e-9, reference="closed form")
+    gains = sol.given("gains", dict(K_P=[500, 500, 10, 10], K_D=[500, 500, 10, 10]))
+    sol.given("T_c (companion, manual)", np.array([TC_COMPANION, TC_MANUAL]), unit="s")
     run = _pbvs_run(TC_COMPANION, **gains)
     variant = _pbvs_run(TC_MANUAL, **gains)
     sol.value("primary_run", "companion i10_8: controller period T_c = 40 ms")
@@ -697,7 +740,8 @@ def problem_10_8() -> Solution:
     _check_convergence(sol, run, "Tc = 40 ms: ")
     _check_convergence(sol, variant, "variant Tc = 4 ms: ")
     sol.check_error("q(8 s) = the SCARA joints of x_c(∞), elbow s₂ < 0: [1.492089, −1.366186, 0.4, 1.706693]",
-                    max_abs_error(run.res.q[-1], [1.492089, -1.366186, 0.4, 1.706693]), 1e-3)
+                    max_abs_error(run.res.q[-1], [1.492089, -1.366186, 0.4, 1.706693]), 1e-3,
+                    reference="simulation vs prediction")
     keep = np.searchsorted(run.res.t, run.t)
     est_err = np.abs(_pose_error(run.res["x_hat"][keep], run.x_co))
     speed = np.abs(np.gradient(run.x_co, run.t, axis=0))
@@ -708,8 +752,10 @@ def problem_10_8() -> Solution:
     sol.check("the estimator tracks the moving camera with the lag of a first-order filter: "
               "|x̂_i − x_i| = |ẋ_i|/K_s (1/160 s) within 10 % after 0.1 s", np.all(np.abs(lag * K_S_ESTIMATOR - 1) < 0.1),
               f"lag in [{lag.min():.5f}, {lag.max():.5f}] s")
-    sol.check_error("estimation error after 2 s (the camera has slowed down) [m, rad]", est_err[run.t >= 2].max(), 1e-3)
-    sol.check_error("features s(8 s) = s_d", max_abs_error(run.s[-1], _desired_segment()), 1e-3)
+    sol.check_error("estimation error after 2 s (the camera has slowed down) [m, rad]", est_err[run.t >= 2].max(), 1e-3,
+                    reference="simulation vs prediction")
+    sol.check_error("features s(8 s) = s_d", max_abs_error(run.s[-1], _desired_segment()), 1e-3,
+                    reference="simulation vs prediction")
     diff = float(np.max(np.abs(run.x_c - variant.x_c)))
     sol.value("max_difference_40ms_vs_4ms", diff)
     sol.check("the 4 ms variant follows the same path (max |Δx_c| < 2 cm): either reproduces the manual's "
@@ -731,6 +777,9 @@ def problem_10_9() -> Solution:
     convergence; the final camera pose.
     """
     sol = Solution()
+    _given_scene(sol)
+    sol.given("K (companion), K (manual)", np.array([[1.0, 1, 1, 2], [1, 1, 1, 1]]))
+    sol.given("T_c (companion, manual)", np.array([TC_COMPANION, TC_MANUAL]), unit="s")
     sol.value("primary_run", "companion i10_9: K = diag(1, 1, 1, 2), T_c = 40 ms")
     sol.value("variant_run", "manual's text: K = I₄, T_c = 4 ms")
     sol.value("figure_source", FIGURE_SOURCE)
@@ -753,7 +802,7 @@ def problem_10_9() -> Solution:
         # At 40 ms the joint rates held over a sample while the camera turns (φ̃ decays at 2 rad/s) couple
         # x̃_x and x̃_y by a few per cent; at 4 ms the decay is exponential within 1 %.
         sol.check_error(f"{label}x̃_i(t) = x̃_i(T_c) e^{{−K_ii (t − T_c)}} (error relative to x̃_i(T_c))", err_cont,
-                        0.04 if Tc > 0.01 else 0.01)
+                        0.04 if Tc > 0.01 else 0.01, reference="simulation vs prediction")
         _check_convergence(sol, run, label)
     _loop_figures(sol, primary, ("S10.11", "S10.12"), "resolved-velocity PBVS, K = diag(1, 1, 1, 2), T_c = 40 ms")
     return sol
@@ -762,6 +811,16 @@ def problem_10_9() -> Solution:
 def _retreat(run: _Run) -> float:
     """Camera retreat: how far the object depth z_{c,o} goes beyond its final value z_d = 0.6 m."""
     return float(np.max(run.x_co[:, 2]) - X_DO[2])
+
+
+def _depth_figure(sol: Solution, run: _Run, points: _Run, title: str) -> Solution:
+    """The object's depth z_{c,o}(t) with segment and with point features (10.10, 10.11); attached to ``sol``."""
+    fig, ax = subplots(figsize=(6, 3.5))
+    ax.plot(run.t, run.x_co[:, 2], label="segment features")
+    ax.plot(points.t, points.x_co[:, 2], "--", label="two point features")
+    label_axes(ax, "t [s]", "object depth z_{c,o} [m]", legend=True)
+    sol.figure(fig, title)
+    return sol
 
 
 @problem("10.10", "IBVS with PD + gravity compensation (Fig. 10.16), line-segment features", kind="simulation")
@@ -775,24 +834,21 @@ def problem_10_10() -> Solution:
     than with the two point features and the same gains (the manual: retreat "mitigated").
     """
     sol = Solution()
-    gains = dict(K_Ps=[300, 300, 150, 50], K_Ds=[330, 330, 165, 40])
+    _given_scene(sol)
+    gains = sol.given("gains", dict(K_Ps=[300, 300, 150, 50], K_Ds=[330, 330, 165, 40]))
+    sol.given("T_c", TC_MANUAL, unit="s")
     run = _ibvs_run(TC_MANUAL, "segment", **gains)
     sol.value("primary_run", "manual's text: T_c = 4 ms (no companion file exists for 10.10)")
     points = _ibvs_run(TC_MANUAL, "points", **gains)
     s_d = sol.value("s_d", _desired_segment())
     sol.value("x_c_final", run.x_c[-1])
-    sol.check_error("s(8 s) = s_d", max_abs_error(run.s[-1], s_d), 1e-3)
+    sol.check_error("s(8 s) = s_d", max_abs_error(run.s[-1], s_d), 1e-3, reference="simulation vs prediction")
     _check_convergence(sol, run)
     r_seg, r_pts = sol.value("retreat_segment", _retreat(run)), sol.value("retreat_points", _retreat(points))
     sol.check("camera retreat smaller with the segment than with two point features (same gains)",
               r_seg < r_pts, f"max z_co − 0.6: segment {r_seg:.4f} m, points {r_pts:.4f} m")
     _loop_figures(sol, run, ("S10.14", "S10.15"), "IBVS PD + gravity, T_c = 4 ms")
-    fig, ax = subplots(figsize=(6, 3.5))
-    ax.plot(run.t, run.x_co[:, 2], label="segment features")
-    ax.plot(points.t, points.x_co[:, 2], "--", label="two point features")
-    label_axes(ax, "t [s]", "object depth z_{c,o} [m]", legend=True)
-    sol.figure(fig, "10.10 — depth of the object in the camera frame: retreat")
-    return sol
+    return _depth_figure(sol, run, points, "10.10 — depth of the object in the camera frame: retreat")
 
 
 @problem("10.11", "Resolved-velocity IBVS (Fig. 10.17), line-segment features", kind="simulation")
@@ -806,6 +862,8 @@ def problem_10_11() -> Solution:
     segment's image length instead of z_d, the law still converges without retreat.
     """
     sol = Solution()
+    _given_scene(sol)
+    sol.given("K_s", 1.0), sol.given("T_c (companion, manual)", np.array([TC_COMPANION, TC_MANUAL]), unit="s")
     run = _ibvs_run(TC_COMPANION, "segment", K_s=1.0)
     variant = _ibvs_run(TC_MANUAL, "segment", K_s=1.0)
     sol.value("primary_run", "companion i10_11: T_c = 40 ms")
@@ -815,7 +873,8 @@ def problem_10_11() -> Solution:
     sol.value("x_c_final", run.x_c[-1])
     sol.value("x_co_final", run.x_co[-1])
     for label, r in (("", run), ("variant Tc = 4 ms: ", variant)):
-        sol.check_error(f"{label}s(8 s) = s_d", max_abs_error(r.s[-1], _desired_segment()), 1e-3)
+        sol.check_error(f"{label}s(8 s) = s_d", max_abs_error(r.s[-1], _desired_segment()), 1e-3,
+                        reference="simulation vs prediction")
         _check_convergence(sol, r, label)
         z = r.x_co[:, 2]
         sol.check(f"{label}no camera retreat: z_{{c,o}} rises monotonically, max ≤ 0.6 + 1e-3",
@@ -830,9 +889,5 @@ def problem_10_11() -> Solution:
     _loop_figures(sol, run, ("S10.17", "S10.18"), "resolved-velocity IBVS, K_s = I₄, T_c = 40 ms")
     eye_in_hand_animation(sol, scara_eye_in_hand(), run.res, _target_points_b(), "resolved-velocity IBVS "
                           "(segment features, T_c = 40 ms): the camera rises to z_d without retreat", depth=X_DO[2])
-    fig, ax = subplots(figsize=(6, 3.5))
-    ax.plot(run.t, run.x_co[:, 2], label="segment features")
-    ax.plot(points.t, points.x_co[:, 2], "--", label="two point features")
-    label_axes(ax, "t [s]", "object depth z_{c,o} [m]", legend=True)
-    sol.figure(fig, "10.11 — depth of the object in the camera frame: no retreat with the segment")
-    return sol
+    return _depth_figure(sol, run, points,
+                         "10.11 — depth of the object in the camera frame: no retreat with the segment")

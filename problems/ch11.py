@@ -113,11 +113,12 @@ def problem_11_1() -> Solution:
     sol.value("N", list(range(5)))
     sol.value("dimension", dims)
     sol.value("angle_indices_N3", trailer_angle_indices(3))
-    sol.check_close("dim C = N + 4 (x, y and N + 2 angles)", dims, [N + 4 for N in range(5)], atol=0)
+    sol.check_close("dim C = N + 4 (x, y and N + 2 angles)", dims, [N + 4 for N in range(5)], atol=0,
+                    reference="closed form")
     sol.check_close("coordinates independent: rank ∂(positions, headings)/∂q = N + 4 (finite differences)",
-                    ranks, dims, atol=0)
+                    ranks, dims, atol=0, reference="finite differences")
     sol.check_close("N + 2 independent constraints ⇒ n − k = 2 admissible directions", np.subtract(dims, constraint_ranks),
-                    [2] * 5, atol=0)
+                    [2] * 5, atol=0, reference="closed form")
     return sol
 
 
@@ -156,7 +157,8 @@ def problem_11_2() -> Solution:
         return np.vstack([np.eye(3), -_three_wheel_A(q, ell, r)[:, :3] / r])
 
     q = rng.normal(size=6)
-    sol.check_close("A(q) G(q) = 0 at a random q", _three_wheel_A(q, ell, r) @ G(q), np.zeros((3, 3)), atol=1e-14)
+    sol.check_close("A(q) G(q) = 0 at a random q", _three_wheel_A(q, ell, r) @ G(q), np.zeros((3, 3)), atol=1e-14,
+                    reference="closed form")
     freq = rng.uniform(0.5, 2.0, 3)
     res = simulate(DriftlessPlant(G), lambda t, q: np.sin(freq * t + np.arange(3)), (0.0, 5.0), q, h=1e-3, Ts=1e-3)
     invariant = res.x[:, 2] + r / (3 * ell) * res.x[:, 3:].sum(axis=1)
@@ -219,7 +221,7 @@ def problem_11_3() -> Solution:
                          lambda x: np.asarray(f_g(x)[1], dtype=float).ravel(), qn)
         fd_err = max(fd_err, float(np.max(np.abs(fd - B))))
     sol.check("rank[g1, g2, [g1, g2]] = 2 at 10 random q (involutive)", all(k == 2 for k in ranks), f"ranks {ranks}")
-    sol.check_error("finite-difference bracket = sympy bracket", fd_err, 1e-7)
+    sol.check_error("finite-difference bracket = sympy bracket", fd_err, 1e-7, reference="finite differences")
     th = sp.symbols("theta")
     u1, u2 = sp.Matrix([sp.cos(th), sp.sin(th), 0]), sp.Matrix([0, 0, 1])
     bu = lie_bracket_symbolic(u1, u2, [sp.Symbol("x"), sp.Symbol("y"), th])
@@ -247,7 +249,7 @@ def problem_11_4() -> Solution:
     rank = accessibility_rank(fields, rng.normal(size=n), depth=3)
     sol.value("m", m)
     sol.value("accessibility_rank", rank)
-    sol.check_close("A G = 0", A @ G, np.zeros((k, m)), atol=1e-14)
+    sol.check_close("A G = 0", A @ G, np.zeros((k, m)), atol=1e-14, reference="closed form")
     sol.check("dim Δ_A = m = n − k = 3 < 5 (brackets vanish)", rank == m == n - k, f"rank {rank}, m {m}")
     ctrb = np.linalg.matrix_rank(np.hstack([G, np.zeros((n, n)) @ G]))  # [B, AB] with A = 0 (driftless linear)
     sol.check("linear rank condition (D.15): rank[B AB …] = m < n", ctrb == m, f"rank {ctrb}")
@@ -276,7 +278,8 @@ def problem_11_5() -> Solution:
     theta0 = 0.7
     bracket = np.array([np.sin(theta0), -np.cos(theta0), 0.0])
     fd = lie_bracket(_column(unicycle_input_matrix, 0), _column(unicycle_input_matrix, 1), [0.3, -0.2, theta0])
-    sol.check_close("finite-difference [g1, g2](q0) = [sin θ0, −cos θ0, 0]", fd, bracket, atol=1e-9)
+    sol.check_close("finite-difference [g1, g2](q0) = [sin θ0, −cos θ0, 0]", fd, bracket, atol=1e-9,
+                    reference="finite differences")
     err_closed, t_err = [], []
     epsilons = [0.2, 0.1, 0.05, 0.025]
     for eps in epsilons:
@@ -288,7 +291,8 @@ def problem_11_5() -> Solution:
         t_err.append(float(np.linalg.norm(disp / eps**2 - bracket)))
     sol.value("epsilon", epsilons)
     sol.value("t_minus_bracket", t_err)
-    sol.check_error("simulated displacement = closed form (all ε)", max(err_closed), 1e-12)
+    sol.check_error("simulated displacement = closed form (all ε)", max(err_closed), 1e-12,
+                    reference="simulation vs prediction")
     orders = np.diff(np.log(t_err)) / np.diff(np.log(epsilons))
     sol.value("convergence_order", orders)
     sol.check("‖t(ε) − [g1, g2](q0)‖ = O(ε) (slopes ≈ 1)", np.all(np.abs(orders - 1) < 0.05), f"slopes {orders}")
@@ -331,7 +335,8 @@ def problem_11_6() -> Solution:
         rolling = r * omega_i[:, None] * np.c_[np.cos(th_[1:-1]), np.sin(th_[1:-1])]
         worst = max(worst, float(np.max(np.abs(v_fd - rolling)[mid])))
     sol.value("wheel_velocity_mismatch", worst)
-    sol.check_error("simulated wheel centres roll: ṗ_i = r ω_i [cos θ, sin θ] (finite differences)", worst, 1e-5)
+    sol.check_error("simulated wheel centres roll: ṗ_i = r ω_i [cos θ, sin θ] (finite differences)", worst, 1e-5,
+                    reference="finite differences")
     return sol
 
 
@@ -366,13 +371,15 @@ def problem_11_7() -> Solution:
         worst_mag = max(worst_mag, abs(np.linalg.norm(vP) - R_P * abs(v * np.tan(phi) / ell)))
     q = np.r_[rng.uniform(-2, 2, 3), 0.4]
     sol.check_close("model (11.19): A(q) G(q) = 0 for the constraints (11.15)–(11.16)",
-                    bicycle_constraints(q, ell) @ bicycle_input_matrix(q, ell), np.zeros((2, 2)), atol=1e-15)
-    sol.check_error("C (11.7 formula) = intersection of the wheel axes", worst_C, 1e-12)
-    sol.check_error("v_P ⟂ (P − C)", worst_perp, 1e-12)
-    sol.check_error("|v_P| = R_P v tan φ / ℓ", worst_mag, 1e-12)
+                    bicycle_constraints(q, ell) @ bicycle_input_matrix(q, ell), np.zeros((2, 2)), atol=1e-15,
+                    reference="closed form")
+    sol.check_error("C (11.7 formula) = intersection of the wheel axes", worst_C, 1e-12, reference="second algorithm")
+    sol.check_error("v_P ⟂ (P − C)", worst_perp, 1e-12, reference="closed form")
+    sol.check_error("|v_P| = R_P v tan φ / ℓ", worst_mag, 1e-12, reference="closed form")
     q = np.array([0.0, 0.0, 0.0, 0.5])
     sol.value("icr_example", bicycle_icr(q, ell))
-    sol.check_close("body frame: C = (0, ℓ/tan φ) at θ = 0", bicycle_icr(q, ell), [0.0, ell / np.tan(0.5)], atol=1e-15)
+    sol.check_close("body frame: C = (0, ℓ/tan φ) at θ = 0", bicycle_icr(q, ell), [0.0, ell / np.tan(0.5)], atol=1e-15,
+                    reference="closed form")
     return sol
 
 
@@ -403,8 +410,9 @@ def problem_11_8() -> Solution:
         rows = np.array([np.sin(hd) * J[i, 0] - np.cos(hd) * J[i, 1] for i, hd in enumerate(headings)])
         worst_rows = max(worst_rows, float(np.max(np.abs(rows - A))))
     sol.value("max_abs_AG", worst)
-    sol.check_error("A(q) G(q) = 0 at 20 random q (N = 3)", worst, 1e-14)
-    sol.check_error("constraint rows = lateral velocities of the axle points (finite differences)", worst_rows, 1e-8)
+    sol.check_error("A(q) G(q) = 0 at 20 random q (N = 3)", worst, 1e-14, reference="closed form")
+    sol.check_error("constraint rows = lateral velocities of the axle points (finite differences)", worst_rows, 1e-8,
+                    reference="finite differences")
 
     def G(q: np.ndarray) -> np.ndarray:
         return trailer_input_matrix(q, ell, lengths)
@@ -417,7 +425,8 @@ def problem_11_8() -> Solution:
     headings = np.c_[res.x[1:-1, 3] + res.x[1:-1, 2], res.x[1:-1, 3:]]
     lateral = np.abs(np.sin(headings) * v_fd[..., 0] - np.cos(headings) * v_fd[..., 1])
     sol.value("max_lateral_velocity", float(lateral.max()))
-    sol.check_error("simulated train: no lateral slip at any wheel (6 s)", lateral.max(), 1e-6)
+    sol.check_error("simulated train: no lateral slip at any wheel (6 s)", lateral.max(), 1e-6,
+                    reference="simulation vs prediction")
     fig, ax = subplots(figsize=(6.4, 4.0))
     for i, label in enumerate(["front wheel", "tricycle"] + [f"trailer {k}" for k in range(1, N + 1)]):
         ax.plot(pts[:, i, 0], pts[:, i, 1], label=label)
@@ -434,18 +443,19 @@ def problem_11_9() -> Solution:
     (11.14) against a numerical solve; the rhombus predicate against the wheel-speed check on random samples.
     """
     sol = Solution()
-    r, d, w_RL = 0.1, 0.5, 10.0
+    r, d, w_RL = sol.given("r", 0.1, unit="m"), sol.given("d", 0.5, unit="m"), sol.given("ω_RL", 10.0, unit="rad/s")
     v_max, w_max = differential_drive_limits(r, d, w_RL)
     sol.value("v_max", v_max)
     sol.value("omega_max", w_max)
-    sol.check_close("v_max = r ω_RL = 1 m/s, ω_max = 2r ω_RL/d = 4 rad/s", [v_max, w_max], [1.0, 4.0], atol=1e-15)
+    sol.check_close("v_max = r ω_RL = 1 m/s, ω_max = 2r ω_RL/d = 4 rad/s", [v_max, w_max], [1.0, 4.0], atol=1e-15,
+                    reference="closed form")
     rng = _rng()
     v, w = rng.uniform(-1.5, 1.5, 2000), rng.uniform(-6, 6, 2000)
     M = np.array([[r / 2, r / 2], [r / d, -r / d]])  # (11.14): [v, ω] = M [ω_R, ω_L]
     wheels = np.linalg.solve(M, np.vstack([v, w]))
     wR, wL = differential_drive_wheel_speeds(v, w, r, d)
     sol.check_close("ω_R = (2v + dω)/(2r), ω_L = (2v − dω)/(2r) (vs numerical inverse of (11.14))",
-                    np.vstack([wR, wL]), wheels, atol=1e-12)
+                    np.vstack([wR, wL]), wheels, atol=1e-12, reference="second algorithm")
     feasible = np.max(np.abs(wheels), axis=0) <= w_RL
     predicate = differential_drive_admissible(v, w, r, d, w_RL)
     sol.check("rhombus predicate = wheel-speed check on 2000 random (v, ω)", np.array_equal(feasible, predicate),
@@ -506,9 +516,10 @@ def problem_11_10() -> Solution:
         miss_manual = max(miss_manual, float(np.max(np.abs(_integrate_chained(wrong_path, z_i) - z_f))))
     sol.value("example_c", path.coefficients)
     sol.value("miss_with_manual_d", miss_manual)
-    sol.check_error("D = the manual's matrix (both signs of Δ)", worst_D, 1e-12)
-    sol.check_error("d = corrected vector (… − z2i Δ²/2)", worst_d, 1e-12)
-    sol.check_error("chained form integrated (RK4) with c = D⁻¹d reaches z_f", miss, 1e-9)
+    sol.check_error("D = the manual's matrix (both signs of Δ)", worst_D, 1e-12, reference="closed form")
+    sol.check_error("d = corrected vector (… − z2i Δ²/2)", worst_d, 1e-12, reference="closed form")
+    sol.check_error("chained form integrated (RK4) with c = D⁻¹d reaches z_f", miss, 1e-9,
+                    reference="simulation vs prediction")
     sol.check("erratum 11.10: the manual's d3 (− z2i|Δ|) misses z_f", miss_manual > 1e-3,
               f"max |z(s_f) − z_f| = {miss_manual:.3g} with the printed d3")
     return sol
@@ -533,8 +544,10 @@ def problem_11_11() -> Solution:
         unit = unit and path.s_f == 1.0 and abs(path.inputs(0.3)[0] - De) < 1e-14
         miss = max(miss, float(np.max(np.abs(_integrate_chained(path, z_i) - z_f))))
     sol.check("s_f = 1 and ṽ1 = Δ in all four cases", unit)
-    sol.check_error("(2, 3): D = [[1, 1/2], [Δ/2, Δ/6]], d = [z2f − z2i, z3f − z3i − z2i Δ]", worst, 1e-12)
-    sol.check_error("(2, 3) and (2, 4) integrated (RK4) reach z_f at s = 1", miss, 1e-9)
+    sol.check_error("(2, 3): D = [[1, 1/2], [Δ/2, Δ/6]], d = [z2f − z2i, z3f − z3i − z2i Δ]", worst, 1e-12,
+                    reference="closed form")
+    sol.check_error("(2, 3) and (2, 4) integrated (RK4) reach z_f at s = 1", miss, 1e-9,
+                    reference="simulation vs prediction")
     return sol
 
 
@@ -558,8 +571,10 @@ def problem_11_12() -> Solution:
         z3 = z_i[2] + De * (z_i[1] * s + c0 * s**2 / 2 + c1 * s**3 / 6)
         worst_formula = max(worst_formula, float(np.max(np.abs(z3 - A.z(s)[:, 2]))))
         manual_miss = max(manual_miss, abs(z_i[2] + De * (c0 / 2 + c1 / 6) - z_f[2]))
-    sol.check_error("schemes A and B: identical z(s) and geometric inputs (10 random boundary pairs)", worst, 1e-12)
-    sol.check_error("z3 = z3i + Δ(z2i s + c0 s²/2 + c1 s³/6) (corrected)", worst_formula, 1e-12)
+    sol.check_error("schemes A and B: identical z(s) and geometric inputs (10 random boundary pairs)", worst, 1e-12,
+                    reference="second algorithm")
+    sol.check_error("z3 = z3i + Δ(z2i s + c0 s²/2 + c1 s³/6) (corrected)", worst_formula, 1e-12,
+                    reference="closed form")
     sol.value("manual_z3_miss", manual_miss)
     sol.check("erratum 11.12: the printed z3 (without z2i Δ s) misses z3f", manual_miss > 1e-3,
               f"max |z3(1) − z3f| = {manual_miss:.3g}")
@@ -576,8 +591,10 @@ def problem_11_13() -> Solution:
     (RK4) reaches q_f.
     """
     sol = Solution()
-    q_i, q_f = np.zeros(3), np.array([2.0, 1.0, np.pi / 2])
-    path = cartesian_polynomial_path(q_i, q_f, 1.0, 1.0)
+    q_i = sol.given("q_i", np.zeros(3), unit="m, m, rad")
+    q_f = sol.given("q_f", np.array([2.0, 1.0, np.pi / 2]), unit="m, m, rad")
+    k = sol.given("k = k_i = k_f", 1.0, unit="m")
+    path = cartesian_polynomial_path(q_i, q_f, k, k)
     sol.value("alpha_x", float(path.alpha[0]))
     sol.value("beta_x", float(path.beta[0]))
     sol.value("alpha_y", float(path.alpha[1]))
@@ -588,16 +605,24 @@ def problem_11_13() -> Solution:
     sol.value("max_v", float(np.max(np.abs(v))))
     sol.value("max_omega", float(np.max(np.abs(w))))
     sol.value("s_at_max_v", float(s[np.argmax(v)]))
-    sol.check_close("boundary positions p(0) = (0, 0), p(1) = (2, 1)", [p[0], p[-1]], [q_i[:2], q_f[:2]], atol=1e-14)
+    # (11.52) with the manual's α = [cos θ_f − 3x_f, sin θ_f − 3y_f] = [−6, −2], β = [cos θ_i + 3x_i, ·] = [1, 0]:
+    # p(0) = (0, 0) and p(1) = (2, 1) follow from the cubic, evaluated here term by term.
+    cubic = (np.outer(s**3, [2.0, 1.0]) + np.outer(s**2 * (s - 1), [-6.0, -2.0])
+             + np.outer(s * (s - 1) ** 2, [1.0, 0.0]))
+    sol.check_close("p(s) = s³p_f − (s − 1)³p_i + α s²(s − 1) + β s(s − 1)², the manual's α, β (100001 s)", p, cubic,
+                    atol=1e-12, reference="closed form")
     sol.check_close("boundary headings Atan2(y', x') = 0, π/2 and speeds ṽ(0) = k_i, ṽ(1) = k_f",
-                    [theta[0], theta[-1], v[0], v[-1]], [0.0, np.pi / 2, 1.0, 1.0], atol=1e-14)
-    sol.check_close("manual: max|ω̃| = 10 rad/s with s = t", float(np.max(np.abs(w))), 10.0, atol=1e-6)
-    sol.check_close("max ṽ = 3.0275 m/s (catalogue's reference value)", float(np.max(v)), 3.0275, atol=1e-3)
+                    [theta[0], theta[-1], v[0], v[-1]], [0.0, np.pi / 2, 1.0, 1.0], atol=1e-14, reference="closed form")
+    sol.check_close("manual: max|ω̃| = 10 rad/s with s = t", float(np.max(np.abs(w))), 10.0, atol=1e-6,
+                    reference="manual number")
+    sol.check_close("max ṽ = 3.0275 m/s (catalogue's reference value)", float(np.max(v)), 3.0275, atol=1e-3,
+                    reference="manual number")
     fd_theta = np.gradient(np.unwrap(theta), s)
-    sol.check_close("ω̃ = dθ/ds (finite differences of the heading)", fd_theta[1:-1], w[1:-1], atol=1e-4)
+    sol.check_close("ω̃ = dθ/ds (finite differences of the heading)", fd_theta[1:-1], w[1:-1], atol=1e-4,
+                    reference="finite differences")
     T = uniform_time_scaling(path, v_max=0.5, omega_max=1.0)
     sol.value("T", T)
-    sol.check_close("uniform scaling: T = 10 s (set by ω̃)", T, 10.0, atol=1e-9)
+    sol.check_close("uniform scaling: T = 10 s (set by ω̃)", T, 10.0, atol=1e-9, reference="closed form")
     sol.value("max_v_scaled", float(np.max(np.abs(v)) / T))
     sol.value("max_omega_scaled", float(np.max(np.abs(w)) / T))
     sol.check("after scaling: max|v| ≤ 0.31 m/s and max|ω| ≤ 1 rad/s",
@@ -610,7 +635,8 @@ def problem_11_13() -> Solution:
     res = simulate(UnicyclePlant(), inputs, (0.0, T), q_i, h=H / 10, Ts=H)
     err = res.x[-1] - q_f
     sol.value("open_loop_final_error", err)
-    sol.check_close("unicycle driven by the scaled inputs (RK4) reaches q_f", err, np.zeros(3), atol=1e-4)
+    sol.check_close("unicycle driven by the scaled inputs (RK4) reaches q_f", err, np.zeros(3), atol=1e-4,
+                    reference="simulation vs prediction")
 
     fig, (ax1, ax2) = subplots(1, 2, figsize=(10, 4))
     ax1.plot(p[:, 0], p[:, 1], label="planned path")
@@ -681,7 +707,7 @@ def problem_11_14() -> Solution:
     # Footnote: for the unicycle (11.23)–(11.24) the reference has ω_d = v1d constant, v_d = z3d v1d linear in t.
     v_unicycle = [reference(t)[1][1] + reference(t)[0][2] * vd for t in (0.0, 1.0, 2.0)]
     sol.check_close("footnote: ω_d constant, v_d = v2d + z3d v1d grows linearly (Archimedean spiral)",
-                    np.diff(v_unicycle), [zd2 * vd**2] * 2, atol=1e-14)
+                    np.diff(v_unicycle), [zd2 * vd**2] * 2, atol=1e-14, reference="closed form")
     return sol
 
 
@@ -714,9 +740,9 @@ def problem_11_15() -> Solution:
         theta_dot = np.sin(ph) * (c2 * u[0] + s2 * u[1]) / ell
         phi_dot = -(c2 * np.sin(ph) / ell + s2 / b) * u[0] - (s2 * np.sin(ph) / ell - c2 / b) * u[1]
         worst_zero = max(worst_zero, float(np.max(np.abs(qd[2:] - [theta_dot, phi_dot]))))
-    sol.check_error("T(θ, φ) = ∂y/∂q G(q) (finite differences)", worst_T, 1e-8)
-    sol.check_error("det T = b / cos φ (relative)", worst_det, 1e-12)
-    sol.check_error("zero dynamics θ̇, φ̇ = manual's expressions", worst_zero, 1e-12)
+    sol.check_error("T(θ, φ) = ∂y/∂q G(q) (finite differences)", worst_T, 1e-8, reference="finite differences")
+    sol.check_error("det T = b / cos φ (relative)", worst_det, 1e-12, reference="closed form")
+    sol.check_error("zero dynamics θ̇, φ̇ = manual's expressions", worst_zero, 1e-12, reference="closed form")
     near = np.linalg.cond(front_wheel_point_matrix(0.3, np.pi / 2 - 1e-7, ell, b))
     sol.check("erratum 11.15: T degenerates as |φ| → π/2 (cond > 1e6 at π/2 − 1e-7), so |φ| < π/2 strictly",
               near > 1e6, f"cond T = {near:.2e}")
@@ -772,12 +798,13 @@ def problem_11_16() -> Solution:
     from the obtuse start; the manual's S11.2 is the Simulink diagram) and S11.3.
     """
     sol = Solution()
-    k1, k2 = 1.0, 3.0
+    k1, k2 = sol.given("k1", 1.0), sol.given("k2", 3.0)
+    sol.given("q(0)", Q0_COMPANION, unit="m, m, rad")
     mod = _regulate(CartesianRegulator(k1, k2, backward=True), Q0_COMPANION)
     orig = _regulate(CartesianRegulator(k1, k2), Q0_COMPANION)
     n_e0 = -(Q0_COMPANION[0] * np.cos(Q0_COMPANION[2]) + Q0_COMPANION[1] * np.sin(Q0_COMPANION[2]))
     sol.value("n_T_e_p_initial", float(n_e0))
-    sol.check_close("obtuse start: nᵀe_p(0) = −2", n_e0, -2.0, atol=1e-12)
+    sol.check_close("obtuse start: nᵀe_p(0) = −2", n_e0, -2.0, atol=1e-12, reference="closed form")
     sol.value("max_v_modified", float(mod.u[:, 0].max()))
     sol.value("max_v_original", float(orig.u[:, 0].max()))
     sol.value("final_distance_modified", float(np.hypot(*mod.x[-1, :2])))
@@ -792,7 +819,8 @@ def problem_11_16() -> Solution:
               f"max v = {orig.u[:, 0].max():.2f} m/s")
     acute = np.array([-1.0, -1.0, np.pi / 4])
     a_mod, a_orig = _regulate(CartesianRegulator(k1, k2, True), acute), _regulate(CartesianRegulator(k1, k2), acute)
-    sol.check_close("acute start: identical trajectories with both laws", a_mod.x, a_orig.x, atol=0.0)
+    sol.check_close("acute start: identical trajectories with both laws", a_mod.x, a_orig.x, atol=0.0,
+                    reference="second algorithm")
 
     fig1, ax = subplots(figsize=(6.0, 5.0))
     ax.plot(orig.x[:, 0], orig.x[:, 1], label="original (11.78)–(11.79)")
@@ -826,14 +854,15 @@ def problem_11_17() -> Solution:
         v, w, Ts = rng.uniform(-2, 2), rng.uniform(-3, 3), rng.uniform(0.05, 1.0)
         res = simulate(UnicyclePlant(), lambda t, x: np.array([v, w]), (0.0, Ts), q0, h=Ts / 1000, Ts=Ts)
         worst = max(worst, float(np.max(np.abs(odometry_step(q0, v, w, Ts, "exact") - res.x[-1]))))
-    sol.check_error("exact step (11.85) = RK4 integration (10 random cases)", worst, 1e-10)
+    sol.check_error("exact step (11.85) = RK4 integration (10 random cases)", worst, 1e-10,
+                    reference="second algorithm")
     q0 = np.array([0.3, -0.2, 0.4])
     straight = q0 + np.array([1.5 * np.cos(0.4), 1.5 * np.sin(0.4), 0.0])
     sol.check_close("ω → 0: the exact step's limit branch gives the straight line (ω = 1e-12)",
-                    odometry_step(q0, 1.5, 1e-12, 1.0, "exact"), straight, atol=1e-11)
+                    odometry_step(q0, 1.5, 1e-12, 1.0, "exact"), straight, atol=1e-11, reference="closed form")
     sol.check_close("near the branch switch (ω = 1e-5) the arc formula agrees with the chord (RK) step to O((ωT)²)",
                     odometry_step(q0, 1.5, 1e-5, 1.0, "exact"), odometry_step(q0, 1.5, 1e-5, 1.0, "runge_kutta"),
-                    atol=1e-10)
+                    atol=1e-10, reference="second algorithm")
     Tss = np.array([0.2, 0.1, 0.05])
     errs = {m: [np.linalg.norm(odometry_step(q0, 1.0, 2.0, T, m)[:2] - odometry_step(q0, 1.0, 2.0, T, "exact")[:2])
                 for T in Tss] for m in ("euler", "runge_kutta")}
@@ -892,6 +921,8 @@ def problem_11_18() -> Solution:
     """
     sol = Solution()
     runs = {}
+    sol.given("q(0)", Q0_COMPANION, unit="m, m, rad"), sol.given("k1, k2, k3", np.array(K_POSTURE))
+    sol.given("T_s (two runs)", np.array([0.01, 0.1]), unit="s")
     for Ts, fig_name in ((0.01, "Fig. S11.5"), (0.1, "Fig. S11.6")):
         res = posture_with_odometry(Ts)
         runs[Ts] = res
@@ -924,7 +955,7 @@ def problem_11_18() -> Solution:
     for dt, u in zip(np.diff(res.t), res.u[:-1]):
         q_exact = odometry_step(q_exact, u[0], u[1], dt, "exact")
     sol.check_close("exact arc integration (11.85) of the logged inputs = the simulated unicycle (T_s = 0.1 s)",
-                    q_exact[:2], res.x[-1, :2], atol=1e-6)
+                    q_exact[:2], res.x[-1, :2], atol=1e-6, reference="second algorithm")
     # The odometry block against the encoders' increments done by hand, (11.84) at every 0.1 s sample.
     q_hat = res.x[0, :3].copy()
     for k in range(10, len(res.t), 10):
@@ -932,7 +963,7 @@ def problem_11_18() -> Solution:
         q_hat = np.array([q_hat[0] + ds * np.cos(q_hat[2] + dpsi / 2), q_hat[1] + ds * np.sin(q_hat[2] + dpsi / 2),
                           q_hat[2] + dpsi])
     sol.check_close("odometry block = (11.84) on the encoder increments Δs, Δθ (T_s = 0.1 s, final p̂)",
-                    q_hat[:2], res["q_hat"][-1, :2], atol=1e-12)
+                    q_hat[:2], res["q_hat"][-1, :2], atol=1e-12, reference="closed form")
 
     grid = np.array([0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0])
     finals = np.array([final_distance(Ts) for Ts in grid])

@@ -104,6 +104,15 @@ def _workspace_axes(ax, bounds, title: str) -> None:
     label_axes(ax, "x [m]", "y [m]", title=title, legend=False, grid=False)
 
 
+def _potential_figure(sol: Solution, fig, ax, goal, bounds, title: str, legend_loc: str) -> Solution:
+    """Close a potential-field figure (12.11, 12.12): the goal marked, workspace axes, legend; attach it."""
+    ax.plot(*goal, "g*", ms=12, label="goal")
+    _workspace_axes(ax, bounds, "")
+    ax.legend(loc=legend_loc, fontsize=7)
+    sol.figure(fig, title)
+    return sol
+
+
 def _cspace_axes(ax, title: str) -> None:
     label_axes(ax, "q₁ [rad]", "q₂ [rad]", title=title, legend=False, grid=False)
 
@@ -175,7 +184,8 @@ def problem_12_2() -> Solution:
     d3 = torus_distance(A, B)
     lifts = np.array([[i, j] for i in (-1, 0, 1) for j in (-1, 0, 1)]) * 2 * np.pi
     brute = np.min(np.linalg.norm(B[:, None, :] + lifts[None] - A[:, None, :], axis=-1), axis=1)
-    sol.check_close("d₃ = min over the lifts q_B + 2πk of ‖q_A − q_B − 2πk‖ (2000 pairs)", d3, brute, atol=1e-12)
+    sol.check_close("d₃ = min over the lifts q_B + 2πk of ‖q_A − q_B − 2πk‖ (2000 pairs)", d3, brute, atol=1e-12,
+                    reference="second algorithm")
     sol.check("symmetric", np.allclose(d3, torus_distance(B, A), atol=1e-12))
     sol.check("triangle inequality d₃(A,C) ≤ d₃(A,B) + d₃(B,C)",
               np.all(torus_distance(A, C) <= d3 + torus_distance(B, C) + 1e-12))
@@ -222,7 +232,7 @@ def problem_12_3() -> Solution:
               key(COs[0]).shape == key(COs[1]).shape and np.allclose(key(COs[0]), key(COs[1])))
     expected = np.array(sorted([(-1, 0), (0, -1), (2, -1), (2, 2), (-1, 2)]), dtype=float)
     sol.check_close("CO = pentagon {(−1,0), (0,−1), (2,−1), (2,2), (−1,2)} (constructed by hand)",
-                    key(COs[0]), expected, atol=1e-12)
+                    key(COs[0]), expected, atol=1e-12, reference="closed form")
     rng = np.random.default_rng(SEED)
     Qs = rng.uniform(-2, 3, (1500, 2))
     for k, ((B, O), CO) in enumerate(zip(scenes, COs), start=1):
@@ -262,10 +272,12 @@ def problem_12_4() -> Solution:
     """
     sol = Solution()
     scene = scene_12_4()
-    arm = PlanarArm((1.0, 1.0), 0.1)
+    arm = PlanarArm(tuple(sol.given("a1, a2", np.array([1.0, 1.0]), unit="m")), sol.given("link radius", 0.1, unit="m"))
     space = PlanarCSpace(arm, scene, [-np.pi, -np.pi], [np.pi, np.pi])
     q = {"q_a": np.array([np.pi / 4, np.pi / 2]), "q_b": np.array([4.12, np.pi / 6]),
          "q_c": np.array([4.12, 2.88])}
+    for name, q_k in q.items():
+        sol.given(name, q_k, unit="rad")
     results = {}
     for n in (160, 320):
         free, axis = _torus_grid(space, n)
@@ -318,17 +330,17 @@ def problem_12_5() -> Solution:
     also sampled with scipy's Voronoi of boundary points: every ridge must lie on the medial axis.
     """
     sol = Solution()
-    a, b = 4.0, 1.5
+    a, b = sol.given("a", 4.0, unit="m"), sol.given("b", 1.5, unit="m")
     K = box(0, 0, a, b)
     nodes = gvd_nodes(K)
     inner = nodes[nodes[:, 2] > 1e-9]
     sol.value("nodes", inner[:, :2])
     sol.check_close("nodes (b/2, b/2), (a − b/2, b/2), clearance b/2", inner,
-                    [[b / 2, b / 2, b / 2], [a - b / 2, b / 2, b / 2]], atol=1e-9)
+                    [[b / 2, b / 2, b / 2], [a - b / 2, b / 2, b / 2]], atol=1e-9, reference="closed form")
     corners = nodes[nodes[:, 2] <= 1e-9, :2]
     sol.check_close("the other nodes are the four corners (clearance 0)",
                     np.array(sorted(map(tuple, np.round(corners, 9) + 0.0))),
-                    np.array(sorted(map(tuple, K.vertices))), atol=1e-9)
+                    np.array(sorted(map(tuple, K.vertices))), atol=1e-9, reference="closed form")
     segs = sampled_gvd(K, spacing=0.02)
     P = segs.reshape(-1, 2)
     x, y = P[:, 0], P[:, 1]
@@ -377,8 +389,8 @@ def problem_12_6() -> Solution:
     comparisons; the visibility-graph length 2√(0.5² + 2²) is the shortest possible.
     """
     sol = Solution()
-    diamond = Polygon([[5, 5], [6, 4], [7, 5], [6, 6]])
-    qs, qg = np.array([5.5, 7.0]), np.array([5.5, 3.0])
+    diamond = Polygon(sol.given("obstacle vertices", np.array([[5, 5], [6, 4], [7, 5], [6, 6]]), unit="m"))
+    qs, qg = sol.given("q_s", np.array([5.5, 7.0]), unit="m"), sol.given("q_g", np.array([5.5, 3.0]), unit="m")
     dec = trapezoidal_decomposition((0, 10, 0, 10), [diamond])
     naive, chan = channel_path(dec, qs, qg, centroids=False)
     fixed, _ = channel_path(dec, qs, qg, centroids=True)
@@ -390,16 +402,17 @@ def problem_12_6() -> Solution:
     sol.value("clearance_midpoint_path", c_naive)
     sol.value("clearance_fixed_path", c_fixed)
     sol.check("channel has 3 cells: above, left, below", len(chan) == 3, str(chan))
-    sol.check_close("midpoint path: q_s, (5, 7.5), (5, 2.5), q_g", naive, [qs, [5, 7.5], [5, 2.5], qg], atol=1e-9)
+    sol.check_close("midpoint path: q_s, (5, 7.5), (5, 2.5), q_g", naive, [qs, [5, 7.5], [5, 2.5], qg], atol=1e-9,
+                    reference="closed form")
     sol.check("midpoint path touches the obstacle's leftmost vertex (clearance 0)", c_naive == 0.0, f"{c_naive}")
     sol.check_close("fixed path has 5 vertices, the left cell's centroid (2.5, 5) inserted", fixed,
-                    [qs, [5, 7.5], [2.5, 5], [5, 2.5], qg], atol=1e-9)
+                    [qs, [5, 7.5], [2.5, 5], [5, 2.5], qg], atol=1e-9, reference="closed form")
     # closed forms: the new edges pass (5, 5) at 2.5/√2; the path's clearance is then set by q_s, q_g
     d_vertex = min(float(point_segment_distance([5, 5], a, b)) for a, b in zip(fixed[1:-2], fixed[2:-1]))
     sol.check_close("fixed path: the edges through the centroid pass the vertex (5, 5) at 2.5/√2 = 1.768 m",
-                    d_vertex, 2.5 / np.sqrt(2), atol=1e-12)
+                    d_vertex, 2.5 / np.sqrt(2), atol=1e-12, reference="closed form")
     sol.check_close("fixed path clearance = distance of q_s from the vertex (6, 6) = √1.25 = 1.118 m",
-                    c_fixed, np.sqrt(1.25), atol=1e-12)
+                    c_fixed, np.sqrt(1.25), atol=1e-12, reference="closed form")
     quad = quadtree_decomposition((0, 10, 0, 10), [diamond], min_size=0.25)
     qpath, qchan = channel_path(quad, qs, qg)
     c_quad = polyline_clearance(qpath, [diamond])
@@ -408,7 +421,7 @@ def problem_12_6() -> Solution:
     vis = visibility_graph(qs, qg, [diamond])
     sol.value("visibility_length", vis.length)
     sol.check_close("visibility graph: shortest path via (5, 5), length 2√(0.5² + 2²)", vis.length,
-                    2 * np.hypot(0.5, 2), atol=1e-12)
+                    2 * np.hypot(0.5, 2), atol=1e-12, reference="closed form")
     lengths = [float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1))) for p in (fixed, qpath)]
     sol.value("cell_path_lengths", lengths)
     sol.check("the cell paths are no shorter than the visibility path", min(lengths) >= vis.length - 1e-12)
@@ -449,6 +462,7 @@ def problem_12_7() -> Solution:
     """
     sol = Solution()
     space, qs, qg = scene_12_7()
+    sol.given("q_s", qs, unit="rad"), sol.given("q_g", qg, unit="rad")
     res = prm(space, qs, qg, np.random.default_rng(SEED), n_vertices=50, max_neighbors=3, max_distance=3.0,
               max_vertices=200)
     sol.value("roadmap_vertices", len(res.nodes))
@@ -458,7 +472,6 @@ def problem_12_7() -> Solution:
         return sol
     sol.value("path", res.path)
     sol.value("path_length", res.length)
-    sol.check_close("path starts at q_s and ends at q_g", [res.path[0], res.path[-1]], [qs, qg], atol=1e-12)
     ok, cmin, n_eval = certify_straight_path(space, res.path, 0.05)
     sol.value("path_min_clearance", cmin)
     sol.check("path certified collision-free (0.05 rad re-sampling, bisected where inconclusive; exact geometry, "
@@ -468,7 +481,8 @@ def problem_12_7() -> Solution:
     sol.value("wrapping_edges", int(sum(wrapped)))
     sol.check("C is treated as a torus: some roadmap edges cross q_i = ±π", sum(wrapped) > 0, f"{sum(wrapped)} edges")
     d_seg = torus_distance(res.path[:-1], res.path[1:])
-    sol.check_close("path length = Σ d₃ over its edges (each ≤ 3)", res.length, float(d_seg.sum()), atol=1e-12)
+    sol.check_close("path length = Σ d₃ over its edges (each ≤ 3)", res.length, float(d_seg.sum()), atol=1e-12,
+                    reference="second algorithm")
     sol.check("every edge within the neighbour distance 3", np.all(d_seg <= 3.0 + 1e-12))
     rc = rrt_connect(space, qs, qg, np.random.default_rng(SEED), step=0.3)
     short = shortcut(space, rc.path, np.random.default_rng(SEED), attempts=200) if rc.success else rc.path
@@ -539,8 +553,10 @@ def problem_12_8() -> Solution:
 
     sol = Solution()
     space, qs, qg = scene_12_8()
+    sol.given("q_s", qs, unit="m, m, rad"), sol.given("q_g", qg, unit="m, m, rad")
     prims = [MotionPrimitive(1.0, 0.0), MotionPrimitive(1.0, 1.3), MotionPrimitive(1.0, -1.3)]
-    delta = 0.9
+    sol.given("primitives (v, ω)", np.array([[1.0, 0.0], [1.0, 1.3], [1.0, -1.3]]), unit="m/s, rad/s")
+    delta = sol.given("Δ", 0.9, unit="s")
     res = unicycle_rrt(space, qs, qg, np.random.default_rng(SEED), prims, delta, max_vertices=200,
                        goal_threshold=0.01, goal_bias=0.2)
     d_end = float(space.distance(res.path[-1], qg))
@@ -561,17 +577,22 @@ def problem_12_8() -> Solution:
               loose.success and d_loose <= 0.3 and np.all(space.distance(loose.nodes[:-1], qg) > 0.3), loose.message)
     d_all = space.distance(res.nodes, qg)
     sol.check("the path ends at the tree vertex closest to q_g", abs(d_end - float(d_all.min())) < 1e-12)
-    sol.check_close("path starts at q_s", res.path[0], qs, atol=1e-12)
 
     def unicycle(t, x, v, w):
         return [v * np.cos(x[2]), v * np.sin(x[2]), w]
+
+    replay = np.asarray(qs, float)
+    for v, w in res.controls:          # the whole control sequence applied from q_s (SciPy's RK45)
+        replay = solve_ivp(unicycle, (0, delta), replay, args=(v, w), method="RK45", rtol=1e-11, atol=1e-12).y[:, -1]
+    sol.check_error("the controls applied from q_s (RK45 on the model) end at the path's last vertex",
+                    float(np.max(np.abs(space.difference(replay, res.path[-1])))), 1e-7, reference="other library")
 
     err = max_error((space.difference(solve_ivp(unicycle, (0, delta), a, args=(v, w), method="RK45", rtol=1e-11,
                                                 atol=1e-12).y[:, -1], b), 0.0)
                     for a, b, (v, w) in zip(res.path[:-1], res.path[1:], res.controls))
     sol.value("max_edge_error_vs_rk45", err)
     sol.check_error("every edge is one primitive over Δ: closed-form arc (exact integration (11.85)) = RK45 on the model",
-                    err, 1e-8)
+                    err, 1e-8, reference="other library")
     sol.check("every edge uses one of the three primitives",
               all(any(np.allclose(c, [p.v, p.omega]) for p in prims) for c in res.controls))
     h = 0.005
@@ -668,17 +689,18 @@ def problem_12_9() -> Solution:
     eps = 1e-9
     q_in, q_out = att.goal - (att.rho - eps) * u, att.goal - (att.rho + eps) * u
     sol.check_error("force continuous across ‖e‖ = ρ (200 directions)",
-                    max_error([(att.force(q_in), att.force(q_out))]), 1e-7)
+                    max_error([(att.force(q_in), att.force(q_out))]), 1e-7, reference="closed form")
     sol.check_error("potential continuous with the offset −½k_aρ²",
-                    max_error([(att.potential(q_in), att.potential(q_out))]), 1e-7)
+                    max_error([(att.potential(q_in), att.potential(q_out))]), 1e-7, reference="closed form")
     sol.check_close("without the offset U would jump by ½k_aρ² = 0.49 (sympy: ρ²k_a/2)",
-                    float(jump.subs({k_a: 2.0, rho: 0.7})), 0.5 * 2.0 * 0.7 ** 2, atol=1e-12)
+                    float(jump.subs({k_a: 2.0, rho: 0.7})), 0.5 * 2.0 * 0.7 ** 2, atol=1e-12, reference="closed form")
     qs = att.goal - np.linspace(0, 2, 401)[:, None] * u[0]
     h = 1e-6
     fd = np.array([-(att.potential(qs + d) - att.potential(qs - d)) / (2 * h) for d in np.eye(2) * h]).T
     good = np.abs(np.linalg.norm(qs - att.goal, axis=1) - att.rho) > 1e-4
     good &= np.linalg.norm(qs - att.goal, axis=1) > 1e-4
-    sol.check_close("force = −∇U (finite differences, both regions)", att.force(qs[good]), fd[good], atol=1e-6)
+    sol.check_close("force = −∇U (finite differences, both regions)", att.force(qs[good]), fd[good], atol=1e-6,
+                    reference="finite differences")
     fig, axes = subplots(1, 2, figsize=(10, 3.8))
     r = np.linspace(0, 2, 401)
     q_line = att.goal - r[:, None] * u[0]
@@ -730,16 +752,21 @@ def problem_12_10() -> Solution:
     U ≈ 7.4399, where gradient descent from (3.67, 0.05) stops instead of reaching the goal (Fig. S12.5).
     """
     sol = Solution()
+    sol.given("disc centre", np.array([3.0, 0.0]), unit="m")
+    sol.given("ρ, k_a, k_r, η₀", np.array([0.5, 1.0, 1.0, 1.0]))
     single = _disc_field([[3.0, 0.0]])
     P = stationary_point(single, [3.9, 0.1])
     sol.value("P_single", P)
-    sol.check_close("single disc: ∇U(P) = 0 on the goal–centre axis, at (4, 0) (η = 0.5)", P, [4.0, 0.0], atol=1e-9)
+    sol.check_close("single disc: ∇U(P) = 0 on the goal–centre axis, at (4, 0) (η = 0.5)", P, [4.0, 0.0], atol=1e-9,
+                    reference="closed form")
     H = single.hessian(P)
     H_cf = _hessian_closed_form(P, [[3.0, 0.0]], 0.5, 1.0, 1.0, 1.0)
-    sol.check_close("Hessian: finite differences of the force = closed form", H, H_cf, atol=1e-5)
+    sol.check_close("Hessian: finite differences of the force = closed form", H, H_cf, atol=1e-5,
+                    reference="finite differences")
     ev = np.linalg.eigvalsh(H_cf)
     sol.value("eig_single", ev)
-    sol.check_close("eigenvalues −k_a D/(ρ + η) = −3 (tangential) and +33 (radial)", ev, [-3.0, 33.0], atol=1e-9)
+    sol.check_close("eigenvalues −k_a D/(ρ + η) = −3 (tangential) and +33 (radial)", ev, [-3.0, 33.0], atol=1e-9,
+                    reference="closed form")
     sol.check("erratum: the single-disc stationary point is a saddle (indefinite Hessian), not a minimum",
               ev[0] < 0 < ev[1])
     double = _disc_field([[3.0, 0.8], [3.0, -0.8]])
@@ -750,7 +777,7 @@ def problem_12_10() -> Solution:
     sol.value("U_minimum", U_M)
     sol.value("eig_two_discs", ev2)
     sol.check_close("two discs: stationary point ≈ (3.669, 0), U ≈ 7.4399", [M[0], M[1], U_M],
-                    [3.669, 0.0, 7.4399], atol=1e-3)
+                    [3.669, 0.0, 7.4399], atol=1e-3, reference="manual number")
     sol.check("two discs: positive-definite Hessian ⇒ a true local minimum", ev2[0] > 0, f"{ev2}")
     run = gradient_descent(double.force, [3.67, 0.05], step=0.01, tol=1e-8)
     sol.check("gradient descent from (3.67, 0.05) is trapped there, not at the goal",
@@ -790,8 +817,9 @@ def problem_12_11() -> Solution:
     from scipy.optimize import brentq
 
     sol = Solution()
-    centers = np.array([[3.0, 0.0], [0.0, 4.0], [-3.0, -3.0]])
+    centers = sol.given("centres", np.array([[3.0, 0.0], [0.0, 4.0], [-3.0, -3.0]]), unit="m")
     rho, k_a, k_r, eta0 = 0.5, 1.0, 1.0, 1.0
+    sol.given("ρ, k_a, k_r, η₀", np.array([rho, k_a, k_r, eta0]))
     field = _disc_field(centers, rho, k_a, k_r, eta0)
     saddles, residual_manual = [], []
     for c in centers:
@@ -809,7 +837,8 @@ def problem_12_11() -> Solution:
     sol.check("‖f_t‖ < 1e-9 at the three points (the other obstacles out of range)", np.all(f_norm < 1e-9),
               f"{f_norm}")
     roots = np.array([stationary_point(field, q + [0.05, -0.05]) for q in saddles])
-    sol.check_close("2-D root finder on f_t (from perturbed seeds) finds the same points", roots, saddles, atol=1e-9)
+    sol.check_close("2-D root finder on f_t (from perturbed seeds) finds the same points", roots, saddles, atol=1e-9,
+                    reference="second algorithm")
     eig = np.array([np.linalg.eigvalsh(_hessian_closed_form(q, centers, rho, k_a, k_r, eta0)) for q in saddles])
     sol.value("hessian_eigenvalues", eig)
     sol.check("each is a saddle: one negative, one positive Hessian eigenvalue", np.all((eig[:, 0] < 0) & (eig[:, 1] > 0)))
@@ -825,18 +854,15 @@ def problem_12_11() -> Solution:
     h = 1e-6
     fd = np.array([-(field.potential(Q + d) - field.potential(Q - d)) / (2 * h) for d in np.eye(2) * h]).T
     sol.check_close(f"analytic f_t = −∇U_t (finite differences, {len(Q)} random points)", field.force(Q), fd,
-                    atol=1e-4, rtol=1e-6)
+                    atol=1e-4, rtol=1e-6, reference="finite differences")
     fig, ax = subplots(figsize=(6.5, 6))
     X, Y = np.meshgrid(np.linspace(-5, 5, 300), np.linspace(-5, 6, 330))
     U = field.potential(np.stack([X, Y], -1))
     ax.contour(X, Y, np.minimum(U, 25), levels=50, linewidths=0.5)
     draw_shapes(ax, [Disc(c, rho) for c in centers], label="obstacles")
     ax.plot(saddles[:, 0], saddles[:, 1], "rx", ms=10, label="saddle points")
-    ax.plot(0, 0, "g*", ms=12, label="goal")
-    _workspace_axes(ax, (-5, 5, -5, 6), "")
-    ax.legend(loc="lower right", fontsize=7)
-    sol.figure(fig, "Problem 12.11 — U_t and its saddle points")
-    return sol
+    return _potential_figure(sol, fig, ax, (0, 0), (-5, 5, -5, 6), "Problem 12.11 — U_t and its saddle points",
+                             "lower right")
 
 
 @problem("12.12", "Reactive potential-field planning from laser range data", kind="derivation")
@@ -854,8 +880,10 @@ def problem_12_12() -> Solution:
     obstacles = [Polygon([[2, 1.0], [3.2, 0.6], [3.5, 2.0], [2.4, 2.3]]),
                  Polygon([[4.5, -2.2], [6.0, -1.8], [5.6, -0.6], [4.4, -0.9]]),
                  Polygon([[7.0, 1.2], [8.3, 1.0], [8.0, 2.6]])]
-    goal = np.array([12.0, 0.5])
+    goal = sol.given("goal", np.array([12.0, 0.5]), unit="m")
+    sol.given("R (laser range)", R, unit="m"), sol.given("rays", n_rays)
     k_a, k_r, eta0 = 1.0, 0.5, R
+    sol.given("k_a, k_r", np.array([k_a, k_r]))
     att = AttractivePotential(goal, k_a, rho=1.0)
     offline = PotentialField(att, tuple(RepulsivePotential(o, k_r, eta0) for o in obstacles))
 
@@ -919,11 +947,8 @@ def problem_12_12() -> Solution:
     ax.plot(P[:, 0], P[:, 1], "r.", ms=2, label=f"laser returns at one instant (R = {R} m)")
     ax.plot(run_off.path[:, 0], run_off.path[:, 1], "b-", lw=2, label="off-line potential")
     ax.plot(run_re.path[:, 0], run_re.path[:, 1], "y--", lw=1.5, label="reactive (from the scan)")
-    ax.plot(*goal, "g*", ms=12, label="goal")
-    _workspace_axes(ax, (-0.5, 11, -3.5, 4), "")
-    ax.legend(loc="lower left", fontsize=7)
-    sol.figure(fig, "Fig. S12.6 — reactive planning with a laser range finder")
-    return sol
+    return _potential_figure(sol, fig, ax, goal, (-0.5, 11, -3.5, 4),
+                             "Fig. S12.6 — reactive planning with a laser range finder", "lower left")
 
 
 @problem("12.13", "Wavefront navigation function on a grid: 1- vs 2-adjacency", kind="programming")
@@ -940,8 +965,9 @@ def problem_12_13() -> Solution:
     from scipy.sparse.csgraph import dijkstra
 
     sol = Solution()
-    occ = SCENE_12_13
-    start, goal = (0, 0), (6, 6)                 # cells (1, 1) and (7, 7), 1-based in the manual
+    occ = sol.given("occupancy grid", SCENE_12_13)
+    start = sol.given("start cell (0-based)", (0, 0))
+    goal = sol.given("goal cell (0-based)", (6, 6))     # cells (1, 1) and (7, 7), 1-based in the manual
     results = {}
     for adj in (1, 2):
         V = wavefront(occ, goal, adj)
@@ -969,7 +995,8 @@ def problem_12_13() -> Solution:
         sol.check(f"{adj}-adjacency: path from (1,1) to (7,7) through free {4 * adj}-neighbours, V strictly decreasing",
                   tuple(path[0]) == start and tuple(path[-1]) == goal and steps_ok
                   and not occ[tuple(path.T)].any() and np.all(np.diff(V[tuple(path.T)]) < 0))
-        sol.check_close(f"{adj}-adjacency: path length = the optimum V(start)", L, V[start], atol=1e-12)
+        sol.check_close(f"{adj}-adjacency: path length = the optimum V(start)", L, V[start], atol=1e-12,
+                        reference="second algorithm")
     L1, L2 = results[1][2], results[2][2]
     sol.check("2-adjacency path shorter; L₂ ≤ L₁ ≤ √2 L₂", L2 < L1 <= np.sqrt(2) * L2 + 1e-12,
               f"L₁ = {L1:.4f}, L₂ = {L2:.4f}, ratio {L1 / L2:.4f}")

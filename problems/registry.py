@@ -21,8 +21,15 @@ KINDS = ("derivation", "numeric", "simulation", "programming", "qualitative")
 
 #: What a check compares with: the kind of its independent reference. ``"property"`` is a bare
 #: boolean statement (a named property the figures show); every comparison names its reference.
+#: ``"specification met"``: the expected side is a requirement of the data (ζ, X_R, a bandwidth) and the
+#: actual side the designed system evaluated on a separate path (poles or gains by python-control).
 REFERENCES = ("manual number", "closed form", "finite differences", "second algorithm", "other library",
-              "simulation vs prediction", "property")
+              "simulation vs prediction", "specification met", "property")
+
+
+#: How ``actual`` relates to ``expected``: equal within a tolerance, an error measure whose ideal is 0,
+#: or a bound (``expected`` a limit or a requirement that ``actual`` must not cross).
+RELATIONS = ("==", "error", "<=", "<", ">=", ">")
 
 
 def _reference(reference: str | None) -> str | None:
@@ -37,7 +44,8 @@ class Check:
 
     ``actual`` and ``expected`` are the two sides as given (kept as objects, so a test can tell a value
     compared with itself); ``reference`` the kind of reference (:data:`REFERENCES`, ``None`` when the
-    check does not say).
+    check does not say); ``relation`` how ``actual`` relates to ``expected`` (:data:`RELATIONS`;
+    a comparison recorded without one is read as an equality).
     """
 
     name: str
@@ -46,6 +54,7 @@ class Check:
     actual: Any = None
     expected: Any = None
     reference: str | None = None
+    relation: str = "=="
 
 
 @dataclass
@@ -85,11 +94,26 @@ class Solution:
         return value
 
     def check(self, name: str, passed: bool, detail: str = "", reference: str | None = "property", *,
-              actual: Any = None, expected: Any = None) -> bool:
+              actual: Any = None, expected: Any = None, relation: str = "==") -> bool:
         """Record a check; ``passed`` is coerced to ``bool``. A bare boolean is a named ``"property"``;
-        a comparison written by hand names its ``reference`` and may record both sides."""
-        self.checks.append(Check(name, bool(passed), detail, actual, expected, _reference(reference)))
+        a comparison written by hand names its ``reference``, may record both sides and says whether
+        it is an equality (``"=="``) or a bound (``"<="``: ``actual`` ≤ ``expected``, e.g. a torque
+        limit or a settling-time requirement of the data; :data:`RELATIONS`)."""
+        if relation not in RELATIONS:
+            raise ValueError(f"relation must be one of {RELATIONS}, got {relation!r}")
+        self.checks.append(Check(name, bool(passed), detail, actual, expected, _reference(reference), relation))
         return bool(passed)
+
+    def check_bound(self, name: str, actual: float, bound: float, relation: str = "<=",
+                    reference: str | None = "property", detail: str = "") -> bool:
+        """Record that ``actual`` satisfies ``actual <relation> bound`` (a limit or a requirement,
+        possibly a datum of the problem: a bound is not an echo, since ``actual`` can cross it); NaN fails."""
+        if relation not in ("<=", "<", ">=", ">"):
+            raise ValueError(f"relation must be one of '<=', '<', '>=', '>', got {relation!r}")
+        a, b = float(actual), float(bound)
+        ok = {"<=": a <= b, "<": a < b, ">=": a >= b, ">": a > b}[relation]
+        return self.check(name, ok, detail or f"{a:.6g} {relation} {b:.6g}", reference,
+                          actual=actual, expected=bound, relation=relation)
 
     def check_close(self, name: str, actual: Any, expected: Any, *, atol: float = 1e-9,
                     rtol: float = 0.0, reference: str | None = None) -> bool:
@@ -117,7 +141,7 @@ class Solution:
         many samples) is below ``tol``; NaN fails. ``actual`` is the error, ``expected`` 0."""
         error = float(error)
         return self.check(name, error < tol, f"max |error| = {error:.2g} (< {tol:g})", reference,
-                          actual=error, expected=0.0)
+                          actual=error, expected=0.0, relation="error")
 
     def figure(self, fig: Any, title: str | None = None, tight: bool = True) -> Any:
         """The figure epilogue: give ``fig`` its title (``suptitle``, also its file name in a report),

@@ -110,14 +110,16 @@ def _side(value: Any) -> Any:
 
 
 def _check_dict(c: Any) -> dict:
-    """A check as JSON: the required ``name, passed, detail`` and ``actual, expected, reference``."""
+    """A check as JSON: the required ``name, passed, detail`` and ``actual, expected, reference, relation``."""
     return {"name": c.name, "passed": c.passed, "detail": c.detail, "actual": _side(getattr(c, "actual", None)),
-            "expected": _side(getattr(c, "expected", None)), "reference": getattr(c, "reference", None)}
+            "expected": _side(getattr(c, "expected", None)), "reference": getattr(c, "reference", None),
+            "relation": getattr(c, "relation", "==")}
 
 
 def solution_dict(sol: Any, figures: list[str] | None = None) -> dict:
-    """The JSON object of ``rmpc solve --json``: id, title, kind, values (full precision), units,
-    checks, figures (the written files' paths, or the figures' titles when none were written)."""
+    """The JSON object of ``rmpc solve --json``: id, title, kind, values (full precision), units, given (the
+    problem's data, ``sol.given``), checks, figures (the written files' paths, or the figures' titles when none
+    were written)."""
     return {
         "id": sol.id,
         "title": sol.title,
@@ -125,6 +127,7 @@ def solution_dict(sol: Any, figures: list[str] | None = None) -> dict:
         "statement": getattr(sol, "statement", ""),
         "values": to_json(sol.values),
         "units": dict(getattr(sol, "units", {})),
+        "given": to_json(getattr(sol, "data", {})),
         "checks": [_check_dict(c) for c in sol.checks],
         "figures": figures if figures is not None else [figure_title(f, k) for k, f in enumerate(sol.figures)],
     }
@@ -165,10 +168,16 @@ def solution_html(d: dict, figure_sources: Iterable[str] = (), extras: Iterable[
         for name in d["values"]:
             parts.append(f"<tr><th>{html.escape(name)}</th><td>{_html_value(d, name)}</td></tr>")
         parts.append("</table>")
+    if d.get("given"):
+        units = d.get("units", {})
+        names = ", ".join(html.escape(n + (f" [{units[n]}]" if units.get(n) else "")) for n in d["given"])
+        parts.append(f'<p class="given" style="font-size:small;color:#555">Data of the problem (given): {names}</p>')
     parts.append("<ul>")
     for c in d["checks"]:
         mark, cls = ("✔", "pass") if c["passed"] else ("✘", "fail")
         reference = c.get("reference") or "unclassified"
+        if c.get("relation") in ("<=", "<", ">=", ">"):
+            reference += f", bound {c['relation']}"
         tag = (f'<span class="ref" style="font-size:small;border:1px solid #999;border-radius:3px;'
                f'padding:0 3px;color:#555">{html.escape(reference)}</span>')
         parts.append(f'<li class="{cls}" style="color:{"#070" if c["passed"] else "#b00"}">{mark} '

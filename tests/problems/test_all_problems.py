@@ -8,8 +8,26 @@ from problems.registry import KINDS, REFERENCES, all_problems
 from tests.problems.figure_lint import lint_figure
 
 PROBLEMS = [p for p in all_problems() if p.chapter != 99]  # 99.x: test_cli.py's own
-#: Chapters whose every check must name the kind of its reference (9–12 not yet classified).
-CLASSIFIED_CHAPTERS = range(2, 9)
+#: Chapters whose every check must name the kind of its reference and whose problems declare their data.
+CLASSIFIED_CHAPTERS = range(2, 13)
+
+#: The problems that declare no datum (``sol.given``): derivations proved symbolically or checked on random
+#: samples (angles, rotations, postures, motors, point clouds...), whose statement gives no numbers. Every
+#: other problem declares the data it takes from the manual or the companion files.
+NO_DATA = frozenset({
+    "2.1", "2.2", "2.3", "2.4", "2.5", "2.6", "2.7", "2.8", "2.9", "2.10",   # rotations at random angles
+    "2.12", "2.16", "2.19",                                                # random postures, infinitesimal angles
+    "3.1", "3.2", "3.6", "3.10", "3.11", "3.12", "3.13", "3.16", "3.17", "3.18", "3.19", "3.20",
+    "4.4",                                                                 # spline systems of random size
+    "5.4",                                                                 # random hydraulic parameters
+    "7.1", "7.3", "7.5", "7.8", "7.9", "7.10",                             # random inertial parameters
+    "8.1", "8.2", "8.3", "8.8",                                            # random drives
+    "9.1", "9.2", "9.5", "9.6", "9.7", "9.8", "9.9", "9.11",
+    "10.1", "10.2", "10.3", "10.6", "10.7", "10.12", "10.13",
+    "11.1", "11.2", "11.3", "11.4", "11.5", "11.6", "11.7", "11.8", "11.10", "11.11", "11.12", "11.14", "11.15",
+    "11.17",
+    "12.1", "12.2", "12.3", "12.9",
+})
 
 
 def _same_side(a, b) -> bool:
@@ -34,21 +52,61 @@ def _is_echo(check, values: dict) -> bool:
         return False
 
 
-def _echoes_given(check, data: dict) -> str | None:
-    """The name of the given datum (``sol.given``) that a check's ``expected`` is (same object or an
-    equal array): the input echoed back. A ``"property"`` (a specification met, an interpolation
-    condition) names the data it is about, so it is exempt."""
-    if check.expected is None or check.reference == "property":
-        return None
+def _given_data(data: dict):
+    """(name, value) of every datum of ``sol.given``; a dict datum (a motor's parameters) gives one entry
+    per field, named ``datum.field``."""
     for name, v in data.items():
+        if isinstance(v, dict):
+            yield from _given_data({f"{name}.{k}": w for k, w in v.items()})
+        else:
+            yield name, v
+
+
+#: References under which a check may expect a datum of the problem with an equality: the actual side is
+#: a simulation of the closed loop, which reaches the set point only if it works, or the designed system
+#: evaluated on a separate path (its poles or gains by python-control), which meets the requirement only
+#: if the design is right.
+MAY_EXPECT_A_DATUM = ("simulation vs prediction", "specification met")
+
+
+def _echoes_given(check, data: dict) -> str | None:
+    """The given datum (``sol.given``) that a check expects back, or None. The rule:
+
+    * a check *echoes an input* when it is an equality (``relation == "=="``: ``check_close`` and hand-
+      written comparisons) whose ``expected`` is a datum of the problem or a field of a datum given as a
+      dict (a motor's parameters): the same object, or for arrays of several numbers, equal numbers of the
+      same shape (a copy, a list typed again); e.g. a check that the trajectory ends at q_f, with q_f of the
+      data on the expected side;
+    * whatever the reference kind says, a ``"property"`` or ``"closed form"`` included: a property written
+      as an equality with a datum states the input back unless something independent produced the actual;
+    * except under :data:`MAY_EXPECT_A_DATUM`: a closed-loop simulation reaching a given set point
+      (``"simulation vs prediction"``), or a designed system evaluated on a separate path meeting the
+      requirement it was designed for (``"specification met"``: ζ of the poles computed by python-control),
+      is evidence: it can fail to get there;
+    * bounds (``relation`` ``"<="``, ``">="``, …: a torque limit, a settling-time requirement of the data)
+      and error measures (``"error"``, expected 0) never echo: the actual side can cross the bound.
+    A scalar matches by identity only, and an expected side of zeros never: equal numbers are too common to
+    tell an echo from a coincidence (a path of 1 m and t_f = 1 s; 0.9 − 0.1 = 0.8 and p = [0.8, …]), and a
+    null residual is no datum. So a single entry of a given array is not matched either."""
+    if check.expected is None or check.relation != "==" or check.reference in MAY_EXPECT_A_DATUM:
+        return None
+    given = list(_given_data(data))
+    for name, v in given:
         if check.expected is v:
             return name
+    try:
+        e = np.asarray(check.expected)
+    except (TypeError, ValueError):
+        return None
+    if e.dtype.kind not in "biufc" or e.size < 2 or not np.any(e):
+        return None
+    for name, v in given:
         try:
-            e, g = np.asarray(check.expected), np.asarray(v)
-            if e.ndim >= 1 and e.size > 1 and e.dtype.kind in "biufc" and e.shape == g.shape and np.array_equal(e, g):
-                return name
+            g = np.asarray(v)
         except (TypeError, ValueError):
             continue
+        if g.dtype.kind in "biufc" and e.shape == g.shape and np.array_equal(e, g):
+            return name
     return None
 
 
@@ -90,10 +148,39 @@ def test_the_echo_lint_catches_an_input_expected_back():
     sol.check_close("echo: q", np.array([0.0, 2.0, 3.0]), q, reference="closed form")
     sol.check_close("echo: equal copy of q", q + 0.0, [0.0, 2.0, 3.0], reference="manual number")
     sol.check_close("echo: t_f", np.sqrt(4.0), t_f, reference="closed form")
-    sol.check_close("interpolation condition", q + 0.0, q, reference="property")
-    sol.check_close("independent", np.sqrt(4.0), np.float64(1.0) + 1.0, reference="closed form")
-    assert sol.data == {"q": q, "t_f": 2.0} and sol.units["t_f"] == "s"
-    assert [b.split(": expects")[0] for b in dishonest_checks(sol)] == ["echo: q", "echo: equal copy of q", "echo: t_f"]
+    sol.check_close("echo: a property stated as an equality with q", q + 0.0, q, reference="property")
+    sol.check("echo: by hand", True, actual=np.float64(2.0), expected=t_f, reference="manual number")
+    drive = sol.given("drive", dict(I=0.01, kt=0.5, kr=[1.0, 2.0]))
+    sol.check_close("echo: a field of a given dict", np.float64(0.5), drive["kt"], reference="manual number")
+    sol.check_close("echo: a field of a given dict, typed again", np.float64(2.0) * np.array([0.5, 1.0]), [1, 2],
+                    reference="manual number")
+    # not echoes: an independent value, a bound of the data, an error measure, a simulation reaching the datum
+    sol.check_close("independent", np.sqrt(5.0), np.float64(1.0) + 1.2, atol=0.1, reference="closed form")
+    sol.check_bound("peak ≤ t_f", 1.5, t_f)
+    sol.check_error("error", 1e-12, 1e-9, reference="closed form")
+    sol.check_close("simulated end point = q", q + 1e-9, q, atol=1e-6, reference="simulation vs prediction")
+    sol.check_close("zero is not a datum", np.float64(0.0), 0.0, reference="closed form")
+    sol.check_close("an entry of q equal by coincidence", np.float64(0.9) - 0.1 + 2.2, 3.0, reference="closed form")
+    sol.check_close("a scalar equal to t_f by coincidence (a 2 m path)", np.float64(2.0), np.hypot(1.2, 1.6),
+                    reference="closed form")
+    sol.check_close("requirement met by the designed system", np.float64(2.0) + 1e-12, t_f, atol=1e-9,
+                    reference="specification met")
+    assert sol.data == {"q": q, "t_f": 2.0, "drive": drive} and sol.units["t_f"] == "s"
+    assert [b.split(": expects")[0] for b in dishonest_checks(sol)] == [
+        "echo: q", "echo: equal copy of q", "echo: t_f", "echo: a property stated as an equality with q",
+        "echo: by hand", "echo: a field of a given dict", "echo: a field of a given dict, typed again"]
+    assert all(c.passed for c in sol.checks)
+
+
+def test_a_bound_records_its_relation_and_can_fail():
+    from problems.registry import Solution
+
+    sol = Solution()
+    assert sol.check_bound("below", 1.0, 2.0) and not sol.check_bound("above", 3.0, 2.0)
+    assert not sol.check_bound("NaN", float("nan"), 2.0) and sol.check_bound("≥", 3.0, 2.0, ">=")
+    assert [c.relation for c in sol.checks] == ["<=", "<=", "<=", ">="]
+    with pytest.raises(ValueError, match="relation"):
+        sol.check("x", True, relation="≈")
 
 
 @pytest.mark.parametrize("prob", PROBLEMS, ids=[p.id for p in PROBLEMS])
@@ -108,6 +195,9 @@ def test_problem_checks_pass(prob):
         if prob.chapter in CLASSIFIED_CHAPTERS:
             unnamed = [c.name for c in sol.checks if c.reference is None]
             assert not unnamed, f"problem {prob.id}: checks without a reference kind (REFERENCES): {unnamed}"
+            assert bool(sol.data) != (prob.id in NO_DATA), (
+                f"problem {prob.id}: " + ("listed in NO_DATA but declares data" if sol.data else
+                                          "declares no data: sol.given(name, value, unit) for each datum"))
         unreadable = [m for fig in sol.figures for m in lint_figure(fig)]
         assert not unreadable, f"problem {prob.id}: figures a reader cannot use: {unreadable}"
     finally:

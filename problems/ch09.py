@@ -320,7 +320,7 @@ def problem_9_3() -> Solution:
               f"{f_end[1]:.4f} N vs {f_inf:.4f} N")
     sol.check("x̃_y^c(t_d) = −0.05 m (±1 %)", abs(e_end[1] - e_inf) < 0.01 * abs(e_inf), f"{e_end[1]:.6f} m vs {e_inf:.6f} m")
     sol.check("x̃_x^c ≈ 0 along the unconstrained direction", np.abs(e_c[:, 0]).max() < 1e-3,
-              f"max |x̃_x^c| = {np.abs(e_c[:, 0]).max():.2e} m < 1e-3 (catalogue's reference run: 5e-5)")
+              f"max |x̃_x^c| = {np.abs(e_c[:, 0]).max():.2e} m < 1e-3 (the reference run: 5e-5)")
     sol.check("no force along x_c (frictionless plane)", np.abs(f_c[:, 0]).max() < 1e-6,
               f"max |f_x^c| = {np.abs(f_c[:, 0]).max():.1e} N")
     sol.check_close("base-frame rest: f_e = [176.78, −176.78] N", res["h_e"][-1, :2], R_C @ [0.0, f_inf], atol=0.5,

@@ -723,7 +723,7 @@ def problem_10_8() -> Solution:
     rng = np.random.default_rng(108)
     worst_B = max(max_abs_error(inertia_matrix(robot, q), _model_c_inertia(q))
                   for q in (robot.random_configuration(rng) for _ in range(10)))
-    sol.check_error("MODEL-C B(q) (Pinocchio, mimic rotors) = Problem 7.3's closed form [kg·m²]", worst_B, 1e-9,
+    sol.check_error("Motor-model B(q) (Pinocchio, mimic rotors) = Problem 7.3's closed form [kg·m²]", worst_B, 1e-9,
                     reference="closed form")
     sol.check_close("|g₃| = m₃ g = 19.62 N, on joint 3 only", np.abs(gravity_torques(robot, Q0)), [0, 0, 19.62, 0],
                     atol=1e-9, reference="closed form")

@@ -30,6 +30,7 @@ Figs. 5.2, 8.3, 8.4.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
@@ -137,11 +138,14 @@ class ArmPlant:
 
         self._forward_dynamics = forward_dynamics  # called with check=False: inputs validated here
         self._friction_torques = friction_torques
-        # The hot path of derivative(): no friction product when F_v = 0, no clipping without limits.
+        # The hot path of derivative(): no friction product when F_v = 0, no clipping without limits, and
+        # without rotors (mimic joints) ABA on this thread's data (the plant belongs to the thread that made it).
         self._viscous = bool(np.any(self.Fv))
         self._u_shape = (self.n,)
         if self.tau_max is not None:
             self._tau_min = -self.tau_max
+        self._plain = self.tau_max is None and not self._coulomb and not self._viscous and external_force is None
+        self._model, self._data = (None, None) if robot.has_mimic else (robot.model, robot.data)
 
     def initial_state(self, q0: Any, qd0: Any = None) -> np.ndarray:
         """x0 = [q0, q̇0] (q̇0 = 0 by default)."""
@@ -175,21 +179,32 @@ class ArmPlant:
         n, nq = self.n, self.nq
         q, qd = x[:nq], x[nq:]
         if type(u) is not np.ndarray or u.shape != self._u_shape:
-            tau = np.asarray(self.torque(u), dtype=float)  # names a wrong input shape
-        elif self.tau_max is not None:
-            tau = np.minimum(np.maximum(u, self._tau_min), self.tau_max)
-        else:
+            tau = self.applied_torque(t, q, qd, np.asarray(self.torque(u), dtype=float))  # names a wrong shape
+        elif self._plain:
             tau = u
+        else:
+            tau = self.applied_torque(t, q, qd, u)
+        xd = np.empty(2 * n)
+        xd[:n] = qd
+        if self._data is None:  # rotors: Cholesky solve
+            xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
+            return xd
+        xd[n:] = qdd = pin.aba(self._model, self._data, q, qd, tau)
+        if not math.isfinite(sum(qdd.tolist())):  # forward_dynamics names a singular B(q) (or the sum overflowed)
+            xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
+        return xd
+
+    def applied_torque(self, t: float, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """τ − τ_f − τ_ext: the commanded torques ``u`` (n,) saturated at ±tau_max, minus friction and the
+        external forces' joint torques at (t, q, q̇)."""
+        tau = u if self.tau_max is None else np.minimum(np.maximum(u, self._tau_min), self.tau_max)
         if self._coulomb:
             tau = tau - self._friction_torques(self.robot, qd, self.friction_smoothing, self.friction, check=False)
         elif self._viscous:
             tau = tau - self.Fv * qd
         if self.external_force is not None:
             tau = tau - self.external_force(t, q, qd)
-        xd = np.empty(2 * n)
-        xd[:n] = qd
-        xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
-        return xd
+        return tau
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         return ArmMeasurement(x[:self.nq], x[self.nq:])

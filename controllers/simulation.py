@@ -291,28 +291,61 @@ class SimulationResult:
 # The loop
 # --------------------------------------------------------------------------------------------
 
+RK4_WEIGHTS = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
+"""The weights b_i of classical Runge–Kutta: x' = x + h Σ b_i k_i."""
+
+
+def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray], h: float,
+                integrate: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None,
+                dexp_inverse: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None,
+                ) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray]:
+    """``step(t, x, u)``: one classical Runge–Kutta step of ẋ = f(t, x, u) with the input ``u`` held,
+    built once for a run of step ``h``.
+
+    The stages are k_1 = f(t, x), k_2 = f(t + h/2, x ⊕ (h/2) k_1), k_3 = f(t + h/2, x ⊕ (h/2) k_2),
+    k_4 = f(t + h, x ⊕ h k_3) and x' = x ⊕ h Σ b_i k_i (:data:`RK4_WEIGHTS`), where ``integrate(x, dx, h)``
+    is x ⊕ h dx on a manifold (default ``x + h·dx``) and ``dexp_inverse`` brings the stage derivatives
+    back to the tangent space at x (Runge–Kutta–Munthe-Kaas; see the plant contract).
+
+    On a vector space the rows of M = [x; k_1; k_2; k_3; k_4] (zeros until computed) give every stage
+    state and the result as one product each, a row of the Butcher tableau (with 1 for x) times M.
+    """
+    hh = 0.5 * h
+    if integrate is None:
+        stage2, stage3, stage4, result = np.array([[1.0, hh, 0.0, 0.0, 0.0], [1.0, 0.0, hh, 0.0, 0.0],
+                                                   [1.0, 0.0, 0.0, h, 0.0], [1.0, *(h * RK4_WEIGHTS)]])
+
+        def step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+            M = np.zeros((5, len(x)))
+            M[0] = x
+            M[1] = derivative(t, x, u)
+            M[2] = derivative(t + hh, stage2.dot(M), u)
+            M[3] = derivative(t + hh, stage3.dot(M), u)
+            M[4] = derivative(t + h, stage4.dot(M), u)
+            return result.dot(M)
+        return step
+
+    half, full = np.array(hh), np.array(h)  # 0-d arrays: numpy multiplies a vector by them faster than by a float
+    weights = 6.0 * RK4_WEIGHTS
+
+    def manifold_step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        k = derivative(t, x, u)
+        K = np.empty((4, len(k)))
+        K[0] = k
+        for i, (c, ci) in enumerate(((hh, half), (hh, half), (h, full)), start=1):
+            k = derivative(t + c, integrate(x, k, c), u)
+            if dexp_inverse is not None:
+                k = dexp_inverse(x, ci * K[i - 1], k)
+            K[i] = k
+        return integrate(x, weights.dot(K), h / 6.0)
+    return manifold_step
+
+
 def rk4_step(f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarray, h: float,
              integrate: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None,
              dexp_inverse: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None) -> np.ndarray:
-    """One classical Runge–Kutta step of ẋ = f(t, x); ``integrate(x, dx, h)`` moves on a manifold
-    (default ``x + h·dx``) and ``dexp_inverse`` brings the stage derivatives back to the tangent space
-    at ``x`` (Runge–Kutta–Munthe-Kaas; see the plant contract)."""
-    k1 = f(t, x)
-    if integrate is None:
-        k2 = f(t + 0.5 * h, x + 0.5 * h * k1)
-        k3 = f(t + 0.5 * h, x + 0.5 * h * k2)
-        k4 = f(t + h, x + h * k3)
-        return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-    k2 = f(t + 0.5 * h, integrate(x, k1, 0.5 * h))
-    if dexp_inverse is not None:
-        k2 = dexp_inverse(x, 0.5 * h * k1, k2)
-    k3 = f(t + 0.5 * h, integrate(x, k2, 0.5 * h))
-    if dexp_inverse is not None:
-        k3 = dexp_inverse(x, 0.5 * h * k2, k3)
-    k4 = f(t + h, integrate(x, k3, h))
-    if dexp_inverse is not None:
-        k4 = dexp_inverse(x, h * k3, k4)
-    return integrate(x, k1 + 2.0 * k2 + 2.0 * k3 + k4, h / 6.0)
+    """One classical Runge–Kutta step of ẋ = f(t, x) (:func:`rk4_stepper`, the loop's step, for one call)."""
+    return rk4_stepper(lambda tau, xi, _: f(tau, xi), h, integrate, dexp_inverse)(t, x, None)
 
 
 def _periods_must_divide(controller: Any, Ts: float) -> None:
@@ -385,8 +418,7 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
         return SimulationResult(t=ts, x=xs, u=us, signals=signals, layout=dict(getattr(plant, "state_layout", {})),
                                 units=dict(getattr(plant, "units", {})))
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
-    integrate = getattr(plant, "integrate", None)
-    dexp_inverse = getattr(plant, "dexp_inverse", None)
+    step = rk4_stepper(derivative, h, getattr(plant, "integrate", None), getattr(plant, "dexp_inverse", None))
     n_dx = getattr(plant, "tangent_size", x.size)
     measure = getattr(plant, "measure", None)
     n_u = getattr(plant, "input_size", None)
@@ -424,7 +456,13 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
             _append(signals, name, getattr(meas, name))
         if controller_log is not None:
             for name, value in controller_log().items():
-                _append(signals, name, value)
+                if type(value) is np.ndarray or type(value) is float:  # stacked at the end (_append inline)
+                    try:
+                        signals[name].append(value)
+                    except KeyError:
+                        signals[name] = [value]
+                else:
+                    _append(signals, name, value)
         if log is not None:
             for name, value in log(t, x, u).items():
                 _append(signals, name, value)
@@ -440,10 +478,7 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                 raise ValueError(f"`{who}` returned shape {shape}, expected ({n_dx},) for a state of size {x.size}")
         for j in range(n_sub):
             ti = t + j * h
-            if integrate is None:
-                x = _rk4_vector(derivative, ti, x, h, u)
-            else:
-                x = rk4_step(lambda tau, xi: derivative(tau, xi, u), ti, x, h, integrate, dexp_inverse)
+            x = step(ti, x, u)
             if bound2 < 0 or not x.dot(x) <= bound2:
                 peak = np.max(np.abs(x))
                 if peak <= bound:
@@ -470,17 +505,6 @@ def _append(signals: dict[str, list], name: str, value: Any) -> None:
         signals[name].append(value)
     except KeyError:
         signals[name] = [value]
-
-
-def _rk4_vector(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray], t: float, x: np.ndarray,
-                h: float, u: np.ndarray) -> np.ndarray:
-    """:func:`rk4_step` on a vector space with the input ``u`` held (the loop's hot path, no closure)."""
-    hh = 0.5 * h
-    k1 = derivative(t, x, u)
-    k2 = derivative(t + hh, x + hh * k1, u)
-    k3 = derivative(t + hh, x + hh * k2, u)
-    k4 = derivative(t + h, x + h * k3, u)
-    return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
 
 
 def _diagnosis(controller: Any, plant: Any, Ts: float, measurement: Any) -> str:

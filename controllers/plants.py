@@ -171,33 +171,35 @@ class ArmPlant:
 
     def torque(self, u: np.ndarray) -> np.ndarray:
         """The torque actually applied: ``u`` saturated at ±tau_max."""
-        if np.shape(u) != (self.n,):
-            raise ValueError(f"the arm needs {self.n} joint torques, got an input of shape {np.shape(u)}")
-        return u if self.tau_max is None else np.clip(u, -self.tau_max, self.tau_max)
+        if type(u) is not np.ndarray or u.shape != self._u_shape:
+            if np.shape(u) != (self.n,):
+                raise ValueError(f"the arm needs {self.n} joint torques, got an input of shape {np.shape(u)}")
+            u = np.asarray(u, dtype=float)
+        return u if self.tau_max is None else np.minimum(np.maximum(u, self._tau_min), self.tau_max)
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
         q, qd = x[:nq], x[nq:]
-        if type(u) is not np.ndarray or u.shape != self._u_shape:
-            tau = self.applied_torque(t, q, qd, np.asarray(self.torque(u), dtype=float))  # names a wrong shape
-        elif self._plain:
-            tau = u
-        else:
-            tau = self.applied_torque(t, q, qd, u)
         xd = np.empty(2 * n)
         xd[:n] = qd
-        if self._data is None:  # rotors: Cholesky solve
-            xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
-            return xd
-        xd[n:] = qdd = pin.aba(self._model, self._data, q, qd, tau)
-        if not math.isfinite(sum(qdd.tolist())):  # forward_dynamics names a singular B(q) (or the sum overflowed)
-            xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
+        xd[n:] = qdd = self.acceleration(t, q, qd, u)
+        if not math.isfinite(sum(qdd.tolist())):  # the checked forward dynamics names a singular B(q)
+            xd[n:] = self._forward_dynamics(self.robot, q, qd, self.applied_torque(t, q, qd, u))
         return xd
 
-    def applied_torque(self, t: float, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
+    def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """q̈ = B(q)⁻¹ (τ − C q̇ − g), τ the :meth:`applied_torque` (Eq. 7.42): the second half of ẋ,
+        which the loop integrates directly when nq = nv (the Nyström form of RK4)."""
+        if not self._plain or type(u) is not np.ndarray or u.shape != self._u_shape:
+            u = self.applied_torque(t, q, qd, u)
+        if self._data is None:  # rotors (mimic joints): the Cholesky solve
+            return self._forward_dynamics(self.robot, q, qd, u, check=False)
+        return pin.aba(self._model, self._data, q, qd, u)
+
+    def applied_torque(self, t: float, q: np.ndarray, qd: np.ndarray, u: Any) -> np.ndarray:
         """τ − τ_f − τ_ext: the commanded torques ``u`` (n,) saturated at ±tau_max, minus friction and the
         external forces' joint torques at (t, q, q̇)."""
-        tau = u if self.tau_max is None else np.minimum(np.maximum(u, self._tau_min), self.tau_max)
+        tau = np.asarray(self.torque(u), dtype=float)  # names a wrong input shape; saturates
         if self._coulomb:
             tau = tau - self._friction_torques(self.robot, qd, self.friction_smoothing, self.friction, check=False)
         elif self._viscous:

@@ -22,6 +22,12 @@ The plant contract (duck-typed; only ``derivative`` is required)
     corrects its stages (Runge–Kutta–Munthe-Kaas) and stays fourth order; without it, stages are
     composed as they are (exact on vector spaces and commutative groups, second order otherwise).
     ``ArmPlant`` provides it through ``pin.dIntegrate`` when nq ≠ nv.
+``acceleration(t, q, v, u) -> v̇``
+    For a mechanical plant with x = [q, v] (equal sizes, no ``integrate``) and ẋ = [v, v̇]: the loop
+    then takes the same RK4 steps in Nyström form (:func:`rk4_stepper`; equal to the classical form in
+    exact arithmetic) without building ẋ. ``derivative`` stays the reference: the loop calls it at the
+    first sample (the shape check) and repeats a step that became non-finite through it, so a plant
+    that can tell why (``ArmPlant``: a singular B(q)) raises its own error. ``ArmPlant`` provides it.
 ``tangent_size``
     The size of ``ẋ`` when it differs from ``len(x)`` (default ``len(x)``). ``simulate`` checks the
     shape of the first derivative once and names the plant's derivative when it is wrong.
@@ -298,6 +304,7 @@ RK4_WEIGHTS = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
 def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray], h: float,
                 integrate: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None,
                 dexp_inverse: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None,
+                acceleration: Callable[[float, np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None,
                 ) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray]:
     """``step(t, x, u)``: one classical Runge–Kutta step of ẋ = f(t, x, u) with the input ``u`` held,
     built once for a run of step ``h``.
@@ -309,8 +316,33 @@ def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray
 
     On a vector space the rows of M = [x; k_1; k_2; k_3; k_4] (zeros until computed) give every stage
     state and the result as one product each, a row of the Butcher tableau (with 1 for x) times M.
+    A mechanical plant x = [q, v], ẋ = [v, a(t, q, v, u)] given by its ``acceleration`` a (and no
+    ``integrate``) takes the same steps in Nyström form: with A = [q; v; a_1; a_2; a_3; a_4],
+    v_2 = v + (h/2) a_1, v_3 = v + (h/2) a_2, v_4 = v + h a_3 and
+    q_2 = q + (h/2) v, q_3 = q + (h/2) v + (h²/4) a_1, q_4 = q + h v + (h²/2) a_2,
+    q' = q + h v + (h²/6)(a_1 + a_2 + a_3), v' = v + (h/6)(a_1 + 2 a_2 + 2 a_3 + a_4):
+    each stage's (q_i, v_i) is one product C_i A (the classical stages, without building ẋ).
     """
     hh = 0.5 * h
+    if integrate is None and acceleration is not None:
+        h2 = h * h
+        C2, C3, C4, CR = np.array([[[1.0, hh, 0.0, 0.0, 0.0, 0.0], [0.0, 1.0, hh, 0.0, 0.0, 0.0]],
+                                   [[1.0, hh, h2 / 4, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, hh, 0.0, 0.0]],
+                                   [[1.0, h, 0.0, h2 / 2, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, h, 0.0]],
+                                   [[1.0, h, h2 / 6, h2 / 6, h2 / 6, 0.0], [0.0, 1.0, *(h * RK4_WEIGHTS)]]])
+
+        def nystrom_step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+            A = np.zeros((6, len(x) >> 1))
+            A[:2] = x.reshape(2, -1)
+            A[2] = acceleration(t, A[0], A[1], u)
+            S = C2.dot(A)
+            A[3] = acceleration(t + hh, S[0], S[1], u)
+            S = C3.dot(A)
+            A[4] = acceleration(t + hh, S[0], S[1], u)
+            S = C4.dot(A)
+            A[5] = acceleration(t + h, S[0], S[1], u)
+            return CR.dot(A).ravel()
+        return nystrom_step
     if integrate is None:
         stage2, stage3, stage4, result = np.array([[1.0, hh, 0.0, 0.0, 0.0], [1.0, 0.0, hh, 0.0, 0.0],
                                                    [1.0, 0.0, 0.0, h, 0.0], [1.0, *(h * RK4_WEIGHTS)]])
@@ -418,8 +450,10 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
         return SimulationResult(t=ts, x=xs, u=us, signals=signals, layout=dict(getattr(plant, "state_layout", {})),
                                 units=dict(getattr(plant, "units", {})))
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
-    step = rk4_stepper(derivative, h, getattr(plant, "integrate", None), getattr(plant, "dexp_inverse", None))
+    integrate = getattr(plant, "integrate", None)
     n_dx = getattr(plant, "tangent_size", x.size)
+    acceleration = getattr(plant, "acceleration", None) if n_dx == x.size and x.size % 2 == 0 else None
+    step = rk4_stepper(derivative, h, integrate, getattr(plant, "dexp_inverse", None), acceleration)
     measure = getattr(plant, "measure", None)
     n_u = getattr(plant, "input_size", None)
     n_u = None if n_u is None else tuple(np.atleast_1d(n_u).tolist())
@@ -429,7 +463,7 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     n_samples = int(np.floor((tf - t0) / Ts + 1e-9)) + 1
     layout = getattr(plant, "state_layout", {})
 
-    ts = np.empty(n_samples)
+    ts = t0 + np.arange(n_samples) * Ts  # the sample times t0 + k Ts, as the loop computes them
     xs = np.empty((n_samples, x.size))
     us: list[np.ndarray] = []
     signals: dict[str, list] = {}
@@ -449,7 +483,6 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                 sizes = " or ".join(map(str, n_u))
                 raise ValueError(f"the controller `{who}` output shape {u.shape} at t = {t:g} s; "
                                  f"{type(plant).__name__} takes an input u of size {sizes}")
-        ts[k] = t
         xs[k] = x
         us.append(u)
         for name in log_q:
@@ -478,18 +511,22 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                 raise ValueError(f"`{who}` returned shape {shape}, expected ({n_dx},) for a state of size {x.size}")
         for j in range(n_sub):
             ti = t + j * h
-            x = step(ti, x, u)
-            if bound2 < 0 or not x.dot(x) <= bound2:
-                peak = np.max(np.abs(x))
+            x_next = step(ti, x, u)
+            if bound2 < 0 or not x_next.dot(x_next) <= bound2:
+                peak = np.max(np.abs(x_next))
                 if peak <= bound:
+                    x = x_next
                     continue
                 why = _diagnosis(controller, plant, Ts, measure(t0, xs[0]) if measure else xs[0])
                 if np.isfinite(peak):
                     raise SimulationDiverged(
                         f"plant state exceeded {bound:g} at t = {ti + h:.6g} s: the loop diverges{why}", ti + h)
+                if acceleration is not None:  # the step again through ``derivative``, which may name the cause
+                    rk4_stepper(derivative, h)(ti, x, u)
                 raise SimulationDiverged(
                     f"plant state became non-finite at t = {ti + h:.6g} s (step h = {h:g} s); "
                     f"the loop is unstable or the step is too large{why}", ti + h)
+            x = x_next
     return SimulationResult(t=ts, x=xs, u=np.array(us),
                             signals={k: np.array(v, dtype=float) for k, v in signals.items()},
                             layout=dict(layout),

@@ -144,8 +144,9 @@ class ArmPlant:
         self._u_shape = (self.n,)
         if self.tau_max is not None:
             self._tau_min = -self.tau_max
-        self._plain = self.tau_max is None and not self._coulomb and not self._viscous and external_force is None
         self._model, self._data = (None, None) if robot.has_mimic else (robot.model, robot.data)
+        self._aba_only = (self.tau_max is None and not self._coulomb and not self._viscous and external_force is None
+                          and self._data is not None)  # q̈ = ABA(q, q̇, u) as it is
 
     def initial_state(self, q0: Any, qd0: Any = None) -> np.ndarray:
         """x0 = [q0, q̇0] (q̇0 = 0 by default)."""
@@ -190,11 +191,12 @@ class ArmPlant:
     def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
         """q̈ = B(q)⁻¹ (τ − C q̇ − g), τ the :meth:`applied_torque` (Eq. 7.42): the second half of ẋ,
         which the loop integrates directly when nq = nv (the Nyström form of RK4)."""
-        if not self._plain or type(u) is not np.ndarray or u.shape != self._u_shape:
-            u = self.applied_torque(t, q, qd, u)
+        if self._aba_only and type(u) is np.ndarray and u.shape == self._u_shape:
+            return pin.aba(self._model, self._data, q, qd, u)
+        tau = self.applied_torque(t, q, qd, u)
         if self._data is None:  # rotors (mimic joints): the Cholesky solve
-            return self._forward_dynamics(self.robot, q, qd, u, check=False)
-        return pin.aba(self._model, self._data, q, qd, u)
+            return self._forward_dynamics(self.robot, q, qd, tau, check=False)
+        return pin.aba(self._model, self._data, q, qd, tau)
 
     def applied_torque(self, t: float, q: np.ndarray, qd: np.ndarray, u: Any) -> np.ndarray:
         """τ − τ_f − τ_ext: the commanded torques ``u`` (n,) saturated at ±tau_max, minus friction and the
@@ -268,6 +270,10 @@ class VoltageControlledArm:
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return self.arm.derivative(t, x, self.torque(x, u))
+
+    def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """q̈ under the voltages ``u`` (the loop's Nyström form of RK4, see :class:`ArmPlant`)."""
+        return self.arm.acceleration(t, q, qd, self.voltage_gain * u - self.electrical_damping * qd)
 
 
 def _positive(x: Any, n: int, name: str) -> np.ndarray:

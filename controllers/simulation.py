@@ -92,6 +92,7 @@ import numpy as np
 from rigid_body.validation import as_positive, as_vector
 
 DEFAULT_BOUND = 1e12
+_FLOAT64 = np.dtype(np.float64)
 
 
 class Plant(Protocol):
@@ -474,7 +475,7 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
         t = t0 + k * Ts
         meas = measure(t, x) if measure else x
         u = controller(t, meas)
-        if type(u) is not np.ndarray or u.ndim != 1 or u.dtype != np.float64:
+        if type(u) is not np.ndarray or u.ndim != 1 or u.dtype is not _FLOAT64:
             u = np.atleast_1d(np.asarray(u, dtype=float))
         if k == 0:
             log_q = [name for name in ("q", "qd") if hasattr(meas, name) and name not in layout]

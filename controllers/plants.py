@@ -145,8 +145,7 @@ class ArmPlant:
         if self.tau_max is not None:
             self._tau_min = -self.tau_max
         self._model, self._data = (None, None) if robot.has_mimic else (robot.model, robot.data)
-        self._aba_only = (self.tau_max is None and not self._coulomb and not self._viscous and external_force is None
-                          and self._data is not None)  # q̈ = ABA(q, q̇, u) as it is
+        self._simple = self.tau_max is None and not self._coulomb and external_force is None  # τ = u − F_v q̇
 
     def initial_state(self, q0: Any, qd0: Any = None) -> np.ndarray:
         """x0 = [q0, q̇0] (q̇0 = 0 by default)."""
@@ -191,9 +190,10 @@ class ArmPlant:
     def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
         """q̈ = B(q)⁻¹ (τ − C q̇ − g), τ the :meth:`applied_torque` (Eq. 7.42): the second half of ẋ,
         which the loop integrates directly when nq = nv (the Nyström form of RK4)."""
-        if self._aba_only and type(u) is np.ndarray and u.shape == self._u_shape:
-            return pin.aba(self._model, self._data, q, qd, u)
-        tau = self.applied_torque(t, q, qd, u)
+        if self._simple and type(u) is np.ndarray and u.shape == self._u_shape:
+            tau = u - self.Fv * qd if self._viscous else u
+        else:
+            tau = self.applied_torque(t, q, qd, u)
         if self._data is None:  # rotors (mimic joints): the Cholesky solve
             return self._forward_dynamics(self.robot, q, qd, tau, check=False)
         return pin.aba(self._model, self._data, q, qd, tau)

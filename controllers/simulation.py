@@ -322,28 +322,12 @@ def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray
     v_2 = v + (h/2) a_1, v_3 = v + (h/2) a_2, v_4 = v + h a_3 and
     q_2 = q + (h/2) v, q_3 = q + (h/2) v + (h²/4) a_1, q_4 = q + h v + (h²/2) a_2,
     q' = q + h v + (h²/6)(a_1 + a_2 + a_3), v' = v + (h/6)(a_1 + 2 a_2 + 2 a_3 + a_4):
-    each stage's (q_i, v_i) is one product C_i A (the classical stages, without building ẋ).
+    each stage's (q_i, v_i) is one product C_i A (the classical stages, without building ẋ), written into
+    one (2, n) scratch array: ``acceleration`` reads its ``q``, ``v`` during the call and keeps no reference.
     """
     hh = 0.5 * h
     if integrate is None and acceleration is not None:
-        h2 = h * h
-        C2, C3, C4, CR = np.array([[[1.0, hh, 0.0, 0.0, 0.0, 0.0], [0.0, 1.0, hh, 0.0, 0.0, 0.0]],
-                                   [[1.0, hh, h2 / 4, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, hh, 0.0, 0.0]],
-                                   [[1.0, h, 0.0, h2 / 2, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, h, 0.0]],
-                                   [[1.0, h, h2 / 6, h2 / 6, h2 / 6, 0.0], [0.0, 1.0, *(h * RK4_WEIGHTS)]]])
-
-        def nystrom_step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-            A = np.zeros((6, len(x) >> 1))
-            A[:2] = x.reshape(2, -1)
-            A[2] = acceleration(t, A[0], A[1], u)
-            S = C2.dot(A)
-            A[3] = acceleration(t + hh, S[0], S[1], u)
-            S = C3.dot(A)
-            A[4] = acceleration(t + hh, S[0], S[1], u)
-            S = C4.dot(A)
-            A[5] = acceleration(t + h, S[0], S[1], u)
-            return CR.dot(A).ravel()
-        return nystrom_step
+        return _nystrom_stepper(acceleration, h)
     if integrate is None:
         stage2, stage3, stage4, result = np.array([[1.0, hh, 0.0, 0.0, 0.0], [1.0, 0.0, hh, 0.0, 0.0],
                                                    [1.0, 0.0, 0.0, h, 0.0], [1.0, *(h * RK4_WEIGHTS)]])
@@ -372,6 +356,39 @@ def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray
             K[i] = k
         return integrate(x, weights.dot(K), h / 6.0)
     return manifold_step
+
+
+def _nystrom_stepper(acceleration: Callable[[float, np.ndarray, np.ndarray, np.ndarray], np.ndarray],
+                     h: float) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray]:
+    """:func:`rk4_stepper`'s Nyström form: A = [q; v; a_1; a_2; a_3; a_4] and the stage states are
+    scratch arrays allocated once (for the first x's size); stage i reads only the rows already computed."""
+    hh, h2 = 0.5 * h, h * h
+    C2 = np.array([[1.0, hh, 0.0], [0.0, 1.0, hh]])
+    C3 = np.array([[1.0, hh, h2 / 4, 0.0], [0.0, 1.0, 0.0, hh]])
+    C4 = np.array([[1.0, h, 0.0, h2 / 2, 0.0], [0.0, 1.0, 0.0, 0.0, h]])
+    CR = np.array([[1.0, h, h2 / 6, h2 / 6, h2 / 6, 0.0], [0.0, 1.0, *(h * RK4_WEIGHTS)]])
+    size = -1
+
+    def step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        nonlocal size, A, A3, A4, A5, q, v, S, Sq, Sv
+        if len(x) != size:
+            size = len(x)
+            A = np.empty((6, size >> 1))
+            A3, A4, A5, q, v = A[:3], A[:4], A[:5], A[0], A[1]
+            S = np.empty((2, size >> 1))
+            Sq, Sv = S
+        A[:2] = x.reshape(2, -1)
+        A[2] = acceleration(t, q, v, u)
+        C2.dot(A3, S)
+        A[3] = acceleration(t + hh, Sq, Sv, u)
+        C3.dot(A4, S)
+        A[4] = acceleration(t + hh, Sq, Sv, u)
+        C4.dot(A5, S)
+        A[5] = acceleration(t + h, Sq, Sv, u)
+        return CR.dot(A).ravel()
+
+    A = A3 = A4 = A5 = q = v = S = Sq = Sv = np.empty(0)
+    return step
 
 
 def rk4_step(f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarray, h: float,
@@ -528,10 +545,17 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                     f"plant state became non-finite at t = {ti + h:.6g} s (step h = {h:g} s); "
                     f"the loop is unstable or the step is too large{why}", ti + h)
             x = x_next
-    return SimulationResult(t=ts, x=xs, u=np.array(us),
-                            signals={k: np.array(v, dtype=float) for k, v in signals.items()},
+    return SimulationResult(t=ts, x=xs, u=_stacked(us),
+                            signals={k: _stacked(v) for k, v in signals.items()},
                             layout=dict(layout),
                             units=dict(getattr(plant, "units", {})))
+
+
+def _stacked(samples: list) -> np.ndarray:
+    """The logged samples as one float array (N, ...): ``np.array`` finds float64 at once; anything else
+    is converted as ``np.array(samples, dtype=float)`` (twice as slow on float arrays)."""
+    out = np.array(samples)
+    return out if out.dtype is _FLOAT64 else np.array(samples, dtype=float)
 
 
 def _append(signals: dict[str, list], name: str, value: Any) -> None:

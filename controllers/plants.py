@@ -86,7 +86,8 @@ class ArmPlant:
     robot : the :class:`~rigid_body.robots.Robot` (motors included when its URDF has them).
     viscous_friction : F_v, scalar or (nv,) [N·m·s/rad].
     tau_max : optional actuator limits (nv,) — the commanded torque is saturated.
-    external_force : optional ``(t, q, v) -> τ_ext`` (joint torques of external forces), subtracted.
+    external_force : optional ``(t, q, v) -> τ_ext`` (joint torques of external forces), subtracted
+        (``q``, ``v`` may be the loop's scratch arrays: copy them to keep them).
     coulomb_friction : F_s, scalar or (nv,) [N·m]: τ_f = F_v v + F_s sgn(v)
         (:func:`rigid_body.dynamics.friction_torques`).
     friction : a :class:`~rigid_body.robots.JointFriction` instead of the two arguments above, e.g.

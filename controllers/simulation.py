@@ -25,7 +25,8 @@ The plant contract (duck-typed; only ``derivative`` is required)
 ``acceleration(t, q, v, u) -> v̇``
     For a mechanical plant with x = [q, v] (equal sizes, no ``integrate``) and ẋ = [v, v̇]: the loop
     then takes the same RK4 steps in Nyström form (:func:`rk4_stepper`; equal to the classical form in
-    exact arithmetic) without building ẋ. ``derivative`` stays the reference: the loop calls it at the
+    exact arithmetic) without building ẋ; ``q`` and ``v`` are the loop's scratch arrays, read during
+    the call and never kept. ``derivative`` stays the reference: the loop calls it at the
     first sample (the shape check) and repeats a step that became non-finite through it, so a plant
     that can tell why (``ArmPlant``: a singular B(q)) raises its own error. ``ArmPlant`` provides it.
 ``tangent_size``

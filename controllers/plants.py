@@ -147,6 +147,7 @@ class ArmPlant:
             self._tau_min = -self.tau_max
         self._model, self._data = (None, None) if robot.has_mimic else (robot.model, robot.data)
         self._simple = self.tau_max is None and not self._coulomb and external_force is None  # τ = u − F_v q̇
+        self._frictionless = self._simple and not self._viscous and self._data is not None      # τ = u, ABA
 
     def initial_state(self, q0: Any, qd0: Any = None) -> np.ndarray:
         """x0 = [q0, q̇0] (q̇0 = 0 by default)."""
@@ -192,6 +193,8 @@ class ArmPlant:
         """q̈ = B(q)⁻¹ (τ − C q̇ − g), τ the :meth:`applied_torque` (Eq. 7.42): the second half of ẋ,
         which the loop integrates directly when nq = nv (the Nyström form of RK4)."""
         if self._simple and type(u) is np.ndarray and u.shape == self._u_shape:
+            if self._frictionless:  # the benchmark's plain arm: ABA on u as it is
+                return pin.aba(self._model, self._data, q, qd, u)
             tau = u - self.Fv * qd if self._viscous else u
         else:
             tau = self.applied_torque(t, q, qd, u)

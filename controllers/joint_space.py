@@ -31,6 +31,7 @@ import math
 from typing import Any, Callable, Sequence
 
 import numpy as np
+import pinocchio as pin
 from scipy.linalg import solve_continuous_lyapunov
 from scipy.optimize import fsolve
 
@@ -214,16 +215,27 @@ class PDGravityCompensation(LoggedController):
             problems = sampled_stability(robot, self.K_P, self.K_D, as_positive(Ts, "Ts"), self.reference(0.0)[0])
             if problems:
                 raise ValueError(f"PD + gravity gains unstable at Ts = {Ts:g} s: " + "; ".join(problems))
+        # The hot path: g(q) on this thread's data (the controller belongs to the thread that made it);
+        # a set point (q̇_d = 0) with per-joint gains is u = g + k_P q̃ − k_D q̇.
+        self._model, self._data, self._nq = robot.model, robot.data, robot.nq
+        is_trajectory = hasattr(reference, "evaluate") or callable(reference)
+        self._set_point = None if is_trajectory or self._kp.ndim + self._kd.ndim != 2 else self.reference(0.0)[0]
 
     def diagnose(self, plant: Any, Ts: float, meas: ArmMeasurement) -> str:
         """Why the loop may have diverged (called by :func:`~controllers.simulation.simulate`)."""
         return "; ".join(sampled_stability(self.robot, self.K_P, self.K_D, Ts, meas.q))
 
     def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
-        q, qd = meas.q, meas.qd
-        q_d, qd_d, _ = self.reference(t)
-        e = q_d - q
-        u = gravity_torques(self.robot, q) + gain_times(self._kp, e) + gain_times(self._kd, qd_d - qd)  # Eq. (8.51)
+        q, qd = as_vector(meas.q, self._nq, "q"), meas.qd
+        g = pin.computeGeneralizedGravity(self._model, self._data, q)
+        q_d = self._set_point
+        if q_d is not None:
+            e = q_d - q
+            u = g + self._kp * e - self._kd * qd                                                # Eq. (8.51)
+        else:
+            q_d, qd_d, _ = self.reference(t)
+            e = q_d - q
+            u = g + gain_times(self._kp, e) + gain_times(self._kd, qd_d - qd)
         self.record(q_d=q_d, e=e)
         return u
 

@@ -30,6 +30,7 @@ Figs. 5.2, 8.3, 8.4.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
@@ -85,7 +86,8 @@ class ArmPlant:
     robot : the :class:`~rigid_body.robots.Robot` (motors included when its URDF has them).
     viscous_friction : F_v, scalar or (nv,) [N·m·s/rad].
     tau_max : optional actuator limits (nv,) — the commanded torque is saturated.
-    external_force : optional ``(t, q, v) -> τ_ext`` (joint torques of external forces), subtracted.
+    external_force : optional ``(t, q, v) -> τ_ext`` (joint torques of external forces), subtracted
+        (``q``, ``v`` may be the loop's scratch arrays: copy them to keep them).
     coulomb_friction : F_s, scalar or (nv,) [N·m]: τ_f = F_v v + F_s sgn(v)
         (:func:`rigid_body.dynamics.friction_torques`).
     friction : a :class:`~rigid_body.robots.JointFriction` instead of the two arguments above, e.g.
@@ -137,11 +139,15 @@ class ArmPlant:
 
         self._forward_dynamics = forward_dynamics  # called with check=False: inputs validated here
         self._friction_torques = friction_torques
-        # The hot path of derivative(): no friction product when F_v = 0, no clipping without limits.
+        # The hot path of derivative(): no friction product when F_v = 0, no clipping without limits, and
+        # without rotors (mimic joints) ABA on this thread's data (the plant belongs to the thread that made it).
         self._viscous = bool(np.any(self.Fv))
         self._u_shape = (self.n,)
         if self.tau_max is not None:
             self._tau_min = -self.tau_max
+        self._model, self._data = (None, None) if robot.has_mimic else (robot.model, robot.data)
+        self._simple = self.tau_max is None and not self._coulomb and external_force is None  # τ = u − F_v q̇
+        self._frictionless = self._simple and not self._viscous and self._data is not None      # τ = u, ABA
 
     def initial_state(self, q0: Any, qd0: Any = None) -> np.ndarray:
         """x0 = [q0, q̇0] (q̇0 = 0 by default).
@@ -171,29 +177,46 @@ class ArmPlant:
 
     def torque(self, u: np.ndarray) -> np.ndarray:
         """The torque actually applied: ``u`` saturated at ±tau_max."""
-        if np.shape(u) != (self.n,):
-            raise ValueError(f"the arm needs {self.n} joint torques, got an input of shape {np.shape(u)}")
-        return u if self.tau_max is None else np.clip(u, -self.tau_max, self.tau_max)
+        if type(u) is not np.ndarray or u.shape != self._u_shape:
+            if np.shape(u) != (self.n,):
+                raise ValueError(f"the arm needs {self.n} joint torques, got an input of shape {np.shape(u)}")
+            u = np.asarray(u, dtype=float)
+        return u if self.tau_max is None else np.minimum(np.maximum(u, self._tau_min), self.tau_max)
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
         q, qd = x[:nq], x[nq:]
-        if type(u) is not np.ndarray or u.shape != self._u_shape:
-            tau = np.asarray(self.torque(u), dtype=float)  # names a wrong input shape
-        elif self.tau_max is not None:
-            tau = np.minimum(np.maximum(u, self._tau_min), self.tau_max)
+        xd = np.empty(2 * n)
+        xd[:n] = qd
+        xd[n:] = qdd = self.acceleration(t, q, qd, u)
+        if not math.isfinite(sum(qdd.tolist())):  # the checked forward dynamics names a singular B(q)
+            xd[n:] = self._forward_dynamics(self.robot, q, qd, self.applied_torque(t, q, qd, u))
+        return xd
+
+    def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """q̈ = B(q)⁻¹ (τ − C q̇ − g), τ the :meth:`applied_torque` (Eq. 7.42): the second half of ẋ,
+        which the loop integrates directly when nq = nv (the Nyström form of RK4)."""
+        if self._simple and type(u) is np.ndarray and u.shape == self._u_shape:
+            if self._frictionless:  # the benchmark's plain arm: ABA on u as it is
+                return pin.aba(self._model, self._data, q, qd, u)
+            tau = u - self.Fv * qd if self._viscous else u
         else:
-            tau = u
+            tau = self.applied_torque(t, q, qd, u)
+        if self._data is None:  # rotors (mimic joints): the Cholesky solve
+            return self._forward_dynamics(self.robot, q, qd, tau, check=False)
+        return pin.aba(self._model, self._data, q, qd, tau)
+
+    def applied_torque(self, t: float, q: np.ndarray, qd: np.ndarray, u: Any) -> np.ndarray:
+        """τ − τ_f − τ_ext: the commanded torques ``u`` (n,) saturated at ±tau_max, minus friction and the
+        external forces' joint torques at (t, q, q̇)."""
+        tau = np.asarray(self.torque(u), dtype=float)  # names a wrong input shape; saturates
         if self._coulomb:
             tau = tau - self._friction_torques(self.robot, qd, self.friction_smoothing, self.friction, check=False)
         elif self._viscous:
             tau = tau - self.Fv * qd
         if self.external_force is not None:
             tau = tau - self.external_force(t, q, qd)
-        xd = np.empty(2 * n)
-        xd[:n] = qd
-        xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
-        return xd
+        return tau
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         return ArmMeasurement(x[:self.nq], x[self.nq:])
@@ -255,6 +278,10 @@ class VoltageControlledArm:
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return self.arm.derivative(t, x, self.torque(x, u))
+
+    def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """q̈ under the voltages ``u`` (the loop's Nyström form of RK4, see :class:`ArmPlant`)."""
+        return self.arm.acceleration(t, q, qd, self.voltage_gain * u - self.electrical_damping * qd)
 
 
 def _positive(x: Any, n: int, name: str) -> np.ndarray:

@@ -22,6 +22,13 @@ The plant contract (duck-typed; only ``derivative`` is required)
     corrects its stages (Runge–Kutta–Munthe-Kaas) and stays fourth order; without it, stages are
     composed as they are (exact on vector spaces and commutative groups, second order otherwise).
     ``ArmPlant`` provides it through ``pin.dIntegrate`` when nq ≠ nv.
+``acceleration(t, q, v, u) -> v̇``
+    For a mechanical plant with x = [q, v] (equal sizes, no ``integrate``) and ẋ = [v, v̇]: the loop
+    then takes the same RK4 steps in Nyström form (:func:`rk4_stepper`; equal to the classical form in
+    exact arithmetic) without building ẋ; ``q`` and ``v`` are the loop's scratch arrays, read during
+    the call and never kept. ``derivative`` stays the reference: the loop calls it at the
+    first sample (the shape check) and repeats a step that became non-finite through it, so a plant
+    that can tell why (``ArmPlant``: a singular B(q)) raises its own error. ``ArmPlant`` provides it.
 ``tangent_size``
     The size of ``ẋ`` when it differs from ``len(x)`` (default ``len(x)``). ``simulate`` checks the
     shape of the first derivative once and names the plant's derivative when it is wrong.
@@ -86,6 +93,7 @@ import numpy as np
 from rigid_body.validation import as_positive, as_vector
 
 DEFAULT_BOUND = 1e12
+_FLOAT64 = np.dtype(np.float64)
 
 
 class Plant(Protocol):
@@ -294,28 +302,104 @@ class SimulationResult:
 # The loop
 # --------------------------------------------------------------------------------------------
 
+RK4_WEIGHTS = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
+"""The weights b_i of classical Runge–Kutta: x' = x + h Σ b_i k_i."""
+
+
+def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray], h: float,
+                integrate: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None,
+                dexp_inverse: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None,
+                acceleration: Callable[[float, np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None,
+                ) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray]:
+    """``step(t, x, u)``: one classical Runge–Kutta step of ẋ = f(t, x, u) with the input ``u`` held,
+    built once for a run of step ``h``.
+
+    The stages are k_1 = f(t, x), k_2 = f(t + h/2, x ⊕ (h/2) k_1), k_3 = f(t + h/2, x ⊕ (h/2) k_2),
+    k_4 = f(t + h, x ⊕ h k_3) and x' = x ⊕ h Σ b_i k_i (:data:`RK4_WEIGHTS`), where ``integrate(x, dx, h)``
+    is x ⊕ h dx on a manifold (default ``x + h·dx``) and ``dexp_inverse`` brings the stage derivatives
+    back to the tangent space at x (Runge–Kutta–Munthe-Kaas; see the plant contract).
+
+    On a vector space the rows of M = [x; k_1; k_2; k_3; k_4] (zeros until computed) give every stage
+    state and the result as one product each, a row of the Butcher tableau (with 1 for x) times M.
+    A mechanical plant x = [q, v], ẋ = [v, a(t, q, v, u)] given by its ``acceleration`` a (and no
+    ``integrate``) takes the same steps in Nyström form: with A = [q; v; a_1; a_2; a_3; a_4],
+    v_2 = v + (h/2) a_1, v_3 = v + (h/2) a_2, v_4 = v + h a_3 and
+    q_2 = q + (h/2) v, q_3 = q + (h/2) v + (h²/4) a_1, q_4 = q + h v + (h²/2) a_2,
+    q' = q + h v + (h²/6)(a_1 + a_2 + a_3), v' = v + (h/6)(a_1 + 2 a_2 + 2 a_3 + a_4):
+    each stage's (q_i, v_i) is one product C_i A (the classical stages, without building ẋ), written into
+    one (2, n) scratch array: ``acceleration`` reads its ``q``, ``v`` during the call and keeps no reference.
+    """
+    hh = 0.5 * h
+    if integrate is None and acceleration is not None:
+        return _nystrom_stepper(acceleration, h)
+    if integrate is None:
+        stage2, stage3, stage4, result = np.array([[1.0, hh, 0.0, 0.0, 0.0], [1.0, 0.0, hh, 0.0, 0.0],
+                                                   [1.0, 0.0, 0.0, h, 0.0], [1.0, *(h * RK4_WEIGHTS)]])
+
+        def step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+            M = np.zeros((5, len(x)))
+            M[0] = x
+            M[1] = derivative(t, x, u)
+            M[2] = derivative(t + hh, stage2.dot(M), u)
+            M[3] = derivative(t + hh, stage3.dot(M), u)
+            M[4] = derivative(t + h, stage4.dot(M), u)
+            return result.dot(M)
+        return step
+
+    half, full = np.array(hh), np.array(h)  # 0-d arrays: numpy multiplies a vector by them faster than by a float
+    weights = 6.0 * RK4_WEIGHTS
+
+    def manifold_step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        k = derivative(t, x, u)
+        K = np.empty((4, len(k)))
+        K[0] = k
+        for i, (c, ci) in enumerate(((hh, half), (hh, half), (h, full)), start=1):
+            k = derivative(t + c, integrate(x, k, c), u)
+            if dexp_inverse is not None:
+                k = dexp_inverse(x, ci * K[i - 1], k)
+            K[i] = k
+        return integrate(x, weights.dot(K), h / 6.0)
+    return manifold_step
+
+
+def _nystrom_stepper(acceleration: Callable[[float, np.ndarray, np.ndarray, np.ndarray], np.ndarray],
+                     h: float) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray]:
+    """:func:`rk4_stepper`'s Nyström form: A = [q; v; a_1; a_2; a_3; a_4] and the stage states are
+    scratch arrays allocated once (for the first x's size); stage i reads only the rows already computed."""
+    hh, h2 = 0.5 * h, h * h
+    C2 = np.array([[1.0, hh, 0.0], [0.0, 1.0, hh]])
+    C3 = np.array([[1.0, hh, h2 / 4, 0.0], [0.0, 1.0, 0.0, hh]])
+    C4 = np.array([[1.0, h, 0.0, h2 / 2, 0.0], [0.0, 1.0, 0.0, 0.0, h]])
+    CR = np.array([[1.0, h, h2 / 6, h2 / 6, h2 / 6, 0.0], [0.0, 1.0, *(h * RK4_WEIGHTS)]])
+    size = -1
+
+    def step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        nonlocal size, A, A3, A4, A5, q, v, S, Sq, Sv
+        if len(x) != size:
+            size = len(x)
+            A = np.empty((6, size >> 1))
+            A3, A4, A5, q, v = A[:3], A[:4], A[:5], A[0], A[1]
+            S = np.empty((2, size >> 1))
+            Sq, Sv = S
+        A[:2] = x.reshape(2, -1)
+        A[2] = acceleration(t, q, v, u)
+        C2.dot(A3, S)
+        A[3] = acceleration(t + hh, Sq, Sv, u)
+        C3.dot(A4, S)
+        A[4] = acceleration(t + hh, Sq, Sv, u)
+        C4.dot(A5, S)
+        A[5] = acceleration(t + h, Sq, Sv, u)
+        return CR.dot(A).ravel()
+
+    A = A3 = A4 = A5 = q = v = S = Sq = Sv = np.empty(0)
+    return step
+
+
 def rk4_step(f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarray, h: float,
              integrate: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None,
              dexp_inverse: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None) -> np.ndarray:
-    """One classical Runge–Kutta step of ẋ = f(t, x); ``integrate(x, dx, h)`` moves on a manifold
-    (default ``x + h·dx``) and ``dexp_inverse`` brings the stage derivatives back to the tangent space
-    at ``x`` (Runge–Kutta–Munthe-Kaas; see the plant contract)."""
-    k1 = f(t, x)
-    if integrate is None:
-        k2 = f(t + 0.5 * h, x + 0.5 * h * k1)
-        k3 = f(t + 0.5 * h, x + 0.5 * h * k2)
-        k4 = f(t + h, x + h * k3)
-        return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-    k2 = f(t + 0.5 * h, integrate(x, k1, 0.5 * h))
-    if dexp_inverse is not None:
-        k2 = dexp_inverse(x, 0.5 * h * k1, k2)
-    k3 = f(t + 0.5 * h, integrate(x, k2, 0.5 * h))
-    if dexp_inverse is not None:
-        k3 = dexp_inverse(x, 0.5 * h * k2, k3)
-    k4 = f(t + h, integrate(x, k3, h))
-    if dexp_inverse is not None:
-        k4 = dexp_inverse(x, h * k3, k4)
-    return integrate(x, k1 + 2.0 * k2 + 2.0 * k3 + k4, h / 6.0)
+    """One classical Runge–Kutta step of ẋ = f(t, x) (:func:`rk4_stepper`, the loop's step, for one call)."""
+    return rk4_stepper(lambda tau, xi, _: f(tau, xi), h, integrate, dexp_inverse)(t, x, None)
 
 
 def _periods_must_divide(controller: Any, Ts: float) -> None:
@@ -389,8 +473,9 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                                 units=dict(getattr(plant, "units", {})))
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
     integrate = getattr(plant, "integrate", None)
-    dexp_inverse = getattr(plant, "dexp_inverse", None)
     n_dx = getattr(plant, "tangent_size", x.size)
+    acceleration = getattr(plant, "acceleration", None) if n_dx == x.size and x.size % 2 == 0 else None
+    step = rk4_stepper(derivative, h, integrate, getattr(plant, "dexp_inverse", None), acceleration)
     measure = getattr(plant, "measure", None)
     n_u = getattr(plant, "input_size", None)
     n_u = None if n_u is None else tuple(np.atleast_1d(n_u).tolist())
@@ -400,7 +485,7 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     n_samples = int(np.floor((tf - t0) / Ts + 1e-9)) + 1
     layout = getattr(plant, "state_layout", {})
 
-    ts = np.empty(n_samples)
+    ts = t0 + np.arange(n_samples) * Ts  # the sample times t0 + k Ts, as the loop computes them
     xs = np.empty((n_samples, x.size))
     us: list[np.ndarray] = []
     signals: dict[str, list] = {}
@@ -411,7 +496,7 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
         t = t0 + k * Ts
         meas = measure(t, x) if measure else x
         u = controller(t, meas)
-        if type(u) is not np.ndarray or u.ndim != 1 or u.dtype != np.float64:
+        if type(u) is not np.ndarray or u.ndim != 1 or u.dtype is not _FLOAT64:
             u = np.atleast_1d(np.asarray(u, dtype=float))
         if k == 0:
             log_q = [name for name in ("q", "qd") if hasattr(meas, name) and name not in layout]
@@ -420,14 +505,19 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                 sizes = " or ".join(map(str, n_u))
                 raise ValueError(f"the controller `{who}` output shape {u.shape} at t = {t:g} s; "
                                  f"{type(plant).__name__} takes an input u of size {sizes}")
-        ts[k] = t
         xs[k] = x
         us.append(u)
         for name in log_q:
             _append(signals, name, getattr(meas, name))
         if controller_log is not None:
             for name, value in controller_log().items():
-                _append(signals, name, value)
+                if type(value) is np.ndarray or type(value) is float:  # stacked at the end (_append inline)
+                    try:
+                        signals[name].append(value)
+                    except KeyError:
+                        signals[name] = [value]
+                else:
+                    _append(signals, name, value)
         if log is not None:
             for name, value in log(t, x, u).items():
                 _append(signals, name, value)
@@ -443,25 +533,33 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                 raise ValueError(f"`{who}` returned shape {shape}, expected ({n_dx},) for a state of size {x.size}")
         for j in range(n_sub):
             ti = t + j * h
-            if integrate is None:
-                x = _rk4_vector(derivative, ti, x, h, u)
-            else:
-                x = rk4_step(lambda tau, xi: derivative(tau, xi, u), ti, x, h, integrate, dexp_inverse)
-            if bound2 < 0 or not x.dot(x) <= bound2:
-                peak = np.max(np.abs(x))
+            x_next = step(ti, x, u)
+            if bound2 < 0 or not x_next.dot(x_next) <= bound2:
+                peak = np.max(np.abs(x_next))
                 if peak <= bound:
+                    x = x_next
                     continue
                 why = _diagnosis(controller, plant, Ts, measure(t0, xs[0]) if measure else xs[0])
                 if np.isfinite(peak):
                     raise SimulationDiverged(
                         f"plant state exceeded {bound:g} at t = {ti + h:.6g} s: the loop diverges{why}", ti + h)
+                if acceleration is not None:  # the step again through ``derivative``, which may name the cause
+                    rk4_stepper(derivative, h)(ti, x, u)
                 raise SimulationDiverged(
                     f"plant state became non-finite at t = {ti + h:.6g} s (step h = {h:g} s); "
                     f"the loop is unstable or the step is too large{why}", ti + h)
-    return SimulationResult(t=ts, x=xs, u=np.array(us),
-                            signals={k: np.array(v, dtype=float) for k, v in signals.items()},
+            x = x_next
+    return SimulationResult(t=ts, x=xs, u=_stacked(us),
+                            signals={k: _stacked(v) for k, v in signals.items()},
                             layout=dict(layout),
                             units=dict(getattr(plant, "units", {})))
+
+
+def _stacked(samples: list) -> np.ndarray:
+    """The logged samples as one float array (N, ...): ``np.array`` finds float64 at once; anything else
+    is converted as ``np.array(samples, dtype=float)`` (twice as slow on float arrays)."""
+    out = np.array(samples)
+    return out if out.dtype is _FLOAT64 else np.array(samples, dtype=float)
 
 
 def _append(signals: dict[str, list], name: str, value: Any) -> None:
@@ -473,17 +571,6 @@ def _append(signals: dict[str, list], name: str, value: Any) -> None:
         signals[name].append(value)
     except KeyError:
         signals[name] = [value]
-
-
-def _rk4_vector(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray], t: float, x: np.ndarray,
-                h: float, u: np.ndarray) -> np.ndarray:
-    """:func:`rk4_step` on a vector space with the input ``u`` held (the loop's hot path, no closure)."""
-    hh = 0.5 * h
-    k1 = derivative(t, x, u)
-    k2 = derivative(t + hh, x + hh * k1, u)
-    k3 = derivative(t + hh, x + hh * k2, u)
-    k4 = derivative(t + h, x + h * k3, u)
-    return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
 
 
 def _diagnosis(controller: Any, plant: Any, Ts: float, measurement: Any) -> str:

@@ -196,6 +196,7 @@ def test_voltage_controlled_arm_torque_is_eq_8_3(arm):
     qdd = plant.derivative(0.0, x, v)[2:]
     tau = 20.0 * v - 4000.0 * x[2:] - 100.0 * x[2:]
     np.testing.assert_allclose(qdd, arm2.forward_dynamics(x[:2], x[2:], tau), atol=1e-9)
+    np.testing.assert_allclose(plant.acceleration(0.0, x[:2], x[2:], v), qdd, rtol=1e-14)  # the loop's fast path
 
 
 def test_short_initial_states_and_non_finite_references_are_rejected(arm):

@@ -96,8 +96,19 @@ class SymbolicLaw:
 
 
 def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]]) -> Callable[[float], np.ndarray]:
-    """``t -> concatenate(reference(t))``: a (x_d, ẋ_d, ẍ_d) reference as one vector r."""
-    return lambda t: np.concatenate([np.ravel(v) for v in reference(t)])
+    """``t -> concatenate(reference(t))``: a (x_d, ẋ_d, ẍ_d) reference as one vector r.
+
+    When ``reference`` samples many instants at once (``reference.at_times(times) -> (x_d, ẋ_d, ẍ_d)``,
+    each (N, n), as :func:`controllers.joint_space.as_reference` of a trajectory), so does the result
+    (``at_times(times) -> R (nr, N)``).
+    """
+    def stacked(t: float) -> np.ndarray:
+        return np.concatenate([np.ravel(v) for v in reference(t)])
+
+    at_times = getattr(reference, "at_times", None)
+    if at_times is not None:
+        stacked.at_times = lambda times: np.hstack([np.reshape(v, (len(times), -1)) for v in at_times(times)]).T
+    return stacked
 
 
 # --------------------------------------------------------------------------------------------
@@ -135,6 +146,15 @@ def compiler() -> str | None:
         if name and shutil.which(name):
             return name
     return None
+
+
+def fast_backend() -> str:
+    """The backend for a loop that needs speed: ``"casadi"`` when a C compiler can build the compiled loop,
+    else ``"python"`` (the same loop, slower; a one-line warning says so) — never the interpreted CasADi."""
+    if compiler() is not None:
+        return "casadi"
+    warnings.warn("no C compiler found: the loop runs on the Python backend (same results, slower)", stacklevel=2)
+    return "python"
 
 
 def compile_function(function: ca.Function, flags: tuple[str, ...] = ("-O2",)) -> ca.Function:
@@ -226,7 +246,10 @@ class CompiledLoop:
         references are functions of time only)."""
         if self._references is None or self._references[0] != t0:
             times = t0 + self.Ts * np.arange(self.n_samples)
-            self._references = (t0, np.column_stack([self.law.reference(float(t)) for t in times]))
+            at_times = getattr(self.law.reference, "at_times", None)
+            R = at_times(times) if at_times is not None else np.column_stack([self.law.reference(float(t))
+                                                                             for t in times])
+            self._references = (t0, np.ascontiguousarray(R, dtype=float))
         return self._references[1]
 
     def arrays(self, t0: float, x0: Any, bound: float = 1e12) -> tuple[np.ndarray, np.ndarray, np.ndarray,

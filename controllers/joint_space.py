@@ -73,6 +73,9 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
         raise ValueError(f"`{name}` must give (n,) = ({n},) position, velocity and acceleration: {err}") from None
     if not all(np.all(np.isfinite(v)) for v in first):
         raise ValueError(f"`{name}` must be finite, got {first} at t = 0")
+    if hasattr(reference, "evaluate") and hasattr(reference, "law"):
+        # a Trajectory: its timing law takes an array of instants (the compiled loop samples it at once)
+        sampled.at_times = lambda times: tuple(np.reshape(v, (len(times), n)) for v in reference.law(times))
     return sampled
 
 

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from controllers.compiled import fast_backend
 from controllers.independent_joint import JointDrive, bandwidth, design_position_velocity
 from controllers.joint_space import (AdaptivePayloadControl, ComputedTorqueFeedforward, InverseDynamicsControl,
                                      PDGravityCompensation, RobustControl, inverse_dynamics_steady_state,
@@ -231,7 +232,8 @@ def problem_8_11() -> Solution:
 def problem_8_12() -> Solution:
     """Inverse dynamics control (8.57), (8.60), Fig. 8.22, K_P = 100 I, K_D = 16 I (ω_n = 10, ζ = 0.8),
     along tra_4 with the 10 kg payload in the torque-controlled plant; the controller's model either
-    ignores it (c = 0) or includes it (c = 1). Plant step 0.1 ms (manual). Figure S8.14.
+    ignores it (c = 0) or includes it (c = 1). Plant step 0.1 ms (manual), on the compiled loop
+    (``backend="casadi"``; the Python loop without a C compiler). Figure S8.14.
 
     Without compensation the arm settles where B̂(q) K_P (q_d − q) = g(q) − ĝ(q): that fixed point is
     solved independently and compared with the simulation and with its linearisation
@@ -245,7 +247,7 @@ def problem_8_12() -> Solution:
     runs = {}
     for name, model in (("not_compensated", arm), ("compensated", armL)):
         runs[name] = simulate(plant, InverseDynamicsControl(model, K_P, K_D, tra, viscous_friction=F_V),
-                              (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=1e-4, Ts=T_C)
+                              (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=1e-4, Ts=T_C, backend=fast_backend())
         sol.value(f"max_error_{name}", np.abs(runs[name]["e"]).max(axis=0), unit="rad")
         sol.value(f"final_error_{name}", runs[name]["e"][-1], unit="rad")
     rc, rn = runs["compensated"], runs["not_compensated"]

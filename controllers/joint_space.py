@@ -73,10 +73,21 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
         raise ValueError(f"`{name}` must give (n,) = ({n},) position, velocity and acceleration: {err}") from None
     if not all(np.all(np.isfinite(v)) for v in first):
         raise ValueError(f"`{name}` must be finite, got {first} at t = 0")
-    if hasattr(reference, "evaluate") and hasattr(reference, "law"):
-        # a Trajectory: its timing law takes an array of instants (the compiled loop samples it at once)
-        sampled.at_times = lambda times: tuple(np.reshape(v, (len(times), n)) for v in reference.law(times))
+    vectorised = array_law(reference)
+    if vectorised is not None:                                  # the compiled loop samples it at once
+        sampled.at_times = lambda times: tuple(np.reshape(v, (len(times), n)) for v in vectorised(times))
     return sampled
+
+
+def array_law(reference: Any) -> Callable[[np.ndarray], tuple[np.ndarray, ...]] | None:
+    """The law of ``reference`` that takes an array of instants, or None: a trajectory's timing law
+    (:class:`planners.timing.Trajectory`), or ``reference`` itself when it is a timing law (``t_i``, ``t_f``
+    and ``law(t)`` on arrays, :class:`planners.timing.TimingLaw`, e.g. a :class:`planners.paths.PathLaw`)."""
+    if hasattr(reference, "evaluate") and hasattr(reference, "law"):
+        return reference.law
+    if callable(reference) and hasattr(reference, "t_i") and hasattr(reference, "t_f"):
+        return reference
+    return None
 
 
 def _as_reference_vector(x: Any, n: int) -> np.ndarray:
@@ -491,6 +502,29 @@ class RobustControl(LoggedController):
         u = gain_times(self._b_hat, y) + self.Fv * qd + gravity_torques(self.robot, q)
         self.record(q_d=q_d, e=e, w=w)
         return u
+
+    def symbolic(self) -> Any:
+        """Eqs. (8.76), (8.89) in CasADi expressions for ``simulate(..., backend="casadi")``; the parameters
+        are this controller's K_P, K_D (Q of (8.81) is held at this controller's value: a
+        :class:`controllers.compiled.SymbolicLaw`)."""
+        import casadi as ca
+
+        from controllers.compiled import SymbolicLaw, stacked_reference
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        n, robot, Fv, B_hat, DtQ = self.n, self.robot, self.Fv, self.B_hat, self._DtQ
+        rho, epsilon, zero = self.rho, self.epsilon, np.zeros(self.n)
+
+        def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
+            e, ed = r[:n] - q, r[n:2 * n] - qd
+            z = DtQ @ ca.vertcat(e, ed)
+            w = (rho / ca.fmax(ca.sqrt(ca.dot(z, z)), epsilon)) * z               # Eq. (8.89), boundary layer
+            y = r[2 * n:] + K["K_D"] @ ed + K["K_P"] @ e + w
+            u = B_hat @ y + Fv * qd + inverse_dynamics_expression(robot, q, zero, zero)
+            return u, {"q_d": r[:n], "e": e, "w": w}
+
+        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P, "K_D": self.K_D}, law,
+                                 stacked_reference(self.reference))
 
 # --------------------------------------------------------------------------------------------
 # Adaptive control on the payload mass (8.92)–(8.98)

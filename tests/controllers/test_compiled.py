@@ -4,15 +4,19 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from controllers.joint_space import InverseDynamicsControl, PDGravityCompensation, RobustControl
-from controllers.operational_space import OperationalPDGravity
+import controllers.compiled as compiled
+from controllers.joint_space import (AdaptivePayloadControl, InverseDynamicsControl, PDGravityCompensation,
+                                     RobustControl, as_reference)
+from controllers.operational_space import OperationalInverseDynamics, OperationalPDGravity
 from controllers.plants import ArmPlant, JointIntegrator
 from controllers.simulation import SimulationDiverged, simulate
-from planners.timing import quintic
+from planners.paths import PathLaw, Segment
+from planners.timing import quintic, trapezoidal_law
 from rigid_body.robots import load
 from rigid_body.symbolic import forward_dynamics_function, inverse_dynamics_function
 
 Q_D = np.array([np.pi / 4, -np.pi / 2])
+SEGMENT = Segment([0.9, 0.7, 0.0], [0.6, 1.1, 0.0])          # near the tip at Q_D − 0.1, length 0.5 m
 
 
 @pytest.fixture(scope="module")
@@ -24,7 +28,15 @@ def arm():
     lambda arm: PDGravityCompensation(arm, 3750, 750, Q_D),
     lambda arm: InverseDynamicsControl(arm, 100, 16, quintic(Q_D - 0.3, Q_D, 0.4, dt=1e-3), 100.0),
     lambda arm: OperationalPDGravity(arm, 2000, 500, [0.7, 0.9], rows=(0, 1)),
-], ids=["pd_gravity", "inverse_dynamics", "operational_pd"])
+    lambda arm: OperationalInverseDynamics(arm, 100, 16, PathLaw(SEGMENT, trapezoidal_law(0.0, 0.5, 0.4, 2.0)),
+                                           rows=(0, 1), viscous_friction=100.0),
+    lambda arm: OperationalInverseDynamics(arm, 400, 40, [0.8, 0.9], rows=(0, 1), viscous_friction=50.0, inertia=2.0),
+    lambda arm: OperationalInverseDynamics(arm, 100, 20, PathLaw(SEGMENT, trapezoidal_law(0.0, 0.5, 0.4, 2.0)),
+                                           rows=(1,), null_space_damping=5.0, posture=Q_D, posture_stiffness=10.0),
+    lambda arm: RobustControl(arm, [8.0, 2.0], 100, 16, quintic(Q_D - 0.3, Q_D, 0.4, dt=1e-3), rho=5.0,
+                              epsilon=0.05, viscous_friction=100.0),
+], ids=["pd_gravity", "inverse_dynamics", "operational_pd", "operational_inverse_dynamics", "impedance",
+        "operational_redundant", "robust"])
 def test_casadi_backend_reproduces_python_loop(arm, make):
     plant = ArmPlant(arm, viscous_friction=100.0, tau_max=[3000.0, 3000.0])
     x0 = np.r_[Q_D - 0.1, 0.2, -0.1]
@@ -57,9 +69,11 @@ def test_backend_errors_name_the_argument(arm):
     x0 = np.zeros(4)
     with pytest.raises(ValueError, match="backend"):
         simulate(plant, PDGravityCompensation(arm, 10, 5, Q_D), (0, 0.01), x0, h=1e-3, backend="numba")
-    robust = RobustControl(arm, [1.0, 1.0], 10, 5, Q_D, rho=1.0, epsilon=0.01)
+    adaptive = AdaptivePayloadControl(arm, 10, 5, 1.0, Q_D)                 # a law with state: no symbolic form
     with pytest.raises(ValueError, match="controller"):
-        simulate(plant, robust, (0, 0.01), x0, h=1e-3, backend="casadi")
+        simulate(plant, adaptive, (0, 0.01), x0, h=1e-3, backend="casadi")
+    with pytest.raises(ValueError, match="force feedback"):
+        OperationalInverseDynamics(arm, 10, 5, [0.8, 0.9], rows=(0, 1), inertia=1.0, force_feedback=True).symbolic()
     with pytest.raises(ValueError, match="plant"):
         simulate(JointIntegrator(), PDGravityCompensation(arm, 10, 5, Q_D), (0, 0.01), np.zeros(2), h=1e-3,
                  backend="casadi")
@@ -71,3 +85,25 @@ def test_diverging_compiled_loop_says_when(arm):
         simulate(plant, PDGravityCompensation(arm, 1e6, 1e6, Q_D), (0.0, 2.0), np.r_[Q_D - 0.1, 0, 0],
                  h=1e-2, backend="casadi")
     assert 0.0 < err.value.t < 2.0
+
+
+def test_references_sampled_at_once_match_one_by_one():
+    """The compiled loop samples a trajectory or a path law at all instants in one call (``at_times``)."""
+    times = np.linspace(0.0, 0.6, 601)                                     # beyond the end too: held
+    law = PathLaw(SEGMENT, trapezoidal_law(0.0, 0.5, 0.4, 2.0))
+    for reference, n in ((quintic(Q_D - 0.3, Q_D, 0.4, dt=1e-3), 2), (law, 3)):
+        ref = as_reference(reference, n)
+        stacked = compiled.stacked_reference(ref)
+        one_by_one = np.column_stack([stacked(t) for t in times])
+        np.testing.assert_allclose(stacked.at_times(times), one_by_one, rtol=0, atol=1e-12)
+    ctrl = OperationalInverseDynamics(load("planar_2r"), 100, 16, law, rows=(0, 1))
+    assert hasattr(ctrl.reference, "at_times")                            # the (x, y) rows of the 3-D law
+    np.testing.assert_allclose(ctrl.reference.at_times(times)[1], law(times)[1][:, :2], rtol=0, atol=0)
+
+
+def test_fast_backend_falls_back_to_python_without_a_compiler(monkeypatch):
+    monkeypatch.setattr(compiled, "compiler", lambda: None)
+    with pytest.warns(UserWarning, match="Python backend"):
+        assert compiled.fast_backend() == "python"
+    monkeypatch.setattr(compiled, "compiler", lambda: "cc")
+    assert compiled.fast_backend() == "casadi"

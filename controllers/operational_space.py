@@ -363,23 +363,23 @@ class OperationalInverseDynamics(LoggedController):
         return u
 
     def symbolic(self) -> Any:
-        """Eqs. (8.57), (8.114) of a position task (with the impedance M_d of Eq. 9.28 and the null-space
-        term of a redundant task) in CasADi expressions for ``simulate(..., backend="casadi")``; the
+        """Eqs. (8.57), (8.114) of a position task (with the impedance M_d of Eqs. 9.28, 9.30–9.31 and the
+        null-space term of a redundant task) in CasADi expressions for ``simulate(..., backend="casadi")``; the
         parameters are this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`).
         J̇q̇ = ∂(J q̇)/∂q q̇ (the classical acceleration of the origin at q̈ = 0). A singular J_A gives
         non-finite torques there (the loop stops as diverged) rather than the Python law's ValueError."""
         from controllers.compiled import SymbolicLaw, stacked_reference
         from rigid_body.symbolic import inverse_dynamics_expression, pose_function
 
-        if self.task.pose or self.force_feedback:
-            raise ValueError("the symbolic form of OperationalInverseDynamics covers position tasks without "
-                             "force feedback: use backend='python'")
+        if self.task.pose:
+            raise ValueError("the symbolic form of OperationalInverseDynamics covers position tasks: "
+                             "use backend='python'")
         n, m, robot, rows = self.n, self.task.m, self.robot, self.task.rows.tolist()
         pose = pose_function(robot, self.task.space.frame)
-        M_d_inv, redundant = self.M_d_inv, self.redundant
+        M_d_inv, redundant, force = self.M_d_inv, self.redundant, self.force_feedback
         Fv, K_q, K_N, q_0 = self.Fv, self.K_q, self.K_N, self.q_0
 
-        def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
+        def law(q: Any, qd: Any, r: Any, K: dict, wrench: Any = None) -> tuple[Any, dict]:
             import casadi as ca
 
             _, p, J_geo = pose(q)
@@ -387,6 +387,9 @@ class OperationalInverseDynamics(LoggedController):
             Jdot_qd = ca.jtimes(J @ qd, q, qd)
             e = r[:m] - x_e
             w = K["K_D"] @ (r[m:2 * m] - J @ qd) + K["K_P"] @ e
+            if force:
+                h = wrench[rows]
+                w = w - h                                                   # Eq. (9.31)
             a = r[2 * m:] + (w if M_d_inv is None else M_d_inv @ w) - Jdot_qd
 
             def pinv(b: Any) -> Any:                                        # J⁻¹ b or J†b (3.52)
@@ -397,10 +400,14 @@ class OperationalInverseDynamics(LoggedController):
                 y0 = K_q * (q_0 - q) - K_N * qd
                 y = y + y0 - pinv(J @ y0)                                   # (I − J† J) y_0, cf. (3.54)
             u = inverse_dynamics_expression(robot, q, qd, y) + Fv * qd
-            return u, {"x_d": r[:m], "x_e": x_e, "e": e}
+            signals = {"x_d": r[:m], "x_e": x_e, "e": e}
+            if force:
+                u = u + J.T @ h                                             # + Jᵀ h_e, Eq. (9.30)
+                signals["h_e"] = wrench
+            return u, signals
 
         return SymbolicLaw.build(robot.nq, n, 3 * m, {"K_P": self.K_P, "K_D": self.K_D}, law,
-                                 stacked_reference(self.reference))
+                                 stacked_reference(self.reference), measurements={"wrench": 6} if force else None)
 
     def _sensed_wrench(self, meas: Any) -> np.ndarray:
         wrench = getattr(meas, "wrench", None)

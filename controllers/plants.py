@@ -324,6 +324,43 @@ class ArmInContact:
         q, qd = x[:nq], x[nq:]
         return ArmMeasurement(q, qd, self.wrench(q, qd)[0])
 
+    def _symbolic_wrench(self) -> tuple[Any, Any, Any, Any]:
+        """(x, q, q̇, h_e, J) in CasADi expressions: the environment's ``symbolic_wrench_at``."""
+        import casadi as ca
+
+        from rigid_body.symbolic import pose_function
+
+        if self.nq != self.n or not hasattr(self.environment, "symbolic_wrench_at"):
+            raise ValueError("`plant`: backend='casadi' takes an ArmInContact with nq = nv and an environment "
+                             "with symbolic_wrench_at (a CompliantPlane)")
+        n = self.n
+        x = ca.SX.sym("x", 2 * n)
+        q, qd = x[:n], x[n:]
+        _, p, J = pose_function(self.robot, self._fid)(q)
+        return x, qd, self.environment.symbolic_wrench_at(p, J @ qd), J
+
+    def symbolic(self) -> Any:
+        """ẋ = f(x, u) as a ``casadi.Function`` for ``simulate(..., backend="casadi")``:
+        B(q) q̈ = u − F_v q̇ − Jᵀ h_e − C q̇ − g (Eq. 7.42) by the symbolic Newton–Euler."""
+        import casadi as ca
+
+        from rigid_body.symbolic import forward_dynamics_expression
+
+        x, qd, h_e, J = self._symbolic_wrench()
+        u = ca.SX.sym("u", self.n)
+        tau = u - ca.DM(self._Fv) * qd - J.T @ h_e
+        qdd = forward_dynamics_expression(self.robot, x[:self.n], qd, tau)
+        return ca.Function("plant", [x, u], [ca.vertcat(qd, qdd)], ["x", "u"], ["xdot"])
+
+    def symbolic_measurement(self, name: str) -> Any:
+        """The measurement entry ``name`` (``"wrench"``: h_e (6,)) as a ``casadi.Function`` x → value."""
+        import casadi as ca
+
+        if name != "wrench":
+            raise ValueError(f"`name`: ArmInContact measures q, qd and wrench, got {name!r}")
+        x, _, h_e, _ = self._symbolic_wrench()
+        return ca.Function("wrench", [x], [h_e], ["x"], ["wrench"])
+
 
 class JointDrivePlant:
     """The drive M(s) as a plant: x = [ϑ_m, ϑ̇_m], u = [v] or [v, d]; ``T_m ϑ̈ = k_m(v − (R_a/k_t) d) − ϑ̇``.

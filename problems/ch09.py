@@ -29,6 +29,7 @@ import pinocchio as pin
 import sympy as sp
 
 from controllers.environment import CompliantPlane
+from controllers.compiled import fast_backend
 from controllers.force import (ForceWithInnerLoop, HybridForceMotionControl, compliance_equilibrium,
                                constrained_stiffness, fit_second_order, force_loop_parameters,
                                impedance_parameters, inner_position_loop_equilibrium, pi_velocity_parameters)
@@ -246,7 +247,7 @@ def problem_9_2() -> Solution:
     q0 = inverse_kinematics_planar_2r(O_R + R_C @ np.array([0.15, 0.0]))[ELBOW_UP]
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
     res = simulate(plant, OperationalPDGravity(arm, K_P, K_D, x_d, rows=(0, 1)), (0.0, T_D), plant.initial_state(q0),
-                   h=T_C, Ts=T_C, log=lambda t, x, u: {"h_e": plant.wrench(x[:2], x[2:])[0][:2]})
+                   h=T_C, Ts=T_C, backend=fast_backend(), log=lambda t, x, u: {"h_e": plant.wrench(x[:2], x[2:])[0][:2]})
     h_pred, dx_ed_pred = compliance_equilibrium(K_P * np.eye(2), K_Y * np.outer(n, n), x_d - O_R)
     sol.value("h_e_simulated", res["h_e"][-1])
     sol.value("h_e_9_22", h_pred)
@@ -267,7 +268,7 @@ def _impedance_run(reference: Any, q0: np.ndarray) -> SimulationResult:
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
     ctrl = OperationalInverseDynamics(arm, K_P_IMP, K_D_IMP, reference, rows=(0, 1), viscous_friction=F_V,
                                       inertia=M_D, force_feedback=True)
-    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C)
+    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C, backend=fast_backend())
 
 
 @problem("9.3", "Impedance control of the two-link arm in contact with a compliant plane inclined by π/4",

@@ -5,10 +5,11 @@ import pinocchio as pin
 import pytest
 
 import controllers.compiled as compiled
+from controllers.environment import CompliantPlane, SteppedPlane
 from controllers.joint_space import (AdaptivePayloadControl, InverseDynamicsControl, PDGravityCompensation,
                                      RobustControl, as_reference)
 from controllers.operational_space import OperationalInverseDynamics, OperationalPDGravity
-from controllers.plants import ArmPlant, JointIntegrator
+from controllers.plants import ArmInContact, ArmPlant, JointIntegrator
 from controllers.simulation import SimulationDiverged, simulate
 from planners.paths import PathLaw, Segment
 from planners.timing import quintic, trapezoidal_law
@@ -72,8 +73,8 @@ def test_backend_errors_name_the_argument(arm):
     adaptive = AdaptivePayloadControl(arm, 10, 5, 1.0, Q_D)                 # a law with state: no symbolic form
     with pytest.raises(ValueError, match="controller"):
         simulate(plant, adaptive, (0, 0.01), x0, h=1e-3, backend="casadi")
-    with pytest.raises(ValueError, match="force feedback"):
-        OperationalInverseDynamics(arm, 10, 5, [0.8, 0.9], rows=(0, 1), inertia=1.0, force_feedback=True).symbolic()
+    with pytest.raises(ValueError, match="position tasks"):
+        OperationalInverseDynamics(arm, 10, 5, np.eye(4), rows=(0, 5), orientation="axis_angle").symbolic()
     with pytest.raises(ValueError, match="plant"):
         simulate(JointIntegrator(), PDGravityCompensation(arm, 10, 5, Q_D), (0, 0.01), np.zeros(2), h=1e-3,
                  backend="casadi")
@@ -107,3 +108,34 @@ def test_fast_backend_falls_back_to_python_without_a_compiler(monkeypatch):
         assert compiled.fast_backend() == "python"
     monkeypatch.setattr(compiled, "compiler", lambda: "cc")
     assert compiled.fast_backend() == "casadi"
+
+
+@pytest.mark.parametrize("force_feedback", [False, True], ids=["pd_gravity", "impedance_force_feedback"])
+def test_casadi_backend_reproduces_python_loop_in_contact(arm, force_feedback):
+    """ArmInContact's symbolic plant and sensed wrench: the tip pushed into a compliant plane, contact made
+    and lost along the run (unilateral plane), against the Python loop."""
+    plane = CompliantPlane([1.2, 0.0, 0.0], [-1.0, -1.0, 0.0], 5e3, damping=20.0)
+    plant = ArmInContact(arm, plane, viscous_friction=100.0)
+    q0 = np.array([0.2, -1.6])                              # tip outside the plane
+    target = [0.95, 0.55]                                   # beyond the plane: pushes in, then rests in contact
+    if force_feedback:
+        make = lambda: OperationalInverseDynamics(arm, 2000, 300, target, rows=(0, 1), viscous_friction=100.0,
+                                                  inertia=5.0, force_feedback=True)
+    else:
+        make = lambda: OperationalPDGravity(arm, 3000, 600, target, rows=(0, 1))
+    a = simulate(plant, make(), (0.0, 0.6), plant.initial_state(q0), h=1e-3, Ts=1e-3)
+    b = simulate(plant, make(), (0.0, 0.6), plant.initial_state(q0), h=1e-3, Ts=1e-3, backend="casadi")
+    wrench = np.array([plant.wrench(x[:2], x[2:])[0] for x in a.x])
+    assert np.any(wrench[:, 0] != 0) and np.any(wrench[:, 0] == 0)          # free motion and contact
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-9)
+    for name in a.signals:
+        np.testing.assert_allclose(b[name], a[name], rtol=0, atol=1e-9)
+
+
+def test_symbolic_wrench_refuses_what_it_does_not_model(arm):
+    with pytest.raises(ValueError, match="friction"):
+        CompliantPlane([1.2, 0, 0], [-1, 0, 0], 5e3, friction=0.3).symbolic_wrench_at(np.zeros(3), np.zeros(6))
+    stepped = SteppedPlane([1.2, 0, 0], [-1, 0, 0], [0, 1, 0], 0.1, 0.01, 5e3)
+    with pytest.raises(ValueError, match="SteppedPlane"):
+        stepped.symbolic_wrench_at(np.zeros(3), np.zeros(6))

@@ -378,7 +378,7 @@ def problem_9_4() -> Solution:
     runs = {}
     for name, K_I in (("P", 0.0), ("PI", 1e-3)):
         ctrl = ForceWithInnerLoop(arm, 400.0, 40.0, 1.0, c_F, x_d, f_d, K_I=K_I, rows=(0, 1), viscous_friction=F_V)
-        runs[name] = simulate(plant, ctrl, (0.0, 3.0), plant.initial_state(q0), h=T_C, Ts=T_C)
+        runs[name] = simulate(plant, ctrl, (0.0, 3.0), plant.initial_state(q0), h=T_C, Ts=T_C, backend=fast_backend())
     p_run, pi_run = runs["P"], runs["PI"]
     sol.value("x_e_simulated", p_run["x_e"][-1])
     sol.check_close("proportional C_F: simulated rest = x_e of Problem 9.4 [m]", p_run["x_e"][-1], x_pred, atol=1e-6)
@@ -599,7 +599,7 @@ def _hybrid_run(stiffness_estimate: float) -> SimulationResult:
                                     compliance_prime=R_C @ np.diag([0.0, 1.0 / stiffness_estimate]) @ R_C.T,
                                     rows=(0, 1), viscous_friction=F_V)
     q0 = inverse_kinematics_planar_2r(O_R)[ELBOW_UP]
-    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C)
+    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C, backend=fast_backend())
 
 
 @problem("9.10", "Hybrid force/motion control of the two-link arm on the compliant plane", kind="simulation")

@@ -6,6 +6,7 @@ import pytest
 
 import controllers.compiled as compiled
 from controllers.environment import CompliantPlane, SteppedPlane
+from controllers.force import ForceWithInnerLoop, HybridForceMotionControl
 from controllers.joint_space import (AdaptivePayloadControl, InverseDynamicsControl, PDGravityCompensation,
                                      RobustControl, as_reference)
 from controllers.operational_space import OperationalInverseDynamics, OperationalPDGravity
@@ -13,6 +14,7 @@ from controllers.plants import ArmInContact, ArmPlant, JointIntegrator
 from controllers.simulation import SimulationDiverged, simulate
 from planners.paths import PathLaw, Segment
 from planners.timing import quintic, trapezoidal_law
+from rigid_body.kinematics import ELBOW_UP, inverse_kinematics_planar_2r
 from rigid_body.robots import load
 from rigid_body.symbolic import forward_dynamics_function, inverse_dynamics_function
 
@@ -139,3 +141,28 @@ def test_symbolic_wrench_refuses_what_it_does_not_model(arm):
     stepped = SteppedPlane([1.2, 0, 0], [-1, 0, 0], [0, 1, 0], 0.1, 0.01, 5e3)
     with pytest.raises(ValueError, match="SteppedPlane"):
         stepped.symbolic_wrench_at(np.zeros(3), np.zeros(6))
+
+
+R_C = np.array([[1.0, -1.0], [1.0, 1.0]]) / np.sqrt(2.0)        # constraint frame: x_c along the plane, y_c normal
+
+
+@pytest.mark.parametrize("make", [
+    lambda arm: ForceWithInnerLoop(arm, 400.0, 40.0, 1.0, 1e-4, [1.0, 0.0] + R_C @ [0.15, -0.02], -40.0 * R_C[:, 1],
+                                   K_I=1e-3, rows=(0, 1), viscous_friction=100.0),
+    lambda arm: ForceWithInnerLoop(arm, 400.0, 40.0, 1.0, 1e-4, [1.0, 0.0], -40.0 * R_C[:, 1], inner="velocity",
+                                   rows=(0, 1), viscous_friction=100.0),
+    lambda arm: HybridForceMotionControl(arm, R_C[:, 1:], R_C[:, :1], [-50.0], lambda t: ([0.1 * np.cos(t)], [-0.1 * np.sin(t)]),
+                                         100.0, 50.0, 30.0, 400.0, compliance=np.eye(2) / 5e3, rows=(0, 1),
+                                         viscous_friction=100.0),
+], ids=["force_PI_inner_position", "force_P_inner_velocity", "hybrid"])
+def test_casadi_backend_reproduces_python_force_loops(arm, make):
+    """Laws with a state (the integral actions, forward Euler per sample) and the sensed wrench."""
+    plant = ArmInContact(arm, CompliantPlane([1.0, 0.0, 0.0], np.r_[R_C[:, 1], 0.0], 5e3), viscous_friction=100.0)
+    x0 = plant.initial_state(inverse_kinematics_planar_2r(np.array([1.0, 0.0]) + R_C @ [0.15, 0.0])[ELBOW_UP])
+    a = simulate(plant, make(arm), (0.0, 1.0), x0, h=1e-3, Ts=1e-3)
+    b = simulate(plant, make(arm), (0.0, 1.0), x0, h=1e-3, Ts=1e-3, backend="casadi")
+    assert np.abs(a.u).max() > 1.0 and np.abs(a["h_e" if "h_e" in a.signals else "f_e"]).max() > 1.0
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-8)
+    for name in a.signals:
+        np.testing.assert_allclose(b[name], a[name], rtol=1e-12, atol=1e-9)

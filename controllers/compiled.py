@@ -72,12 +72,13 @@ class SymbolicLaw:
     signals: tuple[str, ...]
     measurements: tuple[str, ...] = ()
     state: np.ndarray | None = None
+    scalars: tuple[str, ...] = ()
 
     @staticmethod
     def build(nq: int, nv: int, nr: int, gains: Mapping[str, np.ndarray],
               law: Callable[..., tuple],
               reference: Callable[[float], np.ndarray], measurements: Mapping[str, int] | None = None,
-              state: Any = None) -> "SymbolicLaw":
+              state: Any = None, scalars: tuple[str, ...] = ()) -> "SymbolicLaw":
         """The law from ``law(q, qd, r, K, **extra) -> (u, {signal: expression})``, ``K[name]`` the symbolic
         gain of the numeric gain ``gains[name]`` (same shape).
 
@@ -85,7 +86,8 @@ class SymbolicLaw:
         ``state``: the initial value of the law's own state; then ``extra`` has ``state`` and ``dt`` (the
         time since the previous sample, 0 at the first) and the law returns ``(u, signals, next_state)``.
         The function's inputs are ``q, qd, r, p, *measurements[, state, dt]``, its outputs
-        ``u[, next_state], *signals``."""
+        ``u[, next_state], *signals``. ``scalars`` names the signals the numeric law logs as floats
+        (a result's (N,) rather than (N, 1))."""
         q, qd, r = ca.SX.sym("q", nq), ca.SX.sym("qd", nv), ca.SX.sym("r", nr)
         symbols, values, shapes = {}, [], []
         for name, value in gains.items():
@@ -107,7 +109,7 @@ class SymbolicLaw:
             outputs, out_names = [u, c_next], ["u", "next_state"]
         function = ca.Function("law", inputs, [*outputs, *signals.values()], names, [*out_names, *signals])
         return SymbolicLaw(function, reference, np.concatenate(values), tuple(shapes), tuple(signals),
-                           tuple(extra), state)
+                           tuple(extra), state, tuple(scalars))
 
     def unpack(self, p: Any) -> dict[str, Any]:
         """The gains of a parameter vector ``p`` (numeric or symbolic) by name, in their shapes."""
@@ -312,7 +314,8 @@ class CompiledLoop:
         bad = ~(np.all(np.isfinite(X), axis=0) & (np.max(np.abs(X), axis=0, initial=0.0) <= bound))
         bad |= ~np.all(np.isfinite(U), axis=0)
         t_bad = float(ts[int(np.argmax(bad))]) if np.any(bad) else None
-        signals = {name: v.T for name, v in zip(self.law.signals, logged)}
+        signals = {name: v.T[:, 0].copy() if name in self.law.scalars else v.T
+                   for name, v in zip(self.law.signals, logged)}
         return ts, X.T.copy(), U.T.copy(), signals, t_bad
 
 

@@ -599,3 +599,35 @@ class AdaptivePayloadControl(LoggedController):
         self._rate = self.gain * float(y_L @ sigma)  # π̂̇ = K_π⁻¹ Yᵀ σ
         self.record(q_d=q_d, e=e, m_hat=self.mass)
         return u
+
+    def symbolic(self) -> Any:
+        """Eqs. (8.92), (8.98) and the update law in CasADi expressions for ``simulate(..., backend="casadi")``:
+        the law's state is (m̂_L, m̂̇_L) (forward Euler, as the numeric law); τ₀ and y_L by the polarised
+        Newton–Euler of :func:`rigid_body.dynamics.reference_torque`; the parameters are K_D, Λ and k_π⁻¹
+        (a :class:`controllers.compiled.SymbolicLaw`)."""
+        from controllers.compiled import SymbolicLaw, stacked_reference
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        n, robot, unit, Fv, zero = self.n, self.robot, self.unit, self.Fv, np.zeros(self.n)
+
+        def reference_torque(model: Robot, q: Any, qd: Any, qd_r: Any, qdd_r: Any) -> Any:
+            plus = inverse_dynamics_expression(model, q, qd + qd_r, 4.0 * qdd_r)
+            minus = inverse_dynamics_expression(model, q, qd - qd_r, zero)
+            return (plus - minus) / 4.0 + inverse_dynamics_expression(model, q, zero, zero)
+
+        def law(q: Any, qd: Any, r: Any, K: dict, state: Any, dt: Any) -> tuple[Any, dict, Any]:
+            import casadi as ca
+
+            mass = state[0] + dt * state[1]                                     # forward Euler of m̂̇_L
+            e, ed = r[:n] - q, r[n:2 * n] - qd
+            qd_r, qdd_r = r[n:2 * n] + K["Lambda"] @ e, r[2 * n:] + K["Lambda"] @ ed   # Eq. (8.92)
+            sigma = qd_r - qd
+            tau0 = reference_torque(robot, q, qd, qd_r, qdd_r)
+            y_L = reference_torque(unit, q, qd, qd_r, qdd_r) - tau0
+            u = tau0 + mass * y_L + Fv * qd_r + K["K_D"] @ sigma                 # Eq. (8.98)
+            rate = K["adaptation_gain"] * ca.dot(y_L, sigma)
+            return u, {"q_d": r[:n], "e": e, "m_hat": mass}, ca.vertcat(mass, rate)
+
+        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_D": self.K_D, "Lambda": self.Lambda,
+                                                      "adaptation_gain": self.gain}, law,
+                                 stacked_reference(self.reference), state=[self.mass, self._rate], scalars=("m_hat",))

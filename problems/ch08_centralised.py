@@ -392,7 +392,7 @@ def problem_8_14() -> Solution:
               "(manual erratum: y'13's first velocity term is −a1 s2 ϑ̇2 ϑ̇r1, printed −a1 s2 ϑ̇r1 ϑ̇r2)",
               worst < 1e-9 and printed > 1e-2,
               f"max deviation {worst:.2e} over 20 random (q, q̇, q̇_r, q̈_r); with the printed y'13: {printed:.3g}")
-    res = simulate(plant, ctrl, (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C)
+    res = simulate(plant, ctrl, (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C, backend=fast_backend())
     m_hat = res["m_hat"]
     sol.animation(armL, res, "adaptive control")
     sol.value("m_hat_final", float(m_hat[-1]), unit="kg")
@@ -402,7 +402,7 @@ def problem_8_14() -> Solution:
               f"m̂_L(t_d) = {m_hat[-1]:.5f} kg vs m_L = {M_L} kg")
     sol.check("tracking satisfactory", e.max() < 2e-3, f"max |q̃| = {e.max():.2e} < 2e-3 rad")
     wrong = simulate(plant, AdaptivePayloadControl(arm, K_D, Lam, k_pi, tra, viscous_friction=F_V),
-                     (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C)["m_hat"]
+                     (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C, backend=fast_backend())["m_hat"]
     sol.value("m_hat_final_gain_0.005", float(wrong[-1]), unit="kg")
     sol.check("erratum: k_π must divide (gain 1/0.005)", abs(wrong[-1]) < 0.1 * M_L,
               f"with gain 0.005 the estimate only reaches {wrong[-1]:.4f} kg; with 1/0.005 it reaches {m_hat[-1]:.4f} kg")

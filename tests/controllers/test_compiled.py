@@ -38,8 +38,9 @@ def arm():
                                            rows=(1,), null_space_damping=5.0, posture=Q_D, posture_stiffness=10.0),
     lambda arm: RobustControl(arm, [8.0, 2.0], 100, 16, quintic(Q_D - 0.3, Q_D, 0.4, dt=1e-3), rho=5.0,
                               epsilon=0.05, viscous_friction=100.0),
+    lambda arm: AdaptivePayloadControl(arm, 200, 5, 50.0, quintic(Q_D - 0.3, Q_D, 0.4, dt=1e-3), 100.0, mass0=1.0),
 ], ids=["pd_gravity", "inverse_dynamics", "operational_pd", "operational_inverse_dynamics", "impedance",
-        "operational_redundant", "robust"])
+        "operational_redundant", "robust", "adaptive"])
 def test_casadi_backend_reproduces_python_loop(arm, make):
     plant = ArmPlant(arm, viscous_friction=100.0, tau_max=[3000.0, 3000.0])
     x0 = np.r_[Q_D - 0.1, 0.2, -0.1]
@@ -72,9 +73,8 @@ def test_backend_errors_name_the_argument(arm):
     x0 = np.zeros(4)
     with pytest.raises(ValueError, match="backend"):
         simulate(plant, PDGravityCompensation(arm, 10, 5, Q_D), (0, 0.01), x0, h=1e-3, backend="numba")
-    adaptive = AdaptivePayloadControl(arm, 10, 5, 1.0, Q_D)                 # a law with state: no symbolic form
-    with pytest.raises(ValueError, match="controller"):
-        simulate(plant, adaptive, (0, 0.01), x0, h=1e-3, backend="casadi")
+    with pytest.raises(ValueError, match="controller"):                   # a plain function: no symbolic form
+        simulate(plant, lambda t, meas: np.zeros(2), (0, 0.01), x0, h=1e-3, backend="casadi")
     with pytest.raises(ValueError, match="position tasks"):
         OperationalInverseDynamics(arm, 10, 5, np.eye(4), rows=(0, 5), orientation="axis_angle").symbolic()
     with pytest.raises(ValueError, match="plant"):

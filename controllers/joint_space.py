@@ -345,6 +345,39 @@ class ComputedTorqueFeedforward(LoggedController):
         self.record(q_d=q_d, e=q_d - q, tau_ff=tau_ff)
         return v
 
+    def symbolic(self) -> Any:
+        """The servos and feedforward in CasADi expressions for ``simulate(..., backend="casadi")``: the
+        PI integrals and the last velocity errors are the law's state (forward Euler, as the numeric law);
+        b_ii(q_d), g(q_d) by the symbolic Newton–Euler; the parameters are K_P, K_V
+        (a :class:`controllers.compiled.SymbolicLaw`)."""
+        import casadi as ca
+
+        from controllers.compiled import SymbolicLaw, stacked_reference
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        n, robot, k_r, zero = self.n, self.robot, self.k_r, np.zeros(self.n)
+        c_p, c_v, k_m, T_V, K_pr, b_bar = self._c_p, self._c_v, self.k_m, self.T_V, self.K_pr, self.b_bar
+        feedforward = self.feedforward
+
+        def law(q: Any, qd: Any, r: Any, K: dict, state: Any, dt: Any) -> tuple[Any, dict, Any]:
+            K_P, K_V = K["K_P"], K["K_V"]
+            integral = state[:n] + dt * state[n:]                           # ZOH on the PI's input
+            q_d, qd_d, qdd_d = r[:n], r[n:2 * n], r[2 * n:]
+            ref = c_p * q_d + c_v * qd_d / K_P + k_r * qdd_d / (k_m * K_P * K_V)
+            e_v = K_P * (ref - c_p * q) - c_v * qd
+            v = K_V * (T_V * e_v + integral)                                # PI: K_V (1 + s T_V)/s
+            tau_ff = ca.DM.zeros(n)
+            if feedforward:
+                g = inverse_dynamics_expression(robot, q_d, zero, zero)
+                b = ca.vertcat(*[(inverse_dynamics_expression(robot, q_d, zero, np.eye(n)[i]) - g)[i]
+                                 for i in range(n)])                        # b_ii(q_d)
+                tau_ff = (b - b_bar) * qdd_d + g
+                v = v + K_pr * tau_ff
+            return v, {"q_d": q_d, "e": q_d - q, "tau_ff": tau_ff}, ca.vertcat(integral, e_v)
+
+        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P[:, None], "K_V": self.K_V[:, None]}, law,
+                                 stacked_reference(self.reference), state=np.r_[self._integral, self._e_v])
+
 # --------------------------------------------------------------------------------------------
 # Inverse dynamics control (8.57), (8.60)
 # --------------------------------------------------------------------------------------------

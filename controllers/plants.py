@@ -252,6 +252,16 @@ class VoltageControlledArm:
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return self.arm.derivative(t, x, self.torque(x, u))
 
+    def symbolic(self) -> Any:
+        """ẋ = f(x, v_c) as a ``casadi.Function`` for ``simulate(..., backend="casadi")``: the arm's
+        (:meth:`ArmPlant.symbolic`) under the motor torques of :meth:`torque`."""
+        import casadi as ca
+
+        arm, n = self.arm.symbolic(), self.n
+        x, v_c = ca.SX.sym("x", 2 * n), ca.SX.sym("u", n)
+        tau = ca.DM(self.voltage_gain) * v_c - ca.DM(self.electrical_damping) * x[n:]
+        return ca.Function("plant", [x, v_c], [arm(x, tau)], ["x", "u"], ["xdot"])
+
 
 def _positive(x: Any, n: int, name: str) -> np.ndarray:
     v = per_joint(x, n, name)

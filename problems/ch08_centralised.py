@@ -187,7 +187,7 @@ def problem_8_11() -> Solution:
                   f"ω3 = {w3:.3f} rad/s vs {omega_3}" + (" (manual prints 10.78: erratum)" if k == 2 else ""))
         for ff in (True, False):
             ctrl = ComputedTorqueFeedforward(armL, tra, K_R, drives, designs, feedforward=ff)
-            runs[k, ff] = simulate(plant, ctrl, (0.0, T_D), x0, h=T_C, Ts=T_C,
+            runs[k, ff] = simulate(plant, ctrl, (0.0, T_D), x0, h=T_C, Ts=T_C, backend=fast_backend(),
                                    log=lambda t, x, u: {"tau": plant.torque(x, u)})
     err = {key: np.abs(r["e"]).max(axis=0) for key, r in runs.items()}
     sol.animation(armL, runs[1, True], "gains 1, computed-torque feedforward, payload 10 kg")

@@ -7,10 +7,11 @@ import pytest
 import controllers.compiled as compiled
 from controllers.environment import CompliantPlane, SteppedPlane
 from controllers.force import ForceWithInnerLoop, HybridForceMotionControl
-from controllers.joint_space import (AdaptivePayloadControl, InverseDynamicsControl, PDGravityCompensation,
-                                     RobustControl, as_reference)
+from controllers.independent_joint import JointDrive, design_position_velocity
+from controllers.joint_space import (AdaptivePayloadControl, ComputedTorqueFeedforward, InverseDynamicsControl,
+                                     PDGravityCompensation, RobustControl, as_reference)
 from controllers.operational_space import OperationalInverseDynamics, OperationalPDGravity
-from controllers.plants import ArmInContact, ArmPlant, JointIntegrator
+from controllers.plants import ArmInContact, ArmPlant, JointIntegrator, VoltageControlledArm
 from controllers.simulation import SimulationDiverged, simulate
 from planners.paths import PathLaw, Segment
 from planners.timing import quintic, trapezoidal_law
@@ -166,3 +167,21 @@ def test_casadi_backend_reproduces_python_force_loops(arm, make):
     np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-8)
     for name in a.signals:
         np.testing.assert_allclose(b[name], a[name], rtol=1e-12, atol=1e-9)
+
+
+@pytest.mark.parametrize("feedforward", [True, False])
+def test_casadi_backend_reproduces_python_voltage_controlled_servos(arm, feedforward):
+    """The PV servos with computed-torque feedforward (PI integrals as the law's state) on the
+    voltage-controlled arm (Fig. 8.3)."""
+    drives = [JointDrive(I=i, Ra=10.0, kt=2.0, kv=2.0, Fm=0.01) for i in (0.02, 0.005)]
+    designs = [design_position_velocity(d, 0.8, 10.0) for d in drives]
+    plant = VoltageControlledArm(arm, 100.0, drives, viscous_friction=100.0)
+    make = lambda: ComputedTorqueFeedforward(arm, quintic(Q_D - 0.3, Q_D, 0.4, dt=1e-3), 100.0, drives, designs,
+                                             feedforward=feedforward)
+    x0 = plant.initial_state(Q_D - 0.3)
+    a = simulate(plant, make(), (0.0, 0.6), x0, h=5e-4, Ts=1e-3)
+    b = simulate(plant, make(), (0.0, 0.6), x0, h=5e-4, Ts=1e-3, backend="casadi")
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-9)
+    for name in a.signals:
+        np.testing.assert_allclose(b[name], a[name], rtol=0, atol=1e-9)

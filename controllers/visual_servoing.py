@@ -170,6 +170,28 @@ def _symbolic_wrapped_difference(a: Any, b: Any) -> Any:
     return ca.vertcat(e[:3], ca.atan2(ca.sin(e[3]), ca.cos(e[3])))
 
 
+def _symbolic_camera_jacobian(robot: Robot, frame: int, q: Any) -> Any:
+    """J_c of :func:`camera_jacobian` (LOCAL: [R_cᵀ J_P; R_cᵀ J_O]) in CasADi expressions."""
+    import casadi as ca
+
+    from rigid_body.symbolic import pose_function
+
+    R, _, J = pose_function(robot, frame)(q)
+    return ca.vertcat(R.T @ J[:3, :], R.T @ J[3:, :])
+
+
+def _symbolic_points_interaction(x: Any, y: Any, z: Any) -> Any:
+    """(2n×6) stack of (10.26) in CasADi expressions."""
+    import casadi as ca
+
+    rows = []
+    for i in range(x.shape[0]):
+        xi, yi, iz = x[i], y[i], 1.0 / z[i]
+        rows.append(ca.horzcat(-iz, 0.0, xi * iz, xi * yi, -(1.0 + xi * xi), yi))
+        rows.append(ca.horzcat(0.0, -iz, yi * iz, 1.0 + yi * yi, -xi * yi, -xi))
+    return ca.vertcat(*rows)
+
+
 def _symbolic_gamma(o: Any) -> Any:
     """Γ(o) of :func:`gamma_matrix` in CasADi expressions."""
     import casadi as ca
@@ -468,10 +490,9 @@ class PBVSPDGravity(_CameraLaw):
         """The law (Fig. 10.14) in CasADi expressions (``image`` unused: the estimate carries it)."""
         import casadi as ca
 
-        from rigid_body.symbolic import inverse_dynamics_expression, pose_function
+        from rigid_body.symbolic import inverse_dynamics_expression
 
-        R, _, J_geo = pose_function(self.robot, self.frame)(q)
-        Jc = ca.vertcat(R.T @ J_geo[:3, :], R.T @ J_geo[3:, :])                  # LOCAL: [R_cᵀ J_P; R_cᵀ J_O]
+        Jc = _symbolic_camera_jacobian(self.robot, self.frame, q)
         J = _symbolic_gamma(estimate) @ Jc[_SCARA_ROWS.tolist(), :]
         x_tilde = _symbolic_wrapped_difference(ca.DM(self.x_do), estimate)
         zero = np.zeros(self.robot.nv)
@@ -620,6 +641,38 @@ class IBVSPDGravity(_IBVSLaw):
             return g + J.T @ (self.K_Ps[rows] * e - self.K_Ds[rows] * (J @ meas.qd))
         return g + J.T @ (self.K_Ps * e - self.K_Ds * (J @ meas.qd))
 
+    def symbolic_gains(self) -> dict[str, np.ndarray]:
+        return {"K_Ps": self.K_Ps[:, None], "K_Ds": self.K_Ds[:, None]}
+
+    def symbolic_law(self, q: Any, qd: Any, image: tuple, estimate: Any, K: dict) -> tuple[Any, dict[str, Any]]:
+        """The law (Fig. 10.16) in CasADi expressions, every point seen; the depth measured or a constant ẑ."""
+        import casadi as ca
+
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        if callable(self.depth):
+            raise ValueError("the symbolic IBVS law takes the measured or a constant depth: use backend='python'")
+        x, y, z = image
+        if self.depth is not None:
+            z = ca.DM(self._depths)
+        L = _symbolic_points_interaction(x, y, z)
+        if self.target.kind == "segment":
+            dx, dy = x[1] - x[0], y[1] - y[0]
+            L2 = dx * dx + dy * dy
+            Ln = ca.sqrt(L2)
+            D = ca.vertcat(ca.horzcat(0.5, 0.0, 0.5, 0.0), ca.horzcat(0.0, 0.5, 0.0, 0.5),
+                           ca.horzcat(-dx / Ln, -dy / Ln, dx / Ln, dy / Ln),
+                           ca.horzcat(dy / L2, -dx / L2, -dy / L2, dx / L2))      # ∂s/∂[x1, y1, x2, y2] (10.28)
+            L = D @ L
+            e = _symbolic_wrapped_difference(ca.DM(self.s_d), _symbolic_segment(x[0], y[0], x[1], y[1]))
+        else:
+            e = ca.DM(self.s_d) - ca.vec(ca.horzcat(x, y).T)
+        dofs = self._dofs.tolist()
+        J = L[:, dofs] @ _symbolic_camera_jacobian(self.robot, self.frame, q)[dofs, :]
+        zero = np.zeros(self.robot.nv)
+        g = inverse_dynamics_expression(self.robot, q, zero, zero)
+        return g + J.T @ (K["K_Ps"] * e - K["K_Ds"] * (J @ qd)), {"e_s": e}
+
 
 class IBVSResolvedVelocity(_IBVSLaw):
     """q̇_r = J_L⁻¹ K_s e_s (Fig. 10.17; damped least-squares inverse when J_L is not square): ė_s = −K_s e_s."""
@@ -680,7 +733,7 @@ class VisualServo(Chain):
 
     def symbolic(self) -> Any:
         """The chain as a :class:`controllers.compiled.SymbolicLaw` (laws with ``symbolic_law``:
-        :class:`PBVSPDGravity`); the parameters are the law's gains."""
+        :class:`PBVSPDGravity`, :class:`IBVSPDGravity`); the parameters are the law's gains."""
         import casadi as ca
 
         from controllers.compiled import SymbolicLaw

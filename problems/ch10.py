@@ -627,7 +627,9 @@ def _pbvs_run(Tc: float, **gains) -> _Run:
 
 
 def _ibvs_run(Tc: float, kind: str, **gains) -> _Run:
-    return _post(scara_eye_in_hand(), simulate(**ibvs_setup(Tc, kind, **gains)))
+    """10.10 (PD + gravity: the compiled loop where a C compiler is available) or 10.11 (the Python loop)."""
+    backend = fast_backend() if "K_Ps" in gains else "python"
+    return _post(scara_eye_in_hand(), simulate(**ibvs_setup(Tc, kind, **gains), backend=backend))
 
 
 def _final_camera_pose() -> np.ndarray:

@@ -692,7 +692,7 @@ class _PointOnCircle:
         p, v = x[:2], x[2:]
         A = p / self.rho
         mu = (-v @ v / self.rho - A @ u) / (A @ A)
-        return np.r_[v, u + A * mu]
+        return np.concatenate((v, u + A * mu))
 
 
 @problem("9.11", "Control law (9.95) achieves tracking of r_d(t)", kind="derivation")

@@ -30,6 +30,8 @@ Figs. 5.2, 8.3, 8.4.
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
@@ -41,7 +43,6 @@ from controllers.independent_joint import JointDrive
 from controllers.simulation import as_friction, per_joint
 from rigid_body.actuators import DCServomotor, PIRegulator
 from rigid_body.robots import JointFriction, Robot, joint_units
-from rigid_body.rotations import wrap_angle
 from rigid_body.validation import as_positive, as_vector
 from rigid_body.wheeled import (chained_form_velocity, mobile_manipulator_input_matrix, saturate_wheel_speeds,
                                 unicycle_velocity)
@@ -547,7 +548,7 @@ class UnicyclePlant:
     def integrate(self, x: np.ndarray, dx: np.ndarray, h: float) -> np.ndarray:
         """x ⊕ h dx on R² × SO(2) (× R² for the encoders): θ wrapped into (−π, π]."""
         y = x + h * dx
-        y[2] = wrap_angle(y[2])
+        y[2] = math.pi - (math.pi - float(y[2])) % (2.0 * math.pi)     # rotations.wrap_angle on one float
         return y
 
     def measure(self, t: float, x: np.ndarray) -> Posture:

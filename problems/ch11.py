@@ -152,7 +152,10 @@ def problem_11_2() -> Solution:
     rng = _rng()
 
     def G(q: np.ndarray) -> np.ndarray:  # wheel rates from the body velocity: a smooth basis of N(A)
-        return np.vstack([np.eye(3), -_three_wheel_A(q, ell, r)[:, :3] / r])
+        out = np.zeros((6, 3))
+        out[0, 0] = out[1, 1] = out[2, 2] = 1.0
+        out[3:] = _three_wheel_A(q, ell, r)[:, :3] / -r
+        return out
 
     q = rng.normal(size=6)
     sol.check_close("A(q) G(q) = 0 at a random q", _three_wheel_A(q, ell, r) @ G(q), np.zeros((3, 3)), atol=1e-14)

@@ -70,8 +70,8 @@ def unicycle_input_matrix(q: Any) -> np.ndarray:
 
 def unicycle_velocity(q: np.ndarray, u: np.ndarray) -> np.ndarray:
     """q̇ = [v cos θ, v sin θ, ω] (11.13) for q = (x, y, θ), u = (v, ω); unchecked (hot loop)."""
-    v, th = u[0], q[2]
-    return np.array([v * np.cos(th), v * np.sin(th), u[1]])
+    v, th = u[0], float(q[2])
+    return np.array([v * math.cos(th), v * math.sin(th), u[1]])
 
 
 def unicycle_arc(q: np.ndarray, v: float, omega: float, t: float) -> np.ndarray:

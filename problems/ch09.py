@@ -72,23 +72,35 @@ def _tra_5() -> PathLaw:
     return PathLaw(segment, trapezoidal_law(0.0, segment.length, 1.0, 0.5))
 
 
-def _held(law: Callable[[Any], Any]) -> Callable[[float], Any]:
+class _Held:
     """``law`` as a sampled controller sees it: held over [t, t + T_c), so at a switching instant of
     the trapezoid (here t_f = 1 s, a sample) the value of the interval that starts there (right limit).
 
     The law is evaluated once, vectorised, at the controller's instants k T_c of [0, T_d] (the loop's
-    t = k T_c exactly); any other instant is evaluated on the spot."""
-    k = np.arange(int(round(T_D / T_C)) + 1)
-    grid = k * T_C
-    table = [np.asarray(v) for v in law(np.nextafter(grid, np.inf))]
+    t = k T_c exactly); any other instant is evaluated on the spot. Like the law, it takes one instant
+    or an array of them (a timing law: ``t_i``, ``t_f``)."""
 
-    def held(t: float) -> Any:
-        i = int(round(t / T_C))
-        if 0 <= i < grid.size and t == grid[i]:
-            return table[0][i], table[1][i], table[2][i]
-        return law(np.nextafter(t, np.inf))
+    def __init__(self, law: Callable[[Any], Any]):
+        self.law, self.t_i, self.t_f = law, law.t_i, law.t_f
+        self.grid = np.arange(int(round(T_D / T_C)) + 1) * T_C
+        self.table = [np.asarray(v) for v in law(np.nextafter(self.grid, np.inf))]
 
-    return held
+    def __call__(self, t: Any) -> Any:
+        grid, table = self.grid, self.table
+        if np.ndim(t) == 0:
+            i = int(round(t / T_C))
+            if 0 <= i < grid.size and t == grid[i]:
+                return table[0][i], table[1][i], table[2][i]
+            return self.law(np.nextafter(t, np.inf))
+        t = np.asarray(t, dtype=float)
+        i = np.clip(np.rint(t / T_C).astype(int), 0, grid.size - 1)
+        on_grid = grid[i] == t
+        out = [np.array(v[i]) for v in table]
+        if not on_grid.all():
+            off = self.law(np.nextafter(t[~on_grid], np.inf))
+            for o, v in zip(out, off):
+                o[~on_grid] = v
+        return tuple(out)
 
 
 def contact_animation(sol: Solution, robot: Robot, res: SimulationResult, title: str, normal: Any,
@@ -289,7 +301,7 @@ def problem_9_3() -> Solution:
     p_i = law(0.0)[0]
     q0 = inverse_kinematics_planar_2r(p_i[:2])[ELBOW_UP]
     sol.check_close("initial posture = companion's inv_k2u(p_i)", q0, [0.96343, -1.92685], atol=1e-5)
-    res = _impedance_run(_held(law), q0)
+    res = _impedance_run(_Held(law), q0)
     f_c, e_c = _in_constraint_frame(res["h_e"]), _in_constraint_frame(res["e"])
     e_base = res["e"]
     f_end, e_end = sol.value("f_final", f_c[-1]), sol.value("position_error_final", e_c[-1])
@@ -586,7 +598,7 @@ def _hybrid_run(stiffness_estimate: float) -> SimulationResult:
     Ĉ' = diag(0, 1/k̂) in the constraint frame (companion ``i9_10``)."""
     arm = _arm()
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
-    law = _held(_tra_5())
+    law = _Held(_tra_5())
 
     def nu_reference(t: float) -> tuple[np.ndarray, np.ndarray]:
         _, pd, pdd = law(t)

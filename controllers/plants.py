@@ -31,7 +31,6 @@ Figs. 5.2, 8.3, 8.4.
 from __future__ import annotations
 
 import math
-
 from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
@@ -336,7 +335,7 @@ class ArmInContact:
         return ArmMeasurement(q, qd, self.wrench(q, qd)[0])
 
     def _symbolic_wrench(self) -> tuple[Any, Any, Any, Any]:
-        """(x, q, q̇, h_e, J) in CasADi expressions: the environment's ``symbolic_wrench_at``."""
+        """(x, q̇, h_e, J) in CasADi expressions: h_e from the environment's ``symbolic_wrench_at``."""
         import casadi as ca
 
         from rigid_body.symbolic import pose_function

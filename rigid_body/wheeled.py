@@ -23,7 +23,6 @@ Eqs. (11.1)–(11.25); solution manual, Problems 11.1–11.9.
 from __future__ import annotations
 
 import math
-
 from typing import Any, Callable, Sequence
 
 import numpy as np

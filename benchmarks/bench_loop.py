@@ -8,8 +8,13 @@ the closed loops of the manual in simulated seconds per wall second.
   (continuous in time) with SciPy's RK45 at its default tolerances. Each side's integration error is
   its final state against a tight solution of its own system: rmpc's sampled loop with RK4 at 1 ms/64,
   the Toolbox's with RK45 at rtol 1e-10.
-* Problems 8.10–8.16: every ``simulate`` call of the problem is timed (the rest of the problem — figures,
-  checks — is not); the row is simulated seconds per wall second, target ≥ 20.
+* Every problem of Chapters 5–12 that simulates (``BOOK_LOOPS``): every ``simulate`` call of the problem,
+  wherever it is made (the problem's module or a helper such as ``controllers.tasks``), is timed (the rest
+  of the problem — figures, checks — is not); the row is simulated seconds per wall second, target ≥ 20.
+  Each problem is solved twice, the first time with an empty compiled-code cache: a problem whose loops
+  run on the compiled backend (``backend="casadi"``) is rated on the second run (its compiled code
+  cached, as in ``$RMPC_CACHE``) and its first run's extra wall time — CasADi code generation and the C
+  compiler — is a row of its own; a Python-only problem is rated on the better of the two.
 
 Run: ``python benchmarks/bench_loop.py`` (or ``python -m benchmarks`` for every table).
 """
@@ -29,7 +34,10 @@ from rigid_body.robots import load
 
 K_P, K_D, T_END, H = 100.0, 20.0, 2.0, 1e-3
 Q_D = np.array([0.5, -0.6, 0.3, 0.2, -0.4, 0.1])
-BOOK_LOOPS = ("8.10", "8.11", "8.12", "8.13", "8.14", "8.15", "8.16")
+# the problems of Chapters 5–12 that call ``simulate`` (directly or through controllers.tasks / force)
+BOOK_LOOPS = ("5.2", "5.3", "6.1", "6.2", "6.3", "6.4", "7.4", "8.5", "8.7", "8.10", "8.11", "8.12", "8.13", "8.14",
+              "8.15", "8.16", "9.2", "9.3", "9.4", "9.10", "9.11", "10.8", "10.9", "10.10", "10.11", "11.2", "11.5",
+              "11.6", "11.8", "11.10", "11.11", "11.13", "11.14", "11.15", "11.16", "11.17", "11.18")
 
 
 def best_of(f, rounds: int = 3) -> tuple[float, object]:
@@ -76,27 +84,64 @@ def toolbox(rtol: float | None = None):
     return lambda: puma.fdyn(T_END, np.zeros(6), law, **args)
 
 
-def book_loops(pid: str) -> tuple[float, float]:
-    """(simulated seconds, wall seconds inside ``simulate``) of problem ``pid``."""
+def book_loops(pid: str) -> tuple[float, float, bool]:
+    """(simulated seconds, wall seconds inside ``simulate``, whether a loop ran compiled) of problem ``pid``."""
+    import sys
+
+    import controllers.simulation as simulation
     from problems.registry import get
 
     prob = get(pid)
-    module = importlib.import_module(prob.function.__module__)
-    spent = [0.0, 0.0]
+    importlib.import_module(prob.function.__module__)
+    original = simulation.simulate
+    spent = [0.0, 0.0, False]
 
     def timed(plant, controller, t_span, *args, **kwargs):
         t0 = time.perf_counter()
-        res = simulate(plant, controller, t_span, *args, **kwargs)
+        res = original(plant, controller, t_span, *args, **kwargs)
         spent[1] += time.perf_counter() - t0
         spent[0] += t_span[1] - t_span[0]
+        spent[2] = spent[2] or kwargs.get("backend", "python") != "python"
         return res
 
-    module.simulate, original = timed, module.simulate
+    holders = [m for m in list(sys.modules.values()) if getattr(m, "simulate", None) is original]
+    for module in holders:
+        module.simulate = timed
     try:
         prob.solve()
     finally:
-        module.simulate = original
-    return spent[0], spent[1]
+        for module in holders:
+            module.simulate = original
+    return spent[0], spent[1], spent[2]
+
+
+def book_loop_rows(pids: tuple[str, ...] = BOOK_LOOPS) -> list[dict]:
+    """One row per problem (simulated s / wall s, target ≥ 20) and, for compiled loops, their compile time."""
+    import tempfile
+    from pathlib import Path
+
+    import controllers.compiled as compiled
+
+    out = []
+    with tempfile.TemporaryDirectory() as cache:
+        saved = compiled.CACHE
+        compiled.CACHE = Path(cache)                            # cold: nothing compiled yet
+        try:
+            for pid in pids:
+                compiled._loaded.clear()
+                simulated, cold, uses_compiled = book_loops(pid)
+                compiled._loaded.clear()                        # warm: the libraries are on disk
+                warm = book_loops(pid)[1]
+                name = f"problem {pid} closed loops{' (compiled)' if uses_compiled else ''} [sim s / wall s]"
+                out.append(dict(measurement=name, rmpc=simulated / (warm if uses_compiled else min(cold, warm)),
+                                reference=None, ref_name="", target=(">=", 20.0)))
+                if uses_compiled:
+                    out.append(dict(measurement=f"  {pid}: code generation + C compiler, first run [s]",
+                                    rmpc=max(cold - warm, 0.0), reference=None, ref_name="cached afterwards",
+                                    target=None))
+        finally:
+            compiled.CACHE = saved
+    return out
 
 
 def rows() -> list[dict]:
@@ -129,14 +174,13 @@ def rows() -> list[dict]:
                  rmpc=float(np.max(np.abs(x_rtb - x_ref))), reference=None, ref_name="vs RK45 at rtol 1e-10",
                  target=None),
         ]
-    for pid in BOOK_LOOPS:
-        simulated, wall = book_loops(pid)
-        out.append(dict(measurement=f"problem {pid} closed loops [simulated s / wall s]", rmpc=simulated / wall,
-                        reference=None, ref_name="", target=(">=", 20.0)))
-    return out
+    return out + book_loop_rows()
 
 
 if __name__ == "__main__":
+    import sys
+
     from benchtools import print_rows
 
-    print_rows(rows())
+    # ``python benchmarks/bench_loop.py 8.12 9.3``: only those problems' loops
+    print_rows(book_loop_rows(tuple(sys.argv[1:])) if len(sys.argv) > 1 else rows())

@@ -16,8 +16,12 @@ What the loop needs from its two blocks, beside the contract of :mod:`controller
 * the controller: ``symbolic() -> SymbolicLaw``: the law ``(q, q̇, r, p) → (u, signals…)`` in CasADi
   expressions. The reference ``r`` is open loop (a function of time only), so it is sampled in Python
   at the controller instants and fed to the run; the parameters ``p`` are the gains, their values
-  taken from the numeric controller (its single source). Laws with state, chains and
-  ``ZeroOrderHold`` blocks stay on the Python backend.
+  taken from the numeric controller (its single source). A law may read more of the measurement
+  (``measurements``, e.g. the sensed ``wrench``: the plant's ``symbolic_measurement(name)``, a
+  ``casadi.Function`` x → value) and keep a state of its own (``state``: its value after ``reset()``;
+  the law also receives ``dt``, the time since the previous sample, 0 at the first, and returns the
+  next state: an integral action, an adaptive estimate). Chains and ``ZeroOrderHold`` blocks stay on
+  the Python backend.
 
 Because the run is one CasADi function of ``(x_0, R, p)``, its derivatives with respect to the
 initial state and the gains come by automatic differentiation (:meth:`CompiledLoop.rollout`):
@@ -66,13 +70,24 @@ class SymbolicLaw:
     parameters: np.ndarray
     parameter_shapes: tuple[tuple[str, tuple[int, int]], ...]
     signals: tuple[str, ...]
+    measurements: tuple[str, ...] = ()
+    state: np.ndarray | None = None
+    scalars: tuple[str, ...] = ()
 
     @staticmethod
     def build(nq: int, nv: int, nr: int, gains: Mapping[str, np.ndarray],
-              law: Callable[[ca.SX, ca.SX, ca.SX, dict[str, ca.SX]], tuple[ca.SX, dict[str, ca.SX]]],
-              reference: Callable[[float], np.ndarray]) -> "SymbolicLaw":
-        """The law from ``law(q, qd, r, K) -> (u, {signal: expression})``, ``K[name]`` the symbolic gain
-        of the numeric gain ``gains[name]`` (same shape)."""
+              law: Callable[..., tuple],
+              reference: Callable[[float], np.ndarray], measurements: Mapping[str, int] | None = None,
+              state: Any = None, scalars: tuple[str, ...] = ()) -> "SymbolicLaw":
+        """The law from ``law(q, qd, r, K, **extra) -> (u, {signal: expression})``, ``K[name]`` the symbolic
+        gain of the numeric gain ``gains[name]`` (same shape).
+
+        ``measurements`` ``{name: size}``: what else the law reads of the measurement (``extra[name]``).
+        ``state``: the initial value of the law's own state; then ``extra`` has ``state`` and ``dt`` (the
+        time since the previous sample, 0 at the first) and the law returns ``(u, signals, next_state)``.
+        The function's inputs are ``q, qd, r, p, *measurements[, state, dt]``, its outputs
+        ``u[, next_state], *signals``. ``scalars`` names the signals the numeric law logs as floats
+        (a result's (N,) rather than (N, 1))."""
         q, qd, r = ca.SX.sym("q", nq), ca.SX.sym("qd", nv), ca.SX.sym("r", nr)
         symbols, values, shapes = {}, [], []
         for name, value in gains.items():
@@ -81,10 +96,20 @@ class SymbolicLaw:
             values.append(value.ravel(order="F"))
             shapes.append((name, value.shape))
         p = ca.vertcat(*[ca.vec(s) for s in symbols.values()])
-        u, signals = law(q, qd, r, symbols)
-        function = ca.Function("law", [q, qd, r, p], [u, *signals.values()],
-                               ["q", "qd", "r", "p"], ["u", *signals])
-        return SymbolicLaw(function, reference, np.concatenate(values), tuple(shapes), tuple(signals))
+        extra = {name: ca.SX.sym(name, size) for name, size in (measurements or {}).items()}
+        inputs, names = [q, qd, r, p, *extra.values()], ["q", "qd", "r", "p", *extra]
+        if state is None:
+            u, signals = law(q, qd, r, symbols, **extra)
+            outputs, out_names = [u], ["u"]
+        else:
+            state = np.atleast_1d(np.asarray(state, dtype=float)).copy()
+            c, dt = ca.SX.sym("state", state.size), ca.SX.sym("dt")
+            u, signals, c_next = law(q, qd, r, symbols, **extra, state=c, dt=dt)
+            inputs, names = inputs + [c, dt], names + ["state", "dt"]
+            outputs, out_names = [u, c_next], ["u", "next_state"]
+        function = ca.Function("law", inputs, [*outputs, *signals.values()], names, [*out_names, *signals])
+        return SymbolicLaw(function, reference, np.concatenate(values), tuple(shapes), tuple(signals),
+                           tuple(extra), state, tuple(scalars))
 
     def unpack(self, p: Any) -> dict[str, Any]:
         """The gains of a parameter vector ``p`` (numeric or symbolic) by name, in their shapes."""
@@ -96,8 +121,19 @@ class SymbolicLaw:
 
 
 def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]]) -> Callable[[float], np.ndarray]:
-    """``t -> concatenate(reference(t))``: a (x_d, ẋ_d, ẍ_d) reference as one vector r."""
-    return lambda t: np.concatenate([np.ravel(v) for v in reference(t)])
+    """``t -> concatenate(reference(t))``: a (x_d, ẋ_d, ẍ_d) reference as one vector r.
+
+    When ``reference`` samples many instants at once (``reference.at_times(times) -> (x_d, ẋ_d, ẍ_d)``,
+    each (N, n), as :func:`controllers.joint_space.as_reference` of a trajectory), so does the result
+    (``at_times(times) -> R (nr, N)``).
+    """
+    def stacked(t: float) -> np.ndarray:
+        return np.concatenate([np.ravel(v) for v in reference(t)])
+
+    at_times = getattr(reference, "at_times", None)
+    if at_times is not None:
+        stacked.at_times = lambda times: np.hstack([np.reshape(v, (len(times), -1)) for v in at_times(times)]).T
+    return stacked
 
 
 # --------------------------------------------------------------------------------------------
@@ -115,6 +151,14 @@ def plant_function(plant: Any) -> tuple[ca.Function, int, int]:
     if "q" not in layout or "qd" not in layout:
         raise ValueError("`plant` with a symbolic form needs a state_layout with 'q' and 'qd'")
     return f, _length(layout["q"]), _length(layout["qd"])
+
+
+def plant_measurement(plant: Any, name: str) -> ca.Function:
+    """The plant's ``symbolic_measurement(name)``: x → the measurement entry ``name`` (e.g. the sensed wrench
+    of :class:`~controllers.plants.ArmInContact`)."""
+    if not hasattr(plant, "symbolic_measurement"):
+        raise ValueError(f"`plant` {type(plant).__name__} has no symbolic measurement {name!r} for backend='casadi'")
+    return plant.symbolic_measurement(name)
 
 
 def _length(index: Any) -> int:
@@ -135,6 +179,15 @@ def compiler() -> str | None:
         if name and shutil.which(name):
             return name
     return None
+
+
+def fast_backend() -> str:
+    """The backend for a loop that needs speed: ``"casadi"`` when a C compiler can build the compiled loop,
+    else ``"python"`` (the same loop, slower; a one-line warning says so) — never the interpreted CasADi."""
+    if compiler() is not None:
+        return "casadi"
+    warnings.warn("no C compiler found: the loop runs on the Python backend (same results, slower)", stacklevel=2)
+    return "python"
 
 
 def compile_function(function: ca.Function, flags: tuple[str, ...] = ("-O2",)) -> ca.Function:
@@ -178,7 +231,8 @@ class CompiledLoop:
 
     ``rollout`` is the CasADi function ``(x0, R, p) → (X (nx, N), U (nu, N), signals…)`` (R: the
     references at the N samples, p: the gains), differentiable; ``run`` is the same compiled (or
-    interpreted).
+    interpreted). With a law that has a state, x0 and X also hold it (below the plant's state) and R
+    has the row dt (see :meth:`references`).
     ``compile_time`` is the time spent building and compiling [s].
     """
 
@@ -188,13 +242,22 @@ class CompiledLoop:
             raise ValueError(f"`controller` {type(controller).__name__} has no symbolic() law: "
                              "use backend='python'")
         start = time.perf_counter()
+        if hasattr(controller, "reset"):
+            controller.reset()                                  # the law's initial state is the reset one
         self.law = controller.symbolic()
         f, nq, nv = plant_function(plant)
         self.nq, self.nv, self.n_samples = nq, nv, n_samples
         nx, nr, n_p = f.size1_in(0), self.law.function.size1_in(2), self.law.function.size1_in(3)
-        x, r, p = ca.SX.sym("x", nx), ca.SX.sym("r", nr), ca.SX.sym("p", n_p)
-        out = self.law.function(x[:nq], x[nq:nq + nv], r, p)
-        u, logged = (out[0], out[1:]) if isinstance(out, (list, tuple)) else (out, [])
+        nc = 0 if self.law.state is None else self.law.state.size
+        self.nx, self.nc = nx, nc
+        xc, r, p = ca.SX.sym("x", nx + nc), ca.SX.sym("r", nr + (1 if nc else 0)), ca.SX.sym("p", n_p)
+        x = xc[:nx]
+        args = [x[:nq], x[nq:nq + nv], r[:nr], p, *(plant_measurement(plant, name)(x) for name in self.law.measurements)]
+        if nc:
+            args += [xc[nx:], r[nr]]                             # the law's state, dt (the last row of R)
+        out = self.law.function(*args)
+        out = list(out) if isinstance(out, (list, tuple)) else [out]
+        u, c_next, logged = out[0], (out[1] if nc else None), out[1 + (1 if nc else 0):]
         if u.shape[0] != f.size1_in(1):
             raise ValueError(f"the symbolic law of {type(controller).__name__} gives {u.shape[0]} inputs, "
                              f"the plant takes {f.size1_in(1)}")
@@ -205,8 +268,9 @@ class CompiledLoop:
             k3 = f(x_next + 0.5 * h * k2, u)
             k4 = f(x_next + h * k3, u)
             x_next = x_next + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-        sample = ca.Function("sample", [x, r, p], [x_next, u, *logged])
-        X0, R, P = ca.MX.sym("x0", nx), ca.MX.sym("R", nr, n_samples), ca.MX.sym("p", n_p)
+        sample = ca.Function("sample", [xc, r, p], [ca.vertcat(x_next, c_next) if nc else x_next, u, *logged])
+        nr = r.shape[0]
+        X0, R, P = ca.MX.sym("x0", nx + nc), ca.MX.sym("R", nr, n_samples), ca.MX.sym("p", n_p)
         if n_samples > 1:
             Xs, *rest = sample.mapaccum("loop", n_samples - 1)(X0, R[:, :-1], P)
             X = ca.horzcat(X0, Xs)
@@ -226,7 +290,12 @@ class CompiledLoop:
         references are functions of time only)."""
         if self._references is None or self._references[0] != t0:
             times = t0 + self.Ts * np.arange(self.n_samples)
-            self._references = (t0, np.column_stack([self.law.reference(float(t)) for t in times]))
+            at_times = getattr(self.law.reference, "at_times", None)
+            R = at_times(times) if at_times is not None else np.column_stack([self.law.reference(float(t))
+                                                                             for t in times])
+            if self.nc:                                        # dt = t_k − t_{k−1} as the Python loop's, 0 at k = 0
+                R = np.vstack([R, np.diff(times, prepend=times[0])])
+            self._references = (t0, np.ascontiguousarray(R, dtype=float))
         return self._references[1]
 
     def arrays(self, t0: float, x0: Any, bound: float = 1e12) -> tuple[np.ndarray, np.ndarray, np.ndarray,
@@ -237,12 +306,16 @@ class CompiledLoop:
         (divergence is checked on the samples, every ``Ts``).
         """
         ts = t0 + self.Ts * np.arange(self.n_samples)
-        X, U, *logged = (np.asarray(v) for v in self.run(np.asarray(x0, dtype=float), self.references(t0),
-                                                           self.law.parameters))
+        x0 = np.asarray(x0, dtype=float)
+        if self.nc:
+            x0 = np.concatenate([x0, self.law.state])
+        X, U, *logged = (np.asarray(v) for v in self.run(x0, self.references(t0), self.law.parameters))
+        X = X[:self.nx]
         bad = ~(np.all(np.isfinite(X), axis=0) & (np.max(np.abs(X), axis=0, initial=0.0) <= bound))
         bad |= ~np.all(np.isfinite(U), axis=0)
         t_bad = float(ts[int(np.argmax(bad))]) if np.any(bad) else None
-        signals = {name: v.T for name, v in zip(self.law.signals, logged)}
+        signals = {name: v.T[:, 0].copy() if name in self.law.scalars else v.T
+                   for name, v in zip(self.law.signals, logged)}
         return ts, X.T.copy(), U.T.copy(), signals, t_bad
 
 

@@ -120,6 +120,23 @@ class CompliantPlane(ContactEnvironment):
         return h
 
 
+    def symbolic_wrench_at(self, p_e: Any, v_e: Any) -> Any:
+        """:meth:`wrench_at` in CasADi expressions (p_e (3), v_e (6)) for the compiled loop; frictionless
+        planes only (ValueError otherwise, or for a subclass: its surface differs)."""
+        import casadi as ca
+
+        if type(self) is not CompliantPlane or self.friction > 0.0:
+            raise ValueError(f"`environment`: the symbolic wrench covers a frictionless CompliantPlane, "
+                             f"not {type(self).__name__}" + (" with friction" if self.friction > 0.0 else ""))
+        n0, n1, n2 = self._n
+        delta = self._offset - (n0 * p_e[0] + n1 * p_e[1] + n2 * p_e[2])           # δ = n·(p_0 − p)
+        push = self.stiffness * delta - self.damping * ca.dot(ca.DM(self._normal_twist), v_e)
+        h = ca.DM(self._normal_twist) * -push
+        if self.bilateral:
+            return h
+        return ca.if_else(ca.logic_and(delta > 0.0, push > 0.0), h, ca.DM.zeros(6))
+
+
 class SteppedPlane(CompliantPlane):
     """A :class:`CompliantPlane` whose surface steps back by ``depth`` [m] (along −n) beyond
     ``step_at`` [m] measured from ``point`` along the tangent ``direction``: a wall with a recess.

@@ -366,6 +366,34 @@ class _ContactTask:
         return pin.rnea(self.robot.model, self.robot.data, q, qd, y) + self.Fv * qd + J.T @ h
 
 
+    def symbolic_state(self, q: Any, qd: Any) -> tuple[Any, Any, Any]:
+        """(J, J̇q̇, p_e) of the task rows in CasADi expressions (J̇q̇ = ∂(J q̇)/∂q q̇, the classical
+        acceleration at q̈ = 0) for the compiled loop."""
+        import casadi as ca
+
+        from rigid_body.symbolic import pose_function
+
+        _, p, J_geo = pose_function(self.robot, self.fid)(q)
+        J = J_geo[self.rows.tolist(), :]
+        return J, ca.jtimes(J @ qd, q, qd), p
+
+    def symbolic_torques(self, q: Any, qd: Any, J: Any, a: Any, h: Any) -> Any:
+        """:meth:`torques` in CasADi expressions (a singular J gives non-finite torques: the compiled loop
+        stops as diverged)."""
+        import casadi as ca
+
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        def pinv(b: Any) -> Any:
+            return J.T @ ca.solve(J @ J.T, b) if self.redundant else ca.solve(J, b)
+
+        y = pinv(a)
+        if self.redundant:
+            y0 = -self.K_N * qd
+            y = y + y0 - pinv(J @ y0)
+        return inverse_dynamics_expression(self.robot, q, qd, y) + self.Fv * qd + J.T @ h
+
+
 class _Integral:
     """∫ e dt of a sampled signal by forward Euler at the controller's instants (reset to 0)."""
 
@@ -497,6 +525,46 @@ class HybridForceMotionControl(LoggedController):
         self.record(nu=nu, nu_d=nu_d, lam=lam, lam_d=lam_d, h_e=h, p_e=T_e[:3, 3].copy())
         return u
 
+    def symbolic(self) -> Any:
+        """Eqs. (9.77), (9.80), (9.81) in CasADi expressions for ``simulate(..., backend="casadi")``: the
+        integral ∫(ν_d − ν) is the law's state (forward Euler, as the numeric law), h_e the sensed wrench;
+        the parameters are K_Pν, K_Iν (and K_Pλ, K_Dλ) (a :class:`controllers.compiled.SymbolicLaw`)."""
+        from controllers.compiled import SymbolicLaw
+
+        task, k_v = self.task, self.S_v.shape[1]
+        k_f, rows = self.S_f.shape[1], self.task.rows.tolist()
+        gains = {"K_Pnu": self.K_Pnu, "K_Inu": self.K_Inu}
+        if not self.motion_only:
+            gains.update(K_Plambda=self.K_Plambda, K_Dlambda=self.K_Dlambda)
+
+        def reference(t: float) -> np.ndarray:
+            parts = list(self.velocity_reference(t)) + ([] if self.motion_only else list(self.force_reference(t)))
+            return np.concatenate([np.ravel(v) for v in parts])
+
+        def law(q: Any, qd: Any, r: Any, K: dict, wrench: Any, state: Any, dt: Any) -> tuple[Any, dict, Any]:
+            h = wrench[rows]
+            J, Jdot_qd, p_e = task.symbolic_state(q, qd)
+            v_e = J @ qd
+            nu = self.S_v_dagger @ v_e
+            nu_d, nud_d = r[:k_v], r[k_v:2 * k_v]
+            integral = state + dt * (nu_d - nu)                                                 # ∫(ν_d − ν)
+            alpha = self.S_v @ (nud_d + K["K_Pnu"] @ (nu_d - nu) + K["K_Inu"] @ integral)        # (9.80)
+            signals = {"nu": nu, "nu_d": nu_d}
+            if not self.motion_only:
+                lam, lam_dot = self.S_f_dagger @ h, self.G_f @ v_e
+                f = r[2 * k_v:]
+                lam_d, lamd_d, lamdd_d = f[:k_f], f[k_f:2 * k_f], f[2 * k_f:]
+                f_lambda = lamdd_d + K["K_Dlambda"] @ (lamd_d - lam_dot) + K["K_Plambda"] @ (lam_d - lam)  # (9.81)
+                alpha = alpha + self.C_prime_S_f @ f_lambda                                   # (9.77)
+                signals.update(lam=lam, lam_d=lam_d)
+            u = task.symbolic_torques(q, qd, J, alpha - Jdot_qd, h)
+            signals.update(h_e=h, p_e=p_e)
+            return u, signals, integral
+
+        nr = 2 * k_v + (0 if self.motion_only else 3 * k_f)
+        return SymbolicLaw.build(task.robot.nq, task.n, nr, gains, law, reference, measurements={"wrench": 6},
+                                 state=self._integral.value)
+
 
 FORCE_LOOPS = ("position", "velocity")
 
@@ -554,6 +622,38 @@ class ForceWithInnerLoop(LoggedController):
         u = task.torques(t, q, qd, J, a - Jdot_qd, f)
         self.record(x_e=x_e, x_d=x_d, x_F=x_F, f_e=f, f_d=f_d)
         return u
+
+    def symbolic(self) -> Any:
+        """Eq. (9.41) and the inner loop in CasADi expressions for ``simulate(..., backend="casadi")``: the
+        integral of C_F (with ``K_I``) is the law's state (forward Euler, as the numeric law), f_e the sensed
+        wrench; the parameters are K_P, K_D, K_F (and K_I) (a :class:`controllers.compiled.SymbolicLaw`)."""
+        from controllers.compiled import SymbolicLaw
+
+        task, m, rows = self.task, self.task.m, self.task.rows.tolist()
+        gains = {"K_P": self.K_P, "K_D": self.K_D, "K_F": self.K_F}
+        if self.K_I is not None:
+            gains["K_I"] = self.K_I
+        position, M_d_inv = self.inner == "position", self.M_d_inv
+
+        def reference(t: float) -> np.ndarray:
+            return np.concatenate([np.ravel(self.reference(t)[0]), np.ravel(self.force_reference(t)[0])])
+
+        def law(q: Any, qd: Any, r: Any, K: dict, wrench: Any, state: Any = None, dt: Any = None) -> tuple:
+            f = wrench[rows]
+            J, Jdot_qd, p_e = task.symbolic_state(q, qd)
+            x_e, xd_e = p_e[rows], J @ qd
+            x_d, f_d = r[:m], r[m:]
+            x_F = K["K_F"] @ (f_d - f)                                                          # (9.41)
+            if state is not None:
+                state = state + dt * (f_d - f)
+                x_F = x_F + K["K_I"] @ state
+            w = K["K_P"] @ (x_d + x_F - x_e) if position else K["K_P"] @ x_F
+            u = task.symbolic_torques(q, qd, J, M_d_inv @ (w - K["K_D"] @ xd_e) - Jdot_qd, f)
+            signals = {"x_e": x_e, "x_d": x_d, "x_F": x_F, "f_e": f, "f_d": f_d}
+            return (u, signals) if state is None else (u, signals, state)
+
+        return SymbolicLaw.build(task.robot.nq, task.n, 2 * m, gains, law, reference, measurements={"wrench": 6},
+                                 state=None if self.K_I is None else self._integral.value)
 
 
 class AdmittanceControl(LoggedController):

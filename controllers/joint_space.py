@@ -74,7 +74,21 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
         raise ValueError(f"`{name}` must give (n,) = ({n},) position, velocity and acceleration: {err}") from None
     if not all(np.all(np.isfinite(v)) for v in first):
         raise ValueError(f"`{name}` must be finite, got {first} at t = 0")
+    vectorised = array_law(reference)
+    if vectorised is not None:                                  # the compiled loop samples it at once
+        sampled.at_times = lambda times: tuple(np.reshape(v, (len(times), n)) for v in vectorised(times))
     return sampled
+
+
+def array_law(reference: Any) -> Callable[[np.ndarray], tuple[np.ndarray, ...]] | None:
+    """The law of ``reference`` that takes an array of instants, or None: a trajectory's timing law
+    (:class:`planners.timing.Trajectory`), or ``reference`` itself when it is a timing law (``t_i``, ``t_f``
+    and ``law(t)`` on arrays, :class:`planners.timing.TimingLaw`, e.g. a :class:`planners.paths.PathLaw`)."""
+    if hasattr(reference, "evaluate") and hasattr(reference, "law"):
+        return reference.law
+    if callable(reference) and hasattr(reference, "t_i") and hasattr(reference, "t_f"):
+        return reference
+    return None
 
 
 def _as_reference_vector(x: Any, n: int) -> np.ndarray:
@@ -343,6 +357,39 @@ class ComputedTorqueFeedforward(LoggedController):
         self.record(q_d=q_d, e=q_d - q, tau_ff=tau_ff)
         return v
 
+    def symbolic(self) -> Any:
+        """The servos and feedforward in CasADi expressions for ``simulate(..., backend="casadi")``: the
+        PI integrals and the last velocity errors are the law's state (forward Euler, as the numeric law);
+        b_ii(q_d), g(q_d) by the symbolic Newton–Euler; the parameters are K_P, K_V
+        (a :class:`controllers.compiled.SymbolicLaw`)."""
+        import casadi as ca
+
+        from controllers.compiled import SymbolicLaw, stacked_reference
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        n, robot, k_r, zero = self.n, self.robot, self.k_r, np.zeros(self.n)
+        c_p, c_v, k_m, T_V, K_pr, b_bar = self._c_p, self._c_v, self.k_m, self.T_V, self.K_pr, self.b_bar
+        feedforward = self.feedforward
+
+        def law(q: Any, qd: Any, r: Any, K: dict, state: Any, dt: Any) -> tuple[Any, dict, Any]:
+            K_P, K_V = K["K_P"], K["K_V"]
+            integral = state[:n] + dt * state[n:]                           # ZOH on the PI's input
+            q_d, qd_d, qdd_d = r[:n], r[n:2 * n], r[2 * n:]
+            ref = c_p * q_d + c_v * qd_d / K_P + k_r * qdd_d / (k_m * K_P * K_V)
+            e_v = K_P * (ref - c_p * q) - c_v * qd
+            v = K_V * (T_V * e_v + integral)                                # PI: K_V (1 + s T_V)/s
+            tau_ff = ca.DM.zeros(n)
+            if feedforward:
+                g = inverse_dynamics_expression(robot, q_d, zero, zero)
+                b = ca.vertcat(*[(inverse_dynamics_expression(robot, q_d, zero, np.eye(n)[i]) - g)[i]
+                                 for i in range(n)])                        # b_ii(q_d)
+                tau_ff = (b - b_bar) * qdd_d + g
+                v = v + K_pr * tau_ff
+            return v, {"q_d": q_d, "e": q_d - q, "tau_ff": tau_ff}, ca.vertcat(integral, e_v)
+
+        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P[:, None], "K_V": self.K_V[:, None]}, law,
+                                 stacked_reference(self.reference), state=np.r_[self._integral, self._e_v])
+
 # --------------------------------------------------------------------------------------------
 # Inverse dynamics control (8.57), (8.60)
 # --------------------------------------------------------------------------------------------
@@ -501,6 +548,29 @@ class RobustControl(LoggedController):
         self.record(q_d=q_d, e=e, w=w)
         return u
 
+    def symbolic(self) -> Any:
+        """Eqs. (8.76), (8.89) in CasADi expressions for ``simulate(..., backend="casadi")``; the parameters
+        are this controller's K_P, K_D (Q of (8.81) is held at this controller's value: a
+        :class:`controllers.compiled.SymbolicLaw`)."""
+        import casadi as ca
+
+        from controllers.compiled import SymbolicLaw, stacked_reference
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        n, robot, Fv, B_hat, DtQ = self.n, self.robot, self.Fv, self.B_hat, self._DtQ
+        rho, epsilon, zero = self.rho, self.epsilon, np.zeros(self.n)
+
+        def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
+            e, ed = r[:n] - q, r[n:2 * n] - qd
+            z = DtQ @ ca.vertcat(e, ed)
+            w = (rho / ca.fmax(ca.sqrt(ca.dot(z, z)), epsilon)) * z               # Eq. (8.89), boundary layer
+            y = r[2 * n:] + K["K_D"] @ ed + K["K_P"] @ e + w
+            u = B_hat @ y + Fv * qd + inverse_dynamics_expression(robot, q, zero, zero)
+            return u, {"q_d": r[:n], "e": e, "w": w}
+
+        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P, "K_D": self.K_D}, law,
+                                 stacked_reference(self.reference))
+
 # --------------------------------------------------------------------------------------------
 # Adaptive control on the payload mass (8.92)–(8.98)
 # --------------------------------------------------------------------------------------------
@@ -574,3 +644,35 @@ class AdaptivePayloadControl(LoggedController):
         self._rate = self.gain * float(y_L @ sigma)  # π̂̇ = K_π⁻¹ Yᵀ σ
         self.record(q_d=q_d, e=e, m_hat=self.mass)
         return u
+
+    def symbolic(self) -> Any:
+        """Eqs. (8.92), (8.98) and the update law in CasADi expressions for ``simulate(..., backend="casadi")``:
+        the law's state is (m̂_L, m̂̇_L) (forward Euler, as the numeric law); τ₀ and y_L by the polarised
+        Newton–Euler of :func:`rigid_body.dynamics.reference_torque`; the parameters are K_D, Λ and k_π⁻¹
+        (a :class:`controllers.compiled.SymbolicLaw`)."""
+        from controllers.compiled import SymbolicLaw, stacked_reference
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        n, robot, unit, Fv, zero = self.n, self.robot, self.unit, self.Fv, np.zeros(self.n)
+
+        def reference_torque(model: Robot, q: Any, qd: Any, qd_r: Any, qdd_r: Any) -> Any:
+            plus = inverse_dynamics_expression(model, q, qd + qd_r, 4.0 * qdd_r)
+            minus = inverse_dynamics_expression(model, q, qd - qd_r, zero)
+            return (plus - minus) / 4.0 + inverse_dynamics_expression(model, q, zero, zero)
+
+        def law(q: Any, qd: Any, r: Any, K: dict, state: Any, dt: Any) -> tuple[Any, dict, Any]:
+            import casadi as ca
+
+            mass = state[0] + dt * state[1]                                     # forward Euler of m̂̇_L
+            e, ed = r[:n] - q, r[n:2 * n] - qd
+            qd_r, qdd_r = r[n:2 * n] + K["Lambda"] @ e, r[2 * n:] + K["Lambda"] @ ed   # Eq. (8.92)
+            sigma = qd_r - qd
+            tau0 = reference_torque(robot, q, qd, qd_r, qdd_r)
+            y_L = reference_torque(unit, q, qd, qd_r, qdd_r) - tau0
+            u = tau0 + mass * y_L + Fv * qd_r + K["K_D"] @ sigma                 # Eq. (8.98)
+            rate = K["adaptation_gain"] * ca.dot(y_L, sigma)
+            return u, {"q_d": r[:n], "e": e, "m_hat": mass}, ca.vertcat(mass, rate)
+
+        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_D": self.K_D, "Lambda": self.Lambda,
+                                                      "adaptation_gain": self.gain}, law,
+                                 stacked_reference(self.reference), state=[self.mass, self._rate], scalars=("m_hat",))

@@ -47,7 +47,7 @@ import pinocchio as pin
 from scipy.linalg.lapack import dgesv as _gesv
 from scipy.optimize import fsolve
 
-from controllers.joint_space import as_gain, as_reference
+from controllers.joint_space import array_law, as_gain, as_reference
 from controllers.simulation import LoggedController, as_friction, per_joint
 from rigid_body.dynamics import gravity_torques, inertia_matrix
 from rigid_body.robots import Robot
@@ -78,6 +78,9 @@ def task_reference(reference: Any, rows: Sequence[int]) -> Any:
         law = reference.evaluate if hasattr(reference, "evaluate") else reference
         if np.size(law(0.0)[0]) != 3:
             return reference
+        vectorised = array_law(reference)
+        if vectorised is not None:
+            return _RowsOfLaw(vectorised, r)
 
         def restricted(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             x, xd, xdd = law(t)
@@ -86,6 +89,17 @@ def task_reference(reference: Any, rows: Sequence[int]) -> Any:
         return restricted
     v = np.asarray(reference, dtype=float).ravel()
     return v[r] if v.size == 3 else reference
+
+
+class _RowsOfLaw:
+    """The ``rows`` components of a timing law ``law(t) -> (x, ẋ, ẍ)`` (3,), itself a timing law (t scalar or array)."""
+
+    def __init__(self, law: Callable[[Any], tuple], rows: np.ndarray):
+        self.law, self.rows, self.t_i, self.t_f = law, rows, law.t_i, law.t_f
+
+    def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        r = self.rows
+        return tuple(np.asarray(v, dtype=float)[..., r] for v in self.law(t))
 
 
 def as_pose_reference(reference: Any, name: str = "reference") -> PoseReference:
@@ -347,6 +361,53 @@ class OperationalInverseDynamics(LoggedController):
         else:
             self.record(**self.task.logged(x_d, T_e, e))
         return u
+
+    def symbolic(self) -> Any:
+        """Eqs. (8.57), (8.114) of a position task (with the impedance M_d of Eqs. 9.28, 9.30–9.31 and the
+        null-space term of a redundant task) in CasADi expressions for ``simulate(..., backend="casadi")``; the
+        parameters are this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`).
+        J̇q̇ = ∂(J q̇)/∂q q̇ (the classical acceleration of the origin at q̈ = 0). A singular J_A gives
+        non-finite torques there (the loop stops as diverged) rather than the Python law's ValueError."""
+        from controllers.compiled import SymbolicLaw, stacked_reference
+        from rigid_body.symbolic import inverse_dynamics_expression, pose_function
+
+        if self.task.pose:
+            raise ValueError("the symbolic form of OperationalInverseDynamics covers position tasks: "
+                             "use backend='python'")
+        n, m, robot, rows = self.n, self.task.m, self.robot, self.task.rows.tolist()
+        pose = pose_function(robot, self.task.space.frame)
+        M_d_inv, redundant, force = self.M_d_inv, self.redundant, self.force_feedback
+        Fv, K_q, K_N, q_0 = self.Fv, self.K_q, self.K_N, self.q_0
+
+        def law(q: Any, qd: Any, r: Any, K: dict, wrench: Any = None) -> tuple[Any, dict]:
+            import casadi as ca
+
+            _, p, J_geo = pose(q)
+            x_e, J = p[rows], J_geo[rows, :]
+            Jdot_qd = ca.jtimes(J @ qd, q, qd)
+            e = r[:m] - x_e
+            w = K["K_D"] @ (r[m:2 * m] - J @ qd) + K["K_P"] @ e
+            if force:
+                h = wrench[rows]
+                w = w - h                                                   # Eq. (9.31)
+            a = r[2 * m:] + (w if M_d_inv is None else M_d_inv @ w) - Jdot_qd
+
+            def pinv(b: Any) -> Any:                                        # J⁻¹ b or J†b (3.52)
+                return J.T @ ca.solve(J @ J.T, b) if redundant else ca.solve(J, b)
+
+            y = pinv(a)
+            if redundant:
+                y0 = K_q * (q_0 - q) - K_N * qd
+                y = y + y0 - pinv(J @ y0)                                   # (I − J† J) y_0, cf. (3.54)
+            u = inverse_dynamics_expression(robot, q, qd, y) + Fv * qd
+            signals = {"x_d": r[:m], "x_e": x_e, "e": e}
+            if force:
+                u = u + J.T @ h                                             # + Jᵀ h_e, Eq. (9.30)
+                signals["h_e"] = wrench
+            return u, signals
+
+        return SymbolicLaw.build(robot.nq, n, 3 * m, {"K_P": self.K_P, "K_D": self.K_D}, law,
+                                 stacked_reference(self.reference), measurements={"wrench": 6} if force else None)
 
     def _sensed_wrench(self, meas: Any) -> np.ndarray:
         wrench = getattr(meas, "wrench", None)

@@ -42,7 +42,6 @@ from controllers.independent_joint import JointDrive
 from controllers.simulation import as_friction, per_joint
 from rigid_body.actuators import DCServomotor, PIRegulator
 from rigid_body.robots import JointFriction, Robot, joint_units
-from rigid_body.rotations import wrap_angle
 from rigid_body.validation import as_positive, as_vector
 from rigid_body.wheeled import (chained_form_velocity, mobile_manipulator_input_matrix, saturate_wheel_speeds,
                                 unicycle_velocity)
@@ -283,6 +282,16 @@ class VoltageControlledArm:
         """q̈ under the voltages ``u`` (the loop's Nyström form of RK4, see :class:`ArmPlant`)."""
         return self.arm.acceleration(t, q, qd, self.voltage_gain * u - self.electrical_damping * qd)
 
+    def symbolic(self) -> Any:
+        """ẋ = f(x, v_c) as a ``casadi.Function`` for ``simulate(..., backend="casadi")``: the arm's
+        (:meth:`ArmPlant.symbolic`) under the motor torques of :meth:`torque`."""
+        import casadi as ca
+
+        arm, n = self.arm.symbolic(), self.n
+        x, v_c = ca.SX.sym("x", 2 * n), ca.SX.sym("u", n)
+        tau = ca.DM(self.voltage_gain) * v_c - ca.DM(self.electrical_damping) * x[n:]
+        return ca.Function("plant", [x, v_c], [arm(x, tau)], ["x", "u"], ["xdot"])
+
 
 def _positive(x: Any, n: int, name: str) -> np.ndarray:
     v = per_joint(x, n, name)
@@ -354,6 +363,43 @@ class ArmInContact:
         nq = self.nq
         q, qd = x[:nq], x[nq:]
         return ArmMeasurement(q, qd, self.wrench(q, qd)[0])
+
+    def _symbolic_wrench(self) -> tuple[Any, Any, Any, Any]:
+        """(x, q̇, h_e, J) in CasADi expressions: h_e from the environment's ``symbolic_wrench_at``."""
+        import casadi as ca
+
+        from rigid_body.symbolic import pose_function
+
+        if self.nq != self.n or not hasattr(self.environment, "symbolic_wrench_at"):
+            raise ValueError("`plant`: backend='casadi' takes an ArmInContact with nq = nv and an environment "
+                             "with symbolic_wrench_at (a CompliantPlane)")
+        n = self.n
+        x = ca.SX.sym("x", 2 * n)
+        q, qd = x[:n], x[n:]
+        _, p, J = pose_function(self.robot, self._fid)(q)
+        return x, qd, self.environment.symbolic_wrench_at(p, J @ qd), J
+
+    def symbolic(self) -> Any:
+        """ẋ = f(x, u) as a ``casadi.Function`` for ``simulate(..., backend="casadi")``:
+        B(q) q̈ = u − F_v q̇ − Jᵀ h_e − C q̇ − g (Eq. 7.42) by the symbolic Newton–Euler."""
+        import casadi as ca
+
+        from rigid_body.symbolic import forward_dynamics_expression
+
+        x, qd, h_e, J = self._symbolic_wrench()
+        u = ca.SX.sym("u", self.n)
+        tau = u - ca.DM(self._Fv) * qd - J.T @ h_e
+        qdd = forward_dynamics_expression(self.robot, x[:self.n], qd, tau)
+        return ca.Function("plant", [x, u], [ca.vertcat(qd, qdd)], ["x", "u"], ["xdot"])
+
+    def symbolic_measurement(self, name: str) -> Any:
+        """The measurement entry ``name`` (``"wrench"``: h_e (6,)) as a ``casadi.Function`` x → value."""
+        import casadi as ca
+
+        if name != "wrench":
+            raise ValueError(f"`name`: ArmInContact measures q, qd and wrench, got {name!r}")
+        x, _, h_e, _ = self._symbolic_wrench()
+        return ca.Function("wrench", [x], [h_e], ["x"], ["wrench"])
 
 
 class JointDrivePlant:
@@ -533,7 +579,7 @@ class UnicyclePlant:
     def integrate(self, x: np.ndarray, dx: np.ndarray, h: float) -> np.ndarray:
         """x ⊕ h dx on R² × SO(2) (× R² for the encoders): θ wrapped into (−π, π]."""
         y = x + h * dx
-        y[2] = wrap_angle(y[2])
+        y[2] = math.pi - (math.pi - float(y[2])) % (2.0 * math.pi)     # rotations.wrap_angle on one float
         return y
 
     def measure(self, t: float, x: np.ndarray) -> Posture:

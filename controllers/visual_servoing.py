@@ -154,6 +154,52 @@ def _segment_interaction(x1: float, y1: float, iz1: float, x2: float, y2: float,
     return s, J
 
 
+def _symbolic_segment(x1: Any, y1: Any, x2: Any, y2: Any) -> Any:
+    """[x_m, y_m, L, α] of (10.28) in CasADi expressions."""
+    import casadi as ca
+
+    dx, dy = x2 - x1, y2 - y1
+    return ca.vertcat(0.5 * (x1 + x2), 0.5 * (y1 + y2), ca.sqrt(dx * dx + dy * dy), ca.atan2(dy, dx))
+
+
+def _symbolic_wrapped_difference(a: Any, b: Any) -> Any:
+    """a − b of 4-DOF vectors (poses, segment features) with the last entry wrapped to (−π, π], in CasADi."""
+    import casadi as ca
+
+    e = a - b
+    return ca.vertcat(e[:3], ca.atan2(ca.sin(e[3]), ca.cos(e[3])))
+
+
+def _symbolic_camera_jacobian(robot: Robot, frame: int, q: Any) -> Any:
+    """J_c of :func:`camera_jacobian` (LOCAL: [R_cᵀ J_P; R_cᵀ J_O]) in CasADi expressions."""
+    import casadi as ca
+
+    from rigid_body.symbolic import pose_function
+
+    R, _, J = pose_function(robot, frame)(q)
+    return ca.vertcat(R.T @ J[:3, :], R.T @ J[3:, :])
+
+
+def _symbolic_points_interaction(x: Any, y: Any, z: Any) -> Any:
+    """(2n×6) stack of (10.26) in CasADi expressions."""
+    import casadi as ca
+
+    rows = []
+    for i in range(x.shape[0]):
+        xi, yi, iz = x[i], y[i], 1.0 / z[i]
+        rows.append(ca.horzcat(-iz, 0.0, xi * iz, xi * yi, -(1.0 + xi * xi), yi))
+        rows.append(ca.horzcat(0.0, -iz, yi * iz, 1.0 + yi * yi, -xi * yi, -xi))
+    return ca.vertcat(*rows)
+
+
+def _symbolic_gamma(o: Any) -> Any:
+    """Γ(o) of :func:`gamma_matrix` in CasADi expressions."""
+    import casadi as ca
+
+    return ca.vertcat(ca.horzcat(-1.0, 0.0, 0.0, o[1]), ca.horzcat(0.0, -1.0, 0.0, -o[0]),
+                      ca.horzcat(0.0, 0.0, -1.0, 0.0), ca.horzcat(0.0, 0.0, 0.0, -1.0))
+
+
 class TargetFeatures:
     """The feature model of a target with points ``points_o`` (n, 3) in the object frame.
 
@@ -234,6 +280,23 @@ class EyeInHandCamera:
         T = np.eye(4)
         T[:3, :3], T[:3, 3] = M.rotation, M.translation
         return T
+
+    def symbolic_view(self, q: Any) -> tuple[Any, Any, Any]:
+        """(x (n), y (n), z (n)) of the image at q in CasADi expressions, for the compiled loop: the plain
+        camera only (no field of view, occlusion or noise); a point behind the camera gives NaN (the
+        compiled loop then stops as diverged, where the Python loop would report it unseen)."""
+        import casadi as ca
+
+        from rigid_body.symbolic import pose_function
+
+        if not self._plain:
+            raise ValueError("`camera`: the symbolic image covers a camera without field of view, occlusion "
+                             "or noise: use backend='python'")
+        R, o, _ = pose_function(self.robot, self.frame)(q)
+        p = R.T @ (ca.DM(self.points_b.T) - ca.repmat(o, 1, len(self.points_b)))   # p^c = R_cᵀ (p − o_c), (5.35)
+        z = p[2, :].T
+        z_seen = ca.if_else(z > 0, z, np.nan)
+        return p[0, :].T / z_seen, p[1, :].T / z_seen, z
 
     def _plain_view(self, M: pin.SE3) -> CameraImage | None:
         """The image of a few points, all in front, on Python floats (no field of view, occlusion or
@@ -337,6 +400,33 @@ class PoseEstimator(LoggedController):
         self.x_hat = self.x_hat + self.T * (gamma_matrix(self.x_hat) @ v_hat)   # (10.41), Euler
         return self.x_hat
 
+    def symbolic_step(self, x_hat: Any, x: Any, y: Any) -> tuple[Any, dict[str, Any]]:
+        """(x̂_{k+1}, log) of :meth:`update` from the image points (x, y) in CasADi expressions (segment
+        features; an estimate behind the camera gives NaN: the compiled loop stops as diverged)."""
+        import casadi as ca
+
+        if self.target.kind != "segment":
+            raise ValueError("the symbolic estimator covers segment features: use backend='python'")
+        c, s = ca.cos(x_hat[3]), ca.sin(x_hat[3])
+        ends = []
+        for X, Y, Z in self._points:                                        # p^c = o + R_z(φ) P, then (5.40)
+            pz = Z + x_hat[2]
+            iz = 1.0 / ca.if_else(pz > 0, pz, np.nan)
+            ends += [(c * X - s * Y + x_hat[0]) * iz, (s * X + c * Y + x_hat[1]) * iz, iz]
+        u1, v1, iz1, u2, v2, iz2 = ends
+        dx, dy = u2 - u1, v2 - v1
+        L2 = dx * dx + dy * dy
+        L = ca.sqrt(L2)
+        a1, a2, b1, b2, di = u1 * iz1, u2 * iz2, v1 * iz1, v2 * iz2, iz1 - iz2
+        s_hat = ca.vertcat(0.5 * (u1 + u2), 0.5 * (v1 + v2), L, ca.atan2(dy, dx))
+        J = ca.vertcat(ca.horzcat(-0.5 * (iz1 + iz2), 0.0, 0.5 * (a1 + a2), 0.5 * (v1 + v2)),
+                       ca.horzcat(0.0, -0.5 * (iz1 + iz2), 0.5 * (b1 + b2), -0.5 * (u1 + u2)),
+                       ca.horzcat(dx * di / L, dy * di / L, (dx * (a2 - a1) + dy * (b2 - b1)) / L, 0.0),
+                       ca.horzcat(-dy * di / L2, dx * di / L2, (dy * (a1 - a2) + dx * (b2 - b1)) / L2, -1.0))
+        e_s = _symbolic_wrapped_difference(_symbolic_segment(x[0], y[0], x[1], y[1]), s_hat)
+        v_hat = ca.solve(J, ca.DM(self.K_s) @ e_s)                          # (10.40)
+        return x_hat + self.T * (_symbolic_gamma(x_hat) @ v_hat), {"x_hat": x_hat, "e_s": e_s, "s_hat": s_hat}
+
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         """The discrete block: outputs x̂_k, then steps to x̂_{k+1} with the image of sample k (a unit
         delay, as Simulink's discrete integrator: at t = 0 the output is x̂(0)). ``x_hat`` is replaced,
@@ -392,6 +482,22 @@ class PBVSPDGravity(_CameraLaw):
         self.record(x_tilde=x_tilde)
         g = pin.computeGeneralizedGravity(self.robot.model, self.robot.data, meas.q)   # g(q), (7.39)
         return g + J.T @ (self._k_p * x_tilde - self._k_d * (J @ meas.qd))
+
+    def symbolic_gains(self) -> dict[str, np.ndarray]:
+        return {"K_P": self._k_p[:, None], "K_D": self._k_d[:, None]}
+
+    def symbolic_law(self, q: Any, qd: Any, image: tuple, estimate: Any, K: dict) -> tuple[Any, dict[str, Any]]:
+        """The law (Fig. 10.14) in CasADi expressions (``image`` unused: the estimate carries it)."""
+        import casadi as ca
+
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        Jc = _symbolic_camera_jacobian(self.robot, self.frame, q)
+        J = _symbolic_gamma(estimate) @ Jc[_SCARA_ROWS.tolist(), :]
+        x_tilde = _symbolic_wrapped_difference(ca.DM(self.x_do), estimate)
+        zero = np.zeros(self.robot.nv)
+        g = inverse_dynamics_expression(self.robot, q, zero, zero)
+        return g + J.T @ (K["K_P"] * x_tilde - K["K_D"] * (J @ qd)), {"x_tilde": x_tilde}
 
 
 class PBVSResolvedVelocity(_CameraLaw):
@@ -535,6 +641,38 @@ class IBVSPDGravity(_IBVSLaw):
             return g + J.T @ (self.K_Ps[rows] * e - self.K_Ds[rows] * (J @ meas.qd))
         return g + J.T @ (self.K_Ps * e - self.K_Ds * (J @ meas.qd))
 
+    def symbolic_gains(self) -> dict[str, np.ndarray]:
+        return {"K_Ps": self.K_Ps[:, None], "K_Ds": self.K_Ds[:, None]}
+
+    def symbolic_law(self, q: Any, qd: Any, image: tuple, estimate: Any, K: dict) -> tuple[Any, dict[str, Any]]:
+        """The law (Fig. 10.16) in CasADi expressions, every point seen; the depth measured or a constant ẑ."""
+        import casadi as ca
+
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        if callable(self.depth):
+            raise ValueError("the symbolic IBVS law takes the measured or a constant depth: use backend='python'")
+        x, y, z = image
+        if self.depth is not None:
+            z = ca.DM(self._depths)
+        L = _symbolic_points_interaction(x, y, z)
+        if self.target.kind == "segment":
+            dx, dy = x[1] - x[0], y[1] - y[0]
+            L2 = dx * dx + dy * dy
+            Ln = ca.sqrt(L2)
+            D = ca.vertcat(ca.horzcat(0.5, 0.0, 0.5, 0.0), ca.horzcat(0.0, 0.5, 0.0, 0.5),
+                           ca.horzcat(-dx / Ln, -dy / Ln, dx / Ln, dy / Ln),
+                           ca.horzcat(dy / L2, -dx / L2, -dy / L2, dx / L2))      # ∂s/∂[x1, y1, x2, y2] (10.28)
+            L = D @ L
+            e = _symbolic_wrapped_difference(ca.DM(self.s_d), _symbolic_segment(x[0], y[0], x[1], y[1]))
+        else:
+            e = ca.DM(self.s_d) - ca.vec(ca.horzcat(x, y).T)
+        dofs = self._dofs.tolist()
+        J = L[:, dofs] @ _symbolic_camera_jacobian(self.robot, self.frame, q)[dofs, :]
+        zero = np.zeros(self.robot.nv)
+        g = inverse_dynamics_expression(self.robot, q, zero, zero)
+        return g + J.T @ (K["K_Ps"] * e - K["K_Ds"] * (J @ qd)), {"e_s": e}
+
 
 class IBVSResolvedVelocity(_IBVSLaw):
     """q̇_r = J_L⁻¹ K_s e_s (Fig. 10.17; damped least-squares inverse when J_L is not square): ė_s = −K_s e_s."""
@@ -573,11 +711,88 @@ def _full(e: np.ndarray, rows: np.ndarray, size: int) -> np.ndarray:
 def visual_servo(camera: EyeInHandCamera, law: Any, Tc: float, estimator: PoseEstimator | None = None) -> Chain:
     """The controller of an eye-in-hand loop: camera → [pose estimator at the loop's period →] law held
     over ``Tc`` (the vision/controller period). The law reads ``meas.image`` and, after an estimator,
-    ``meas.estimate``; ``simulate(..., Ts=estimator period)`` runs it."""
+    ``meas.estimate``; ``simulate(..., Ts=estimator period)`` runs it (``backend="casadi"`` too, when the
+    law has a symbolic form: :class:`VisualServo`)."""
     inner: Any = ZeroOrderHold(law, Tc)
     if estimator is not None:
         inner = Chain(estimator, inner, name="estimate")
-    return Chain(camera, inner, name="image")
+    return VisualServo(camera, inner, name="image")
+
+
+class VisualServo(Chain):
+    """The chain of :func:`visual_servo` (camera → [estimator →] law held over ``Tc``), with its symbolic
+    form for ``simulate(..., backend="casadi")``: the estimate x̂, the held torque and the held log of the
+    law are the law's state; the instants where the hold samples the law are found by the rule of
+    :class:`~controllers.simulation.ZeroOrderHold` on the run's grid and fed as a reference row."""
+
+    def _blocks(self) -> tuple[EyeInHandCamera, PoseEstimator | None, ZeroOrderHold]:
+        inner = self.second
+        if isinstance(inner, Chain):
+            return self.first, inner.first, inner.second
+        return self.first, None, inner
+
+    def symbolic(self) -> Any:
+        """The chain as a :class:`controllers.compiled.SymbolicLaw` (laws with ``symbolic_law``:
+        :class:`PBVSPDGravity`, :class:`IBVSPDGravity`); the parameters are the law's gains."""
+        import casadi as ca
+
+        from controllers.compiled import SymbolicLaw
+
+        camera, estimator, hold = self._blocks()
+        law = hold.block
+        if not hasattr(law, "symbolic_law"):
+            raise ValueError(f"`controller`: {type(law).__name__} has no symbolic law: use backend='python'")
+        robot = camera.robot
+        n = robot.nv
+        gains = {name: ca.DM(value) for name, value in law.symbolic_gains().items()}
+        _, _, probe = self._symbolic_parts(law, estimator, camera, ca.SX.sym("q", robot.nq), ca.SX.sym("qd", n),
+                                           ca.SX.sym("x_hat", 4), gains)
+        held_sizes = [probe["law"][name].shape[0] for name in sorted(probe["law"])]
+
+        def parts(q: Any, qd: Any, r: Any, K: dict, state: Any, dt: Any) -> tuple[Any, dict, Any]:
+            x_hat = state[:4] if estimator is not None else None
+            u_law, x_next, logs = self._symbolic_parts(law, estimator, camera, q, qd, x_hat, K)
+            sample = r[0] > 0.5                                             # the hold samples the law now
+            k = 4 if estimator is not None else 0
+            u = ca.if_else(sample, u_law, state[k:k + n])
+            signals, held, k = dict(logs["estimator"]), [], k + n
+            for name, size in zip(sorted(logs["law"]), held_sizes):
+                value = ca.if_else(sample, logs["law"][name], state[k:k + size])
+                signals[name], k = value, k + size
+                held.append(value)
+            next_state = ca.vertcat(*([x_next] if estimator is not None else []), u, *held)
+            return u, signals, next_state
+
+        x0 = [estimator.x_hat] if estimator is not None else []
+        state = np.concatenate(x0 + [np.zeros(n)] + [np.zeros(size) for size in held_sizes])
+        return SymbolicLaw.build(robot.nq, n, 1, law.symbolic_gains(), parts, _HoldInstants(hold.Ts), state=state)
+
+    @staticmethod
+    def _symbolic_parts(law: Any, estimator: Any, camera: EyeInHandCamera, q: Any, qd: Any, x_hat: Any,
+                        K: dict) -> tuple[Any, Any, dict]:
+        x, y, z = camera.symbolic_view(q)
+        x_next, est_log = (None, {}) if estimator is None else estimator.symbolic_step(x_hat, x, y)
+        u, law_log = law.symbolic_law(q, qd, (x, y, z), x_hat, K)
+        return u, x_next, {"estimator": est_log, "law": law_log}
+
+
+class _HoldInstants:
+    """The reference row of :class:`VisualServo`: 1 at the samples where a :class:`ZeroOrderHold` of period
+    ``Ts`` evaluates its block (its own rule, from the first sample of the run), else 0."""
+
+    def __init__(self, Ts: float):
+        self.Ts = Ts
+
+    def __call__(self, t: float) -> np.ndarray:
+        raise ValueError("the hold instants depend on the run's first sample: sample them with at_times")
+
+    def at_times(self, times: np.ndarray) -> np.ndarray:
+        out, next_t = np.zeros((1, len(times))), None
+        for k, t in enumerate(times.tolist()):
+            if next_t is None or t >= next_t - 1e-9 * self.Ts:
+                out[0, k] = 1.0
+                next_t = (t if next_t is None else next_t) + self.Ts
+        return out
 
 
 # --------------------------------------------------------------------------------------------

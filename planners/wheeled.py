@@ -250,8 +250,23 @@ class ChainedFormPath:
     def inputs(self, s: Any) -> np.ndarray:
         """(…, 2) the geometric inputs (ṽ1, ṽ2) = (z1', z2') at s."""
         a, b = self._input_coefficients
+        if isinstance(s, (float, int, np.floating)):      # one arc length (a simulated loop): Horner on floats
+            s = float(s)
+            return np.array([_horner(self._input_lists[0], s), _horner(self._input_lists[1], s)])
         s = np.asarray(s, dtype=float)
         return np.stack([np.polyval(a, s), np.polyval(b, s)], axis=-1)
+
+    @cached_property
+    def _input_lists(self) -> tuple[list[float], list[float]]:
+        return tuple(c.tolist() for c in self._input_coefficients)
+
+
+def _horner(coefficients: list[float], s: float) -> float:
+    """Σ c_k s^(d−k) (highest degree first), as ``np.polyval`` evaluates it."""
+    y = 0.0
+    for c in coefficients:
+        y = y * s + c
+    return y
 
 
 def _chained_state(z_i: np.ndarray, v1: float, c: np.ndarray) -> list[Polynomial]:

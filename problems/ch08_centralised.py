@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from controllers.compiled import fast_backend
 from controllers.independent_joint import JointDrive, bandwidth, design_position_velocity
 from controllers.joint_space import (AdaptivePayloadControl, ComputedTorqueFeedforward, InverseDynamicsControl,
                                      PDGravityCompensation, RobustControl, inverse_dynamics_steady_state,
@@ -193,7 +194,7 @@ def problem_8_11() -> Solution:
                   f"ω3 = {w3:.3f} rad/s vs {omega_3}" + (" (manual prints 10.78: erratum)" if k == 2 else ""))
         for ff in (True, False):
             ctrl = ComputedTorqueFeedforward(armL, tra, K_R, drives, designs, feedforward=ff)
-            runs[k, ff] = simulate(plant, ctrl, (0.0, T_D), x0, h=T_C, Ts=T_C,
+            runs[k, ff] = simulate(plant, ctrl, (0.0, T_D), x0, h=T_C, Ts=T_C, backend=fast_backend(),
                                    log=lambda t, x, u: {"tau": plant.torque(x, u)})
     err = {key: np.abs(r["e"]).max(axis=0) for key, r in runs.items()}
     sol.animation(armL, runs[1, True], "gains 1, computed-torque feedforward, payload 10 kg")
@@ -238,7 +239,8 @@ def problem_8_11() -> Solution:
 def problem_8_12() -> Solution:
     """Inverse dynamics control (8.57), (8.60), Fig. 8.22, K_P = 100 I, K_D = 16 I (ω_n = 10, ζ = 0.8),
     along tra_4 with the 10 kg payload in the torque-controlled plant; the controller's model either
-    ignores it (c = 0) or includes it (c = 1). Plant step 0.1 ms (manual). Figure S8.14.
+    ignores it (c = 0) or includes it (c = 1). Plant step 0.1 ms (manual), on the compiled loop
+    (``backend="casadi"``; the Python loop without a C compiler). Figure S8.14.
 
     Without compensation the arm settles where B̂(q) K_P (q_d − q) = g(q) − ĝ(q): that fixed point is
     solved independently and compared with the simulation and with its linearisation
@@ -252,7 +254,7 @@ def problem_8_12() -> Solution:
     runs = {}
     for name, model in (("not_compensated", arm), ("compensated", armL)):
         runs[name] = simulate(plant, InverseDynamicsControl(model, K_P, K_D, tra, viscous_friction=F_V),
-                              (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=1e-4, Ts=T_C)
+                              (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=1e-4, Ts=T_C, backend=fast_backend())
         sol.value(f"max_error_{name}", np.abs(runs[name]["e"]).max(axis=0), unit="rad")
         sol.value(f"final_error_{name}", runs[name]["e"][-1], unit="rad")
     rc, rn = runs["compensated"], runs["not_compensated"]
@@ -320,9 +322,10 @@ def problem_8_13() -> Solution:
     plant = ArmPlant(armL, viscous_friction=F_V)
     tra = _tra_4(sol)
     runs = {}
-    for r in (rho, 0.0):
+    for r in (rho, 0.0):   # the chattering run (ρ/ε = 7e4) amplifies rounding: kept on the Python loop
         runs[r] = simulate(plant, RobustControl(armL, B_bar, K_P, K_D, tra, r, eps, viscous_friction=F_V),
-                           (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C)
+                           (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C,
+                           backend="python" if r > 0 else fast_backend())
     e_r, e_0 = np.abs(runs[rho]["e"]).max(axis=0), np.abs(runs[0.0]["e"]).max(axis=0)
     sol.animation(armL, runs[rho], "robust control")
     sol.value("max_error", e_r, unit="rad")
@@ -335,7 +338,7 @@ def problem_8_13() -> Solution:
     # What the chattering costs: the same law with a boundary layer the 1 ms sampling resolves.
     eps_bl = sol.value("epsilon_boundary_layer", 0.01)
     smooth = simulate(plant, RobustControl(armL, B_bar, K_P, K_D, tra, rho, eps_bl, viscous_friction=F_V),
-                      (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C)
+                      (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C, backend=fast_backend())
     tv_bl = sol.value("torque_total_variation_boundary_layer", np.abs(np.diff(smooth.u, axis=0)).sum(axis=0))
     e_bl = sol.value("max_error_boundary_layer", np.abs(smooth["e"]).max(axis=0))
     sol.check(f"the boundary layer ε = {eps_bl} removes the chattering (torque total variation ≥ 100× smaller); "
@@ -397,7 +400,7 @@ def problem_8_14() -> Solution:
               "(manual erratum: y'13's first velocity term is −a1 s2 ϑ̇2 ϑ̇r1, printed −a1 s2 ϑ̇r1 ϑ̇r2)",
               worst < 1e-9 and printed > 1e-2,
               f"max deviation {worst:.2e} over 20 random (q, q̇, q̇_r, q̈_r); with the printed y'13: {printed:.3g}")
-    res = simulate(plant, ctrl, (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C)
+    res = simulate(plant, ctrl, (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C, backend=fast_backend())
     m_hat = res["m_hat"]
     sol.animation(armL, res, "adaptive control")
     sol.value("m_hat_final", float(m_hat[-1]), unit="kg")
@@ -407,7 +410,7 @@ def problem_8_14() -> Solution:
               f"m̂_L(t_d) = {m_hat[-1]:.5f} kg vs m_L = {M_L} kg")
     sol.check("tracking satisfactory", e.max() < 2e-3, f"max |q̃| = {e.max():.2e} < 2e-3 rad")
     wrong = simulate(plant, AdaptivePayloadControl(arm, K_D, Lam, k_pi, tra, viscous_friction=F_V),
-                     (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C)["m_hat"]
+                     (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C, backend=fast_backend())["m_hat"]
     sol.value("m_hat_final_gain_0.005", float(wrong[-1]), unit="kg")
     sol.check("erratum: k_π must divide (gain 1/0.005)", abs(wrong[-1]) < 0.1 * M_L,
               f"with gain 0.005 the estimate only reaches {wrong[-1]:.4f} kg; with 1/0.005 it reaches {m_hat[-1]:.4f} kg")
@@ -442,7 +445,7 @@ def problem_8_15() -> Solution:
         sol.check_close(f"initial posture {k} = companion's inv_k2u(p_d − 0.1)", q0, expected_q0[k - 1], atol=1e-5,
                         reference="manual number")
         res = simulate(plant, OperationalPDGravity(armL, 16250.0, 3250.0, p_d, rows=(0, 1)), (0.0, T_D),
-                       np.r_[q0, 0.0, 0.0], h=T_C, Ts=T_C)
+                       np.r_[q0, 0.0, 0.0], h=T_C, Ts=T_C, backend=fast_backend())
         p = _tip(armL, res.q)
         err = np.abs(p[-1] - p_d).max()
         if k == 1:
@@ -488,7 +491,7 @@ def problem_8_16() -> Solution:
     runs = {}
     for name, model in (("not_compensated", arm), ("compensated", armL)):
         ctrl = OperationalInverseDynamics(model, 100.0, 16.0, law, rows=(0, 1), viscous_friction=F_V)
-        runs[name] = simulate(plant, ctrl, (0.0, T_D), np.r_[q0, 0.0, 0.0], h=T_C, Ts=T_C)
+        runs[name] = simulate(plant, ctrl, (0.0, T_D), np.r_[q0, 0.0, 0.0], h=T_C, Ts=T_C, backend=fast_backend())
         sol.value(f"max_error_{name}", np.abs(runs[name]["e"]).max(axis=0), unit="m")
         sol.value(f"final_error_{name}", runs[name]["e"][-1], unit="m")
     sol.animation(armL, runs["compensated"], "operational-space inverse dynamics along the segment, compensated",

@@ -29,6 +29,7 @@ import pinocchio as pin
 import sympy as sp
 
 from controllers.environment import CompliantPlane
+from controllers.compiled import fast_backend
 from controllers.force import (ForceWithInnerLoop, HybridForceMotionControl, compliance_equilibrium,
                                constrained_stiffness, fit_second_order, force_loop_parameters,
                                impedance_parameters, inner_position_loop_equilibrium, pi_velocity_parameters)
@@ -82,23 +83,35 @@ def _tra_5(sol: Solution | None = None) -> PathLaw:
     return PathLaw(segment, trapezoidal_law(0.0, segment.length, t_f, sd_c))
 
 
-def _held(law: Callable[[Any], Any]) -> Callable[[float], Any]:
+class _Held:
     """``law`` as a sampled controller sees it: held over [t, t + T_c), so at a switching instant of
     the trapezoid (here t_f = 1 s, a sample) the value of the interval that starts there (right limit).
 
     The law is evaluated once, vectorised, at the controller's instants k T_c of [0, T_d] (the loop's
-    t = k T_c exactly); any other instant is evaluated on the spot."""
-    k = np.arange(int(round(T_D / T_C)) + 1)
-    grid = k * T_C
-    table = [np.asarray(v) for v in law(np.nextafter(grid, np.inf))]
+    t = k T_c exactly); any other instant is evaluated on the spot. Like the law, it takes one instant
+    or an array of them (a timing law: ``t_i``, ``t_f``)."""
 
-    def held(t: float) -> Any:
-        i = int(round(t / T_C))
-        if 0 <= i < grid.size and t == grid[i]:
-            return table[0][i], table[1][i], table[2][i]
-        return law(np.nextafter(t, np.inf))
+    def __init__(self, law: Callable[[Any], Any]):
+        self.law, self.t_i, self.t_f = law, law.t_i, law.t_f
+        self.grid = np.arange(int(round(T_D / T_C)) + 1) * T_C
+        self.table = [np.asarray(v) for v in law(np.nextafter(self.grid, np.inf))]
 
-    return held
+    def __call__(self, t: Any) -> Any:
+        grid, table = self.grid, self.table
+        if np.ndim(t) == 0:
+            i = int(round(t / T_C))
+            if 0 <= i < grid.size and t == grid[i]:
+                return table[0][i], table[1][i], table[2][i]
+            return self.law(np.nextafter(t, np.inf))
+        t = np.asarray(t, dtype=float)
+        i = np.clip(np.rint(t / T_C).astype(int), 0, grid.size - 1)
+        on_grid = grid[i] == t
+        out = [np.array(v[i]) for v in table]
+        if not on_grid.all():
+            off = self.law(np.nextafter(t[~on_grid], np.inf))
+            for o, v in zip(out, off):
+                o[~on_grid] = v
+        return tuple(out)
 
 
 def contact_animation(sol: Solution, robot: Robot, res: SimulationResult, title: str, normal: Any,
@@ -258,7 +271,7 @@ def problem_9_2() -> Solution:
     q0 = inverse_kinematics_planar_2r(O_R + R_C @ np.array([0.15, 0.0]))[ELBOW_UP]
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
     res = simulate(plant, OperationalPDGravity(arm, K_P, K_D, x_d, rows=(0, 1)), (0.0, T_D), plant.initial_state(q0),
-                   h=T_C, Ts=T_C, log=lambda t, x, u: {"h_e": plant.wrench(x[:2], x[2:])[0][:2]})
+                   h=T_C, Ts=T_C, backend=fast_backend(), log=lambda t, x, u: {"h_e": plant.wrench(x[:2], x[2:])[0][:2]})
     h_pred, dx_ed_pred = compliance_equilibrium(K_P * np.eye(2), K_Y * np.outer(n, n), x_d - O_R)
     sol.value("h_e_simulated", res["h_e"][-1])
     sol.value("h_e_9_22", h_pred)
@@ -281,7 +294,7 @@ def _impedance_run(reference: Any, q0: np.ndarray) -> SimulationResult:
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
     ctrl = OperationalInverseDynamics(arm, K_P_IMP, K_D_IMP, reference, rows=(0, 1), viscous_friction=F_V,
                                       inertia=M_D, force_feedback=True)
-    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C)
+    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C, backend=fast_backend())
 
 
 @problem("9.3", "Impedance control of the two-link arm in contact with a compliant plane inclined by π/4",
@@ -305,7 +318,7 @@ def problem_9_3() -> Solution:
     q0 = inverse_kinematics_planar_2r(p_i[:2])[ELBOW_UP]
     sol.check_close("initial posture = companion's inv_k2u(p_i)", q0, [0.96343, -1.92685], atol=1e-5,
                     reference="manual number")
-    res = _impedance_run(_held(law), q0)
+    res = _impedance_run(_Held(law), q0)
     f_c, e_c = _in_constraint_frame(res["h_e"]), _in_constraint_frame(res["e"])
     e_base = res["e"]
     f_end, e_end = sol.value("f_final", f_c[-1]), sol.value("position_error_final", e_c[-1])
@@ -401,7 +414,7 @@ def problem_9_4() -> Solution:
     runs = {}
     for name, K_I in (("P", 0.0), ("PI", 1e-3)):
         ctrl = ForceWithInnerLoop(arm, 400.0, 40.0, 1.0, c_F, x_d, f_d, K_I=K_I, rows=(0, 1), viscous_friction=F_V)
-        runs[name] = simulate(plant, ctrl, (0.0, 3.0), plant.initial_state(q0), h=T_C, Ts=T_C)
+        runs[name] = simulate(plant, ctrl, (0.0, 3.0), plant.initial_state(q0), h=T_C, Ts=T_C, backend=fast_backend())
     p_run, pi_run = runs["P"], runs["PI"]
     sol.value("x_e_simulated", p_run["x_e"][-1])
     sol.check_close("proportional C_F: simulated rest = x_e of Problem 9.4 [m]", p_run["x_e"][-1], x_pred, atol=1e-6,
@@ -610,7 +623,7 @@ def _hybrid_run(stiffness_estimate: float) -> SimulationResult:
     Ĉ' = diag(0, 1/k̂) in the constraint frame (companion ``i9_10``)."""
     arm = _arm()
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
-    law = _held(_tra_5())
+    law = _Held(_tra_5())
 
     def nu_reference(t: float) -> tuple[np.ndarray, np.ndarray]:
         _, pd, pdd = law(t)
@@ -623,7 +636,7 @@ def _hybrid_run(stiffness_estimate: float) -> SimulationResult:
                                     compliance_prime=R_C @ np.diag([0.0, 1.0 / stiffness_estimate]) @ R_C.T,
                                     rows=(0, 1), viscous_friction=F_V)
     q0 = inverse_kinematics_planar_2r(O_R)[ELBOW_UP]
-    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C)
+    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C, backend=fast_backend())
 
 
 @problem("9.10", "Hybrid force/motion control of the two-link arm on the compliant plane", kind="simulation")
@@ -725,7 +738,7 @@ class _PointOnCircle:
         p, v = x[:2], x[2:]
         A = p / self.rho
         mu = (-v @ v / self.rho - A @ u) / (A @ A)
-        return np.r_[v, u + A * mu]
+        return np.concatenate((v, u + A * mu))
 
 
 @problem("9.11", "Control law (9.95) achieves tracking of r_d(t)", kind="derivation")

@@ -24,6 +24,7 @@ from scipy.linalg import orthogonal_procrustes
 from scipy.spatial.transform import Rotation
 
 from controllers.plants import ArmPlant, KinematicArm
+from controllers.compiled import fast_backend
 from controllers.simulation import simulate
 from controllers.visual_servoing import (EyeInHandCamera, IBVSPDGravity, IBVSResolvedVelocity, PBVSPDGravity,
                                          PBVSResolvedVelocity, PoseEstimator, TargetFeatures, depth_from_segment,
@@ -658,11 +659,15 @@ def eye_in_hand_animation(sol: Solution, robot: Any, res: Any, points_b: np.ndar
 
 
 def _pbvs_run(Tc: float, **gains) -> _Run:
-    return _post(scara_eye_in_hand(), simulate(**pbvs_setup(Tc, **gains)))
+    """10.8 (PD + gravity: the compiled loop where a C compiler is available) or 10.9 (the Python loop)."""
+    backend = fast_backend() if "K_P" in gains else "python"
+    return _post(scara_eye_in_hand(), simulate(**pbvs_setup(Tc, **gains), backend=backend))
 
 
 def _ibvs_run(Tc: float, kind: str, **gains) -> _Run:
-    return _post(scara_eye_in_hand(), simulate(**ibvs_setup(Tc, kind, **gains)))
+    """10.10 (PD + gravity: the compiled loop where a C compiler is available) or 10.11 (the Python loop)."""
+    backend = fast_backend() if "K_Ps" in gains else "python"
+    return _post(scara_eye_in_hand(), simulate(**ibvs_setup(Tc, kind, **gains), backend=backend))
 
 
 def _final_camera_pose() -> np.ndarray:

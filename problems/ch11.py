@@ -40,8 +40,8 @@ from rigid_body.wheeled import (accessibility_rank, bicycle_constraints, bicycle
                                 differential_drive_velocities, differential_drive_wheel_speeds,
                                 front_wheel_point, front_wheel_point_matrix, lie_bracket, lie_bracket_symbolic,
                                 null_space, trailer_angle_indices, trailer_axle_midpoints,
-                                trailer_configuration_size, trailer_constraints, trailer_input_matrix,
-                                unicycle_arc, unicycle_input_matrix)
+                                trailer_configuration_size, trailer_constraints, trailer_input_function,
+                                trailer_input_matrix, unicycle_arc, unicycle_input_matrix)
 
 H = 0.01          # the manual's maximum integration step for the unicycle [s]
 SEED = 11         # random configurations of the derivation checks
@@ -154,7 +154,10 @@ def problem_11_2() -> Solution:
     rng = _rng()
 
     def G(q: np.ndarray) -> np.ndarray:  # wheel rates from the body velocity: a smooth basis of N(A)
-        return np.vstack([np.eye(3), -_three_wheel_A(q, ell, r)[:, :3] / r])
+        out = np.zeros((6, 3))
+        out[0, 0] = out[1, 1] = out[2, 2] = 1.0
+        out[3:] = _three_wheel_A(q, ell, r)[:, :3] / -r
+        return out
 
     q = rng.normal(size=6)
     sol.check_close("A(q) G(q) = 0 at a random q", _three_wheel_A(q, ell, r) @ G(q), np.zeros((3, 3)), atol=1e-14,
@@ -414,11 +417,8 @@ def problem_11_8() -> Solution:
     sol.check_error("constraint rows = lateral velocities of the axle points (finite differences)", worst_rows, 1e-8,
                     reference="finite differences")
 
-    def G(q: np.ndarray) -> np.ndarray:
-        return trailer_input_matrix(q, ell, lengths)
-
     h = 1e-3
-    res = simulate(DriftlessPlant(G), lambda t, q: np.array([1.0 + 0.5 * np.sin(t), 0.8 * np.cos(1.3 * t) - 0.5 * q[2]]),
+    res = simulate(DriftlessPlant(trailer_input_function(ell, lengths)), lambda t, q: np.array([1.0 + 0.5 * np.sin(t), 0.8 * np.cos(1.3 * t) - 0.5 * q[2]]),
                    (0.0, 6.0), np.r_[0.0, 0.0, 0.2, 0.0, 0.1, -0.1, 0.05], h=h, Ts=h)
     pts = np.array([trailer_axle_midpoints(q, ell, lengths) for q in res.x])
     v_fd = (pts[2:] - pts[:-2]) / (2 * h)

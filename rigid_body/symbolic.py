@@ -22,7 +22,8 @@ Eqs. (2.25) (rotation about an axis), (2.50) (direct kinematics), (3.30) (geomet
 
 from __future__ import annotations
 
-from typing import Any
+import hashlib
+from typing import Any, Callable
 
 import casadi as ca
 import numpy as np
@@ -51,6 +52,26 @@ def _model(robot_or_model: Any) -> pin.Model:
     if not isinstance(model, pin.Model):
         raise ValueError(f"`robot_or_model` must be a Robot or a pin.Model, got {type(robot_or_model).__name__}")
     return model
+
+
+_BUILT: dict[tuple, ca.Function] = {}
+
+
+def _once(kind: str, model: pin.Model, build: Callable[[], ca.Function], *key: Any) -> ca.Function:
+    """``build()`` for ``model``, built once per model *content* (its serialisation: a copy or an equal
+    model shares it, a changed one does not): the closed loops of :mod:`controllers.compiled` build their
+    laws and plants again for every run, and calling a built Function on their symbols inlines the same
+    expression without re-running the Python recursion."""
+    k = (kind, hashlib.sha256(model.saveToString().encode()).digest(), *key)
+    if k not in _BUILT:
+        _BUILT[k] = build()
+    return _BUILT[k]
+
+
+def _inlined(function: ca.Function, *args: Any) -> ca.SX:
+    """``function(*args)`` as an SX expression (numeric arguments give a constant SX)."""
+    out = function(*args)
+    return out if isinstance(out, ca.SX) else ca.SX(out)
 
 
 def _frame_id(robot_or_model: Any, frame: str | int | None) -> int:
@@ -179,11 +200,15 @@ def pose_function(robot_or_model: Any, frame: str | int | None = None,
     """``casadi.Function`` ``q → R, p, J``: pose and geometric Jacobian of ``frame`` in one call."""
     model = _model(robot_or_model)
     fid = _frame_id(robot_or_model, frame)
-    q = ca.SX.sym("q", model.nq)
-    placements = joint_placements(model, q)
-    R, p = frame_placement(model, fid, q, placements)
-    J = _jacobian(model, fid, q, placements)
-    return ca.Function(name, [q], [R, p, J], ["q"], ["R", "p", "J"])
+
+    def build() -> ca.Function:
+        q = ca.SX.sym("q", model.nq)
+        placements = joint_placements(model, q)
+        R, p = frame_placement(model, fid, q, placements)
+        J = _jacobian(model, fid, q, placements)
+        return ca.Function(name, [q], [R, p, J], ["q"], ["R", "p", "J"])
+
+    return _once("pose", model, build, fid, name)
 
 
 # ============================================================================================
@@ -226,6 +251,18 @@ def inverse_dynamics_function(robot_or_model: Any, name: str = "inverse_dynamics
 
 
 def inverse_dynamics_expression(robot_or_model: Any, q: ca.SX, qd: Any, qdd: Any) -> ca.SX:
+    """τ = B(q) q̈ + C(q, q̇) q̇ + g(q) as an SX expression of ``q, qd, qdd`` (Newton–Euler,
+    :func:`_newton_euler`; the recursion is built once per model)."""
+    model = _model(robot_or_model)
+
+    def build() -> ca.Function:
+        x, v, a = ca.SX.sym("q", model.nq), ca.SX.sym("qd", model.nv), ca.SX.sym("qdd", model.nv)
+        return ca.Function("rnea", [x, v, a], [_newton_euler(model, x, v, a)])
+
+    return _inlined(_once("rnea", model, build), q, qd, qdd)
+
+
+def _newton_euler(robot_or_model: Any, q: ca.SX, qd: Any, qdd: Any) -> ca.SX:
     """τ = B(q) q̈ + C(q, q̇) q̇ + g(q) as an SX expression of ``q, qd, qdd`` (Newton–Euler).
 
     The recursion of Sect. 7.5 in spatial (6-D) form, frame by frame as Pinocchio's RNEA:
@@ -350,11 +387,16 @@ def forward_dynamics_expression(robot_or_model: Any, q: ca.SX, qd: Any, tau: Any
     system is solved by a symbolic Cholesky factorisation. Mimic rotors and armature are included.
     """
     model = _model(robot_or_model)
-    a = ca.SX.sym("a", model.nv)
-    tau_a = inverse_dynamics_expression(model, q, ca.SX.zeros(model.nv), a)
-    B = ca.substitute(ca.jacobian(tau_a, a), a, ca.SX.zeros(model.nv))
-    h = inverse_dynamics_expression(model, q, qd, ca.SX.zeros(model.nv))
-    return _cholesky_solve(B, tau - h)
+
+    def build() -> ca.Function:
+        x, v, t, a = (ca.SX.sym(name, n) for name, n in (("q", model.nq), ("qd", model.nv), ("tau", model.nv),
+                                                            ("a", model.nv)))
+        tau_a = inverse_dynamics_expression(model, x, ca.SX.zeros(model.nv), a)
+        B = ca.substitute(ca.jacobian(tau_a, a), a, ca.SX.zeros(model.nv))
+        h = inverse_dynamics_expression(model, x, v, ca.SX.zeros(model.nv))
+        return ca.Function("fd", [x, v, t], [_cholesky_solve(B, t - h)])
+
+    return _inlined(_once("fd", model, build), q, qd, tau)
 
 
 def forward_dynamics_function(robot_or_model: Any, name: str = "forward_dynamics") -> ca.Function:

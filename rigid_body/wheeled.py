@@ -22,6 +22,7 @@ Eqs. (11.1)–(11.25); solution manual, Problems 11.1–11.9.
 
 from __future__ import annotations
 
+import math
 from typing import Any, Callable, Sequence
 
 import numpy as np
@@ -39,7 +40,8 @@ __all__ = [
     "front_wheel_point_matrix",
     "trailer_configuration_size", "trailer_angle_indices", "trailer_constraints", "trailer_input_matrix",
     "trailer_axle_midpoints",
-    "null_space", "lie_bracket", "lie_bracket_symbolic", "accessibility_rank", "accessibility_fields_symbolic",
+    "trailer_input_function", "null_space", "lie_bracket", "lie_bracket_symbolic", "accessibility_rank",
+    "accessibility_fields_symbolic",
     "chained_form_velocity", "unicycle_to_chained", "chained_to_unicycle", "chained_inputs_to_unicycle",
     "unicycle_inputs_to_chained", "mobile_manipulator", "mobile_manipulator_input_matrix",
 ]
@@ -67,8 +69,8 @@ def unicycle_input_matrix(q: Any) -> np.ndarray:
 
 def unicycle_velocity(q: np.ndarray, u: np.ndarray) -> np.ndarray:
     """q̇ = [v cos θ, v sin θ, ω] (11.13) for q = (x, y, θ), u = (v, ω); unchecked (hot loop)."""
-    v, th = u[0], q[2]
-    return np.array([v * np.cos(th), v * np.sin(th), u[1]])
+    v, th = u[0], float(q[2])
+    return np.array([v * math.cos(th), v * math.sin(th), u[1]])
 
 
 def unicycle_arc(q: np.ndarray, v: float, omega: float, t: float) -> np.ndarray:
@@ -247,18 +249,27 @@ def trailer_input_matrix(q: Any, ell: float, lengths: Sequence[float]) -> np.nda
 
     g1 = [cos θ0, sin θ0, 0, tan φ/ℓ, …, −(1/ℓ_i) Π_{j<i} cos(θ_j − θ_{j−1}) sin(θ_i − θ_{i−1}), …], g2 = e_3.
     """
-    q, ell, lengths = _trailer_args(q, ell, lengths)
+    return _trailer_input(*_trailer_args(q, ell, lengths))
+
+
+def trailer_input_function(ell: float, lengths: Sequence[float]) -> Callable[[np.ndarray], np.ndarray]:
+    """``q -> G(q)`` of :func:`trailer_input_matrix` with ℓ and the ℓ_i checked once: for simulation hot
+    loops (``controllers.plants.DriftlessPlant``), whose q (N + 4,) comes from the loop unchecked."""
+    _, ell, lengths = _trailer_args(np.zeros(trailer_configuration_size(len(lengths))), ell, lengths)
+    return lambda q: _trailer_input(q, ell, lengths)
+
+
+def _trailer_input(q: np.ndarray, ell: float, lengths: np.ndarray) -> np.ndarray:
     N = len(lengths)
-    phi, th = q[2], q[3:]
-    g1 = np.zeros(N + 4)
-    g1[:4] = [np.cos(th[0]), np.sin(th[0]), 0.0, np.tan(phi) / ell]
+    phi, th = q[2], q[3:].tolist()
+    G = np.zeros((N + 4, 2))
+    G[:4, 0] = [math.cos(th[0]), math.sin(th[0]), 0.0, math.tan(phi) / ell]
     speed = 1.0  # v_{i−1}/v: the hitch speed of trailer i, Π_{j<i} cos(θ_j − θ_{j−1})
     for i in range(1, N + 1):
-        g1[3 + i] = -speed * np.sin(th[i] - th[i - 1]) / lengths[i - 1]
-        speed *= np.cos(th[i] - th[i - 1])
-    g2 = np.zeros(N + 4)
-    g2[2] = 1.0
-    return np.column_stack([g1, g2])
+        G[3 + i, 0] = -speed * math.sin(th[i] - th[i - 1]) / lengths[i - 1]
+        speed *= math.cos(th[i] - th[i - 1])
+    G[2, 1] = 1.0                                             # g2 = e_3
+    return G
 
 
 # --------------------------------------------------------------------------------------------

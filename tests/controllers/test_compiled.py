@@ -4,15 +4,23 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from controllers.joint_space import InverseDynamicsControl, PDGravityCompensation, RobustControl
-from controllers.operational_space import OperationalPDGravity
-from controllers.plants import ArmPlant, JointIntegrator
+import controllers.compiled as compiled
+from controllers.environment import CompliantPlane, SteppedPlane
+from controllers.force import ForceWithInnerLoop, HybridForceMotionControl
+from controllers.independent_joint import JointDrive, design_position_velocity
+from controllers.joint_space import (AdaptivePayloadControl, ComputedTorqueFeedforward, InverseDynamicsControl,
+                                     PDGravityCompensation, RobustControl, as_reference)
+from controllers.operational_space import OperationalInverseDynamics, OperationalPDGravity
+from controllers.plants import ArmInContact, ArmPlant, JointIntegrator, VoltageControlledArm
 from controllers.simulation import SimulationDiverged, simulate
-from planners.timing import quintic
+from planners.paths import PathLaw, Segment
+from planners.timing import quintic, trapezoidal_law
+from rigid_body.kinematics import ELBOW_UP, inverse_kinematics_planar_2r
 from rigid_body.robots import load
 from rigid_body.symbolic import forward_dynamics_function, inverse_dynamics_function
 
 Q_D = np.array([np.pi / 4, -np.pi / 2])
+SEGMENT = Segment([0.9, 0.7, 0.0], [0.6, 1.1, 0.0])          # near the tip at Q_D − 0.1, length 0.5 m
 
 
 @pytest.fixture(scope="module")
@@ -24,7 +32,16 @@ def arm():
     lambda arm: PDGravityCompensation(arm, 3750, 750, Q_D),
     lambda arm: InverseDynamicsControl(arm, 100, 16, quintic(Q_D - 0.3, Q_D, 0.4, dt=1e-3), 100.0),
     lambda arm: OperationalPDGravity(arm, 2000, 500, [0.7, 0.9], rows=(0, 1)),
-], ids=["pd_gravity", "inverse_dynamics", "operational_pd"])
+    lambda arm: OperationalInverseDynamics(arm, 100, 16, PathLaw(SEGMENT, trapezoidal_law(0.0, 0.5, 0.4, 2.0)),
+                                           rows=(0, 1), viscous_friction=100.0),
+    lambda arm: OperationalInverseDynamics(arm, 400, 40, [0.8, 0.9], rows=(0, 1), viscous_friction=50.0, inertia=2.0),
+    lambda arm: OperationalInverseDynamics(arm, 100, 20, PathLaw(SEGMENT, trapezoidal_law(0.0, 0.5, 0.4, 2.0)),
+                                           rows=(1,), null_space_damping=5.0, posture=Q_D, posture_stiffness=10.0),
+    lambda arm: RobustControl(arm, [8.0, 2.0], 100, 16, quintic(Q_D - 0.3, Q_D, 0.4, dt=1e-3), rho=5.0,
+                              epsilon=0.05, viscous_friction=100.0),
+    lambda arm: AdaptivePayloadControl(arm, 200, 5, 50.0, quintic(Q_D - 0.3, Q_D, 0.4, dt=1e-3), 100.0, mass0=1.0),
+], ids=["pd_gravity", "inverse_dynamics", "operational_pd", "operational_inverse_dynamics", "impedance",
+        "operational_redundant", "robust", "adaptive"])
 def test_casadi_backend_reproduces_python_loop(arm, make):
     plant = ArmPlant(arm, viscous_friction=100.0, tau_max=[3000.0, 3000.0])
     x0 = np.r_[Q_D - 0.1, 0.2, -0.1]
@@ -57,9 +74,10 @@ def test_backend_errors_name_the_argument(arm):
     x0 = np.zeros(4)
     with pytest.raises(ValueError, match="backend"):
         simulate(plant, PDGravityCompensation(arm, 10, 5, Q_D), (0, 0.01), x0, h=1e-3, backend="numba")
-    robust = RobustControl(arm, [1.0, 1.0], 10, 5, Q_D, rho=1.0, epsilon=0.01)
-    with pytest.raises(ValueError, match="controller"):
-        simulate(plant, robust, (0, 0.01), x0, h=1e-3, backend="casadi")
+    with pytest.raises(ValueError, match="controller"):                   # a plain function: no symbolic form
+        simulate(plant, lambda t, meas: np.zeros(2), (0, 0.01), x0, h=1e-3, backend="casadi")
+    with pytest.raises(ValueError, match="position tasks"):
+        OperationalInverseDynamics(arm, 10, 5, np.eye(4), rows=(0, 5), orientation="axis_angle").symbolic()
     with pytest.raises(ValueError, match="plant"):
         simulate(JointIntegrator(), PDGravityCompensation(arm, 10, 5, Q_D), (0, 0.01), np.zeros(2), h=1e-3,
                  backend="casadi")
@@ -71,3 +89,99 @@ def test_diverging_compiled_loop_says_when(arm):
         simulate(plant, PDGravityCompensation(arm, 1e6, 1e6, Q_D), (0.0, 2.0), np.r_[Q_D - 0.1, 0, 0],
                  h=1e-2, backend="casadi")
     assert 0.0 < err.value.t < 2.0
+
+
+def test_references_sampled_at_once_match_one_by_one():
+    """The compiled loop samples a trajectory or a path law at all instants in one call (``at_times``)."""
+    times = np.linspace(0.0, 0.6, 601)                                     # beyond the end too: held
+    law = PathLaw(SEGMENT, trapezoidal_law(0.0, 0.5, 0.4, 2.0))
+    for reference, n in ((quintic(Q_D - 0.3, Q_D, 0.4, dt=1e-3), 2), (law, 3)):
+        ref = as_reference(reference, n)
+        stacked = compiled.stacked_reference(ref)
+        one_by_one = np.column_stack([stacked(t) for t in times])
+        np.testing.assert_allclose(stacked.at_times(times), one_by_one, rtol=0, atol=1e-12)
+    ctrl = OperationalInverseDynamics(load("planar_2r"), 100, 16, law, rows=(0, 1))
+    assert hasattr(ctrl.reference, "at_times")                            # the (x, y) rows of the 3-D law
+    np.testing.assert_allclose(ctrl.reference.at_times(times)[1], law(times)[1][:, :2], rtol=0, atol=0)
+
+
+def test_fast_backend_falls_back_to_python_without_a_compiler(monkeypatch):
+    monkeypatch.setattr(compiled, "compiler", lambda: None)
+    with pytest.warns(UserWarning, match="Python backend"):
+        assert compiled.fast_backend() == "python"
+    monkeypatch.setattr(compiled, "compiler", lambda: "cc")
+    assert compiled.fast_backend() == "casadi"
+
+
+@pytest.mark.parametrize("force_feedback", [False, True], ids=["pd_gravity", "impedance_force_feedback"])
+def test_casadi_backend_reproduces_python_loop_in_contact(arm, force_feedback):
+    """ArmInContact's symbolic plant and sensed wrench: the tip pushed into a compliant plane, contact made
+    and lost along the run (unilateral plane), against the Python loop."""
+    plane = CompliantPlane([1.2, 0.0, 0.0], [-1.0, -1.0, 0.0], 5e3, damping=20.0)
+    plant = ArmInContact(arm, plane, viscous_friction=100.0)
+    q0 = np.array([0.2, -1.6])                              # tip outside the plane
+    target = [0.95, 0.55]                                   # beyond the plane: pushes in, then rests in contact
+    if force_feedback:
+        make = lambda: OperationalInverseDynamics(arm, 2000, 300, target, rows=(0, 1), viscous_friction=100.0,
+                                                  inertia=5.0, force_feedback=True)
+    else:
+        make = lambda: OperationalPDGravity(arm, 3000, 600, target, rows=(0, 1))
+    a = simulate(plant, make(), (0.0, 0.6), plant.initial_state(q0), h=1e-3, Ts=1e-3)
+    b = simulate(plant, make(), (0.0, 0.6), plant.initial_state(q0), h=1e-3, Ts=1e-3, backend="casadi")
+    wrench = np.array([plant.wrench(x[:2], x[2:])[0] for x in a.x])
+    assert np.any(wrench[:, 0] != 0) and np.any(wrench[:, 0] == 0)          # free motion and contact
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-9)
+    for name in a.signals:
+        np.testing.assert_allclose(b[name], a[name], rtol=0, atol=1e-9)
+
+
+def test_symbolic_wrench_refuses_what_it_does_not_model(arm):
+    with pytest.raises(ValueError, match="friction"):
+        CompliantPlane([1.2, 0, 0], [-1, 0, 0], 5e3, friction=0.3).symbolic_wrench_at(np.zeros(3), np.zeros(6))
+    stepped = SteppedPlane([1.2, 0, 0], [-1, 0, 0], [0, 1, 0], 0.1, 0.01, 5e3)
+    with pytest.raises(ValueError, match="SteppedPlane"):
+        stepped.symbolic_wrench_at(np.zeros(3), np.zeros(6))
+
+
+R_C = np.array([[1.0, -1.0], [1.0, 1.0]]) / np.sqrt(2.0)        # constraint frame: x_c along the plane, y_c normal
+
+
+@pytest.mark.parametrize("make", [
+    lambda arm: ForceWithInnerLoop(arm, 400.0, 40.0, 1.0, 1e-4, [1.0, 0.0] + R_C @ [0.15, -0.02], -40.0 * R_C[:, 1],
+                                   K_I=1e-3, rows=(0, 1), viscous_friction=100.0),
+    lambda arm: ForceWithInnerLoop(arm, 400.0, 40.0, 1.0, 1e-4, [1.0, 0.0], -40.0 * R_C[:, 1], inner="velocity",
+                                   rows=(0, 1), viscous_friction=100.0),
+    lambda arm: HybridForceMotionControl(arm, R_C[:, 1:], R_C[:, :1], [-50.0], lambda t: ([0.1 * np.cos(t)], [-0.1 * np.sin(t)]),
+                                         100.0, 50.0, 30.0, 400.0, compliance=np.eye(2) / 5e3, rows=(0, 1),
+                                         viscous_friction=100.0),
+], ids=["force_PI_inner_position", "force_P_inner_velocity", "hybrid"])
+def test_casadi_backend_reproduces_python_force_loops(arm, make):
+    """Laws with a state (the integral actions, forward Euler per sample) and the sensed wrench."""
+    plant = ArmInContact(arm, CompliantPlane([1.0, 0.0, 0.0], np.r_[R_C[:, 1], 0.0], 5e3), viscous_friction=100.0)
+    x0 = plant.initial_state(inverse_kinematics_planar_2r(np.array([1.0, 0.0]) + R_C @ [0.15, 0.0])[ELBOW_UP])
+    a = simulate(plant, make(arm), (0.0, 1.0), x0, h=1e-3, Ts=1e-3)
+    b = simulate(plant, make(arm), (0.0, 1.0), x0, h=1e-3, Ts=1e-3, backend="casadi")
+    assert np.abs(a.u).max() > 1.0 and np.abs(a["h_e" if "h_e" in a.signals else "f_e"]).max() > 1.0
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-8)
+    for name in a.signals:
+        np.testing.assert_allclose(b[name], a[name], rtol=1e-12, atol=1e-9)
+
+
+@pytest.mark.parametrize("feedforward", [True, False])
+def test_casadi_backend_reproduces_python_voltage_controlled_servos(arm, feedforward):
+    """The PV servos with computed-torque feedforward (PI integrals as the law's state) on the
+    voltage-controlled arm (Fig. 8.3)."""
+    drives = [JointDrive(I=i, Ra=10.0, kt=2.0, kv=2.0, Fm=0.01) for i in (0.02, 0.005)]
+    designs = [design_position_velocity(d, 0.8, 10.0) for d in drives]
+    plant = VoltageControlledArm(arm, 100.0, drives, viscous_friction=100.0)
+    make = lambda: ComputedTorqueFeedforward(arm, quintic(Q_D - 0.3, Q_D, 0.4, dt=1e-3), 100.0, drives, designs,
+                                             feedforward=feedforward)
+    x0 = plant.initial_state(Q_D - 0.3)
+    a = simulate(plant, make(), (0.0, 0.6), x0, h=5e-4, Ts=1e-3)
+    b = simulate(plant, make(), (0.0, 0.6), x0, h=5e-4, Ts=1e-3, backend="casadi")
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-9)
+    for name in a.signals:
+        np.testing.assert_allclose(b[name], a[name], rtol=0, atol=1e-9)

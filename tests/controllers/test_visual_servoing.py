@@ -163,3 +163,40 @@ def test_hybrid_and_6dof_pbvs_name_bad_arguments():
         PBVSPoseResolvedVelocity(robot, square, np.eye(3), 1.0, 1.0)
     with pytest.raises(ValueError, match="K_o"):
         PBVSPoseResolvedVelocity(robot, square, np.eye(4), 1.0, 0.0)
+
+
+def test_compiled_pbvs_loop_reproduces_the_python_loop():
+    """10.8's chain (camera → estimator at 1 ms → PD + gravity held over 40 ms) as one compiled run: the
+    estimate, the held torque and the held log of the law as its state."""
+    from problems.ch10 import TC_COMPANION, pbvs_setup
+    from controllers.simulation import simulate
+
+    runs = []
+    for backend in ("python", "casadi"):
+        setup = pbvs_setup(TC_COMPANION, K_P=[500, 500, 10, 10], K_D=[500, 500, 10, 10])
+        runs.append(simulate(**{**setup, "t_span": (0.0, 1.0)}, backend=backend))
+    a, b = runs
+    assert np.abs(a.x[-1] - a.x[0]).max() > 0.05 and len(np.unique(a.u[:, 0])) == 26   # moves; u held 40 ms
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-9)
+    assert set(a.signals) == set(b.signals)
+    for name in a.signals:
+        np.testing.assert_allclose(b[name], a[name], rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("kind, depth", [("segment", 0.6), ("points", None)])
+def test_compiled_ibvs_loop_reproduces_the_python_loop(kind, depth):
+    """10.10's chain (camera → IBVS PD + gravity held over 4 ms), segment or point features, a constant or
+    the measured depth."""
+    from problems.ch10 import TC_MANUAL, ibvs_setup
+    from controllers.simulation import simulate
+
+    runs = []
+    for backend in ("python", "casadi"):
+        setup = ibvs_setup(TC_MANUAL, kind, K_Ps=[5.0, 5.0, 5.0, 5.0], K_Ds=[0.5, 0.5, 0.5, 0.5], depth=depth)
+        runs.append(simulate(**{**setup, "t_span": (0.0, 0.5)}, backend=backend))
+    a, b = runs
+    assert np.abs(a.x[-1] - a.x[0]).max() > 1e-3
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(b["e_s"], a["e_s"], rtol=0, atol=1e-9)

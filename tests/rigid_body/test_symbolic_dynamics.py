@@ -45,3 +45,17 @@ def test_symbolic_rnea_matches_pinocchio(name, rng):
         B = np.triu(B) + np.triu(B, 1).T
         diff = (tau(q, qd, qdd) - tau(q, qd, np.zeros(robot.nv))).full().ravel()
         np.testing.assert_allclose(diff, B @ qdd, atol=1e-9 * (1 + np.abs(B).max()))
+
+
+def test_symbolic_dynamics_built_once_per_model_content():
+    """The recursions are cached by the model's content: an equal model reuses them, a changed one
+    (here its armature) gets its own — never the stale expression."""
+    model = load("planar_2r").model.copy()
+    q, v, a = np.array([0.3, -0.4]), np.array([0.5, 0.2]), np.array([1.0, -2.0])
+    before = inverse_dynamics_function(model)(q, v, a).full().ravel()
+    np.testing.assert_allclose(inverse_dynamics_function(load("planar_2r"))(q, v, a).full().ravel(), before, atol=0)
+    model.armature[:] = [0.5, 0.25]
+    after = inverse_dynamics_function(model)(q, v, a).full().ravel()
+    np.testing.assert_allclose(after - before, [0.5 * 1.0, 0.25 * -2.0], atol=1e-12)
+    data = model.createData()
+    np.testing.assert_allclose(after, pin.rnea(model, data, q, v, a), atol=1e-9)

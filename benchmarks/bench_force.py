@@ -38,7 +38,7 @@ from controllers.force import HybridForceMotionControl
 from controllers.operational_space import OperationalInverseDynamics
 from controllers.plants import ArmInContact
 from examples.panda_wall_contact import T_PANDA, _panda_hybrid, _panda_impedance, _panda_wall_scene
-from problems.ch09 import (F_V, K_HAT, K_Y, R_C, T_D, _held, _hybrid_run, _impedance_run, _plane, _tra_5)
+from problems.ch09 import (F_V, K_HAT, R_C, T_D, _Held, _hybrid_run, _impedance_run, _plane, _tra_5)
 from rigid_body.kinematics import ELBOW_UP, inverse_kinematics_planar_2r
 from rigid_body.robots import load
 from rigid_body.task_space import selection_matrices
@@ -87,7 +87,7 @@ def rows(quick: bool = False) -> list[dict]:
     x = plant.initial_state(q0, [0.1, -0.2])
     u = np.array([10.0, 5.0])
     meas = plant.measure(0.0, x)
-    imp = OperationalInverseDynamics(arm, 5000.0, 1600.0, _held(_tra_5()), rows=(0, 1), viscous_friction=F_V,
+    imp = OperationalInverseDynamics(arm, 5000.0, 1600.0, _Held(_tra_5()), rows=(0, 1), viscous_friction=F_V,
                                      inertia=100.0, force_feedback=True)
     S_f, S_v = selection_matrices(("x",), R_C, axes=("x", "y"))
     hyb = HybridForceMotionControl(arm, S_f, S_v, [-50.0], [0.1], 16, 100, 16, 100, compliance=np.eye(2) / K_HAT,
@@ -101,7 +101,7 @@ def rows(quick: bool = False) -> list[dict]:
     floor = pinocchio_floor(arm, q0, np.array([0.1, -0.2]), u, plant._fid)
     out.append(dict(measurement="9.x Pinocchio calls alone, one simulated second [simulated s / CPU s]",
                     rmpc=1.0 / floor, reference=None, ref_name="the floor of any Python loop on Pinocchio", target=None))
-    out.append(simulated_per_wall_second("9.3 impedance control", lambda: _impedance_run(_held(_tra_5()), q0), T_D))
+    out.append(simulated_per_wall_second("9.3 impedance control", lambda: _impedance_run(_Held(_tra_5()), q0), T_D))
     out.append(simulated_per_wall_second("9.10 hybrid force/motion control", lambda: _hybrid_run(K_HAT), T_D))
     if not quick:
         scene = _panda_wall_scene()

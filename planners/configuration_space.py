@@ -85,10 +85,13 @@ def project_on_segments(p: Any, a: Any, b: Any) -> tuple[np.ndarray, np.ndarray]
     """
     p, a, b = (np.asarray(v, dtype=float) for v in (p, a, b))
     d = b - a
-    dd = np.einsum("...j,...j->...", d, d)
+    w = p - a
+    dx, dy = d[..., 0], d[..., 1]
+    dd = dx * dx + dy * dy
     with np.errstate(invalid="ignore", divide="ignore"):
-        s_star = np.einsum("...j,...j->...", p - a, d) / dd                          # (S3.7)
-    s = np.clip(np.where(dd > 0, s_star, 0.0), 0.0, 1.0)                           # (S3.8)
+        s_star = (w[..., 0] * dx + w[..., 1] * dy) / dd                                # (S3.7)
+    s = np.where(dd > 0, s_star, 0.0)
+    np.clip(s, 0.0, 1.0, out=s)                                                     # (S3.8)
     return s, a + s[..., None] * d                                                  # (S3.5), (S3.6)
 
 
@@ -266,10 +269,24 @@ class Polygon:
             raise ValueError("`vertices` must describe a convex polygon (decompose it into convex pieces)")
         object.__setattr__(self, "vertices", V)
 
+    @classmethod
+    def _moved(cls, vertices: np.ndarray) -> "Polygon":
+        """A polygon whose ccw vertices are a rigid motion of a validated polygon's: no re-validation
+        (a rotation and a translation keep a convex ccw polygon convex and ccw)."""
+        poly = object.__new__(cls)
+        object.__setattr__(poly, "vertices", vertices)
+        return poly
+
     @cached_property
     def edges(self) -> tuple[np.ndarray, np.ndarray]:
         """Start and end points (k, 2) of the edges, counter-clockwise."""
         return self.vertices, np.roll(self.vertices, -1, axis=0)
+
+    @cached_property
+    def offsets(self) -> np.ndarray:
+        """n_k · a_k (k,): edge k's supporting line is {x : n_k · x = n_k · a_k}, the polygon on its ≤ side."""
+        a, n = self.vertices, self.normals
+        return a[:, 0] * n[:, 0] + a[:, 1] * n[:, 1]
 
     @cached_property
     def normals(self) -> np.ndarray:
@@ -289,8 +306,8 @@ class Polygon:
     def contains(self, p: Any, tol: float = 0.0) -> np.ndarray:
         """True for the points p (..., 2) inside or on the polygon (within ``tol``)."""
         p = np.asarray(p, dtype=float)
-        a, _ = self.edges
-        s = np.einsum("...kj,kj->...k", p[..., None, :] - a, self.normals)
+        a, n = self.vertices, self.normals
+        s = (p[..., None, 0] - a[:, 0]) * n[:, 0] + (p[..., None, 1] - a[:, 1]) * n[:, 1]
         return np.all(s <= tol, axis=-1)
 
 
@@ -311,7 +328,7 @@ def transform_shape(shape: Shape, x: float, y: float, theta: float) -> Shape:
     t = np.array([x, y])
     if isinstance(shape, Disc):
         return Disc(R @ shape.center + t, shape.radius)
-    return Polygon(shape.vertices @ R.T + t)
+    return Polygon._moved(shape.vertices @ R.T + t)
 
 
 # --------------------------------------------------------------------------------------------
@@ -322,7 +339,13 @@ def point_segment_distance(p: Any, a: Any, b: Any) -> np.ndarray:
     """Distance of points p (..., 2) from the segments a–b (broadcast (…, 2)), by clamped projection
     (:func:`project_on_segments`)."""
     p = np.asarray(p, dtype=float)
-    return np.linalg.norm(p - project_on_segments(p, a, b)[1], axis=-1)
+    return _norm2(p - project_on_segments(p, a, b)[1])
+
+
+def _norm2(v: np.ndarray) -> np.ndarray:
+    """‖v‖ over the last axis of planar vectors (…, 2), without ``np.linalg.norm``'s overhead."""
+    x, y = v[..., 0], v[..., 1]
+    return np.sqrt(x * x + y * y)
 
 
 def point_shape_distance(shape: Shape, p: Any) -> np.ndarray:
@@ -427,28 +450,36 @@ def ray_shape_distance(origin: Any, directions: Any, shape: Shape) -> np.ndarray
 # Batched geometry: many placements of a body part against one obstacle (numpy broadcasting)
 # --------------------------------------------------------------------------------------------
 
+def _next_vertices(P: np.ndarray) -> np.ndarray:
+    """The vertex after each vertex of N polygons P (N, m, 2): the edge ends, ``np.roll(P, -1, axis=1)``."""
+    return np.concatenate([P[:, 1:], P[:, :1]], axis=1)
+
+
 def _batch_polygons_polygon(P: np.ndarray, Q: Polygon) -> np.ndarray:
     """Distances (N,) between N convex ccw polygons P (N, m, 2) and the convex polygon Q (0 on overlap)."""
     aQ, bQ = Q.edges
     nQ = Q.normals
-    gap_Q = (np.einsum("nmj,kj->nmk", P, nQ).min(axis=1) - np.einsum("kj,kj->k", aQ, nQ)).max(axis=1)
-    Pn = np.roll(P, -1, axis=1)
+    Px, Py = P[..., 0, None], P[..., 1, None]                                   # (N, m, 1)
+    gap_Q = ((Px * nQ[:, 0] + Py * nQ[:, 1]).min(axis=1) - Q.offsets).max(axis=1)
+    Pn = _next_vertices(P)
     e = Pn - P
-    nP = np.stack([e[..., 1], -e[..., 0]], axis=-1)
-    nP /= np.linalg.norm(nP, axis=-1, keepdims=True)
-    gap_P = (np.einsum("kj,nmj->nmk", Q.vertices, nP).min(axis=2) - np.einsum("nmj,nmj->nm", P, nP)).max(axis=1)
+    ex, ey = e[..., 0], e[..., 1]
+    length = np.sqrt(ey * ey + ex * ex)
+    nx, ny = (ey / length)[..., None], (-ex / length)[..., None]                # outward normals of P
+    V = Q.vertices
+    gap_P = ((V[:, 0] * nx + V[:, 1] * ny).min(axis=2) - (Px * nx + Py * ny)[..., 0]).max(axis=1)
     separated = (gap_Q > 0) | (gap_P > 0)
     d1 = point_segment_distance(P[:, :, None, :], aQ, bQ).min(axis=(1, 2))
-    d2 = point_segment_distance(Q.vertices[None, :, None, :], P[:, None], Pn[:, None]).min(axis=(1, 2))
+    d2 = point_segment_distance(V[None, :, None, :], P[:, None], Pn[:, None]).min(axis=(1, 2))
     return np.where(separated, np.minimum(d1, d2), 0.0)
 
 
 def _batch_polygons_disc(P: np.ndarray, D: Disc) -> np.ndarray:
     """Distances (N,) between N convex ccw polygons P (N, m, 2) and the disc D."""
-    Pn = np.roll(P, -1, axis=1)
+    Pn = _next_vertices(P)
     e = Pn - P
-    nP = np.stack([e[..., 1], -e[..., 0]], axis=-1)
-    inside = np.all(np.einsum("nmj,nmj->nm", D.center - P, nP) <= 0, axis=1)
+    w = D.center - P
+    inside = np.all(w[..., 0] * e[..., 1] + w[..., 1] * -e[..., 0] <= 0, axis=1)
     d = point_segment_distance(D.center, P, Pn).min(axis=1)
     return np.where(inside, 0.0, np.maximum(d - D.radius, 0.0))
 
@@ -461,7 +492,7 @@ def batch_distance(part: tuple, obstacle: Shape) -> np.ndarray:
     if part[0] == "disc":
         C, r = part[1], part[2]
         if isinstance(obstacle, Disc):
-            return np.maximum(np.linalg.norm(C - obstacle.center, axis=-1) - r - obstacle.radius, 0.0)
+            return np.maximum(_norm2(C - obstacle.center) - r - obstacle.radius, 0.0)
         return np.maximum(point_shape_distance(obstacle, C) - r, 0.0)
     if isinstance(obstacle, Disc):
         return _batch_polygons_disc(part[1], obstacle)
@@ -473,16 +504,17 @@ def _bounding_circle(part: tuple) -> tuple[np.ndarray, np.ndarray]:
     if part[0] == "disc":
         return part[1], np.full(len(part[1]), part[2])
     c = part[1].mean(axis=1)
-    return c, np.linalg.norm(part[1] - c[:, None, :], axis=-1).max(axis=1)
+    return c, _norm2(part[1] - c[:, None, :]).max(axis=1)
 
 
 def _placed(shape: Shape, p: np.ndarray, phi: np.ndarray) -> tuple:
     """A part ``shape`` (in its frame) placed at N frames (positions (N, 2), angles (N,)), batched."""
-    c, s = np.cos(phi), np.sin(phi)
-    R = np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)        # (N, 2, 2)
+    c, s = np.cos(phi)[:, None], np.sin(phi)[:, None]                     # R = [[c, −s], [s, c]]
+    V = shape.center[None] if isinstance(shape, Disc) else shape.vertices
+    placed = np.stack([c * V[:, 0] - s * V[:, 1], s * V[:, 0] + c * V[:, 1]], axis=-1) + p[:, None, :]
     if isinstance(shape, Disc):
-        return ("disc", p + R @ shape.center, shape.radius)
-    return ("polygon", np.einsum("nij,mj->nmi", R, shape.vertices) + p[:, None, :])
+        return ("disc", placed[:, 0], shape.radius)
+    return ("polygon", placed)
 
 # --------------------------------------------------------------------------------------------
 # Distances in C (Problem 12.2)
@@ -564,7 +596,7 @@ class Scene:
             c, r = _bounding_circle(part)
             for o, (oc, orad) in zip(self.obstacles, self._bounding_circles):
                 # exact distances only where the bounding circles could beat the running minimum
-                rows = np.flatnonzero(np.linalg.norm(c - oc, axis=-1) - r - orad < out)
+                rows = np.flatnonzero(_norm2(c - oc) - r - orad < out)
                 if rows.size:
                     sub = (part[0], part[1][rows]) + tuple(part[2:])
                     out[rows] = np.minimum(out[rows], batch_distance(sub, o))
@@ -631,7 +663,9 @@ class PlanarArm:
         """Positions (n + 1, 2) of the joints and of the tip (direct kinematics of the planar chain)."""
         return self._frames(as_vector(q, self.dof, "q")[None])[0][0]
 
+    @cached_property
     def _templates(self) -> list[tuple[int, Shape]]:
+        """(link index, shape in the link frame) of every rectangle and joint disc."""
         w = self.width / 2
         return [item for i, a in enumerate(self.lengths)
                 for item in ((i, box(0.0, -w, a, w)), (i, Disc(np.zeros(2), w)))]
@@ -639,12 +673,12 @@ class PlanarArm:
     def placed_parts(self, Q: Any) -> list[tuple]:
         """Every link rectangle and joint disc at the N configurations Q, batched (see :func:`batch_distance`)."""
         P, phi = self._frames(Q)
-        return [_placed(shape, P[:, i], phi[:, i]) for i, shape in self._templates()]
+        return [_placed(shape, P[:, i], phi[:, i]) for i, shape in self._templates]
 
     def bodies(self, q: Any) -> list[Shape]:
         """The link rectangles and joint discs occupying the workspace at q, B(q)."""
         P, phi = self._frames(as_vector(q, self.dof, "q")[None])
-        return [transform_shape(shape, P[0, i, 0], P[0, i, 1], phi[0, i]) for i, shape in self._templates()]
+        return [transform_shape(shape, P[0, i, 0], P[0, i, 1], phi[0, i]) for i, shape in self._templates]
 
     def reach(self) -> np.ndarray:
         """R_i: an upper bound on the distance of any point of links i … n from joint i."""

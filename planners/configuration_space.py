@@ -32,6 +32,7 @@ Sect. 3.5.1 (distance from an obstacle as an objective of redundancy resolution)
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, Sequence
@@ -296,6 +297,12 @@ class Polygon:
         n = np.column_stack([e[:, 1], -e[:, 0]])
         return n / np.linalg.norm(n, axis=1, keepdims=True)
 
+    @cached_property
+    def _edge_list(self) -> list[list[float]]:
+        """[a_x, a_y, b_x, b_y, n_x, n_y, n·a] of each edge as Python floats, for the one-pair kernels."""
+        a, b = self.edges
+        return np.column_stack([a, b, self.normals, self.offsets]).tolist()
+
     @property
     def centroid(self) -> np.ndarray:
         """Area centroid (2,)."""
@@ -361,29 +368,46 @@ def point_shape_distance(shape: Shape, p: Any) -> np.ndarray:
 def _separated_polygons(A: Polygon, B: Polygon) -> bool:
     """Separating-axis theorem: True when an edge normal of A or B separates the two convex polygons."""
     for P, Q in ((A, B), (B, A)):
-        a, _ = P.edges
-        n = P.normals
-        # max over P of n·p is attained at the edge start; Q separated if min n·q > that
-        if np.any(np.min(Q.vertices @ n.T, axis=0) > np.einsum("kj,kj->k", a, n)):
-            return True
+        V = Q.vertices.tolist()
+        # max over P of n·p is attained at the edge start (n·a); Q is separated if min n·q exceeds it
+        for *_, nx, ny, offset in P._edge_list:
+            if min(x * nx + y * ny for x, y in V) > offset:
+                return True
     return False
+
+
+def _point_edges_distance(x: float, y: float, edges: list[list[float]]) -> tuple[float, bool]:
+    """The distance of one point from a polygon's boundary (its ``_edge_list``) by the clamped projection
+    of :func:`project_on_segments` ((S3.5)–(S3.8)) on each edge, and whether the point lies inside or on
+    the polygon: the one-pair kernel of :func:`shapes_distance`, in Python floats (no array overhead)."""
+    best, inside = math.inf, True
+    for ax, ay, bx, by, nx, ny, _ in edges:
+        wx, wy = x - ax, y - ay
+        if wx * nx + wy * ny > 0.0:
+            inside = False
+        dx, dy = bx - ax, by - ay
+        dd = dx * dx + dy * dy
+        s = (wx * dx + wy * dy) / dd if dd > 0 else 0.0                           # (S3.7)
+        s = 0.0 if s < 0.0 else 1.0 if s > 1.0 else s                              # (S3.8)
+        ex, ey = x - (ax + s * dx), y - (ay + s * dy)                              # (S3.5), (S3.6)
+        best = min(best, math.sqrt(ex * ex + ey * ey))
+    return best, inside
 
 
 def shapes_distance(A: Shape, B: Shape) -> float:
     """Euclidean distance between two convex shapes; 0 when they touch or overlap."""
     if isinstance(A, Disc) and isinstance(B, Disc):
-        return max(float(np.linalg.norm(A.center - B.center)) - A.radius - B.radius, 0.0)
+        dx, dy = (A.center - B.center).tolist()
+        return max(math.sqrt(dx * dx + dy * dy) - A.radius - B.radius, 0.0)
     if isinstance(A, Disc):
         A, B = B, A
     if isinstance(B, Disc):
-        return max(float(point_shape_distance(A, B.center)) - B.radius, 0.0)
+        d, inside = _point_edges_distance(*B.center.tolist(), A._edge_list)
+        return 0.0 if inside else max(d - B.radius, 0.0)
     if not _separated_polygons(A, B):
         return 0.0
-    a1, b1 = A.edges
-    a2, b2 = B.edges
-    d1 = point_segment_distance(B.vertices[:, None, :], a1[None], b1[None]).min()
-    d2 = point_segment_distance(A.vertices[:, None, :], a2[None], b2[None]).min()
-    return float(min(d1, d2))
+    return min(_point_edges_distance(x, y, P._edge_list)[0]
+               for P, Q in ((A, B), (B, A)) for x, y in Q.vertices.tolist())
 
 
 def shapes_intersect(A: Shape, B: Shape) -> bool:

@@ -111,7 +111,7 @@ def closest_points_on_polyline(points: Any, polyline: Any) -> tuple[np.ndarray, 
     if p.ndim != 2 or p.shape[1] != 2:
         raise ValueError(f"`points` must be an (m, 2) array, got shape {p.shape}")
     s, closest = project_on_segments(p[:, None, :], P[None, :-1], P[None, 1:])
-    return closest, s, np.linalg.norm(p[:, None, :] - closest, axis=2)
+    return closest, s, _norm2(p[:, None, :] - closest)
 
 
 def polyline_distance(points: Any, polyline: Any) -> np.ndarray:
@@ -153,11 +153,15 @@ def segment_chain_distance(points: Any, center: Any, radius: float) -> ObstacleD
     (0.75, 1, 0.5)
     """
     P = _as_polyline(points, "points")
-    o = as_vector(center, 2, "center")
+    x, y = as_vector(center, 2, "center").tolist()
     radius = as_positive(radius, "radius", allow_zero=True)
-    closest, s, d = (v[0] for v in closest_points_on_polyline(o[None], P))
-    i = int(np.argmin(d))
-    return ObstacleDistance(float(d[i] - radius), i, float(s[i]), closest[i].copy())   # (S3.4)
+    best = (math.inf, 0, 0.0, 0.0, 0.0)
+    for i, ((ax, ay), (bx, by)) in enumerate(zip(P[:-1].tolist(), P[1:].tolist())):
+        s, cx, cy, d = _project_point(x, y, ax, ay, bx, by)
+        if d < best[0]:
+            best = (d, i, s, cx, cy)
+    d, i, s, cx, cy = best
+    return ObstacleDistance(d - radius, i, s, np.array([cx, cy]))                     # (S3.4)
 
 
 def _link_points(robot: Any, q: np.ndarray, frames: list[str] | None) -> tuple[np.ndarray, list]:
@@ -342,6 +346,18 @@ def transform_shape(shape: Shape, x: float, y: float, theta: float) -> Shape:
 # Distances
 # --------------------------------------------------------------------------------------------
 
+def _project_point(x: float, y: float, ax: float, ay: float, bx: float, by: float) -> tuple[float, float, float, float]:
+    """:func:`project_on_segments` for one point and one segment in Python floats (the loops over a few
+    segments: no array overhead): s, the closest point (x, y) and its distance from p."""
+    dx, dy = bx - ax, by - ay
+    dd = dx * dx + dy * dy
+    s = ((x - ax) * dx + (y - ay) * dy) / dd if dd > 0 else 0.0                    # (S3.7)
+    s = 0.0 if s < 0.0 else 1.0 if s > 1.0 else s                                  # (S3.8)
+    cx, cy = ax + s * dx, ay + s * dy                                              # (S3.5), (S3.6)
+    ex, ey = x - cx, y - cy
+    return s, cx, cy, math.sqrt(ex * ex + ey * ey)
+
+
 def point_segment_distance(p: Any, a: Any, b: Any) -> np.ndarray:
     """Distance of points p (..., 2) from the segments a–b (broadcast (…, 2)), by clamped projection
     (:func:`project_on_segments`)."""
@@ -377,20 +393,13 @@ def _separated_polygons(A: Polygon, B: Polygon) -> bool:
 
 
 def _point_edges_distance(x: float, y: float, edges: list[list[float]]) -> tuple[float, bool]:
-    """The distance of one point from a polygon's boundary (its ``_edge_list``) by the clamped projection
-    of :func:`project_on_segments` ((S3.5)–(S3.8)) on each edge, and whether the point lies inside or on
-    the polygon: the one-pair kernel of :func:`shapes_distance`, in Python floats (no array overhead)."""
+    """The distance of one point from a polygon's boundary (its ``_edge_list``), and whether the point lies
+    inside or on the polygon: the one-pair kernel of :func:`shapes_distance`."""
     best, inside = math.inf, True
     for ax, ay, bx, by, nx, ny, _ in edges:
-        wx, wy = x - ax, y - ay
-        if wx * nx + wy * ny > 0.0:
+        if (x - ax) * nx + (y - ay) * ny > 0.0:
             inside = False
-        dx, dy = bx - ax, by - ay
-        dd = dx * dx + dy * dy
-        s = (wx * dx + wy * dy) / dd if dd > 0 else 0.0                           # (S3.7)
-        s = 0.0 if s < 0.0 else 1.0 if s > 1.0 else s                              # (S3.8)
-        ex, ey = x - (ax + s * dx), y - (ay + s * dy)                              # (S3.5), (S3.6)
-        best = min(best, math.sqrt(ex * ex + ey * ey))
+        best = min(best, _project_point(x, y, ax, ay, bx, by)[3])
     return best, inside
 
 

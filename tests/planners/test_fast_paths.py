@@ -61,3 +61,20 @@ def test_segment_chain_distance_equals_the_vectorised_polyline():
         i = int(np.argmin(d))
         assert r.link == i
         np.testing.assert_allclose([r.distance, r.s, *r.point], [d[i] - 0.1, s[i], *closest[i]], rtol=0, atol=1e-15)
+
+
+def test_closed_form_ik_keeps_the_rows_within_the_joint_limits_shifting_by_two_pi():
+    from rigid_body.dh import DHLink
+    from rigid_body.kinematics import inverse_kinematics_planar_2r
+
+    p = np.array([0.3, 0.9])
+    free = inverse_kinematics_planar_2r(p, [DHLink(a=0.6), DHLink(a=0.5)])      # two rows, angles in (−π, π]
+    # joint 1 limited to [π/2, 5π/2): the row whose θ1 is below π/2 comes back shifted by 2π
+    limited = inverse_kinematics_planar_2r(p, [DHLink(a=0.6, lower=np.pi / 2, upper=2.5 * np.pi), DHLink(a=0.5)])
+    expected = [q + [2 * np.pi * (q[0] < np.pi / 2), 0.0] for q in free]
+    np.testing.assert_allclose(limited, expected, rtol=0, atol=1e-12)
+    # joint 2 limited to [0, π]: only the elbow with θ2 ≥ 0 is left
+    elbow = inverse_kinematics_planar_2r(p, [DHLink(a=0.6), DHLink(a=0.5, lower=0.0, upper=np.pi)])
+    np.testing.assert_allclose(elbow, free[free[:, 1] >= 0], rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="joint limits"):
+        inverse_kinematics_planar_2r(p, [DHLink(a=0.6, lower=-0.1, upper=0.1), DHLink(a=0.5, lower=-0.1, upper=0.1)])

@@ -32,6 +32,7 @@ Sect. 3.5.1 (distance from an obstacle as an objective of redundancy resolution)
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, Sequence
@@ -85,10 +86,13 @@ def project_on_segments(p: Any, a: Any, b: Any) -> tuple[np.ndarray, np.ndarray]
     """
     p, a, b = (np.asarray(v, dtype=float) for v in (p, a, b))
     d = b - a
-    dd = np.einsum("...j,...j->...", d, d)
+    w = p - a
+    dx, dy = d[..., 0], d[..., 1]
+    dd = dx * dx + dy * dy
     with np.errstate(invalid="ignore", divide="ignore"):
-        s_star = np.einsum("...j,...j->...", p - a, d) / dd                          # (S3.7)
-    s = np.clip(np.where(dd > 0, s_star, 0.0), 0.0, 1.0)                           # (S3.8)
+        s_star = (w[..., 0] * dx + w[..., 1] * dy) / dd                                # (S3.7)
+    s = np.where(dd > 0, s_star, 0.0)
+    np.clip(s, 0.0, 1.0, out=s)                                                     # (S3.8)
     return s, a + s[..., None] * d                                                  # (S3.5), (S3.6)
 
 
@@ -107,7 +111,7 @@ def closest_points_on_polyline(points: Any, polyline: Any) -> tuple[np.ndarray, 
     if p.ndim != 2 or p.shape[1] != 2:
         raise ValueError(f"`points` must be an (m, 2) array, got shape {p.shape}")
     s, closest = project_on_segments(p[:, None, :], P[None, :-1], P[None, 1:])
-    return closest, s, np.linalg.norm(p[:, None, :] - closest, axis=2)
+    return closest, s, _norm2(p[:, None, :] - closest)
 
 
 def polyline_distance(points: Any, polyline: Any) -> np.ndarray:
@@ -149,11 +153,15 @@ def segment_chain_distance(points: Any, center: Any, radius: float) -> ObstacleD
     (0.75, 1, 0.5)
     """
     P = _as_polyline(points, "points")
-    o = as_vector(center, 2, "center")
+    x, y = as_vector(center, 2, "center").tolist()
     radius = as_positive(radius, "radius", allow_zero=True)
-    closest, s, d = (v[0] for v in closest_points_on_polyline(o[None], P))
-    i = int(np.argmin(d))
-    return ObstacleDistance(float(d[i] - radius), i, float(s[i]), closest[i].copy())   # (S3.4)
+    best = (math.inf, 0, 0.0, 0.0, 0.0)
+    for i, ((ax, ay), (bx, by)) in enumerate(zip(P[:-1].tolist(), P[1:].tolist())):
+        s, cx, cy, d = _project_point(x, y, ax, ay, bx, by)
+        if d < best[0]:
+            best = (d, i, s, cx, cy)
+    d, i, s, cx, cy = best
+    return ObstacleDistance(d - radius, i, s, np.array([cx, cy]))                     # (S3.4)
 
 
 def _link_points(robot: Any, q: np.ndarray, frames: list[str] | None) -> tuple[np.ndarray, list]:
@@ -266,10 +274,24 @@ class Polygon:
             raise ValueError("`vertices` must describe a convex polygon (decompose it into convex pieces)")
         object.__setattr__(self, "vertices", V)
 
+    @classmethod
+    def _moved(cls, vertices: np.ndarray) -> "Polygon":
+        """A polygon whose ccw vertices are a rigid motion of a validated polygon's: no re-validation
+        (a rotation and a translation keep a convex ccw polygon convex and ccw)."""
+        poly = object.__new__(cls)
+        object.__setattr__(poly, "vertices", vertices)
+        return poly
+
     @cached_property
     def edges(self) -> tuple[np.ndarray, np.ndarray]:
         """Start and end points (k, 2) of the edges, counter-clockwise."""
         return self.vertices, np.roll(self.vertices, -1, axis=0)
+
+    @cached_property
+    def offsets(self) -> np.ndarray:
+        """n_k · a_k (k,): edge k's supporting line is {x : n_k · x = n_k · a_k}, the polygon on its ≤ side."""
+        a, n = self.vertices, self.normals
+        return a[:, 0] * n[:, 0] + a[:, 1] * n[:, 1]
 
     @cached_property
     def normals(self) -> np.ndarray:
@@ -278,6 +300,12 @@ class Polygon:
         e = b - a
         n = np.column_stack([e[:, 1], -e[:, 0]])
         return n / np.linalg.norm(n, axis=1, keepdims=True)
+
+    @cached_property
+    def _edge_list(self) -> list[list[float]]:
+        """[a_x, a_y, b_x, b_y, n_x, n_y, n·a] of each edge as Python floats, for the one-pair kernels."""
+        a, b = self.edges
+        return np.column_stack([a, b, self.normals, self.offsets]).tolist()
 
     @property
     def centroid(self) -> np.ndarray:
@@ -289,8 +317,8 @@ class Polygon:
     def contains(self, p: Any, tol: float = 0.0) -> np.ndarray:
         """True for the points p (..., 2) inside or on the polygon (within ``tol``)."""
         p = np.asarray(p, dtype=float)
-        a, _ = self.edges
-        s = np.einsum("...kj,kj->...k", p[..., None, :] - a, self.normals)
+        a, n = self.vertices, self.normals
+        s = (p[..., None, 0] - a[:, 0]) * n[:, 0] + (p[..., None, 1] - a[:, 1]) * n[:, 1]
         return np.all(s <= tol, axis=-1)
 
 
@@ -311,18 +339,36 @@ def transform_shape(shape: Shape, x: float, y: float, theta: float) -> Shape:
     t = np.array([x, y])
     if isinstance(shape, Disc):
         return Disc(R @ shape.center + t, shape.radius)
-    return Polygon(shape.vertices @ R.T + t)
+    return Polygon._moved(shape.vertices @ R.T + t)
 
 
 # --------------------------------------------------------------------------------------------
 # Distances
 # --------------------------------------------------------------------------------------------
 
+def _project_point(x: float, y: float, ax: float, ay: float, bx: float, by: float) -> tuple[float, float, float, float]:
+    """:func:`project_on_segments` for one point and one segment in Python floats (the loops over a few
+    segments: no array overhead): s, the closest point (x, y) and its distance from p."""
+    dx, dy = bx - ax, by - ay
+    dd = dx * dx + dy * dy
+    s = ((x - ax) * dx + (y - ay) * dy) / dd if dd > 0 else 0.0                    # (S3.7)
+    s = 0.0 if s < 0.0 else 1.0 if s > 1.0 else s                                  # (S3.8)
+    cx, cy = ax + s * dx, ay + s * dy                                              # (S3.5), (S3.6)
+    ex, ey = x - cx, y - cy
+    return s, cx, cy, math.sqrt(ex * ex + ey * ey)
+
+
 def point_segment_distance(p: Any, a: Any, b: Any) -> np.ndarray:
     """Distance of points p (..., 2) from the segments a–b (broadcast (…, 2)), by clamped projection
     (:func:`project_on_segments`)."""
     p = np.asarray(p, dtype=float)
-    return np.linalg.norm(p - project_on_segments(p, a, b)[1], axis=-1)
+    return _norm2(p - project_on_segments(p, a, b)[1])
+
+
+def _norm2(v: np.ndarray) -> np.ndarray:
+    """‖v‖ over the last axis of planar vectors (…, 2), without ``np.linalg.norm``'s overhead."""
+    x, y = v[..., 0], v[..., 1]
+    return np.sqrt(x * x + y * y)
 
 
 def point_shape_distance(shape: Shape, p: Any) -> np.ndarray:
@@ -338,29 +384,39 @@ def point_shape_distance(shape: Shape, p: Any) -> np.ndarray:
 def _separated_polygons(A: Polygon, B: Polygon) -> bool:
     """Separating-axis theorem: True when an edge normal of A or B separates the two convex polygons."""
     for P, Q in ((A, B), (B, A)):
-        a, _ = P.edges
-        n = P.normals
-        # max over P of n·p is attained at the edge start; Q separated if min n·q > that
-        if np.any(np.min(Q.vertices @ n.T, axis=0) > np.einsum("kj,kj->k", a, n)):
-            return True
+        V = Q.vertices.tolist()
+        # max over P of n·p is attained at the edge start (n·a); Q is separated if min n·q exceeds it
+        for *_, nx, ny, offset in P._edge_list:
+            if min(x * nx + y * ny for x, y in V) > offset:
+                return True
     return False
+
+
+def _point_edges_distance(x: float, y: float, edges: list[list[float]]) -> tuple[float, bool]:
+    """The distance of one point from a polygon's boundary (its ``_edge_list``), and whether the point lies
+    inside or on the polygon: the one-pair kernel of :func:`shapes_distance`."""
+    best, inside = math.inf, True
+    for ax, ay, bx, by, nx, ny, _ in edges:
+        if (x - ax) * nx + (y - ay) * ny > 0.0:
+            inside = False
+        best = min(best, _project_point(x, y, ax, ay, bx, by)[3])
+    return best, inside
 
 
 def shapes_distance(A: Shape, B: Shape) -> float:
     """Euclidean distance between two convex shapes; 0 when they touch or overlap."""
     if isinstance(A, Disc) and isinstance(B, Disc):
-        return max(float(np.linalg.norm(A.center - B.center)) - A.radius - B.radius, 0.0)
+        dx, dy = (A.center - B.center).tolist()
+        return max(math.sqrt(dx * dx + dy * dy) - A.radius - B.radius, 0.0)
     if isinstance(A, Disc):
         A, B = B, A
     if isinstance(B, Disc):
-        return max(float(point_shape_distance(A, B.center)) - B.radius, 0.0)
+        d, inside = _point_edges_distance(*B.center.tolist(), A._edge_list)
+        return 0.0 if inside else max(d - B.radius, 0.0)
     if not _separated_polygons(A, B):
         return 0.0
-    a1, b1 = A.edges
-    a2, b2 = B.edges
-    d1 = point_segment_distance(B.vertices[:, None, :], a1[None], b1[None]).min()
-    d2 = point_segment_distance(A.vertices[:, None, :], a2[None], b2[None]).min()
-    return float(min(d1, d2))
+    return min(_point_edges_distance(x, y, P._edge_list)[0]
+               for P, Q in ((A, B), (B, A)) for x, y in Q.vertices.tolist())
 
 
 def shapes_intersect(A: Shape, B: Shape) -> bool:
@@ -427,28 +483,36 @@ def ray_shape_distance(origin: Any, directions: Any, shape: Shape) -> np.ndarray
 # Batched geometry: many placements of a body part against one obstacle (numpy broadcasting)
 # --------------------------------------------------------------------------------------------
 
+def _next_vertices(P: np.ndarray) -> np.ndarray:
+    """The vertex after each vertex of N polygons P (N, m, 2): the edge ends, ``np.roll(P, -1, axis=1)``."""
+    return np.concatenate([P[:, 1:], P[:, :1]], axis=1)
+
+
 def _batch_polygons_polygon(P: np.ndarray, Q: Polygon) -> np.ndarray:
     """Distances (N,) between N convex ccw polygons P (N, m, 2) and the convex polygon Q (0 on overlap)."""
     aQ, bQ = Q.edges
     nQ = Q.normals
-    gap_Q = (np.einsum("nmj,kj->nmk", P, nQ).min(axis=1) - np.einsum("kj,kj->k", aQ, nQ)).max(axis=1)
-    Pn = np.roll(P, -1, axis=1)
+    Px, Py = P[..., 0, None], P[..., 1, None]                                   # (N, m, 1)
+    gap_Q = ((Px * nQ[:, 0] + Py * nQ[:, 1]).min(axis=1) - Q.offsets).max(axis=1)
+    Pn = _next_vertices(P)
     e = Pn - P
-    nP = np.stack([e[..., 1], -e[..., 0]], axis=-1)
-    nP /= np.linalg.norm(nP, axis=-1, keepdims=True)
-    gap_P = (np.einsum("kj,nmj->nmk", Q.vertices, nP).min(axis=2) - np.einsum("nmj,nmj->nm", P, nP)).max(axis=1)
+    ex, ey = e[..., 0], e[..., 1]
+    length = np.sqrt(ey * ey + ex * ex)
+    nx, ny = (ey / length)[..., None], (-ex / length)[..., None]                # outward normals of P
+    V = Q.vertices
+    gap_P = ((V[:, 0] * nx + V[:, 1] * ny).min(axis=2) - (Px * nx + Py * ny)[..., 0]).max(axis=1)
     separated = (gap_Q > 0) | (gap_P > 0)
     d1 = point_segment_distance(P[:, :, None, :], aQ, bQ).min(axis=(1, 2))
-    d2 = point_segment_distance(Q.vertices[None, :, None, :], P[:, None], Pn[:, None]).min(axis=(1, 2))
+    d2 = point_segment_distance(V[None, :, None, :], P[:, None], Pn[:, None]).min(axis=(1, 2))
     return np.where(separated, np.minimum(d1, d2), 0.0)
 
 
 def _batch_polygons_disc(P: np.ndarray, D: Disc) -> np.ndarray:
     """Distances (N,) between N convex ccw polygons P (N, m, 2) and the disc D."""
-    Pn = np.roll(P, -1, axis=1)
+    Pn = _next_vertices(P)
     e = Pn - P
-    nP = np.stack([e[..., 1], -e[..., 0]], axis=-1)
-    inside = np.all(np.einsum("nmj,nmj->nm", D.center - P, nP) <= 0, axis=1)
+    w = D.center - P
+    inside = np.all(w[..., 0] * e[..., 1] + w[..., 1] * -e[..., 0] <= 0, axis=1)
     d = point_segment_distance(D.center, P, Pn).min(axis=1)
     return np.where(inside, 0.0, np.maximum(d - D.radius, 0.0))
 
@@ -461,7 +525,7 @@ def batch_distance(part: tuple, obstacle: Shape) -> np.ndarray:
     if part[0] == "disc":
         C, r = part[1], part[2]
         if isinstance(obstacle, Disc):
-            return np.maximum(np.linalg.norm(C - obstacle.center, axis=-1) - r - obstacle.radius, 0.0)
+            return np.maximum(_norm2(C - obstacle.center) - r - obstacle.radius, 0.0)
         return np.maximum(point_shape_distance(obstacle, C) - r, 0.0)
     if isinstance(obstacle, Disc):
         return _batch_polygons_disc(part[1], obstacle)
@@ -473,16 +537,17 @@ def _bounding_circle(part: tuple) -> tuple[np.ndarray, np.ndarray]:
     if part[0] == "disc":
         return part[1], np.full(len(part[1]), part[2])
     c = part[1].mean(axis=1)
-    return c, np.linalg.norm(part[1] - c[:, None, :], axis=-1).max(axis=1)
+    return c, _norm2(part[1] - c[:, None, :]).max(axis=1)
 
 
 def _placed(shape: Shape, p: np.ndarray, phi: np.ndarray) -> tuple:
     """A part ``shape`` (in its frame) placed at N frames (positions (N, 2), angles (N,)), batched."""
-    c, s = np.cos(phi), np.sin(phi)
-    R = np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)        # (N, 2, 2)
+    c, s = np.cos(phi)[:, None], np.sin(phi)[:, None]                     # R = [[c, −s], [s, c]]
+    V = shape.center[None] if isinstance(shape, Disc) else shape.vertices
+    placed = np.stack([c * V[:, 0] - s * V[:, 1], s * V[:, 0] + c * V[:, 1]], axis=-1) + p[:, None, :]
     if isinstance(shape, Disc):
-        return ("disc", p + R @ shape.center, shape.radius)
-    return ("polygon", np.einsum("nij,mj->nmi", R, shape.vertices) + p[:, None, :])
+        return ("disc", placed[:, 0], shape.radius)
+    return ("polygon", placed)
 
 # --------------------------------------------------------------------------------------------
 # Distances in C (Problem 12.2)
@@ -564,7 +629,7 @@ class Scene:
             c, r = _bounding_circle(part)
             for o, (oc, orad) in zip(self.obstacles, self._bounding_circles):
                 # exact distances only where the bounding circles could beat the running minimum
-                rows = np.flatnonzero(np.linalg.norm(c - oc, axis=-1) - r - orad < out)
+                rows = np.flatnonzero(_norm2(c - oc) - r - orad < out)
                 if rows.size:
                     sub = (part[0], part[1][rows]) + tuple(part[2:])
                     out[rows] = np.minimum(out[rows], batch_distance(sub, o))
@@ -631,7 +696,9 @@ class PlanarArm:
         """Positions (n + 1, 2) of the joints and of the tip (direct kinematics of the planar chain)."""
         return self._frames(as_vector(q, self.dof, "q")[None])[0][0]
 
+    @cached_property
     def _templates(self) -> list[tuple[int, Shape]]:
+        """(link index, shape in the link frame) of every rectangle and joint disc."""
         w = self.width / 2
         return [item for i, a in enumerate(self.lengths)
                 for item in ((i, box(0.0, -w, a, w)), (i, Disc(np.zeros(2), w)))]
@@ -639,12 +706,12 @@ class PlanarArm:
     def placed_parts(self, Q: Any) -> list[tuple]:
         """Every link rectangle and joint disc at the N configurations Q, batched (see :func:`batch_distance`)."""
         P, phi = self._frames(Q)
-        return [_placed(shape, P[:, i], phi[:, i]) for i, shape in self._templates()]
+        return [_placed(shape, P[:, i], phi[:, i]) for i, shape in self._templates]
 
     def bodies(self, q: Any) -> list[Shape]:
         """The link rectangles and joint discs occupying the workspace at q, B(q)."""
         P, phi = self._frames(as_vector(q, self.dof, "q")[None])
-        return [transform_shape(shape, P[0, i, 0], P[0, i, 1], phi[0, i]) for i, shape in self._templates()]
+        return [transform_shape(shape, P[0, i, 0], P[0, i, 1], phi[0, i]) for i, shape in self._templates]
 
     def reach(self) -> np.ndarray:
         """R_i: an upper bound on the distance of any point of links i … n from joint i."""

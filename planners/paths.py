@@ -160,6 +160,7 @@ class SegmentSequence:
 
     points: np.ndarray
     laws: Sequence[TimingLaw]
+    _tangents: tuple = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         pts = np.asarray(self.points, dtype=float)
@@ -176,6 +177,8 @@ class SegmentSequence:
             _law_range(law, 0.0, float(L), name=f"laws[{j}]", ends=(0.0, float(L)),
                        what=" (from 0 to the segment length)")
         object.__setattr__(self, "points", pts)
+        steps = np.diff(pts, axis=0)
+        object.__setattr__(self, "_tangents", tuple(step / np.linalg.norm(step) for step in steps))
 
     @property
     def t_i(self) -> float:
@@ -186,13 +189,23 @@ class SegmentSequence:
         return max(float(law.t_f) for law in self.laws)
 
     def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        if isinstance(t, (float, int, np.floating, np.integer)):
+            return self._at(float(t))
         t = np.asarray(t, dtype=float)
         p = np.broadcast_to(self.points[0], t.shape + (3,)).copy()
         pd, pdd = np.zeros_like(p), np.zeros_like(p)
-        for j, law in enumerate(self.laws):
-            step = self.points[j + 1] - self.points[j]
-            t_hat = step / np.linalg.norm(step)
+        for law, t_hat in zip(self.laws, self._tangents):
             s, sd, sdd = (np.asarray(x)[..., None] for x in law(t))
+            p += s * t_hat
+            pd += sd * t_hat
+            pdd += sdd * t_hat
+        return p, pd, pdd
+
+    def _at(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """One instant (a controller's reference at every sample): the laws' scalar fast path."""
+        p, pd, pdd = self.points[0].copy(), np.zeros(3), np.zeros(3)
+        for law, t_hat in zip(self.laws, self._tangents):
+            s, sd, sdd = law(t)
             p += s * t_hat
             pd += sd * t_hat
             pdd += sdd * t_hat

@@ -260,13 +260,11 @@ def scan_segments(position: Any, angles: np.ndarray, ranges: np.ndarray, gap: fl
     joined = hit & np.roll(hit, 1) & (step < gap)          # ray k continues the run of ray k − 1
     if joined.all():
         return [pts]
-    breaks = list(np.flatnonzero(~joined))
-    segs = []
-    for b0, b1 in zip(breaks, breaks[1:] + [breaks[0] + n]):
-        idx = [k % n for k in range(b0, b1) if hit[k % n]]
-        if idx:
-            segs.append(pts[idx])
-    return segs
+    order = (np.flatnonzero(~joined)[0] + np.arange(n)) % n   # the rays from the first break on, once round
+    run = np.cumsum(~joined[order])                         # a new run at every break
+    kept = hit[order]
+    rays = order[kept]
+    return [pts[idx] for idx in np.split(rays, np.flatnonzero(np.diff(run[kept])) + 1)]
 
 
 def reactive_repulsive_force(position: Any, segments: Sequence[np.ndarray], k_r: float, eta0: float,

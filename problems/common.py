@@ -15,7 +15,10 @@ from typing import Any, Iterable
 
 import numpy as np
 import pinocchio as pin
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+
+from problems.report import FIGURE_DPI
 
 __all__ = ["max_abs_error", "max_error", "max_relative_error", "unit", "random_rotation", "random_quaternion", "subplots",
            "label_axes", "frames_figure"]
@@ -80,8 +83,16 @@ def subplots(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float] | N
     >>> type(fig).__name__, axes.shape
     ('Figure', (2,))
     """
-    fig = Figure(figsize=figsize)
+    fig = _figure(figsize)
     return fig, fig.subplots(nrows, ncols, **kwargs)
+
+
+def _figure(figsize: tuple[float, float] | None) -> Figure:
+    """A bare figure at the report's resolution with its own Agg canvas: ``tight_layout`` and the report's
+    ``savefig`` then share one renderer (its text metrics are measured once, not once per pass)."""
+    fig = Figure(figsize=figsize, dpi=FIGURE_DPI)
+    FigureCanvasAgg(fig)
+    return fig
 
 
 def label_axes(ax: Any, xlabel: str | None = None, ylabel: str | None = None, *, title: str | None = None,
@@ -121,7 +132,7 @@ def frames_figure(robot: Any, q: Any, title: str, length: float | None = None, z
     origins = np.array([T[:3, 3] for T in poses])
     span = float(np.ptp(origins, axis=0).max()) or 1.0
     length = 0.2 * span if length is None else length
-    fig = Figure(figsize=(6, 5))
+    fig = _figure((6, 5))
     ax = fig.add_subplot(projection="3d")
     ax.plot(*origins.T, "k-", lw=2, label="links (frame origins)")
     for k, (name, color) in enumerate((("x", "r"), ("y", "g"), ("z", "b"))):

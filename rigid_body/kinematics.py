@@ -183,7 +183,9 @@ def _checked(links: Sequence[DHLink], qs: np.ndarray, T_target: np.ndarray, mask
     """Keep the DH-product check honest: every returned row reproduces the entries of ``T_target`` in ``mask``
     and lies within the table's joint limits (rows outside are dropped, see :func:`_within_limits`)."""
     for q in qs:
-        T = dh_chain(links, q)[-1]
+        T = links[0].transform(q[0])
+        for link, qi in zip(links[1:], q[1:]):  # the DH product (2.50) of :func:`dh_chain`, on checked rows
+            T = T @ link.transform(qi)
         err = np.max(np.abs((T - T_target)[mask]))
         if not err <= IK_TOL:
             raise ValueError(f"pose unreachable by the {robot}: closed-form residual {err:.3g} > {IK_TOL:g}")
@@ -193,22 +195,26 @@ def _checked(links: Sequence[DHLink], qs: np.ndarray, T_target: np.ndarray, mask
 def _within_limits(links: Sequence[DHLink], qs: np.ndarray, robot: str) -> np.ndarray:
     """The rows of ``qs`` within the joint limits of ``links`` (where given); a revolute angle outside is
     shifted by the multiple of 2π that brings it in, when there is one. ValueError when no row is left."""
-    lo = np.array([-np.inf if link.lower is None else link.lower for link in links])
-    hi = np.array([np.inf if link.upper is None else link.upper for link in links])
-    if not (np.isfinite(lo).any() or np.isfinite(hi).any()):
+    bounds = [(-np.inf if link.lower is None else link.lower, np.inf if link.upper is None else link.upper,
+               link.joint == "revolute") for link in links]
+    if not any(isfinite(lo) or isfinite(hi) for lo, hi, _ in bounds):
         return qs
-    revolute = np.array([link.joint == "revolute" for link in links])
-    qs = qs.copy()
-    base = np.where(np.isfinite(lo), lo, -np.pi)
-    shifted = base + np.mod(qs - base, 2 * np.pi)  # the smallest q + 2πk ≥ lower
-    move = revolute & ((qs < lo - IK_TOL) | (qs > hi + IK_TOL)) & (shifted <= hi + IK_TOL)
-    qs[move] = shifted[move]
-    inside = np.all((qs >= lo - IK_TOL) & (qs <= hi + IK_TOL), axis=1)
-    if not inside.any():
-        raise ValueError(f"pose unreachable by the {robot} within its joint limits (lower {np.round(lo, 4).tolist()}, "
-                         f"upper {np.round(hi, 4).tolist()}): every closed-form solution "
-                         f"{np.round(qs, 4).tolist()} violates them")
-    return qs[inside]
+    rows, kept = [], []  # a few rows of a few joints: Python floats, no array overhead (IK at every sample)
+    for q in qs.tolist():
+        for k, (lo, hi, revolute) in enumerate(bounds):
+            if revolute and (q[k] < lo - IK_TOL or q[k] > hi + IK_TOL):
+                base = lo if isfinite(lo) else -np.pi
+                shifted = base + (q[k] - base) % (2 * np.pi)  # the smallest q + 2πk ≥ lower
+                if shifted <= hi + IK_TOL:
+                    q[k] = shifted
+        rows.append(q)
+        if all(lo - IK_TOL <= v <= hi + IK_TOL for v, (lo, hi, _) in zip(q, bounds)):
+            kept.append(q)
+    if not kept:
+        lo, hi = ([round(b[i], 4) for b in bounds] for i in (0, 1))
+        raise ValueError(f"pose unreachable by the {robot} within its joint limits (lower {lo}, upper {hi}): every "
+                         f"closed-form solution {np.round(rows, 4).tolist()} violates them")
+    return np.array(kept, dtype=float)
 
 
 def _snap_cosine(c: float) -> float:

@@ -1,4 +1,4 @@
-"""Inverse kinematics: CLIK laws, null-space tasks, CasADi IPOPT IK and proxsuite QP IK (Panda, UR5, book arms).
+"""Inverse kinematics: CLIK laws, null-space tasks, CasADi SQP IK and proxsuite QP IK (Panda, UR5, book arms).
 
 FK(IK(T)) is always checked with Pinocchio's direct kinematics, independent of the solvers' own models.
 """

@@ -437,9 +437,10 @@ def _least_squares_sqp(robot: Robot, frame: int, o: CasadiIKOptions) -> Any:
     The cost is ‖r(q)‖² with the residual r = [√w_p (p − p_d); √w_O vec(R − R_d); √w_q (q − q_posture)];
     the Hessian given to the SQP is Gauss–Newton's 2 J_rᵀ J_r (J_r = ∂r/∂q): positive semidefinite, so
     every QP is convex, and equal to the exact Hessian at a zero-residual solution (quadratic
-    convergence there). It stops when the gradient 2 J_rᵀ r is below ``tol``: a residual of the order
-    of the tolerance, which :meth:`CasadiIK.solve` then checks independently (measured on the Panda:
-    0.15 iterations past the first iterate within tolerance, against 1.8 with a 1e-14 stop).
+    convergence there). Without a posture cost it stops when the gradient 2 J_rᵀ r is below ``tol``: a
+    residual of the order of the tolerance, which :meth:`CasadiIK.solve` then checks independently
+    (measured on the Panda: 0.15 iterations past the first iterate within tolerance, against 1.8 with a
+    1e-14 stop); with one, at a gradient below 10⁻³ w_q, well inside the posture term's own scale.
     Box QPs by proxsuite (CasADi's qrqp wrote out of bounds on the singular QPs of a redundant arm).
     Parameters: [p_d; vec(R_d); q_posture]."""
     key = (id(robot), frame, tuple(float(w) for w in o.position_weights), float(o.orientation_weight),
@@ -466,7 +467,8 @@ def _least_squares_sqp(robot: Robot, frame: int, o: CasadiIKOptions) -> Any:
                                ["x", "p", "lam_f", "lam_g"], ["hess_gamma_x_x"])
     quiet = {"print_header": False, "print_iteration": False, "print_status": False, "print_time": False}
     solver = ca.nlpsol("ik", "sqpmethod", {"x": q, "f": ca.sumsqr(r), "p": params}, {
-        **quiet, "error_on_fail": False, "max_iter": o.max_iter, "tol_pr": 1e-14, "tol_du": o.tol,
+        **quiet, "error_on_fail": False, "max_iter": o.max_iter, "tol_pr": 1e-14,
+        "tol_du": o.tol if o.posture_weight == 0 else min(o.tol, 1e-3 * o.posture_weight),
         "qpsol": "proxqp", "qpsol_options": {"error_on_fail": False,
                                              "proxqp": {"eps_abs": 1e-12, "eps_rel": 0.0, "max_iter": 200}},
         "cache": {"nlp_hess_l": gauss_newton}})

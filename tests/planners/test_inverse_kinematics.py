@@ -281,3 +281,47 @@ def test_solve_clik_success_flag_agrees_with_an_independent_residual():
         independent = _independent_residual(robot, res.q, T)
         assert independent == pytest.approx(res.residual, abs=1e-7)
         assert res.success == (independent < 1e-6)
+
+
+def _panda_target(panda, seed=5):
+    rng = np.random.default_rng(seed)
+    q_src = np.clip(panda.random_configuration(rng), panda.lower + 0.1, panda.upper - 0.1)
+    return q_src, direct_kinematics(panda, q_src), rng
+
+
+def test_casadi_ik_gauss_newton_converges_quadratically(panda):
+    """From 0.03 rad off a solution the Gauss–Newton SQP lands within tolerance in a few iterations
+    (quadratic convergence: 3 measured; a mis-scaled Hessian or a wrong residual takes many more)."""
+    q_src, T, _ = _panda_target(panda)
+    ik = CasadiIK(panda, options=CasadiIKOptions(restarts=0))
+    res = ik.solve(T, q_src + 0.03 * np.array([1, -1, 1, -1, 1, -1, 1.0]))
+    assert res.success and 1 <= res.iterations <= 4, res
+    assert pose_residual(T, direct_kinematics(panda, res.q)) < 1e-6
+
+
+def test_casadi_ik_starts_mid_range_and_stops_at_once_on_a_solution(panda):
+    """Default start: the middle of the limits (clipped to ±π); started on a solution, no iteration."""
+    mid = 0.5 * (np.maximum(panda.lower, -np.pi) + np.minimum(panda.upper, np.pi))
+    res = CasadiIK(panda, options=CasadiIKOptions(restarts=0)).solve(direct_kinematics(panda, mid))
+    assert res.success and res.iterations == 0
+    np.testing.assert_array_equal(res.q, mid)
+
+
+def test_casadi_ik_counts_attempts_and_iterations_of_a_failure(panda):
+    """An unreachable pose: 1 + restarts attempts, each at most max_iter SQP iterations, all counted."""
+    far = np.eye(4)
+    far[:3, 3] = [2.0, 0.0, 0.5]
+    res = CasadiIK(panda, options=CasadiIKOptions(restarts=1, max_iter=3)).solve(far)
+    assert not res.success and "after 2 attempts" in res.message
+    assert 4 <= res.iterations <= 6          # two attempts of ≤ 3 iterations; the first alone is ≤ 3
+    assert res.residual == pytest.approx(pose_residual(far, direct_kinematics(panda, res.q)), rel=1e-9)
+
+
+def test_casadi_ik_posture_cost_pulls_toward_the_posture(panda):
+    """min pose error + w ‖q − q_posture‖²: the optimum q* is no farther from q_posture than the start
+    q_src, which has zero pose error (else q_src would have a lower cost); the pose error stays ~√w."""
+    q_src, T, rng = _panda_target(panda)
+    q_post = np.clip(q_src + 0.4 * rng.standard_normal(7), panda.lower, panda.upper)
+    res = CasadiIK(panda, options=CasadiIKOptions(restarts=0, posture_weight=1e-6)).solve(T, q_src, q_posture=q_post)
+    assert np.linalg.norm(res.q - q_post) < np.linalg.norm(q_src - q_post) - 0.05, res
+    assert pose_residual(T, direct_kinematics(panda, res.q)) < 1e-4

@@ -467,7 +467,7 @@ def _least_squares_sqp(robot: Robot, frame: int, o: CasadiIKOptions) -> Any:
                                ["x", "p", "lam_f", "lam_g"], ["hess_gamma_x_x"])
     quiet = {"print_header": False, "print_iteration": False, "print_status": False, "print_time": False}
     solver = ca.nlpsol("ik", "sqpmethod", {"x": q, "f": ca.sumsqr(r), "p": params}, {
-        **quiet, "error_on_fail": False, "max_iter": o.max_iter, "tol_pr": 1e-14,
+        **quiet, "error_on_fail": False, "max_iter": o.max_iter,
         "tol_du": o.tol if o.posture_weight == 0 else min(o.tol, 1e-3 * o.posture_weight),
         "qpsol": "proxqp", "qpsol_options": {"error_on_fail": False,
                                              "proxqp": {"eps_abs": 1e-12, "eps_rel": 0.0, "max_iter": 200}},

@@ -325,3 +325,33 @@ def test_casadi_ik_posture_cost_pulls_toward_the_posture(panda):
     res = CasadiIK(panda, options=CasadiIKOptions(restarts=0, posture_weight=1e-6)).solve(T, q_src, q_posture=q_post)
     assert np.linalg.norm(res.q - q_post) < np.linalg.norm(q_src - q_post) - 0.05, res
     assert pose_residual(T, direct_kinematics(panda, res.q)) < 1e-4
+
+
+@pytest.mark.parametrize("law", ["dls", "pseudo_inverse"])
+def test_clik_law_uses_its_own_inverse(panda, law):
+    """Position-only CLIK (3.70) at a random q: "dls" is J^T (J J^T + k² I)^{-1} K e (3.59), the damping
+    k = 0.3 changing the answer; "pseudo_inverse" ignores the damping (J^T (J J^T)^{-1} K e, (3.52)).
+    Both recomputed here from Pinocchio's Jacobian, with numpy's solve."""
+    import pinocchio as pin
+
+    rng = np.random.default_rng(21)
+    q = panda.random_configuration(rng)
+    T = direct_kinematics(panda, panda.random_configuration(rng))
+    K, k = 2.0, 0.3
+    clik = CLIK(panda, constant_pose(T), TaskSpace(orientation="none"), K=K, law=law, damping=k)
+    qd = clik(0.0, q)
+    J = pin.computeFrameJacobian(panda.model, panda.model.createData(), q, panda.ee_frame,
+                                 pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)[:3]
+    e = T[:3, 3] - direct_kinematics(panda, q)[:3, 3]
+    damping = k if law == "dls" else 0.0
+    np.testing.assert_allclose(qd, J.T @ np.linalg.solve(J @ J.T + damping**2 * np.eye(3), K * e), rtol=1e-9, atol=1e-12)
+
+
+def test_cosine_pose_reference_rotates_about_z_by_default():
+    """The manual's references turn about the base z axis: R(t_f) = Rot_z(φ_f) R_0, written out."""
+    phi = 0.7
+    T, v = cosine_pose_reference([0, 0, 0], [0.1, 0, 0], 2.0, phi_f=phi)(2.0)
+    c, s = np.cos(phi), np.sin(phi)
+    np.testing.assert_allclose(T[:3, :3], [[c, -s, 0], [s, c, 0], [0, 0, 1]], atol=1e-12)
+    _, v_mid = cosine_pose_reference([0, 0, 0], [0.1, 0, 0], 2.0, phi_f=phi)(1.0)
+    np.testing.assert_allclose(v_mid[3:], [0, 0, 0.5 * np.pi / 2.0 * phi], atol=1e-12)   # ω = ṡ φ_f z

@@ -463,7 +463,7 @@ def _least_squares_sqp(robot: Robot, frame: int, o: CasadiIKOptions) -> Any:
     J_r = ca.jacobian(r, q)
     sigma = ca.SX.sym("lam_f")
     gauss_newton = ca.Function("nlp_hess_l", [q, params, sigma, ca.SX.sym("lam_g", 0)],
-                               [2 * sigma * ca.mtimes(J_r.T, J_r)],
+                               [sigma * (2 * ca.mtimes(J_r.T, J_r))],
                                ["x", "p", "lam_f", "lam_g"], ["hess_gamma_x_x"])
     quiet = {"print_header": False, "print_iteration": False, "print_status": False, "print_time": False}
     solver = ca.nlpsol("ik", "sqpmethod", {"x": q, "f": ca.sumsqr(r), "p": params}, {

@@ -355,3 +355,38 @@ def test_cosine_pose_reference_rotates_about_z_by_default():
     np.testing.assert_allclose(T[:3, :3], [[c, -s, 0], [s, c, 0], [0, 0, 1]], atol=1e-12)
     _, v_mid = cosine_pose_reference([0, 0, 0], [0.1, 0, 0], 2.0, phi_f=phi)(1.0)
     np.testing.assert_allclose(v_mid[3:], [0, 0, 0.5 * np.pi / 2.0 * phi], atol=1e-12)   # ω = ṡ φ_f z
+
+
+def test_failure_reason_names_the_joint_at_a_limit_and_a_rank_deficient_jacobian(panda):
+    """The diagnosis of a stalled solver: q[1] on its lower limit is named; a task Jacobian with one
+    zero singular value (rank 5 of 6) is singular, a full-rank one is not."""
+    from planners.inverse_kinematics import _failure_reason
+
+    q = 0.5 * (panda.lower + panda.upper)
+    q_low = q.copy()
+    q_low[1] = panda.lower[1]
+    J = np.diag([3.0, 2.0, 1.5, 1.0, 0.5, 0.0])
+    msg = _failure_reason(panda, q, q_low, J)
+    assert "q[1] at their joint limits" in msg and "singular" in msg and msg.startswith("stalled")
+    msg = _failure_reason(panda, q, q, np.diag([3.0, 2.0, 1.5, 1.0, 0.5, 0.4]))
+    assert msg.startswith("never improved") and "joint limits" not in msg and "singular" not in msg
+
+
+def test_qp_ik_with_no_iteration_allowed_still_checks_its_start(panda):
+    """max_iterations=0: the start itself is judged (a solution → success with 0 iterations)."""
+    q_goal = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.5])
+    res = QPVelocityIK(panda, QPIKOptions(max_iterations=0)).solve(direct_kinematics(panda, q_goal), q_goal)
+    assert res.success and res.iterations == 0
+
+
+def test_two_stage_clik_takes_any_arm_size_that_leaves_a_wrist():
+    from planners.inverse_kinematics import TwoStageCLIK
+
+    wrist = load("anthropomorphic_wrist")
+    ref = constant_pose(np.eye(4))
+    frame = wrist.model.frames[wrist.ee_frame].name
+    assert TwoStageCLIK(wrist, ref, frame, n_arm=1).n_arm == 1
+    with pytest.raises(ValueError, match="n_arm"):
+        TwoStageCLIK(wrist, ref, frame, n_arm=0)
+    with pytest.raises(ValueError, match="n_arm"):
+        TwoStageCLIK(wrist, ref, frame, n_arm=wrist.nv)

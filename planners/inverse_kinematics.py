@@ -481,14 +481,14 @@ class CasadiIK:
 
     min_q  Σ w_p,i (p_i(q) − p_d,i)² + w_O ‖R(q) − R_d‖_F² + w_q ‖q − q_posture‖²   s.t.  q_m ≤ q ≤ q_M,
 
-    solved by CasADi's SQP method (``sqpmethod``) with the Gauss–Newton Hessian and the ``qrqp`` QP
-    solver (joint limits as bounds of each QP). The problem is built once per (robot, frame, weights);
+    solved by CasADi's SQP method (``sqpmethod``) with the Gauss–Newton Hessian and proxsuite's QP
+    solver (joint limits as bounds of each QP). The problem is built once per (robot, frame, options);
     :meth:`solve` tries the initial guess, then up to ``restarts`` random configurations within the
     limits (``rng``), and stops at the first whose residual is below ``tol`` — judged independently,
     by Pinocchio's forward kinematics at the returned q. With a posture cost the optimum trades pose
     accuracy for posture, so keep its weight small. Measured on the Panda (``benchmarks/bench_ik.py``,
     1000 reachable targets from random starts within the limits): 1000 solved, median ≈ 2 ms, no false
-    success. IPOPT on the same cost (the previous solver) took a median ≈ 250 ms: ~35–100 interior-point
+    success. IPOPT on the same cost (the previous solver) took a median of 250–400 ms: ~35–100 interior-point
     iterations per attempt at ~0.25 ms each (IPOPT's own overhead; the function evaluations were
     < 10 %), where the Gauss–Newton SQP converges quadratically in ~12 iterations of ~0.1 ms.
     """

@@ -390,3 +390,47 @@ def test_two_stage_clik_takes_any_arm_size_that_leaves_a_wrist():
         TwoStageCLIK(wrist, ref, frame, n_arm=0)
     with pytest.raises(ValueError, match="n_arm"):
         TwoStageCLIK(wrist, ref, frame, n_arm=wrist.nv)
+
+
+def test_failure_reason_thresholds_are_tight_and_relative(panda):
+    """At a limit means within 1e-6 of it (either side): 0.5 rad inside is not; singular is relative to
+    the largest singular value: a uniformly small, well-conditioned Jacobian is not singular."""
+    from planners.inverse_kinematics import _failure_reason
+
+    q = 0.5 * (panda.lower + panda.upper)
+    near, upper = q.copy(), q.copy()
+    near[0] = panda.lower[0] + 0.5
+    upper[2] = panda.upper[2]
+    J = np.diag([3.0, 2.0, 1.5, 1.0, 0.5, 0.4])
+    assert "joint limits" not in _failure_reason(panda, q, near, J)
+    assert "q[2] at their joint limits" in _failure_reason(panda, q, upper, J)
+    assert "singular" not in _failure_reason(panda, q, q, 1e-3 * np.diag([1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5]))
+
+
+@pytest.mark.parametrize("side", [-1.0, 1.0])
+def test_qp_ik_step_stops_on_a_joint_limit(panda, side):
+    """A target beyond a limit of q_4: one QP step brings q_4 exactly onto that limit, (q_m − q)/Δt or
+    (q_M − q)/Δt being the velocity bound, and not past it."""
+    qp = QPVelocityIK(panda)
+    limit = panda.upper[3] if side > 0 else panda.lower[3]
+    q = np.array([0.3, -0.4, 0.2, limit - side * 0.01, 0.1, 1.8, 0.5])
+    q_far = q.copy()
+    q_far[3] = limit + side * 0.3
+    qd, _ = qp.step(q, direct_kinematics(panda, q_far))
+    assert q[3] + qp.options.dt * qd[3] == pytest.approx(limit, abs=1e-6)
+
+
+def test_qp_ik_failure_returns_its_best_configuration(panda):
+    """Not converged in 3 steps: the result is the best configuration met, better than the start."""
+    q_goal = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.5])
+    T = direct_kinematics(panda, q_goal)
+    q0 = q_goal + 0.3
+    res = QPVelocityIK(panda, QPIKOptions(max_iterations=3, gain=5.0)).solve(T, q0)
+    assert not res.success
+    assert res.residual < pose_residual(T, direct_kinematics(panda, q0))
+    assert res.residual == pytest.approx(pose_residual(T, direct_kinematics(panda, res.q)), rel=1e-9)
+
+
+def test_qp_ik_velocity_limits_must_be_positive(panda):
+    with pytest.raises(ValueError, match="velocity_limit"):
+        QPIKOptions(velocity_limit=np.zeros(7))

@@ -52,6 +52,7 @@ __all__ = [
 ]
 
 LIMIT_KINDS = ("q", "qd", "qdd", "tau")
+HESSIANS = ("limited-memory", "exact")
 
 
 @dataclass(frozen=True)
@@ -129,6 +130,12 @@ class OptimizationOptions:
     regularization : weight ε of ∫ ‖u/u_ref‖² dt / T added to T in minimum time (u the control,
         u_ref its limit); the duration then exceeds the minimum by at most ~ε n T.
     tol, max_iter : IPOPT settings; verbose prints IPOPT's log.
+    hessian : ``"limited-memory"`` (IPOPT's L-BFGS approximation of the Lagrangian's Hessian, the
+        default) or ``"exact"``. The exact Hessian of the Newton–Euler torque constraints is the costliest
+        expression of the NLP (1.4 million SX nodes for the UR5 with 20 intervals against 0.5 million for
+        the constraint Jacobian): L-BFGS halves a repeated UR5 minimum-time solve (27 → 22 iterations, no
+        Hessian evaluations, measured in ``benchmarks/bench_trajectories.py``) and the first one, with the
+        same optimum within the solver tolerance.
     """
 
     nodes: int = 30
@@ -139,6 +146,7 @@ class OptimizationOptions:
     tol: float = 1e-8
     max_iter: int = 2000
     verbose: bool = False
+    hessian: str = "limited-memory"
 
     def __post_init__(self) -> None:
         for name, least in (("nodes", 2), ("subsamples", 2), ("max_backoff", 0), ("max_iter", 1)):
@@ -149,6 +157,8 @@ class OptimizationOptions:
         as_positive(self.tol, "tol")
         if self.order not in (2, 3):
             raise ValueError(f"`order` must be 2 or 3, got {self.order}")
+        if self.hessian not in HESSIANS:
+            raise ValueError(f"`hessian` must be one of {HESSIANS}, got {self.hessian!r}")
         if self.subsamples < 2:
             raise ValueError(f"`subsamples` must be at least 2, got {self.subsamples}")
 
@@ -187,25 +197,31 @@ class OptimalTrajectory:
 def limit_ratios(robot: Robot, trajectory: Trajectory, limits: JointLimits) -> tuple[dict[str, float], np.ndarray]:
     """max |value|/limit per kind on the trajectory's samples (positions relative to their box),
     and the torques (M, n) from Pinocchio's RNEA."""
-    tau = np.array([pin.rnea(robot.model, robot.data, q, qd, qdd)
-                    for q, qd, qdd in zip(trajectory.q, trajectory.qd, trajectory.qdd)])
-    mid, half = limits.position_box()
-    ratios = {
-        "q": float(np.max(np.abs(trajectory.q - mid) / half)),
-        "qd": float(np.max(np.abs(trajectory.qd) / limits.qd_max)),
-        "qdd": float(np.max(np.abs(trajectory.qdd) / limits.qdd_max)),
-        "tau": float(np.max(np.abs(tau) / limits.tau_max)),
-    }
-    return ratios, tau
+    per_joint, tau = _per_joint_ratios(robot, trajectory, limits)
+    return {k: float(np.max(v)) for k, v in per_joint.items()}, tau
 
 
-def _per_joint_ratios(robot: Robot, trajectory: Trajectory, limits: JointLimits) -> dict[str, np.ndarray]:
-    _, tau = limit_ratios(robot, trajectory, limits)
+def _torques(robot: Robot, trajectory: Trajectory) -> np.ndarray:
+    """(M, n) joint torques of Pinocchio's RNEA on the trajectory's samples."""
+    model, data = robot.model, robot.data
+    return np.array([pin.rnea(model, data, q, qd, qdd)
+                     for q, qd, qdd in zip(trajectory.q, trajectory.qd, trajectory.qdd)])
+
+
+def _per_joint_ratios(robot: Robot, trajectory: Trajectory, limits: JointLimits,
+                      kinematic_first: bool = False) -> tuple[dict[str, np.ndarray], np.ndarray | None]:
+    """max over the samples of |value|/limit per kind and joint, and the torques. With
+    ``kinematic_first``, the torques (the costly part) are skipped, ratio +inf and torques None, when a
+    position, velocity or acceleration limit is already exceeded."""
     mid, half = limits.position_box()
-    return {"q": np.max(np.abs(trajectory.q - mid) / half, axis=0),
-            "qd": np.max(np.abs(trajectory.qd) / limits.qd_max, axis=0),
-            "qdd": np.max(np.abs(trajectory.qdd) / limits.qdd_max, axis=0),
-            "tau": np.max(np.abs(tau) / limits.tau_max, axis=0)}
+    out = {"q": np.max(np.abs(trajectory.q - mid) / half, axis=0),
+           "qd": np.max(np.abs(trajectory.qd) / limits.qd_max, axis=0),
+           "qdd": np.max(np.abs(trajectory.qdd) / limits.qdd_max, axis=0)}
+    if kinematic_first and any(np.any(v > 1.0) for v in out.values()):
+        return {**out, "tau": np.full(limits.n, np.inf)}, None
+    tau = _torques(robot, trajectory)
+    out["tau"] = np.max(np.abs(tau) / limits.tau_max, axis=0)
+    return out, tau
 
 
 class _Transcription:
@@ -290,7 +306,7 @@ def _transcription(robot: Robot, N: int, r: int, objective: str,
     built once per (robot, N, order, objective, options) and reused: the parameters p are
     [σ (N), u_ref (n), 1/t_scale, 1/τ_max (n)]."""
     key = (id(robot), robot.model.nv, N, r, objective, options.regularization, options.tol,
-           options.max_iter, options.verbose)
+           options.max_iter, options.verbose, options.hessian)
     cached = _TRANSCRIPTIONS.get(key)
     if cached is not None and cached[0] is robot:
         return cached[1]
@@ -337,7 +353,7 @@ def _transcription(robot: Robot, N: int, r: int, objective: str,
     cost_function = ca.Function("cost", [w, p], [cost])
     opts = {"ipopt.tol": options.tol, "ipopt.max_iter": options.max_iter,
             "ipopt.print_level": 5 if options.verbose else 0, "print_time": options.verbose,
-            "ipopt.sb": "yes"}
+            "ipopt.sb": "yes", "ipopt.hessian_approximation": options.hessian}
     solver = ca.nlpsol("trajectory_optimization", "ipopt", {"x": w, "f": cost, "g": g, "p": p}, opts)
     _TRANSCRIPTIONS[key] = (robot, (solver, cost_function, shooting.size1()))
     return solver, cost_function, shooting.size1()
@@ -412,7 +428,7 @@ def _optimize(robot: Robot, q_i: Any, q_f: Any, limits: JointLimits, objective: 
         w = np.asarray(sol["x"]).ravel()
         h, X, U = nlp.unpack(w)
         traj = _solution(h, nlp.coefficients(X, U), options.subsamples, f"minimum {objective}")
-        per_joint = _per_joint_ratios(robot, traj, limits)
+        per_joint, tau = _per_joint_ratios(robot, traj, limits)
         if not ok:
             message = f"IPOPT: {stats.get('return_status', 'failed')}"
             break
@@ -424,7 +440,7 @@ def _optimize(robot: Robot, q_i: Any, q_f: Any, limits: JointLimits, objective: 
             over = per_joint[k] > 1.0 + 1e-6
             scale[k] = np.where(over, scale[k] / per_joint[k] * (1.0 - 1e-4), scale[k])
         w0 = w
-    ratios, tau = limit_ratios(robot, traj, limits)
+    ratios = {k: float(np.max(v)) for k, v in per_joint.items()}
     success = ok and all(v <= 1.0 + 1e-6 for v in ratios.values())
     return OptimalTrajectory(traj, tau, float(np.sum(h)), objective, float(nlp.cost_function(w, nlp.parameters)), success,
                              message, ratios, iterations, time.perf_counter() - start)
@@ -481,7 +497,7 @@ def trapezoidal_under_limits(robot: Robot, q_i: Any, q_f: Any, limits: JointLimi
         tr = build(T)
         if tr is None:
             return False
-        return all(r <= 1.0 for r in limit_ratios(robot, tr, limits)[0].values())
+        return all(np.all(r <= 1.0) for r in _per_joint_ratios(robot, tr, limits, kinematic_first=True)[0].values())
 
     hi = float(np.max(dq / limits.qd_max)) * 2.0 + 1e-3
     while not feasible(hi):

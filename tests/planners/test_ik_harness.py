@@ -28,7 +28,7 @@ def _solvers(robot):
     return {
         "solve_clik": (lambda r, T, q0: solve_clik(r, T, q0, tol=TOL), 0.3),
         "QPVelocityIK": (lambda r, T, q0: qp.solve(T, q0), 0.3),
-        "CasadiIK": (lambda r, T, q0: casadi.solve(T, q0, rng=np.random.default_rng(0)), 0.9),
+        "CasadiIK": (lambda r, T, q0: casadi.solve(T, q0, rng=np.random.default_rng(0)), 0.95),
     }
 
 
@@ -48,3 +48,23 @@ def test_harness_catches_a_false_success(panda, targets):
     liar = lambda r, T, q0: IKResult(q0 + 10.0, True, 0, 0.0, "converged")  # noqa: E731
     out = run_solver(panda, liar, targets[:3], TOL, "liar")
     assert len(out.false_successes) == 3
+
+
+def test_casadi_ik_solves_nearly_every_reachable_target(panda):
+    """The Gauss–Newton SQP with restarts: ≥ 99 % of 200 seeded targets (1000/1000 measured on the bench's
+    set), every success independently true."""
+    ik = CasadiIK(panda)
+    out = run_solver(panda, lambda r, T, q0: ik.solve(T, q0, rng=np.random.default_rng(0)),
+                     reachable_targets(panda, 200, seed=7), TOL, "CasadiIK")
+    print(out)
+    assert not out.false_successes, out.false_successes
+    assert out.rate >= 0.99, str(out)
+
+
+def test_casadi_ik_builds_its_nlp_once_per_robot_frame_and_options(panda):
+    from planners.inverse_kinematics import CasadiIKOptions
+
+    a, b = CasadiIK(panda), CasadiIK(panda)
+    assert a._solver is b._solver                                   # cached: no rebuild per instance
+    assert CasadiIK(panda, options=CasadiIKOptions(posture_weight=1e-3))._solver is not a._solver
+    assert CasadiIK(load("panda"))._solver is not a._solver         # another robot object, its own NLP

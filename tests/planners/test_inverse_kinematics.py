@@ -1,4 +1,4 @@
-"""Inverse kinematics: CLIK laws, null-space tasks, CasADi IPOPT IK and proxsuite QP IK (Panda, UR5, book arms).
+"""Inverse kinematics: CLIK laws, null-space tasks, CasADi SQP IK and proxsuite QP IK (Panda, UR5, book arms).
 
 FK(IK(T)) is always checked with Pinocchio's direct kinematics, independent of the solvers' own models.
 """
@@ -145,7 +145,7 @@ def test_bad_inputs_raise(panda):
         TaskSpace(orientation="none", rows=(0, 4))
     with pytest.raises(ValueError, match="law"):
         CLIK(panda, constant_pose(np.eye(4)), law="newton")
-    with pytest.raises(ValueError, match="square"):
+    with pytest.raises(ValueError, match="law .inverse. needs a square task Jacobian"):
         CLIK(panda, constant_pose(np.eye(4)), law="inverse")(0.0, np.zeros(7))
     with pytest.raises(ValueError, match="T_d"):
         CasadiIK(panda, options=CasadiIKOptions(restarts=0)).solve(np.eye(3))
@@ -281,3 +281,156 @@ def test_solve_clik_success_flag_agrees_with_an_independent_residual():
         independent = _independent_residual(robot, res.q, T)
         assert independent == pytest.approx(res.residual, abs=1e-7)
         assert res.success == (independent < 1e-6)
+
+
+def _panda_target(panda, seed=5):
+    rng = np.random.default_rng(seed)
+    q_src = np.clip(panda.random_configuration(rng), panda.lower + 0.1, panda.upper - 0.1)
+    return q_src, direct_kinematics(panda, q_src), rng
+
+
+def test_casadi_ik_gauss_newton_converges_quadratically(panda):
+    """From 0.03 rad off a solution the Gauss–Newton SQP lands within tolerance in a few iterations
+    (quadratic convergence: 3 measured; a mis-scaled Hessian or a wrong residual takes many more)."""
+    q_src, T, _ = _panda_target(panda)
+    ik = CasadiIK(panda, options=CasadiIKOptions(restarts=0))
+    res = ik.solve(T, q_src + 0.03 * np.array([1, -1, 1, -1, 1, -1, 1.0]))
+    assert res.success and 1 <= res.iterations <= 4, res
+    assert pose_residual(T, direct_kinematics(panda, res.q)) < 1e-6
+
+
+def test_casadi_ik_starts_mid_range_and_stops_at_once_on_a_solution(panda):
+    """Default start: the middle of the limits (clipped to ±π); started on a solution, no iteration."""
+    mid = 0.5 * (np.maximum(panda.lower, -np.pi) + np.minimum(panda.upper, np.pi))
+    res = CasadiIK(panda, options=CasadiIKOptions(restarts=0)).solve(direct_kinematics(panda, mid))
+    assert res.success and res.iterations == 0
+    np.testing.assert_array_equal(res.q, mid)
+
+
+def test_casadi_ik_counts_attempts_and_iterations_of_a_failure(panda):
+    """An unreachable pose: 1 + restarts attempts, each at most max_iter SQP iterations, all counted."""
+    far = np.eye(4)
+    far[:3, 3] = [2.0, 0.0, 0.5]
+    res = CasadiIK(panda, options=CasadiIKOptions(restarts=1, max_iter=3)).solve(far)
+    assert not res.success and "after 2 attempts" in res.message
+    assert 4 <= res.iterations <= 6          # two attempts of ≤ 3 iterations; the first alone is ≤ 3
+    assert res.residual == pytest.approx(pose_residual(far, direct_kinematics(panda, res.q)), rel=1e-9)
+
+
+def test_casadi_ik_posture_cost_pulls_toward_the_posture(panda):
+    """min pose error + w ‖q − q_posture‖²: the optimum q* is no farther from q_posture than the start
+    q_src, which has zero pose error (else q_src would have a lower cost); the pose error stays ~√w."""
+    q_src, T, rng = _panda_target(panda)
+    q_post = np.clip(q_src + 0.4 * rng.standard_normal(7), panda.lower, panda.upper)
+    res = CasadiIK(panda, options=CasadiIKOptions(restarts=0, posture_weight=1e-6)).solve(T, q_src, q_posture=q_post)
+    assert np.linalg.norm(res.q - q_post) < np.linalg.norm(q_src - q_post) - 0.05, res
+    assert pose_residual(T, direct_kinematics(panda, res.q)) < 1e-4
+
+
+@pytest.mark.parametrize("law", ["dls", "pseudo_inverse"])
+def test_clik_law_uses_its_own_inverse(panda, law):
+    """Position-only CLIK (3.70) at a random q: "dls" is J^T (J J^T + k² I)^{-1} K e (3.59), the damping
+    k = 0.3 changing the answer; "pseudo_inverse" ignores the damping (J^T (J J^T)^{-1} K e, (3.52)).
+    Both recomputed here from Pinocchio's Jacobian, with numpy's solve."""
+    import pinocchio as pin
+
+    rng = np.random.default_rng(21)
+    q = panda.random_configuration(rng)
+    T = direct_kinematics(panda, panda.random_configuration(rng))
+    K, k = 2.0, 0.3
+    clik = CLIK(panda, constant_pose(T), TaskSpace(orientation="none"), K=K, law=law, damping=k)
+    qd = clik(0.0, q)
+    J = pin.computeFrameJacobian(panda.model, panda.model.createData(), q, panda.ee_frame,
+                                 pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)[:3]
+    e = T[:3, 3] - direct_kinematics(panda, q)[:3, 3]
+    damping = k if law == "dls" else 0.0
+    np.testing.assert_allclose(qd, J.T @ np.linalg.solve(J @ J.T + damping**2 * np.eye(3), K * e), rtol=1e-9, atol=1e-12)
+
+
+def test_cosine_pose_reference_rotates_about_z_by_default():
+    """The manual's references turn about the base z axis: R(t_f) = Rot_z(φ_f) R_0, written out."""
+    phi = 0.7
+    T, v = cosine_pose_reference([0, 0, 0], [0.1, 0, 0], 2.0, phi_f=phi)(2.0)
+    c, s = np.cos(phi), np.sin(phi)
+    np.testing.assert_allclose(T[:3, :3], [[c, -s, 0], [s, c, 0], [0, 0, 1]], atol=1e-12)
+    _, v_mid = cosine_pose_reference([0, 0, 0], [0.1, 0, 0], 2.0, phi_f=phi)(1.0)
+    np.testing.assert_allclose(v_mid[3:], [0, 0, 0.5 * np.pi / 2.0 * phi], atol=1e-12)   # ω = ṡ φ_f z
+
+
+def test_failure_reason_names_the_joint_at_a_limit_and_a_rank_deficient_jacobian(panda):
+    """The diagnosis of a stalled solver: q[1] on its lower limit is named; a task Jacobian with one
+    zero singular value (rank 5 of 6) is singular, a full-rank one is not."""
+    from planners.inverse_kinematics import _failure_reason
+
+    q = 0.5 * (panda.lower + panda.upper)
+    q_low = q.copy()
+    q_low[1] = panda.lower[1]
+    J = np.diag([3.0, 2.0, 1.5, 1.0, 0.5, 0.0])
+    msg = _failure_reason(panda, q, q_low, J)
+    assert "q[1] at their joint limits" in msg and "singular" in msg and msg.startswith("stalled")
+    msg = _failure_reason(panda, q, q, np.diag([3.0, 2.0, 1.5, 1.0, 0.5, 0.4]))
+    assert msg.startswith("never improved") and "joint limits" not in msg and "singular" not in msg
+
+
+def test_qp_ik_with_no_iteration_allowed_still_checks_its_start(panda):
+    """max_iterations=0: the start itself is judged (a solution → success with 0 iterations)."""
+    q_goal = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.5])
+    res = QPVelocityIK(panda, QPIKOptions(max_iterations=0)).solve(direct_kinematics(panda, q_goal), q_goal)
+    assert res.success and res.iterations == 0
+
+
+def test_two_stage_clik_takes_any_arm_size_that_leaves_a_wrist():
+    from planners.inverse_kinematics import TwoStageCLIK
+
+    wrist = load("anthropomorphic_wrist")
+    ref = constant_pose(np.eye(4))
+    frame = wrist.model.frames[wrist.ee_frame].name
+    assert TwoStageCLIK(wrist, ref, frame, n_arm=1).n_arm == 1
+    with pytest.raises(ValueError, match="n_arm"):
+        TwoStageCLIK(wrist, ref, frame, n_arm=0)
+    with pytest.raises(ValueError, match="n_arm"):
+        TwoStageCLIK(wrist, ref, frame, n_arm=wrist.nv)
+
+
+def test_failure_reason_thresholds_are_tight_and_relative(panda):
+    """At a limit means within 1e-6 of it (either side): 0.5 rad inside is not; singular is relative to
+    the largest singular value: a uniformly small, well-conditioned Jacobian is not singular."""
+    from planners.inverse_kinematics import _failure_reason
+
+    q = 0.5 * (panda.lower + panda.upper)
+    near, upper = q.copy(), q.copy()
+    near[0] = panda.lower[0] + 0.5
+    upper[2] = panda.upper[2]
+    J = np.diag([3.0, 2.0, 1.5, 1.0, 0.5, 0.4])
+    assert "joint limits" not in _failure_reason(panda, q, near, J)
+    assert "q[2] at their joint limits" in _failure_reason(panda, q, upper, J)
+    assert "singular" not in _failure_reason(panda, q, q, 1e-3 * np.diag([1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5]))
+
+
+@pytest.mark.parametrize("side", [-1.0, 1.0])
+def test_qp_ik_step_stops_on_a_joint_limit(panda, side):
+    """A target beyond a limit of q_4: one QP step brings q_4 exactly onto that limit, (q_m − q)/Δt or
+    (q_M − q)/Δt being the velocity bound, and not past it."""
+    qp = QPVelocityIK(panda)
+    limit = panda.upper[3] if side > 0 else panda.lower[3]
+    q = np.array([0.3, -0.4, 0.2, limit - side * 0.01, 0.1, 1.8, 0.5])
+    q_far = q.copy()
+    q_far[3] = limit + side * 0.3
+    qd, _ = qp.step(q, direct_kinematics(panda, q_far))
+    assert q[3] + qp.options.dt * qd[3] == pytest.approx(limit, abs=1e-6)
+
+
+def test_qp_ik_failure_returns_its_best_configuration(panda):
+    """Not converged in 3 steps: the result is the best configuration met, better than the start."""
+    q_goal = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.5])
+    T = direct_kinematics(panda, q_goal)
+    q0 = q_goal + 0.3
+    res = QPVelocityIK(panda, QPIKOptions(max_iterations=3, gain=5.0)).solve(T, q0)
+    assert not res.success
+    assert res.residual < pose_residual(T, direct_kinematics(panda, q0))
+    assert res.residual == pytest.approx(pose_residual(T, direct_kinematics(panda, res.q)), rel=1e-9)
+
+
+def test_qp_ik_velocity_limits_must_be_positive(panda):
+    with pytest.raises(ValueError, match="velocity_limit"):
+        QPIKOptions(velocity_limit=np.zeros(7))

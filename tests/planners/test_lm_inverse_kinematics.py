@@ -54,3 +54,11 @@ def test_lm_ik_rejects_bad_input(panda):
         LMIK(panda).solve(np.eye(4), q0=np.zeros(3))
     with pytest.raises(ValueError, match="LMIKOptions"):
         LMIKOptions(tol=0.0)
+
+
+@pytest.mark.parametrize("kwargs", [{"tol": -1e-6}, {"max_iterations": 0}, {"restarts": -1}, {"damping": 0.0},
+                                    {"stall": 0}])
+def test_lm_ik_options_are_checked_one_by_one(kwargs):
+    """Each condition alone rejects its bad value (the others at their defaults)."""
+    with pytest.raises(ValueError, match="LMIKOptions"):
+        LMIKOptions(**kwargs)

@@ -192,7 +192,8 @@ def test_infinite_limits_that_cannot_work_are_refused_by_name(arm):
 
 @pytest.mark.parametrize("kwargs, name", [({"nodes": 2.5}, "nodes"), ({"max_backoff": -1}, "max_backoff"),
                                           ({"max_iter": 0}, "max_iter"), ({"tol": float("nan")}, "tol"),
-                                          ({"regularization": -1.0}, "regularization")])
+                                          ({"regularization": -1.0}, "regularization"),
+                                          ({"hessian": "bfgs"}, "hessian")])
 def test_optimization_options_are_checked(kwargs, name):
     with pytest.raises(ValueError, match=f"`{name}`"):
         opt.OptimizationOptions(**kwargs)
@@ -223,3 +224,16 @@ def test_repeated_solve_reuses_the_transcription_with_the_same_result():
     assert again.t_f == pytest.approx(first.t_f, rel=1e-9)
     assert other.t_f != pytest.approx(first.t_f, rel=1e-3)
     assert t_again < t_first
+
+
+@pytest.mark.parametrize("objective", ["time", "effort"])
+def test_limited_memory_and_exact_hessians_reach_the_same_optimum(arm, arm_limits, objective):
+    """The default L-BFGS Hessian changes the path IPOPT takes, not the optimum: the duration (minimum
+    time) or the cost (minimum effort) agrees with the exact-Hessian solve to the solver tolerance."""
+    solve = {"time": lambda o: opt.minimum_time_trajectory(arm, Q_I, Q_F, arm_limits, o),
+             "effort": lambda o: opt.minimum_effort_trajectory(arm, Q_I, Q_F, 1.5, arm_limits, o)}[objective]
+    lbfgs = solve(opt.OptimizationOptions(nodes=20))
+    exact = solve(opt.OptimizationOptions(nodes=20, hessian="exact"))
+    assert lbfgs.success and exact.success
+    assert lbfgs.cost == pytest.approx(exact.cost, rel=1e-6)
+    assert lbfgs.t_f == pytest.approx(exact.t_f, rel=1e-6)

@@ -34,9 +34,12 @@ TARGETS = {
                            "tests/rigid_body/test_independent_references.py",
                            "tests/rigid_body/test_mutation_survivors.py"],
     "planners/inverse_kinematics.py": ["tests/planners/test_inverse_kinematics.py",
+                                       "tests/planners/test_lm_inverse_kinematics.py",
+                                       "tests/planners/test_ik_harness.py",
                                        "tests/rigid_body/test_independent_references.py",
                                        "tests/rigid_body/test_mutation_survivors.py"],
-    "controllers/simulation.py": ["tests/controllers/test_simulation.py"],
+    "controllers/simulation.py": ["tests/controllers/test_simulation.py",
+                                  "tests/controllers/test_loop_fast_paths.py"],
 }
 
 SWAP = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult,

@@ -93,8 +93,22 @@ class IKResult:
     def __iter__(self):
         return iter((self.q, self.success))
 
+    def __repr__(self) -> str:
+        q = np.asarray(self.q, dtype=float)
+        q = np.array2string(np.where(np.abs(q) < 5e-5, 0.0, q), precision=4, separator=", ")
+        return (f"IKResult(success={self.success}, residual={self.residual:.3g}, iterations={self.iterations}, "
+                f"q={q}, message={self.message!r})")
+
 
 LIMIT_TOL = 1e-9  # [rad | m]: a configuration this close outside a limit still counts as within it
+
+
+def _few_joints(robot: Robot) -> str:
+    """The hint a failed whole-pose solve gives on an arm with fewer than 6 joints."""
+    if robot.nv >= 6:
+        return ""
+    return (f"; this arm has {robot.nv} joints, too few for a whole pose (6 components): for the position "
+            "only, use solve_clik(robot, T, q0, task=TaskSpace(rows=(0, 1, 2)))")
 
 
 def within_limits(robot: Robot, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
@@ -533,7 +547,8 @@ class CasadiIK:
                 return IKResult(best_q, True, iterations, best, note + f"converged (attempt {attempt + 1})")
         return IKResult(best_q, False, iterations, best,
                         note + f"no solution within tol {o.tol:g} after {o.restarts + 1} attempts "
-                        f"(best residual {best:.3g}): the pose is unreachable or outside the joint limits")
+                        f"(best residual {best:.3g}): the pose is unreachable or outside the joint limits"
+                        + _few_joints(robot))
 
 
 # --------------------------------------------------------------------------------------------
@@ -738,8 +753,7 @@ class LMIK:
         T_d = as_homogeneous(T_d, "T_d")
         robot, o = self.robot, self.options
         lo, hi = self._lo, self._hi
-        q = 0.5 * (np.maximum(lo, -np.pi) + np.minimum(hi, np.pi)) if q0 is None else \
-            np.clip(as_vector(q0, robot.nq, "q0"), lo, hi)
+        q, note = (0.5 * (np.maximum(lo, -np.pi) + np.minimum(hi, np.pi)), "") if q0 is None else _start(robot, q0)
         rng = np.random.default_rng(0) if rng is None else rng
         model, data, fid = robot.model, self._data, self.frame
         oMd = pin.SE3(T_d[:3, :3].copy(), T_d[:3, 3].copy())
@@ -775,10 +789,10 @@ class LMIK:
                 break
         inside = bool(np.all(best_q >= lo) and np.all(best_q <= hi))
         if best < o.tol and inside:
-            return IKResult(best_q, True, iterations, best, f"converged (attempt {attempt + 1})")
+            return IKResult(best_q, True, iterations, best, note + f"converged (attempt {attempt + 1})")
         return IKResult(best_q, False, iterations, best,
-                        f"no solution within tol {o.tol:g} after {attempt + 1} attempts (best residual "
-                        f"{best:.3g}): the pose is unreachable or outside the joint limits")
+                        note + f"no solution within tol {o.tol:g} after {attempt + 1} attempts (best residual "
+                        f"{best:.3g}): the pose is unreachable or outside the joint limits" + _few_joints(robot))
 
 
 def solve_ik_lm(robot: Robot, T_d: Any, q0: Any = None, frame: str | int | None = None,

@@ -62,3 +62,34 @@ def test_lm_ik_options_are_checked_one_by_one(kwargs):
     """Each condition alone rejects its bad value (the others at their defaults)."""
     with pytest.raises(ValueError, match="LMIKOptions"):
         LMIKOptions(**kwargs)
+
+
+def test_solve_ik_notes_a_start_outside_the_limits_and_prints_in_one_line():
+    import re
+
+    from planners.inverse_kinematics import solve_ik
+    from rigid_body.kinematics import direct_kinematics
+    from rigid_body.robots import load
+
+    panda = load("panda")
+    q0 = panda.configurations["ready"].copy()
+    q0[3] = 1.0                                        # q4 ≤ −0.0698 rad on the Panda
+    res = solve_ik(panda, direct_kinematics(panda, panda.configurations["ready"]), q0)
+    assert res.success and "`q0` was outside the joint limits at q[3]" in res.message
+    text = repr(res)
+    assert "\n" not in text and text.startswith("IKResult(success=True, residual=")
+    assert not re.search(r"-0\.(?!\d)", text)        # no "-0." for a zero joint
+
+
+def test_a_whole_pose_on_a_three_joint_arm_points_to_the_position_task():
+    import numpy as np
+
+    from planners.inverse_kinematics import solve_ik
+    from rigid_body.kinematics import direct_kinematics
+    from rigid_body.robots import load
+
+    arm = load("anthropomorphic")
+    T = direct_kinematics(arm, arm.configurations["bent"])
+    T[:3, :3] = np.eye(3)                              # an orientation the 3-joint arm cannot take there
+    res = solve_ik(arm, T)
+    assert not res.success and "TaskSpace(rows=(0, 1, 2))" in res.message

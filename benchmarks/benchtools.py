@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import time
-from typing import Callable
+from typing import Any, Callable
 
+import numpy as np
 
 WINDOWS_PER_ROUND = 10  # a timing window short enough to fit between two preemptions on a loaded machine
 
@@ -96,8 +97,13 @@ def markdown(rows: list[dict]) -> str:
 
 def json_rows(rows: list[dict]) -> list[dict]:
     """The rows as JSON objects, with their ratio and whether the target is met."""
-    return [{**row, "target": list(row["target"]) if row.get("target") else None, "ratio": ratio(row),
-             "met": met(row)} for row in rows]
+    return [{key: _plain(value) for key, value in {**row, "target": list(row["target"]) if row.get("target") else None,
+                                                   "ratio": ratio(row), "met": met(row)}.items()} for row in rows]
+
+
+def _plain(value: Any) -> Any:
+    """A numpy scalar (float64, bool_) as the Python number JSON can write."""
+    return value.item() if isinstance(value, np.generic) else value
 
 
 def toolbox_puma_pd(K_P: float, K_D: float, q_d):

@@ -75,3 +75,12 @@ def test_main_collects_rows_passes_quick_and_writes_json_and_markdown(tmp_path, 
     assert bench_main.main(["--only", "fake", "--out", str(tmp_path / "t.md")]) == 0
     assert calls == [True, False]
     assert (tmp_path / "t.md").read_text().count("\n| fake") == 2
+
+
+def test_json_rows_write_numpy_scalars_as_plain_numbers():
+    import numpy as np
+
+    rows = [dict(measurement="x [ms]", rmpc=np.float64(2.0), reference=np.float64(1.0), ref_name="",
+                 target=("ratio<=", 2.0), met_by_hand=np.bool_(True))]
+    data = json.loads(json.dumps(benchtools.json_rows(rows)))
+    assert data[0]["rmpc"] == 2.0 and data[0]["met_by_hand"] is True and data[0]["met"] is True

@@ -34,8 +34,9 @@ LOOPS = {
 
 
 def rows() -> list[dict]:
-    """Simulated seconds per wall second of each loop (target ≥ 20 for the manual's 10.8–10.11; the Panda
-    examples have none), the CPU figure beside it."""
+    """Simulated seconds per wall second of each loop on the Python backend, the CPU figure beside it. No
+    target here: the manual's 10.8–10.11 run as the problems run them (10.8 and 10.10 compiled) in
+    ``bench_loop.py``, whose rows carry the ≥ 20× real-time target."""
     scara_eye_in_hand()                                  # build the model once, outside the timing
     sc = scene()
     q0 = start_configuration(sc, np.pi / 3, 0.2 * np.array([0.4, -0.3, -0.85]) / np.linalg.norm([0.4, -0.3, -0.85]))
@@ -49,8 +50,8 @@ def rows() -> list[dict]:
         res = run()
         wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         sim = float(res.t[-1] - res.t[0])
-        out.append(dict(measurement=f"{name} [simulated s / wall s]", rmpc=sim / wall, reference=None,
-                        ref_name=f"{sim / cpu:.1f} per CPU s", target=(">=", 20.0) if name in LOOPS else None))
+        out.append(dict(measurement=f"{name}, Python backend [simulated s / wall s]", rmpc=sim / wall,
+                        reference=None, ref_name=f"{sim / cpu:.1f} per CPU s", target=None))
     return out
 
 

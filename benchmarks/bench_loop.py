@@ -73,11 +73,12 @@ def floor_calls(xs: np.ndarray):
     return calls
 
 
-def toolbox(rtol: float | None = None):
-    """The Toolbox's fdyn on its Puma 560 (friction off, as ArmPlant) with the same law, or None."""
+def toolbox(rtol: float | None = None, q_d: np.ndarray = Q_D):
+    """The Toolbox's fdyn on its Puma 560 (friction off, as ArmPlant) with the same law towards ``q_d``,
+    or None."""
     from benchtools import toolbox_puma_pd
 
-    toolbox = toolbox_puma_pd(K_P, K_D, Q_D)
+    toolbox = toolbox_puma_pd(K_P, K_D, q_d)
     if toolbox is None:
         return None
     puma, law = toolbox

@@ -5,14 +5,16 @@ the controller every ``Ts`` with zero-order hold — written once as CasADi expr
 (the controller's law, then ``Ts/h`` RK4 steps with the output held) is a ``casadi.Function``
 ``(x_k, r_k, p) → (x_{k+1}, u_k)`` and the whole run is that function accumulated over the samples
 (``Function.mapaccum``). The run is generated as C and compiled with the system C compiler (``cc``,
-cached by the hash of the code); without a compiler it is interpreted by CasADi's virtual machine
-(a one-line note says so).
+cached by the hash of the sample's code, the number of samples and this module's source, so that a
+cached run is loaded without building the accumulated function); without a compiler it is interpreted
+by CasADi's virtual machine (a one-line note says so).
 
 What the loop needs from its two blocks, beside the contract of :mod:`controllers.simulation`:
 
 * the plant: ``symbolic() -> casadi.Function (x, u) → ẋ`` (time-invariant, x + h·ẋ integration)
-  and a ``state_layout`` with ``q`` and ``qd``: an :class:`~controllers.plants.ArmPlant` with nq = nv
-  and no external force (forward dynamics :func:`rigid_body.symbolic.forward_dynamics_expression`);
+  and a ``state_layout`` with ``q`` and ``qd`` (where the law reads them in x): an
+  :class:`~controllers.plants.ArmPlant` with nq = nv and no external force (forward dynamics
+  :func:`rigid_body.symbolic.forward_dynamics_expression`), a :class:`~controllers.plants.ServomotorPlant`;
 * the controller: ``symbolic() -> SymbolicLaw``: the law ``(q, q̇, r, p) → (u, signals…)`` in CasADi
   expressions. The reference ``r`` is open loop (a function of time only), so it is sampled in Python
   at the controller instants and fed to the run; the parameters ``p`` are the gains, their values
@@ -298,7 +300,8 @@ class CompiledLoop:
         xc, r, p = ca.SX.sym("x", nx + nc), ca.SX.sym("r", nr + (1 if nc else 0)), ca.SX.sym("p", n_p)
         x = xc[:nx]
         layout = plant.state_layout                              # q, q̇ where the plant keeps them in x
-        args = [x[layout["q"]], x[layout["qd"]], r[:nr], p, *(plant_measurement(plant, name)(x) for name in self.law.measurements)]
+        args = [x[layout["q"]], x[layout["qd"]], r[:nr], p,
+                *(plant_measurement(plant, name)(x) for name in self.law.measurements)]
         if nc:
             args += [xc[nx:], r[nr]]                             # the law's state, dt (the last row of R)
         out = self.law.function(*args)

@@ -5,14 +5,16 @@ the controller every ``Ts`` with zero-order hold — written once as CasADi expr
 (the controller's law, then ``Ts/h`` RK4 steps with the output held) is a ``casadi.Function``
 ``(x_k, r_k, p) → (x_{k+1}, u_k)`` and the whole run is that function accumulated over the samples
 (``Function.mapaccum``). The run is generated as C and compiled with the system C compiler (``cc``,
-cached by the hash of the code); without a compiler it is interpreted by CasADi's virtual machine
-(a one-line note says so).
+cached by the hash of the sample's code, the number of samples and this module's source, so that a
+cached run is loaded without building the accumulated function); without a compiler it is interpreted
+by CasADi's virtual machine (a one-line note says so).
 
 What the loop needs from its two blocks, beside the contract of :mod:`controllers.simulation`:
 
 * the plant: ``symbolic() -> casadi.Function (x, u) → ẋ`` (time-invariant, x + h·ẋ integration)
-  and a ``state_layout`` with ``q`` and ``qd``: an :class:`~controllers.plants.ArmPlant` with nq = nv
-  and no external force (forward dynamics :func:`rigid_body.symbolic.forward_dynamics_expression`);
+  and a ``state_layout`` with ``q`` and ``qd`` (where the law reads them in x): an
+  :class:`~controllers.plants.ArmPlant` with nq = nv and no external force (forward dynamics
+  :func:`rigid_body.symbolic.forward_dynamics_expression`), a :class:`~controllers.plants.ServomotorPlant`;
 * the controller: ``symbolic() -> SymbolicLaw``: the law ``(q, q̇, r, p) → (u, signals…)`` in CasADi
   expressions. The reference ``r`` is open loop (a function of time only), so it is sampled in Python
   at the controller instants and fed to the run; the parameters ``p`` are the gains, their values
@@ -120,6 +122,33 @@ class SymbolicLaw:
         return out
 
 
+class ConstantInput:
+    """The open-loop input u(t) = ``value`` (a step applied at t_0, e.g. V'_c of Problem 5.2), as a controller
+    of either backend: ``(t, measurement) -> u`` and its :class:`SymbolicLaw`, which reads nothing of the
+    measurement (``plant``'s ``state_layout`` gives only the sizes of q and q̇ the law is called with)."""
+
+    def __init__(self, value: Any, plant: Any):
+        self.value = np.atleast_1d(np.asarray(value, dtype=float)).copy()
+        if self.value.ndim != 1 or not np.all(np.isfinite(self.value)):
+            raise ValueError(f"`value` must be a finite vector, got {value!r}")
+        self.value.setflags(write=False)
+        layout = getattr(plant, "state_layout", {})
+        if "q" not in layout or "qd" not in layout:
+            raise ValueError("`plant` needs a state_layout with 'q' and 'qd'")
+        self._sizes = (_length(layout["q"]), _length(layout["qd"]))
+
+    def __call__(self, t: float, measurement: Any) -> np.ndarray:
+        return self.value
+
+    def symbolic(self) -> SymbolicLaw:
+        def no_reference(t: float) -> np.ndarray:
+            return np.zeros(0)
+
+        no_reference.at_times = lambda times: np.zeros((0, len(times)))
+        return SymbolicLaw.build(*self._sizes, 0, {"u": self.value[:, None]}, lambda q, qd, r, K: (K["u"], {}),
+                                 no_reference)
+
+
 def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]]) -> Callable[[float], np.ndarray]:
     """``t -> concatenate(reference(t))``: a (x_d, ẋ_d, ẍ_d) reference as one vector r.
 
@@ -170,6 +199,7 @@ def _length(index: Any) -> int:
 # --------------------------------------------------------------------------------------------
 
 CACHE = Path(os.environ.get("RMPC_CACHE", Path(tempfile.gettempdir()) / "rmpc-casadi"))
+_SOURCE_HASH = hashlib.sha256(Path(__file__).read_bytes()).hexdigest().encode()   # in the loops' cache keys
 _loaded: dict[str, ca.Function] = {}
 
 
@@ -190,28 +220,39 @@ def fast_backend() -> str:
     return "python"
 
 
-def compile_function(function: ca.Function, flags: tuple[str, ...] = ("-O2",)) -> ca.Function:
+def c_code(function: ca.Function) -> bytes:
+    """The C source CasADi generates for ``function``."""
+    name = function.name()
+    with tempfile.TemporaryDirectory() as tmp:
+        generator = ca.CodeGenerator(f"{name}.c", {"with_header": False})
+        generator.add(function)
+        generator.generate(tmp + os.sep)
+        return (Path(tmp) / f"{name}.c").read_bytes()
+
+
+def compile_function(function: ca.Function | Callable[[], ca.Function], flags: tuple[str, ...] = ("-O2",),
+                     name: str | None = None, key: bytes | None = None) -> ca.Function:
     """``function`` generated as C, compiled into a shared library (cached by the code's hash) and loaded.
 
-    Without a C compiler the function is returned as it is (interpreted), with a warning.
+    Without a C compiler the function is returned as it is (interpreted), with a warning. With ``key``
+    (bytes that determine the code) and ``name``, ``function`` may be a callable building it: the cache
+    is looked up by the hash of ``key`` and the function built and generated only when it misses.
     """
     cc = compiler()
     if cc is None:
         warnings.warn("no C compiler found: the CasADi loop runs interpreted (slower)", stacklevel=2)
-        return function
-    name = function.name()
-    with tempfile.TemporaryDirectory() as tmp:
-        source = Path(tmp) / f"{name}.c"
-        generator = ca.CodeGenerator(f"{name}.c", {"with_header": False})
-        generator.add(function)
-        generator.generate(tmp + os.sep)
-        code = source.read_bytes()
-    key = hashlib.sha256(code + " ".join((cc, *flags)).encode()).hexdigest()[:16]
+        return function if key is None else function()
+    code = None
+    if key is None:
+        name, code = function.name(), c_code(function)
+        key = code
+    key = hashlib.sha256(key + " ".join((cc, *flags)).encode()).hexdigest()[:16]
     if key in _loaded:
         return _loaded[key]
     CACHE.mkdir(parents=True, exist_ok=True)
     library = CACHE / f"{name}_{key}.so"
     if not library.exists():
+        code = code if code is not None else c_code(function())
         c_file = CACHE / f"{name}_{key}.c"
         c_file.write_bytes(code)
         partial = CACHE / f"{name}_{key}.{os.getpid()}.so"
@@ -225,6 +266,12 @@ def compile_function(function: ca.Function, flags: tuple[str, ...] = ("-O2",)) -
 # --------------------------------------------------------------------------------------------
 # The loop
 # --------------------------------------------------------------------------------------------
+
+MAPACCUM_BASE = 2
+"""The nesting base of the run's ``mapaccum`` (a tower of loops of this many samples): 2 builds a run of
+N samples several times faster than CasADi's default 10 (the build is timed with every ``simulate``),
+for the same operations."""
+
 
 class CompiledLoop:
     """The closed loop of ``plant`` and ``controller`` over ``n_samples`` controller samples.
@@ -252,7 +299,9 @@ class CompiledLoop:
         self.nx, self.nc = nx, nc
         xc, r, p = ca.SX.sym("x", nx + nc), ca.SX.sym("r", nr + (1 if nc else 0)), ca.SX.sym("p", n_p)
         x = xc[:nx]
-        args = [x[:nq], x[nq:nq + nv], r[:nr], p, *(plant_measurement(plant, name)(x) for name in self.law.measurements)]
+        layout = plant.state_layout                              # q, q̇ where the plant keeps them in x
+        args = [x[layout["q"]], x[layout["qd"]], r[:nr], p,
+                *(plant_measurement(plant, name)(x) for name in self.law.measurements)]
         if nc:
             args += [xc[nx:], r[nr]]                             # the law's state, dt (the last row of R)
         out = self.law.function(*args)
@@ -268,22 +317,35 @@ class CompiledLoop:
             k3 = f(x_next + 0.5 * h * k2, u)
             k4 = f(x_next + h * k3, u)
             x_next = x_next + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-        sample = ca.Function("sample", [xc, r, p], [ca.vertcat(x_next, c_next) if nc else x_next, u, *logged])
-        nr = r.shape[0]
-        X0, R, P = ca.MX.sym("x0", nx + nc), ca.MX.sym("R", nr, n_samples), ca.MX.sym("p", n_p)
-        if n_samples > 1:
-            Xs, *rest = sample.mapaccum("loop", n_samples - 1)(X0, R[:, :-1], P)
-            X = ca.horzcat(X0, Xs)
-            last = sample(X[:, -1], R[:, -1], P)[1:]
-            outputs = [ca.horzcat(a, b) for a, b in zip(rest, last)]
+        self._sample = ca.Function("sample", [xc, r, p], [ca.vertcat(x_next, c_next) if nc else x_next, u, *logged])
+        self._rollout: ca.Function | None = None
+        if compile:                       # the run's code is fixed by the sample's, N and this module's source
+            key = b"|".join((c_code(self._sample), str((n_samples, MAPACCUM_BASE, ca.__version__)).encode(),
+                             _SOURCE_HASH))
+            self.run = compile_function(lambda: self.rollout, name="rollout", key=key)
         else:
-            X, outputs = X0, sample(X0, R[:, 0], P)[1:]
-        names = ["X", "U", *(f"signal_{i}" for i in range(len(logged)))]
-        self.rollout = ca.Function("rollout", [X0, R, P], [X, *outputs], ["x0", "R", "p"], names)
-        self.run = compile_function(self.rollout) if compile else self.rollout
+            self.run = self.rollout
         self.compile_time = time.perf_counter() - start
         self.Ts = n_sub * h
         self._references: tuple[float, np.ndarray] | None = None
+
+    @property
+    def rollout(self) -> ca.Function:
+        """``(x0, R, p) → (X, U, signals…)``: the sample accumulated over the run (built on first use)."""
+        if self._rollout is None:
+            sample, n_samples = self._sample, self.n_samples
+            X0, R, P = (ca.MX.sym(name, *sample.size_in(i)[:1], cols) for i, (name, cols)
+                        in enumerate((("x0", 1), ("R", n_samples), ("p", 1))))
+            if n_samples > 1:
+                Xs, *rest = sample.mapaccum("loop", n_samples - 1, 1, {"base": MAPACCUM_BASE})(X0, R[:, :-1], P)
+                X = ca.horzcat(X0, Xs)
+                last = sample(X[:, -1], R[:, -1], P)[1:]
+                outputs = [ca.horzcat(a, b) for a, b in zip(rest, last)]
+            else:
+                X, outputs = X0, sample(X0, R[:, 0], P)[1:]
+            names = ["X", "U", *(f"signal_{i}" for i in range(len(outputs) - 1))]
+            self._rollout = ca.Function("rollout", [X0, R, P], [X, *outputs], ["x0", "R", "p"], names)
+        return self._rollout
 
     def references(self, t0: float) -> np.ndarray:
         """R (nr, N): the reference sampled at the controller instants from ``t0`` (kept for the next run:

@@ -472,6 +472,22 @@ class ServomotorPlant:
         dva = (m.Gv * (self._KP * e + self._KI * x[4]) - x[3]) / m.Tv if m.Tv > 0 else 0.0
         return np.array([di, domega, omega, dva, e])
 
+    def symbolic(self) -> Any:
+        """ẋ = f(x, u) of :meth:`derivative` as a ``casadi.Function`` (u = [v'_c, c_r]) for
+        ``simulate(..., backend="casadi")``: (5.1)–(5.4) with the amplifier lag and the PI integral."""
+        import casadi as ca
+
+        m = self.motor
+        x, u = ca.SX.sym("x", 5), ca.SX.sym("u", 2)
+        i_a, omega, v_c, c_r = x[0], x[1], u[0], u[1]
+        e = v_c - m.ki * i_a
+        regulated = m.Gv * (self._KP * e + self._KI * x[4])
+        v_a = x[3] if m.Tv > 0 else regulated
+        dva = (regulated - x[3]) / m.Tv if m.Tv > 0 else ca.SX(0.0)
+        xdot = ca.vertcat((v_a - m.Ra * i_a - m.kv * omega) / m.La, (m.kt * i_a - m.Fm * omega - c_r) / m.Im,
+                          omega, dva, e)
+        return ca.Function("plant", [x, u], [xdot], ["x", "u"], ["xdot"])
+
 
 class JointIntegrator:
     """The plant q̇ = u of a kinematic IK loop (x = q); RK4 with u held is Euler's step (3.48).

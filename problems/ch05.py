@@ -17,6 +17,7 @@ import pinocchio as pin
 import sympy as sp
 from matplotlib.figure import Figure
 
+from controllers.compiled import ConstantInput, fast_backend
 from controllers.plants import ServomotorPlant
 from controllers.simulation import simulate
 from problems.common import label_axes, max_relative_error, subplots
@@ -161,8 +162,8 @@ def problem_5_2() -> Solution:
     sol = Solution()
     m = DCServomotor(**sol.given("motor [MOT52]", MOTOR_52))
     sol.given("V'_c step", 1.0, unit="V")
-    res = simulate(ServomotorPlant(m, 1.0), lambda t, x: np.array([1.0, 0.0]), (0.0, 0.2), ServomotorPlant.x0,
-                   h=1e-4)
+    plant = ServomotorPlant(m, 1.0)
+    res = simulate(plant, ConstantInput([1.0, 0.0], plant), (0.0, 0.2), plant.x0, h=1e-4, backend=fast_backend())
     t, i_a, omega = res.t, res["i_a"], res["omega"]
     omega_ss = sol.value("omega_ss", float(omega[-1]), unit="rad/s")
     i_ss = sol.value("i_ss", float(i_a[-1]), unit="A")
@@ -185,8 +186,8 @@ def problem_5_2() -> Solution:
     err = max(np.max(np.abs(ref_w - omega)), np.max(np.abs(ref_i - i_a)))
     sol.check("simulation = python-control step response of the transfer functions", err < 1e-3,
               f"max |difference| = {err:.2e} (RK4, h = 0.1 ms)")
-    fast = simulate(ServomotorPlant(DCServomotor(**{**MOTOR_52, "Tv": 0.0}), 1.0),
-                    lambda t, x: np.array([1.0, 0.0]), (0.0, 0.2), ServomotorPlant.x0, h=1e-4)
+    plant = ServomotorPlant(DCServomotor(**{**MOTOR_52, "Tv": 0.0}), 1.0)
+    fast = simulate(plant, ConstantInput([1.0, 0.0], plant), (0.0, 0.2), plant.x0, h=1e-4, backend=fast_backend())
     dev = float(np.max(np.abs(fast["omega"] - omega)))
     sol.check("the amplifier time constant (0.1 ms) has no appreciable effect", dev < 0.05 * omega_ss,
               f"max velocity difference with T_v = 0: {dev:.3g} rad/s")
@@ -230,10 +231,11 @@ def problem_5_3() -> Solution:
                     f"{info['Overshoot']:.1f} % (caused by the zero −1/T_I)")
 
     plant = ServomotorPlant(m, pi)
-    step = lambda t, x: np.array([1.0, 0.0])  # noqa: E731
-    fast = simulate(plant, step, (0.0, 5e-3), plant.x0, h=5e-7, Ts=1e-5)
-    slow = simulate(plant, step, (0.0, 1.0), plant.x0, h=1e-4)
-    ref = simulate(ServomotorPlant(DCServomotor(**MOTOR_52), 1.0), step, (0.0, 1.0), plant.x0, h=1e-4)
+    step = ConstantInput([1.0, 0.0], plant)                  # unit step V'_c, C_r = 0
+    fast = simulate(plant, step, (0.0, 5e-3), plant.x0, h=5e-7, Ts=1e-5, backend=fast_backend())
+    slow = simulate(plant, step, (0.0, 1.0), plant.x0, h=1e-4, backend=fast_backend())
+    ref = simulate(ServomotorPlant(DCServomotor(**MOTOR_52), 1.0), step, (0.0, 1.0), plant.x0, h=1e-4,
+                   backend=fast_backend())
     t, i_a = fast.t, fast["i_a"]
     after = t > 2.5e-3
     sol.check("current settled: |i_a − 1| < 0.01 after 2.5 ms", np.max(np.abs(i_a[after] - 1)) < 0.01,

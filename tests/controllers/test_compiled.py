@@ -185,3 +185,49 @@ def test_casadi_backend_reproduces_python_voltage_controlled_servos(arm, feedfor
     np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-9)
     for name in a.signals:
         np.testing.assert_allclose(b[name], a[name], rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("case", ["no_current_loop", "no_amplifier_lag", "pi_current_loop"])
+def test_casadi_backend_reproduces_python_servomotor_loops(case):
+    from controllers.plants import ServomotorPlant
+    from rigid_body.actuators import DCServomotor, design_pi_current_loop
+
+    data = dict(Ra=0.2, La=2e-3, kt=0.2, kv=0.2, Im=0.0014, Fm=0.01, Gv=1.0, Tv=1e-4)
+    if case == "no_amplifier_lag":
+        data["Tv"] = 0.0
+    motor = DCServomotor(**data, ki=1.0 if case == "pi_current_loop" else 0.0)
+    plant = ServomotorPlant(motor, design_pi_current_loop(motor, 0.7, 2e-3)[0] if case == "pi_current_loop" else 1.0)
+    u = np.array([1.0, 0.02])                                   # a step V'_c with a load torque C_r
+    a = simulate(plant, lambda t, x: u, (0.0, 0.02), plant.x0, h=1e-6, Ts=1e-5)
+    b = simulate(plant, compiled.ConstantInput(u, plant), (0.0, 0.02), plant.x0, h=1e-6, Ts=1e-5, backend="casadi")
+    np.testing.assert_allclose(b.t, a.t, rtol=1e-14, atol=0)          # k·(10 h) against k·Ts: last-bit rounding
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(b.u, a.u)
+    assert np.max(np.abs(a["i_a"])) > 0.1 and not b.signals
+
+
+def test_constant_input_checks_its_arguments():
+    from controllers.plants import ServomotorPlant, UnicyclePlant
+    from rigid_body.actuators import DCServomotor
+
+    plant = ServomotorPlant(DCServomotor(Ra=0.2, La=2e-3, kt=0.2, kv=0.2, Im=0.0014, Fm=0.01), 1.0)
+    with pytest.raises(ValueError, match="value"):
+        compiled.ConstantInput([1.0, np.nan], plant)
+    with pytest.raises(ValueError, match="plant"):
+        compiled.ConstantInput([1.0, 0.0], UnicyclePlant())
+
+
+def test_cached_run_is_the_rollout(arm, tmp_path, monkeypatch):
+    """A loop found in the cache (a fresh process: nothing loaded) runs the code of its own rollout."""
+    monkeypatch.setattr(compiled, "CACHE", tmp_path)
+    plant, x0 = ArmPlant(arm, viscous_friction=100.0), np.r_[Q_D - 0.1, 0.2, -0.1]
+    first = compiled.CompiledLoop(plant, PDGravityCompensation(arm, 400, 40, Q_D), 1e-3, 2, 50)
+    compiled._loaded.clear()
+    loop = compiled.CompiledLoop(plant, PDGravityCompensation(arm, 500, 30, Q_D), 1e-3, 2, 50)
+    assert len(list(tmp_path.glob("rollout_*.so"))) == 1 and loop._rollout is None   # found, not rebuilt
+    other = compiled.CompiledLoop(plant, PDGravityCompensation(arm, 500, 30, Q_D), 1e-3, 2, 60)
+    assert len(list(tmp_path.glob("rollout_*.so"))) == 2                              # N is in the key
+    R, p = loop.references(0.0), loop.law.parameters
+    for got, expected in zip(loop.run(x0, R, p), loop.rollout(x0, R, p)):
+        np.testing.assert_allclose(np.asarray(got), np.asarray(expected), rtol=1e-12, atol=1e-12)
+    assert first.run(x0, R, first.law.parameters)[0].shape == (4, 50) and other.n_samples == 60

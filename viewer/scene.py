@@ -31,6 +31,12 @@ import umsgpack
 from meshcat.animation import Animation, AnimationFrameVisualizer
 from meshcat.servers.tree import SceneTree, find_node, walk
 
+from rigid_body.manipulability import Ellipsoid
+from rigid_body.robots import Robot
+from rigid_body.rotations import rotation_to_quaternion
+from rigid_body.validation import as_matrix, as_positive, as_vector
+from viewer.geometry import geometry_of
+
 
 def _import_meshcat_visualizer() -> type:
     """Pinocchio's ``MeshcatVisualizer`` without its viser backend: ``pinocchio.visualize`` imports every
@@ -63,13 +69,6 @@ def _import_meshcat_visualizer() -> type:
 
 
 MeshcatVisualizer = _import_meshcat_visualizer()
-
-from rigid_body.manipulability import Ellipsoid
-from rigid_body.robots import Robot
-from rigid_body.rotations import rotation_to_quaternion
-from rigid_body.validation import as_matrix, as_positive, as_vector
-from viewer.geometry import geometry_of
-
 MESHCAT_JS = Path(meshcat.__file__).resolve().parent / "viewer" / "dist" / "main.min.js"
 OVERLAYS = "overlays"
 

@@ -286,3 +286,21 @@ def test_repeated_instants_are_accepted_and_the_last_sample_wins():
     clips = {a["path"]: a["clip"] for c in _commands(scene) if c["type"] == "set_animation" for a in c["animations"]}
     keys = {t["name"]: t for t in clips["/meshcat/robot/frames/ee"]["tracks"]}[".position"]["keys"]
     assert np.allclose(keys[1]["value"], _tip_2r([1.0, 0.0]))
+
+
+def test_viewer_import_leaves_pinocchio_visualize_whole():
+    """viewer imports Pinocchio's MeshcatVisualizer without the viser backend; the package still
+    gives ViserVisualizer (imported on first use) when viser is installed."""
+    import importlib.util
+
+    import pinocchio.visualize as pv
+
+    from viewer.scene import MeshcatVisualizer
+
+    assert MeshcatVisualizer is pv.MeshcatVisualizer
+    assert MeshcatVisualizer.__module__ == "pinocchio.visualize.meshcat_visualizer"
+    if importlib.util.find_spec("viser") is not None:
+        from pinocchio.visualize.viser_visualizer import ViserVisualizer
+        assert pv.ViserVisualizer is ViserVisualizer and isinstance(ViserVisualizer, type)
+    with pytest.raises(AttributeError):
+        pv.NoSuchVisualizer

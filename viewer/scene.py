@@ -25,6 +25,7 @@ from typing import Any, Iterable, Mapping, Sequence
 import coal
 import meshcat
 import meshcat.geometry as mg
+import msgpack
 import numpy as np
 import pinocchio as pin
 import umsgpack
@@ -73,6 +74,18 @@ MESHCAT_JS = Path(meshcat.__file__).resolve().parent / "viewer" / "dist" / "main
 OVERLAYS = "overlays"
 
 
+def _ext(value: Any) -> msgpack.ExtType:
+    if isinstance(value, umsgpack.Ext):  # meshcat's typed arrays (Float32Array …)
+        return msgpack.ExtType(value.type, value.data)
+    raise TypeError(f"cannot pack {type(value).__name__} for meshcat")
+
+
+def _packb(data: Any) -> bytes:
+    """A meshcat command as msgpack bytes: the same bytes as meshcat's ``umsgpack.packb``, by the
+    compiled packer (an animation's keyframes are ~10⁵ floats: ~15× faster)."""
+    return msgpack.packb(data, default=_ext, use_bin_type=True)
+
+
 # --------------------------------------------------------------------------------------------------
 # The recording "window": what meshcat.Visualizer sends commands to.
 
@@ -86,7 +99,7 @@ class _Recorder:
 
     def send(self, command: Any) -> None:
         data = command.lower()
-        packed = umsgpack.packb(data)
+        packed = _packb(data)
         kind = data["type"]
         path = [p for p in data["path"].split("/") if p]
         if kind == "set_animation":

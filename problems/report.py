@@ -285,6 +285,10 @@ def _solved(problems: list, out: Path, jobs: int) -> Iterable[tuple[dict, list[s
 
     for prob in problems:  # import the chapter modules once, before the workers are forked
         getattr(prob, "function", None)
+    try:  # and the viewer, which exports the animations: one import instead of one per worker
+        import viewer  # noqa: F401
+    except ImportError:
+        pass
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else None)
     with ProcessPoolExecutor(jobs, mp_context=context) as pool:

@@ -505,11 +505,15 @@ def problem_12_7() -> Solution:
     ax = axes[1]
     free, _ = _torus_grid(space, 180)
     ax.imshow(~free.T, origin="lower", extent=[-np.pi, np.pi, -np.pi, np.pi], cmap="Greys", alpha=0.5)
+    gap = np.full((1, 2), np.nan)  # all edges in one line, split (NaN) at each edge's end and ±π crossing
+    parts = []
     for i, j in res.edges:
         seg = densify(space, res.nodes[[i, j]], 0.05)
         jumps = np.flatnonzero(np.any(np.abs(np.diff(seg, axis=0)) > np.pi, axis=1)) + 1
         for part in np.split(seg, jumps):
-            ax.plot(part[:, 0], part[:, 1], color="tab:blue", lw=0.6)
+            parts += [part, gap]
+    edges_xy = np.concatenate(parts)
+    ax.plot(edges_xy[:, 0], edges_xy[:, 1], color="tab:blue", lw=0.6)
     ax.plot(res.nodes[:, 0], res.nodes[:, 1], ".", color="tab:blue", label="roadmap")
     P = densify(space, res.path, 0.02)
     jumps = np.flatnonzero(np.any(np.abs(np.diff(P, axis=0)) > np.pi, axis=1)) + 1

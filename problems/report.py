@@ -28,6 +28,7 @@ from problems.format import format_value_html
 __all__ = ["to_json", "solution_dict", "save_figures", "figure_png", "solution_html", "write_report"]
 
 FIGURE_DPI = 90  # the report's PNG files
+PNG_COMPRESS_LEVEL = 3  # zlib level: ~1/3 less encoding time than the default 6, files ~4 % larger
 INLINE_DPI = 72  # a notebook's inline figures (notebooks are committed with their outputs: keep them small)
 
 
@@ -74,7 +75,7 @@ def save_figures(sol: Any, directory: Path) -> list[str]:
     names = []
     for k, fig in enumerate(sol.figures):
         name = _figure_name(sol, k, fig)
-        fig.savefig(directory / name, dpi=FIGURE_DPI)
+        fig.savefig(directory / name, dpi=FIGURE_DPI, pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
         names.append(name)
     return names
 
@@ -82,7 +83,7 @@ def save_figures(sol: Any, directory: Path) -> list[str]:
 def figure_png(fig: Any, dpi: int = FIGURE_DPI) -> bytes:
     """The figure as PNG bytes (no file, no pyplot: works for a bare ``matplotlib.figure.Figure``)."""
     buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=dpi)
+    fig.savefig(buffer, format="png", dpi=dpi, pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
     return buffer.getvalue()
 
 
@@ -284,6 +285,10 @@ def _solved(problems: list, out: Path, jobs: int) -> Iterable[tuple[dict, list[s
 
     for prob in problems:  # import the chapter modules once, before the workers are forked
         getattr(prob, "function", None)
+    try:  # and the viewer, which exports the animations: one import instead of one per worker
+        import viewer  # noqa: F401
+    except ImportError:
+        pass
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else None)
     with ProcessPoolExecutor(jobs, mp_context=context) as pool:

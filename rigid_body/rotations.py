@@ -362,25 +362,23 @@ def rotation_to_quaternion(R: Any) -> np.ndarray:
     (e.g. 4 η εx = r32 − r23, 4 εx εy = r12 + r21), which is exact for every R. Then Q is flipped
     so that η ≥ 0 (Q and −Q are the same rotation).
     """
-    R = as_rotation(R)
-    r11, r22, r33 = R[0, 0], R[1, 1], R[2, 2]
-    squares = 0.25 * np.array([1 + r11 + r22 + r33, 1 + r11 - r22 - r33, 1 - r11 + r22 - r33,
-                               1 - r11 - r22 + r33])  # η², εx², εy², εz²  (2.34)–(2.35)
-    d = R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]  # 4η ε
-    p = R[0, 1] + R[1, 0], R[0, 2] + R[2, 0], R[1, 2] + R[2, 1]  # 4 εx εy, 4 εx εz, 4 εy εz
-    k = int(np.argmax(squares))
-    m = np.sqrt(max(squares[k], 0.0))
+    (r11, r12, r13), (r21, r22, r23), (r31, r32, r33) = as_rotation(R).tolist()  # Python floats: 3×3 only
+    squares = [0.25 * (1 + r11 + r22 + r33), 0.25 * (1 + r11 - r22 - r33), 0.25 * (1 - r11 + r22 - r33),
+               0.25 * (1 - r11 - r22 + r33)]  # η², εx², εy², εz²  (2.34)–(2.35)
+    d = r32 - r23, r13 - r31, r21 - r12  # 4η ε
+    p = r12 + r21, r13 + r31, r23 + r32  # 4 εx εy, 4 εx εz, 4 εy εz
+    k = squares.index(max(squares))
+    m = math.sqrt(max(squares[k], 0.0))
     f = 0.25 / m
     if k == 0:
-        Q = np.array([m, f * d[0], f * d[1], f * d[2]])
+        Q = [m, f * d[0], f * d[1], f * d[2]]
     elif k == 1:
-        Q = np.array([f * d[0], m, f * p[0], f * p[1]])
+        Q = [f * d[0], m, f * p[0], f * p[1]]
     elif k == 2:
-        Q = np.array([f * d[1], f * p[0], m, f * p[2]])
+        Q = [f * d[1], f * p[0], m, f * p[2]]
     else:
-        Q = np.array([f * d[2], f * p[1], f * p[2], m])
-    if Q[0] < 0:
-        Q = -Q
+        Q = [f * d[2], f * p[1], f * p[2], m]
+    Q = np.array(Q) if Q[0] >= 0 else -np.array(Q)
     return Q / np.linalg.norm(Q)
 
 

@@ -302,11 +302,13 @@ def joint_rates(robot: Robot, q: Any, xd: Any, xdd: Any, rows: Sequence[int] = t
     xd, xdd = as_vector(xd, len(rows), "xd"), as_vector(xdd, len(rows), "xdd")
     model, data, fid = robot.model, robot.data, robot.frame(frame)
     J = _frame_state(model, data, fid, q, None).J[rows]
-    if np.linalg.cond(J) > 1e12:
+    U, s, Vt = np.linalg.svd(J)               # one factorisation: the singularity test and J⁻¹ = V Σ⁻¹ Uᵀ
+    if not s[-1] > 1e-12 * s[0]:              # condition number σ_max/σ_min above 1e12 (or NaN)
         raise ValueError(f"the task Jacobian is singular at q = {q}: J⁻¹ is not defined")
-    qd = np.linalg.solve(J, xd)
+    J_inv = (Vt.T / s) @ U.T
+    qd = J_inv @ xd
     Jdot_qd = _frame_state(model, data, fid, q, qd).Jdot_qd[rows]    # J̇ q̇ needs the q̇ just found
-    return qd, np.linalg.solve(J, xdd - Jdot_qd)
+    return qd, J_inv @ (xdd - Jdot_qd)
 
 
 def joint_reference(robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.ndarray], law: Any,

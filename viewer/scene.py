@@ -15,6 +15,9 @@ from __future__ import annotations
 
 import base64
 import html as html_lib
+import importlib
+import sys
+import types
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable, Mapping, Sequence
@@ -22,12 +25,12 @@ from typing import Any, Iterable, Mapping, Sequence
 import coal
 import meshcat
 import meshcat.geometry as mg
+import msgpack
 import numpy as np
 import pinocchio as pin
 import umsgpack
 from meshcat.animation import Animation, AnimationFrameVisualizer
 from meshcat.servers.tree import SceneTree, find_node, walk
-from pinocchio.visualize import MeshcatVisualizer
 
 from rigid_body.manipulability import Ellipsoid
 from rigid_body.robots import Robot
@@ -35,8 +38,52 @@ from rigid_body.rotations import rotation_to_quaternion
 from rigid_body.validation import as_matrix, as_positive, as_vector
 from viewer.geometry import geometry_of
 
+
+def _import_meshcat_visualizer() -> type:
+    """Pinocchio's ``MeshcatVisualizer`` without its viser backend: ``pinocchio.visualize`` imports every
+    backend, and viser's (viser + trimesh) costs ~0.6 s in each process that draws (a report worker).
+    A placeholder stands in for ``pinocchio.visualize.viser_visualizer`` during the package import and is
+    removed after; ``pinocchio.visualize.ViserVisualizer`` is then imported for real on first use."""
+    if "pinocchio.visualize" in sys.modules:
+        return sys.modules["pinocchio.visualize"].MeshcatVisualizer
+    name = "pinocchio.visualize.viser_visualizer"
+    placeholder = types.ModuleType(name)
+    placeholder.ViserVisualizer = None
+    sys.modules[name] = placeholder
+    try:
+        package = importlib.import_module("pinocchio.visualize")
+    finally:
+        if sys.modules.get(name) is placeholder:
+            del sys.modules[name]
+    for attribute in ("ViserVisualizer", "viser_visualizer"):
+        if package.__dict__.get(attribute) in (None, placeholder):
+            package.__dict__.pop(attribute, None)
+
+    def lazy_viser(attribute: str) -> Any:
+        if attribute in ("ViserVisualizer", "viser_visualizer"):
+            module = importlib.import_module(name)
+            return module if attribute == "viser_visualizer" else module.ViserVisualizer
+        raise AttributeError(f"module 'pinocchio.visualize' has no attribute {attribute!r}")
+
+    package.__getattr__ = lazy_viser
+    return package.MeshcatVisualizer
+
+
+MeshcatVisualizer = _import_meshcat_visualizer()
 MESHCAT_JS = Path(meshcat.__file__).resolve().parent / "viewer" / "dist" / "main.min.js"
 OVERLAYS = "overlays"
+
+
+def _ext(value: Any) -> msgpack.ExtType:
+    if isinstance(value, umsgpack.Ext):  # meshcat's typed arrays (Float32Array …)
+        return msgpack.ExtType(value.type, value.data)
+    raise TypeError(f"cannot pack {type(value).__name__} for meshcat")
+
+
+def _packb(data: Any) -> bytes:
+    """A meshcat command as msgpack bytes: the same bytes as meshcat's ``umsgpack.packb``, by the
+    compiled packer (an animation's keyframes are ~10⁵ floats: ~15× faster)."""
+    return msgpack.packb(data, default=_ext, use_bin_type=True)
 
 
 # --------------------------------------------------------------------------------------------------
@@ -52,7 +99,7 @@ class _Recorder:
 
     def send(self, command: Any) -> None:
         data = command.lower()
-        packed = umsgpack.packb(data)
+        packed = _packb(data)
         kind = data["type"]
         path = [p for p in data["path"].split("/") if p]
         if kind == "set_animation":

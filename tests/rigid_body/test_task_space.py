@@ -102,6 +102,10 @@ def test_joint_rates_against_the_two_link_closed_form(rng):
         np.testing.assert_allclose(arm2.jacobian(q) @ qdd + arm2.jacobian_derivative_times_qd(q, qd), xdd, atol=1e-10)
     with pytest.raises(ValueError, match="singular"):
         joint_rates(robot, [0.3, 0.0], [1.0, 0.0], [0.0, 0.0], rows=(0, 1))
+    with pytest.raises(ValueError, match="singular"):  # σ_min/σ_max ≈ 1e-13: condition number above 1e12
+        joint_rates(robot, [0.3, 2e-13], [1.0, 0.0], [0.0, 0.0], rows=(0, 1))
+    with pytest.raises(ValueError, match="singular"):  # rows z, ω_x of a planar arm: J = 0
+        joint_rates(robot, [0.3, 1.0], [1.0, 0.0], [0.0, 0.0], rows=(2, 3))
     with pytest.raises(ValueError, match="rows"):
         joint_rates(robot, [0.3, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0], rows=(0, 1, 2))
 

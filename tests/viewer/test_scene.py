@@ -286,3 +286,39 @@ def test_repeated_instants_are_accepted_and_the_last_sample_wins():
     clips = {a["path"]: a["clip"] for c in _commands(scene) if c["type"] == "set_animation" for a in c["animations"]}
     keys = {t["name"]: t for t in clips["/meshcat/robot/frames/ee"]["tracks"]}[".position"]["keys"]
     assert np.allclose(keys[1]["value"], _tip_2r([1.0, 0.0]))
+
+
+def test_viewer_import_leaves_pinocchio_visualize_whole():
+    """viewer imports Pinocchio's MeshcatVisualizer without the viser backend; the package still
+    gives ViserVisualizer (imported on first use) when viser is installed."""
+    import importlib.util
+
+    import pinocchio.visualize as pv
+
+    from viewer.scene import MeshcatVisualizer
+
+    assert MeshcatVisualizer is pv.MeshcatVisualizer
+    assert MeshcatVisualizer.__module__ == "pinocchio.visualize.meshcat_visualizer"
+    if importlib.util.find_spec("viser") is not None:
+        from pinocchio.visualize.viser_visualizer import ViserVisualizer
+        assert pv.ViserVisualizer is ViserVisualizer and isinstance(ViserVisualizer, type)
+    with pytest.raises(AttributeError):
+        pv.NoSuchVisualizer
+
+
+def test_commands_packed_as_meshcat_packs_them():
+    """viewer packs with the compiled msgpack: byte for byte what meshcat's umsgpack.packb gives, for
+    typed arrays (Ext), floats, ints of every width, strings, bytes, booleans, None, nested maps."""
+    import meshcat.geometry as mg
+
+    from viewer.scene import _packb
+
+    mesh = mg.Mesh(mg.Box([0.1, 0.2, 0.3]), mg.MeshPhongMaterial(color=0xFF0000))
+    data = {"type": "set_object", "path": "/overlays/box", "object": mesh.lower(),
+            "misc": [0, 1, -1, -33, 127, 128, 255, 256, 70000, -70000, 2**33, -2**40, 2**63, 0.1, -2.5e-300,
+                     1e300, True, False, None, "é" * 40, b"\x00\x01" * 200, list(range(20)),
+                     {str(k): k / 3 for k in range(20)}],
+            "points": mg.PointsGeometry(np.arange(12.0).reshape(3, 4)).lower({})}
+    assert _packb(data) == umsgpack.packb(data)
+    with pytest.raises(TypeError, match="cannot pack"):
+        _packb({"bad": object()})

@@ -15,9 +15,6 @@ from __future__ import annotations
 
 import base64
 import html as html_lib
-import importlib
-import sys
-import types
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable, Mapping, Sequence
@@ -31,6 +28,7 @@ import pinocchio as pin
 import umsgpack
 from meshcat.animation import Animation, AnimationFrameVisualizer
 from meshcat.servers.tree import SceneTree, find_node, walk
+from pinocchio.visualize import MeshcatVisualizer
 
 from rigid_body.manipulability import Ellipsoid
 from rigid_body.robots import Robot
@@ -39,37 +37,6 @@ from rigid_body.validation import as_matrix, as_positive, as_vector
 from viewer.geometry import geometry_of
 
 
-def _import_meshcat_visualizer() -> type:
-    """Pinocchio's ``MeshcatVisualizer`` without its viser backend: ``pinocchio.visualize`` imports every
-    backend, and viser's (viser + trimesh) costs ~0.6 s in each process that draws (a report worker).
-    A placeholder stands in for ``pinocchio.visualize.viser_visualizer`` during the package import and is
-    removed after; ``pinocchio.visualize.ViserVisualizer`` is then imported for real on first use."""
-    if "pinocchio.visualize" in sys.modules:
-        return sys.modules["pinocchio.visualize"].MeshcatVisualizer
-    name = "pinocchio.visualize.viser_visualizer"
-    placeholder = types.ModuleType(name)
-    placeholder.ViserVisualizer = None
-    sys.modules[name] = placeholder
-    try:
-        package = importlib.import_module("pinocchio.visualize")
-    finally:
-        if sys.modules.get(name) is placeholder:
-            del sys.modules[name]
-    for attribute in ("ViserVisualizer", "viser_visualizer"):
-        if package.__dict__.get(attribute) in (None, placeholder):
-            package.__dict__.pop(attribute, None)
-
-    def lazy_viser(attribute: str) -> Any:
-        if attribute in ("ViserVisualizer", "viser_visualizer"):
-            module = importlib.import_module(name)
-            return module if attribute == "viser_visualizer" else module.ViserVisualizer
-        raise AttributeError(f"module 'pinocchio.visualize' has no attribute {attribute!r}")
-
-    package.__getattr__ = lazy_viser
-    return package.MeshcatVisualizer
-
-
-MeshcatVisualizer = _import_meshcat_visualizer()
 MESHCAT_JS = Path(meshcat.__file__).resolve().parent / "viewer" / "dist" / "main.min.js"
 OVERLAYS = "overlays"
 

@@ -288,24 +288,6 @@ def test_repeated_instants_are_accepted_and_the_last_sample_wins():
     assert np.allclose(keys[1]["value"], _tip_2r([1.0, 0.0]))
 
 
-def test_viewer_import_leaves_pinocchio_visualize_whole():
-    """viewer imports Pinocchio's MeshcatVisualizer without the viser backend; the package still
-    gives ViserVisualizer (imported on first use) when viser is installed."""
-    import importlib.util
-
-    import pinocchio.visualize as pv
-
-    from viewer.scene import MeshcatVisualizer
-
-    assert MeshcatVisualizer is pv.MeshcatVisualizer
-    assert MeshcatVisualizer.__module__ == "pinocchio.visualize.meshcat_visualizer"
-    if importlib.util.find_spec("viser") is not None:
-        from pinocchio.visualize.viser_visualizer import ViserVisualizer
-        assert pv.ViserVisualizer is ViserVisualizer and isinstance(ViserVisualizer, type)
-    with pytest.raises(AttributeError):
-        pv.NoSuchVisualizer
-
-
 def test_commands_packed_as_meshcat_packs_them():
     """viewer packs with the compiled msgpack: byte for byte what meshcat's umsgpack.packb gives, for
     typed arrays (Ext), floats, ints of every width, strings, bytes, booleans, None, nested maps."""

@@ -265,11 +265,12 @@ class ActionExecutor:
         opts = self.options
         if law.t_i < self.t - 1e-12:
             raise ValueError(f"the motion starts at t = {law.t_i} s, before the executor's time {self.t} s")
+        t_f = self.t + opts.Ts * np.ceil((law.t_f - self.t) / opts.Ts - 1e-9)
+        samples = self.t + np.arange(int(np.floor((t_f - self.t) / opts.Ts + 1e-9)) + 1) * opts.Ts
         reference = joint_reference(self.robot, self.ik, law, position_rows, orientation, jacobian_rows,
-                                    self.x[:self.robot.nq])
+                                    self.x[:self.robot.nq], times=samples)   # open loop: computed before the loop
         model = self._model()
         controller = InverseDynamicsControl(model, opts.K_P, opts.K_D, reference, viscous_friction=self.Fv)
-        t_f = self.t + opts.Ts * np.ceil((law.t_f - self.t) / opts.Ts - 1e-9)
         res = simulate(ArmPlant(model, viscous_friction=self.Fv), controller, (self.t, t_f), self.x, h=opts.h, Ts=opts.Ts)
         self._segments.append((step, res))
         self.x, self.t = res.x[-1].copy(), float(res.t[-1])

@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import lru_cache
 from math import isfinite
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 import pinocchio as pin
@@ -283,6 +283,96 @@ def inverse_kinematics_planar_3r(x: np.ndarray, links: Sequence[DHLink | dict] |
     T[:3, :3] = rot_z(phi)
     T[:2, 3] = px, py
     return _checked(links, qs, T, np.ones((4, 4), bool), "three-link planar arm")
+
+
+def _two_link_batch(px: np.ndarray, py: np.ndarray, a1: float, a2: float, robot: str) -> np.ndarray:
+    """:func:`_two_link` at N points at once: (N, 2, 2), rows [s2 < 0, s2 > 0] of each point (θ1 = 0 where
+    it is arbitrary)."""
+    c2 = (px**2 + py**2 - a1**2 - a2**2) / (2.0 * a1 * a2)
+    far = ~(np.abs(c2) <= 1.0 + 1e-12)
+    if far.any():
+        k = int(np.argmax(far))
+        raise ValueError(f"point {k} unreachable by the {robot}: distance {np.hypot(px[k], py[k]):.6g} m from "
+                         f"joint 1 is outside [|a1 - a2|, a1 + a2] = [{abs(a1 - a2):.6g}, {a1 + a2:.6g}] m")
+    c2 = np.clip(c2, -1.0, 1.0)
+    c2 = np.where(1.0 - np.abs(c2) < 1e-12, np.sign(c2), c2)                 # as _snap_cosine
+    out = np.empty((c2.size, 2, 2))
+    for row, s2 in enumerate((-np.sqrt(1.0 - c2**2), np.sqrt(1.0 - c2**2))):
+        k1, k2 = a1 + a2 * c2, a2 * s2
+        t1 = np.arctan2(k1 * py - k2 * px, k1 * px + k2 * py)
+        arbitrary = (np.abs(k1) < 1e-12) & (np.abs(k2) < 1e-12) & (np.abs(px) < 1e-12) & (np.abs(py) < 1e-12)
+        out[:, row, 0] = np.where(arbitrary, 0.0, t1)
+        out[:, row, 1] = np.arctan2(s2, c2)
+    return out
+
+
+def _dh_product_batch(links: Sequence[DHLink], Q: np.ndarray) -> np.ndarray:
+    """The DH product (2.50) A_1(q_1) ⋯ A_n(q_n), Eq. (2.52) per link, at M configurations Q (M, n): (M, 4, 4)."""
+    T = np.broadcast_to(np.eye(4), (Q.shape[0], 4, 4))
+    for link, q in zip(links, Q.T):
+        theta = link.theta + q if link.joint == "revolute" else np.full_like(q, link.theta)
+        d = link.d + q if link.joint == "prismatic" else np.full_like(q, link.d)
+        ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(link.alpha), np.sin(link.alpha)
+        A = np.zeros((Q.shape[0], 4, 4))
+        A[:, 0, 0], A[:, 0, 1], A[:, 0, 2], A[:, 0, 3] = ct, -st * ca, st * sa, link.a * ct
+        A[:, 1, 0], A[:, 1, 1], A[:, 1, 2], A[:, 1, 3] = st, ct * ca, -ct * sa, link.a * st
+        A[:, 2, 1], A[:, 2, 2], A[:, 2, 3], A[:, 3, 3] = sa, ca, d, 1.0
+        T = T @ A
+    return T
+
+
+def inverse_kinematics_planar_3r_batch(X: np.ndarray, links: Sequence[DHLink | dict] | None = None,
+                                       **params) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`inverse_kinematics_planar_3r` at N poses X (N, 3) = [px, py, φ] in one vectorised pass.
+
+    Returns ``(Q, valid)``: Q (N, 2, 3) both solutions of each pose in the same row order
+    [ELBOW_UP, ELBOW_DOWN] (revolute angles shifted by 2π into the joint limits as
+    :func:`_within_limits` does) and ``valid`` (N, 2), the rows within the limits — the rows the
+    per-pose solver returns. The DH product of every row is checked against the pose; ValueError
+    naming the first unreachable pose.
+    """
+    links = _book_structure(_arm_links(links, "planar_3r", params), "planar_3r", "three-link planar arm")
+    X = np.asarray(X, dtype=float)
+    if X.ndim != 2 or X.shape[1] != 3 or not np.isfinite(X).all():
+        raise ValueError(f"`X` must be a finite (N, 3) array of poses [px, py, φ], got shape {X.shape}")
+    px, py, phi = X.T
+    a1, a2, a3 = (link.a for link in links)
+    Q = np.empty((X.shape[0], 2, 3))
+    Q[:, :, :2] = _two_link_batch(px - a3 * np.cos(phi), py - a3 * np.sin(phi), a1, a2, "three-link planar arm")
+    Q[:, :, 2] = phi[:, None] - Q[:, :, :2].sum(axis=2)
+    Q = wrap_angle(Q)
+    T = _dh_product_batch(links, Q.reshape(-1, 3)).reshape(-1, 2, 4, 4)
+    c, s = np.cos(phi)[:, None], np.sin(phi)[:, None]
+    err = np.max(np.abs(np.stack([T[..., 0, 0] - c, T[..., 0, 1] + s, T[..., 1, 0] - s, T[..., 1, 1] - c,
+                                  T[..., 2, 2] - 1.0, T[..., 0, 3] - px[:, None], T[..., 1, 3] - py[:, None],
+                                  T[..., 2, 3], T[..., 0, 2], T[..., 1, 2], T[..., 2, 0], T[..., 2, 1]])), axis=0)
+    if not (err <= IK_TOL).all():
+        k = int(np.argmax(~(err <= IK_TOL).all(axis=1)))
+        raise ValueError(f"pose {k} unreachable by the three-link planar arm: closed-form residual "
+                         f"{err[k].max():.3g} > {IK_TOL:g}")
+    valid = np.ones(Q.shape[:2], bool)
+    for k, link in enumerate(links):                     # :func:`_within_limits`, on whole columns
+        lo = -np.inf if link.lower is None else link.lower
+        hi = np.inf if link.upper is None else link.upper
+        if not (isfinite(lo) or isfinite(hi)):
+            continue
+        q = Q[..., k]
+        if link.joint == "revolute":
+            base = lo if isfinite(lo) else -np.pi
+            shifted = base + (q - base) % (2 * np.pi)
+            q[:] = np.where(((q < lo - IK_TOL) | (q > hi + IK_TOL)) & (shifted <= hi + IK_TOL), shifted, q)
+        valid &= (lo - IK_TOL <= q) & (q <= hi + IK_TOL)
+    if not valid.any(axis=1).all():
+        k = int(np.argmin(valid.any(axis=1)))
+        raise ValueError(f"pose {k} unreachable by the three-link planar arm within its joint limits: every "
+                         f"closed-form solution {np.round(Q[k], 4).tolist()} violates them")
+    return Q, valid
+
+
+def batch_inverse_kinematics(inverse_kinematics: Any) -> Any:
+    """The vectorised form ``X (N, m) -> (Q (N, k, n), valid (N, k))`` of a closed-form solver of this
+    module (same solutions, same row order), or None when it has none."""
+    return _BATCH.get(inverse_kinematics)
 
 
 def inverse_kinematics_scara(x: np.ndarray, links: Sequence[DHLink | dict] | None = None, **params) -> np.ndarray:
@@ -595,3 +685,6 @@ def planar_3r_workspace_contour(robot: Robot, n: int = 60) -> WorkspaceContour:
     ]
     points = np.vstack([arc[:-1, :2] for arc in arcs] + [arcs[0][:1, :2]])
     return WorkspaceContour(points, cfg, corner)
+
+
+_BATCH = {inverse_kinematics_planar_3r: inverse_kinematics_planar_3r_batch}

@@ -33,6 +33,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 import pinocchio as pin
 
+from rigid_body.kinematics import batch_inverse_kinematics
 from rigid_body.robots import Robot, revolute_joints
 from rigid_body.rotations import _axis_angle_error, _orientation_error_matrix  # unvalidated kernels (hot loop)
 from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz, orientation_error_quaternion,
@@ -313,13 +314,19 @@ def joint_rates(robot: Robot, q: Any, xd: Any, xdd: Any, rows: Sequence[int] = t
 
 def joint_reference(robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.ndarray], law: Any,
                     position_rows: Sequence[int], orientation: Sequence[float], jacobian_rows: Sequence[int],
-                    q_near: Any) -> Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]:
+                    q_near: Any, times: Any = None) -> Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """Joint reference (q_d, q̇_d, q̈_d)(t) of an operational motion with constant orientation.
 
     q_d: closed-form IK of ``[p[position_rows], *orientation]``, the solution nearest to the previous
     one (starting from ``q_near``; revolute joints shifted by 2π to it); q̇_d, q̈_d by
     :func:`joint_rates` with J the ``jacobian_rows`` of the geometric Jacobian — square for a
     non-redundant task (e.g. x, y, ω_z of a planar three-link arm). ``law`` is ``t -> (p, ṗ, p̈)``.
+
+    ``times`` (the controller's sample instants, increasing): the reference is open loop, so it is
+    computed there before the loop in one pass (``law`` at all the times, the vectorised IK of
+    :func:`~rigid_body.kinematics.batch_inverse_kinematics` when the solver has one, the same nearest
+    branch, :func:`joint_rates_at`); the returned function reads the rows at those instants and
+    solves per sample elsewhere (starting from the row of the nearest instant).
     """
     rows = list(position_rows)
     jrows = list(jacobian_rows)
@@ -346,7 +353,60 @@ def joint_reference(robot: Robot, inverse_kinematics: Callable[[np.ndarray], np.
         qd, qdd = joint_rates(robot, q, np.concatenate([pd[rows], zero]), np.concatenate([pdd[rows], zero]), jrows)
         return q, qd, qdd
 
-    return reference
+    if times is None:
+        return reference
+    ts = as_vector(times, None, "times")
+    if ts.size == 0 or np.any(np.diff(ts) <= 0):
+        raise ValueError("`times` must be a non-empty increasing vector of sample instants")
+    P, Pd, Pdd = (np.asarray(v, dtype=float).reshape(ts.size, -1) for v in law(ts))
+    N = ts.size
+    X = np.column_stack([P[:, rows], np.broadcast_to(phi, (N, n_o))])
+    batch = batch_inverse_kinematics(inverse_kinematics)
+    if batch is not None:
+        Q_all, valid = batch(X)
+        candidates = [Q_all[k][valid[k]] for k in range(N)]
+    else:
+        candidates = [np.atleast_2d(inverse_kinematics(x)) for x in X]
+    Q = np.empty((N, robot.nq))
+    for k, sols in enumerate(candidates):                 # the branch nearest the previous one, as above
+        sols = nearest(sols)
+        last[0] = Q[k] = sols[np.argmin(np.linalg.norm(sols - last[0], axis=1))]
+    zeros = np.zeros((N, n_o))
+    Qd, Qdd = joint_rates_at(robot, Q, np.hstack([Pd[:, rows], zeros]), np.hstack([Pdd[:, rows], zeros]), jrows)
+    t0, span = ts[0], ts[-1] - ts[0]
+    step = span / (N - 1) if N > 1 else 1.0
+
+    def sampled(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        k = min(max(int(round((t - t0) / step)), 0), N - 1)
+        if abs(ts[k] - t) <= 1e-9 * step:
+            return Q[k], Qd[k], Qdd[k]
+        last[0] = Q[k]
+        return reference(t)
+
+    return sampled
+
+
+def joint_rates_at(robot: Robot, Q: Any, XD: Any, XDD: Any, rows: Sequence[int] = tuple(range(6)),
+                   frame: str | int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`joint_rates` at N configurations Q (N, n) with task rates XD, XDD (N, len(rows)):
+    (Q̇, Q̈) each (N, n). ValueError naming the first singular sample."""
+    rows = list(rows)
+    N = len(Q)
+    Q = as_matrix(Q, (N, robot.nq), "Q")
+    if len(rows) != robot.nv:
+        raise ValueError(f"`rows` must select {robot.nv} components (a square task Jacobian), got {len(rows)}")
+    XD, XDD = as_matrix(XD, (N, len(rows)), "XD"), as_matrix(XDD, (N, len(rows)), "XDD")
+    model, data, fid = robot.model, robot.data, robot.frame(frame)
+    J = np.array([_frame_state(model, data, fid, q, None).J[rows] for q in Q])
+    U, s, Vt = np.linalg.svd(J)
+    singular = ~(s[:, -1] > 1e-12 * s[:, 0])
+    if singular.any():
+        k = int(np.argmax(singular))
+        raise ValueError(f"the task Jacobian is singular at sample {k}, q = {Q[k]}: J⁻¹ is not defined")
+    J_inv = (np.swapaxes(Vt, 1, 2) / s[:, None, :]) @ np.swapaxes(U, 1, 2)
+    Qd = np.einsum("kij,kj->ki", J_inv, XD)
+    Jdot_qd = np.array([_frame_state(model, data, fid, q, qd).Jdot_qd[rows] for q, qd in zip(Q, Qd)])
+    return Qd, np.einsum("kij,kj->ki", J_inv, XDD - Jdot_qd)
 
 
 # --------------------------------------------------------------------------------------------

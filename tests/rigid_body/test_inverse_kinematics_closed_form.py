@@ -260,3 +260,36 @@ def test_workspace_points_stay_within_reach():
         kin.workspace_points(robot, 10, 0)
     with pytest.raises(ValueError, match="`q_end`"):
         kin.joint_arc(robot, np.zeros(3), 0, np.nan)
+
+
+# --------------------------------------------------------------------------------------------
+# The vectorised planar three-link solver against the per-pose one
+# --------------------------------------------------------------------------------------------
+
+def test_planar_3r_batch_matches_the_per_pose_solver():
+    """Same solutions (to 1e-12), same row order, same rows kept by the joint limits, pose by pose."""
+    rng = np.random.default_rng(7)
+    robot = load("planar_3r")
+    Q0 = rng.uniform(robot.lower, robot.upper, size=(400, 3))
+    X = np.array([[*fk(robot, q)[:2, 3], np.arctan2(fk(robot, q)[1, 0], fk(robot, q)[0, 0])] for q in Q0])
+    Q, valid = kin.inverse_kinematics_planar_3r_batch(X)
+    assert Q.shape == (400, 2, 3) and valid.shape == (400, 2)
+    assert (~valid).any(), "some poses must have a branch outside the limits, or the filter is not exercised"
+    for x, q, ok in zip(X, Q, valid):
+        np.testing.assert_allclose(q[ok], kin.inverse_kinematics_planar_3r(x), rtol=0, atol=1e-12)
+
+
+def test_planar_3r_batch_rejects_what_the_per_pose_solver_rejects():
+    robot = load("planar_3r")
+    T = fk(robot, np.array([0.2, 0.5, -0.3]))
+    inside = [T[0, 3], T[1, 3], np.arctan2(T[1, 0], T[0, 0])]
+    for pose, why in (([1.5, 0.0, 0.0], "pose 1 unreachable|point 1 unreachable"),   # beyond the reach
+                      ([0.6, 0.0, 0.0], "pose 1 unreachable .* within its joint limits")):  # both branches out
+        with pytest.raises(ValueError):
+            kin.inverse_kinematics_planar_3r(np.array(pose))
+        with pytest.raises(ValueError, match=why):
+            kin.inverse_kinematics_planar_3r_batch(np.array([inside, pose]))
+    with pytest.raises(ValueError, match="`X`"):
+        kin.inverse_kinematics_planar_3r_batch(np.zeros((4, 2)))
+    assert kin.batch_inverse_kinematics(kin.inverse_kinematics_planar_3r) is kin.inverse_kinematics_planar_3r_batch
+    assert kin.batch_inverse_kinematics(kin.inverse_kinematics_scara) is None

@@ -10,6 +10,7 @@ from rigid_body.kinematics import direct_kinematics, geometric_jacobian, jacobia
 from rigid_body.robots import load
 from rigid_body.rotations import axis_angle_to_rotation, rotation_to_rpy
 from rigid_body.task_space import (FrameState, TaskSpace, damped_least_squares_inverse, frame_state, joint_rates,
+                                   joint_reference,
                                    orientation_error, pose_error, pose_residual, weighted_pseudo_inverse)
 
 
@@ -122,3 +123,54 @@ def test_bad_inputs_raise(panda):
     with pytest.raises(ValueError, match="rows"):
         TaskSpace(orientation="none", rows=(0, 4))
     assert isinstance(frame_state(panda, np.zeros(7)), FrameState)
+
+
+# --------------------------------------------------------------------------------------------
+# joint_reference computed at the sample instants before the loop
+# --------------------------------------------------------------------------------------------
+
+class CircleLaw:
+    """p(t) on a circle of the planar arm's workspace (scalar t or an array of N times → (N, 3))."""
+    t_i, t_f = 0.0, 1.0
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        w, c, r = 2.0, np.array([0.6, -0.2]), 0.12
+        a = w * t
+        p = np.stack([c[0] + r * np.cos(a), c[1] + r * np.sin(a), 0 * a], axis=-1)
+        pd = np.stack([-r * w * np.sin(a), r * w * np.cos(a), 0 * a], axis=-1)
+        pdd = np.stack([-r * w * w * np.cos(a), -r * w * w * np.sin(a), 0 * a], axis=-1)
+        return p, pd, pdd
+
+
+def test_joint_reference_at_sample_times_matches_the_per_sample_reference():
+    from rigid_body.kinematics import inverse_kinematics_planar_3r
+    robot = load("planar_3r")
+    law = CircleLaw()
+    q0 = inverse_kinematics_planar_3r(np.array([*law(0.0)[0][:2], -np.pi / 2]))[0]
+    args = (robot, inverse_kinematics_planar_3r, law, (0, 1), (-np.pi / 2,), (0, 1, 5), q0)
+    times = np.arange(501) * 2e-3
+    per_sample, at_times = joint_reference(*args), joint_reference(*args, times=times)
+    for t in times:
+        for a, b in zip(per_sample(t), at_times(t)):
+            np.testing.assert_allclose(b, a, rtol=1e-12, atol=1e-12)
+    a, b = per_sample(0.5011), at_times(0.5011)            # between samples: solved there
+    np.testing.assert_allclose(b[0], a[0], atol=1e-12)
+    with pytest.raises(ValueError, match="`times`"):
+        joint_reference(*args, times=[0.0, 0.0])
+
+
+def test_joint_rates_at_matches_joint_rates_and_names_a_singular_sample():
+    from rigid_body.task_space import joint_rates_at
+    robot = load("planar_3r")
+    rng = np.random.default_rng(3)
+    Q = rng.uniform(robot.lower, robot.upper, size=(20, 3))
+    XD, XDD = rng.normal(size=(20, 3)), rng.normal(size=(20, 3))
+    Qd, Qdd = joint_rates_at(robot, Q, XD, XDD, (0, 1, 5))
+    for q, xd, xdd, qd, qdd in zip(Q, XD, XDD, Qd, Qdd):
+        ref = joint_rates(robot, q, xd, xdd, (0, 1, 5))
+        np.testing.assert_allclose(qd, ref[0], rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(qdd, ref[1], rtol=1e-12, atol=1e-12)
+    Q[7, 1] = 0.0                                           # stretched elbow: J singular
+    with pytest.raises(ValueError, match="sample 7"):
+        joint_rates_at(robot, Q, XD, XDD, (0, 1, 5))

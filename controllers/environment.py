@@ -180,25 +180,33 @@ class SurfaceWithHole(ContactEnvironment):
     stiffness: float = 2e4
     damping: float = 50.0
 
-    def force(self, p: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """Force (f_x, f_y) exerted by the environment on the peg tip at position p, velocity v."""
-        x, y = p
+    def reaction(self, x: float, y: float, v_x: float, v_y: float) -> tuple[float, float] | None:
+        """(f_x, f_y) exerted by the environment on the peg tip at (x, y) moving at (v_x, v_y), on floats;
+        None when out of contact."""
         if y >= 0.0:
-            return np.zeros(2)
+            return None
         offset = x - self.x_hole
         into_wall = abs(offset) - self.clearance
         if into_wall <= 0.0:                                        # inside the hole opening
             pen = -self.depth - y
             if pen <= 0.0:
-                return np.zeros(2)
-            return np.array([0.0, max(self.stiffness * pen - self.damping * v[1], 0.0)])
+                return None
+            return 0.0, max(self.stiffness * pen - self.damping * v_y, 0.0)
         if -y <= into_wall:                                         # on the top surface
-            return np.array([0.0, max(self.stiffness * (-y) - self.damping * v[1], 0.0)])
-        sign = np.sign(offset)                                      # against a hole wall
-        return np.array([-sign * max(self.stiffness * into_wall + self.damping * v[0] * sign, 0.0), 0.0])
+            return 0.0, max(self.stiffness * (-y) - self.damping * v_y, 0.0)
+        sign = 1.0 if offset > 0.0 else -1.0                        # against a hole wall
+        return -sign * max(self.stiffness * into_wall + self.damping * v_x * sign, 0.0), 0.0
+
+    def force(self, p: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Force (f_x, f_y) exerted by the environment on the peg tip at position p, velocity v."""
+        f = self.reaction(float(p[0]), float(p[1]), float(v[0]), float(v[1]))
+        return np.zeros(2) if f is None else np.array(f)
 
     def wrench_at(self, p_e: np.ndarray, v_e: np.ndarray) -> np.ndarray:
-        """h_e (6,): minus the reaction :meth:`force` at the tip, in the base frame."""
-        h = np.zeros(6)
-        h[:2] = -self.force(p_e[:2], v_e[:2])
-        return h
+        """h_e (6,): minus the reaction :meth:`force` at the tip, in the base frame (:data:`NO_CONTACT`
+        when there is none)."""
+        x, y, _ = p_e.tolist()
+        f = self.reaction(x, y, float(v_e[0]), float(v_e[1]))
+        if f is None or f[0] == 0.0 and f[1] == 0.0:
+            return NO_CONTACT
+        return np.array([-f[0], -f[1], 0.0, 0.0, 0.0, 0.0])

@@ -58,6 +58,7 @@ class ArmMeasurement:
     wrench: np.ndarray | None = None
 
 
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED   # the book's geometric Jacobian (3.30)
 ARM_UNITS = {"q": "rad", "qd": "rad/s", "u": "N·m", "e": "rad", "q_d": "rad"}
 
 
@@ -328,19 +329,24 @@ class ArmInContact:
         self.integrate, self.initial_state = a.integrate, a.initial_state
         self.units = {**ARM_UNITS, "wrench": "N, N·m"}
         self._Fv = a.Fv
+        self._viscous = a._viscous
         from rigid_body.dynamics import forward_dynamics
 
         self._forward_dynamics = forward_dynamics   # called with check=False: x, u come from the loop
         wrench_at = getattr(environment, "wrench_at", None)
         self._wrench_at = wrench_at if callable(wrench_at) else None
+        # Bound once (the plant belongs to the thread that made it, as ArmPlant): this thread's data, and
+        # ABA when the arm has no rotors (mimic joints), else the Cholesky solve of forward_dynamics.
+        self._model, self._data = robot.model, robot.data
+        self._aba = not robot.has_mimic
 
     def wrench(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(h_e (6,), J (6, nv)) at (q, q̇)."""
-        model, data, fid = self.robot.model, self.robot.data, self._fid
-        J = pin.computeFrameJacobian(model, data, q, fid, pin.LOCAL_WORLD_ALIGNED)   # also updates oMf[fid]
+        data, fid = self._data, self._fid
+        J = pin.computeFrameJacobian(self._model, data, q, fid, _LWA)   # also updates oMf[fid]
         if self._wrench_at is not None:
-            return self._wrench_at(data.oMf[fid].translation, J @ qd), J
-        return self.environment.wrench(data.oMf[fid].copy(), J @ qd), J
+            return self._wrench_at(data.oMf[fid].translation, J.dot(qd)), J
+        return self.environment.wrench(data.oMf[fid].copy(), J.dot(qd)), J
 
     def contact_torques(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Jᵀ h_e: the joint torques the contact takes from the arm."""
@@ -350,14 +356,31 @@ class ArmInContact:
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
         q, qd = x[:nq], x[nq:]                  # u: (n,), checked by the loop (simulate)
-        h_e, J = self.wrench(q, qd)
-        tau = u - self._Fv * qd
-        if h_e is not NO_CONTACT:
-            tau -= J.T @ h_e                                                      # Eq. (7.42)
         xd = np.empty(2 * n)
         xd[:n] = qd
-        xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
+        xd[n:] = qdd = self._acceleration(q, qd, u)
+        if not math.isfinite(sum(qdd.tolist())):  # the forward dynamics names a singular B(q)
+            xd[n:] = self._forward_dynamics(self.robot, q, qd, self._torque(q, qd, u), check=False)
         return xd
+
+    def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """q̈ = B(q)⁻¹ (u − F_v q̇ − Jᵀ h_e − C q̇ − g) (Eq. 7.42): the second half of ẋ, which the loop
+        integrates directly when nq = nv (the Nyström form of RK4)."""
+        return self._acceleration(q, qd, u)
+
+    def _torque(self, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """u − F_v q̇ − Jᵀ h_e."""
+        h_e, J = self.wrench(q, qd)
+        tau = u - self._Fv * qd if self._viscous else u
+        if h_e is not NO_CONTACT:
+            tau = tau - J.T.dot(h_e)                                               # Eq. (7.42)
+        return tau
+
+    def _acceleration(self, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
+        tau = self._torque(q, qd, u)
+        if self._aba:
+            return pin.aba(self._model, self._data, q, qd, tau)
+        return self._forward_dynamics(self.robot, q, qd, tau, check=False)
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         nq = self.nq

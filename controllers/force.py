@@ -65,6 +65,10 @@ PEG_VELOCITY_AXES = {"approach": PEG_AXES, "descend": PEG_AXES, "search": ("x", 
                      "insert": ("y", "rz"), "done": ("y", "rz")}
 
 
+_ZERO3 = np.zeros(3)          # ẍ_d of the constant-speed phases (shared, read-only)
+_ZERO3.setflags(write=False)
+
+
 class PegInHoleController(LoggedController):
     """The flow chart of Fig. S6.2 as a state machine driving a planar arm (x, y, φ task), each phase
     one :class:`HybridForceMotionControl` with its selection matrices (:data:`PEG_VELOCITY_AXES`).
@@ -124,7 +128,7 @@ class PegInHoleController(LoggedController):
 
     def _reference(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(x_d, ẋ_d, ẍ_d) of the current phase (motion-controlled components; the others are unused)."""
-        task, zero = self.task, np.zeros(3)
+        task, zero = self.task, _ZERO3
         if self.state == "approach":
             return self._law(t)
         if self.state == "descend":
@@ -177,7 +181,7 @@ class PegInHoleController(LoggedController):
             law.reset(motion_error=law.S_v_dagger @ e)
             self._active = law
         u = law.control(t, q, qd, contact.wrench(meas), J, Jdot_qd, T)
-        self.record(x_e=x, x_d=x_d, f=f, state=PEG_STATES.index(self.state))
+        self.record(x_e=x, x_d=x_d, f=f, state=float(PEG_STATES.index(self.state)))
         return u
 
 
@@ -437,8 +441,13 @@ def _velocity_reference(reference: Any, k: int) -> Callable[[float], tuple[np.nd
         as_vector(np.reshape(nud, -1), k, "ν̇_d")
     except (TypeError, ValueError) as err:
         raise ValueError(f"`velocity_reference` must give (ν_d ({k},), ν̇_d ({k},)) at t = 0: {err}") from None
+    shape = (k,)
+
     def sampled(t: float) -> tuple[np.ndarray, np.ndarray]:
         nu, nud = reference(t)
+        if (type(nu) is np.ndarray and type(nud) is np.ndarray and nu.shape == shape == nud.shape
+                and nu.dtype == nud.dtype == np.float64):
+            return nu, nud                      # already (k,) floats: as they are
         return np.asarray(nu, dtype=float).reshape(k), np.asarray(nud, dtype=float).reshape(k)
 
     return sampled

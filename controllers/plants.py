@@ -342,11 +342,12 @@ class ArmInContact:
 
     def wrench(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(h_e (6,), J (6, nv)) at (q, q̇)."""
-        data, fid = self._data, self._fid
-        J = pin.computeFrameJacobian(self._model, data, q, fid, _LWA)   # also updates oMf[fid]
+        model, data, fid = self._model, self._data, self._fid
+        J = pin.computeFrameJacobian(model, data, q, fid, _LWA)          # after the forward kinematics of q
+        T_e = pin.updateFramePlacement(model, data, fid)                 # a fresh SE3 (quicker than oMf[fid])
         if self._wrench_at is not None:
-            return self._wrench_at(data.oMf[fid].translation, J.dot(qd)), J
-        return self.environment.wrench(data.oMf[fid].copy(), J.dot(qd)), J
+            return self._wrench_at(T_e.translation, J.dot(qd)), J
+        return self.environment.wrench(T_e, J.dot(qd)), J
 
     def contact_torques(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Jᵀ h_e: the joint torques the contact takes from the arm."""
@@ -358,7 +359,7 @@ class ArmInContact:
         q, qd = x[:nq], x[nq:]                  # u: (n,), checked by the loop (simulate)
         xd = np.empty(2 * n)
         xd[:n] = qd
-        xd[n:] = qdd = self._acceleration(q, qd, u)
+        xd[n:] = qdd = self.acceleration(t, q, qd, u)
         if not math.isfinite(sum(qdd.tolist())):  # the forward dynamics names a singular B(q)
             xd[n:] = self._forward_dynamics(self.robot, q, qd, self._torque(q, qd, u), check=False)
         return xd
@@ -366,21 +367,15 @@ class ArmInContact:
     def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
         """q̈ = B(q)⁻¹ (u − F_v q̇ − Jᵀ h_e − C q̇ − g) (Eq. 7.42): the second half of ẋ, which the loop
         integrates directly when nq = nv (the Nyström form of RK4)."""
-        return self._acceleration(q, qd, u)
+        if self._aba:
+            return pin.aba(self._model, self._data, q, qd, self._torque(q, qd, u))
+        return self._forward_dynamics(self.robot, q, qd, self._torque(q, qd, u), check=False)
 
     def _torque(self, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
         """u − F_v q̇ − Jᵀ h_e."""
         h_e, J = self.wrench(q, qd)
         tau = u - self._Fv * qd if self._viscous else u
-        if h_e is not NO_CONTACT:
-            tau = tau - J.T.dot(h_e)                                               # Eq. (7.42)
-        return tau
-
-    def _acceleration(self, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
-        tau = self._torque(q, qd, u)
-        if self._aba:
-            return pin.aba(self._model, self._data, q, qd, tau)
-        return self._forward_dynamics(self.robot, q, qd, tau, check=False)
+        return tau if h_e is NO_CONTACT else tau - J.T.dot(h_e)                   # Eq. (7.42)
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         nq = self.nq

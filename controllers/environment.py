@@ -180,33 +180,25 @@ class SurfaceWithHole(ContactEnvironment):
     stiffness: float = 2e4
     damping: float = 50.0
 
-    def reaction(self, x: float, y: float, v_x: float, v_y: float) -> tuple[float, float] | None:
-        """(f_x, f_y) exerted by the environment on the peg tip at (x, y) moving at (v_x, v_y), on floats;
-        None when out of contact."""
-        if y >= 0.0:
-            return None
-        offset = x - self.x_hole
-        into_wall = abs(offset) - self.clearance
-        if into_wall <= 0.0:                                        # inside the hole opening
-            pen = -self.depth - y
-            if pen <= 0.0:
-                return None
-            return 0.0, max(self.stiffness * pen - self.damping * v_y, 0.0)
-        if -y <= into_wall:                                         # on the top surface
-            return 0.0, max(self.stiffness * (-y) - self.damping * v_y, 0.0)
-        sign = 1.0 if offset > 0.0 else -1.0                        # against a hole wall
-        return -sign * max(self.stiffness * into_wall + self.damping * v_x * sign, 0.0), 0.0
-
     def force(self, p: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Force (f_x, f_y) exerted by the environment on the peg tip at position p, velocity v."""
-        f = self.reaction(float(p[0]), float(p[1]), float(v[0]), float(v[1]))
-        return np.zeros(2) if f is None else np.array(f)
+        h = self.wrench_at(np.array([p[0], p[1], 0.0]), np.array([v[0], v[1], 0.0, 0.0, 0.0, 0.0]))
+        return -h[:2]
 
     def wrench_at(self, p_e: np.ndarray, v_e: np.ndarray) -> np.ndarray:
         """h_e (6,): minus the reaction :meth:`force` at the tip, in the base frame (:data:`NO_CONTACT`
-        when there is none)."""
+        when there is none). Scalar arithmetic on floats: the hot path of ArmInContact."""
         x, y, _ = p_e.tolist()
-        f = self.reaction(x, y, float(v_e[0]), float(v_e[1]))
-        if f is None or f[0] == 0.0 and f[1] == 0.0:
+        if y >= 0.0:
             return NO_CONTACT
-        return np.array([-f[0], -f[1], 0.0, 0.0, 0.0, 0.0])
+        offset = x - self.x_hole
+        into_wall = abs(offset) - self.clearance
+        if into_wall > 0.0 and -y > into_wall:                      # against a hole wall
+            sign = 1.0 if offset > 0.0 else -1.0
+            push = self.stiffness * into_wall + self.damping * float(v_e[0]) * sign
+            return NO_CONTACT if push <= 0.0 else np.array([sign * push, -0.0, 0.0, 0.0, 0.0, 0.0])
+        pen = -y if into_wall > 0.0 else -self.depth - y            # the top surface, else the hole's bottom
+        if pen <= 0.0:
+            return NO_CONTACT
+        push = self.stiffness * pen - self.damping * float(v_e[1])
+        return NO_CONTACT if push <= 0.0 else np.array([-0.0, -push, 0.0, 0.0, 0.0, 0.0])

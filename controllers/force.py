@@ -40,6 +40,7 @@ manual, Problems 6.3, 9.2–9.10.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
@@ -147,7 +148,7 @@ class PegInHoleController(LoggedController):
         q, qd = meas.q, meas.qd
         contact = self._contact                              # every phase's law has the same task rows
         J, Jdot_qd, T = contact.state(q, qd)                 # one kinematics pass for the phase and its law
-        x = np.array([T[0, 3], T[1, 3], np.arctan2(T[1, 0], T[0, 0])])
+        x = np.array([T[0, 3], T[1, 3], math.atan2(T[1, 0], T[0, 0])])
         state = self.state
         if self._law is None:                       # plan the fast approach from where the arm is
             self._law = quintic_law(x, np.array([task.x_H, task.dy, task.phi]), t + task.T_approach, t_i=t)

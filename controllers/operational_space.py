@@ -194,12 +194,12 @@ def _solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     square = J.shape[0] == J.shape[1]
     A = J if square else J @ J.T
     m = A.shape[0]
-    rhs = np.empty((m, m + 1))
+    rhs = np.empty((m, m + 1), order="F")        # LAPACK's layout: gesv works in it without a copy
     rhs[:, 0] = b
     rhs[:, 1:] = _IDENTITY[m] if m < len(_IDENTITY) else np.eye(m)
-    _, _, X, info = _gesv(A, rhs)
+    _, _, X, info = _gesv(A, rhs, overwrite_b=True)
     limit = SINGULAR_CONDITION if square else SINGULAR_CONDITION**2
-    inverse = X[:, 1:]
+    inverse = X[:, 1:].T                         # gesv returns Fortran order: the transpose is contiguous
     if info != 0 or not math.sqrt(np.vdot(A, A) * np.vdot(inverse, inverse)) < limit:
         s = np.linalg.svd(J, compute_uv=False)
         if info != 0 or s[-1] <= s[0] / SINGULAR_CONDITION:

@@ -308,7 +308,8 @@ class ArmInContact:
     effector ON the environment in the base frame (Sect. 9.1), from the end-effector pose T_e and twist
     v_e = J q̇; the arm feels −h_e, i.e. the joint torque Jᵀ h_e is subtracted (Eq. 7.42):
     B(q) q̈ + C q̇ + F_v q̇ + g = τ − Jᵀ h_e. It is computed once per derivative evaluation and once per
-    measurement; ``measure`` reports it as ``meas.wrench``.
+    measurement; ``measure`` reports it as ``meas.wrench``, and the loop's first RK4 stage at the sample
+    (same t and x) reuses it.
 
     Hot path: one Pinocchio pass gives the frame's position and Jacobian; an environment with
     ``wrench_at(p_e, v_e)`` (plain arrays, :class:`controllers.environment.ContactEnvironment`) is
@@ -339,6 +340,7 @@ class ArmInContact:
         # ABA when the arm has no rotors (mimic joints), else the Cholesky solve of forward_dynamics.
         self._model, self._data = robot.model, robot.data
         self._aba = not robot.has_mimic
+        self._measured: tuple = (None, None, None, None)   # (t, x as a list, h_e, J) of the last measurement
 
     def wrench(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(h_e (6,), J (6, nv)) at (q, q̇)."""
@@ -368,19 +370,25 @@ class ArmInContact:
         """q̈ = B(q)⁻¹ (u − F_v q̇ − Jᵀ h_e − C q̇ − g) (Eq. 7.42): the second half of ẋ, which the loop
         integrates directly when nq = nv (the Nyström form of RK4)."""
         if self._aba:
-            return pin.aba(self._model, self._data, q, qd, self._torque(q, qd, u))
-        return self._forward_dynamics(self.robot, q, qd, self._torque(q, qd, u), check=False)
+            return pin.aba(self._model, self._data, q, qd, self._torque(q, qd, u, t))
+        return self._forward_dynamics(self.robot, q, qd, self._torque(q, qd, u, t), check=False)
 
-    def _torque(self, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
-        """u − F_v q̇ − Jᵀ h_e."""
-        h_e, J = self.wrench(q, qd)
+    def _torque(self, q: np.ndarray, qd: np.ndarray, u: np.ndarray, t: float | None = None) -> np.ndarray:
+        """u − F_v q̇ − Jᵀ h_e; (h_e, J) of the last measurement when (t, q, q̇) is the same (the loop's
+        first RK4 stage follows the measurement at the sample)."""
+        t_m, x_m, h_e, J = self._measured
+        if t != t_m or t is None or q.tolist() + qd.tolist() != x_m:
+            h_e, J = self.wrench(q, qd)
         tau = u - self._Fv * qd if self._viscous else u
         return tau if h_e is NO_CONTACT else tau - J.T.dot(h_e)                   # Eq. (7.42)
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         nq = self.nq
         q, qd = x[:nq], x[nq:]
-        return ArmMeasurement(q, qd, self.wrench(q, qd)[0])
+        h_e, J = self.wrench(q, qd)
+        kept = h_e if h_e is NO_CONTACT else np.array(h_e, dtype=float)   # the controller may keep or alter its own
+        self._measured = (t, x.tolist(), kept, J)
+        return ArmMeasurement(q, qd, h_e)
 
     def _symbolic_wrench(self) -> tuple[Any, Any, Any, Any]:
         """(x, q̇, h_e, J) in CasADi expressions: h_e from the environment's ``symbolic_wrench_at``."""

@@ -182,23 +182,23 @@ class SurfaceWithHole(ContactEnvironment):
 
     def force(self, p: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Force (f_x, f_y) exerted by the environment on the peg tip at position p, velocity v."""
-        x, y = p
-        if y >= 0.0:
-            return np.zeros(2)
-        offset = x - self.x_hole
-        into_wall = abs(offset) - self.clearance
-        if into_wall <= 0.0:                                        # inside the hole opening
-            pen = -self.depth - y
-            if pen <= 0.0:
-                return np.zeros(2)
-            return np.array([0.0, max(self.stiffness * pen - self.damping * v[1], 0.0)])
-        if -y <= into_wall:                                         # on the top surface
-            return np.array([0.0, max(self.stiffness * (-y) - self.damping * v[1], 0.0)])
-        sign = np.sign(offset)                                      # against a hole wall
-        return np.array([-sign * max(self.stiffness * into_wall + self.damping * v[0] * sign, 0.0), 0.0])
+        h = self.wrench_at(np.array([p[0], p[1], 0.0]), np.array([v[0], v[1], 0.0, 0.0, 0.0, 0.0]))
+        return -h[:2]
 
     def wrench_at(self, p_e: np.ndarray, v_e: np.ndarray) -> np.ndarray:
-        """h_e (6,): minus the reaction :meth:`force` at the tip, in the base frame."""
-        h = np.zeros(6)
-        h[:2] = -self.force(p_e[:2], v_e[:2])
-        return h
+        """h_e (6,): minus the reaction :meth:`force` at the tip, in the base frame (:data:`NO_CONTACT`
+        when there is none). Scalar arithmetic on floats: the hot path of ArmInContact."""
+        x, y, _ = p_e.tolist()
+        if y >= 0.0:
+            return NO_CONTACT
+        offset = x - self.x_hole
+        into_wall = abs(offset) - self.clearance
+        if into_wall > 0.0 and -y > into_wall:                      # against a hole wall
+            sign = 1.0 if offset > 0.0 else -1.0
+            push = self.stiffness * into_wall + self.damping * float(v_e[0]) * sign
+            return NO_CONTACT if push <= 0.0 else np.array([sign * push, -0.0, 0.0, 0.0, 0.0, 0.0])
+        pen = -y if into_wall > 0.0 else -self.depth - y            # the top surface, else the hole's bottom
+        if pen <= 0.0:
+            return NO_CONTACT
+        push = self.stiffness * pen - self.damping * float(v_e[1])
+        return NO_CONTACT if push <= 0.0 else np.array([-0.0, -push, 0.0, 0.0, 0.0, 0.0])

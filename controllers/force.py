@@ -40,6 +40,7 @@ manual, Problems 6.3, 9.2–9.10.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
@@ -63,6 +64,10 @@ PEG_STATES = ("approach", "descend", "search", "insert", "done")
 PEG_AXES = ("x", "y", "rz")          # the planar task (x, y, φ): rows (0, 1, 5) of the twist
 PEG_VELOCITY_AXES = {"approach": PEG_AXES, "descend": PEG_AXES, "search": ("x", "rz"),
                      "insert": ("y", "rz"), "done": ("y", "rz")}
+
+
+_ZERO3 = np.zeros(3)          # ẍ_d of the constant-speed phases (shared, read-only)
+_ZERO3.setflags(write=False)
 
 
 class PegInHoleController(LoggedController):
@@ -96,10 +101,11 @@ class PegInHoleController(LoggedController):
             push = -task.f_push if "y" not in axes else 0.0    # λ_d: push down while searching, 0 along x
             self.laws[axes] = HybridForceMotionControl(
                 robot, S_f, S_v, np.full(S_f.shape[1], push),
-                lambda t, pick=pick: (pick @ self._nu_d, pick @ self._nud_d),
+                lambda t, pick=pick: (pick.dot(self._nu_d), pick.dot(self._nud_d)),
                 2.0 * w_v, w_v**2, 2.0 * w_f, w_f**2, compliance=np.eye(3) / k, rows=(0, 1, 5), frame=frame,
                 viscous_friction=viscous_friction)
         self.n = robot.nv
+        self._contact = next(iter(self.laws.values())).task
         self.reset()
 
     def reset(self) -> None:
@@ -123,7 +129,7 @@ class PegInHoleController(LoggedController):
 
     def _reference(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(x_d, ẋ_d, ẍ_d) of the current phase (motion-controlled components; the others are unused)."""
-        task, zero = self.task, np.zeros(3)
+        task, zero = self.task, _ZERO3
         if self.state == "approach":
             return self._law(t)
         if self.state == "descend":
@@ -139,8 +145,10 @@ class PegInHoleController(LoggedController):
     def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
         task = self.task
         f = meas.wrench[:2]                                  # f: force of the peg on the environment (h_e)
-        T = _frame_state(self.robot.model, self.robot.data, self._fid, meas.q, None).T
-        x = np.array([T[0, 3], T[1, 3], np.arctan2(T[1, 0], T[0, 0])])
+        q, qd = meas.q, meas.qd
+        contact = self._contact                              # every phase's law has the same task rows
+        J, Jdot_qd, T = contact.state(q, qd)                 # one kinematics pass for the phase and its law
+        x = np.array([T[0, 3], T[1, 3], math.atan2(T[1, 0], T[0, 0])])
         state = self.state
         if self._law is None:                       # plan the fast approach from where the arm is
             self._law = quintic_law(x, np.array([task.x_H, task.dy, task.phi]), t + task.T_approach, t_i=t)
@@ -173,8 +181,8 @@ class PegInHoleController(LoggedController):
             e[2] = wrap_angle(e[2])
             law.reset(motion_error=law.S_v_dagger @ e)
             self._active = law
-        u = law(t, meas)
-        self.record(x_e=x, x_d=x_d, f=f, state=PEG_STATES.index(self.state))
+        u = law.control(t, q, qd, contact.wrench(meas), J, Jdot_qd, T)
+        self.record(x_e=x, x_d=x_d, f=f, state=float(PEG_STATES.index(self.state)))
         return u
 
 
@@ -327,6 +335,7 @@ class _ContactTask:
                  viscous_friction: Any, null_space_damping: Any):
         self.robot, self.n = robot, robot.nv
         self.fid = robot.frame(frame)
+        self._model, self._data = robot.model, robot.data     # this thread's data (the law belongs to it)
         self.rows = np.arange(6) if rows is None else np.asarray(rows, dtype=int).ravel()
         if (self.rows.size == 0 or len(set(self.rows.tolist())) != self.rows.size
                 or np.any((self.rows < 0) | (self.rows > 5))):
@@ -341,18 +350,23 @@ class _ContactTask:
         self.Fv = as_friction(viscous_friction, self.n)
         self.K_N = _nonnegative(null_space_damping, self.n, "null_space_damping")
         self.redundant = self.m < self.n
+        self._viscous = bool(np.any(self.Fv))          # F_v q̇ only when there is friction
 
     def state(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(J, J̇q̇, T_e) of the task rows."""
-        st = _frame_state(self.robot.model, self.robot.data, self.fid, q, qd)
-        return st.J[self._pick], st.Jdot_qd[self._pick], st.T
+        st = _frame_state(self._model, self._data, self.fid, q, qd)
+        pick = self._pick
+        if type(pick) is slice:
+            return st.J[pick], st.Jdot_qd[pick], st.T
+        return st.J.take(pick, 0), st.Jdot_qd.take(pick), st.T
 
     def wrench(self, meas: Any) -> np.ndarray:
         w = getattr(meas, "wrench", None)
         if w is None:
             raise ValueError("a force controller needs a force sensor: the plant's measurement has no "
                              "`wrench` (use controllers.plants.ArmInContact)")
-        return w[self._pick]
+        pick = self._pick
+        return w[pick] if type(pick) is slice else w.take(pick)
 
     def torques(self, t: float, q: np.ndarray, qd: np.ndarray, J: np.ndarray, a: np.ndarray,
                 h: np.ndarray) -> np.ndarray:
@@ -362,8 +376,11 @@ class _ContactTask:
             raise _singular(f"at t = {t:.6g} s, q = {q}")
         if self.redundant:
             y0 = -self.K_N * qd
-            y += y0 - _solve_task(J, J @ y0)
-        return pin.rnea(self.robot.model, self.robot.data, q, qd, y) + self.Fv * qd + J.T @ h
+            y += y0 - _solve_task(J, J.dot(y0))
+        u = pin.rnea(self._model, self._data, q, qd, y)
+        if self._viscous:
+            u += self.Fv * qd
+        return u + J.T.dot(h)
 
 
     def symbolic_state(self, q: Any, qd: Any) -> tuple[Any, Any, Any]:
@@ -425,8 +442,13 @@ def _velocity_reference(reference: Any, k: int) -> Callable[[float], tuple[np.nd
         as_vector(np.reshape(nud, -1), k, "ν̇_d")
     except (TypeError, ValueError) as err:
         raise ValueError(f"`velocity_reference` must give (ν_d ({k},), ν̇_d ({k},)) at t = 0: {err}") from None
+    shape = (k,)
+
     def sampled(t: float) -> tuple[np.ndarray, np.ndarray]:
         nu, nud = reference(t)
+        if (type(nu) is np.ndarray and type(nud) is np.ndarray and nu.shape == shape == nud.shape
+                and nu.dtype == nud.dtype == np.float64):
+            return nu, nud                      # already (k,) floats: as they are
         return np.asarray(nu, dtype=float).reshape(k), np.asarray(nud, dtype=float).reshape(k)
 
     return sampled
@@ -506,21 +528,27 @@ class HybridForceMotionControl(LoggedController):
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         task = self.task
         q, qd = meas.q, meas.qd
-        h = task.wrench(meas)
-        J, Jdot_qd, T_e = task.state(q, qd)
-        v_e = J @ qd
-        nu = self.S_v_dagger @ v_e
+        return self.control(t, q, qd, task.wrench(meas), *task.state(q, qd))
+
+    def control(self, t: float, q: np.ndarray, qd: np.ndarray, h: np.ndarray, J: np.ndarray,
+                Jdot_qd: np.ndarray, T_e: np.ndarray) -> np.ndarray:
+        """The law at (q, q̇) given the sensed wrench h (task rows) and ``task.state(q, q̇)`` (J, J̇q̇, T_e):
+        for a caller that already has them (:class:`PegInHoleController`)."""
+        task = self.task
+        v_e = J.dot(qd)
+        nu = self.S_v_dagger.dot(v_e)
         nu_d, nud_d = self.velocity_reference(t)
-        integral = self._integral.update(t, nu_d - nu)                                        # ∫(ν_d − ν)
-        alpha = self.S_v @ (nud_d + self.K_Pnu @ (nu_d - nu) + self.K_Inu @ integral)         # (9.80)
+        e_nu = nu_d - nu
+        integral = self._integral.update(t, e_nu)                                              # ∫(ν_d − ν)
+        alpha = self.S_v.dot(nud_d + self.K_Pnu.dot(e_nu) + self.K_Inu.dot(integral))  # (9.80)
         if self.motion_only:
             u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
             self.record(nu=nu, nu_d=nu_d, h_e=h, p_e=T_e[:3, 3].copy())
             return u
-        lam, lam_dot = self.S_f_dagger @ h, self.G_f @ v_e
+        lam, lam_dot = self.S_f_dagger.dot(h), self.G_f.dot(v_e)
         lam_d, lamd_d, lamdd_d = self.force_reference(t)
-        f_lambda = lamdd_d + self.K_Dlambda @ (lamd_d - lam_dot) + self.K_Plambda @ (lam_d - lam)  # (9.81)
-        alpha += self.C_prime_S_f @ f_lambda                                                   # (9.77)
+        f_lambda = lamdd_d + self.K_Dlambda.dot(lamd_d - lam_dot) + self.K_Plambda.dot(lam_d - lam)   # (9.81)
+        alpha += self.C_prime_S_f.dot(f_lambda)                                               # (9.77)
         u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
         self.record(nu=nu, nu_d=nu_d, lam=lam, lam_d=lam_d, h_e=h, p_e=T_e[:3, 3].copy())
         return u

@@ -40,6 +40,7 @@ Sects. 3.7.3, 8.6, 9.2–9.3, Eqs. (3.85), (3.91), (8.110)–(8.114), (9.28)–(
 
 from __future__ import annotations
 
+import math
 from typing import Any, Callable, Sequence
 
 import numpy as np
@@ -180,6 +181,9 @@ class _Task:
 SINGULAR_CONDITION = 1e10  # cond(J_A) above which the task is treated as singular
 
 
+_IDENTITY = tuple(np.eye(m) for m in range(7))   # I_m of the task sizes m ≤ 6 (read by _solve_task)
+
+
 def _solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     """J_A⁻¹ b (square J_A) or the minimum-norm J_A† b = J_Aᵀ (J_A J_Aᵀ)⁻¹ b (3.52) for a redundant task;
     None at (or numerically at) a kinematic singularity, cond(J_A) > 1e10.
@@ -190,12 +194,13 @@ def _solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     square = J.shape[0] == J.shape[1]
     A = J if square else J @ J.T
     m = A.shape[0]
-    rhs = np.empty((m, m + 1))
+    rhs = np.empty((m, m + 1), order="F")        # LAPACK's layout: gesv works in it without a copy
     rhs[:, 0] = b
-    rhs[:, 1:] = np.eye(m)
-    _, _, X, info = _gesv(A, rhs)
+    rhs[:, 1:] = _IDENTITY[m] if m < len(_IDENTITY) else np.eye(m)
+    _, _, X, info = _gesv(A, rhs, overwrite_b=True)
     limit = SINGULAR_CONDITION if square else SINGULAR_CONDITION**2
-    if info != 0 or not np.sqrt(np.vdot(A, A) * np.vdot(X[:, 1:], X[:, 1:])) < limit:
+    inverse = X[:, 1:].T                         # gesv returns Fortran order: the transpose is contiguous
+    if info != 0 or not math.sqrt(np.vdot(A, A) * np.vdot(inverse, inverse)) < limit:
         s = np.linalg.svd(J, compute_uv=False)
         if info != 0 or s[-1] <= s[0] / SINGULAR_CONDITION:
             return None

@@ -58,6 +58,7 @@ class ArmMeasurement:
     wrench: np.ndarray | None = None
 
 
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED   # the book's geometric Jacobian (3.30)
 ARM_UNITS = {"q": "rad", "qd": "rad/s", "u": "N·m", "e": "rad", "q_d": "rad"}
 
 
@@ -307,7 +308,8 @@ class ArmInContact:
     effector ON the environment in the base frame (Sect. 9.1), from the end-effector pose T_e and twist
     v_e = J q̇; the arm feels −h_e, i.e. the joint torque Jᵀ h_e is subtracted (Eq. 7.42):
     B(q) q̈ + C q̇ + F_v q̇ + g = τ − Jᵀ h_e. It is computed once per derivative evaluation and once per
-    measurement; ``measure`` reports it as ``meas.wrench``.
+    measurement; ``measure`` reports it as ``meas.wrench``, and the loop's first RK4 stage at the sample
+    (same t and x) reuses it.
 
     Hot path: one Pinocchio pass gives the frame's position and Jacobian; an environment with
     ``wrench_at(p_e, v_e)`` (plain arrays, :class:`controllers.environment.ContactEnvironment`) is
@@ -328,19 +330,26 @@ class ArmInContact:
         self.integrate, self.initial_state = a.integrate, a.initial_state
         self.units = {**ARM_UNITS, "wrench": "N, N·m"}
         self._Fv = a.Fv
+        self._viscous = a._viscous
         from rigid_body.dynamics import forward_dynamics
 
         self._forward_dynamics = forward_dynamics   # called with check=False: x, u come from the loop
         wrench_at = getattr(environment, "wrench_at", None)
         self._wrench_at = wrench_at if callable(wrench_at) else None
+        # Bound once (the plant belongs to the thread that made it, as ArmPlant): this thread's data, and
+        # ABA when the arm has no rotors (mimic joints), else the Cholesky solve of forward_dynamics.
+        self._model, self._data = robot.model, robot.data
+        self._aba = not robot.has_mimic
+        self._measured: tuple = (None, None, None, None)   # (t, x as a list, h_e, J) of the last measurement
 
     def wrench(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(h_e (6,), J (6, nv)) at (q, q̇)."""
-        model, data, fid = self.robot.model, self.robot.data, self._fid
-        J = pin.computeFrameJacobian(model, data, q, fid, pin.LOCAL_WORLD_ALIGNED)   # also updates oMf[fid]
+        model, data, fid = self._model, self._data, self._fid
+        J = pin.computeFrameJacobian(model, data, q, fid, _LWA)          # after the forward kinematics of q
+        T_e = pin.updateFramePlacement(model, data, fid)                 # a fresh SE3 (quicker than oMf[fid])
         if self._wrench_at is not None:
-            return self._wrench_at(data.oMf[fid].translation, J @ qd), J
-        return self.environment.wrench(data.oMf[fid].copy(), J @ qd), J
+            return self._wrench_at(T_e.translation, J.dot(qd)), J
+        return self.environment.wrench(T_e, J.dot(qd)), J
 
     def contact_torques(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Jᵀ h_e: the joint torques the contact takes from the arm."""
@@ -350,19 +359,36 @@ class ArmInContact:
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
         q, qd = x[:nq], x[nq:]                  # u: (n,), checked by the loop (simulate)
-        h_e, J = self.wrench(q, qd)
-        tau = u - self._Fv * qd
-        if h_e is not NO_CONTACT:
-            tau -= J.T @ h_e                                                      # Eq. (7.42)
         xd = np.empty(2 * n)
         xd[:n] = qd
-        xd[n:] = self._forward_dynamics(self.robot, q, qd, tau, check=False)
+        xd[n:] = qdd = self.acceleration(t, q, qd, u)
+        if not math.isfinite(sum(qdd.tolist())):  # the forward dynamics names a singular B(q)
+            xd[n:] = self._forward_dynamics(self.robot, q, qd, self._torque(q, qd, u), check=False)
         return xd
+
+    def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """q̈ = B(q)⁻¹ (u − F_v q̇ − Jᵀ h_e − C q̇ − g) (Eq. 7.42): the second half of ẋ, which the loop
+        integrates directly when nq = nv (the Nyström form of RK4)."""
+        if self._aba:
+            return pin.aba(self._model, self._data, q, qd, self._torque(q, qd, u, t))
+        return self._forward_dynamics(self.robot, q, qd, self._torque(q, qd, u, t), check=False)
+
+    def _torque(self, q: np.ndarray, qd: np.ndarray, u: np.ndarray, t: float | None = None) -> np.ndarray:
+        """u − F_v q̇ − Jᵀ h_e; (h_e, J) of the last measurement when (t, q, q̇) is the same (the loop's
+        first RK4 stage follows the measurement at the sample)."""
+        t_m, x_m, h_e, J = self._measured
+        if t != t_m or t is None or q.tolist() + qd.tolist() != x_m:
+            h_e, J = self.wrench(q, qd)
+        tau = u - self._Fv * qd if self._viscous else u
+        return tau if h_e is NO_CONTACT else tau - J.T.dot(h_e)                   # Eq. (7.42)
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         nq = self.nq
         q, qd = x[:nq], x[nq:]
-        return ArmMeasurement(q, qd, self.wrench(q, qd)[0])
+        h_e, J = self.wrench(q, qd)
+        kept = h_e if h_e is NO_CONTACT else np.array(h_e, dtype=float)   # the controller may keep or alter its own
+        self._measured = (t, x.tolist(), kept, J)
+        return ArmMeasurement(q, qd, h_e)
 
     def _symbolic_wrench(self) -> tuple[Any, Any, Any, Any]:
         """(x, q̇, h_e, J) in CasADi expressions: h_e from the environment's ``symbolic_wrench_at``."""

@@ -86,14 +86,26 @@ def _frame_state(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray,
     if qd is None:
         pin.computeJointJacobians(model, data, q)                     # also the forward kinematics
     else:
-        pin.forwardKinematics(model, data, q, qd, np.zeros(model.nv))
+        pin.forwardKinematics(model, data, q, qd, _zero_acceleration(model.nv))
         pin.computeJointJacobians(model, data)                        # from the placements just computed
     T = pin.updateFramePlacement(model, data, fid).homogeneous        # a fresh array
     J = pin.getFrameJacobian(model, data, fid, LWA)
     if qd is None:
         return FrameState(T, J, None)
     a = pin.getFrameClassicalAcceleration(model, data, fid, LWA)
-    return FrameState(T, J, np.concatenate([a.linear, a.angular]))
+    return FrameState(T, J, a.vector.copy())      # [linear; angular], copied while ``a`` (its owner) lives
+
+
+_ZERO_ACCELERATIONS: dict[int, np.ndarray] = {}
+
+
+def _zero_acceleration(nv: int) -> np.ndarray:
+    """q̈ = 0 (nv,), read-only and shared (the forward kinematics of :func:`_frame_state` only reads it)."""
+    zero = _ZERO_ACCELERATIONS.get(nv)
+    if zero is None:
+        zero = _ZERO_ACCELERATIONS[nv] = np.zeros(nv)
+        zero.setflags(write=False)
+    return zero
 
 
 def frame_state(robot: Robot, q: Any, qd: Any = None, frame: str | int | None = None) -> FrameState:

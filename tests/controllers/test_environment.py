@@ -8,6 +8,7 @@ from tests import two_link_closed_form as arm2
 from controllers.environment import CompliantPlane, SurfaceWithHole
 from controllers.plants import ArmInContact
 from controllers.simulation import LoggedController, simulate
+from rigid_body.kinematics import inverse_kinematics_planar_3r
 from rigid_body.robots import load
 
 
@@ -126,3 +127,50 @@ def test_wrench_at_on_plain_arrays_is_the_wrench_of_the_pose(rng):
         np.testing.assert_allclose(plane.wrench_at(p, v), expected, rtol=1e-12, atol=1e-9)
     away = plane.wrench_at(np.array([0.5, 0.0, 0.4]), np.zeros(6))
     assert away is NO_CONTACT and not away.flags.writeable
+
+
+def test_surface_with_hole_damping_only_pushes():
+    """The damped reaction k·δ − c·v along each face's normal, hand-computed; pulling is clipped to none."""
+    from controllers.environment import NO_CONTACT
+
+    env = SurfaceWithHole(x_hole=0.0, clearance=0.01, depth=0.05, stiffness=1e4, damping=50.0)
+    top = env.wrench_at(np.array([0.1, -0.001, 0.0]), np.array([0.0, -0.1, 0, 0, 0, 0]))   # moving in at 0.1 m/s
+    np.testing.assert_allclose(top, [0, -(10.0 + 5.0), 0, 0, 0, 0], atol=1e-12)
+    wall = env.wrench_at(np.array([-0.012, -0.02, 0.0]), np.array([-0.2, 0, 0, 0, 0, 0]))  # into the left wall
+    np.testing.assert_allclose(wall, [-(20.0 + 10.0), 0, 0, 0, 0, 0], atol=1e-12)
+    assert env.wrench_at(np.array([0.1, -0.001, 0.0]), np.array([0, 0.3, 0, 0, 0, 0])) is NO_CONTACT  # leaving fast
+    assert env.wrench_at(np.array([0.012, -0.02, 0.0]), np.array([-0.5, 0, 0, 0, 0, 0])) is NO_CONTACT
+    assert env.wrench_at(np.array([0.0, 0.01, 0.0]), np.zeros(6)) is NO_CONTACT                  # above
+    np.testing.assert_allclose(env.force(np.array([0.1, -0.001]), np.array([0.0, -0.1])), [0, 15.0])
+
+
+def test_arm_in_contact_acceleration_matches_equation_7_42_and_its_measurement_memo():
+    """q̈ of the hot path against B⁻¹(u − Jᵀh_e − C q̇ − g) assembled from CRBA/RNEA/the frame Jacobian,
+    also right after a measurement at another state (the kept wrench must not leak)."""
+    robot = load("planar_3r")
+    env = SurfaceWithHole(x_hole=0.6, clearance=0.004, depth=0.05)
+    plant = ArmInContact(robot, env)
+    model, data, fid = robot.model, robot.model.createData(), robot.frame(None)
+
+    def reference(q, qd, u):
+        J = pin.computeFrameJacobian(model, data, q, fid, pin.LOCAL_WORLD_ALIGNED)
+        p = pin.updateFramePlacement(model, data, fid).translation
+        h = env.wrench(pin.SE3(np.eye(3), p), J @ qd)
+        B = pin.crba(model, data, q)
+        return np.linalg.solve(B, u - J.T @ h - pin.rnea(model, data, q, qd, np.zeros(3)))
+
+    rng = np.random.default_rng(3)
+    pushed = []
+    for tip in ([0.55, -0.002], [0.55, 0.05], [0.606, -0.02]):   # on the top face, free, against the hole wall
+        q = inverse_kinematics_planar_3r(np.array([*tip, -np.pi / 2]))[0]
+        qd, u = rng.normal(size=3), rng.normal(size=3)
+        qd[:] = np.linalg.solve(pin.computeFrameJacobian(model, data, q, fid, pin.LOCAL_WORLD_ALIGNED)[[0, 1, 5]],
+                                [0.0, -0.05, 0.0])                 # the tip moving down at 5 cm/s
+        x = np.concatenate([q, qd])
+        plant.measure(0.5, x + 0.1)                               # a measurement at another state, same t
+        expect = reference(q, qd, u)
+        np.testing.assert_allclose(plant.acceleration(0.5, q, qd, u), expect, rtol=1e-9, atol=1e-9)
+        pushed.append(np.any(plant.measure(0.5, x).wrench))       # now the kept wrench is this state's
+        np.testing.assert_allclose(plant.acceleration(0.5, q, qd, u), expect, rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(plant.derivative(0.5, x, u)[3:], expect, rtol=1e-9, atol=1e-9)
+    assert pushed == [True, False, True]

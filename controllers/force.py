@@ -186,7 +186,7 @@ class PegInHoleController(LoggedController):
             e[2] = wrap_angle(e[2])
             law.reset(motion_error=law.S_v_dagger @ e)
             self._active = law
-        u = law.control(t, q, qd, contact.wrench(meas), J, Jdot_qd, T)
+        u = law.control(t, q, qd, contact.wrench(meas), J, Jdot_qd, T, log=False)
         self.record(x_e=x, x_d=x_d, f=f, state=float(PEG_STATES.index(self.state)))
         return u
 
@@ -549,9 +549,10 @@ class HybridForceMotionControl(LoggedController):
         return self.control(t, q, qd, task.wrench(meas), *task.state(q, qd))
 
     def control(self, t: float, q: np.ndarray, qd: np.ndarray, h: np.ndarray, J: np.ndarray,
-                Jdot_qd: np.ndarray, T_e: np.ndarray) -> np.ndarray:
+                Jdot_qd: np.ndarray, T_e: np.ndarray, log: bool = True) -> np.ndarray:
         """The law at (q, q̇) given the sensed wrench h (task rows) and ``task.state(q, q̇)`` (J, J̇q̇, T_e):
-        for a caller that already has them (:class:`PegInHoleController`)."""
+        for a caller that already has them (:class:`PegInHoleController`, which keeps its own log: ``log=False``
+        skips this law's)."""
         task = self.task
         v_e = J.dot(qd)
         nu = self.S_v_dagger.dot(v_e)
@@ -561,13 +562,15 @@ class HybridForceMotionControl(LoggedController):
         if self.motion_only:                                                                   # (9.80)
             alpha = self._M.dot(np.concatenate((nud_d, e_nu, integral)))
             u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
-            self.record(nu=nu, nu_d=nu_d, h_e=h, p_e=T_e[:3, 3].copy())
+            if log:
+                self.record(nu=nu, nu_d=nu_d, h_e=h, p_e=T_e[:3, 3].copy())
             return u
         lam = self.S_f_dagger.dot(h)
         lam_d, lamd_d, lamdd_d = self.force_reference(t)
         alpha = self._M.dot(np.concatenate((nud_d, e_nu, integral, v_e, lam, lamdd_d, lamd_d, lam_d)))  # (9.77)–(9.81)
         u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
-        self.record(nu=nu, nu_d=nu_d, lam=lam, lam_d=lam_d, h_e=h, p_e=T_e[:3, 3].copy())
+        if log:
+            self.record(nu=nu, nu_d=nu_d, lam=lam, lam_d=lam_d, h_e=h, p_e=T_e[:3, 3].copy())
         return u
 
     def symbolic(self) -> Any:

@@ -94,6 +94,11 @@ class PegInHoleController(LoggedController):
         k = as_positive(stiffness, "stiffness")
         w_v, w_f = as_positive(omega_motion, "omega_motion"), as_positive(omega_force, "omega_force")
         self._nu_d, self._nud_d = np.zeros(3), np.zeros(3)     # the active phase's (ẋ_d, ẍ_d), full (x, y, φ)
+        self._rates = {name: np.array(rate) for name, rate in         # the constant ẋ_d of the slow phases
+                       (("down", (0.0, -task.v_slow, 0.0)), ("right", (task.v_search, 0.0, 0.0)),
+                        ("left", (-task.v_search, 0.0, 0.0)), ("rest", (0.0, 0.0, 0.0)))}
+        for rate in self._rates.values():
+            rate.setflags(write=False)
         self.laws: dict[tuple[str, ...], HybridForceMotionControl] = {}
         for axes in set(PEG_VELOCITY_AXES.values()):
             S_f, S_v = selection_matrices(axes, axes=PEG_AXES)
@@ -132,15 +137,14 @@ class PegInHoleController(LoggedController):
         task, zero = self.task, _ZERO3
         if self.state == "approach":
             return self._law(t)
+        rates = self._rates
         if self.state == "descend":
-            return (np.array([task.x_H, self._y0 - task.v_slow * (t - self._t0), task.phi]),
-                    np.array([0.0, -task.v_slow, 0.0]), zero)
+            return np.array([task.x_H, self._y0 - task.v_slow * (t - self._t0), task.phi]), rates["down"], zero
         if self.state == "search":
-            return (np.array([self._x_ref, x[1], task.phi]), np.array([self._direction * task.v_search, 0.0, 0.0]),
+            return (np.array([self._x_ref, x[1], task.phi]), rates["right" if self._direction > 0.0 else "left"],
                     zero)
         y_d = max(self._y0 - task.v_slow * (t - self._t0), -task.insert_depth)       # insert, done
-        return (np.array([x[0], y_d, task.phi]), np.array([0.0, -task.v_slow if y_d > -task.insert_depth else 0.0,
-                                                           0.0]), zero)
+        return np.array([x[0], y_d, task.phi]), rates["down" if y_d > -task.insert_depth else "rest"], zero
 
     def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
         task = self.task
@@ -167,7 +171,8 @@ class PegInHoleController(LoggedController):
                 self._switch(t, "insert")
                 self._y0 = x[1]
             else:
-                if abs(self._x_ref - task.x_H) > task.dx and np.sign(self._x_ref - task.x_H) == self._direction:
+                beyond = self._x_ref - task.x_H
+                if abs(beyond) > task.dx and (beyond > 0.0) == (self._direction > 0.0):     # past Δx, moving away
                     self._direction = -self._direction
                     self.inversions += 1
                 self._x_ref += self._direction * task.v_search * (t - self._last_t)
@@ -181,7 +186,7 @@ class PegInHoleController(LoggedController):
             e[2] = wrap_angle(e[2])
             law.reset(motion_error=law.S_v_dagger @ e)
             self._active = law
-        u = law.control(t, q, qd, contact.wrench(meas), J, Jdot_qd, T)
+        u = law.control(t, q, qd, contact.wrench(meas), J, Jdot_qd, T, log=False)
         self.record(x_e=x, x_d=x_d, f=f, state=float(PEG_STATES.index(self.state)))
         return u
 
@@ -515,7 +520,20 @@ class HybridForceMotionControl(LoggedController):
             K_D = np.asarray(K_Dlambda, dtype=float)
             self.K_Dlambda = as_gain(K_D, k_f, "K_Dlambda") if np.any(K_D) else np.zeros((k_f, k_f))
             self.force_reference = as_reference(force_reference, k_f, "force_reference")
+        self._fold()
         self.reset()
+
+    def _fold(self) -> None:
+        """The constant products of (9.77), (9.80), (9.81) in one matrix M: α = M z with
+        z = (ν̇_d, ν_d − ν, ∫(ν_d − ν), v_e, λ, λ̈_d, λ̇_d, λ_d) (the last five with a force-controlled
+        subspace), M = [S_v, S_v K_Pν, S_v K_Iν, −Ĉ'S_f K_Dλ G_f, −Ĉ'S_f K_Pλ, Ĉ'S_f, Ĉ'S_f K_Dλ, Ĉ'S_f K_Pλ]."""
+        S_v = self.S_v
+        blocks = [S_v, S_v @ self.K_Pnu, S_v @ self.K_Inu]
+        if not self.motion_only:
+            CS = self.C_prime_S_f
+            CS_D, CS_P = CS @ self.K_Dlambda, CS @ self.K_Plambda
+            blocks += [-CS_D @ self.G_f, -CS_P, CS, CS_D, CS_P]
+        self._M = np.hstack(blocks)
 
     def reset(self, motion_error: Any = None) -> None:
         """Restart the law; the integral ∫(ν_d − ν) of (9.80) starts at ``motion_error`` (k_v,) (default 0):
@@ -531,26 +549,28 @@ class HybridForceMotionControl(LoggedController):
         return self.control(t, q, qd, task.wrench(meas), *task.state(q, qd))
 
     def control(self, t: float, q: np.ndarray, qd: np.ndarray, h: np.ndarray, J: np.ndarray,
-                Jdot_qd: np.ndarray, T_e: np.ndarray) -> np.ndarray:
+                Jdot_qd: np.ndarray, T_e: np.ndarray, log: bool = True) -> np.ndarray:
         """The law at (q, q̇) given the sensed wrench h (task rows) and ``task.state(q, q̇)`` (J, J̇q̇, T_e):
-        for a caller that already has them (:class:`PegInHoleController`)."""
+        for a caller that already has them (:class:`PegInHoleController`, which keeps its own log: ``log=False``
+        skips this law's)."""
         task = self.task
         v_e = J.dot(qd)
         nu = self.S_v_dagger.dot(v_e)
         nu_d, nud_d = self.velocity_reference(t)
         e_nu = nu_d - nu
         integral = self._integral.update(t, e_nu)                                              # ∫(ν_d − ν)
-        alpha = self.S_v.dot(nud_d + self.K_Pnu.dot(e_nu) + self.K_Inu.dot(integral))  # (9.80)
-        if self.motion_only:
+        if self.motion_only:                                                                   # (9.80)
+            alpha = self._M.dot(np.concatenate((nud_d, e_nu, integral)))
             u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
-            self.record(nu=nu, nu_d=nu_d, h_e=h, p_e=T_e[:3, 3].copy())
+            if log:
+                self.record(nu=nu, nu_d=nu_d, h_e=h, p_e=T_e[:3, 3].copy())
             return u
-        lam, lam_dot = self.S_f_dagger.dot(h), self.G_f.dot(v_e)
+        lam = self.S_f_dagger.dot(h)
         lam_d, lamd_d, lamdd_d = self.force_reference(t)
-        f_lambda = lamdd_d + self.K_Dlambda.dot(lamd_d - lam_dot) + self.K_Plambda.dot(lam_d - lam)   # (9.81)
-        alpha += self.C_prime_S_f.dot(f_lambda)                                               # (9.77)
+        alpha = self._M.dot(np.concatenate((nud_d, e_nu, integral, v_e, lam, lamdd_d, lamd_d, lam_d)))  # (9.77)–(9.81)
         u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
-        self.record(nu=nu, nu_d=nu_d, lam=lam, lam_d=lam_d, h_e=h, p_e=T_e[:3, 3].copy())
+        if log:
+            self.record(nu=nu, nu_d=nu_d, lam=lam, lam_d=lam_d, h_e=h, p_e=T_e[:3, 3].copy())
         return u
 
     def symbolic(self) -> Any:

@@ -192,6 +192,10 @@ def _solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     number is cond(J_A)²); cond₂(A) ≤ ‖A‖_F ‖A⁻¹‖_F, so below the threshold the SVD is skipped — it
     decides only when that bound is not conclusive."""
     square = J.shape[0] == J.shape[1]
+    if square and J.shape[0] == 3:
+        x = _solve3(J, b)
+        if x is not None:
+            return x
     A = J if square else J @ J.T
     m = A.shape[0]
     rhs = np.empty((m, m + 1), order="F")        # LAPACK's layout: gesv works in it without a copy
@@ -205,6 +209,24 @@ def _solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
         if info != 0 or s[-1] <= s[0] / SINGULAR_CONDITION:
             return None
     return X[:, 0] if square else J.T @ X[:, 0]
+
+
+def _solve3(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    """J⁻¹ b = adj(J) b / det J for a 3 × 3 task (the planar arms' (x, y, φ)) on Python floats, a third of
+    the cost of the LAPACK call; None when cond_F(J) = ‖J‖_F ‖J⁻¹‖_F does not show cond(J) ≤ 1e10 (the
+    general path then decides)."""
+    (a, b1, c), (d, e, f), (g, h, i) = J.tolist()
+    A, B, C = e * i - f * h, f * g - d * i, d * h - e * g           # cofactors: adj(J) = their transpose
+    D, E, F = c * h - b1 * i, a * i - c * g, b1 * g - a * h
+    G, H, I = b1 * f - c * e, c * d - a * f, a * e - b1 * d
+    det = a * A + b1 * B + c * C
+    norm_J = a * a + b1 * b1 + c * c + d * d + e * e + f * f + g * g + h * h + i * i
+    norm_adj = A * A + B * B + C * C + D * D + E * E + F * F + G * G + H * H + I * I
+    if not math.sqrt(norm_J * norm_adj) < SINGULAR_CONDITION * abs(det):
+        return None
+    r0, r1, r2 = b.tolist()
+    return np.array([(A * r0 + D * r1 + G * r2) / det, (B * r0 + E * r1 + H * r2) / det,
+                     (C * r0 + F * r1 + I * r2) / det])
 
 
 def _singular(where: str) -> ValueError:

@@ -171,3 +171,41 @@ def test_peg_in_hole_phases_are_hybrid_laws_and_insert_the_peg():
     insert = ctrl.laws[("y", "rz")]
     assert isinstance(insert, HybridForceMotionControl)
     assert np.array_equal(insert.S_f, [[1.0], [0.0], [0.0]])    # force-controlled along x
+
+
+def test_hybrid_law_folded_matrix_is_eqs_9_77_to_9_81_term_by_term(rng):
+    """α = M z (the constant products folded once) against (9.77), (9.80), (9.81) written out with full,
+    non-diagonal gains and a force reference with λ̇_d, λ̈_d ≠ 0; u = B J⁻¹(α − J̇q̇) + n + Jᵀ h_e by
+    CRBA and the Coriolis/gravity vector (not the law's RNEA)."""
+    import pinocchio as pin
+
+    robot = load("planar_3r")
+    R_C = np.array([[np.cos(0.4), -np.sin(0.4), 0.0], [np.sin(0.4), np.cos(0.4), 0.0], [0.0, 0.0, 1.0]])
+    S_f, S_v = R_C[:, :1], R_C[:, 1:]
+    K_Pnu, K_Inu = np.array([[40.0, 3.0], [3.0, 30.0]]), np.array([[200.0, -5.0], [-5.0, 150.0]])
+    K_Dl, K_Pl = 25.0, 300.0
+    C = np.diag([1e-4, 2e-4, 5e-3])
+    force = lambda t: ([-20.0 + t], [1.0 + 0.5 * t], [0.5 + t])          # (λ_d, λ̇_d, λ̈_d)
+    velocity = lambda t: ([0.1 * np.cos(t), 0.2], [-0.1 * np.sin(t), 0.0])
+    law = HybridForceMotionControl(robot, S_f, S_v, force, velocity, K_Pnu, K_Inu, K_Dl, K_Pl, compliance=C,
+                                   rows=(0, 1, 5))
+    q, qd, h = rng.normal(size=3), rng.normal(size=3), np.array([-15.0, 4.0, 0.3])
+    law.reset(motion_error=[0.01, -0.02])
+    J, Jdot_qd, T = law.task.state(q, qd)
+    law.control(0.0, q, qd, h, J, Jdot_qd, T)                  # starts the integral's clock
+    t = 0.3
+    u = law.control(t, q, qd, h, J, Jdot_qd, T)
+    v_e = J @ qd
+    nu_d, nud_d = map(np.asarray, velocity(t))
+    e_nu = nu_d - law.S_v_dagger @ v_e
+    integral = np.array([0.01, -0.02]) + t * e_nu
+    alpha = S_v @ (nud_d + K_Pnu @ e_nu + K_Inu @ integral)                                  # (9.80)
+    lam_d, lamd_d, lamdd_d = map(np.asarray, force(t))
+    f_l = lamdd_d + K_Dl * (lamd_d - law.G_f @ v_e) + K_Pl * (lam_d - law.S_f_dagger @ h)    # (9.81)
+    alpha = alpha + law.C_prime_S_f @ f_l                                                    # (9.77)
+    model, data = robot.model, robot.model.createData()
+    B = pin.crba(model, data, q)
+    n = pin.nonLinearEffects(model, data, q, qd)
+    expected = B @ np.linalg.solve(J, alpha - Jdot_qd) + n + J.T @ h
+    np.testing.assert_allclose(u, expected, rtol=1e-9, atol=1e-9)
+    assert law.log()["lam"] == pytest.approx(law.S_f_dagger @ h)

@@ -148,8 +148,10 @@ class Solution:
         lay it out (``tight_layout``) and attach it; returns it."""
         if title is not None:
             fig.suptitle(title)
-        if tight:
-            fig.tight_layout()
+        if tight:  # the tight layout applied once, without leaving an engine on the figure: a figure with
+            # one (even the placeholder ``fig.tight_layout()`` leaves) is drawn twice by each ``savefig``
+            from matplotlib.layout_engine import TightLayoutEngine
+            TightLayoutEngine().execute(fig)
         self.figures.append(fig)
         return fig
 

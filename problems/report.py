@@ -273,9 +273,30 @@ def _solve_for_report(prob: Any, out: Path) -> tuple[dict, list[str]]:
     return data, animations
 
 
-def _solved(problems: list, out: Path, jobs: int) -> Iterable[tuple[dict, list[str]]]:
+def _previous_seconds(out: Path) -> dict[str, float]:
+    """Each problem's solve time in the report already in ``out`` (its ``summary.json``), if any."""
+    try:
+        return {d["id"]: float(d["seconds"]) for d in json.loads((out / "summary.json").read_text())}
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}
+
+
+def _longest_first(ids: list[str], previous: dict[str, float]) -> list[int]:
+    """The indices of ``ids`` by decreasing ``previous`` time, those without one first (ties keep their order).
+
+    >>> _longest_first(["2.1", "2.2", "2.3", "2.4"], {"2.1": 0.1, "2.2": 1.5, "2.4": 0.3})
+    [2, 1, 3, 0]
+    """
+    return sorted(range(len(ids)), key=lambda k: -previous.get(ids[k], float("inf")))
+
+
+def _solved(problems: list, out: Path, jobs: int,
+            previous: dict[str, float] | None = None) -> Iterable[tuple[dict, list[str]]]:
     """:func:`_solve_for_report` of each problem, in order: here, or in ``jobs`` processes (forked after
-    the parent imported the problems' chapters, so that each worker starts with them)."""
+    the parent imported the problems' chapters, so that each worker starts with them). The processes take
+    the problems longest first by their ``previous`` times (as a build tool orders its jobs by the last
+    build's times; a problem without one counts as long), so that no long problem starts last and leaves
+    the other processes idle; the results come back in the given order."""
     jobs = max(1, min(int(jobs), len(problems)))
     if jobs == 1:
         yield from (_solve_for_report(prob, out) for prob in problems)
@@ -289,19 +310,24 @@ def _solved(problems: list, out: Path, jobs: int) -> Iterable[tuple[dict, list[s
         import viewer  # noqa: F401
     except ImportError:
         pass
+    order = _longest_first([prob.id for prob in problems], previous or {})
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else None)
     with ProcessPoolExecutor(jobs, mp_context=context) as pool:
-        yield from pool.map(_solve_for_report, problems, [out] * len(problems))
+        futures = {k: pool.submit(_solve_for_report, problems[k], out) for k in order}
+        for k in range(len(problems)):
+            yield futures[k].result()
 
 
 def write_report(problems: list, out: Path, jobs: int = 1) -> list[dict]:
     """Solve ``problems`` (registry ``Problem`` objects) and write ``out/index.html``, ``out/summary.json``
     and ``out/figures/``; return the summary (one :func:`solution_dict` per problem, with ``passed`` and
     ``seconds``). A crashing problem is reported as failed with its traceback; the report goes on.
-    ``jobs`` > 1 solves the problems in that many processes; the report is the same, in the same order."""
+    ``jobs`` > 1 solves the problems in that many processes (longest first by the times of the report
+    already in ``out``, if any); the report is the same, in the same order."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    previous = _previous_seconds(out)
     fig_dir = out / "figures"
     if fig_dir.is_dir():  # no stale figure of an earlier run (renamed or removed figures)
         for old in fig_dir.glob("*.png"):
@@ -309,7 +335,7 @@ def write_report(problems: list, out: Path, jobs: int = 1) -> list[dict]:
     progress = sys.stderr.isatty() or bool(os.environ.get("RMPC_PROGRESS"))
     started = time.time()
     rows, summary = [], []
-    for k, (prob, (data, animations)) in enumerate(zip(problems, _solved(problems, out, jobs))):
+    for k, (prob, (data, animations)) in enumerate(zip(problems, _solved(problems, out, jobs, previous))):
         if progress:
             _progress(k + 1, len(problems), prob.id, started)
         summary.append(data)

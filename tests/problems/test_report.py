@@ -43,6 +43,27 @@ def test_report_section_links_figure_files():
     assert '<img src="figures/0_1_1.png"' in text and "[numeric, 0.5 s]" in text
 
 
+def test_attached_figure_is_laid_out_and_left_without_a_layout_engine():
+    """``Solution.figure`` applies the tight layout once: the 2×2 axes' labels and titles no longer overlap,
+    and no layout engine stays on the figure (with one, each ``savefig`` draws the figure twice)."""
+    def crowded():
+        fig, axes = subplots(2, 2, figsize=(4, 3))
+        for ax in axes.flat:
+            ax.plot([0, 1], [0, 1000])
+            label_axes(ax, "t [s]", "q [rad]", title="joint position")
+        return fig
+
+    def overlaps(fig) -> bool:
+        renderer = fig.canvas.get_renderer()
+        boxes = [ax.get_tightbbox(renderer) for ax in fig.axes]
+        return any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:])
+
+    assert overlaps(crowded())                       # the default subplot parameters crowd them
+    fig = Solution(id="0.1", title="t", kind="numeric").figure(crowded(), "crowded")
+    assert not overlaps(fig)
+    assert fig.get_layout_engine() is None
+
+
 def test_label_axes_adds_a_legend_only_for_several_lines():
     fig, (a, b) = subplots(1, 2)
     a.plot([0, 1], label="one")

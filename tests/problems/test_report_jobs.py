@@ -3,7 +3,7 @@
 import json
 import re
 
-from problems import cli
+from problems import cli, report
 from problems.registry import get
 from problems.report import write_report
 
@@ -26,6 +26,22 @@ def test_parallel_report_equals_the_sequential_one(tmp_path):
     assert sorted(p.name for p in (tmp_path / "one" / "figures").iterdir()) == \
         sorted(p.name for p in (tmp_path / "two" / "figures").iterdir())
     assert json.loads((tmp_path / "two" / "summary.json").read_text())[0]["id"] == "2.4"
+
+
+def test_a_second_report_takes_the_longest_problems_first(tmp_path):
+    """The processes take the problems by decreasing time of the report already in ``out``; the report keeps
+    the given order."""
+    ids = ["2.1", "2.2", "2.3"]
+    (tmp_path / "summary.json").write_text(json.dumps([{"id": "2.1", "seconds": 0.01},
+                                                       {"id": "2.3", "seconds": 2.0}]))
+    previous = report._previous_seconds(tmp_path)
+    assert previous == {"2.1": 0.01, "2.3": 2.0}
+    assert report._longest_first(ids, previous) == [1, 2, 0]          # 2.2 has no time: it may be long
+    summary = write_report([get(pid) for pid in ids], tmp_path, jobs=2)
+    assert [d["id"] for d in summary] == ids
+    assert report._previous_seconds(tmp_path).keys() == set(ids)
+    (tmp_path / "summary.json").write_text("not json")
+    assert report._previous_seconds(tmp_path) == {}
 
 
 def test_jobs_must_be_a_positive_count(capsys):

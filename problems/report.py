@@ -11,6 +11,7 @@ solutions (``id``, ``title``, ``kind``, ``values``, ``checks``, ``figures``).
 from __future__ import annotations
 
 import base64
+import gc
 import html
 import io
 import json
@@ -313,10 +314,18 @@ def _solved(problems: list, out: Path, jobs: int,
     order = _longest_first([prob.id for prob in problems], previous or {})
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else None)
-    with ProcessPoolExecutor(jobs, mp_context=context) as pool:
-        futures = {k: pool.submit(_solve_for_report, problems[k], out) for k in order}
-        for k in range(len(problems)):
-            yield futures[k].result()
+    # The objects of the imported modules (some 200 000) go to the collector's permanent generation for the
+    # fork (Python's advice for fork without exec): the workers' collections no longer traverse them — about
+    # 5 % of the report's CPU — and leave their pages shared. The first submit forks the workers.
+    gc.freeze()
+    try:
+        with ProcessPoolExecutor(jobs, mp_context=context) as pool:
+            futures = {k: pool.submit(_solve_for_report, problems[k], out) for k in order}
+            gc.unfreeze()
+            for k in range(len(problems)):
+                yield futures[k].result()
+    finally:
+        gc.unfreeze()
 
 
 def write_report(problems: list, out: Path, jobs: int = 1) -> list[dict]:

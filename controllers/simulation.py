@@ -29,6 +29,11 @@ The plant contract (duck-typed; only ``derivative`` is required)
     the call and never kept. ``derivative`` stays the reference: the loop calls it at the
     first sample (the shape check) and repeats a step that became non-finite through it, so a plant
     that can tell why (``ArmPlant``: a singular B(q)) raises its own error. ``ArmPlant`` provides it.
+``time_invariant_acceleration``
+    Optional, with ``acceleration``: a callable ``(q, v, u) -> v̇`` (or ``None``) for a plant whose
+    acceleration does not depend on t and needs no check beyond the loop's (``u`` a finite float vector
+    of the first sample's size); the Nyström stages call it instead, without a Python frame in between.
+    ``ArmPlant`` without friction, saturation or external force gives ``pin.aba`` on its model and data.
 ``tangent_size``
     The size of ``ẋ`` when it differs from ``len(x)`` (default ``len(x)``). ``simulate`` checks the
     shape of the first derivative once and names the plant's derivative when it is wrong.
@@ -310,7 +315,7 @@ def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray
                 integrate: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None,
                 dexp_inverse: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None,
                 acceleration: Callable[[float, np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None,
-                ) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray]:
+                time_invariant: bool = False) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray]:
     """``step(t, x, u)``: one classical Runge–Kutta step of ẋ = f(t, x, u) with the input ``u`` held,
     built once for a run of step ``h``.
 
@@ -328,10 +333,11 @@ def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray
     q' = q + h v + (h²/6)(a_1 + a_2 + a_3), v' = v + (h/6)(a_1 + 2 a_2 + 2 a_3 + a_4):
     each stage's (q_i, v_i) is one product C_i A (the classical stages, without building ẋ), written into
     one (2, n) scratch array: ``acceleration`` reads its ``q``, ``v`` during the call and keeps no reference.
+    With ``time_invariant`` it is called without the time, ``acceleration(q, v, u)``.
     """
     hh = 0.5 * h
     if integrate is None and acceleration is not None:
-        return _nystrom_stepper(acceleration, h)
+        return _nystrom_stepper(acceleration, h, time_invariant)
     if integrate is None:
         stage2, stage3, stage4, result = np.array([[1.0, hh, 0.0, 0.0, 0.0], [1.0, 0.0, hh, 0.0, 0.0],
                                                    [1.0, 0.0, 0.0, h, 0.0], [1.0, *(h * RK4_WEIGHTS)]])
@@ -362,26 +368,49 @@ def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray
     return manifold_step
 
 
-def _nystrom_stepper(acceleration: Callable[[float, np.ndarray, np.ndarray, np.ndarray], np.ndarray],
-                     h: float) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray]:
+def _nystrom_stepper(acceleration: Callable[..., np.ndarray], h: float,
+                     time_invariant: bool = False) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray]:
     """:func:`rk4_stepper`'s Nyström form: A = [q; v; a_1; a_2; a_3; a_4] and the stage states are
-    scratch arrays allocated once (for the first x's size); stage i reads only the rows already computed."""
+    scratch arrays allocated once (for the first x's size); stage i reads only the rows already computed.
+    With ``time_invariant`` the acceleration is called as ``acceleration(q, v, u)`` (the plant's
+    ``time_invariant_acceleration``: a library call without a Python frame per stage)."""
     hh, h2 = 0.5 * h, h * h
     C2 = np.array([[1.0, hh, 0.0], [0.0, 1.0, hh]])
     C3 = np.array([[1.0, hh, h2 / 4, 0.0], [0.0, 1.0, 0.0, hh]])
     C4 = np.array([[1.0, h, 0.0, h2 / 2, 0.0], [0.0, 1.0, 0.0, 0.0, h]])
     CR = np.array([[1.0, h, h2 / 6, h2 / 6, h2 / 6, 0.0], [0.0, 1.0, *(h * RK4_WEIGHTS)]])
     size = -1
+    A = A3 = A4 = A5 = q = v = S = Sq = Sv = x_rows = np.empty(0)
+
+    def allocate(n: int) -> None:
+        """The scratch arrays for states of size n (at the first step, and whenever the size changes)."""
+        nonlocal size, A, A3, A4, A5, q, v, S, Sq, Sv, x_rows
+        size = n
+        A = np.empty((6, n >> 1))
+        A3, A4, A5, q, v = A[:3], A[:4], A[:5], A[0], A[1]
+        x_rows = A[:2].reshape(-1)   # a view: ``x_rows[...] = x`` fills [q; v] (4× faster than A[:2] = x.reshape)
+        S = np.empty((2, n >> 1))
+        Sq, Sv = S
+
+    if time_invariant:
+        def step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+            if len(x) != size:
+                allocate(len(x))
+            x_rows[...] = x
+            A[2] = acceleration(q, v, u)
+            C2.dot(A3, S)
+            A[3] = acceleration(Sq, Sv, u)
+            C3.dot(A4, S)
+            A[4] = acceleration(Sq, Sv, u)
+            C4.dot(A5, S)
+            A[5] = acceleration(Sq, Sv, u)
+            return CR.dot(A).ravel()
+        return step
 
     def step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        nonlocal size, A, A3, A4, A5, q, v, S, Sq, Sv
         if len(x) != size:
-            size = len(x)
-            A = np.empty((6, size >> 1))
-            A3, A4, A5, q, v = A[:3], A[:4], A[:5], A[0], A[1]
-            S = np.empty((2, size >> 1))
-            Sq, Sv = S
-        A[:2] = x.reshape(2, -1)
+            allocate(len(x))
+        x_rows[...] = x
         A[2] = acceleration(t, q, v, u)
         C2.dot(A3, S)
         A[3] = acceleration(t + hh, Sq, Sv, u)
@@ -390,8 +419,6 @@ def _nystrom_stepper(acceleration: Callable[[float, np.ndarray, np.ndarray, np.n
         C4.dot(A5, S)
         A[5] = acceleration(t + h, Sq, Sv, u)
         return CR.dot(A).ravel()
-
-    A = A3 = A4 = A5 = q = v = S = Sq = Sv = np.empty(0)
     return step
 
 
@@ -475,7 +502,9 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     integrate = getattr(plant, "integrate", None)
     n_dx = getattr(plant, "tangent_size", x.size)
     acceleration = getattr(plant, "acceleration", None) if n_dx == x.size and x.size % 2 == 0 else None
-    step = rk4_stepper(derivative, h, integrate, getattr(plant, "dexp_inverse", None), acceleration)
+    timeless = getattr(plant, "time_invariant_acceleration", None) if acceleration is not None else None
+    step = rk4_stepper(derivative, h, integrate, getattr(plant, "dexp_inverse", None), timeless or acceleration,
+                       timeless is not None)
     measure = getattr(plant, "measure", None)
     n_u = getattr(plant, "input_size", None)
     n_u = None if n_u is None else tuple(np.atleast_1d(n_u).tolist())
@@ -491,7 +520,10 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     signals: dict[str, list] = {}
     log_q: list[str] = []
     # max |x_i| <= ‖x‖₂: the one dot product x·x <= bound² settles a step (NaN and inf fail it); else max |x_i|
-    bound2 = bound * bound if bound < 1e150 else -1.0
+    # (a bound beyond 1e150, whose square may overflow, sends every step to that exact test)
+    exact_test = bound >= 1e150
+    bound2 = bound * bound
+    substeps = range(n_sub)
     for k in range(n_samples):
         t = t0 + k * Ts
         meas = measure(t, x) if measure else x
@@ -531,10 +563,10 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
             if shape != (n_dx,):
                 who = getattr(derivative, "__qualname__", "the plant's derivative")
                 raise ValueError(f"`{who}` returned shape {shape}, expected ({n_dx},) for a state of size {x.size}")
-        for j in range(n_sub):
+        for j in substeps:
             ti = t + j * h
             x_next = step(ti, x, u)
-            if bound2 < 0 or not x_next.dot(x_next) <= bound2:
+            if exact_test or not x_next.dot(x_next) <= bound2:
                 peak = np.max(np.abs(x_next))
                 if peak <= bound:
                     x = x_next

@@ -164,3 +164,34 @@ def test_pd_gravity_set_point_path_equals_the_trajectory_path():
     moving = PDGravityCompensation(robot, [100.0, 90, 80, 70, 60, 50], 20.0, lambda t: (q_d, np.zeros(6), np.zeros(6)))
     np.testing.assert_array_equal(fixed(0.0, meas), moving(0.0, meas))
     assert fixed.log().keys() == moving.log().keys() == {"q_d", "e"}
+
+
+def test_time_invariant_acceleration_takes_the_same_steps_as_the_plants_acceleration():
+    """A plain arm's stages call ABA directly (``time_invariant_acceleration``); a subclass redefining
+    ``acceleration`` (here only to pass through it) gets the method path. Both runs agree bit for bit, and
+    against the classical RK4 on ``derivative`` (the stepper without ``acceleration``)."""
+    class ThroughTheMethod(ArmPlant):
+        def acceleration(self, t, q, qd, u):
+            return super().acceleration(t, q, qd, u)
+
+    robot = load("puma560")
+    plain, through = ArmPlant(robot), ThroughTheMethod(robot)
+    assert plain.time_invariant_acceleration is not None and through.time_invariant_acceleration is None
+    assert ArmPlant(robot, viscous_friction=0.1).time_invariant_acceleration is None
+    assert ArmPlant(robot, tau_max=np.full(6, 100.0)).time_invariant_acceleration is None
+    q_d = np.array([0.5, -0.6, 0.3, 0.2, -0.4, 0.1])
+    runs = [simulate(p, PDGravityCompensation(robot, 100.0, 20.0, q_d), (0.0, 0.3), p.initial_state(np.zeros(6)),
+                     h=1e-3) for p in (plain, through)]
+    np.testing.assert_array_equal(runs[0].x, runs[1].x)
+    x, u = runs[0].x[100], runs[0].u[100]
+    classical = rk4_step(lambda t, xi: plain.derivative(t, xi, u), 0.1, x, 1e-3)
+    np.testing.assert_allclose(runs[0].x[101], classical, rtol=1e-12, atol=1e-14)
+
+
+def test_a_controller_changing_its_output_size_mid_run_is_an_error():
+    """The first sample's size is checked by the loop; a later one by Pinocchio (the plain arm's ABA)."""
+    robot = load("planar_2r", motors=False)
+    plant = ArmPlant(robot)
+    with pytest.raises(ValueError, match="size"):
+        simulate(plant, lambda t, m: np.zeros(2 if t < 0.005 else 3), (0.0, 0.01), plant.initial_state(np.zeros(2)),
+                 h=1e-3)

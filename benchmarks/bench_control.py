@@ -4,8 +4,9 @@ Run: ``python benchmarks/bench_control.py``. Prints, for the two-link arm with m
 so the raw reference is CRBA + nonLinearEffects + LAPACK's
 Cholesky solve ``dposv``, as rmpc) and for the UR5 (raw ``pin.aba``):
 the time of one plant derivative, one RK4 step, one controller call and one closed-loop sample, each
-with its ratio to the raw forward-dynamics call measured in the same run; then the wall time of the
-8.x simulations divided by their simulated time.
+with its ratio to the raw forward-dynamics call measured in the same run — of the same torque, with the
+plant's viscous friction (τ − F_v q̇, F_v = :data:`F_V`); then the wall time of the 8.x simulations
+divided by their simulated time.
 """
 
 from __future__ import annotations
@@ -29,10 +30,21 @@ from benchtools import per_call
 
 
 
+F_V = 1.0
+"""The plants' viscous friction [N·m·s/rad], in the raw references too."""
+
+
+def raw_2r_reference(arm_with_payload) -> Callable[[], object]:
+    """The two-link arm's forward dynamics of τ − F_v q̇ by raw calls: CRBA, nonLinearEffects, LAPACK posv."""
+    m, d = arm_with_payload.model, arm_with_payload.data
+    q0, v0, tau0 = np.array([0.3, 0.8]), np.array([0.2, 0.2]), np.array([1.0, 2.0])
+    return lambda: dposv(pin.crba(m, d, q0), tau0 - F_V * v0 - pin.nonLinearEffects(m, d, q0, v0))[1]
+
+
 def step_costs(name: str, robot, plant_robot, controller, raw: Callable[[], object], h: float,
                Ts: float, verbose: bool = True, ref_name: str = "raw forward dynamics") -> list[dict]:
     n = robot.nv
-    plant = ArmPlant(plant_robot, viscous_friction=1.0)
+    plant = ArmPlant(plant_robot, viscous_friction=F_V)
     x = np.r_[robot.configurations["neutral"] + 0.3, 0.2 * np.ones(n)]
     meas = plant.measure(0.0, x)
     u = controller(0.0, meas)
@@ -63,9 +75,7 @@ def wall_per_simulated_second(label: str, plant, controller, x0, t_end: float, h
 def rows() -> list[dict]:
     """The plant-derivative rows of the planar arm with motors and of the UR5 against raw Pinocchio."""
     arm, armL = load("planar_2r"), load("planar_2r", payload=10.0)
-    m, d = armL.model, armL.data
-    q0, v0, tau0 = np.array([0.3, 0.8]), np.array([0.2, 0.2]), np.array([1.0, 2.0])
-    raw_2r = lambda: dposv(pin.crba(m, d, q0), tau0 - pin.nonLinearEffects(m, d, q0, v0))[1]  # noqa: E731
+    raw_2r = raw_2r_reference(armL)
     tra = trapezoidal([0, np.pi / 4], [np.pi / 2, np.pi / 2], 1.0, [3 * np.pi / 4, np.pi / 3], dt=1e-3)
     out = step_costs("planar_2r + motors", arm, armL, InverseDynamicsControl(arm, 100, 16, tra, 100.0),
                      raw_2r, h=1e-4, Ts=1e-3, verbose=False, ref_name="raw CRBA + nonLinearEffects + LAPACK posv")
@@ -74,16 +84,14 @@ def rows() -> list[dict]:
     qu, vu, tu = np.full(6, 0.3), np.full(6, 0.2), np.ones(6)
     q_i = np.array([0.0, -np.pi / 2, np.pi / 2, 0.0, np.pi / 2, 0.0])
     out += step_costs("UR5 + 5 kg", ur5, real, InverseDynamicsControl(ur5, 400, 40, quintic(q_i, q_i + 0.5, 1.5, dt=1e-3)),
-                      lambda: pin.aba(real.model, real.data, qu, vu, tu), h=1e-3, Ts=1e-3, verbose=False,
+                      lambda: pin.aba(real.model, real.data, qu, vu, tu - F_V * vu), h=1e-3, Ts=1e-3, verbose=False,
                       ref_name="raw pin.aba")
     return out
 
 
 if __name__ == "__main__":
     arm, armL = load("planar_2r"), load("planar_2r", payload=10.0)
-    m, d = armL.model, armL.data
-    q0, v0, tau0 = np.array([0.3, 0.8]), np.array([0.2, 0.2]), np.array([1.0, 2.0])
-    raw_2r = lambda: dposv(pin.crba(m, d, q0), tau0 - pin.nonLinearEffects(m, d, q0, v0))[1]  # noqa: E731
+    raw_2r = raw_2r_reference(armL)
     tra = trapezoidal([0, np.pi / 4], [np.pi / 2, np.pi / 2], 1.0, [3 * np.pi / 4, np.pi / 3], dt=1e-3)
     step_costs("planar_2r + motors + 10 kg (8.12)", arm, armL, InverseDynamicsControl(arm, 100, 16, tra, 100.0),
                raw_2r, h=1e-4, Ts=1e-3)
@@ -91,7 +99,7 @@ if __name__ == "__main__":
     ur5 = load("ur5")
     real = with_payload(ur5, 5.0)
     qu, vu, tu = np.full(6, 0.3), np.full(6, 0.2), np.ones(6)
-    raw_ur5 = lambda: pin.aba(real.model, real.data, qu, vu, tu)  # noqa: E731
+    raw_ur5 = lambda: pin.aba(real.model, real.data, qu, vu, tu - F_V * vu)  # noqa: E731
     q_i = np.array([0.0, -np.pi / 2, np.pi / 2, 0.0, np.pi / 2, 0.0])
     tra_u = quintic(q_i, q_i + 0.5, 1.5, dt=1e-3)
     step_costs("UR5 + 5 kg", ur5, real, InverseDynamicsControl(ur5, 400, 40, tra_u), raw_ur5, h=1e-3, Ts=1e-3)

@@ -234,13 +234,16 @@ class ArmPlant:
 
     def symbolic(self) -> Any:
         """ẋ = f(x, u) as a ``casadi.Function`` for ``simulate(..., backend="casadi")`` (nq = nv, no
-        external force): B(q) q̈ = sat(u) − F_v q̇ − C q̇ − g by the symbolic Newton–Euler."""
+        external force, no Coulomb friction): B(q) q̈ = sat(u) − F_v q̇ − C q̇ − g by the symbolic Newton–Euler."""
         import casadi as ca
 
         from rigid_body.symbolic import forward_dynamics_expression
 
         if self.nq != self.n or self.external_force is not None:
             raise ValueError("`plant`: backend='casadi' takes an ArmPlant with nq = nv and no external_force")
+        if self._coulomb:
+            raise ValueError("`plant`: backend='casadi' takes an ArmPlant with viscous friction only (no Coulomb "
+                             "friction): use backend='python'")
         n = self.n
         x, u = ca.SX.sym("x", 2 * n), ca.SX.sym("u", n)
         tau = u if self.tau_max is None else ca.fmin(ca.fmax(u, -self.tau_max), self.tau_max)

@@ -144,6 +144,16 @@ def test_symbolic_wrench_refuses_what_it_does_not_model(arm):
         stepped.symbolic_wrench_at(np.zeros(3), np.zeros(6))
 
 
+def test_compiled_arm_refuses_coulomb_friction(arm):
+    """The symbolic arm models viscous friction only: an arm with Coulomb friction is refused rather than
+    simulated with other dynamics (its Python derivative includes F_s sgn(q̇))."""
+    plant = ArmPlant(arm, coulomb_friction=5.0)
+    x0 = plant.initial_state(Q_D - 0.1)
+    with pytest.raises(ValueError, match="Coulomb"):
+        simulate(plant, PDGravityCompensation(arm, 3750, 750, Q_D), (0.0, 0.01), x0, h=1e-3, backend="casadi")
+    assert simulate(plant, PDGravityCompensation(arm, 3750, 750, Q_D), (0.0, 0.01), x0, h=1e-3).x.shape == (11, 4)
+
+
 R_C = np.array([[1.0, -1.0], [1.0, 1.0]]) / np.sqrt(2.0)        # constraint frame: x_c along the plane, y_c normal
 
 

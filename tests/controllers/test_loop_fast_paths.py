@@ -58,17 +58,25 @@ def test_list_and_integer_controller_outputs_are_floats():
     assert res.u.dtype == float and res.u.shape == (11, 1)
 
 
-def test_hot_rk4_path_equals_the_public_step():
-    """The loop's RK4 (no closure) and :func:`rk4_step` give the same bits on a nonlinear plant."""
+def test_loop_rk4_equals_a_hand_written_classical_step():
+    """The loop's RK4 (the Butcher-tableau products of ``rk4_stepper``) against the classical stages
+    written out, k_1 … k_4 and x + h/6 (k_1 + 2 k_2 + 2 k_3 + k_4), on a nonlinear time-varying plant."""
     def f(t, x, u):
         return np.array([x[1], -np.sin(x[0]) + u[0] * np.cos(t)])
 
-    u = np.array([0.3])
+    u, h = np.array([0.3]), 0.01
     x = np.array([1.0, 0.0])
     for k in range(100):
-        x = rk4_step(lambda t, xi: f(t, xi, u), 0.01 * k, x, 0.01)
-    res = simulate(f, lambda t, x: u, (0.0, 1.0), [1.0, 0.0], h=0.01)
-    np.testing.assert_array_equal(res.x[-1], x)
+        t = k * h
+        k1 = f(t, x, u)
+        k2 = f(t + h / 2, x + h / 2 * k1, u)
+        k3 = f(t + h / 2, x + h / 2 * k2, u)
+        k4 = f(t + h, x + h * k3, u)
+        x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    res = simulate(f, lambda t, x: u, (0.0, 1.0), [1.0, 0.0], h=h)
+    np.testing.assert_allclose(res.x[-1], x, rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(rk4_step(lambda t, xi: f(t, xi, u), 0.0, np.array([1.0, 0.0]), h),
+                               res.x[1], rtol=1e-13, atol=1e-15)
 
 
 def test_arm_derivative_fast_path_equals_forward_dynamics():

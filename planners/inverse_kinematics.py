@@ -33,7 +33,6 @@ Sects. 3.5 (redundancy, (3.50)–(3.59)), 3.7 (CLIK, (3.68)–(3.97)); Problems 
 
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -442,7 +441,7 @@ class CasadiIKOptions:
         _count(self.max_iter, "max_iter", 1)
 
 
-_CASADI_IK_SOLVERS: dict[tuple, tuple[weakref.ref, Any]] = {}
+_CASADI_IK_SOLVERS: dict[tuple, Any] = {}
 
 
 def _least_squares_sqp(robot: Robot, frame: int, o: CasadiIKOptions) -> Any:
@@ -457,14 +456,15 @@ def _least_squares_sqp(robot: Robot, frame: int, o: CasadiIKOptions) -> Any:
     1e-14 stop); with one, at a gradient below 10⁻³ w_q, well inside the posture term's own scale.
     Box QPs by proxsuite (CasADi's qrqp wrote out of bounds on the singular QPs of a redundant arm).
     Parameters: [p_d; vec(R_d); q_posture]."""
-    key = (id(robot), frame, tuple(float(w) for w in o.position_weights), float(o.orientation_weight),
-           float(o.posture_weight), o.max_iter, float(o.tol))
-    entry = _CASADI_IK_SOLVERS.get(key)
-    if entry is not None and entry[0]() is robot:
-        return entry[1]
     import casadi as ca
 
-    from rigid_body.symbolic import frame_placement_function
+    from rigid_body.symbolic import frame_placement_function, model_digest
+
+    key = (model_digest(robot.model), frame, tuple(float(w) for w in o.position_weights),
+           float(o.orientation_weight), float(o.posture_weight), o.max_iter, float(o.tol))
+    solver = _CASADI_IK_SOLVERS.get(key)
+    if solver is not None:
+        return solver
 
     q = ca.SX.sym("q", robot.nq)
     p_d, R_d, q_post = ca.SX.sym("p_d", 3), ca.SX.sym("R_d", 3, 3), ca.SX.sym("q_posture", robot.nq)
@@ -486,7 +486,7 @@ def _least_squares_sqp(robot: Robot, frame: int, o: CasadiIKOptions) -> Any:
         "qpsol": "proxqp", "qpsol_options": {"error_on_fail": False,
                                              "proxqp": {"eps_abs": 1e-12, "eps_rel": 0.0, "max_iter": 200}},
         "cache": {"nlp_hess_l": gauss_newton}})
-    _CASADI_IK_SOLVERS[key] = (weakref.ref(robot), solver)
+    _CASADI_IK_SOLVERS[key] = solver
     return solver
 
 
@@ -555,18 +555,14 @@ class CasadiIK:
 # The recommended entry point
 # --------------------------------------------------------------------------------------------
 
-_DEFAULT_SOLVERS: dict[tuple[int, int], tuple[weakref.ref, CasadiIK]] = {}
-
-
 def _default_solver(robot: Robot, frame: int) -> "LMIK | CasadiIK":
-    """The default solver of ``robot`` for ``frame``, built once per robot: :class:`LMIK` (CasadiIK for
-    a model with nq ≠ nv)."""
-    key = (id(robot), frame)
-    entry = _DEFAULT_SOLVERS.get(key)
-    if entry is None or entry[0]() is not robot:
-        entry = (weakref.ref(robot), LMIK(robot, frame) if robot.nq == robot.nv else CasadiIK(robot, frame))
-        _DEFAULT_SOLVERS[key] = entry
-    return entry[1]
+    """The default solver of ``robot`` for ``frame``, built once per robot and kept with it (it lives as
+    long as the robot): :class:`LMIK` (CasadiIK for a model with nq ≠ nv)."""
+    key = ("default IK", frame)
+    solver = robot.derived.get(key)
+    if solver is None:
+        solver = robot.derived[key] = LMIK(robot, frame) if robot.nq == robot.nv else CasadiIK(robot, frame)
+    return solver
 
 
 def solve_ik(robot: Robot, T: Any, q0: Any = None, frame: str | int | None = None,

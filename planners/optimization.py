@@ -43,7 +43,7 @@ import pinocchio as pin
 
 from planners.timing import PiecewisePolynomial, Trajectory, quintic_law, sample, trapezoidal_law
 from rigid_body.robots import Robot
-from rigid_body.symbolic import inverse_dynamics_function
+from rigid_body.symbolic import inverse_dynamics_function, model_digest
 from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
@@ -303,13 +303,14 @@ _TRANSCRIPTIONS: dict[tuple, tuple] = {}
 def _transcription(robot: Robot, N: int, r: int, objective: str,
                    options: OptimizationOptions) -> tuple[ca.Function, ca.Function, int]:
     """(IPOPT solver, cost function, number of shooting constraints) of the NLP of :class:`_Transcription`,
-    built once per (robot, N, order, objective, options) and reused: the parameters p are
+    built once per (model content, N, order, objective, options) and reused — a model changed in place gets
+    its own (:func:`rigid_body.symbolic.model_digest`): the parameters p are
     [σ (N), u_ref (n), 1/t_scale, 1/τ_max (n)]."""
-    key = (id(robot), robot.model.nv, N, r, objective, options.regularization, options.tol,
+    key = (model_digest(robot.model), N, r, objective, options.regularization, options.tol,
            options.max_iter, options.verbose, options.hessian)
     cached = _TRANSCRIPTIONS.get(key)
-    if cached is not None and cached[0] is robot:
-        return cached[1]
+    if cached is not None:
+        return cached
     n = robot.nv
     T = ca.SX.sym("T")
     sigma, u_ref = ca.SX.sym("sigma", N), ca.SX.sym("u_ref", n)
@@ -355,7 +356,7 @@ def _transcription(robot: Robot, N: int, r: int, objective: str,
             "ipopt.print_level": 5 if options.verbose else 0, "print_time": options.verbose,
             "ipopt.sb": "yes", "ipopt.hessian_approximation": options.hessian}
     solver = ca.nlpsol("trajectory_optimization", "ipopt", {"x": w, "f": cost, "g": g, "p": p}, opts)
-    _TRANSCRIPTIONS[key] = (robot, (solver, cost_function, shooting.size1()))
+    _TRANSCRIPTIONS[key] = (solver, cost_function, shooting.size1())
     return solver, cost_function, shooting.size1()
 
 

@@ -191,6 +191,9 @@ class Robot:
     _geometry: Geometry | None = field(init=False, default=None, repr=False)
 
     _local: threading.local = field(init=False, repr=False, compare=False)
+    #: Objects built once per robot by other layers and kept as long as it lives (e.g. the default IK
+    #: solver of each frame, ``planners.inverse_kinematics.solve_ik``).
+    derived: dict = field(init=False, default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         # True when the model has mimic joints (the book's rotors): ABA is then unavailable.

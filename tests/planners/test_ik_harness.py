@@ -61,10 +61,13 @@ def test_casadi_ik_solves_nearly_every_reachable_target(panda):
     assert out.rate >= 0.99, str(out)
 
 
-def test_casadi_ik_builds_its_nlp_once_per_robot_frame_and_options(panda):
+def test_casadi_ik_builds_its_nlp_once_per_model_frame_and_options(panda):
     from planners.inverse_kinematics import CasadiIKOptions
 
     a, b = CasadiIK(panda), CasadiIK(panda)
     assert a._solver is b._solver                                   # cached: no rebuild per instance
     assert CasadiIK(panda, options=CasadiIKOptions(posture_weight=1e-3))._solver is not a._solver
-    assert CasadiIK(load("panda"))._solver is not a._solver         # another robot object, its own NLP
+    assert CasadiIK(load("panda"))._solver is a._solver             # an equal model shares it
+    moved = load("panda")
+    moved.model.jointPlacements[2].translation[2] += 0.01           # a model changed in place: its own NLP
+    assert CasadiIK(moved)._solver is not a._solver

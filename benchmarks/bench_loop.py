@@ -21,7 +21,6 @@ Run: ``python benchmarks/bench_loop.py`` (or ``python -m benchmarks`` for every 
 
 from __future__ import annotations
 
-import importlib
 import time
 
 import numpy as np
@@ -73,8 +72,8 @@ def floor_calls(xs: np.ndarray):
     return calls
 
 
-def bare_loop():
-    """The same run as a bare Python loop: the library's RK4 stepper on ``pin.aba`` and the PD + g law
+def bare_loop(q_d: np.ndarray = Q_D):
+    """The same run (towards ``q_d``, from rest at q = 0) as a bare Python loop: the library's RK4 stepper on ``pin.aba`` and the PD + g law
     inline, without ``simulate``'s checks, logs and measurement objects — what the loop's generality
     costs above it."""
     from functools import partial
@@ -88,12 +87,11 @@ def bare_loop():
     gravity, k_p, k_d = pin.computeGeneralizedGravity, np.full(6, K_P), np.full(6, K_D)
 
     def run() -> np.ndarray:
-        xs, us, x = np.empty((n_samples, 12)), [], np.zeros(12)
+        xs, x = np.empty((n_samples, 12)), np.zeros(12)
         for k in range(n_samples):
             xs[k] = x
             q, v = x[:6], x[6:]
-            u = gravity(model, data, q) + k_p * (Q_D - q) - k_d * v
-            us.append(u)
+            u = gravity(model, data, q) + k_p * (q_d - q) - k_d * v
             if k < n_samples - 1:
                 x = step(k * H, x, u)
         return xs
@@ -122,7 +120,6 @@ def book_loops(pid: str) -> tuple[float, float, bool]:
     from problems.registry import get
 
     prob = get(pid)
-    importlib.import_module(prob.function.__module__)
     original = simulation.simulate
     spent = [0.0, 0.0, False]
 

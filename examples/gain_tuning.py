@@ -25,11 +25,11 @@ from scipy.optimize import minimize
 from controllers.compiled import CompiledLoop, compile_function
 from controllers.joint_space import PDGravityCompensation
 from controllers.plants import ArmPlant
+from problems.ch08_centralised import F_V    # 8.10's joint-side viscous friction, from the motor data
 from rigid_body.dynamics import gravity_torques
 from rigid_body.robots import load
 
 Q_D = np.array([np.pi / 4, -np.pi / 2])       # 8.10's first posture
-F_V = 100.0                                   # joint-side viscous friction [N·m·s/rad]
 T_C = 1e-3                                    # controller period and RK4 step [s]
 
 

@@ -386,11 +386,10 @@ class CompiledLoop:
         return ts, X.T.copy(), U.T.copy(), signals, t_bad
 
 
-def simulate_compiled(plant: Any, controller: Any, t0: float, tf: float, x0: np.ndarray, h: float,
+def simulate_compiled(plant: Any, controller: Any, t0: float, n_samples: int, x0: np.ndarray, h: float,
                       n_sub: int, bound: float, backend: str) -> tuple:
-    """The body of ``simulate(..., backend="casadi")`` (arguments validated by ``simulate``), returning
-    :meth:`CompiledLoop.arrays`."""
+    """The body of ``simulate(..., backend="casadi")`` over ``n_samples`` controller samples (arguments
+    validated by ``simulate``), returning :meth:`CompiledLoop.arrays`."""
     if backend not in BACKENDS:
         raise ValueError(f"`backend` must be one of {BACKENDS}, got {backend!r}")
-    n_samples = int(np.floor((tf - t0) / (n_sub * h) + 1e-9)) + 1
     return CompiledLoop(plant, controller, h, n_sub, n_samples).arrays(t0, x0, bound)

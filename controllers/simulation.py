@@ -429,6 +429,12 @@ def rk4_step(f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarr
     return rk4_stepper(lambda tau, xi, _: f(tau, xi), h, integrate, dexp_inverse)(t, x, None)
 
 
+def sample_times(t0: float, tf: float, Ts: float) -> np.ndarray:
+    """The controller's sample instants t_0 + k T_s, k = 0 … ⌊(t_f − t_0)/T_s⌋ (a ratio within 1e-9 of an
+    integer counts as that integer): the times of every loop's samples."""
+    return t0 + np.arange(int(np.floor((tf - t0) / Ts + 1e-9)) + 1) * Ts
+
+
 def _periods_must_divide(controller: Any, Ts: float) -> None:
     for period in getattr(controller, "periods", tuple)():
         ratio = period / Ts
@@ -490,7 +496,8 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     if backend != "python":
         from controllers.compiled import simulate_compiled  # the same loop as one CasADi function
 
-        ts, xs, us, signals, t_bad = simulate_compiled(plant, controller, t0, tf, x, h, n_sub, bound, backend)
+        ts, xs, us, signals, t_bad = simulate_compiled(plant, controller, t0, len(sample_times(t0, tf, Ts)), x, h,
+                                                       n_sub, bound, backend)
         if t_bad is not None:
             raise SimulationDiverged(f"plant state became non-finite or exceeded {bound:g} by t = {t_bad:.6g} s "
                                      f"(backend={backend!r}, checked every Ts): the loop diverges", t_bad)
@@ -511,10 +518,9 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     if hasattr(controller, "reset"):
         controller.reset()
     controller_log = getattr(controller, "log", None)
-    n_samples = int(np.floor((tf - t0) / Ts + 1e-9)) + 1
     layout = getattr(plant, "state_layout", {})
-
-    ts = t0 + np.arange(n_samples) * Ts  # the sample times t0 + k Ts, as the loop computes them
+    ts = sample_times(t0, tf, Ts)
+    n_samples = len(ts)
     xs = np.empty((n_samples, x.size))
     us: list[np.ndarray] = []
     signals: dict[str, list] = {}

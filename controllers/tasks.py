@@ -29,7 +29,7 @@ import numpy as np
 
 from controllers.joint_space import InverseDynamicsControl
 from controllers.plants import ArmPlant
-from controllers.simulation import simulate
+from controllers.simulation import sample_times, simulate
 from planners.timing import quintic_law
 from rigid_body.kinematics import direct_kinematics
 from rigid_body.robots import Robot, revolute_joints, with_payload
@@ -266,7 +266,7 @@ class ActionExecutor:
         if law.t_i < self.t - 1e-12:
             raise ValueError(f"the motion starts at t = {law.t_i} s, before the executor's time {self.t} s")
         t_f = self.t + opts.Ts * np.ceil((law.t_f - self.t) / opts.Ts - 1e-9)
-        samples = self.t + np.arange(int(np.floor((t_f - self.t) / opts.Ts + 1e-9)) + 1) * opts.Ts
+        samples = sample_times(self.t, t_f, opts.Ts)
         reference = joint_reference(self.robot, self.ik, law, position_rows, orientation, jacobian_rows,
                                     self.x[:self.robot.nq], times=samples)   # open loop: computed before the loop
         model = self._model()

@@ -53,11 +53,6 @@ def test_logged_list_changed_later_is_logged_as_it_was():
     np.testing.assert_array_equal(res["array"][:, 0], [1, 2, 3, 4, 5])
 
 
-def test_list_and_integer_controller_outputs_are_floats():
-    res = simulate(lambda t, x, u: -x + u, lambda t, x: [1], (0.0, 0.01), [0.0], h=1e-3)
-    assert res.u.dtype == float and res.u.shape == (11, 1)
-
-
 def test_hot_rk4_path_equals_the_public_step():
     """The loop's RK4 (no closure) and :func:`rk4_step` give the same bits on a nonlinear plant."""
     def f(t, x, u):

@@ -4,7 +4,7 @@ The book's motor model (rotor i carried by link i−1, spinning at k_ri q̇_i, S
 URDF as mimic joints, so CRBA/RNEA here include the k_r I_m terms of (7.32). With mimic joints
 Pinocchio refuses ABA; forward dynamics is then the Cholesky solve of B q̈ = τ − h.
 Every result is a new array, never a view of ``robot.data``: Pinocchio 4's bindings return copies
-(checked by tests/rigid_body/test_wrapper_costs.py), so no second copy is made. :func:`inverse_dynamics` is
+(checked by tests/rigid_body/test_wrapper_fast_paths.py), so no second copy is made. :func:`inverse_dynamics` is
 the rigid-body model; friction, F_v q̇ + F_s sgn(q̇) in (7.42), is :func:`friction_torques` (``robot.friction``).
 
 Fast path of the wrappers (≈ 1.5–1.7× the raw Pinocchio call on the Panda, at the floor of any validating

@@ -4,7 +4,7 @@ Conventions: the book's geometric Jacobian ``J = [J_P; J_O]`` (linear velocity o
 and angular velocity, both in the base frame, Eq. (3.4)) is Pinocchio's ``LOCAL_WORLD_ALIGNED``
 frame Jacobian. Frames are given by name or id; the default is the robot's end effector.
 Returned arrays are new arrays, never views of ``robot.data`` (which the next call overwrites): Pinocchio 4's
-bindings return copies, checked by tests/rigid_body/test_wrapper_costs.py.
+bindings return copies, checked by tests/rigid_body/test_wrapper_fast_paths.py.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
 Sects. 2.8–2.12 (direct and inverse kinematics), 3.1–3.3 (geometric Jacobian).

@@ -195,17 +195,25 @@ def test_hybrid_law_folded_matrix_is_eqs_9_77_to_9_81_term_by_term(rng):
     law.control(0.0, q, qd, h, J, Jdot_qd, T)                  # starts the integral's clock
     t = 0.3
     u = law.control(t, q, qd, h, J, Jdot_qd, T)
+    # the derived matrices from S_f, S_v, C by the book, not the law's: weighted pseudo-inverses
+    # S† = (Sᵀ W S)⁻¹ Sᵀ W (9.55) with W = K = C⁻¹ for S_v, W = C for S_f; P_v = S_v S_v†, C' = (I − P_v) C,
+    # λ̇ = (S_fᵀ C' S_f)⁻¹ S_fᵀ v_e
+    K = np.linalg.inv(C)
+    S_v_dagger = np.linalg.inv(S_v.T @ K @ S_v) @ S_v.T @ K
+    S_f_dagger = np.linalg.inv(S_f.T @ C @ S_f) @ S_f.T @ C
+    C_prime = (np.eye(3) - S_v @ S_v_dagger) @ C
     v_e = J @ qd
     nu_d, nud_d = map(np.asarray, velocity(t))
-    e_nu = nu_d - law.S_v_dagger @ v_e
+    e_nu = nu_d - S_v_dagger @ v_e
     integral = np.array([0.01, -0.02]) + t * e_nu
     alpha = S_v @ (nud_d + K_Pnu @ e_nu + K_Inu @ integral)                                  # (9.80)
     lam_d, lamd_d, lamdd_d = map(np.asarray, force(t))
-    f_l = lamdd_d + K_Dl * (lamd_d - law.G_f @ v_e) + K_Pl * (lam_d - law.S_f_dagger @ h)    # (9.81)
-    alpha = alpha + law.C_prime_S_f @ f_l                                                    # (9.77)
+    lam, lam_dot = S_f_dagger @ h, np.linalg.inv(S_f.T @ C_prime @ S_f) @ S_f.T @ v_e
+    f_l = lamdd_d + K_Dl * (lamd_d - lam_dot) + K_Pl * (lam_d - lam)                         # (9.81)
+    alpha = alpha + C_prime @ S_f @ f_l                                                      # (9.77)
     model, data = robot.model, robot.model.createData()
     B = pin.crba(model, data, q)
     n = pin.nonLinearEffects(model, data, q, qd)
     expected = B @ np.linalg.solve(J, alpha - Jdot_qd) + n + J.T @ h
     np.testing.assert_allclose(u, expected, rtol=1e-9, atol=1e-9)
-    assert law.log()["lam"] == pytest.approx(law.S_f_dagger @ h)
+    assert law.log()["lam"] == pytest.approx(lam)

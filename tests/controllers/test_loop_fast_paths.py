@@ -53,11 +53,6 @@ def test_logged_list_changed_later_is_logged_as_it_was():
     np.testing.assert_array_equal(res["array"][:, 0], [1, 2, 3, 4, 5])
 
 
-def test_list_and_integer_controller_outputs_are_floats():
-    res = simulate(lambda t, x, u: -x + u, lambda t, x: [1], (0.0, 0.01), [0.0], h=1e-3)
-    assert res.u.dtype == float and res.u.shape == (11, 1)
-
-
 def test_loop_rk4_equals_a_hand_written_classical_step():
     """The loop's RK4 (the Butcher-tableau products of ``rk4_stepper``) against the classical stages
     written out, k_1 … k_4 and x + h/6 (k_1 + 2 k_2 + 2 k_3 + k_4), on a nonlinear time-varying plant."""

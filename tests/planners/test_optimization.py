@@ -201,9 +201,7 @@ def test_optimization_options_are_checked(kwargs, name):
 
 def test_repeated_solve_reuses_the_transcription_with_the_same_result():
     """The NLP is built once per (robot, intervals, options): a second solve gives the same optimum
-    and skips the build (its time is below the first's)."""
-    import time
-
+    and skips the build (the cache holds one transcription)."""
     from planners.optimization import (_TRANSCRIPTIONS, JointLimits, OptimizationOptions,
                                        minimum_time_trajectory)
 
@@ -211,19 +209,14 @@ def test_repeated_solve_reuses_the_transcription_with_the_same_result():
     limits = JointLimits.from_robot(arm, qdd_max=[20.0, 20.0], qd_max=[3.0, 3.0], tau_max=[3000.0, 1500.0])
     options = OptimizationOptions(nodes=12, tol=1e-7)
     before = len(_TRANSCRIPTIONS)
-    start = time.perf_counter()
     first = minimum_time_trajectory(arm, [0.0, 0.0], [1.0, -0.5], limits, options)
-    t_first = time.perf_counter() - start
     assert len(_TRANSCRIPTIONS) == before + 1
     other = minimum_time_trajectory(arm, [0.2, 0.1], [-0.6, 0.4], limits, options)   # same NLP, new data
-    start = time.perf_counter()
     again = minimum_time_trajectory(arm, [0.0, 0.0], [1.0, -0.5], limits, options)
-    t_again = time.perf_counter() - start
     assert len(_TRANSCRIPTIONS) == before + 1
     assert first.success and again.success and other.success
     assert again.t_f == pytest.approx(first.t_f, rel=1e-9)
     assert other.t_f != pytest.approx(first.t_f, rel=1e-3)
-    assert t_again < t_first
 
 
 @pytest.mark.parametrize("objective", ["time", "effort"])

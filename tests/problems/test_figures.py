@@ -4,6 +4,8 @@
 import re
 from pathlib import Path
 
+import pytest
+
 from problems.common import label_axes, subplots
 from tests.problems.figure_lint import lint_figure
 
@@ -14,17 +16,21 @@ BLOCK_DIAGRAMS = {"S8.5", "S8.6", "S8.7"}
 
 
 def _result_figures() -> set[str]:
+    """The result figures named by the catalogues; the catalogues live outside the repository, so a
+    machine without them skips (visibly) rather than checking nothing."""
+    if not SPEC.is_dir():
+        pytest.skip(f"catalogue folder {SPEC} is absent: the result figures cannot be listed")
     found = set()
     for name in ("ch02-04.md", "ch05-08.md"):
         path = SPEC / name
-        if path.exists():
-            for line in path.read_text(encoding="utf-8").splitlines():
-                if "Results" in line:
-                    for a, b in re.findall(r"S([2-8]\.\d+)(?:[–-]S[2-8]\.(\d+))?", line):
-                        found.add(f"S{a}")
-                        if b:  # a range "S8.5–S8.7"
-                            chapter, first = a.split(".")
-                            found.update(f"S{chapter}.{k}" for k in range(int(first), int(b) + 1))
+        assert path.is_file(), f"catalogue {path} is missing from {SPEC}"
+        for line in path.read_text(encoding="utf-8").splitlines():
+            if "Results" in line:
+                for a, b in re.findall(r"S([2-8]\.\d+)(?:[–-]S[2-8]\.(\d+))?", line):
+                    found.add(f"S{a}")
+                    if b:  # a range "S8.5–S8.7"
+                        chapter, first = a.split(".")
+                        found.update(f"S{chapter}.{k}" for k in range(int(first), int(b) + 1))
     return found
 
 
@@ -32,6 +38,7 @@ def test_every_result_figure_of_the_catalogues_has_a_problem_figure():
     source = "\n".join(p.read_text(encoding="utf-8") for p in sorted((ROOT / "problems").glob("ch0[2-8]*.py")))
     drawn = set(re.findall(r"S[2-8]\.\d+", source))
     wanted = _result_figures()
+    assert wanted, f"no result figure found in the catalogues of {SPEC}: the parser no longer matches them"
     missing = sorted(wanted - drawn - BLOCK_DIAGRAMS)
     assert not missing, f"result figures of the catalogues without a problem figure: {missing}"
 

@@ -33,7 +33,11 @@ def test_the_book_figures_postures_are_named():
     q = load("scara").configurations["p5_7_camera"]
     np.testing.assert_allclose(direct_kinematics(load("scara"), q)[:3, 3],
                                [0.5 + 0.5 * np.cos(np.pi / 4), 0.5 * np.sin(np.pi / 4), 0.1], atol=1e-12)
-    np.testing.assert_allclose(load("planar_pr").configurations["fig_s7_2"], [0.4, 0.6])
+    # Fig. S7.2's PR posture: its tip where the figure's frames put it, [−a2 c2, 0, d1 + a2 s2] (a2 = 0.5 m)
+    pr = load("planar_pr")
+    d1, th2 = pr.configurations["fig_s7_2"]
+    np.testing.assert_allclose(direct_kinematics(pr, [d1, th2])[:3, 3],
+                               [-0.5 * np.cos(th2), 0.0, d1 + 0.5 * np.sin(th2)], atol=1e-12)
 
 
 @pytest.mark.parametrize("name", sorted(BOOK_ROBOTS))

@@ -31,5 +31,11 @@ def test_real_robot_start_poses_are_regular_and_clik_converges_from_them(name, k
 
 
 def test_panda_ready_is_frankas_start_pose():
-    np.testing.assert_allclose(load("panda").configurations["ready"],
-                               [0, -np.pi / 4, 0, -3 * np.pi / 4, 0, np.pi / 2, np.pi / 4])
+    """Franka's start pose puts the hand straight down in front of the base, in the base's x–z plane, fingers
+    across its y axis; Franka documents the hand's TCP there at (0.307, 0, 0.487) m (O_T_EE, the hand's
+    F_T_EE being 0.1034 m along its z axis)."""
+    panda = load("panda")
+    T = direct_kinematics(panda, panda.configurations["ready"], frame="panda_hand")
+    np.testing.assert_allclose(T[:3, :3], np.diag([1.0, -1.0, -1.0]), atol=1e-9)
+    tcp = T[:3, 3] + T[:3, :3] @ [0.0, 0.0, 0.1034]
+    np.testing.assert_allclose(tcp, [0.307, 0.0, 0.487], atol=1e-3)

@@ -40,8 +40,12 @@ def puma():
 
 def test_named_configurations_and_armature_model(puma):
     assert set(puma.configurations) >= {"qz", "qr", "qs", "qn", "neutral"}
-    # the Toolbox's qn = [0, π/4, π, 0, π/4, 0]; q3 = −π is the same pose within the joint's limits
-    np.testing.assert_allclose(puma.configurations["qn"], [0, np.pi / 4, -np.pi, 0, np.pi / 4, 0])
+    # the Toolbox's documented qn = [0, π/4, π, 0, π/4, 0] (q3 = π is outside this joint's limits): ours is
+    # the same posture — equal angles modulo 2π, the same end-effector pose, and inside the limits
+    qn, toolbox_qn = puma.configurations["qn"], np.array([0, np.pi / 4, np.pi, 0, np.pi / 4, 0])
+    np.testing.assert_allclose(np.angle(np.exp(1j * (qn - toolbox_qn))), 0.0, atol=1e-12)
+    np.testing.assert_allclose(direct_kinematics(puma, qn), direct_kinematics(puma, toolbox_qn), atol=1e-12)
+    assert np.all(qn >= puma.lower) and np.all(qn <= puma.upper)
     assert not puma.has_mimic          # armature: ABA is available (forward dynamics below uses it)
     assert load("puma560", motors="rotors").has_mimic
 

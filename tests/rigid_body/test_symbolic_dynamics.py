@@ -47,15 +47,30 @@ def test_symbolic_rnea_matches_pinocchio(name, rng):
         np.testing.assert_allclose(diff, B @ qdd, atol=1e-9 * (1 + np.abs(B).max()))
 
 
-def test_symbolic_dynamics_built_once_per_model_content():
+def test_symbolic_dynamics_built_once_per_model_content(monkeypatch):
     """The recursions are cached by the model's content: an equal model reuses them, a changed one
-    (here its armature) gets its own — never the stale expression."""
+    (here its armature) gets its own — never the stale expression. The Newton–Euler recursion is
+    counted: an empty cache, then one build for two equal models and a second for the changed one."""
+    import rigid_body.symbolic as symbolic
+
+    monkeypatch.setattr(symbolic, "_BUILT", {})
+    builds = []
+    recursion = symbolic._newton_euler
+
+    def counted(*args, **kwargs):
+        builds.append(1)
+        return recursion(*args, **kwargs)
+
+    monkeypatch.setattr(symbolic, "_newton_euler", counted)
     model = load("planar_2r").model.copy()
     q, v, a = np.array([0.3, -0.4]), np.array([0.5, 0.2]), np.array([1.0, -2.0])
     before = inverse_dynamics_function(model)(q, v, a).full().ravel()
+    assert len(builds) == 1
     np.testing.assert_allclose(inverse_dynamics_function(load("planar_2r"))(q, v, a).full().ravel(), before, atol=0)
+    assert len(builds) == 1, "an equal model (a fresh load) built the recursion again"
     model.armature[:] = [0.5, 0.25]
     after = inverse_dynamics_function(model)(q, v, a).full().ravel()
+    assert len(builds) == 2, "a changed model (its armature) reused the stale recursion"
     np.testing.assert_allclose(after - before, [0.5 * 1.0, 0.25 * -2.0], atol=1e-12)
     data = model.createData()
     np.testing.assert_allclose(after, pin.rnea(model, data, q, v, a), atol=1e-9)

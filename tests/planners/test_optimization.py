@@ -200,19 +200,19 @@ def test_optimization_options_are_checked(kwargs, name):
 
 
 def test_repeated_solve_reuses_the_transcription_with_the_same_result():
-    """The NLP is built once per (robot, intervals, options): a second solve gives the same optimum
-    and skips the build (the cache holds one transcription)."""
+    """The NLP is built once per (model content, intervals, options): a second solve — also on another robot
+    object with the same model — gives the same optimum and builds nothing (the cache holds one transcription)."""
     from planners.optimization import (_TRANSCRIPTIONS, JointLimits, OptimizationOptions,
                                        minimum_time_trajectory)
 
     arm = load("planar_2r")
     limits = JointLimits.from_robot(arm, qdd_max=[20.0, 20.0], qd_max=[3.0, 3.0], tau_max=[3000.0, 1500.0])
-    options = OptimizationOptions(nodes=12, tol=1e-7)
+    options = OptimizationOptions(nodes=13, tol=1e-7)          # 13 intervals: no other test builds this one
     before = len(_TRANSCRIPTIONS)
     first = minimum_time_trajectory(arm, [0.0, 0.0], [1.0, -0.5], limits, options)
     assert len(_TRANSCRIPTIONS) == before + 1
     other = minimum_time_trajectory(arm, [0.2, 0.1], [-0.6, 0.4], limits, options)   # same NLP, new data
-    again = minimum_time_trajectory(arm, [0.0, 0.0], [1.0, -0.5], limits, options)
+    again = minimum_time_trajectory(load("planar_2r"), [0.0, 0.0], [1.0, -0.5], limits, options)
     assert len(_TRANSCRIPTIONS) == before + 1
     assert first.success and again.success and other.success
     assert again.t_f == pytest.approx(first.t_f, rel=1e-9)

@@ -211,9 +211,13 @@ def compiler() -> str | None:
     return None
 
 
-def fast_backend() -> str:
+def fast_backend(controller: Any = None) -> str:
     """The backend for a loop that needs speed: ``"casadi"`` when a C compiler can build the compiled loop,
-    else ``"python"`` (the same loop, slower; a one-line warning says so) — never the interpreted CasADi."""
+    else ``"python"`` (the same loop, slower; a one-line warning says so) — never the interpreted CasADi.
+    Given the ``controller``, ``"python"`` also when it has no symbolic form (its ``compilable``, by
+    default whether it has ``symbolic()``)."""
+    if controller is not None and not getattr(controller, "compilable", hasattr(controller, "symbolic")):
+        return "python"
     if compiler() is not None:
         return "casadi"
     warnings.warn("no C compiler found: the loop runs on the Python backend (same results, slower)", stacklevel=2)

@@ -731,6 +731,11 @@ class VisualServo(Chain):
             return self.first, inner.first, inner.second
         return self.first, None, inner
 
+    @property
+    def compilable(self) -> bool:
+        """Whether :meth:`symbolic` can build the chain: its law has a ``symbolic_law``."""
+        return hasattr(self._blocks()[2].block, "symbolic_law")
+
     def symbolic(self) -> Any:
         """The chain as a :class:`controllers.compiled.SymbolicLaw` (laws with ``symbolic_law``:
         :class:`PBVSPDGravity`, :class:`IBVSPDGravity`); the parameters are the law's gains."""

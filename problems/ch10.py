@@ -660,14 +660,14 @@ def eye_in_hand_animation(sol: Solution, robot: Any, res: Any, points_b: np.ndar
 
 def _pbvs_run(Tc: float, **gains) -> _Run:
     """10.8 (PD + gravity: the compiled loop where a C compiler is available) or 10.9 (the Python loop)."""
-    backend = fast_backend() if "K_P" in gains else "python"
-    return _post(scara_eye_in_hand(), simulate(**pbvs_setup(Tc, **gains), backend=backend))
+    setup = pbvs_setup(Tc, **gains)
+    return _post(scara_eye_in_hand(), simulate(**setup, backend=fast_backend(setup["controller"])))
 
 
 def _ibvs_run(Tc: float, kind: str, **gains) -> _Run:
     """10.10 (PD + gravity: the compiled loop where a C compiler is available) or 10.11 (the Python loop)."""
-    backend = fast_backend() if "K_Ps" in gains else "python"
-    return _post(scara_eye_in_hand(), simulate(**ibvs_setup(Tc, kind, **gains), backend=backend))
+    setup = ibvs_setup(Tc, kind, **gains)
+    return _post(scara_eye_in_hand(), simulate(**setup, backend=fast_backend(setup["controller"])))
 
 
 def _final_camera_pose() -> np.ndarray:

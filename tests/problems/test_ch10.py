@@ -84,3 +84,17 @@ def test_eye_in_hand_animation_tracks_the_camera_and_the_rays():
     scene = viewer.animate(spec["robot"], spec["motion"], overlays=spec["overlays"], tracks=spec["tracks"],
                            fps=spec["fps"])
     assert scene.duration == pytest.approx(0.4)
+
+
+def test_fast_backend_compiles_the_pd_gravity_chains_only():
+    """10.8/10.10 (PD + gravity laws with a symbolic form) take the compiled loop with a compiler; the
+    resolved-velocity chains of 10.9/10.11 have none and stay on the Python loop."""
+    from controllers.compiled import compiler, fast_backend
+
+    pd = ch10.pbvs_setup(ch10.TC_MANUAL, K_P=np.full(4, 100.0),
+                         K_D=np.full(4, 10.0))["controller"]
+    velocity = ch10.pbvs_setup(ch10.TC_MANUAL, K=np.ones(4))["controller"]
+    assert pd.compilable and not velocity.compilable
+    assert fast_backend(velocity) == "python"
+    if compiler() is not None:
+        assert fast_backend(pd) == "casadi"

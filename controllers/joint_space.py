@@ -257,13 +257,13 @@ class PDGravityCompensation(LoggedController):
         """Eq. (8.51) in CasADi expressions for ``simulate(..., backend="casadi")``; the parameters are
         this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`)."""
         from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import inverse_dynamics_expression
+        from rigid_body.symbolic import gravity_expression
 
         n, robot = self.n, self.robot
 
         def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
             e = r[:n] - q
-            g = inverse_dynamics_expression(robot, q, np.zeros(n), np.zeros(n))
+            g = gravity_expression(robot, q)
             return g + K["K_P"] @ e + K["K_D"] @ (r[n:2 * n] - qd), {"q_d": r[:n], "e": e}
 
         return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P, "K_D": self.K_D}, law,
@@ -365,7 +365,7 @@ class ComputedTorqueFeedforward(LoggedController):
         import casadi as ca
 
         from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import inverse_dynamics_expression
+        from rigid_body.symbolic import gravity_expression, inverse_dynamics_expression
 
         n, robot, k_r, zero = self.n, self.robot, self.k_r, np.zeros(self.n)
         c_p, c_v, k_m, T_V, K_pr, b_bar = self._c_p, self._c_v, self.k_m, self.T_V, self.K_pr, self.b_bar
@@ -380,7 +380,7 @@ class ComputedTorqueFeedforward(LoggedController):
             v = K_V * (T_V * e_v + integral)                                # PI: K_V (1 + s T_V)/s
             tau_ff = ca.DM.zeros(n)
             if feedforward:
-                g = inverse_dynamics_expression(robot, q_d, zero, zero)
+                g = gravity_expression(robot, q_d)
                 b = ca.vertcat(*[(inverse_dynamics_expression(robot, q_d, zero, np.eye(n)[i]) - g)[i]
                                  for i in range(n)])                        # b_ii(q_d)
                 tau_ff = (b - b_bar) * qdd_d + g
@@ -555,17 +555,17 @@ class RobustControl(LoggedController):
         import casadi as ca
 
         from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import inverse_dynamics_expression
+        from rigid_body.symbolic import gravity_expression
 
         n, robot, Fv, B_hat, DtQ = self.n, self.robot, self.Fv, self.B_hat, self._DtQ
-        rho, epsilon, zero = self.rho, self.epsilon, np.zeros(self.n)
+        rho, epsilon = self.rho, self.epsilon
 
         def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
             e, ed = r[:n] - q, r[n:2 * n] - qd
             z = DtQ @ ca.vertcat(e, ed)
             w = (rho / ca.fmax(ca.sqrt(ca.dot(z, z)), epsilon)) * z               # Eq. (8.89), boundary layer
             y = r[2 * n:] + K["K_D"] @ ed + K["K_P"] @ e + w
-            u = B_hat @ y + Fv * qd + inverse_dynamics_expression(robot, q, zero, zero)
+            u = B_hat @ y + Fv * qd + gravity_expression(robot, q)
             return u, {"q_d": r[:n], "e": e, "w": w}
 
         return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P, "K_D": self.K_D}, law,
@@ -651,14 +651,9 @@ class AdaptivePayloadControl(LoggedController):
         Newton–Euler of :func:`rigid_body.dynamics.reference_torque`; the parameters are K_D, Λ and k_π⁻¹
         (a :class:`controllers.compiled.SymbolicLaw`)."""
         from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import inverse_dynamics_expression
+        from rigid_body.symbolic import reference_torque_expression as reference_torque
 
-        n, robot, unit, Fv, zero = self.n, self.robot, self.unit, self.Fv, np.zeros(self.n)
-
-        def reference_torque(model: Robot, q: Any, qd: Any, qd_r: Any, qdd_r: Any) -> Any:
-            plus = inverse_dynamics_expression(model, q, qd + qd_r, 4.0 * qdd_r)
-            minus = inverse_dynamics_expression(model, q, qd - qd_r, zero)
-            return (plus - minus) / 4.0 + inverse_dynamics_expression(model, q, zero, zero)
+        n, robot, unit, Fv = self.n, self.robot, self.unit, self.Fv
 
         def law(q: Any, qd: Any, r: Any, K: dict, state: Any, dt: Any) -> tuple[Any, dict, Any]:
             import casadi as ca

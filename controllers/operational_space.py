@@ -290,7 +290,7 @@ class OperationalPDGravity(LoggedController):
         """Eq. (8.110) of a position task in CasADi expressions for ``simulate(..., backend="casadi")``;
         the parameters are this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`)."""
         from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import inverse_dynamics_expression, pose_function
+        from rigid_body.symbolic import gravity_expression, pose_function
 
         if self.task.pose:
             raise ValueError("the symbolic form of OperationalPDGravity covers position tasks "
@@ -302,7 +302,7 @@ class OperationalPDGravity(LoggedController):
             _, p, J_geo = pose(q)
             x_e, J = p[rows], J_geo[rows, :]
             e = r[:m] - x_e
-            g = inverse_dynamics_expression(robot, q, np.zeros(n), np.zeros(n))
+            g = gravity_expression(robot, q)
             u = g + J.T @ (K["K_P"] @ e - K["K_D"] @ (J @ qd)) - K_N * qd
             return u, {"x_d": r[:m], "x_e": x_e, "e": e}
 

@@ -490,13 +490,12 @@ class PBVSPDGravity(_CameraLaw):
         """The law (Fig. 10.14) in CasADi expressions (``image`` unused: the estimate carries it)."""
         import casadi as ca
 
-        from rigid_body.symbolic import inverse_dynamics_expression
+        from rigid_body.symbolic import gravity_expression
 
         Jc = _symbolic_camera_jacobian(self.robot, self.frame, q)
         J = _symbolic_gamma(estimate) @ Jc[_SCARA_ROWS.tolist(), :]
         x_tilde = _symbolic_wrapped_difference(ca.DM(self.x_do), estimate)
-        zero = np.zeros(self.robot.nv)
-        g = inverse_dynamics_expression(self.robot, q, zero, zero)
+        g = gravity_expression(self.robot, q)
         return g + J.T @ (K["K_P"] * x_tilde - K["K_D"] * (J @ qd)), {"x_tilde": x_tilde}
 
 
@@ -648,7 +647,7 @@ class IBVSPDGravity(_IBVSLaw):
         """The law (Fig. 10.16) in CasADi expressions, every point seen; the depth measured or a constant ẑ."""
         import casadi as ca
 
-        from rigid_body.symbolic import inverse_dynamics_expression
+        from rigid_body.symbolic import gravity_expression
 
         if callable(self.depth):
             raise ValueError("the symbolic IBVS law takes the measured or a constant depth: use backend='python'")
@@ -669,8 +668,7 @@ class IBVSPDGravity(_IBVSLaw):
             e = ca.DM(self.s_d) - ca.vec(ca.horzcat(x, y).T)
         dofs = self._dofs.tolist()
         J = L[:, dofs] @ _symbolic_camera_jacobian(self.robot, self.frame, q)[dofs, :]
-        zero = np.zeros(self.robot.nv)
-        g = inverse_dynamics_expression(self.robot, q, zero, zero)
+        g = gravity_expression(self.robot, q)
         return g + J.T @ (K["K_Ps"] * e - K["K_Ds"] * (J @ qd)), {"e_s": e}
 
 

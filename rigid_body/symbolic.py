@@ -40,6 +40,8 @@ __all__ = [
     "pose_function",
     "inverse_dynamics_function",
     "inverse_dynamics_expression",
+    "gravity_expression",
+    "reference_torque_expression",
     "forward_dynamics_expression",
     "forward_dynamics_function",
 ]
@@ -265,6 +267,21 @@ def inverse_dynamics_expression(robot_or_model: Any, q: ca.SX, qd: Any, qdd: Any
         return ca.Function("rnea", [x, v, a], [_newton_euler(model, x, v, a)])
 
     return _inlined(_once("rnea", model, build), q, qd, qdd)
+
+
+def gravity_expression(robot_or_model: Any, q: Any) -> ca.SX:
+    """g(q) as an SX expression: Newton–Euler at q̇ = q̈ = 0 (the symbolic :func:`rigid_body.dynamics.gravity_torques`)."""
+    nv = _model(robot_or_model).nv
+    return inverse_dynamics_expression(robot_or_model, q, np.zeros(nv), np.zeros(nv))
+
+
+def reference_torque_expression(robot_or_model: Any, q: Any, qd: Any, qd_r: Any, qdd_r: Any) -> ca.SX:
+    """B(q) q̈_r + C(q, q̇) q̇_r + g(q) as an SX expression, by the same polarised Newton–Euler as
+    :func:`rigid_body.dynamics.reference_torque` (8.98)."""
+    zero = np.zeros(_model(robot_or_model).nv)
+    plus = inverse_dynamics_expression(robot_or_model, q, qd + qd_r, 4.0 * qdd_r)
+    minus = inverse_dynamics_expression(robot_or_model, q, qd - qd_r, zero)
+    return (plus - minus) / 4.0 + gravity_expression(robot_or_model, q)
 
 
 def _newton_euler(robot_or_model: Any, q: ca.SX, qd: Any, qdd: Any) -> ca.SX:

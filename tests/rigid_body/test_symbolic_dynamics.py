@@ -74,3 +74,21 @@ def test_symbolic_dynamics_built_once_per_model_content(monkeypatch):
     np.testing.assert_allclose(after - before, [0.5 * 1.0, 0.25 * -2.0], atol=1e-12)
     data = model.createData()
     np.testing.assert_allclose(after, pin.rnea(model, data, q, v, a), atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["planar_2r", "ur5"])
+def test_gravity_and_reference_torque_expressions_against_pinocchio(name, rng):
+    """g(q) and B q̈_r + C(q, q̇) q̇_r + g (8.98) from the symbolic Newton–Euler against Pinocchio's
+    computeGeneralizedGravity and CRBA, computeCoriolisMatrix (Christoffel C, (7.45))."""
+    import casadi as ca
+
+    from rigid_body.symbolic import gravity_expression, reference_torque_expression
+
+    robot = load(name)
+    model, data, n = robot.model, robot.data, robot.nv
+    q, qd, qd_r, qdd_r = (rng.uniform(-1.0, 1.0, n) for _ in range(4))
+    g = np.array(ca.evalf(gravity_expression(robot, q))).ravel()
+    np.testing.assert_allclose(g, pin.computeGeneralizedGravity(model, data, q), rtol=1e-10, atol=1e-10)
+    tau = np.array(ca.evalf(reference_torque_expression(robot, q, qd, qd_r, qdd_r))).ravel()
+    B, C = pin.crba(model, data, q), pin.computeCoriolisMatrix(model, data, q, qd)
+    np.testing.assert_allclose(tau, B @ qdd_r + C @ qd_r + g, rtol=1e-9, atol=1e-9)

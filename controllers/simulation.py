@@ -144,6 +144,14 @@ class LoggedController:
         self._log = {}
 
 
+def _hold_rule(t: float, next_t: float | None, Ts: float) -> tuple[bool, float | None]:
+    """A zero-order hold's rule at time t: (whether it evaluates its block now, its next instant). It does at
+    its first call and whenever t reaches the next instant (within 1e-9 Ts), which then moves on by Ts."""
+    if next_t is None or t >= next_t - 1e-9 * Ts:
+        return True, (t if next_t is None else next_t) + Ts
+    return False, next_t
+
+
 class ZeroOrderHold:
     """Runs ``block`` every ``Ts`` seconds (from the first call) and holds its output in between.
 
@@ -166,10 +174,19 @@ class ZeroOrderHold:
         return (self.Ts,) + tuple(getattr(self.block, "periods", tuple)())
 
     def __call__(self, t: float, measurement: Any) -> Any:
-        if self._next is None or t >= self._next - 1e-9 * self.Ts:
+        due, self._next = _hold_rule(t, self._next, self.Ts)
+        if due:
             self._output = self.block(t, measurement)
-            self._next = (t if self._next is None else self._next) + self.Ts
         return self._output
+
+    @staticmethod
+    def instants(times: np.ndarray, Ts: float) -> np.ndarray:
+        """Where a hold of period ``Ts`` called at ``times`` (from the run's first sample) evaluates its block
+        (bool (N,)): the same rule as a call, for a loop that samples the block itself (the compiled one)."""
+        out, next_t = np.zeros(len(times), dtype=bool), None
+        for k, t in enumerate(np.asarray(times, dtype=float).tolist()):
+            out[k], next_t = _hold_rule(t, next_t, Ts)
+        return out
 
     def log(self) -> dict[str, Any]:
         return self.block.log() if hasattr(self.block, "log") else {}

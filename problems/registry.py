@@ -23,8 +23,10 @@ KINDS = ("derivation", "numeric", "simulation", "programming", "qualitative")
 #: boolean statement (a named property the figures show); every comparison names its reference.
 #: ``"specification met"``: the expected side is a requirement of the data (ζ, X_R, a bandwidth) and the
 #: actual side the designed system evaluated on a separate path (poles or gains by python-control).
+#: ``"independent derivation"``: a value derived independently of rmpc, not printed in the manual (the spec
+#: catalogue's [D] and "derived values" entries: numpy/scipy/Pinocchio computations made while writing it).
 REFERENCES = ("manual number", "closed form", "finite differences", "second algorithm", "other library",
-              "simulation vs prediction", "specification met", "property")
+              "simulation vs prediction", "specification met", "independent derivation", "property")
 
 
 #: How ``actual`` relates to ``expected``: equal within a tolerance, an error measure whose ideal is 0,

@@ -23,6 +23,7 @@ from planners.configuration_space import (planar_arm_obstacle_distance, planar_a
 from planners.inverse_kinematics import CLIK, TwoStageCLIK, cosine_pose_reference, gradient_velocity
 from problems.common import label_axes, max_error, random_quaternion, random_rotation, subplots
 from problems.registry import Solution, problem
+from rigid_body.book_robots import book_robot_spec
 from rigid_body.kinematics import (analytical_jacobian, direct_kinematics, frame_poses,
                                    geometric_jacobian)
 from rigid_body.manipulability import (force_ellipsoid, jacobian_rank, manipulability, plot_ellipse,
@@ -747,17 +748,19 @@ def problem_3_22() -> Solution:
     sol.check_close("final q (indicative [2.21430, -1.28700, 0.5, 0.64350])", rA.q[-1],
                     [2.21430, -1.28700, 0.5, 0.64350], atol=1e-4, reference="independent derivation")
     s2 = np.abs(np.sin(rA.q[:, 1]))
-    # Closed form: with a1 = a2 = 0.5 m (Table S2.3), cos ϑ2 = (r² − a1² − a2²)/(2 a1 a2) depends on the
+    # Closed form: with the SCARA's a1, a2 (Table S2.3), cos ϑ2 = (r² − a1² − a2²)/(2 a1 a2) depends on the
     # planar distance r of the wrist from the base axis; |sin ϑ2| is least where r is least along the line.
-    a, b = np.array([0.7, 0.0]), np.array([0.0, 0.8])
+    links = book_robot_spec("scara").links
+    a1, a2 = links[0].a, links[1].a
+    a, b = x_i[:2], x_f[:2]
     lam = np.clip(-a @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
     r_min = np.linalg.norm(a + lam * (b - a))
-    sin_min = np.sqrt(1 - ((r_min**2 - 0.5) / 0.5) ** 2)
+    sin_min = np.sqrt(1 - ((r_min**2 - a1**2 - a2**2) / (2 * a1 * a2)) ** 2)
     sol.check_close("J_A non-singular: min |sin ϑ2| along the path = the closed form at the point nearest the "
                     "base axis (0.896; the manual's 0.9 is above it)", s2.min(), sin_min, atol=1e-3,
                     reference="closed form")
     sol.animation(robot, rA, "(A) Jacobian-inverse CLIK along the segment", speed=0.5,
-                  overlays=lambda s: s.polyline("path", np.array([[0.7, 0.0, 0.0], [0.0, 0.8, 0.5]]), radius=0.005))
+                  overlays=lambda s: s.polyline("path", np.array([x_i[:3], x_f[:3]]), radius=0.005))
     return sol
 
 

@@ -138,12 +138,14 @@ class Solution:
         ``viewer.animate`` (``speed``, ``overlays=lambda scene: ...``, ``tracks``)."""
         self.animations.append({"robot": robot, "motion": motion, "title": title, **options})
 
-    def check_error(self, name: str, error: float, tol: float, reference: str | None = None) -> bool:
+    def check_error(self, name: str, error: float, tol: float, reference: str | None = None,
+                    detail: str = "") -> bool:
         """Record that an error measure (e.g. the largest difference from an independent reference over
-        many samples) is below ``tol``; NaN fails. ``actual`` is the error, ``expected`` 0."""
+        many samples) is below ``tol``; NaN fails. ``actual`` is the error, ``expected`` 0; ``detail``, if
+        given, follows the error in the check's detail."""
         error = float(error)
-        return self.check(name, error < tol, f"max |error| = {error:.2g} (< {tol:g})", reference,
-                          actual=error, expected=0.0, relation="error")
+        text = f"max |error| = {error:.2g} (< {tol:g})" + (f"; {detail}" if detail else "")
+        return self.check(name, error < tol, text, reference, actual=error, expected=0.0, relation="error")
 
     def figure(self, fig: Any, title: str | None = None, tight: bool = True) -> Any:
         """The figure epilogue: give ``fig`` its title (``suptitle``, also its file name in a report),

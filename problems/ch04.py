@@ -85,11 +85,11 @@ def problem_4_1() -> Solution:
     dq = q_f - q_i
     tr = timing.sample(law, dt=TS, name="quintic")
     sol.check_close("peak velocity 15Δq/(8 t_f) = 2.8125 at t = 1", [tr.qd.max(), law(1.0)[1]],
-                    [15 * dq / (8 * t_f)] * 2, atol=1e-12, reference="manual number")
+                    [15 * dq / (8 * t_f)] * 2, atol=1e-12, reference="closed form")
     t_peak = t_f / 2 * (1 - 1 / np.sqrt(3))
     sol.check_close("peak acceleration 10Δq/(√3 t_f²) = 4.3301 at t = 0.4226",
                     [law(t_peak)[2], -law(t_f - t_peak)[2]], [10 * dq / (np.sqrt(3) * t_f**2)] * 2, atol=1e-12,
-                        reference="manual number")
+                        reference="closed form")
     sol.check("|q̈| never exceeds its peak on the 0.01 s grid", np.max(np.abs(tr.qdd)) <= law(t_peak)[2] + 1e-12)
     sol.check_close("q(1) = 2.5 (symmetry)", law(1.0)[0], 2.5, atol=1e-12, reference="closed form")
     ev, ea = _derivative_errors(law, np.linspace(0.01, 1.99, 50))
@@ -111,7 +111,7 @@ def problem_4_2() -> Solution:
     t_f = sol.given("t_f", 2.0, unit="s")
     law = timing.raised_cosine_law(q_i, q_f, t_f)
     k, k1 = sol.value("k", float(law.k), unit="rad/s"), sol.value("k1", float(law.k1), unit="rad")
-    sol.check_close("k = 1.5, k1 = 0 (manual)", [k, k1], [1.5, 0.0], atol=1e-12, reference="closed form")
+    sol.check_close("k = 1.5, k1 = 0 (manual)", [k, k1], [1.5, 0.0], atol=1e-12, reference="manual number")
     sol.check_close("a = 2π/t_f = π", law.a, np.pi, atol=1e-12, reference="closed form")
     t = np.linspace(0, t_f, 401)
     q, qd, qdd = law(t)
@@ -121,7 +121,7 @@ def problem_4_2() -> Solution:
                     reference="closed form")
     sol.check_close("peaks: q̇ = 2k = 3 at t = 1, q̈ = k a = 4.7124 at t = 0.5",
                     [qd.max(), law(1.0)[1], qdd.max(), law(0.5)[2]], [2 * k, 2 * k, k * np.pi, k * np.pi], atol=1e-12,
-                        reference="manual number")
+                        reference="closed form")
     ev, ea = _derivative_errors(law, np.linspace(0.01, 1.99, 50))
     sol.check("q̇, q̈ agree with finite differences of q", ev < 1e-7 and ea < 1e-6, f"{ev:.2g}, {ea:.2g}")
     sol.figure(_figure(timing.sample(law, dt=TS), "Fig. S4.2 — raised cosine timing law"))
@@ -149,13 +149,13 @@ def problem_4_3() -> Solution:
     sol.value("qd_m", float(qd[1]), unit="rad/s")
     sol.value("qdd_m", float(qdd[1]), unit="rad/s²")
     sol.check_close("q̇_m = (q̇_a + q̇_b)/2 = 0.75, q̈_m = 0 (manual's rule; not −0.3125 of the s4_3 slip)",
-                    [qd[1], qdd[1]], [qd_m, qdd_m], atol=1e-12, reference="manual number")
+                    [qd[1], qdd[1]], [qd_m, qdd_m], atol=1e-12, reference="closed form")
     law = timing.polynomial_sequence_law(t, q, qd, qdd, degree=5)
     sol.value("coefficients_1", law.coefficients[0].tolist(), unit="a_j in rad/s^j")
     sol.value("coefficients_2", law.coefficients[1].tolist(), unit="a_j in rad/s^j")
     sol.check_close("segment coefficients [0, 0, 0, 1.75, −1.21875, 0.234375], [2, 0.75, 0, 0.125, −0.1875, 0.046875]",
                     law.coefficients, [[0, 0, 0, 1.75, -1.21875, 0.234375], [2, 0.75, 0, 0.125, -0.1875, 0.046875]],
-                    atol=1e-12, reference="manual number")
+                    atol=1e-12, reference="independent derivation")
     grid = np.linspace(t[0], t[-1], 201)
     hermite = BPoly.from_derivatives(t, np.column_stack([q, qd, qdd]), orders=5)   # quintic Hermite (scipy)
     sol.check_close("q(t) = SciPy's quintic Hermite interpolant of (q_k, q̇_k, q̈_k) on 201 instants", law(grid)[0],
@@ -378,7 +378,7 @@ def problem_4_7() -> Solution:
     sol.check_close("z constant", p[:, 2], np.zeros(t.size), atol=1e-12, reference="closed form")
     cruise = (t > s_law.breaks[1] + 1e-9) & (t < t_f - s_law.breaks[1] - 1e-9)
     sol.check_close("|ẋ| = |ẏ| = ṡ_c/√2 = 0.7071 while cruising", np.abs(pd[cruise, :2]),
-                    np.full((cruise.sum(), 2), sd_c / np.sqrt(2)), atol=1e-12, reference="manual number")
+                    np.full((cruise.sum(), 2), sd_c / np.sqrt(2)), atol=1e-12, reference="closed form")
     h = 1e-6
     away = np.min(np.abs(t[:, None] - s_law.breaks[None, :]), axis=1) > 1e-4  # not on a phase change
     fd_v = (law(t[away] + h)[0] - law(t[away] - h)[0]) / (2 * h)

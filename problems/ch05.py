@@ -173,9 +173,9 @@ def problem_5_2() -> Solution:
     K = 1.0
     den = m.Ra * m.Fm + m.kv * m.kt
     sol.check_close("ω(0.2 s) = K k_t/(R_a F_m + k_v k_t) = 4.7619 rad/s", omega_ss, K * m.kt / den, atol=1e-3,
-                    reference="manual number")
+                    reference="closed form")
     sol.check_close("i_a(0.2 s) = K F_m/(R_a F_m + k_v k_t) = 0.2381 A", i_ss, K * m.Fm / den, atol=1e-3,
-                    reference="manual number")
+                    reference="closed form")
     sol.check("steady-state velocity slightly below 5 rad/s (the (5.7) value) because of F_m",
               4.5 < omega_ss < 1.0 / m.kv, f"ω_ss = {omega_ss:.4f} rad/s < K/k_v = {1 / m.kv:g}")
     sol.check("underdamped: the velocity overshoots", omega.max() > 1.05 * omega_ss,

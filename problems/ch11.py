@@ -615,8 +615,8 @@ def problem_11_13() -> Solution:
                     [theta[0], theta[-1], v[0], v[-1]], [0.0, np.pi / 2, 1.0, 1.0], atol=1e-14, reference="closed form")
     sol.check_close("manual: max|ω̃| = 10 rad/s with s = t", float(np.max(np.abs(w))), 10.0, atol=1e-6,
                     reference="manual number")
-    sol.check_close("manual: max ṽ = 3.0275 m/s", float(np.max(v)), 3.0275, atol=1e-3,
-                    reference="manual number")
+    sol.check_close("derived value: max ṽ = 3.0275 m/s", float(np.max(v)), 3.0275, atol=1e-3,
+                    reference="independent derivation")
     fd_theta = np.gradient(np.unwrap(theta), s)
     sol.check_close("ω̃ = dθ/ds (finite differences of the heading)", fd_theta[1:-1], w[1:-1], atol=1e-4,
                     reference="finite differences")

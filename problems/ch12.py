@@ -781,7 +781,7 @@ def problem_12_10() -> Solution:
     sol.value("U_minimum", U_M)
     sol.value("eig_two_discs", ev2)
     sol.check_close("two discs: stationary point ≈ (3.669, 0), U ≈ 7.4399", [M[0], M[1], U_M],
-                    [3.669, 0.0, 7.4399], atol=1e-3, reference="manual number")
+                    [3.669, 0.0, 7.4399], atol=1e-3, reference="independent derivation")
     sol.check("two discs: positive-definite Hessian ⇒ a true local minimum", ev2[0] > 0, f"{ev2}")
     run = gradient_descent(double.force, [3.67, 0.05], step=0.01, tol=1e-8)
     sol.check("gradient descent from (3.67, 0.05) is trapped there, not at the goal",

@@ -23,8 +23,10 @@ KINDS = ("derivation", "numeric", "simulation", "programming", "qualitative")
 #: boolean statement (a named property the figures show); every comparison names its reference.
 #: ``"specification met"``: the expected side is a requirement of the data (ζ, X_R, a bandwidth) and the
 #: actual side the designed system evaluated on a separate path (poles or gains by python-control).
+#: ``"independent derivation"``: a value derived independently of rmpc, not printed in the manual (the spec
+#: catalogue's [D] and "derived values" entries: numpy/scipy/Pinocchio computations made while writing it).
 REFERENCES = ("manual number", "closed form", "finite differences", "second algorithm", "other library",
-              "simulation vs prediction", "specification met", "property")
+              "simulation vs prediction", "specification met", "independent derivation", "property")
 
 
 #: How ``actual`` relates to ``expected``: equal within a tolerance, an error measure whose ideal is 0,
@@ -136,12 +138,14 @@ class Solution:
         ``viewer.animate`` (``speed``, ``overlays=lambda scene: ...``, ``tracks``)."""
         self.animations.append({"robot": robot, "motion": motion, "title": title, **options})
 
-    def check_error(self, name: str, error: float, tol: float, reference: str | None = None) -> bool:
+    def check_error(self, name: str, error: float, tol: float, reference: str | None = None,
+                    detail: str = "") -> bool:
         """Record that an error measure (e.g. the largest difference from an independent reference over
-        many samples) is below ``tol``; NaN fails. ``actual`` is the error, ``expected`` 0."""
+        many samples) is below ``tol``; NaN fails. ``actual`` is the error, ``expected`` 0; ``detail``, if
+        given, follows the error in the check's detail."""
         error = float(error)
-        return self.check(name, error < tol, f"max |error| = {error:.2g} (< {tol:g})", reference,
-                          actual=error, expected=0.0, relation="error")
+        text = f"max |error| = {error:.2g} (< {tol:g})" + (f"; {detail}" if detail else "")
+        return self.check(name, error < tol, text, reference, actual=error, expected=0.0, relation="error")
 
     def figure(self, fig: Any, title: str | None = None, tight: bool = True) -> Any:
         """The figure epilogue: give ``fig`` its title (``suptitle``, also its file name in a report),

@@ -301,6 +301,16 @@ def weighted_pseudo_inverse(J: Any, W: Any = None) -> np.ndarray:
 # Operational motion → joint motion (inverse differential kinematics, (3.51), (3.99))
 # --------------------------------------------------------------------------------------------
 
+def _task_inverse(J: np.ndarray) -> tuple[np.ndarray | None, np.ndarray]:
+    """(J⁻¹, singular) of a square task Jacobian (n, n) or of a stack (N, n, n): one SVD gives both the
+    singularity test (σ_min ≤ 1e-12 σ_max, or NaN) and J⁻¹ = V Σ⁻¹ Uᵀ (None when any is singular)."""
+    U, s, Vt = np.linalg.svd(J)
+    singular = ~(s[..., -1] > 1e-12 * s[..., 0])
+    if singular.any():
+        return None, singular
+    return (np.swapaxes(Vt, -1, -2) / s[..., None, :]) @ np.swapaxes(U, -1, -2), singular
+
+
 def joint_rates(robot: Robot, q: Any, xd: Any, xdd: Any, rows: Sequence[int] = tuple(range(6)),
                 frame: str | int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """q̇ = J⁻¹ ẋ (3.51 inverted) and q̈ = J⁻¹ (ẍ − J̇ q̇) (3.99) at q, J the ``rows`` of the geometric
@@ -314,11 +324,9 @@ def joint_rates(robot: Robot, q: Any, xd: Any, xdd: Any, rows: Sequence[int] = t
         raise ValueError(f"`rows` must select {robot.nv} components (a square task Jacobian), got {len(rows)}")
     xd, xdd = as_vector(xd, len(rows), "xd"), as_vector(xdd, len(rows), "xdd")
     model, data, fid = robot.model, robot.data, robot.frame(frame)
-    J = _frame_state(model, data, fid, q, None).J[rows]
-    U, s, Vt = np.linalg.svd(J)               # one factorisation: the singularity test and J⁻¹ = V Σ⁻¹ Uᵀ
-    if not s[-1] > 1e-12 * s[0]:              # condition number σ_max/σ_min above 1e12 (or NaN)
+    J_inv, singular = _task_inverse(_frame_state(model, data, fid, q, None).J[rows])
+    if singular:
         raise ValueError(f"the task Jacobian is singular at q = {q}: J⁻¹ is not defined")
-    J_inv = (Vt.T / s) @ U.T
     qd = J_inv @ xd
     Jdot_qd = _frame_state(model, data, fid, q, qd).Jdot_qd[rows]    # J̇ q̇ needs the q̇ just found
     return qd, J_inv @ (xdd - Jdot_qd)
@@ -409,13 +417,10 @@ def joint_rates_at(robot: Robot, Q: Any, XD: Any, XDD: Any, rows: Sequence[int] 
         raise ValueError(f"`rows` must select {robot.nv} components (a square task Jacobian), got {len(rows)}")
     XD, XDD = as_matrix(XD, (N, len(rows)), "XD"), as_matrix(XDD, (N, len(rows)), "XDD")
     model, data, fid = robot.model, robot.data, robot.frame(frame)
-    J = np.array([_frame_state(model, data, fid, q, None).J[rows] for q in Q])
-    U, s, Vt = np.linalg.svd(J)
-    singular = ~(s[:, -1] > 1e-12 * s[:, 0])
+    J_inv, singular = _task_inverse(np.array([_frame_state(model, data, fid, q, None).J[rows] for q in Q]))
     if singular.any():
         k = int(np.argmax(singular))
         raise ValueError(f"the task Jacobian is singular at sample {k}, q = {Q[k]}: J⁻¹ is not defined")
-    J_inv = (np.swapaxes(Vt, 1, 2) / s[:, None, :]) @ np.swapaxes(U, 1, 2)
     Qd = np.einsum("kij,kj->ki", J_inv, XD)
     Jdot_qd = np.array([_frame_state(model, data, fid, q, qd).Jdot_qd[rows] for q, qd in zip(Q, Qd)])
     return Qd, np.einsum("kij,kj->ki", J_inv, XDD - Jdot_qd)

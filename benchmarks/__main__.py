@@ -31,7 +31,6 @@ from benchtools import json_rows, markdown, print_rows  # noqa: E402
 # In the order of the table: the wrappers and the book's algorithms, IK, trajectories, the loops, chapters 9-12.
 SCRIPTS = ("wrappers", "dynamics", "closed_form_ik", "ik", "trajectories", "control", "loop", "compiled", "tasks",
            "force", "vision", "wheeled", "planning")
-QUICK_ARGS = {"ik": {"n_lm": 100, "n_casadi": 20}}  # scripts without a ``quick`` flag but with sizes
 
 
 def script_name(text: str) -> str:
@@ -49,8 +48,6 @@ def run_script(name: str, quick: bool) -> list[dict]:
     kwargs = {}
     if quick and "quick" in params:
         kwargs["quick"] = True
-    elif quick:
-        kwargs = {k: v for k, v in QUICK_ARGS.get(name, {}).items() if k in params}
     return rows(**kwargs)
 
 

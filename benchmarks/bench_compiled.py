@@ -12,8 +12,6 @@ Run: ``python benchmarks/bench_compiled.py``.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
 from controllers.compiled import CompiledLoop, compiler
@@ -21,6 +19,8 @@ from controllers.joint_space import PDGravityCompensation
 from controllers.plants import ArmPlant
 from controllers.simulation import simulate
 from rigid_body.robots import load
+
+from benchtools import best_of
 
 T_END, H, K_P, K_D = 2.0, 1e-3, 100.0, 20.0
 Q0 = np.zeros(6)
@@ -33,16 +33,7 @@ def toolbox_fdyn() -> float | None:
     from bench_loop import toolbox
 
     run = toolbox(q_d=Q_D)
-    return None if run is None else best_of(run, 3)
-
-
-def best_of(f, rounds: int = 3) -> float:
-    best = float("inf")
-    for _ in range(rounds):
-        t0 = time.perf_counter()
-        f()
-        best = min(best, time.perf_counter() - t0)
-    return best
+    return None if run is None else best_of(run, 3)[0]
 
 
 def rows() -> list[dict]:
@@ -55,9 +46,9 @@ def rows() -> list[dict]:
     n_samples = int(round(T_END / H)) + 1
     loop = CompiledLoop(plant, controller, H, 1, n_samples)
     loop.arrays(0.0, x0)
-    t_compiled = best_of(lambda: loop.arrays(0.0, x0), 5)
-    t_python = best_of(lambda: simulate(plant, controller, (0.0, T_END), x0, h=H), 1)
-    t_raw = best_of(bare_loop(Q_D), 1)
+    t_compiled = best_of(lambda: loop.arrays(0.0, x0), 5)[0]
+    t_python = best_of(lambda: simulate(plant, controller, (0.0, T_END), x0, h=H), 1)[0]
+    t_raw = best_of(bare_loop(Q_D), 1)[0]
     compiled_how = "gcc" if compiler() else "interpreted"
     out = [
         dict(measurement="Puma PD+g 2 s closed loop, Python backend [ms]", rmpc=t_python * 1e3,

@@ -57,7 +57,10 @@ def ik_statistics(solver, robot, n_targets: int, seed: int = 0) -> tuple[float, 
     return float(np.median(times)), float(np.median(cpus)), solved, false
 
 
-def rows(n_lm: int = 1000, n_casadi: int = 1000) -> list[dict]:
+def rows(n_lm: int = 1000, n_casadi: int = 1000, quick: bool = False) -> list[dict]:
+    """The IK rows on ``n_lm``/``n_casadi`` random reachable Panda targets (100/20 with ``quick``)."""
+    if quick:
+        n_lm, n_casadi = min(n_lm, 100), min(n_casadi, 20)
     robot = load("panda")
     model, data = robot.model, robot.data
     q = robot.random_configuration(np.random.default_rng(1))

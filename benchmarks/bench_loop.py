@@ -31,22 +31,14 @@ from controllers.plants import ArmPlant
 from controllers.simulation import simulate
 from rigid_body.robots import load
 
+from benchtools import best_of
+
 K_P, K_D, T_END, H = 100.0, 20.0, 2.0, 1e-3
 Q_D = np.array([0.5, -0.6, 0.3, 0.2, -0.4, 0.1])
 # the problems of Chapters 5–12 that call ``simulate`` (directly or through controllers.tasks / force)
 BOOK_LOOPS = ("5.2", "5.3", "6.1", "6.2", "6.3", "6.4", "7.4", "8.5", "8.7", "8.10", "8.11", "8.12", "8.13", "8.14",
               "8.15", "8.16", "9.2", "9.3", "9.4", "9.10", "9.11", "10.8", "10.9", "10.10", "10.11", "11.2", "11.5",
               "11.6", "11.8", "11.10", "11.11", "11.13", "11.14", "11.15", "11.16", "11.17", "11.18")
-
-
-def best_of(f, rounds: int = 3) -> tuple[float, object]:
-    """(best wall time [s] of ``rounds`` calls of ``f``, its last result)."""
-    best, out = float("inf"), None
-    for _ in range(rounds):
-        t0 = time.perf_counter()
-        out = f()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def puma_loop(h: float = H):

@@ -8,7 +8,6 @@ then, for the 11.16 and 11.18 runs (10 s simulated, RK4 at h = 0.01 s) and the m
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 
@@ -18,18 +17,14 @@ from controllers.wheeled import CartesianRegulator, MobileManipulatorHold, Odome
 from rigid_body.robots import load
 from rigid_body.wheeled import mobile_manipulator
 
-from benchtools import per_call
+from benchtools import best_of, per_call
 
 Q0 = np.array([-1.0, -2.0, -np.pi / 2])  # companion i11_16 / i11_18
 
 
 def real_time_factor(label: str, run, t_end: float, rounds: int = 3, target: bool = True) -> dict:
     """A row: simulated seconds per wall second of ``run`` (best of ``rounds``); target ≥ 20 for the manual's."""
-    best = float("inf")
-    for _ in range(rounds):
-        t0 = time.perf_counter()
-        run()
-        best = min(best, time.perf_counter() - t0)
+    best = best_of(run, rounds)[0]
     return dict(measurement=f"{label} [simulated s / wall s]", rmpc=t_end / best, reference=None, ref_name="",
                 target=(">=", 20.0) if target else None)
 

@@ -19,6 +19,16 @@ def per_call(f: Callable[[], object], repetitions: int = 1000, rounds: int = 3) 
     return best_times([f], max(1, repetitions // WINDOWS_PER_ROUND), rounds * WINDOWS_PER_ROUND)[0]
 
 
+def best_of(f: Callable[[], object], rounds: int = 3) -> tuple[float, object]:
+    """(best wall time [s] of ``rounds`` calls of ``f``, its last result): for runs long enough to time alone."""
+    best, out = float("inf"), None
+    for _ in range(rounds):
+        t0 = time.perf_counter()
+        out = f()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
 def best_times(functions: list[Callable[[], object]], repetitions: int = 300, rounds: int = 151) -> list[float]:
     """Per-call wall time [s] of each function: the best of ``rounds`` interleaved window means of
     ``repetitions`` calls (load from other jobs hits every function alike; short windows often escape it)."""

@@ -414,7 +414,7 @@ def forward_dynamics_expression(robot_or_model: Any, q: ca.SX, qd: Any, tau: Any
         x, v, t, a = (ca.SX.sym(name, n) for name, n in (("q", model.nq), ("qd", model.nv), ("tau", model.nv),
                                                             ("a", model.nv)))
         tau_a = inverse_dynamics_expression(model, x, ca.SX.zeros(model.nv), a)
-        B = ca.substitute(ca.jacobian(tau_a, a), a, ca.SX.zeros(model.nv))
+        B = ca.jacobian(tau_a, a)           # τ(q, 0, a) = B(q) a + g(q) is linear in a: its Jacobian is B(q)
         h = inverse_dynamics_expression(model, x, v, ca.SX.zeros(model.nv))
         return ca.Function("fd", [x, v, t], [_cholesky_solve(B, t - h)])
 

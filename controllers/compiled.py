@@ -153,7 +153,7 @@ def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]]) -> C
     """``t -> concatenate(reference(t))``: a (x_d, ẋ_d, ẍ_d) reference as one vector r.
 
     When ``reference`` samples many instants at once (``reference.at_times(times) -> (x_d, ẋ_d, ẍ_d)``,
-    each (N, n), as :func:`controllers.joint_space.as_reference` of a trajectory), so does the result
+    each (N, n), as :func:`controllers.laws.as_reference` of a trajectory), so does the result
     (``at_times(times) -> R (nr, N)``).
     """
     def stacked(t: float) -> np.ndarray:

@@ -49,14 +49,14 @@ import pinocchio as pin
 from scipy.optimize import least_squares
 
 from controllers.environment import SurfaceWithHole
-from controllers.joint_space import as_gain, as_reference
-from controllers.operational_space import _check_redundancy, _nonnegative, _singular, _solve_task
+from controllers.laws import as_friction, as_gain, as_reference, check_redundancy, nonnegative
 from controllers.plants import ArmInContact, ArmMeasurement
-from controllers.simulation import LoggedController, SimulationResult, as_friction, simulate
+from controllers.simulation import LoggedController, SimulationResult, simulate
 from planners.timing import quintic_law
 from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
-from rigid_body.task_space import _frame_state, selection_matrices, selection_projection, selection_pseudo_inverse
+from rigid_body.task_space import (frame_state_kernel, selection_matrices, selection_projection, selection_pseudo_inverse,
+                                  singular_task, solve_task)
 from rigid_body.validation import as_matrix, as_positive, as_square_matrix, as_vector
 
 
@@ -351,15 +351,15 @@ class _ContactTask:
             self._pick: Any = slice(first, first + self.m)
         else:
             self._pick = self.rows
-        _check_redundancy(self.m, self.n)
+        check_redundancy(self.m, self.n)
         self.Fv = as_friction(viscous_friction, self.n)
-        self.K_N = _nonnegative(null_space_damping, self.n, "null_space_damping")
+        self.K_N = nonnegative(null_space_damping, self.n, "null_space_damping")
         self.redundant = self.m < self.n
         self._viscous = bool(np.any(self.Fv))          # F_v q̇ only when there is friction
 
     def state(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(J, J̇q̇, T_e) of the task rows."""
-        st = _frame_state(self._model, self._data, self.fid, q, qd)
+        st = frame_state_kernel(self._model, self._data, self.fid, q, qd)
         pick = self._pick
         if type(pick) is slice:
             return st.J[pick], st.Jdot_qd[pick], st.T
@@ -376,12 +376,12 @@ class _ContactTask:
     def torques(self, t: float, q: np.ndarray, qd: np.ndarray, J: np.ndarray, a: np.ndarray,
                 h: np.ndarray) -> np.ndarray:
         """u = B(q) y + n(q, q̇) + Jᵀ h_e with v̇_e = a (inverse dynamics in the task space)."""
-        y = _solve_task(J, a)
+        y = solve_task(J, a)
         if y is None:
-            raise _singular(f"at t = {t:.6g} s, q = {q}")
+            raise singular_task(f"at t = {t:.6g} s, q = {q}")
         if self.redundant:
             y0 = -self.K_N * qd
-            y += y0 - _solve_task(J, J.dot(y0))
+            y += y0 - solve_task(J, J.dot(y0))
         u = pin.rnea(self._model, self._data, q, qd, y)
         if self._viscous:
             u += self.Fv * qd

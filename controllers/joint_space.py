@@ -28,7 +28,7 @@ Sects. 8.3.3, 8.4, 8.5; Eqs. (8.51), (8.57), (8.60), (8.76)–(8.89), (8.92)–(
 from __future__ import annotations
 
 import math
-from typing import Any, Callable, Sequence
+from typing import Any, Sequence
 
 import numpy as np
 import pinocchio as pin
@@ -37,89 +37,16 @@ from scipy.optimize import fsolve
 
 from controllers.independent_joint import JointDesign, JointDrive, Transducers
 from controllers.plants import ArmMeasurement
-from controllers.simulation import LoggedController, as_friction, per_joint
+from controllers.laws import as_friction, as_gain, as_reference, diagonal_or_matrix, gain_times, per_joint
+from controllers.simulation import LoggedController
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics, reference_torque
 from rigid_body.robots import Robot, with_payload
-from rigid_body.validation import as_matrix, as_positive, as_vector
-
-Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
+from rigid_body.validation import as_positive, as_vector
 
 
 # --------------------------------------------------------------------------------------------
 # Shared pieces: references, gains, payload models
 # --------------------------------------------------------------------------------------------
-
-def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
-    """``reference`` as a function ``t -> (x_d, ẋ_d, ẍ_d)`` of (n,) arrays.
-
-    Accepts a constant (n,) vector (a set point: zero velocity and acceleration), an object with
-    ``evaluate(t)`` (a :class:`planners.timing.Trajectory`) or a callable ``t -> (x, ẋ, ẍ)``.
-    """
-    if hasattr(reference, "evaluate"):
-        law = reference.evaluate
-    elif callable(reference):
-        law = reference
-    else:
-        x_d = as_vector(reference, n, name).copy()
-        zero = np.zeros(n)
-        return lambda t: (x_d, zero, zero)
-
-    def sampled(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        x, xd, xdd = law(t)
-        return _as_reference_vector(x, n), _as_reference_vector(xd, n), _as_reference_vector(xdd, n)
-
-    try:
-        first = sampled(0.0)
-    except (ValueError, TypeError) as err:
-        raise ValueError(f"`{name}` must give (n,) = ({n},) position, velocity and acceleration: {err}") from None
-    if not all(np.all(np.isfinite(v)) for v in first):
-        raise ValueError(f"`{name}` must be finite, got {first} at t = 0")
-    vectorised = array_law(reference)
-    if vectorised is not None:                                  # the compiled loop samples it at once
-        sampled.at_times = lambda times: tuple(np.reshape(v, (len(times), n)) for v in vectorised(times))
-    return sampled
-
-
-def array_law(reference: Any) -> Callable[[np.ndarray], tuple[np.ndarray, ...]] | None:
-    """The law of ``reference`` that takes an array of instants, or None: a trajectory's timing law
-    (:class:`planners.timing.Trajectory`), or ``reference`` itself when it is a timing law (``t_i``, ``t_f``
-    and ``law(t)`` on arrays, :class:`planners.timing.TimingLaw`, e.g. a :class:`planners.paths.PathLaw`)."""
-    if hasattr(reference, "evaluate") and hasattr(reference, "law"):
-        return reference.law
-    if callable(reference) and hasattr(reference, "t_i") and hasattr(reference, "t_f"):
-        return reference
-    return None
-
-
-def _as_reference_vector(x: Any, n: int) -> np.ndarray:
-    """One sample of a reference as a float (n,) array (at once when it already is one)."""
-    if type(x) is np.ndarray and x.dtype == np.float64 and x.shape == (n,):
-        return x
-    return np.reshape(np.asarray(x, dtype=float), n)
-
-
-def as_gain(K: Any, n: int, name: str) -> np.ndarray:
-    """A gain matrix (n, n) from a scalar (K I), a vector (diag K) or a matrix; must be positive definite."""
-    K_arr = np.asarray(K, dtype=float)
-    if K_arr.ndim == 0:
-        M = float(K_arr) * np.eye(n)
-    elif K_arr.ndim == 1:
-        M = np.diag(as_vector(K_arr, n, name))
-    else:
-        M = as_matrix(K_arr, (n, n), name)
-    if not np.all(np.isfinite(M)) or np.min(np.linalg.eigvalsh(0.5 * (M + M.T))) <= 0:
-        raise ValueError(f"`{name}` must be a finite positive definite gain, got {K!r}")
-    return M
-
-
-def diagonal_or_matrix(K: np.ndarray) -> np.ndarray:
-    """A gain matrix as its diagonal (n,) when it is diagonal (per-joint gains, K e = k * e), else as is."""
-    return np.diag(K).copy() if np.count_nonzero(K - np.diag(np.diag(K))) == 0 else K
-
-
-def gain_times(K: np.ndarray, e: np.ndarray) -> np.ndarray:
-    """K e for a gain from :func:`diagonal_or_matrix`: per-joint product or matrix product."""
-    return K * e if K.ndim == 1 else K @ e
 
 
 def mean_diagonal_inertia(robot: Robot, configurations: np.ndarray) -> np.ndarray:

@@ -40,88 +40,21 @@ Sects. 3.7.3, 8.6, 9.2–9.3, Eqs. (3.85), (3.91), (8.110)–(8.114), (9.28)–(
 
 from __future__ import annotations
 
-import math
-from typing import Any, Callable, Sequence
+from typing import Any, Sequence
 
 import numpy as np
 import pinocchio as pin
-from scipy.linalg.lapack import dgesv as _gesv
 from scipy.optimize import fsolve
 
-from controllers.joint_space import array_law, as_gain, as_reference
-from controllers.simulation import LoggedController, as_friction, per_joint
+from controllers.laws import (as_friction, as_gain, as_pose_reference, as_reference, check_redundancy, nonnegative,
+                              position_rows, task_reference)
+from controllers.simulation import LoggedController
 from rigid_body.dynamics import gravity_torques, inertia_matrix
 from rigid_body.robots import Robot
-from rigid_body.rotations import as_homogeneous
-from rigid_body.task_space import TaskSpace, _frame_state, pose_error
+from rigid_body.task_space import TaskSpace, frame_state_kernel, pose_error, singular_task, solve_task
 from rigid_body.validation import as_vector
 
-PoseReference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 CONTROL_ORIENTATIONS = ("none", "axis_angle", "quaternion")
-
-
-def _rows(rows: Sequence[int]) -> np.ndarray:
-    r = np.asarray(rows, dtype=int).ravel()
-    if r.size == 0 or len(set(r.tolist())) != r.size or np.any((r < 0) | (r > 2)):
-        raise ValueError(f"`rows` must be distinct position components in 0..2, got {rows!r}")
-    return r
-
-
-def task_reference(reference: Any, rows: Sequence[int]) -> Any:
-    """``reference`` in the task components: a point or law given in full (x, y, z) is restricted to ``rows``.
-
-    Lets a 3-D path law (e.g. :class:`planners.paths.PathLaw`) drive a planar task (rows (0, 1)).
-    """
-    r = _rows(rows)
-    if r.size == 3:
-        return reference
-    if hasattr(reference, "evaluate") or callable(reference):
-        law = reference.evaluate if hasattr(reference, "evaluate") else reference
-        if np.size(law(0.0)[0]) != 3:
-            return reference
-        vectorised = array_law(reference)
-        if vectorised is not None:
-            return _RowsOfLaw(vectorised, r)
-
-        def restricted(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-            x, xd, xdd = law(t)
-            return (np.reshape(x, 3)[r], np.reshape(xd, 3)[r], np.reshape(xdd, 3)[r])
-
-        return restricted
-    v = np.asarray(reference, dtype=float).ravel()
-    return v[r] if v.size == 3 else reference
-
-
-class _RowsOfLaw:
-    """The ``rows`` components of a timing law ``law(t) -> (x, ẋ, ẍ)`` (3,), itself a timing law (t scalar or array)."""
-
-    def __init__(self, law: Callable[[Any], tuple], rows: np.ndarray):
-        self.law, self.rows, self.t_i, self.t_f = law, rows, law.t_i, law.t_f
-
-    def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        r = self.rows
-        return tuple(np.asarray(v, dtype=float)[..., r] for v in self.law(t))
-
-
-def as_pose_reference(reference: Any, name: str = "reference") -> PoseReference:
-    """``reference`` as ``t -> (T_d (4, 4), v_d = [ṗ_d; ω_d] (6,), a_d = [p̈_d; ω̇_d] (6,))``.
-
-    Accepts a constant homogeneous transform (regulation: zero velocity and acceleration), an object
-    with ``evaluate(t)`` or a callable with that signature (checked at t = 0).
-    """
-    if not (hasattr(reference, "evaluate") or callable(reference)):
-        T_d = as_homogeneous(reference, name).copy()
-        zero = np.zeros(6)
-        return lambda t: (T_d, zero, zero)
-    law = reference.evaluate if hasattr(reference, "evaluate") else reference
-    try:
-        T, v, a = law(0.0)
-        as_homogeneous(T, f"{name} pose")
-        as_vector(v, 6, f"{name} velocity")
-        as_vector(a, 6, f"{name} acceleration")
-    except (TypeError, ValueError) as err:
-        raise ValueError(f"`{name}` must give (T_d (4, 4), v_d (6,), a_d (6,)) at t = 0: {err}") from None
-    return law
 
 
 class _Task:
@@ -139,7 +72,7 @@ class _Task:
             self.space = TaskSpace(fid, orientation, None if rows is None else tuple(int(r) for r in rows))
             self.rows = np.array(self.space.selected)
         else:
-            self.rows = _rows((0, 1, 2) if rows is None else rows)
+            self.rows = position_rows((0, 1, 2) if rows is None else rows)
             self.space = TaskSpace(fid, "none", tuple(self.rows.tolist()))
         self.m = self.rows.size
         self._T_d = np.eye(4)
@@ -166,7 +99,7 @@ class _Task:
     def error(self, q: np.ndarray, x_d: np.ndarray, qd: np.ndarray | None = None):
         """(x̃, J, J̇q̇ or None, T_e) at q (and q̇)."""
         if not self.pose:                     # position task: x̃ = x_d − p_e[rows] from one kinematics pass
-            st = _frame_state(self.robot.model, self.robot.data, self._fid, q, qd)
+            st = frame_state_kernel(self.robot.model, self.robot.data, self._fid, q, qd)
             rows = self.rows
             return x_d - st.T[rows, 3], st.J[rows], None if qd is None else st.Jdot_qd[rows], st.T
         err = pose_error(self.robot, q, self.target(x_d), None, self.space, qd)
@@ -176,74 +109,6 @@ class _Task:
         if self.pose:
             return {"p_d": x_d[:3, 3].copy(), "p_e": T_e[:3, 3].copy(), "e": e}
         return {"x_d": x_d, "x_e": T_e[:3, 3][self.rows], "e": e}
-
-
-SINGULAR_CONDITION = 1e10  # cond(J_A) above which the task is treated as singular
-
-
-_IDENTITY = tuple(np.eye(m) for m in range(7))   # I_m of the task sizes m ≤ 6 (read by _solve_task)
-
-
-def _solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
-    """J_A⁻¹ b (square J_A) or the minimum-norm J_A† b = J_Aᵀ (J_A J_Aᵀ)⁻¹ b (3.52) for a redundant task;
-    None at (or numerically at) a kinematic singularity, cond(J_A) > 1e10.
-
-    Hot loop: one LAPACK gesv solves A x = b and A X = I together (A = J_A, or J_A J_Aᵀ whose condition
-    number is cond(J_A)²); cond₂(A) ≤ ‖A‖_F ‖A⁻¹‖_F, so below the threshold the SVD is skipped — it
-    decides only when that bound is not conclusive."""
-    square = J.shape[0] == J.shape[1]
-    if square and J.shape[0] == 3:
-        x = _solve3(J, b)
-        if x is not None:
-            return x
-    A = J if square else J @ J.T
-    m = A.shape[0]
-    rhs = np.empty((m, m + 1), order="F")        # LAPACK's layout: gesv works in it without a copy
-    rhs[:, 0] = b
-    rhs[:, 1:] = _IDENTITY[m] if m < len(_IDENTITY) else np.eye(m)
-    _, _, X, info = _gesv(A, rhs, overwrite_b=True)
-    limit = SINGULAR_CONDITION if square else SINGULAR_CONDITION**2
-    inverse = X[:, 1:].T                         # gesv returns Fortran order: the transpose is contiguous
-    if info != 0 or not math.sqrt(np.vdot(A, A) * np.vdot(inverse, inverse)) < limit:
-        s = np.linalg.svd(J, compute_uv=False)
-        if info != 0 or s[-1] <= s[0] / SINGULAR_CONDITION:
-            return None
-    return X[:, 0] if square else J.T @ X[:, 0]
-
-
-def _solve3(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
-    """J⁻¹ b = adj(J) b / det J for a 3 × 3 task (the planar arms' (x, y, φ)) on Python floats, a third of
-    the cost of the LAPACK call; None when cond_F(J) = ‖J‖_F ‖J⁻¹‖_F does not show cond(J) ≤ 1e10 (the
-    general path then decides)."""
-    (a, b1, c), (d, e, f), (g, h, i) = J.tolist()
-    A, B, C = e * i - f * h, f * g - d * i, d * h - e * g           # cofactors: adj(J) = their transpose
-    D, E, F = c * h - b1 * i, a * i - c * g, b1 * g - a * h
-    G, H, I = b1 * f - c * e, c * d - a * f, a * e - b1 * d
-    det = a * A + b1 * B + c * C
-    norm_J = a * a + b1 * b1 + c * c + d * d + e * e + f * f + g * g + h * h + i * i
-    norm_adj = A * A + B * B + C * C + D * D + E * E + F * F + G * G + H * H + I * I
-    if not math.sqrt(norm_J * norm_adj) < SINGULAR_CONDITION * abs(det):
-        return None
-    r0, r1, r2 = b.tolist()
-    return np.array([(A * r0 + D * r1 + G * r2) / det, (B * r0 + E * r1 + H * r2) / det,
-                     (C * r0 + F * r1 + I * r2) / det])
-
-
-def _singular(where: str) -> ValueError:
-    return ValueError(f"J_A is singular {where} (condition number > {SINGULAR_CONDITION:g}): "
-                      "the task cannot be inverted")
-
-
-def _nonnegative(value: Any, n: int, name: str) -> np.ndarray:
-    v = per_joint(value, n, name)
-    if np.any(v < 0):
-        raise ValueError(f"`{name}` must be non-negative, got {v}")
-    return v
-
-
-def _check_redundancy(m: int, n: int) -> None:
-    if m > n:
-        raise ValueError(f"`rows` must select at most {n} components (one per joint), got {m}")
 
 
 class OperationalPDGravity(LoggedController):
@@ -273,9 +138,9 @@ class OperationalPDGravity(LoggedController):
         self.robot, self.n = robot, robot.nv
         self.task = _Task(robot, rows, frame, orientation, reference)
         m = self.task.m
-        _check_redundancy(m, self.n)
+        check_redundancy(m, self.n)
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
-        self.K_N = _nonnegative(joint_damping, self.n, "joint_damping")
+        self.K_N = nonnegative(joint_damping, self.n, "joint_damping")
         self.reference = self.task.reference
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
@@ -310,7 +175,6 @@ class OperationalPDGravity(LoggedController):
                                  stacked_reference(self.reference))
 
 
-
 class OperationalInverseDynamics(LoggedController):
     """u = B(q) y + n(q, q̇), y = J†(ẍ_d + K_D x̃̇ + K_P x̃ − J̇ q̇) + (I − J† J) y_0 (Eqs. 8.57, 8.114, Fig. 8.30).
 
@@ -324,7 +188,7 @@ class OperationalInverseDynamics(LoggedController):
     robot : the controller's model (e.g. without the payload the real arm carries).
     K_P, K_D : (m, m) gains, positive definite.
     reference : trajectory in the task components (position task, see
-        :func:`controllers.joint_space.as_reference`) or a pose reference (:func:`as_pose_reference`).
+        :func:`controllers.laws.as_reference`) or a pose reference (:func:`as_pose_reference`).
     rows, frame, orientation : the task, as in :class:`OperationalPDGravity` (``"quaternion"`` or
         ``"axis_angle"`` for a pose task: geometric Jacobian).
     viscous_friction : F_v of the model.
@@ -349,11 +213,11 @@ class OperationalInverseDynamics(LoggedController):
         self.robot, self.n = robot, robot.nv
         self.task = _Task(robot, rows, frame, orientation, reference)
         m = self.task.m
-        _check_redundancy(m, self.n)
+        check_redundancy(m, self.n)
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
         self.Fv = as_friction(viscous_friction, self.n)
-        self.K_N = _nonnegative(null_space_damping, self.n, "null_space_damping")
-        self.K_q = _nonnegative(posture_stiffness, self.n, "posture_stiffness")
+        self.K_N = nonnegative(null_space_damping, self.n, "null_space_damping")
+        self.K_q = nonnegative(posture_stiffness, self.n, "posture_stiffness")
         if posture is None and np.any(self.K_q > 0):
             raise ValueError("`posture` (q_0) is required with a nonzero `posture_stiffness`")
         self.q_0 = np.zeros(robot.nq) if posture is None else as_vector(posture, robot.nq, "posture").copy()
@@ -375,12 +239,12 @@ class OperationalInverseDynamics(LoggedController):
             h = self._sensed_wrench(meas) if self.force_feedback else None
             w = self.K_D @ ed + self.K_P @ e if h is None else self.K_D @ ed + self.K_P @ e - h
             a = xdd_d + self.M_d_inv @ w - Jdot_qd
-        y = _solve_task(J, a)  # Eq. (8.114)
+        y = solve_task(J, a)  # Eq. (8.114)
         if y is None:
-            raise _singular(f"at t = {t:.6g} s, q = {q}")
+            raise singular_task(f"at t = {t:.6g} s, q = {q}")
         if self.redundant:
             y0 = self.K_q * (self.q_0 - q) - self.K_N * qd
-            y += y0 - _solve_task(J, J @ y0)                    # (I − J† J) y_0, cf. (3.54)
+            y += y0 - solve_task(J, J @ y0)                    # (I − J† J) y_0, cf. (3.54)
         u = pin.rnea(self.robot.model, self.robot.data, q, qd, y) + self.Fv * qd   # B y + n, trusted inputs
         if self.force_feedback:
             u += J.T @ h                                        # + Jᵀ h_e, Eq. (9.30)
@@ -463,9 +327,9 @@ def operational_inverse_dynamics_steady_state(plant_robot: Robot, model_robot: R
 
     def residual(q: np.ndarray) -> np.ndarray:
         e, J, _, _ = task.error(q, x_d)
-        y = _solve_task(J, K_P @ e)
+        y = solve_task(J, K_P @ e)
         if y is None:
-            raise _singular(f"at q = {q}")
+            raise singular_task(f"at q = {q}")
         return inertia_matrix(model_robot, q) @ y - gravity_torques(plant_robot, q) + gravity_torques(model_robot, q)
 
     q, _, _, msg = fsolve(residual, start, full_output=True, xtol=1e-13)

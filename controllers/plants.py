@@ -40,7 +40,7 @@ import pinocchio as pin
 
 from controllers.environment import NO_CONTACT
 from controllers.independent_joint import JointDrive
-from controllers.simulation import as_friction, per_joint
+from controllers.laws import as_friction, per_joint
 from rigid_body.actuators import DCServomotor, PIRegulator
 from rigid_body.robots import JointFriction, Robot, joint_units
 from rigid_body.validation import as_positive, as_vector

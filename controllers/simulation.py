@@ -650,18 +650,3 @@ def _logged(log: Callable, ts: np.ndarray, xs: np.ndarray, us: np.ndarray) -> di
     return {name: np.array(v) for name, v in out.items()}
 
 
-def per_joint(value: Any, n: int, name: str) -> np.ndarray:
-    """A per-joint quantity given as a scalar (the same for every joint) or (n,): a finite (n,) vector."""
-    if np.ndim(value) == 0:
-        value = np.full(n, as_vector(value, 1, name)[0])
-    return as_vector(value, n, name).copy()
-
-
-def as_friction(viscous_friction: Any, n: int) -> np.ndarray:
-    """Viscous friction F_v (scalar or (n,)) as a finite non-negative (n,) vector [N·m·s/rad]."""
-    Fv = per_joint(viscous_friction, n, "viscous_friction")
-    if np.any(Fv < 0):
-        raise ValueError(f"`viscous_friction` must be non-negative, got {Fv}")
-    return Fv
-
-

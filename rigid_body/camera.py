@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from rigid_body.rotations import as_homogeneous, homogeneous_inverse
-from rigid_body.validation import as_vector
+from rigid_body.validation import as_points, as_vector
 
 
 @dataclass(frozen=True)
@@ -52,12 +52,12 @@ class PinholeCamera:
 
     def to_pixels(self, xy: Any) -> np.ndarray:
         """Pixel coordinates (n, 2) of normalised image coordinates ``xy`` (n, 2), Eq. (5.40)."""
-        xy = _as_points(xy, 2, "xy")
+        xy = as_points(xy, 2, "xy")
         return np.column_stack([self.f_alpha_x * xy[:, 0] + self.X0, self.f_alpha_y * xy[:, 1] + self.Y0])
 
     def to_normalised(self, XY: Any) -> np.ndarray:
         """Normalised image coordinates (n, 2) of pixel coordinates ``XY`` (n, 2): the inverse of :meth:`to_pixels`."""
-        XY = _as_points(XY, 2, "XY")
+        XY = as_points(XY, 2, "XY")
         return np.column_stack([(XY[:, 0] - self.X0) / self.f_alpha_x, (XY[:, 1] - self.Y0) / self.f_alpha_y])
 
     def field_of_view(self, width: float, height: float) -> "FieldOfView":
@@ -65,18 +65,6 @@ class PinholeCamera:
         lo = self.to_normalised([[0.0, 0.0]])[0]
         hi = self.to_normalised([[float(width), float(height)]])[0]
         return FieldOfView(lo[0], hi[0], lo[1], hi[1])
-
-
-def _as_points(x: Any, dim: int, name: str) -> np.ndarray:
-    """``x`` as a finite (n, dim) float array (a single point (dim,) becomes (1, dim))."""
-    a = np.asarray(x, dtype=float)
-    if a.ndim == 1 and a.shape[0] == dim:
-        a = a.reshape(1, dim)
-    if a.ndim != 2 or a.shape[1] != dim or a.shape[0] == 0:
-        raise ValueError(f"`{name}` must have shape (n, {dim}), got {a.shape}")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"`{name}` must be finite")
-    return a
 
 
 @dataclass(frozen=True)
@@ -169,7 +157,7 @@ class TargetView:
 
 def view_points(p_c: Any, fov: FieldOfView | None = None) -> TargetView:
     """Perspective view (5.40) of points ``p_c`` (n, 3) already in the camera frame."""
-    p = _as_points(p_c, 3, "p_c")
+    p = as_points(p_c, 3, "p_c")
     z = p[:, 2].copy()
     in_front = z > 0
     xy = np.full((p.shape[0], 2), np.nan)
@@ -181,7 +169,7 @@ def view_points(p_c: Any, fov: FieldOfView | None = None) -> TargetView:
 def view_target(T_bc: Any, points_b: Any, fov: FieldOfView | None = None) -> TargetView:
     """View of target points ``points_b`` (n, 3), given in the base frame, from a camera at ``T_bc`` = T_c^b (5.35)."""
     T = as_homogeneous(T_bc, "T_bc")
-    p = _as_points(points_b, 3, "points_b")
+    p = as_points(points_b, 3, "points_b")
     return view_points((p - T[:3, 3]) @ T[:3, :3], fov)
 
 
@@ -213,7 +201,7 @@ def point_interaction_matrix(x: float, y: float, z: float) -> np.ndarray:
 
 def points_interaction_matrix(xy: Any, z: Any) -> np.ndarray:
     """The (2n×6) stack of the point matrices (10.26) for points ``xy`` (n, 2) at depths ``z`` (n,)."""
-    xy = _as_points(xy, 2, "xy")
+    xy = as_points(xy, 2, "xy")
     z = as_vector(z, xy.shape[0], "z")
     if np.any(z <= 0):
         raise ValueError(f"`z` (depths of the points) must be positive, got {z}")
@@ -318,7 +306,7 @@ def line_interaction_matrix(line: LineFeatures, p1_c: Any, p2_c: Any) -> np.ndar
 
 def point_velocity_in_camera(p_c: Any, v_c: Any, omega_c: Any) -> np.ndarray:
     """ṗ^c = −v_c^c − ω_c^c × p^c: how a fixed point moves in the frame of a camera moving with twist (v, ω)."""
-    p = _as_points(p_c, 3, "p_c")
+    p = as_points(p_c, 3, "p_c")
     return -as_vector(v_c, 3, "v_c") - np.cross(as_vector(omega_c, 3, "omega_c"), p)
 
 

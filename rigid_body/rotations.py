@@ -460,10 +460,11 @@ def orientation_error_euler(R_d: Any, R_e: Any, representation: str = "zyz") -> 
 
 def orientation_error_axis_angle(R_d: Any, R_e: Any) -> np.ndarray:
     """e_O = r sin ϑ = ½ (n_e × n_d + s_e × s_d + a_e × a_d), Eq. (3.85), with R(ϑ, r) = R_d R_e^T (3.84)."""
-    return _axis_angle_error(as_rotation(R_d, "R_d"), as_rotation(R_e, "R_e"))
+    return axis_angle_error_kernel(as_rotation(R_d, "R_d"), as_rotation(R_e, "R_e"))
 
 
-def _axis_angle_error(R_d: np.ndarray, R_e: np.ndarray) -> np.ndarray:
+def axis_angle_error_kernel(R_d: np.ndarray, R_e: np.ndarray) -> np.ndarray:
+    """The unvalidated kernel of :func:`orientation_error_axis_angle` (hot loops)."""
     # Σ_k e_k × d_k = vee(R_d R_e^T − R_e R_d^T): twice the vee of the antisymmetric part of R_d R_e^T
     M = R_d @ R_e.T
     return 0.5 * np.array([M[2, 1] - M[1, 2], M[0, 2] - M[2, 0], M[1, 0] - M[0, 1]])
@@ -471,10 +472,11 @@ def _axis_angle_error(R_d: np.ndarray, R_e: np.ndarray) -> np.ndarray:
 
 def orientation_error_matrix(R_d: Any, R_e: Any) -> np.ndarray:
     """L = −½ (S(n_d) S(n_e) + S(s_d) S(s_e) + S(a_d) S(a_e)), Eq. (3.87): ė_O = L^T ω_d − L ω_e (3.86)."""
-    return _orientation_error_matrix(as_rotation(R_d, "R_d"), as_rotation(R_e, "R_e"))
+    return orientation_error_matrix_kernel(as_rotation(R_d, "R_d"), as_rotation(R_e, "R_e"))
 
 
-def _orientation_error_matrix(R_d: np.ndarray, R_e: np.ndarray) -> np.ndarray:
+def orientation_error_matrix_kernel(R_d: np.ndarray, R_e: np.ndarray) -> np.ndarray:
+    """The unvalidated kernel of :func:`orientation_error_matrix` (hot loops)."""
     # Σ_k S(d_k) S(e_k) = Σ_k (e_k d_k^T − (d_k·e_k) I), with S(x)S(y) = y x^T − x^T y I
     M = R_e @ R_d.T
     return -0.5 * (M - np.trace(M) * np.eye(3))

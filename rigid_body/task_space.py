@@ -27,23 +27,26 @@ Sects. 2.12, 3.1–3.7 (Eqs. (3.30), (3.50)–(3.59), (3.66), (3.84)–(3.99)), 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
 import numpy as np
 import pinocchio as pin
+from scipy.linalg.lapack import dgesv as _gesv
 
 from rigid_body.kinematics import batch_inverse_kinematics
 from rigid_body.robots import Robot, revolute_joints
-from rigid_body.rotations import _axis_angle_error, _orientation_error_matrix  # unvalidated kernels (hot loop)
-from rigid_body.rotations import (euler_rate_matrix_rpy, euler_rate_matrix_zyz, orientation_error_quaternion,
-                                  rotation_to_euler_zyz, rotation_to_quaternion, rotation_to_rpy, wrap_angle)
+from rigid_body.rotations import (axis_angle_error_kernel, euler_rate_matrix_rpy, euler_rate_matrix_zyz, orientation_error_quaternion,
+                                  orientation_error_matrix_kernel, rotation_to_euler_zyz, rotation_to_quaternion,
+                                  rotation_to_rpy, wrap_angle)
 from rigid_body.validation import as_matrix, as_vector
 
 __all__ = [
     "ORIENTATIONS",
     "FrameState",
     "frame_state",
+    "frame_state_kernel",
     "TaskSpace",
     "PoseError",
     "orientation_error",
@@ -51,6 +54,9 @@ __all__ = [
     "pose_residual",
     "damped_least_squares_inverse",
     "weighted_pseudo_inverse",
+    "SINGULAR_CONDITION",
+    "solve_task",
+    "singular_task",
     "joint_rates",
     "joint_reference",
     "TWIST_AXES",
@@ -80,7 +86,7 @@ class FrameState:
     Jdot_qd: np.ndarray | None
 
 
-def _frame_state(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray,
+def frame_state_kernel(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray,
                  qd: np.ndarray | None) -> FrameState:
     """The unvalidated kernel of :func:`frame_state` (hot loops: controllers at 1 kHz, CLIK)."""
     if qd is None:
@@ -100,7 +106,7 @@ _ZERO_ACCELERATIONS: dict[int, np.ndarray] = {}
 
 
 def _zero_acceleration(nv: int) -> np.ndarray:
-    """q̈ = 0 (nv,), read-only and shared (the forward kinematics of :func:`_frame_state` only reads it)."""
+    """q̈ = 0 (nv,), read-only and shared (the forward kinematics of :func:`frame_state_kernel` only reads it)."""
     zero = _ZERO_ACCELERATIONS.get(nv)
     if zero is None:
         zero = _ZERO_ACCELERATIONS[nv] = np.zeros(nv)
@@ -116,7 +122,7 @@ def frame_state(robot: Robot, q: Any, qd: Any = None, frame: str | int | None = 
     """
     q = as_vector(q, robot.nq, "q")
     qd = None if qd is None else as_vector(qd, robot.nv, "qd")
-    return _frame_state(robot.model, robot.data, robot.frame(frame), q, qd)
+    return frame_state_kernel(robot.model, robot.data, robot.frame(frame), q, qd)
 
 
 # --------------------------------------------------------------------------------------------
@@ -186,7 +192,7 @@ def orientation_error(R_d: np.ndarray, R_e: np.ndarray, orientation: str = "quat
     and Q_e in the same hemisphere (η_d η_e + ε_dᵀ ε_e ≥ 0: e_O = r sin(ϑ/2), R_d R_eᵀ = R(ϑ, r), ϑ ≤ π),
     ``"euler_zyz"``/``"rpy"`` φ_d − φ_e (wrapped), ``"none"`` zeros. Unvalidated rotations."""
     if orientation == "axis_angle":
-        return _axis_angle_error(R_d, R_e)
+        return axis_angle_error_kernel(R_d, R_e)
     if orientation == "quaternion":
         Q_d, Q_e = rotation_to_quaternion(R_d), rotation_to_quaternion(R_e)
         if Q_d @ Q_e < 0.0:  # same R_d, other sign: the error of the short way round, e_O = r sin(ϑ/2), ϑ ≤ π
@@ -212,7 +218,7 @@ def pose_error(robot: Robot, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | N
     fid = robot.frame(task.frame)
     if qd is not None and task.euler:
         raise ValueError("J̇_A q̇ of an Euler-angle task is not provided: use 'axis_angle' or 'quaternion'")
-    state = _frame_state(robot.model, robot.data, fid, q, qd)
+    state = frame_state_kernel(robot.model, robot.data, fid, q, qd)
     J, T_e = state.J, state.T
     R_e, p_e = T_e[:3, :3], T_e[:3, 3]
     R_d, p_d = T_d[:3, :3], T_d[:3, 3]
@@ -223,8 +229,8 @@ def pose_error(robot: Robot, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | N
     L = None
     kind = task.orientation
     if kind == "axis_angle":
-        e[3:] = _axis_angle_error(R_d, R_e)                            # Eq. (3.85)
-        L = _orientation_error_matrix(R_d, R_e)                        # Eq. (3.87)
+        e[3:] = axis_angle_error_kernel(R_d, R_e)                            # Eq. (3.85)
+        L = orientation_error_matrix_kernel(R_d, R_e)                        # Eq. (3.87)
     elif kind == "quaternion":
         e[3:] = orientation_error(R_d, R_e, kind)                      # Eq. (3.91)
     elif task.euler:
@@ -311,6 +317,61 @@ def _task_inverse(J: np.ndarray) -> tuple[np.ndarray | None, np.ndarray]:
     return (np.swapaxes(Vt, -1, -2) / s[..., None, :]) @ np.swapaxes(U, -1, -2), singular
 
 
+SINGULAR_CONDITION = 1e10  # cond(J_A) above which the task is treated as singular
+_IDENTITY = tuple(np.eye(m) for m in range(7))   # I_m of the task sizes m ≤ 6 (read by solve_task)
+
+
+def solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    """J_A⁻¹ b (square J_A) or the minimum-norm J_A† b = J_Aᵀ (J_A J_Aᵀ)⁻¹ b (3.52) for a redundant task;
+    None at (or numerically at) a kinematic singularity, cond(J_A) > 1e10.
+
+    Hot loop: one LAPACK gesv solves A x = b and A X = I together (A = J_A, or J_A J_Aᵀ whose condition
+    number is cond(J_A)²); cond₂(A) ≤ ‖A‖_F ‖A⁻¹‖_F, so below the threshold the SVD is skipped — it
+    decides only when that bound is not conclusive."""
+    square = J.shape[0] == J.shape[1]
+    if square and J.shape[0] == 3:
+        x = _solve3(J, b)
+        if x is not None:
+            return x
+    A = J if square else J @ J.T
+    m = A.shape[0]
+    rhs = np.empty((m, m + 1), order="F")        # LAPACK's layout: gesv works in it without a copy
+    rhs[:, 0] = b
+    rhs[:, 1:] = _IDENTITY[m] if m < len(_IDENTITY) else np.eye(m)
+    _, _, X, info = _gesv(A, rhs, overwrite_b=True)
+    limit = SINGULAR_CONDITION if square else SINGULAR_CONDITION**2
+    inverse = X[:, 1:].T                         # gesv returns Fortran order: the transpose is contiguous
+    if info != 0 or not math.sqrt(np.vdot(A, A) * np.vdot(inverse, inverse)) < limit:
+        s = np.linalg.svd(J, compute_uv=False)
+        if info != 0 or s[-1] <= s[0] / SINGULAR_CONDITION:
+            return None
+    return X[:, 0] if square else J.T @ X[:, 0]
+
+
+def _solve3(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    """J⁻¹ b = adj(J) b / det J for a 3 × 3 task (the planar arms' (x, y, φ)) on Python floats, a third of
+    the cost of the LAPACK call; None when cond_F(J) = ‖J‖_F ‖J⁻¹‖_F does not show cond(J) ≤ 1e10 (the
+    general path then decides)."""
+    (a, b1, c), (d, e, f), (g, h, i) = J.tolist()
+    A, B, C = e * i - f * h, f * g - d * i, d * h - e * g           # cofactors: adj(J) = their transpose
+    D, E, F = c * h - b1 * i, a * i - c * g, b1 * g - a * h
+    G, H, I = b1 * f - c * e, c * d - a * f, a * e - b1 * d
+    det = a * A + b1 * B + c * C
+    norm_J = a * a + b1 * b1 + c * c + d * d + e * e + f * f + g * g + h * h + i * i
+    norm_adj = A * A + B * B + C * C + D * D + E * E + F * F + G * G + H * H + I * I
+    if not math.sqrt(norm_J * norm_adj) < SINGULAR_CONDITION * abs(det):
+        return None
+    r0, r1, r2 = b.tolist()
+    return np.array([(A * r0 + D * r1 + G * r2) / det, (B * r0 + E * r1 + H * r2) / det,
+                     (C * r0 + F * r1 + I * r2) / det])
+
+
+def singular_task(where: str) -> ValueError:
+    """The error raised when the task Jacobian J_A cannot be inverted (cond(J_A) > SINGULAR_CONDITION)."""
+    return ValueError(f"J_A is singular {where} (condition number > {SINGULAR_CONDITION:g}): "
+                      "the task cannot be inverted")
+
+
 def joint_rates(robot: Robot, q: Any, xd: Any, xdd: Any, rows: Sequence[int] = tuple(range(6)),
                 frame: str | int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """q̇ = J⁻¹ ẋ (3.51 inverted) and q̈ = J⁻¹ (ẍ − J̇ q̇) (3.99) at q, J the ``rows`` of the geometric
@@ -324,11 +385,11 @@ def joint_rates(robot: Robot, q: Any, xd: Any, xdd: Any, rows: Sequence[int] = t
         raise ValueError(f"`rows` must select {robot.nv} components (a square task Jacobian), got {len(rows)}")
     xd, xdd = as_vector(xd, len(rows), "xd"), as_vector(xdd, len(rows), "xdd")
     model, data, fid = robot.model, robot.data, robot.frame(frame)
-    J_inv, singular = _task_inverse(_frame_state(model, data, fid, q, None).J[rows])
+    J_inv, singular = _task_inverse(frame_state_kernel(model, data, fid, q, None).J[rows])
     if singular:
         raise ValueError(f"the task Jacobian is singular at q = {q}: J⁻¹ is not defined")
     qd = J_inv @ xd
-    Jdot_qd = _frame_state(model, data, fid, q, qd).Jdot_qd[rows]    # J̇ q̇ needs the q̇ just found
+    Jdot_qd = frame_state_kernel(model, data, fid, q, qd).Jdot_qd[rows]    # J̇ q̇ needs the q̇ just found
     return qd, J_inv @ (xdd - Jdot_qd)
 
 
@@ -417,12 +478,12 @@ def joint_rates_at(robot: Robot, Q: Any, XD: Any, XDD: Any, rows: Sequence[int] 
         raise ValueError(f"`rows` must select {robot.nv} components (a square task Jacobian), got {len(rows)}")
     XD, XDD = as_matrix(XD, (N, len(rows)), "XD"), as_matrix(XDD, (N, len(rows)), "XDD")
     model, data, fid = robot.model, robot.data, robot.frame(frame)
-    J_inv, singular = _task_inverse(np.array([_frame_state(model, data, fid, q, None).J[rows] for q in Q]))
+    J_inv, singular = _task_inverse(np.array([frame_state_kernel(model, data, fid, q, None).J[rows] for q in Q]))
     if singular.any():
         k = int(np.argmax(singular))
         raise ValueError(f"the task Jacobian is singular at sample {k}, q = {Q[k]}: J⁻¹ is not defined")
     Qd = np.einsum("kij,kj->ki", J_inv, XD)
-    Jdot_qd = np.array([_frame_state(model, data, fid, q, qd).Jdot_qd[rows] for q, qd in zip(Q, Qd)])
+    Jdot_qd = np.array([frame_state_kernel(model, data, fid, q, qd).Jdot_qd[rows] for q, qd in zip(Q, Qd)])
     return Qd, np.einsum("kij,kj->ki", J_inv, XDD - Jdot_qd)
 
 

@@ -109,3 +109,15 @@ def as_tolerance(tol: Any, name: str = "tol", upper: float = MAX_TOL) -> float:
     if not 0.0 < t <= upper:
         raise ValueError(f"`{name}` must be in (0, {upper:g}], got {t:g}")
     return t
+
+
+def as_points(x: Any, dim: int, name: str) -> np.ndarray:
+    """``x`` as a finite (n, dim) float array (a single point (dim,) becomes (1, dim))."""
+    a = np.asarray(x, dtype=float)
+    if a.ndim == 1 and a.shape[0] == dim:
+        a = a.reshape(1, dim)
+    if a.ndim != 2 or a.shape[1] != dim or a.shape[0] == 0:
+        raise ValueError(f"`{name}` must have shape (n, {dim}), got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"`{name}` must be finite")
+    return a

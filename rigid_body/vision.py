@@ -22,9 +22,8 @@ from typing import Any
 
 import numpy as np
 
-from rigid_body.camera import _as_points
 from rigid_body.rotations import nearest_rotation
-from rigid_body.validation import as_matrix, as_positive, as_vector
+from rigid_body.validation import as_matrix, as_points, as_positive, as_vector
 
 
 def _null_vector(A: np.ndarray, name: str, rank: int) -> tuple[np.ndarray, np.ndarray]:
@@ -56,7 +55,7 @@ def _hartley_normalisation(pts: np.ndarray) -> np.ndarray:
 def homography_dlt_matrix(zeta: Any, s: Any) -> np.ndarray:
     """A (2n×9) of Eq. (10.10), A h = 0, for object points ``zeta`` (n, 2) on the plane z = 0 of the
     object frame and their images ``s`` (n, 2): from λ s̃_i = H ζ̃_i, h = the rows of H stacked."""
-    zeta, s = _as_points(zeta, 2, "zeta"), _as_points(s, 2, "s")
+    zeta, s = as_points(zeta, 2, "zeta"), as_points(s, 2, "s")
     if zeta.shape != s.shape:
         raise ValueError(f"`zeta` and `s` must hold the same number of points, got {zeta.shape} and {s.shape}")
     A = np.zeros((2 * len(zeta), 9))
@@ -70,7 +69,7 @@ def homography_dlt_matrix(zeta: Any, s: Any) -> np.ndarray:
 def homography_dlt(zeta: Any, s: Any) -> np.ndarray:
     """H (3×3, ‖H‖_F = 1, up to sign) with λ s̃_i = H ζ̃_i from n ≥ 4 point pairs (10.10), by the SVD of A
     (Hartley-normalised): h = v_9, the right singular vector of the null (least) singular value."""
-    zeta, s = _as_points(zeta, 2, "zeta"), _as_points(s, 2, "s")
+    zeta, s = as_points(zeta, 2, "zeta"), as_points(s, 2, "s")
     if len(zeta) < 4:
         raise ValueError(f"a homography needs at least 4 points, got {len(zeta)}")
     Tz, Ts = _hartley_normalisation(zeta), _hartley_normalisation(s)
@@ -137,7 +136,7 @@ def register_point_clouds(p: Any, p_prime: Any) -> tuple[np.ndarray, np.ndarray]
     R maximises Tr(Rᵀ K), K = Σ p̄_i p̄'_iᵀ (10.57): R = U diag(1, 1, det(U Vᵀ)) Vᵀ from K = U Σ Vᵀ;
     then o = p̄ − R p̄' (10.56).
     """
-    p, pp = _as_points(p, 3, "p"), _as_points(p_prime, 3, "p_prime")
+    p, pp = as_points(p, 3, "p"), as_points(p_prime, 3, "p_prime")
     if p.shape != pp.shape:
         raise ValueError(f"`p` and `p_prime` must hold the same number of points, got {p.shape} and {pp.shape}")
     pbar, ppbar = p.mean(axis=0), pp.mean(axis=0)
@@ -155,7 +154,7 @@ def register_point_clouds(p: Any, p_prime: Any) -> tuple[np.ndarray, np.ndarray]
 def projection_matrix_dlt(points: Any, pixels: Any) -> np.ndarray:
     """The 3×4 projection matrix P (‖P‖_F = 1, det P[:, :3] > 0) with λ [X, Y, 1]ᵀ = P [p; 1] from n ≥ 6 known
     3-D points (n, 3) and their pixels (n, 2), not all coplanar: DLT (Hartley-normalised)."""
-    pts, pix = _as_points(points, 3, "points"), _as_points(pixels, 2, "pixels")
+    pts, pix = as_points(points, 3, "points"), as_points(pixels, 2, "pixels")
     if len(pts) != len(pix):
         raise ValueError(f"`points` and `pixels` must hold the same number of points, got {len(pts)} and {len(pix)}")
     if len(pts) < 6:
@@ -201,7 +200,7 @@ def triangulate(P1: Any, P2: Any, xy1: Any, xy2: Any) -> np.ndarray:
     """Points (n, 3) seen at ``xy1`` (n, 2) by the camera of projection matrix ``P1`` (3×4) and at ``xy2`` by
     ``P2``: the linear (DLT) two-view triangulation (null vector of a 4×4 system per point)."""
     P1, P2 = as_matrix(P1, (3, 4), "P1"), as_matrix(P2, (3, 4), "P2")
-    a, b = _as_points(xy1, 2, "xy1"), _as_points(xy2, 2, "xy2")
+    a, b = as_points(xy1, 2, "xy1"), as_points(xy2, 2, "xy2")
     if a.shape != b.shape:
         raise ValueError(f"`xy1` and `xy2` must hold the same number of points, got {a.shape} and {b.shape}")
     out = np.empty((len(a), 3))

@@ -234,7 +234,7 @@ def test_without_null_space_terms_the_panda_drifts(panda):
 def test_solve_task_3x3_adjugate_matches_lapack_and_refuses_singular():
     """The 3 × 3 fast path (adjugate over the determinant) agrees with LAPACK's LU solve on random
     well-conditioned tasks, and a numerically singular J still gives None (cond > 1e10)."""
-    from controllers.operational_space import _solve3, _solve_task
+    from rigid_body.task_space import _solve3, solve_task
 
     rng = np.random.default_rng(3)
     for _ in range(50):
@@ -242,7 +242,7 @@ def test_solve_task_3x3_adjugate_matches_lapack_and_refuses_singular():
         y = _solve3(J, b)
         assert y is not None
         np.testing.assert_allclose(y, np.linalg.solve(J, b), rtol=1e-10, atol=1e-12)
-        np.testing.assert_allclose(J @ _solve_task(J, b), b, atol=1e-12)
+        np.testing.assert_allclose(J @ solve_task(J, b), b, atol=1e-12)
     J = np.array([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0 + 1e-13], [0.0, 1.0, 1.0]])      # rows 1, 2 almost parallel
-    assert _solve3(J, np.ones(3)) is None and _solve_task(J, np.ones(3)) is None
-    assert _solve_task(np.zeros((3, 3)), np.ones(3)) is None
+    assert _solve3(J, np.ones(3)) is None and solve_task(J, np.ones(3)) is None
+    assert solve_task(np.zeros((3, 3)), np.ones(3)) is None

@@ -37,7 +37,8 @@ from scipy.optimize import fsolve
 
 from controllers.independent_joint import JointDesign, JointDrive, Transducers
 from controllers.plants import ArmMeasurement
-from controllers.laws import as_friction, as_gain, as_reference, diagonal_or_matrix, gain_times, per_joint
+from controllers.laws import (ControlLaw, as_friction, as_gain, as_reference, diagonal_or_matrix, gain_times,
+                              per_joint)
 from controllers.simulation import LoggedController
 from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics, reference_torque
 from rigid_body.robots import Robot, with_payload
@@ -121,7 +122,7 @@ def sampled_error_poles(K_P: Any, K_D: Any, Ts: float) -> np.ndarray:
 # PD control with gravity compensation (8.51)
 # --------------------------------------------------------------------------------------------
 
-class PDGravityCompensation(LoggedController):
+class PDGravityCompensation(ControlLaw):
     """u = g(q) + K_P q̃ + K_D q̃̇ (Eq. 8.51, Fig. 8.20; with q̇_d = 0, K_D q̃̇ = −K_D q̇).
 
     For a set point the equilibrium q = q_d is globally asymptotically stable (Lyapunov function
@@ -148,53 +149,27 @@ class PDGravityCompensation(LoggedController):
 
     def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, Ts: float | None = None):
         n = robot.nv
-        self.robot, self.n = robot, n
+        self.robot, self.n, self.nq, self.nv = robot, n, robot.nq, n
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
+        self.set_gains(K_P=self.K_P, K_D=self.K_D)
         self.reference = as_reference(reference, n)
-        self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
+        self.reference_shapes = ((n,), (n,), (n,))
         if Ts is not None:
             problems = sampled_stability(robot, self.K_P, self.K_D, as_positive(Ts, "Ts"), self.reference(0.0)[0])
             if problems:
                 raise ValueError(f"PD + gravity gains unstable at Ts = {Ts:g} s: " + "; ".join(problems))
-        # The hot path: g(q) on this thread's data (the controller belongs to the thread that made it);
-        # a set point (q̇_d = 0) with per-joint gains is u = g + k_P q̃ − k_D q̇.
-        self._model, self._data, self._nq = robot.model, robot.data, robot.nq
-        is_trajectory = hasattr(reference, "evaluate") or callable(reference)
-        self._set_point = None if is_trajectory or self._kp.ndim + self._kd.ndim != 2 else self.reference(0.0)[0]
+        self._model, self._data = robot.model, robot.data   # g(q) on this thread's data (the law belongs to it)
 
     def diagnose(self, plant: Any, Ts: float, meas: ArmMeasurement) -> str:
         """Why the loop may have diverged (called by :func:`~controllers.simulation.simulate`)."""
         return "; ".join(sampled_stability(self.robot, self.K_P, self.K_D, Ts, meas.q))
 
-    def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
-        q, qd = as_vector(meas.q, self._nq, "q"), meas.qd
-        g = pin.computeGeneralizedGravity(self._model, self._data, q)
-        q_d = self._set_point
-        if q_d is not None:
-            e = q_d - q
-            u = g + self._kp * e - self._kd * qd                                                # Eq. (8.51)
-        else:
-            q_d, qd_d, _ = self.reference(t)
-            e = q_d - q
-            u = g + gain_times(self._kp, e) + gain_times(self._kd, qd_d - qd)
-        self.record(q_d=q_d, e=e)
-        return u
-
-    def symbolic(self) -> Any:
-        """Eq. (8.51) in CasADi expressions for ``simulate(..., backend="casadi")``; the parameters are
-        this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`)."""
-        from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import gravity_expression
-
-        n, robot = self.n, self.robot
-
-        def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
-            e = r[:n] - q
-            g = gravity_expression(robot, q)
-            return g + K["K_P"] @ e + K["K_D"] @ (r[n:2 * n] - qd), {"q_d": r[:n], "e": e}
-
-        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P, "K_D": self.K_D}, law,
-                                 stacked_reference(self.reference))
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple) -> tuple[Any, dict]:
+        """Eq. (8.51), once for both executors (:class:`~controllers.laws.ControlLaw`)."""
+        q_d, qd_d, _ = ref
+        e = q_d - q
+        u = ops.gravity(self._model, self._data, q) + ops.times(K["K_P"], e) + ops.times(K["K_D"], qd_d - qd)
+        return u, {"q_d": q_d, "e": e}
 
 # --------------------------------------------------------------------------------------------
 # Independent joint servos with computed-torque feedforward (Fig. 8.19 on Fig. 5.11)
@@ -321,7 +296,7 @@ class ComputedTorqueFeedforward(LoggedController):
 # Inverse dynamics control (8.57), (8.60)
 # --------------------------------------------------------------------------------------------
 
-class InverseDynamicsControl(LoggedController):
+class InverseDynamicsControl(ControlLaw):
     """u = B(q) y + n(q, q̇), y = q̈_d + K_D q̃̇ + K_P q̃ (Eqs. 8.57, 8.60, Fig. 8.22).
 
     n(q, q̇) = C(q, q̇) q̇ + F_v q̇ + g(q). With a perfect model the error obeys q̃̈ + K_D q̃̇ + K_P q̃ = 0.
@@ -337,11 +312,13 @@ class InverseDynamicsControl(LoggedController):
 
     def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, viscous_friction: Any = 0.0):
         n = robot.nv
-        self.robot, self.n = robot, n
+        self.robot, self.n, self.nq, self.nv = robot, n, robot.nq, n
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
+        self.set_gains(K_P=self.K_P, K_D=self.K_D)
         self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
-        self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
+        self.reference_shapes = ((n,), (n,), (n,))
+        self._model, self._data = robot.model, robot.data
 
     def diagnose(self, plant: Any, Ts: float, meas: ArmMeasurement) -> str:
         """The joints whose sampled error dynamics (:func:`sampled_error_poles`) leave the unit
@@ -359,30 +336,13 @@ class InverseDynamicsControl(LoggedController):
                             f"(K_P,{j} = {kp[i]:.4g}, K_D,{j} = {kd[i]:.4g}, Ts = {Ts:.4g} s): {fix}")
         return "; ".join(problems)
 
-    def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
-        q, qd = meas.q, meas.qd
-        q_d, qd_d, qdd_d = self.reference(t)
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple) -> tuple[Any, dict]:
+        """Eqs. (8.57), (8.60), once for both executors; B y + n is one RNEA pass at q̈ = y."""
+        q_d, qd_d, qdd_d = ref
         e, ed = q_d - q, qd_d - qd
-        y = qdd_d + gain_times(self._kd, ed) + gain_times(self._kp, e)  # Eq. (8.60)
-        u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd  # Eq. (8.57)
-        self.record(q_d=q_d, e=e)
-        return u
-
-    def symbolic(self) -> Any:
-        """Eqs. (8.57), (8.60) in CasADi expressions for ``simulate(..., backend="casadi")``; the
-        parameters are this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`)."""
-        from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import inverse_dynamics_expression
-
-        n, robot, Fv = self.n, self.robot, self.Fv
-
-        def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
-            e = r[:n] - q
-            y = r[2 * n:] + K["K_D"] @ (r[n:2 * n] - qd) + K["K_P"] @ e
-            return inverse_dynamics_expression(robot, q, qd, y) + Fv * qd, {"q_d": r[:n], "e": e}
-
-        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P, "K_D": self.K_D}, law,
-                                 stacked_reference(self.reference))
+        y = qdd_d + ops.times(K["K_D"], ed) + ops.times(K["K_P"], e)                      # Eq. (8.60)
+        u = ops.rnea(self._model, self._data, q, qd, y) + self.Fv * qd                  # Eq. (8.57)
+        return u, {"q_d": q_d, "e": e}
 
 def inverse_dynamics_steady_state(plant_robot: Robot, model_robot: Robot, K_P: Any, q_d: Any,
                                   q0: Any = None) -> np.ndarray:

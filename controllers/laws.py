@@ -420,6 +420,18 @@ class Symbolic:
         return _casadi().if_else(condition, a, b)
 
 
+def _fast_gain(K: np.ndarray) -> Any:
+    """The numeric law's form of a gain: a float for a scalar, a vector for a column (n, 1) or a diagonal
+    matrix (:func:`diagonal_or_matrix`), else the matrix."""
+    if K.ndim == 0:
+        return float(K)
+    if K.ndim == 2 and K.shape[1] == 1:
+        return K[:, 0].copy()
+    if K.ndim == 2 and K.shape[0] == K.shape[1]:
+        return diagonal_or_matrix(K)
+    return K
+
+
 def _casadi() -> Any:
     import casadi
 
@@ -462,10 +474,9 @@ class ControlLaw(LoggedController):
 
     def set_gains(self, **gains: Any) -> None:
         """The law's gains by name: ``gains`` keeps their values (the compiled loop's parameters, in the shapes
-        given), the numeric law reads their fast form (:func:`diagonal_or_matrix` for square matrices)."""
+        given), the numeric law reads their fast form (a float, a vector for a column or a diagonal matrix)."""
         self.gains = {name: np.asarray(value, dtype=float) for name, value in gains.items()}
-        self._K = {name: diagonal_or_matrix(v) if v.ndim == 2 and v.shape[0] == v.shape[1] > 1 else
-                   (float(v) if v.ndim == 0 else v) for name, v in self.gains.items()}
+        self._K = {name: _fast_gain(v) for name, v in self.gains.items()}
 
     def initial_state(self) -> tuple | None:
         """The law's own state after ``reset()`` (a tuple of floats/vectors), None for a static law."""

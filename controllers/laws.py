@@ -304,6 +304,11 @@ class Numeric:
         return x.copy()
 
     @staticmethod
+    def index(rows: np.ndarray) -> np.ndarray:
+        """Row indices as the backend indexes with them (``M[r, :]``, ``v[r]``, ``T[r, 3]``): an int array."""
+        return rows
+
+    @staticmethod
     def if_else(condition: bool, a: Any, b: Any) -> Any:
         return a if condition else b
 
@@ -416,6 +421,10 @@ class Symbolic:
         return x
 
     @staticmethod
+    def index(rows: Any) -> list[int]:
+        return [int(i) for i in rows]
+
+    @staticmethod
     def if_else(condition: Any, a: Any, b: Any) -> Any:
         return _casadi().if_else(condition, a, b)
 
@@ -491,8 +500,10 @@ class ControlLaw(LoggedController):
         """The measurement entry ``name`` (e.g. the sensed wrench), ValueError naming the missing sensor."""
         value = getattr(meas, name, None)
         if value is None:
-            raise ValueError(f"{type(self).__name__} needs the measurement `{name}`: the plant's measurement has "
-                             f"none" + (" (use controllers.plants.ArmInContact)" if name == "wrench" else ""))
+            if name == "wrench":
+                raise ValueError(f"{type(self).__name__} needs a force sensor: the plant's measurement has no "
+                                 "`wrench` (use controllers.plants.ArmInContact)")
+            raise ValueError(f"{type(self).__name__} needs the measurement `{name}`: the plant's measurement has none")
         return value
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:

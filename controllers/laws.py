@@ -119,6 +119,28 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
     return sampled
 
 
+def joined_reference(*parts: tuple[Callable[[float], tuple], Sequence[int]]) -> Callable[[float], tuple]:
+    """One reference ``t -> tuple`` from the entries ``indices`` of several: ``parts`` are (reference, indices),
+    e.g. ``((motion, (0,)), (force, (0,)))`` for (x_d, f_d). Vectorised (``at_times``) when every part is."""
+    def joined(t: float) -> tuple:
+        out: list = []
+        for reference, indices in parts:
+            values = reference(t)
+            out.extend(values[i] for i in indices)
+        return tuple(out)
+
+    if all(hasattr(reference, "at_times") for reference, _ in parts):
+        def at_times(times: np.ndarray) -> tuple:
+            out: list = []
+            for reference, indices in parts:
+                values = reference.at_times(times)
+                out.extend(values[i] for i in indices)
+            return tuple(out)
+
+        joined.at_times = at_times
+    return joined
+
+
 def array_law(reference: Any) -> Callable[[np.ndarray], tuple[np.ndarray, ...]] | None:
     """The law of ``reference`` that takes an array of instants, or None: a trajectory's timing law
     (:class:`planners.timing.Trajectory`), or ``reference`` itself when it is a timing law (``t_i``, ``t_f``
@@ -290,6 +312,10 @@ class Numeric:
         return np.concatenate(parts)
 
     @staticmethod
+    def horzcat(*blocks: Any) -> np.ndarray:
+        return np.hstack(blocks)
+
+    @staticmethod
     def zeros(n: int) -> np.ndarray:
         return np.zeros(n)
 
@@ -409,6 +435,10 @@ class Symbolic:
         return _casadi().vertcat(*parts)
 
     @staticmethod
+    def horzcat(*blocks: Any) -> Any:
+        return _casadi().horzcat(*blocks)
+
+    @staticmethod
     def zeros(n: int) -> Any:
         return _casadi().DM.zeros(n)
 
@@ -422,6 +452,8 @@ class Symbolic:
 
     @staticmethod
     def index(rows: Any) -> list[int]:
+        if isinstance(rows, slice):
+            return list(range(*rows.indices(6)))
         return [int(i) for i in rows]
 
     @staticmethod

@@ -124,7 +124,7 @@ def problem_10_1() -> Solution:
                     reference="other library")
     sol.check_error("manual's t_α = (μ02 − μ20 + √(4μ11² + (μ02 − μ20)²))/(2μ11) = tan α of (10.2)", worst_tan, 1e-9,
                     reference="closed form")
-    fig, ax = subplots(figsize=(5, 5))
+    fig, ax = subplots(figsize=(7, 5.5))
     ax.contourf(grid, grid, region.astype(float), levels=[0.5, 1.5], colors=["#9ecae1"])
     r = np.array([-3.5, 3.5])
     ax.plot(moments.x_bar + r * np.cos(moments.orientation), moments.y_bar + r * np.sin(moments.orientation),
@@ -882,7 +882,7 @@ def _retreat(run: _Run) -> float:
 
 def _depth_figure(sol: Solution, run: _Run, points: _Run, title: str) -> Solution:
     """The object's depth z_{c,o}(t) with segment and with point features (10.10, 10.11); attached to ``sol``."""
-    fig, ax = subplots(figsize=(6, 3.5))
+    fig, ax = subplots(figsize=(7.5, 3.6))
     ax.plot(run.t, run.x_co[:, 2], label="segment features")
     ax.plot(points.t, points.x_co[:, 2], "--", label="two point features")
     label_axes(ax, "t [s]", r"object depth $z_{c,o}$ [m]", legend=True)

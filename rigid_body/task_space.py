@@ -51,6 +51,7 @@ __all__ = [
     "PoseError",
     "orientation_error",
     "pose_error",
+    "pose_error_kernel",
     "pose_residual",
     "damped_least_squares_inverse",
     "weighted_pseudo_inverse",
@@ -217,10 +218,16 @@ def pose_error(robot: Robot, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | N
     With ``qd`` the same kinematics pass also gives J̇q̇ (geometric Jacobian tasks only).
     Unvalidated (hot loop): q (nq,), T_d (4, 4) homogeneous.
     """
-    fid = robot.frame(task.frame)
+    return pose_error_kernel(robot.model, robot.data, robot.frame(task.frame), q, T_d, task, qd, v_d)
+
+
+def pose_error_kernel(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray, T_d: np.ndarray,
+                      task: TaskSpace = TaskSpace(), qd: np.ndarray | None = None,
+                      v_d: np.ndarray | None = None) -> PoseError:
+    """The kernel of :func:`pose_error` on a model, its data and a resolved frame id (hot loops)."""
     if qd is not None and task.euler:
         raise ValueError("J̇_A q̇ of an Euler-angle task is not provided: use 'axis_angle' or 'quaternion'")
-    state = frame_state_kernel(robot.model, robot.data, fid, q, qd)
+    state = frame_state_kernel(model, data, fid, q, qd)
     J, T_e = state.J, state.T
     R_e, p_e = T_e[:3, :3], T_e[:3, 3]
     R_d, p_d = T_d[:3, :3], T_d[:3, 3]

@@ -133,3 +133,17 @@ def as_points(x: Any, dim: int, name: str) -> np.ndarray:
     if not np.all(np.isfinite(a)):
         raise ValueError(f"`{name}` must be finite")
     return a
+
+
+def as_generator(rng: Any, name: str = "rng") -> np.random.Generator:
+    """``rng`` as a ``numpy.random.Generator``: a Generator is used as it is (its state advances), an integer
+    seeds a new one (as ``numpy.random.default_rng`` does); anything else (None, a float, a legacy
+    RandomState) raises ValueError naming ``name`` — a seeded run must repeat exactly."""
+    if isinstance(rng, np.random.Generator):
+        return rng
+    if isinstance(rng, (int, np.integer)) and not isinstance(rng, bool):
+        if rng < 0:
+            raise ValueError(f"`{name}` as a seed must be a non-negative integer, got {rng}")
+        return np.random.default_rng(int(rng))
+    raise ValueError(f"`{name}` must be an integer seed or a numpy.random.Generator, got {type(rng).__name__} "
+                     f"{rng!r:.40}")

@@ -122,6 +122,28 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
     return sampled
 
 
+def joined_reference(*parts: tuple[Callable[[float], tuple], Sequence[int]]) -> Callable[[float], tuple]:
+    """One reference ``t -> tuple`` from the entries ``indices`` of several: ``parts`` are (reference, indices),
+    e.g. ``((motion, (0,)), (force, (0,)))`` for (x_d, f_d). Vectorised (``at_times``) when every part is."""
+    def joined(t: float) -> tuple:
+        out: list = []
+        for reference, indices in parts:
+            values = reference(t)
+            out.extend(values[i] for i in indices)
+        return tuple(out)
+
+    if all(hasattr(reference, "at_times") for reference, _ in parts):
+        def at_times(times: np.ndarray) -> tuple:
+            out: list = []
+            for reference, indices in parts:
+                values = reference.at_times(times)
+                out.extend(values[i] for i in indices)
+            return tuple(out)
+
+        joined.at_times = at_times
+    return joined
+
+
 def array_law(reference: Any) -> Callable[[np.ndarray], tuple[np.ndarray, ...]] | None:
     """The law of ``reference`` that takes an array of instants, or None: a trajectory's timing law
     (:class:`planners.timing.Trajectory`), or ``reference`` itself when it is a timing law (``t_i``, ``t_f``
@@ -302,6 +324,10 @@ class Numeric:
         return np.concatenate(parts)
 
     @staticmethod
+    def horzcat(*blocks: Any) -> np.ndarray:
+        return np.hstack(blocks)
+
+    @staticmethod
     def zeros(n: int) -> np.ndarray:
         return np.zeros(n)
 
@@ -314,6 +340,11 @@ class Numeric:
     def copy(x: np.ndarray) -> np.ndarray:
         """A copy (logged signals must not be views of arrays the law or Pinocchio overwrite)."""
         return x.copy()
+
+    @staticmethod
+    def index(rows: np.ndarray) -> np.ndarray:
+        """Row indices as the backend indexes with them (``M[r, :]``, ``v[r]``, ``T[r, 3]``): an int array."""
+        return rows
 
     @staticmethod
     def if_else(condition: bool, a: Any, b: Any) -> Any:
@@ -416,6 +447,10 @@ class Symbolic:
         return _casadi().vertcat(*parts)
 
     @staticmethod
+    def horzcat(*blocks: Any) -> Any:
+        return _casadi().horzcat(*blocks)
+
+    @staticmethod
     def zeros(n: int) -> Any:
         return _casadi().DM.zeros(n)
 
@@ -426,6 +461,12 @@ class Symbolic:
     @staticmethod
     def copy(x: Any) -> Any:
         return x
+
+    @staticmethod
+    def index(rows: Any) -> list[int]:
+        if isinstance(rows, slice):
+            return list(range(*rows.indices(6)))
+        return [int(i) for i in rows]
 
     @staticmethod
     def if_else(condition: Any, a: Any, b: Any) -> Any:
@@ -503,8 +544,10 @@ class ControlLaw(LoggedController):
         """The measurement entry ``name`` (e.g. the sensed wrench), ValueError naming the missing sensor."""
         value = getattr(meas, name, None)
         if value is None:
-            raise ValueError(f"{type(self).__name__} needs the measurement `{name}`: the plant's measurement has "
-                             f"none" + (" (use controllers.plants.ArmInContact)" if name == "wrench" else ""))
+            if name == "wrench":
+                raise ValueError(f"{type(self).__name__} needs a force sensor: the plant's measurement has no "
+                                 "`wrench` (use controllers.plants.ArmInContact)")
+            raise ValueError(f"{type(self).__name__} needs the measurement `{name}`: the plant's measurement has none")
         return value
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:

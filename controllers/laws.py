@@ -26,7 +26,7 @@ from controllers.simulation import LoggedController
 from rigid_body.dynamics import reference_torque_kernel
 from rigid_body.rotations import as_homogeneous
 from rigid_body.task_space import FrameState, frame_state_kernel, pose_error_kernel, singular_task, solve_task
-from rigid_body.validation import as_matrix, as_vector
+from rigid_body.validation import as_matrix, as_positive, as_vector
 
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 PoseReference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
@@ -62,9 +62,12 @@ def as_friction(viscous_friction: Any, n: int) -> np.ndarray:
 
 def as_gain(K: Any, n: int, name: str) -> np.ndarray:
     """A gain matrix (n, n) from a scalar (K I), a vector (diag K) or a matrix; must be positive definite."""
-    K_arr = np.asarray(K, dtype=float)
+    K_arr = np.asarray(K)
+    if K_arr.dtype.kind not in "biuf":
+        raise ValueError(f"`{name}` must be a number, a vector or a matrix of numbers, got {K!r:.60}")
+    K_arr = K_arr.astype(float)
     if K_arr.ndim == 0:
-        M = float(K_arr) * np.eye(n)
+        M = as_vector(K_arr, 1, name)[0] * np.eye(n)
     elif K_arr.ndim == 1:
         M = np.diag(as_vector(K_arr, n, name))
     else:
@@ -117,6 +120,28 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
     if vectorised is not None:                                  # the compiled loop samples it at once
         sampled.at_times = lambda times: tuple(np.reshape(v, (len(times), n)) for v in vectorised(times))
     return sampled
+
+
+def joined_reference(*parts: tuple[Callable[[float], tuple], Sequence[int]]) -> Callable[[float], tuple]:
+    """One reference ``t -> tuple`` from the entries ``indices`` of several: ``parts`` are (reference, indices),
+    e.g. ``((motion, (0,)), (force, (0,)))`` for (x_d, f_d). Vectorised (``at_times``) when every part is."""
+    def joined(t: float) -> tuple:
+        out: list = []
+        for reference, indices in parts:
+            values = reference(t)
+            out.extend(values[i] for i in indices)
+        return tuple(out)
+
+    if all(hasattr(reference, "at_times") for reference, _ in parts):
+        def at_times(times: np.ndarray) -> tuple:
+            out: list = []
+            for reference, indices in parts:
+                values = reference.at_times(times)
+                out.extend(values[i] for i in indices)
+            return tuple(out)
+
+        joined.at_times = at_times
+    return joined
 
 
 def array_law(reference: Any) -> Callable[[np.ndarray], tuple[np.ndarray, ...]] | None:
@@ -206,6 +231,15 @@ class _RowsOfLaw:
         return tuple(np.asarray(v, dtype=float)[..., r] for v in self.law(t))
 
 
+def rate_options(max_condition: Any, damping: Any) -> tuple[float, float | None]:
+    """(max_condition, damping) of a resolved-velocity law (:func:`rigid_body.task_space.resolved_rates`):
+    a condition bound ≥ 1 and a damping λ > 0 or None (exact inverse, refused near a singularity)."""
+    bound = as_positive(max_condition, "max_condition")
+    if bound < 1:
+        raise ValueError(f"`max_condition` must be >= 1 (a condition number), got {bound:g}")
+    return bound, None if damping is None else as_positive(damping, "damping")
+
+
 def check_redundancy(m: int, n: int) -> None:
     """A task of m components on n joints must have m ≤ n (one component per joint at most)."""
     if m > n:
@@ -290,6 +324,10 @@ class Numeric:
         return np.concatenate(parts)
 
     @staticmethod
+    def horzcat(*blocks: Any) -> np.ndarray:
+        return np.hstack(blocks)
+
+    @staticmethod
     def zeros(n: int) -> np.ndarray:
         return np.zeros(n)
 
@@ -302,6 +340,11 @@ class Numeric:
     def copy(x: np.ndarray) -> np.ndarray:
         """A copy (logged signals must not be views of arrays the law or Pinocchio overwrite)."""
         return x.copy()
+
+    @staticmethod
+    def index(rows: np.ndarray) -> np.ndarray:
+        """Row indices as the backend indexes with them (``M[r, :]``, ``v[r]``, ``T[r, 3]``): an int array."""
+        return rows
 
     @staticmethod
     def if_else(condition: bool, a: Any, b: Any) -> Any:
@@ -404,6 +447,10 @@ class Symbolic:
         return _casadi().vertcat(*parts)
 
     @staticmethod
+    def horzcat(*blocks: Any) -> Any:
+        return _casadi().horzcat(*blocks)
+
+    @staticmethod
     def zeros(n: int) -> Any:
         return _casadi().DM.zeros(n)
 
@@ -414,6 +461,12 @@ class Symbolic:
     @staticmethod
     def copy(x: Any) -> Any:
         return x
+
+    @staticmethod
+    def index(rows: Any) -> list[int]:
+        if isinstance(rows, slice):
+            return list(range(*rows.indices(6)))
+        return [int(i) for i in rows]
 
     @staticmethod
     def if_else(condition: Any, a: Any, b: Any) -> Any:
@@ -491,8 +544,10 @@ class ControlLaw(LoggedController):
         """The measurement entry ``name`` (e.g. the sensed wrench), ValueError naming the missing sensor."""
         value = getattr(meas, name, None)
         if value is None:
-            raise ValueError(f"{type(self).__name__} needs the measurement `{name}`: the plant's measurement has "
-                             f"none" + (" (use controllers.plants.ArmInContact)" if name == "wrench" else ""))
+            if name == "wrench":
+                raise ValueError(f"{type(self).__name__} needs a force sensor: the plant's measurement has no "
+                                 "`wrench` (use controllers.plants.ArmInContact)")
+            raise ValueError(f"{type(self).__name__} needs the measurement `{name}`: the plant's measurement has none")
         return value
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:

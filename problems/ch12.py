@@ -84,6 +84,16 @@ SCENE_12_13 = np.array([[0, 0, 1, 1, 1, 0, 0],
                         [0, 0, 1, 0, 1, 0, 0]], dtype=bool)   # companion s12_13, 1 = obstacle
 
 
+def given_obstacles(sol: Solution, shapes: list, name: str = "obstacles") -> None:
+    """Declare a scene's obstacles as data of the problem: the discs as rows [x, y, r], each polygon's vertices."""
+    discs = [np.r_[s.center, s.radius] for s in shapes if isinstance(s, Disc)]
+    polygons = [s.vertices for s in shapes if not isinstance(s, Disc)]
+    if discs:
+        sol.given(f"{name}: discs [x, y, r]", np.array(discs), unit="m")
+    for k, vertices in enumerate(polygons, start=1):
+        sol.given(f"{name}: polygon {k}", np.asarray(vertices, dtype=float), unit="m")
+
+
 # --------------------------------------------------------------------------------------------
 # Drawing and verification helpers
 # --------------------------------------------------------------------------------------------
@@ -303,7 +313,8 @@ def problem_12_4() -> Solution:
     """
     sol = Solution()
     scene = scene_12_4()
-    arm = PlanarArm(tuple(sol.given("a1, a2", np.array([1.0, 1.0]), unit="m")), sol.given("link radius", 0.1, unit="m"))
+    given_obstacles(sol, scene.obstacles)
+    arm = PlanarArm(tuple(sol.given("a1, a2", np.array([1.0, 1.0]), unit="m")), sol.given("link width", 0.1, unit="m"))
     space = PlanarCSpace(arm, scene, [-np.pi, -np.pi], [np.pi, np.pi])
     q = {"q_a": np.array([np.pi / 4, np.pi / 2]), "q_b": np.array([4.12, np.pi / 6]),
          "q_c": np.array([4.12, 2.88])}
@@ -405,7 +416,8 @@ def problem_12_5() -> Solution:
     sol.check_error("sampled GVD (scipy Voronoi of boundary points 0.02 m apart) lies on the medial axis [m]", err, 0.02,
                     reference="other library")
     # a room with an obstacle: the GVD around it
-    room, hole = box(0, 0, 10, 6), Polygon([[4, 2], [6.5, 2.5], [5, 4]])
+    room = box(*sol.given("room [x_min, y_min, x_max, y_max]", np.array([0.0, 0.0, 10.0, 6.0]), unit="m"))
+    hole = Polygon(sol.given("obstacle in the room", np.array([[4.0, 2.0], [6.5, 2.5], [5.0, 4.0]]), unit="m"))
     nodes2 = gvd_nodes(room, [hole])
     segs2 = sampled_gvd(room, [hole], spacing=0.05)
     feats = [(p, q) for poly in (room, hole) for p, q in zip(*poly.edges)]
@@ -526,6 +538,8 @@ def problem_12_7() -> Solution:
     sol = Solution()
     space, qs, qg = scene_12_7()
     sol.given("q_s", qs, unit="rad"), sol.given("q_g", qg, unit="rad")
+    given_obstacles(sol, space.scene.obstacles)
+    sol.given("link lengths", np.array(space.robot.lengths), unit="m"), sol.given("link width", space.robot.width, unit="m")
     n_vertices, budget = sol.given("n_vertices (companion)", 50), sol.given("max_vertices (growth budget)", 200)
     k_near, d_near = sol.given("max neighbours", 3), sol.given("max neighbour distance", 3.0, unit="rad")
     res = prm(space, qs, qg, np.random.default_rng(SEED), n_vertices=n_vertices, max_neighbors=k_near,
@@ -680,6 +694,8 @@ def problem_12_8() -> Solution:
     sol = Solution()
     space, qs, qg = scene_12_8()
     sol.given("q_s", qs, unit="m, m, rad"), sol.given("q_g", qg, unit="m, m, rad")
+    given_obstacles(sol, space.scene.obstacles)
+    given_obstacles(sol, space.robot.parts, "robot body")
     threshold, bias = sol.given("goal threshold", 0.01), sol.given("goal bias", 0.2)
     companion = [MotionPrimitive(1.0, 0.0), MotionPrimitive(1.0, 1.3), MotionPrimitive(1.0, -1.3)]
     sol.given("companion primitives (v, ω)", np.array([[1.0, 0.0], [1.0, 1.3], [1.0, -1.3]]), unit="m/s, rad/s")
@@ -926,7 +942,7 @@ def problem_12_10() -> Solution:
                     reference="closed form")
     sol.check("erratum: the single-disc stationary point is a saddle (indefinite Hessian), not a minimum",
               ev[0] < 0 < ev[1])
-    double = _disc_field([[3.0, 0.8], [3.0, -0.8]])
+    double = _disc_field(sol.given("two disc centres", np.array([[3.0, 0.8], [3.0, -0.8]]), unit="m"))
     M = stationary_point(double, [3.67, 0.02])
     U_M = float(double.potential(M))
     ev2 = np.linalg.eigvalsh(_hessian_closed_form(M, [[3.0, 0.8], [3.0, -0.8]], 0.5, 1.0, 1.0, 1.0))

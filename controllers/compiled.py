@@ -50,6 +50,8 @@ from typing import Any, Callable, Mapping
 import casadi as ca
 import numpy as np
 
+from controllers.simulation import rk4_step_law
+
 
 BACKENDS = ("python", "casadi")
 
@@ -158,8 +160,14 @@ class SymbolicLaw:
 
 class ConstantInput:
     """The open-loop input u(t) = ``value`` (a step applied at t_0, e.g. V'_c of Problem 5.2), as a controller
-    of either backend: ``(t, measurement) -> u`` and its :class:`SymbolicLaw`, which reads nothing of the
-    measurement (``plant``'s ``state_layout`` gives only the sizes of q and q̇ the law is called with)."""
+    of either backend: its law ``u = value`` (:meth:`law`) reads nothing of the measurement (``plant``'s
+    ``state_layout`` gives only the sizes of q and q̇ the symbolic law is called with); ``value`` is the
+    compiled loop's parameter."""
+
+    measurements: tuple = ()
+    scalars: tuple = ()
+    reference_shapes: tuple = ()
+    _state = None
 
     def __init__(self, value: Any, plant: Any):
         self.value = np.atleast_1d(np.asarray(value, dtype=float)).copy()
@@ -169,18 +177,22 @@ class ConstantInput:
         layout = getattr(plant, "state_layout", {})
         if "q" not in layout or "qd" not in layout:
             raise ValueError("`plant` needs a state_layout with 'q' and 'qd'")
-        self._sizes = (_length(layout["q"]), _length(layout["qd"]))
+        self.nq, self.nv = _length(layout["q"]), _length(layout["qd"])
+        self.gains = {"u": self.value[:, None]}
+
+    def reference(self, t: float) -> tuple:
+        """No reference: the law reads nothing."""
+        return ()
+
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple) -> tuple[Any, dict]:
+        """u = value, for both executors (numeric: the value itself, read-only)."""
+        return K["u"], {}
 
     def __call__(self, t: float, measurement: Any) -> np.ndarray:
-        return self.value
+        return self.law(None, {"u": self.value}, None, None, ())[0]
 
     def symbolic(self) -> SymbolicLaw:
-        def no_reference(t: float) -> np.ndarray:
-            return np.zeros(0)
-
-        no_reference.at_times = lambda times: np.zeros((0, len(times)))
-        return SymbolicLaw.build(*self._sizes, 0, {"u": self.value[:, None]}, lambda q, qd, r, K: (K["u"], {}),
-                                 no_reference)
+        return SymbolicLaw.of(self)
 
 
 def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]],
@@ -196,10 +208,15 @@ def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]],
 
     def stacked(t: float) -> np.ndarray:
         parts = reference(t)
+        if not parts:
+            return np.zeros(0)
         if matrix is None or not any(matrix):
             return np.concatenate([np.ravel(v) for v in parts])
         return np.concatenate([np.ravel(v, order="F" if m else "C") for v, m in zip(parts, matrix)])
 
+    if shapes == ():
+        stacked.at_times = lambda times: np.zeros((0, len(times)))
+        return stacked
     at_times = getattr(reference, "at_times", None)
     if at_times is not None and not (matrix and any(matrix)):
         stacked.at_times = lambda times: np.hstack([np.reshape(v, (len(times), -1)) for v in at_times(times)]).T
@@ -210,17 +227,49 @@ def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]],
 # The plant
 # --------------------------------------------------------------------------------------------
 
-def plant_function(plant: Any) -> tuple[ca.Function, int, int]:
-    """``(f, nq, nv)``: the plant's ẋ = f(x, u) from its ``symbolic()``, and the sizes of q and q̇ in x
-    (from its ``state_layout``). :class:`~controllers.plants.ArmPlant` provides both."""
+class NoSymbolicForm(ValueError):
+    """A block of the loop has no symbolic form: ``backend="casadi"`` refuses it (:func:`no_symbolic_form`)."""
+
+
+def no_symbolic_form(block: Any, why: str = "") -> NoSymbolicForm:
+    """The one refusal of the compiled loop: ``block`` (a controller, a plant, an environment or a function
+    inside them) has no symbolic form — a Python function, a block that gives no ``symbolic()`` — so the loop
+    runs on the Python backend only. The error names the block and why."""
+    name = getattr(block, "__qualname__", None) or type(block).__name__
+    return NoSymbolicForm(f"{name} has no symbolic form for backend='casadi'{f' ({why})' if why else ''}: "
+                          "use backend='python' (the same loop)")
+
+
+def plant_of(plant: Any) -> ca.Function:
+    """``ẋ = f(x, u)`` as a ``casadi.Function`` from the plant's one body ``plant.dynamics(ops, x, u)`` evaluated
+    on symbols (:class:`controllers.laws.Symbolic`); x has ``state_size`` entries, u ``symbolic_input_size``
+    (default ``input_size``)."""
+    from controllers.laws import Symbolic
+
+    nu = getattr(plant, "symbolic_input_size", None) or plant.input_size
+    x, u = ca.SX.sym("x", plant.state_size), ca.SX.sym("u", int(nu))
+    return ca.Function("plant", [x, u], [plant.dynamics(Symbolic, x, u)], ["x", "u"], ["xdot"])
+
+
+def integrate_of(plant: Any) -> ca.Function:
+    """``x ⊕ h dx`` as a ``casadi.Function`` (x, dx, h) → x' from the plant's one body ``plant.integrate_law``."""
+    from controllers.laws import Symbolic
+
+    x, dx, h = ca.SX.sym("x", plant.state_size), ca.SX.sym("dx", plant.tangent_size), ca.SX.sym("h")
+    return ca.Function("integrate", [x, dx, h], [plant.integrate_law(Symbolic, x, dx, h)], ["x", "dx", "h"], ["x_next"])
+
+
+def plant_function(plant: Any) -> tuple[ca.Function, int, int, ca.Function | None]:
+    """``(f, nq, nv, integrate)``: the plant's ẋ = f(x, u) from its ``symbolic()``, the sizes of q and q̇ in x
+    (from its ``state_layout``) and its x ⊕ h dx (``symbolic_integrate()``, None on a vector space)."""
     if not hasattr(plant, "symbolic"):
-        raise ValueError(f"`plant` {type(plant).__name__} has no symbolic() form for backend='casadi' "
-                         "(an ArmPlant, or a plant with symbolic() and a state_layout)")
+        raise no_symbolic_form(plant, "a plant needs dynamics(ops, x, u) or symbolic() and a state_layout")
     f = plant.symbolic()
     layout = getattr(plant, "state_layout", {})
     if "q" not in layout or "qd" not in layout:
-        raise ValueError("`plant` with a symbolic form needs a state_layout with 'q' and 'qd'")
-    return f, _length(layout["q"]), _length(layout["qd"])
+        raise no_symbolic_form(plant, "a compiled plant needs a state_layout with 'q' and 'qd'")
+    integrate = plant.symbolic_integrate() if hasattr(plant, "symbolic_integrate") else None
+    return f, _length(layout["q"]), _length(layout["qd"]), integrate
 
 
 def plant_measurement(plant: Any, name: str) -> ca.Function:
@@ -336,13 +385,12 @@ class CompiledLoop:
     def __init__(self, plant: Any, controller: Any, h: float, n_sub: int, n_samples: int,
                  compile: bool = True):
         if not hasattr(controller, "symbolic"):
-            raise ValueError(f"`controller` {type(controller).__name__} has no symbolic() law: "
-                             "use backend='python'")
+            raise no_symbolic_form(controller, "a controller needs a ControlLaw body or symbolic()")
         start = time.perf_counter()
         if hasattr(controller, "reset"):
             controller.reset()                                  # the law's initial state is the reset one
         self.law = controller.symbolic()
-        f, nq, nv = plant_function(plant)
+        f, nq, nv, integrate = plant_function(plant)
         self.nq, self.nv, self.n_samples = nq, nv, n_samples
         nx, nr, n_p = f.size1_in(0), self.law.function.size1_in(2), self.law.function.size1_in(3)
         nc = 0 if self.law.state is None else self.law.state.size
@@ -361,12 +409,9 @@ class CompiledLoop:
             raise ValueError(f"the symbolic law of {type(controller).__name__} gives {u.shape[0]} inputs, "
                              f"the plant takes {f.size1_in(1)}")
         x_next = x
-        for _ in range(n_sub):                                  # RK4 with u held (ZOH), as rk4_step
-            k1 = f(x_next, u)
-            k2 = f(x_next + 0.5 * h * k1, u)
-            k3 = f(x_next + 0.5 * h * k2, u)
-            k4 = f(x_next + h * k3, u)
-            x_next = x_next + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        stage = None if integrate is None else (lambda x0, k, c: integrate(x0, k, c))
+        for _ in range(n_sub):                                  # the one RK4, u held (ZOH)
+            x_next = rk4_step_law(lambda t, xi, ui: f(xi, ui), 0.0, x_next, u, h, stage)
         self._sample = ca.Function("sample", [xc, r, p], [ca.vertcat(x_next, c_next) if nc else x_next, u, *logged])
         self._rollout: ca.Function | None = None
         if compile:                       # the run's code is fixed by the sample's, N and this module's source

@@ -23,13 +23,15 @@ import numpy as np
 import pinocchio as pin
 
 from controllers.simulation import LoggedController
-from rigid_body.dynamics import reference_torque_kernel
+from rigid_body.dynamics import forward_dynamics, friction_kernel, reference_torque_kernel
 from rigid_body.rotations import as_homogeneous
 from rigid_body.task_space import FrameState, frame_state_kernel, pose_error_kernel, singular_task, solve_task
 from rigid_body.validation import as_matrix, as_vector
 
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 PoseReference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 
 # --------------------------------------------------------------------------------------------
@@ -282,6 +284,41 @@ class Numeric:
         return err.e, err.J, err.Jdot_qd, err.T_e
 
     @staticmethod
+    def forward_dynamics(robot: Any, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        """q̈ = B(q)⁻¹ (τ − C q̇ − g) (7.42): ABA, or the Cholesky solve for an arm with rotors (mimic joints)."""
+        return forward_dynamics(robot, q, qd, tau, check=False)
+
+    @staticmethod
+    def friction(friction: Any, qd: np.ndarray, smoothing: float) -> np.ndarray:
+        """τ_f = F_v q̇ + F_s sgn(q̇) (direction-dependent F_s±; tanh(q̇/ε) for ``smoothing`` ε > 0)."""
+        return friction_kernel(friction, qd, smoothing)
+
+    @staticmethod
+    def integrate(model: pin.Model, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """q ⊕ v on the configuration manifold (``pin.integrate``: continuous joints, a floating base)."""
+        return pin.integrate(model, q, v)
+
+    @staticmethod
+    def frame_jacobian(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray) -> tuple[Any, np.ndarray]:
+        """(T_e, J) of a frame: its pose (a ``pin.SE3``) and geometric Jacobian [J_P; J_O] (3.30), one pass."""
+        J = pin.computeFrameJacobian(model, data, q, fid, _LWA)        # after the forward kinematics of q
+        return pin.updateFramePlacement(model, data, fid), J           # a fresh SE3 (quicker than oMf[fid])
+
+    @staticmethod
+    def translation(T: Any) -> np.ndarray:
+        """The origin of a pose (``pin.SE3`` or (4, 4))."""
+        return T.translation if hasattr(T, "translation") else T[:3, 3]
+
+    @staticmethod
+    def contact_wrench(environment: Any, T_e: Any, v_e: np.ndarray) -> np.ndarray:
+        """h_e of an environment (:mod:`controllers.environment`) at the pose T_e and twist v_e: its
+        ``wrench_at(p_e, v_e)`` on plain arrays when it has one (the hot path), else ``wrench(T_e, v_e)``."""
+        wrench_at = getattr(environment, "wrench_at", None)
+        if wrench_at is not None:
+            return wrench_at(T_e.translation, v_e)
+        return environment.wrench(T_e, v_e)
+
+    @staticmethod
     def solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray:
         """J⁻¹ b, or J† b = Jᵀ (J Jᵀ)⁻¹ b (3.52) for a redundant task (:func:`rigid_body.task_space.solve_task`);
         :class:`SingularTask` when cond(J) > SINGULAR_CONDITION."""
@@ -302,6 +339,26 @@ class Numeric:
     def norm(z: np.ndarray) -> float:
         """‖z‖ (what np.linalg.norm computes, without its dispatch)."""
         return math.sqrt(z.dot(z))
+
+    tanh = staticmethod(np.tanh)
+    sign = staticmethod(np.sign)
+    maximum = staticmethod(np.maximum)                           # elementwise (fmax: two scalars)
+    minimum = staticmethod(np.minimum)
+
+    @staticmethod
+    def clip(x: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+        return np.minimum(np.maximum(x, lower), upper)
+
+    @staticmethod
+    def vector(*entries: Any) -> np.ndarray:
+        """A vector of scalars."""
+        return np.array(entries)
+
+    @staticmethod
+    def cond(condition: Any, then: Callable[[], Any], otherwise: Callable[[], Any]) -> Any:
+        """``then()`` where ``condition`` holds, else ``otherwise()``: numerically only the branch taken is
+        evaluated (a guard against 0/0); symbolically both, masked (``if_else``)."""
+        return then() if condition else otherwise()
 
     @staticmethod
     def dot(a: np.ndarray, b: np.ndarray) -> float:
@@ -389,6 +446,45 @@ class Symbolic:
         return e[rows], J[rows, :], None if Jdot_qd is None else Jdot_qd[rows], T
 
     @staticmethod
+    def forward_dynamics(robot: Any, q: Any, qd: Any, tau: Any) -> Any:
+        from rigid_body.symbolic import forward_dynamics_expression
+
+        return forward_dynamics_expression(robot, q, qd, tau)
+
+    @staticmethod
+    def friction(friction: Any, qd: Any, smoothing: float) -> Any:
+        from rigid_body.symbolic import friction_expression
+
+        return friction_expression(friction, qd, smoothing)
+
+    @staticmethod
+    def integrate(model: pin.Model, q: Any, v: Any) -> Any:
+        from rigid_body.symbolic import integrate_expression
+
+        return integrate_expression(model, q, v)
+
+    @staticmethod
+    def frame_jacobian(model: pin.Model, data: Any, fid: int, q: Any) -> tuple[Any, Any]:
+        from rigid_body.symbolic import frame_state_expression
+
+        T, J, _ = frame_state_expression(model, fid, q)
+        return T, J
+
+    @staticmethod
+    def translation(T: Any) -> Any:
+        return T[:3, 3]
+
+    @staticmethod
+    def contact_wrench(environment: Any, T_e: Any, v_e: Any) -> Any:
+        """The environment's one body ``wrench_law(ops, p_e, v_e)`` on symbols (a position-only environment)."""
+        law = getattr(environment, "wrench_law", None)
+        if law is None:
+            from controllers.compiled import no_symbolic_form
+
+            raise no_symbolic_form(environment, "an environment needs wrench_law(ops, p_e, v_e)")
+        return law(Symbolic, T_e[:3, 3], v_e)
+
+    @staticmethod
     def solve_task(J: Any, b: Any) -> Any:
         """J⁻¹ b or Jᵀ (J Jᵀ)⁻¹ b (LU); a singular J gives non-finite values (the compiled loop stops there)."""
         ca = _casadi()
@@ -427,6 +523,39 @@ class Symbolic:
         return ca.sqrt(ca.dot(z, z))
 
     @staticmethod
+    def tanh(x: Any) -> Any:
+        return _casadi().tanh(x)
+
+    @staticmethod
+    def sign(x: Any) -> Any:
+        return _casadi().sign(x)
+
+    @staticmethod
+    def maximum(a: Any, b: Any) -> Any:
+        return _casadi().fmax(a, b)
+
+    @staticmethod
+    def minimum(a: Any, b: Any) -> Any:
+        return _casadi().fmin(a, b)
+
+    @staticmethod
+    def clip(x: Any, lower: Any, upper: Any) -> Any:
+        ca = _casadi()
+        return ca.fmin(ca.fmax(x, lower), upper)
+
+    @staticmethod
+    def vector(*entries: Any) -> Any:
+        return _casadi().vertcat(*entries)
+
+    @staticmethod
+    def cond(condition: Any, then: Callable[[], Any], otherwise: Callable[[], Any]) -> Any:
+        ca = _casadi()
+        a, b = then(), otherwise()
+        if isinstance(condition, (bool, np.bool_)):
+            return a if condition else b
+        return ca.if_else(condition, a, b)
+
+    @staticmethod
     def dot(a: Any, b: Any) -> Any:
         return _casadi().dot(a, b)
 
@@ -458,6 +587,8 @@ class Symbolic:
 
     @staticmethod
     def if_else(condition: Any, a: Any, b: Any) -> Any:
+        if isinstance(condition, (bool, np.bool_)):
+            return a if condition else b
         return _casadi().if_else(condition, a, b)
 
 

@@ -145,10 +145,11 @@ def _inertial(body: ET.Element, inertia: pin.Inertia, floor: tuple[float, float]
     needs. Returns whether anything was raised."""
     mass = float(inertia.mass)
     moments, axes = np.linalg.eigh(np.asarray(inertia.inertia, dtype=float))   # ascending
-    raised = mass < floor[0] or moments[0] < floor[1] or moments[0] + moments[1] < moments[2]
+    before = moments.copy()
     mass = max(mass, floor[0])
     moments = np.maximum(moments, floor[1])
     moments[0] = max(moments[0], moments[2] - moments[1])
+    raised = mass > inertia.mass or bool(np.any(moments > before))
     if np.linalg.det(axes) < 0:
         axes[:, 0] = -axes[:, 0]
     q = pin.Quaternion(axes)
@@ -428,7 +429,7 @@ class MujocoPlant:
                 f"joint's armature, its mass on the carrying link; {effect}), or load the robot with "
                 f"motors='armature'")
         self.inertia_difference = self._build(scene_list, srdf, self_collision, joint_limits)
-        if self.inertia_floor and self.inertia_difference > 1e-9:
+        if self.inertia_floor and not self._rotors and self._floor_effect > 1e-8:   # (rotors: opted in, reported)
             warnings.warn(f"MujocoPlant: robot {robot.name!r}: the inertia of {', '.join(self.inertia_floor)} was "
                           f"raised to MuJoCo's minimum (positive principal moments, A + B ≥ C): B(q) differs by up to "
                           f"{100 * self.inertia_difference:.3g} % (plant.inertia_difference)", stacklevel=2)
@@ -492,6 +493,7 @@ class MujocoPlant:
         floor = (INERTIA_FLOOR * max(sum(I.mass for I in inertias.values()), 1e-300),
                  INERTIA_FLOOR * max(scale, 1e-300))
         self.inertia_floor: list[str] = []
+        self._floor_effect = 0.0            # the largest moment added to a body, relative to the robot's scale
         bodies: dict[int, ET.Element] = {0: world}
         for j in range(1, model.njoints):
             if j in rotors:
@@ -502,6 +504,9 @@ class MujocoPlant:
             bodies[j] = body
             if _inertial(body, inertias[j], floor):
                 self.inertia_floor.append(names[j])
+                written = body.find("inertial")
+                added = np.array(written.get("diaginertia").split(), dtype=float).sum() - np.trace(inertias[j].inertia)
+                self._floor_effect = max(self._floor_effect, added / scale)
             joint = ET.SubElement(body, "joint", name=model.names[j], type=kind, axis=_numbers(axis))
             iq, iv = model.joints[j].idx_q, model.joints[j].idx_v
             lo, hi = model.lowerPositionLimit[iq], model.upperPositionLimit[iq]

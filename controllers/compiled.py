@@ -113,6 +113,40 @@ class SymbolicLaw:
         return SymbolicLaw(function, reference, np.concatenate(values), tuple(shapes), tuple(signals),
                            tuple(extra), state, tuple(scalars))
 
+    @staticmethod
+    def of(law: Any) -> "SymbolicLaw":
+        """The symbolic form of a :class:`controllers.laws.ControlLaw`: its one body ``law.law`` evaluated on
+        CasADi symbols with the :class:`controllers.laws.Symbolic` primitives. The reference r stacks the
+        parts of ``law.reference(t)`` (shapes ``law.reference_shapes``, matrices column by column), the
+        parameters are ``law.gains``, the state the parts of ``law.initial_state()`` after ``reset()``."""
+        from controllers.laws import Symbolic
+
+        shapes = tuple(tuple(shape) for shape in law.reference_shapes)
+        sizes = [int(np.prod(shape)) for shape in shapes]
+        state = law._state
+        state_sizes = None if state is None else [int(np.size(part)) for part in state]
+
+        def parts(v: Any, shapes_: Any, sizes_: list[int]) -> tuple:
+            out, k = [], 0
+            for shape, size in zip(shapes_, sizes_):
+                part = v[k:k + size]
+                out.append(ca.reshape(part, *shape) if len(shape) == 2 else part[0] if shape == () else part)
+                k += size
+            return tuple(out)
+
+        def body(q: Any, qd: Any, r: Any, K: dict, **extra: Any) -> tuple:
+            ref = parts(r, shapes, sizes)
+            if state is None:
+                return law.law(Symbolic, K, q, qd, ref, **extra)
+            c, dt = extra.pop("state"), extra.pop("dt")
+            u, signals, c_next = law.law(Symbolic, K, q, qd, ref, **extra,
+                                         state=parts(c, [np.shape(p) for p in state], state_sizes), dt=dt)
+            return u, signals, ca.vertcat(*[ca.vec(ca.SX(v)) for v in c_next])
+
+        initial = None if state is None else np.concatenate([np.ravel(part) for part in state])
+        return SymbolicLaw.build(law.nq, law.nv, sum(sizes), law.gains, body, stacked_reference(law.reference, shapes),
+                                 measurements=dict(law.measurements) or None, state=initial, scalars=law.scalars)
+
     def unpack(self, p: Any) -> dict[str, Any]:
         """The gains of a parameter vector ``p`` (numeric or symbolic) by name, in their shapes."""
         out, k = {}, 0
@@ -149,18 +183,25 @@ class ConstantInput:
                                  no_reference)
 
 
-def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]]) -> Callable[[float], np.ndarray]:
-    """``t -> concatenate(reference(t))``: a (x_d, ẋ_d, ẍ_d) reference as one vector r.
+def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]],
+                      shapes: tuple[tuple[int, ...], ...] | None = None) -> Callable[[float], np.ndarray]:
+    """``t -> concatenate(reference(t))``: a (x_d, ẋ_d, ẍ_d) reference as one vector r (a matrix part, of a
+    2-D shape in ``shapes``, column by column as CasADi's ``reshape`` reads it).
 
     When ``reference`` samples many instants at once (``reference.at_times(times) -> (x_d, ẋ_d, ẍ_d)``,
     each (N, n), as :func:`controllers.laws.as_reference` of a trajectory), so does the result
     (``at_times(times) -> R (nr, N)``).
     """
+    matrix = [len(shape) == 2 for shape in shapes] if shapes is not None else None
+
     def stacked(t: float) -> np.ndarray:
-        return np.concatenate([np.ravel(v) for v in reference(t)])
+        parts = reference(t)
+        if matrix is None or not any(matrix):
+            return np.concatenate([np.ravel(v) for v in parts])
+        return np.concatenate([np.ravel(v, order="F" if m else "C") for v, m in zip(parts, matrix)])
 
     at_times = getattr(reference, "at_times", None)
-    if at_times is not None:
+    if at_times is not None and not (matrix and any(matrix)):
         stacked.at_times = lambda times: np.hstack([np.reshape(v, (len(times), -1)) for v in at_times(times)]).T
     return stacked
 

@@ -45,18 +45,18 @@ from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
 import numpy as np
-import pinocchio as pin
 from scipy.optimize import least_squares
 
 from controllers.environment import SurfaceWithHole
-from controllers.laws import as_friction, as_gain, as_reference, check_redundancy, nonnegative
+from controllers.laws import (ControlLaw, Numeric, SingularTask, as_friction, as_gain, as_reference, check_redundancy,
+                              joined_reference, nonnegative)
 from controllers.plants import ArmInContact, ArmMeasurement
 from controllers.simulation import LoggedController, SimulationResult, simulate
 from planners.timing import quintic_law
 from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
-from rigid_body.task_space import (frame_state_kernel, selection_matrices, selection_projection, selection_pseudo_inverse,
-                                  singular_task, solve_task)
+from rigid_body.task_space import (selection_matrices, selection_projection, selection_pseudo_inverse,
+                                  singular_task)
 from rigid_body.validation import as_matrix, as_positive, as_square_matrix, as_vector
 
 
@@ -357,82 +357,30 @@ class _ContactTask:
         self.redundant = self.m < self.n
         self._viscous = bool(np.any(self.Fv))          # F_v q̇ only when there is friction
 
-    def state(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(J, J̇q̇, T_e) of the task rows."""
-        st = frame_state_kernel(self._model, self._data, self.fid, q, qd)
-        pick = self._pick
-        if type(pick) is slice:
-            return st.J[pick], st.Jdot_qd[pick], st.T
-        return st.J.take(pick, 0), st.Jdot_qd.take(pick), st.T
+    def state(self, q: Any, qd: Any, ops: Any = Numeric) -> tuple[Any, Any, Any]:
+        """(J, J̇q̇, T_e) of the task rows, for either executor (``ops``)."""
+        st = ops.frame_state(self._model, self._data, self.fid, q, qd)
+        pick = ops.index(self._pick)
+        return st.J[pick, :], st.Jdot_qd[pick], st.T
 
     def wrench(self, meas: Any) -> np.ndarray:
         w = getattr(meas, "wrench", None)
         if w is None:
             raise ValueError("a force controller needs a force sensor: the plant's measurement has no "
                              "`wrench` (use controllers.plants.ArmInContact)")
-        pick = self._pick
-        return w[pick] if type(pick) is slice else w.take(pick)
+        return w[self._pick]
 
-    def torques(self, t: float, q: np.ndarray, qd: np.ndarray, J: np.ndarray, a: np.ndarray,
-                h: np.ndarray) -> np.ndarray:
-        """u = B(q) y + n(q, q̇) + Jᵀ h_e with v̇_e = a (inverse dynamics in the task space)."""
-        y = solve_task(J, a)
-        if y is None:
-            raise singular_task(f"at t = {t:.6g} s, q = {q}")
+    def torques(self, ops: Any, q: Any, qd: Any, J: Any, a: Any, h: Any) -> Any:
+        """u = B(q) y + n(q, q̇) + Jᵀ h_e with v̇_e = a (inverse dynamics in the task space), y = J†(a)
+        (+ (I − J†J) y_0, y_0 = −K_N q̇ for a redundant task)."""
+        y = ops.solve_task(J, a)
         if self.redundant:
             y0 = -self.K_N * qd
-            y += y0 - solve_task(J, J.dot(y0))
-        u = pin.rnea(self._model, self._data, q, qd, y)
+            y = y + (y0 - ops.solve_task(J, J @ y0))
+        u = ops.rnea(self._model, self._data, q, qd, y)
         if self._viscous:
-            u += self.Fv * qd
-        return u + J.T.dot(h)
-
-
-    def symbolic_state(self, q: Any, qd: Any) -> tuple[Any, Any, Any]:
-        """(J, J̇q̇, p_e) of the task rows in CasADi expressions (J̇q̇ = ∂(J q̇)/∂q q̇, the classical
-        acceleration at q̈ = 0) for the compiled loop."""
-        import casadi as ca
-
-        from rigid_body.symbolic import pose_function
-
-        _, p, J_geo = pose_function(self.robot, self.fid)(q)
-        J = J_geo[self.rows.tolist(), :]
-        return J, ca.jtimes(J @ qd, q, qd), p
-
-    def symbolic_torques(self, q: Any, qd: Any, J: Any, a: Any, h: Any) -> Any:
-        """:meth:`torques` in CasADi expressions (a singular J gives non-finite torques: the compiled loop
-        stops as diverged)."""
-        import casadi as ca
-
-        from rigid_body.symbolic import inverse_dynamics_expression
-
-        def pinv(b: Any) -> Any:
-            return J.T @ ca.solve(J @ J.T, b) if self.redundant else ca.solve(J, b)
-
-        y = pinv(a)
-        if self.redundant:
-            y0 = -self.K_N * qd
-            y = y + y0 - pinv(J @ y0)
-        return inverse_dynamics_expression(self.robot, q, qd, y) + self.Fv * qd + J.T @ h
-
-
-class _Integral:
-    """∫ e dt of a sampled signal by forward Euler at the controller's instants (reset to 0)."""
-
-    def __init__(self, size: int):
-        self.size = size
-        self.reset()
-
-    def reset(self) -> None:
-        self.value = np.zeros(self.size)
-        self._t_last: float | None = None
-
-    def update(self, t: float, e: np.ndarray) -> np.ndarray:
-        """Add e (held since the last sample) over t − t_last; the integral up to t."""
-        if self._t_last is not None:
-            self.value += (t - self._t_last) * e
-        self._t_last = t
-        return self.value
+            u = u + self.Fv * qd
+        return u + J.T @ h
 
 
 def _velocity_reference(reference: Any, k: int) -> Callable[[float], tuple[np.ndarray, np.ndarray]]:
@@ -459,7 +407,7 @@ def _velocity_reference(reference: Any, k: int) -> Callable[[float], tuple[np.nd
     return sampled
 
 
-class HybridForceMotionControl(LoggedController):
+class HybridForceMotionControl(ControlLaw):
     """Hybrid force/motion control on a compliant environment (Sect. 9.7.1, Example 9.4).
 
     Inverse dynamics u = B y + n + Jᵀ h_e, y = J⁻¹(α − J̇ q̇) makes v̇_e = α, and
@@ -491,6 +439,7 @@ class HybridForceMotionControl(LoggedController):
                  compliance_prime: Any = None, rows: Sequence[int] | None = None, frame: str | int | None = None,
                  viscous_friction: Any = 0.0, null_space_damping: Any = 0.0):
         self.task = task = _ContactTask(robot, rows, frame, viscous_friction, null_space_damping)
+        self.nq, self.nv = robot.nq, robot.nv
         m = task.m
         S_f, S_v = np.asarray(S_f, dtype=float), np.asarray(S_v, dtype=float)
         S_f, S_v = (S.reshape(-1, 1) if S.ndim == 1 else S for S in (S_f, S_v))
@@ -520,104 +469,89 @@ class HybridForceMotionControl(LoggedController):
             K_D = np.asarray(K_Dlambda, dtype=float)
             self.K_Dlambda = as_gain(K_D, k_f, "K_Dlambda") if np.any(K_D) else np.zeros((k_f, k_f))
             self.force_reference = as_reference(force_reference, k_f, "force_reference")
-        self._fold()
+            self.set_gains(K_Pnu=self.K_Pnu, K_Inu=self.K_Inu, K_Plambda=self.K_Plambda, K_Dlambda=self.K_Dlambda)
+            self.reference = joined_reference((self.velocity_reference, (0, 1)), (self.force_reference, (0, 1, 2)))
+            self.reference_shapes = ((k_v,), (k_v,), (k_f,), (k_f,), (k_f,))
+        else:
+            self.set_gains(K_Pnu=self.K_Pnu, K_Inu=self.K_Inu)
+            self.reference, self.reference_shapes = self.velocity_reference, ((k_v,), (k_v,))
+        self._M = self._fold(Numeric, self.gains)
         self.reset()
 
-    def _fold(self) -> None:
+    measurements = (("wrench", 6),)
+
+    def _fold(self, ops: Any, K: dict) -> Any:
         """The constant products of (9.77), (9.80), (9.81) in one matrix M: α = M z with
         z = (ν̇_d, ν_d − ν, ∫(ν_d − ν), v_e, λ, λ̈_d, λ̇_d, λ_d) (the last five with a force-controlled
-        subspace), M = [S_v, S_v K_Pν, S_v K_Iν, −Ĉ'S_f K_Dλ G_f, −Ĉ'S_f K_Pλ, Ĉ'S_f, Ĉ'S_f K_Dλ, Ĉ'S_f K_Pλ]."""
+        subspace), M = [S_v, S_v K_Pν, S_v K_Iν, −Ĉ'S_f K_Dλ G_f, −Ĉ'S_f K_Pλ, Ĉ'S_f, Ĉ'S_f K_Dλ, Ĉ'S_f K_Pλ]
+        (``K`` the gains as matrices; the numeric law folds them once, at construction)."""
         S_v = self.S_v
-        blocks = [S_v, S_v @ self.K_Pnu, S_v @ self.K_Inu]
+        blocks = [S_v, S_v @ K["K_Pnu"], S_v @ K["K_Inu"]]
         if not self.motion_only:
             CS = self.C_prime_S_f
-            CS_D, CS_P = CS @ self.K_Dlambda, CS @ self.K_Plambda
+            CS_D, CS_P = CS @ K["K_Dlambda"], CS @ K["K_Plambda"]
             blocks += [-CS_D @ self.G_f, -CS_P, CS, CS_D, CS_P]
-        self._M = np.hstack(blocks)
+        return ops.horzcat(*blocks)
+
+    def initial_state(self) -> tuple[np.ndarray]:
+        """(∫(ν_d − ν),): the integral of the PI velocity law (9.80), zero at the start."""
+        return (np.zeros(self.S_v.shape[1]),)
 
     def reset(self, motion_error: Any = None) -> None:
         """Restart the law; the integral ∫(ν_d − ν) of (9.80) starts at ``motion_error`` (k_v,) (default 0):
         when ν_d is the rate of a position reference, the position error along S_v at the start."""
         super().reset()
-        self._integral = _Integral(self.S_v.shape[1])
         if motion_error is not None:
-            self._integral.value[:] = as_vector(motion_error, self.S_v.shape[1], "motion_error")
+            self._state = (as_vector(motion_error, self.S_v.shape[1], "motion_error").copy(),)
 
-    def __call__(self, t: float, meas: Any) -> np.ndarray:
-        task = self.task
-        q, qd = meas.q, meas.qd
-        return self.control(t, q, qd, task.wrench(meas), *task.state(q, qd))
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple, wrench: Any, state: tuple,
+            dt: Any) -> tuple[Any, dict, tuple]:
+        """Eqs. (9.77), (9.80), (9.81), once for both executors: the integral ∫(ν_d − ν) moves by forward
+        Euler, h_e is the sensed wrench in the task rows."""
+        J, Jdot_qd, T_e = self.task.state(q, qd, ops)
+        return self._control(ops, K, q, qd, wrench[ops.index(self.task._pick)], J, Jdot_qd, T_e, ref, state, dt)
+
+    def _control(self, ops: Any, K: dict, q: Any, qd: Any, h: Any, J: Any, Jdot_qd: Any, T_e: Any, ref: tuple,
+                 state: tuple, dt: Any) -> tuple[Any, dict, tuple]:
+        v_e = J @ qd
+        nu = self.S_v_dagger @ v_e
+        nu_d, nud_d = ref[0], ref[1]
+        e_nu = nu_d - nu
+        integral = state[0] + dt * e_nu                                                       # ∫(ν_d − ν)
+        M = self._fold(ops, K) if ops.symbolic else self._M
+        if self.motion_only:                                                                   # (9.80)
+            alpha = M @ ops.vertcat(nud_d, e_nu, integral)
+            signals = {"nu": nu, "nu_d": nu_d}
+        else:
+            lam = self.S_f_dagger @ h
+            lam_d, lamd_d, lamdd_d = ref[2], ref[3], ref[4]
+            alpha = M @ ops.vertcat(nud_d, e_nu, integral, v_e, lam, lamdd_d, lamd_d, lam_d)   # (9.77)–(9.81)
+            signals = {"nu": nu, "nu_d": nu_d, "lam": lam, "lam_d": lam_d}
+        u = self.task.torques(ops, q, qd, J, alpha - Jdot_qd, h)
+        signals.update(h_e=h, p_e=ops.copy(T_e[:3, 3]))
+        return u, signals, (integral,)
 
     def control(self, t: float, q: np.ndarray, qd: np.ndarray, h: np.ndarray, J: np.ndarray,
                 Jdot_qd: np.ndarray, T_e: np.ndarray, log: bool = True) -> np.ndarray:
         """The law at (q, q̇) given the sensed wrench h (task rows) and ``task.state(q, q̇)`` (J, J̇q̇, T_e):
         for a caller that already has them (:class:`PegInHoleController`, which keeps its own log: ``log=False``
         skips this law's)."""
-        task = self.task
-        v_e = J.dot(qd)
-        nu = self.S_v_dagger.dot(v_e)
-        nu_d, nud_d = self.velocity_reference(t)
-        e_nu = nu_d - nu
-        integral = self._integral.update(t, e_nu)                                              # ∫(ν_d − ν)
-        if self.motion_only:                                                                   # (9.80)
-            alpha = self._M.dot(np.concatenate((nud_d, e_nu, integral)))
-            u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
-            if log:
-                self.record(nu=nu, nu_d=nu_d, h_e=h, p_e=T_e[:3, 3].copy())
-            return u
-        lam = self.S_f_dagger.dot(h)
-        lam_d, lamd_d, lamdd_d = self.force_reference(t)
-        alpha = self._M.dot(np.concatenate((nud_d, e_nu, integral, v_e, lam, lamdd_d, lamd_d, lam_d)))  # (9.77)–(9.81)
-        u = task.torques(t, q, qd, J, alpha - Jdot_qd, h)
+        dt = 0.0 if self._t_last is None else t - self._t_last
+        self._t_last = t
+        try:
+            u, signals, self._state = self._control(Numeric, self._K, q, qd, h, J, Jdot_qd, T_e, self.reference(t),
+                                                    self._state, dt)
+        except SingularTask:
+            raise singular_task(f"at t = {t:.6g} s, q = {q}") from None
         if log:
-            self.record(nu=nu, nu_d=nu_d, lam=lam, lam_d=lam_d, h_e=h, p_e=T_e[:3, 3].copy())
+            self.record(**signals)
         return u
-
-    def symbolic(self) -> Any:
-        """Eqs. (9.77), (9.80), (9.81) in CasADi expressions for ``simulate(..., backend="casadi")``: the
-        integral ∫(ν_d − ν) is the law's state (forward Euler, as the numeric law), h_e the sensed wrench;
-        the parameters are K_Pν, K_Iν (and K_Pλ, K_Dλ) (a :class:`controllers.compiled.SymbolicLaw`)."""
-        from controllers.compiled import SymbolicLaw
-
-        task, k_v = self.task, self.S_v.shape[1]
-        k_f, rows = self.S_f.shape[1], self.task.rows.tolist()
-        gains = {"K_Pnu": self.K_Pnu, "K_Inu": self.K_Inu}
-        if not self.motion_only:
-            gains.update(K_Plambda=self.K_Plambda, K_Dlambda=self.K_Dlambda)
-
-        def reference(t: float) -> np.ndarray:
-            parts = list(self.velocity_reference(t)) + ([] if self.motion_only else list(self.force_reference(t)))
-            return np.concatenate([np.ravel(v) for v in parts])
-
-        def law(q: Any, qd: Any, r: Any, K: dict, wrench: Any, state: Any, dt: Any) -> tuple[Any, dict, Any]:
-            h = wrench[rows]
-            J, Jdot_qd, p_e = task.symbolic_state(q, qd)
-            v_e = J @ qd
-            nu = self.S_v_dagger @ v_e
-            nu_d, nud_d = r[:k_v], r[k_v:2 * k_v]
-            integral = state + dt * (nu_d - nu)                                                 # ∫(ν_d − ν)
-            alpha = self.S_v @ (nud_d + K["K_Pnu"] @ (nu_d - nu) + K["K_Inu"] @ integral)        # (9.80)
-            signals = {"nu": nu, "nu_d": nu_d}
-            if not self.motion_only:
-                lam, lam_dot = self.S_f_dagger @ h, self.G_f @ v_e
-                f = r[2 * k_v:]
-                lam_d, lamd_d, lamdd_d = f[:k_f], f[k_f:2 * k_f], f[2 * k_f:]
-                f_lambda = lamdd_d + K["K_Dlambda"] @ (lamd_d - lam_dot) + K["K_Plambda"] @ (lam_d - lam)  # (9.81)
-                alpha = alpha + self.C_prime_S_f @ f_lambda                                   # (9.77)
-                signals.update(lam=lam, lam_d=lam_d)
-            u = task.symbolic_torques(q, qd, J, alpha - Jdot_qd, h)
-            signals.update(h_e=h, p_e=p_e)
-            return u, signals, integral
-
-        nr = 2 * k_v + (0 if self.motion_only else 3 * k_f)
-        return SymbolicLaw.build(task.robot.nq, task.n, nr, gains, law, reference, measurements={"wrench": 6},
-                                 state=self._integral.value)
 
 
 FORCE_LOOPS = ("position", "velocity")
 
 
-class ForceWithInnerLoop(LoggedController):
+class ForceWithInnerLoop(ControlLaw):
     """Force control through a motion loop closed by inverse dynamics (Sect. 9.4), x_F = C_F (f_d − f_e):
 
     * ``inner="position"`` (Fig. 9.8): y = J⁻¹ M_d⁻¹(−K_D ẋ_e + K_P (x_d + x_F − x_e) − M_d J̇ q̇), at rest
@@ -638,6 +572,7 @@ class ForceWithInnerLoop(LoggedController):
             raise ValueError(f"`inner` must be one of {FORCE_LOOPS}, got {inner!r}")
         self.inner = inner
         self.task = task = _ContactTask(robot, rows, frame, viscous_friction, null_space_damping)
+        self.nq, self.nv = robot.nq, robot.nv
         if np.any(task.rows > 2):
             raise ValueError(f"`rows` must select position components 0..2, got {rows!r}")
         m = task.m
@@ -646,65 +581,41 @@ class ForceWithInnerLoop(LoggedController):
         self.K_F = as_gain(K_F, m, "K_F")
         K_I = np.asarray(K_I, dtype=float)
         self.K_I = as_gain(K_I, m, "K_I") if np.any(K_I) else None
-        self.reference = as_reference(reference, m)
+        gains = {"K_P": self.K_P, "K_D": self.K_D, "K_F": self.K_F}
+        self.set_gains(**gains, **({} if self.K_I is None else {"K_I": self.K_I}))
+        self.motion_reference = as_reference(reference, m)
         self.force_reference = as_reference(force_reference, m, "force_reference")
+        self.reference = joined_reference((self.motion_reference, (0,)), (self.force_reference, (0,)))
+        self.reference_shapes = ((m,), (m,))
         self.reset()
 
-    def reset(self) -> None:
-        super().reset()
-        self._integral = _Integral(self.task.m)
+    measurements = (("wrench", 6),)
 
-    def __call__(self, t: float, meas: Any) -> np.ndarray:
+    def initial_state(self) -> tuple[np.ndarray] | None:
+        """(∫(f_d − f_e),) of the PI regulator C_F (with ``K_I``), zero at the start; None without."""
+        return None if self.K_I is None else (np.zeros(self.task.m),)
+
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple, wrench: Any, state: tuple | None = None,
+            dt: Any = None) -> tuple:
+        """Eq. (9.41) and the inner position or velocity loop, once for both executors (the integral of C_F
+        by forward Euler)."""
         task = self.task
-        q, qd = meas.q, meas.qd
-        f = task.wrench(meas)
-        J, Jdot_qd, T_e = task.state(q, qd)
-        x_e, xd_e = T_e[task.rows, 3], J @ qd
-        x_d, _, _ = self.reference(t)
-        f_d = self.force_reference(t)[0]
-        x_F = self.K_F @ (f_d - f)                                                          # (9.41)
-        if self.K_I is not None:
-            x_F = x_F + self.K_I @ self._integral.update(t, f_d - f)
-        w = self.K_P @ (x_d + x_F - x_e) if self.inner == "position" else self.K_P @ x_F
-        a = self.M_d_inv @ (w - self.K_D @ xd_e)
-        u = task.torques(t, q, qd, J, a - Jdot_qd, f)
-        self.record(x_e=x_e, x_d=x_d, x_F=x_F, f_e=f, f_d=f_d)
-        return u
-
-    def symbolic(self) -> Any:
-        """Eq. (9.41) and the inner loop in CasADi expressions for ``simulate(..., backend="casadi")``: the
-        integral of C_F (with ``K_I``) is the law's state (forward Euler, as the numeric law), f_e the sensed
-        wrench; the parameters are K_P, K_D, K_F (and K_I) (a :class:`controllers.compiled.SymbolicLaw`)."""
-        from controllers.compiled import SymbolicLaw
-
-        task, m, rows = self.task, self.task.m, self.task.rows.tolist()
-        gains = {"K_P": self.K_P, "K_D": self.K_D, "K_F": self.K_F}
-        if self.K_I is not None:
-            gains["K_I"] = self.K_I
-        position, M_d_inv = self.inner == "position", self.M_d_inv
-
-        def reference(t: float) -> np.ndarray:
-            return np.concatenate([np.ravel(self.reference(t)[0]), np.ravel(self.force_reference(t)[0])])
-
-        def law(q: Any, qd: Any, r: Any, K: dict, wrench: Any, state: Any = None, dt: Any = None) -> tuple:
-            f = wrench[rows]
-            J, Jdot_qd, p_e = task.symbolic_state(q, qd)
-            x_e, xd_e = p_e[rows], J @ qd
-            x_d, f_d = r[:m], r[m:]
-            x_F = K["K_F"] @ (f_d - f)                                                          # (9.41)
-            if state is not None:
-                state = state + dt * (f_d - f)
-                x_F = x_F + K["K_I"] @ state
-            w = K["K_P"] @ (x_d + x_F - x_e) if position else K["K_P"] @ x_F
-            u = task.symbolic_torques(q, qd, J, M_d_inv @ (w - K["K_D"] @ xd_e) - Jdot_qd, f)
-            signals = {"x_e": x_e, "x_d": x_d, "x_F": x_F, "f_e": f, "f_d": f_d}
-            return (u, signals) if state is None else (u, signals, state)
-
-        return SymbolicLaw.build(task.robot.nq, task.n, 2 * m, gains, law, reference, measurements={"wrench": 6},
-                                 state=None if self.K_I is None else self._integral.value)
+        f = wrench[ops.index(task._pick)]
+        J, Jdot_qd, T_e = task.state(q, qd, ops)
+        x_e, xd_e = T_e[ops.index(task.rows), 3], J @ qd
+        x_d, f_d = ref
+        x_F = ops.times(K["K_F"], f_d - f)                                                 # (9.41)
+        if state is not None:
+            integral = state[0] + dt * (f_d - f)
+            x_F = x_F + ops.times(K["K_I"], integral)
+        w = ops.times(K["K_P"], x_d + x_F - x_e) if self.inner == "position" else ops.times(K["K_P"], x_F)
+        a = self.M_d_inv @ (w - ops.times(K["K_D"], xd_e))
+        u = task.torques(ops, q, qd, J, a - Jdot_qd, f)
+        signals = {"x_e": x_e, "x_d": x_d, "x_F": x_F, "f_e": f, "f_d": f_d}
+        return (u, signals) if state is None else (u, signals, (integral,))
 
 
-class AdmittanceControl(LoggedController):
+class AdmittanceControl(ControlLaw):
     """Impedance through an inner position loop — admittance control (Sect. 9.3, Fig. 9.7).
 
     The compliant frame x_t = x_d − z obeys the desired impedance driven by the sensed force,
@@ -721,36 +632,39 @@ class AdmittanceControl(LoggedController):
                  rows: Sequence[int] = (0, 1, 2), frame: str | int | None = None, viscous_friction: Any = 0.0,
                  null_space_damping: Any = 0.0):
         self.task = task = _ContactTask(robot, rows, frame, viscous_friction, null_space_damping)
+        self.nq, self.nv = robot.nq, robot.nv
         if np.any(task.rows > 2):
             raise ValueError(f"`rows` must select position components 0..2, got {rows!r}")
         m = task.m
         self.M_d_inv = np.linalg.inv(as_gain(inertia, m, "inertia"))
         self.K_D, self.K_P = as_gain(K_D, m, "K_D"), as_gain(K_P, m, "K_P")
         self.K_Dp, self.K_Pp = as_gain(K_Dp, m, "K_Dp"), as_gain(K_Pp, m, "K_Pp")
+        self.set_gains(K_D=self.K_D, K_P=self.K_P, K_Dp=self.K_Dp, K_Pp=self.K_Pp)
         self.reference = as_reference(reference, m)
+        self.reference_shapes = ((m,), (m,), (m,))
         self.reset()
 
-    def reset(self) -> None:
-        super().reset()
-        self._z, self._zd = np.zeros(self.task.m), np.zeros(self.task.m)
-        self._t_last: float | None = None
+    measurements = (("wrench", 6),)
 
-    def __call__(self, t: float, meas: Any) -> np.ndarray:
+    def initial_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """(z, ż) of the compliant frame, at rest at the start."""
+        return (np.zeros(self.task.m), np.zeros(self.task.m))
+
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple, wrench: Any, state: tuple,
+            dt: Any) -> tuple[Any, dict, tuple]:
+        """The admittance (semi-implicit Euler over the sampling period) and the inner inverse-dynamics position
+        loop, once for both executors."""
         task = self.task
-        q, qd = meas.q, meas.qd
-        h = task.wrench(meas)
-        zdd = self.M_d_inv @ (h - self.K_D @ self._zd - self.K_P @ self._z)       # the admittance
-        if self._t_last is not None:
-            dt = t - self._t_last
-            self._zd = self._zd + dt * zdd
-            self._z = self._z + dt * self._zd
-            zdd = self.M_d_inv @ (h - self.K_D @ self._zd - self.K_P @ self._z)
-        self._t_last = t
-        x_d, xd_d, xdd_d = self.reference(t)
-        x_t, xd_t, xdd_t = x_d - self._z, xd_d - self._zd, xdd_d - zdd              # the compliant frame
-        J, Jdot_qd, T_e = task.state(q, qd)
-        x_e = T_e[task.rows, 3]
-        a = xdd_t + self.K_Dp @ (xd_t - J @ qd) + self.K_Pp @ (x_t - x_e)
-        u = task.torques(t, q, qd, J, a - Jdot_qd, h)
-        self.record(x_e=x_e, x_d=x_d, x_t=x_t, e=x_d - x_e, h_e=h)
-        return u
+        h = wrench[ops.index(task._pick)]
+        z, zd = state
+        zdd = self.M_d_inv @ (h - ops.times(K["K_D"], zd) - ops.times(K["K_P"], z))     # the admittance
+        zd = zd + dt * zdd
+        z = z + dt * zd
+        zdd = self.M_d_inv @ (h - ops.times(K["K_D"], zd) - ops.times(K["K_P"], z))
+        x_d, xd_d, xdd_d = ref
+        x_t, xd_t, xdd_t = x_d - z, xd_d - zd, xdd_d - zdd                                # the compliant frame
+        J, Jdot_qd, T_e = task.state(q, qd, ops)
+        x_e = T_e[ops.index(task.rows), 3]
+        a = xdd_t + ops.times(K["K_Dp"], xd_t - J @ qd) + ops.times(K["K_Pp"], x_t - x_e)
+        u = task.torques(ops, q, qd, J, a - Jdot_qd, h)
+        return u, {"x_e": x_e, "x_d": x_d, "x_t": x_t, "e": x_d - x_e, "h_e": h}, (z, zd)

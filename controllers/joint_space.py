@@ -5,7 +5,8 @@ period with the arm's measurement (``meas.q``, ``meas.qd`` of an
 :class:`~controllers.plants.ArmMeasurement`); its output (a torque, or a voltage for the
 voltage-controlled arm) is held until the next sample. Controllers that have a state (integrators,
 adaptive estimates) reset it in ``reset()``; ``log()`` returns the signals worth plotting
-(:class:`~controllers.simulation.LoggedController`).
+(:class:`~controllers.laws.ControlLaw`: each law is written once, :meth:`law`, for the Python and the
+compiled loop).
 
 * :class:`PDGravityCompensation` — u = g(q) + K_P q̃ + K_D q̃̇, Eq. (8.51), Fig. 8.20.
 * :class:`ComputedTorqueFeedforward` — independent-joint P/PI servos on the motor side (Fig. 5.11)
@@ -27,19 +28,16 @@ Sects. 8.3.3, 8.4, 8.5; Eqs. (8.51), (8.57), (8.60), (8.76)–(8.89), (8.92)–(
 
 from __future__ import annotations
 
-import math
 from typing import Any, Sequence
 
 import numpy as np
-import pinocchio as pin
 from scipy.linalg import solve_continuous_lyapunov
 from scipy.optimize import fsolve
 
 from controllers.independent_joint import JointDesign, JointDrive, Transducers
 from controllers.plants import ArmMeasurement
-from controllers.laws import as_friction, as_gain, as_reference, diagonal_or_matrix, gain_times, per_joint
-from controllers.simulation import LoggedController
-from rigid_body.dynamics import gravity_torques, inertia_matrix, inverse_dynamics, reference_torque
+from controllers.laws import ControlLaw, Numeric, as_friction, as_gain, as_reference, diagonal_or_matrix, per_joint
+from rigid_body.dynamics import gravity_torques, inertia_matrix
 from rigid_body.robots import Robot, with_payload
 from rigid_body.validation import as_positive, as_vector
 
@@ -121,7 +119,7 @@ def sampled_error_poles(K_P: Any, K_D: Any, Ts: float) -> np.ndarray:
 # PD control with gravity compensation (8.51)
 # --------------------------------------------------------------------------------------------
 
-class PDGravityCompensation(LoggedController):
+class PDGravityCompensation(ControlLaw):
     """u = g(q) + K_P q̃ + K_D q̃̇ (Eq. 8.51, Fig. 8.20; with q̇_d = 0, K_D q̃̇ = −K_D q̇).
 
     For a set point the equilibrium q = q_d is globally asymptotically stable (Lyapunov function
@@ -148,59 +146,33 @@ class PDGravityCompensation(LoggedController):
 
     def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, Ts: float | None = None):
         n = robot.nv
-        self.robot, self.n = robot, n
+        self.robot, self.n, self.nq, self.nv = robot, n, robot.nq, n
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
+        self.set_gains(K_P=self.K_P, K_D=self.K_D)
         self.reference = as_reference(reference, n)
-        self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
+        self.reference_shapes = ((n,), (n,), (n,))
         if Ts is not None:
             problems = sampled_stability(robot, self.K_P, self.K_D, as_positive(Ts, "Ts"), self.reference(0.0)[0])
             if problems:
                 raise ValueError(f"PD + gravity gains unstable at Ts = {Ts:g} s: " + "; ".join(problems))
-        # The hot path: g(q) on this thread's data (the controller belongs to the thread that made it);
-        # a set point (q̇_d = 0) with per-joint gains is u = g + k_P q̃ − k_D q̇.
-        self._model, self._data, self._nq = robot.model, robot.data, robot.nq
-        is_trajectory = hasattr(reference, "evaluate") or callable(reference)
-        self._set_point = None if is_trajectory or self._kp.ndim + self._kd.ndim != 2 else self.reference(0.0)[0]
+        self._model, self._data = robot.model, robot.data   # g(q) on this thread's data (the law belongs to it)
 
     def diagnose(self, plant: Any, Ts: float, meas: ArmMeasurement) -> str:
         """Why the loop may have diverged (called by :func:`~controllers.simulation.simulate`)."""
         return "; ".join(sampled_stability(self.robot, self.K_P, self.K_D, Ts, meas.q))
 
-    def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
-        q, qd = as_vector(meas.q, self._nq, "q"), meas.qd
-        g = pin.computeGeneralizedGravity(self._model, self._data, q)
-        q_d = self._set_point
-        if q_d is not None:
-            e = q_d - q
-            u = g + self._kp * e - self._kd * qd                                                # Eq. (8.51)
-        else:
-            q_d, qd_d, _ = self.reference(t)
-            e = q_d - q
-            u = g + gain_times(self._kp, e) + gain_times(self._kd, qd_d - qd)
-        self.record(q_d=q_d, e=e)
-        return u
-
-    def symbolic(self) -> Any:
-        """Eq. (8.51) in CasADi expressions for ``simulate(..., backend="casadi")``; the parameters are
-        this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`)."""
-        from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import gravity_expression
-
-        n, robot = self.n, self.robot
-
-        def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
-            e = r[:n] - q
-            g = gravity_expression(robot, q)
-            return g + K["K_P"] @ e + K["K_D"] @ (r[n:2 * n] - qd), {"q_d": r[:n], "e": e}
-
-        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P, "K_D": self.K_D}, law,
-                                 stacked_reference(self.reference))
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple) -> tuple[Any, dict]:
+        """Eq. (8.51), once for both executors (:class:`~controllers.laws.ControlLaw`)."""
+        q_d, qd_d, _ = ref
+        e = q_d - q
+        u = ops.gravity(self._model, self._data, q) + ops.times(K["K_P"], e) + ops.times(K["K_D"], qd_d - qd)
+        return u, {"q_d": q_d, "e": e}
 
 # --------------------------------------------------------------------------------------------
 # Independent joint servos with computed-torque feedforward (Fig. 8.19 on Fig. 5.11)
 # --------------------------------------------------------------------------------------------
 
-class ComputedTorqueFeedforward(LoggedController):
+class ComputedTorqueFeedforward(ControlLaw):
     """Independent-joint P/PI servos with decentralised and computed-torque feedforward (Fig. 8.19).
 
     Each motor i (angle θ_mi = k_ri q_i) has the position + velocity loops of Fig. 5.11: a position
@@ -235,13 +207,14 @@ class ComputedTorqueFeedforward(LoggedController):
                  designs: Sequence[JointDesign], transducers: Transducers = Transducers(),
                  feedforward: bool = True):
         n = robot.nv
-        self.robot, self.n = robot, n
+        self.robot, self.n, self.nq, self.nv = robot, n, robot.nq, n
         if len(drives) != n or len(designs) != n:
             raise ValueError(f"`drives` and `designs` must have one entry per joint ({n}), "
                              f"got {len(drives)} and {len(designs)}")
         if any(d.K_V is None or d.T_V is None or d.K_A is not None for d in designs):
             raise ValueError("`designs` must be position + velocity designs (K_P, K_V, T_V)")
         self.reference = as_reference(reference, n)
+        self.reference_shapes = ((n,), (n,), (n,))
         self.k_r = per_joint(gear_ratio, n, "gear_ratio")
         if np.any(self.k_r <= 0):
             raise ValueError(f"`gear_ratio` must be positive, got {self.k_r}")
@@ -253,75 +226,39 @@ class ComputedTorqueFeedforward(LoggedController):
         self.b_bar = self.k_r**2 * np.array([d.I for d in drives])  # joint-side constant inertia
         self.k_TP, self.k_TV = float(transducers.k_TP), float(transducers.k_TV)
         self._c_p, self._c_v = self.k_TP * self.k_r, self.k_TV * self.k_r  # constant factors of the law
-        self._c_a = self.k_m * self.K_P * self.K_V
+        self.set_gains(K_P=self.K_P[:, None], K_V=self.K_V[:, None])
         self.feedforward = bool(feedforward)
+        self._model, self._data = robot.model, robot.data
         self.reset()
 
-    def reset(self) -> None:
-        super().reset()
-        self._integral = np.zeros(self.n)  # ∫ e_v dt of the PI velocity controllers
-        self._e_v = np.zeros(self.n)
-        self._t = None
+    def initial_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """(∫ e_v dt, e_v) of the PI velocity controllers: zero at the start."""
+        return (np.zeros(self.n), np.zeros(self.n))
 
-    def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
-        q, qd = meas.q, meas.qd
-        if self._t is not None:
-            self._integral = self._integral + (t - self._t) * self._e_v  # ZOH on the PI's input
-        self._t = t
-        q_d, qd_d, qdd_d = self.reference(t)
-        k_r = self.k_r
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple, state: tuple, dt: Any) -> tuple[Any, dict, tuple]:
+        """The servos and the feedforward, once for both executors: the PI integral moves by forward Euler
+        with the velocity error held since the previous sample (a zero-order hold on the PI's input)."""
+        K_P, K_V = K["K_P"], K["K_V"]
+        integral, e_v = state
+        integral = integral + dt * e_v                                  # ZOH on the PI's input
+        q_d, qd_d, qdd_d = ref
+        c_p, c_v = self._c_p, self._c_v                                 # k_TP k_r, k_TV k_r
         # Position-loop reference with the decentralised feedforward (motor side, θ_m = k_r q)
-        c_p, c_v = self._c_p, self._c_v  # k_TP k_r, k_TV k_r
-        r = c_p * q_d + c_v * qd_d / self.K_P + k_r * qdd_d / self._c_a
-        e_v = self.K_P * (r - c_p * q) - c_v * qd
-        v = self.K_V * (self.T_V * e_v + self._integral)  # PI: K_V (1 + s T_V)/s
-        self._e_v = e_v
-        tau_ff = np.zeros(self.n)
-        if self.feedforward:
-            B_d = inertia_matrix(self.robot, q_d)
-            tau_ff = (np.diag(B_d) - self.b_bar) * qdd_d + gravity_torques(self.robot, q_d)
+        r = c_p * q_d + c_v * qd_d / K_P + self.k_r * qdd_d / (self.k_m * K_P * K_V)
+        e_v = K_P * (r - c_p * q) - c_v * qd
+        v = K_V * (self.T_V * e_v + integral)                           # PI: K_V (1 + s T_V)/s
+        tau_ff = ops.zeros(self.n)
+        if self.feedforward:                                            # b_ii(q_d), g(q_d)
+            B_d = ops.inertia(self._model, self._data, q_d)
+            tau_ff = (ops.diag(B_d) - self.b_bar) * qdd_d + ops.gravity(self._model, self._data, q_d)
             v = v + self.K_pr * tau_ff
-        self.record(q_d=q_d, e=q_d - q, tau_ff=tau_ff)
-        return v
-
-    def symbolic(self) -> Any:
-        """The servos and feedforward in CasADi expressions for ``simulate(..., backend="casadi")``: the
-        PI integrals and the last velocity errors are the law's state (forward Euler, as the numeric law);
-        b_ii(q_d), g(q_d) by the symbolic Newton–Euler; the parameters are K_P, K_V
-        (a :class:`controllers.compiled.SymbolicLaw`)."""
-        import casadi as ca
-
-        from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import gravity_expression, inverse_dynamics_expression
-
-        n, robot, k_r, zero = self.n, self.robot, self.k_r, np.zeros(self.n)
-        c_p, c_v, k_m, T_V, K_pr, b_bar = self._c_p, self._c_v, self.k_m, self.T_V, self.K_pr, self.b_bar
-        feedforward = self.feedforward
-
-        def law(q: Any, qd: Any, r: Any, K: dict, state: Any, dt: Any) -> tuple[Any, dict, Any]:
-            K_P, K_V = K["K_P"], K["K_V"]
-            integral = state[:n] + dt * state[n:]                           # ZOH on the PI's input
-            q_d, qd_d, qdd_d = r[:n], r[n:2 * n], r[2 * n:]
-            ref = c_p * q_d + c_v * qd_d / K_P + k_r * qdd_d / (k_m * K_P * K_V)
-            e_v = K_P * (ref - c_p * q) - c_v * qd
-            v = K_V * (T_V * e_v + integral)                                # PI: K_V (1 + s T_V)/s
-            tau_ff = ca.DM.zeros(n)
-            if feedforward:
-                g = gravity_expression(robot, q_d)
-                b = ca.vertcat(*[(inverse_dynamics_expression(robot, q_d, zero, np.eye(n)[i]) - g)[i]
-                                 for i in range(n)])                        # b_ii(q_d)
-                tau_ff = (b - b_bar) * qdd_d + g
-                v = v + K_pr * tau_ff
-            return v, {"q_d": q_d, "e": q_d - q, "tau_ff": tau_ff}, ca.vertcat(integral, e_v)
-
-        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P[:, None], "K_V": self.K_V[:, None]}, law,
-                                 stacked_reference(self.reference), state=np.r_[self._integral, self._e_v])
+        return v, {"q_d": q_d, "e": q_d - q, "tau_ff": tau_ff}, (integral, e_v)
 
 # --------------------------------------------------------------------------------------------
 # Inverse dynamics control (8.57), (8.60)
 # --------------------------------------------------------------------------------------------
 
-class InverseDynamicsControl(LoggedController):
+class InverseDynamicsControl(ControlLaw):
     """u = B(q) y + n(q, q̇), y = q̈_d + K_D q̃̇ + K_P q̃ (Eqs. 8.57, 8.60, Fig. 8.22).
 
     n(q, q̇) = C(q, q̇) q̇ + F_v q̇ + g(q). With a perfect model the error obeys q̃̈ + K_D q̃̇ + K_P q̃ = 0.
@@ -337,11 +274,13 @@ class InverseDynamicsControl(LoggedController):
 
     def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, viscous_friction: Any = 0.0):
         n = robot.nv
-        self.robot, self.n = robot, n
+        self.robot, self.n, self.nq, self.nv = robot, n, robot.nq, n
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
+        self.set_gains(K_P=self.K_P, K_D=self.K_D)
         self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
-        self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
+        self.reference_shapes = ((n,), (n,), (n,))
+        self._model, self._data = robot.model, robot.data
 
     def diagnose(self, plant: Any, Ts: float, meas: ArmMeasurement) -> str:
         """The joints whose sampled error dynamics (:func:`sampled_error_poles`) leave the unit
@@ -359,30 +298,13 @@ class InverseDynamicsControl(LoggedController):
                             f"(K_P,{j} = {kp[i]:.4g}, K_D,{j} = {kd[i]:.4g}, Ts = {Ts:.4g} s): {fix}")
         return "; ".join(problems)
 
-    def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
-        q, qd = meas.q, meas.qd
-        q_d, qd_d, qdd_d = self.reference(t)
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple) -> tuple[Any, dict]:
+        """Eqs. (8.57), (8.60), once for both executors; B y + n is one RNEA pass at q̈ = y."""
+        q_d, qd_d, qdd_d = ref
         e, ed = q_d - q, qd_d - qd
-        y = qdd_d + gain_times(self._kd, ed) + gain_times(self._kp, e)  # Eq. (8.60)
-        u = inverse_dynamics(self.robot, q, qd, y) + self.Fv * qd  # Eq. (8.57)
-        self.record(q_d=q_d, e=e)
-        return u
-
-    def symbolic(self) -> Any:
-        """Eqs. (8.57), (8.60) in CasADi expressions for ``simulate(..., backend="casadi")``; the
-        parameters are this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`)."""
-        from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import inverse_dynamics_expression
-
-        n, robot, Fv = self.n, self.robot, self.Fv
-
-        def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
-            e = r[:n] - q
-            y = r[2 * n:] + K["K_D"] @ (r[n:2 * n] - qd) + K["K_P"] @ e
-            return inverse_dynamics_expression(robot, q, qd, y) + Fv * qd, {"q_d": r[:n], "e": e}
-
-        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P, "K_D": self.K_D}, law,
-                                 stacked_reference(self.reference))
+        y = qdd_d + ops.times(K["K_D"], ed) + ops.times(K["K_P"], e)                      # Eq. (8.60)
+        u = ops.rnea(self._model, self._data, q, qd, y) + self.Fv * qd                  # Eq. (8.57)
+        return u, {"q_d": q_d, "e": e}
 
 def inverse_dynamics_steady_state(plant_robot: Robot, model_robot: Robot, K_P: Any, q_d: Any,
                                   q0: Any = None) -> np.ndarray:
@@ -425,7 +347,7 @@ def lyapunov_matrix(K_P: Any, K_D: Any, P: Any = None) -> np.ndarray:
     return 0.5 * (Q + Q.T)
 
 
-class RobustControl(LoggedController):
+class RobustControl(ControlLaw):
     """u = B̂ y + n̂, y = q̈_d + K_D q̃̇ + K_P q̃ + w, with the robust term (8.89) and a boundary layer.
 
     z = Dᵀ Q ξ (ξ = [q̃; q̃̇], D = [O; I], Q from :func:`lyapunov_matrix`);
@@ -444,9 +366,10 @@ class RobustControl(LoggedController):
     def __init__(self, robot: Robot, B_hat: Any, K_P: Any, K_D: Any, reference: Any, rho: float,
                  epsilon: float, P: Any = None, viscous_friction: Any = 0.0):
         n = robot.nv
-        self.robot, self.n = robot, n
+        self.robot, self.n, self.nq, self.nv = robot, n, robot.nq, n
         self.B_hat = as_gain(B_hat, n, "B_hat")
         self.K_P, self.K_D = as_gain(K_P, n, "K_P"), as_gain(K_D, n, "K_D")
+        self.set_gains(K_P=self.K_P, K_D=self.K_D)
         if not (np.isfinite(rho) and rho >= 0):
             raise ValueError(f"`rho` must be non-negative, got {rho!r}")
         if not (np.isfinite(epsilon) and epsilon > 0):
@@ -456,53 +379,32 @@ class RobustControl(LoggedController):
         self._DtQ = self.Q[n:, :].copy()  # Dᵀ Q
         self.Fv = as_friction(viscous_friction, n)
         self.reference = as_reference(reference, n)
-        self._kp, self._kd = diagonal_or_matrix(self.K_P), diagonal_or_matrix(self.K_D)
+        self.reference_shapes = ((n,), (n,), (n,))
         self._b_hat = diagonal_or_matrix(self.B_hat)
+        self._model, self._data = robot.model, robot.data
 
     def robust_term(self, e: np.ndarray, ed: np.ndarray) -> np.ndarray:
         """w of Eq. (8.89) for the errors q̃, q̃̇."""
-        z = self._DtQ @ np.concatenate([e, ed])
-        norm = math.sqrt(z.dot(z))  # ‖z‖ (what np.linalg.norm computes, without its dispatch)
-        return (self.rho / max(norm, self.epsilon)) * z
+        return self._robust_term(Numeric, e, ed)
 
-    def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
-        q, qd = meas.q, meas.qd
-        q_d, qd_d, qdd_d = self.reference(t)
+    def _robust_term(self, ops: Any, e: Any, ed: Any) -> Any:
+        z = self._DtQ @ ops.vertcat(e, ed)                                              # z = Dᵀ Q ξ
+        return (self.rho / ops.fmax(ops.norm(z), self.epsilon)) * z                     # Eq. (8.89), boundary layer
+
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple) -> tuple[Any, dict]:
+        """Eqs. (8.76), (8.89), once for both executors (Q of (8.81) is held at this controller's value)."""
+        q_d, qd_d, qdd_d = ref
         e, ed = q_d - q, qd_d - qd
-        w = self.robust_term(e, ed)
-        y = qdd_d + gain_times(self._kd, ed) + gain_times(self._kp, e) + w
-        u = gain_times(self._b_hat, y) + self.Fv * qd + gravity_torques(self.robot, q)
-        self.record(q_d=q_d, e=e, w=w)
-        return u
-
-    def symbolic(self) -> Any:
-        """Eqs. (8.76), (8.89) in CasADi expressions for ``simulate(..., backend="casadi")``; the parameters
-        are this controller's K_P, K_D (Q of (8.81) is held at this controller's value: a
-        :class:`controllers.compiled.SymbolicLaw`)."""
-        import casadi as ca
-
-        from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import gravity_expression
-
-        n, robot, Fv, B_hat, DtQ = self.n, self.robot, self.Fv, self.B_hat, self._DtQ
-        rho, epsilon = self.rho, self.epsilon
-
-        def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
-            e, ed = r[:n] - q, r[n:2 * n] - qd
-            z = DtQ @ ca.vertcat(e, ed)
-            w = (rho / ca.fmax(ca.sqrt(ca.dot(z, z)), epsilon)) * z               # Eq. (8.89), boundary layer
-            y = r[2 * n:] + K["K_D"] @ ed + K["K_P"] @ e + w
-            u = B_hat @ y + Fv * qd + gravity_expression(robot, q)
-            return u, {"q_d": r[:n], "e": e, "w": w}
-
-        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_P": self.K_P, "K_D": self.K_D}, law,
-                                 stacked_reference(self.reference))
+        w = self._robust_term(ops, e, ed)
+        y = qdd_d + ops.times(K["K_D"], ed) + ops.times(K["K_P"], e) + w
+        u = ops.times(self._b_hat, y) + self.Fv * qd + ops.gravity(self._model, self._data, q)
+        return u, {"q_d": q_d, "e": e, "w": w}
 
 # --------------------------------------------------------------------------------------------
 # Adaptive control on the payload mass (8.92)–(8.98)
 # --------------------------------------------------------------------------------------------
 
-class AdaptivePayloadControl(LoggedController):
+class AdaptivePayloadControl(ControlLaw):
     """Adaptive control (Fig. 8.26) estimating the mass m_L of a point payload at ``frame``.
 
     With q̇_r = q̇_d + Λ q̃, q̈_r = q̈_d + Λ q̃̇ and σ = q̇_r − q̇ (Eq. 8.92), the model is linear in
@@ -530,7 +432,7 @@ class AdaptivePayloadControl(LoggedController):
     def __init__(self, robot: Robot, K_D: Any, Lambda: Any, adaptation_gain: float, reference: Any,
                  viscous_friction: Any = 0.0, frame: str | int | None = None, mass0: float = 0.0):
         n = robot.nv
-        self.robot, self.n = robot, n
+        self.robot, self.n, self.nq, self.nv = robot, n, robot.nq, n
         self.unit = with_payload(robot, 1.0, frame)
         self.K_D, self.Lambda = as_gain(K_D, n, "K_D"), as_gain(Lambda, n, "Lambda")
         if not (np.isfinite(adaptation_gain) and adaptation_gain > 0):
@@ -540,61 +442,44 @@ class AdaptivePayloadControl(LoggedController):
             raise ValueError(f"`mass0` must be finite, got {mass0!r}")
         self.mass0 = float(mass0)
         self.Fv = as_friction(viscous_friction, n)
+        self.set_gains(K_D=self.K_D, Lambda=self.Lambda, adaptation_gain=self.gain)
         self.reference = as_reference(reference, n)
-        self._kd, self._lambda = diagonal_or_matrix(self.K_D), diagonal_or_matrix(self.Lambda)
+        self.reference_shapes = ((n,), (n,), (n,))
+        self._models = (robot.model, robot.data, self.unit.model, self.unit.data)
         self.reset()
 
-    def reset(self) -> None:
-        super().reset()
-        self.mass = self.mass0
-        self._rate = 0.0
-        self._t = None
+    scalars = ("m_hat",)
+
+    def initial_state(self) -> tuple[float, float]:
+        """(m̂_L, m̂̇_L) at the start: the initial estimate, at rest."""
+        return (self.mass0, 0.0)
+
+    @property
+    def mass(self) -> float:
+        """The current estimate m̂_L [kg]."""
+        return self._state[0]
 
     def regressor(self, q: np.ndarray, qd: np.ndarray, qd_r: np.ndarray,
                   qdd_r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(τ₀, y_L): B q̈_r + C(q, q̇) q̇_r + g of the known arm, and the payload column (per kg)."""
-        tau0 = reference_torque(self.robot, q, qd, qd_r, qdd_r)
-        return tau0, reference_torque(self.unit, q, qd, qd_r, qdd_r) - tau0
+        return self._regressor(Numeric, q, qd, qd_r, qdd_r)
 
-    def __call__(self, t: float, meas: ArmMeasurement) -> np.ndarray:
-        q, qd = meas.q, meas.qd
-        if self._t is not None:
-            self.mass += (t - self._t) * self._rate  # forward Euler of m̂̇_L
-        self._t = t
-        q_d, qd_d, qdd_d = self.reference(t)
+    def _regressor(self, ops: Any, q: Any, qd: Any, qd_r: Any, qdd_r: Any) -> tuple[Any, Any]:
+        model, data, unit_model, unit_data = self._models
+        tau0 = ops.reference_torque(model, data, q, qd, qd_r, qdd_r)
+        return tau0, ops.reference_torque(unit_model, unit_data, q, qd, qd_r, qdd_r) - tau0
+
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple, state: tuple, dt: Any) -> tuple[Any, dict, tuple]:
+        """Eqs. (8.92), (8.98) and the update law, once for both executors: the state (m̂_L, m̂̇_L) moves by
+        forward Euler over the sampling period."""
+        mass, rate = state
+        mass = mass + dt * rate                                                          # forward Euler of m̂̇_L
+        q_d, qd_d, qdd_d = ref
         e, ed = q_d - q, qd_d - qd
-        qd_r = qd_d + gain_times(self._lambda, e)  # Eq. (8.92)
-        qdd_r = qdd_d + gain_times(self._lambda, ed)
+        qd_r = qd_d + ops.times(K["Lambda"], e)                                           # Eq. (8.92)
+        qdd_r = qdd_d + ops.times(K["Lambda"], ed)
         sigma = qd_r - qd
-        tau0, y_L = self.regressor(q, qd, qd_r, qdd_r)
-        u = tau0 + self.mass * y_L + self.Fv * qd_r + gain_times(self._kd, sigma)  # Eq. (8.98)
-        self._rate = self.gain * float(y_L @ sigma)  # π̂̇ = K_π⁻¹ Yᵀ σ
-        self.record(q_d=q_d, e=e, m_hat=self.mass)
-        return u
-
-    def symbolic(self) -> Any:
-        """Eqs. (8.92), (8.98) and the update law in CasADi expressions for ``simulate(..., backend="casadi")``:
-        the law's state is (m̂_L, m̂̇_L) (forward Euler, as the numeric law); τ₀ and y_L by the polarised
-        Newton–Euler of :func:`rigid_body.dynamics.reference_torque`; the parameters are K_D, Λ and k_π⁻¹
-        (a :class:`controllers.compiled.SymbolicLaw`)."""
-        from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import reference_torque_expression as reference_torque
-
-        n, robot, unit, Fv = self.n, self.robot, self.unit, self.Fv
-
-        def law(q: Any, qd: Any, r: Any, K: dict, state: Any, dt: Any) -> tuple[Any, dict, Any]:
-            import casadi as ca
-
-            mass = state[0] + dt * state[1]                                     # forward Euler of m̂̇_L
-            e, ed = r[:n] - q, r[n:2 * n] - qd
-            qd_r, qdd_r = r[n:2 * n] + K["Lambda"] @ e, r[2 * n:] + K["Lambda"] @ ed   # Eq. (8.92)
-            sigma = qd_r - qd
-            tau0 = reference_torque(robot, q, qd, qd_r, qdd_r)
-            y_L = reference_torque(unit, q, qd, qd_r, qdd_r) - tau0
-            u = tau0 + mass * y_L + Fv * qd_r + K["K_D"] @ sigma                 # Eq. (8.98)
-            rate = K["adaptation_gain"] * ca.dot(y_L, sigma)
-            return u, {"q_d": r[:n], "e": e, "m_hat": mass}, ca.vertcat(mass, rate)
-
-        return SymbolicLaw.build(robot.nq, n, 3 * n, {"K_D": self.K_D, "Lambda": self.Lambda,
-                                                      "adaptation_gain": self.gain}, law,
-                                 stacked_reference(self.reference), state=[self.mass, self._rate], scalars=("m_hat",))
+        tau0, y_L = self._regressor(ops, q, qd, qd_r, qdd_r)
+        u = tau0 + mass * y_L + self.Fv * qd_r + ops.times(K["K_D"], sigma)               # Eq. (8.98)
+        rate = K["adaptation_gain"] * ops.dot(y_L, sigma)                                 # π̂̇ = K_π⁻¹ Yᵀ σ
+        return u, {"q_d": q_d, "e": e, "m_hat": mass}, (mass, rate)

@@ -16,12 +16,17 @@ never imports another law's helpers. Each function validates once, at constructi
 
 from __future__ import annotations
 
+import math
 from typing import Any, Callable, Sequence
 
 import numpy as np
+import pinocchio as pin
 
+from controllers.simulation import LoggedController
+from rigid_body.dynamics import reference_torque_kernel
 from rigid_body.rotations import as_homogeneous
-from rigid_body.validation import as_matrix, as_vector
+from rigid_body.task_space import FrameState, frame_state_kernel, pose_error_kernel, singular_task, solve_task
+from rigid_body.validation import as_matrix, as_positive, as_vector
 
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 PoseReference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
@@ -57,9 +62,12 @@ def as_friction(viscous_friction: Any, n: int) -> np.ndarray:
 
 def as_gain(K: Any, n: int, name: str) -> np.ndarray:
     """A gain matrix (n, n) from a scalar (K I), a vector (diag K) or a matrix; must be positive definite."""
-    K_arr = np.asarray(K, dtype=float)
+    K_arr = np.asarray(K)
+    if K_arr.dtype.kind not in "biuf":
+        raise ValueError(f"`{name}` must be a number, a vector or a matrix of numbers, got {K!r:.60}")
+    K_arr = K_arr.astype(float)
     if K_arr.ndim == 0:
-        M = float(K_arr) * np.eye(n)
+        M = as_vector(K_arr, 1, name)[0] * np.eye(n)
     elif K_arr.ndim == 1:
         M = np.diag(as_vector(K_arr, n, name))
     else:
@@ -112,6 +120,28 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
     if vectorised is not None:                                  # the compiled loop samples it at once
         sampled.at_times = lambda times: tuple(np.reshape(v, (len(times), n)) for v in vectorised(times))
     return sampled
+
+
+def joined_reference(*parts: tuple[Callable[[float], tuple], Sequence[int]]) -> Callable[[float], tuple]:
+    """One reference ``t -> tuple`` from the entries ``indices`` of several: ``parts`` are (reference, indices),
+    e.g. ``((motion, (0,)), (force, (0,)))`` for (x_d, f_d). Vectorised (``at_times``) when every part is."""
+    def joined(t: float) -> tuple:
+        out: list = []
+        for reference, indices in parts:
+            values = reference(t)
+            out.extend(values[i] for i in indices)
+        return tuple(out)
+
+    if all(hasattr(reference, "at_times") for reference, _ in parts):
+        def at_times(times: np.ndarray) -> tuple:
+            out: list = []
+            for reference, indices in parts:
+                values = reference.at_times(times)
+                out.extend(values[i] for i in indices)
+            return tuple(out)
+
+        joined.at_times = at_times
+    return joined
 
 
 def array_law(reference: Any) -> Callable[[np.ndarray], tuple[np.ndarray, ...]] | None:
@@ -201,7 +231,344 @@ class _RowsOfLaw:
         return tuple(np.asarray(v, dtype=float)[..., r] for v in self.law(t))
 
 
+def rate_options(max_condition: Any, damping: Any) -> tuple[float, float | None]:
+    """(max_condition, damping) of a resolved-velocity law (:func:`rigid_body.task_space.resolved_rates`):
+    a condition bound ≥ 1 and a damping λ > 0 or None (exact inverse, refused near a singularity)."""
+    bound = as_positive(max_condition, "max_condition")
+    if bound < 1:
+        raise ValueError(f"`max_condition` must be >= 1 (a condition number), got {bound:g}")
+    return bound, None if damping is None else as_positive(damping, "damping")
+
+
 def check_redundancy(m: int, n: int) -> None:
     """A task of m components on n joints must have m ≤ n (one component per joint at most)."""
     if m > n:
         raise ValueError(f"`rows` must select at most {n} components (one per joint), got {m}")
+
+
+# --------------------------------------------------------------------------------------------
+# One law, two executors: the primitives a law is written against
+# --------------------------------------------------------------------------------------------
+
+class SingularTask(ValueError):
+    """Raised by the numeric :meth:`Numeric.solve_task` at a kinematic singularity; the law's executor
+    (:meth:`ControlLaw.__call__`) turns it into :func:`rigid_body.task_space.singular_task` naming t and q."""
+
+
+class Numeric:
+    """The numeric primitives of a law: numpy and Pinocchio on floats, called at every sample of the Python loop.
+
+    A law's body (:meth:`ControlLaw.law`) is written once against a namespace ``ops`` of primitives; this
+    class is that namespace for the Python loop and :class:`Symbolic` the same names in CasADi expressions for
+    the compiled loop, as Pinocchio's ``cpin`` mirrors ``pin`` (one algorithm, two scalar types). The
+    robot primitives take ``(model, data, ...)`` as Pinocchio does (the symbolic ones ignore ``data``); the
+    hot-path kernels (ABA, the frame state in one pass, the task solve with its 3 × 3 cofactor inverse) are
+    the numeric implementations of a named primitive, in one place each. The namespace is the class itself
+    (never instantiated).
+    """
+
+    symbolic = False
+
+    # rigid-body primitives (model, data, ...)
+    gravity = staticmethod(pin.computeGeneralizedGravity)        # g(q), (7.39)
+    rnea = staticmethod(pin.rnea)                                 # B(q) q̈ + C(q, q̇) q̇ + g(q), Sect. 7.5
+    frame_state = staticmethod(frame_state_kernel)               # (T, J, J̇q̇) of a frame in one pass
+
+    @staticmethod
+    def inertia(model: pin.Model, data: pin.Data, q: np.ndarray) -> np.ndarray:
+        """B(q) (7.32), CRBA (Pinocchio 4 fills both triangles)."""
+        return pin.crba(model, data, q)
+
+    @staticmethod
+    def reference_torque(model: pin.Model, data: pin.Data, q: np.ndarray, qd: np.ndarray, qd_r: np.ndarray,
+                         qdd_r: np.ndarray) -> np.ndarray:
+        """B(q) q̈_r + C(q, q̇) q̇_r + g(q) by polarised RNEA (:func:`rigid_body.dynamics.reference_torque`)."""
+        return reference_torque_kernel(model, data, q, qd, qd_r, qdd_r)
+
+    @staticmethod
+    def pose_error(model: pin.Model, data: pin.Data, space: Any, fid: int, q: np.ndarray, T_d: np.ndarray,
+                   qd: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray]:
+        """(e, J, J̇q̇, T_e) of a pose task (:func:`rigid_body.task_space.pose_error`): position error and the
+        quaternion (3.91) or angle–axis (3.85) orientation error, with the geometric Jacobian, in ``space``'s rows."""
+        err = pose_error_kernel(model, data, fid, q, T_d, space, qd)
+        return err.e, err.J, err.Jdot_qd, err.T_e
+
+    @staticmethod
+    def solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """J⁻¹ b, or J† b = Jᵀ (J Jᵀ)⁻¹ b (3.52) for a redundant task (:func:`rigid_body.task_space.solve_task`);
+        :class:`SingularTask` when cond(J) > SINGULAR_CONDITION."""
+        x = solve_task(J, b)
+        if x is None:
+            raise SingularTask("the task Jacobian is singular")
+        return x
+
+    # arithmetic
+    times = staticmethod(gain_times)                             # K e: a gain from diagonal_or_matrix
+    sqrt = staticmethod(math.sqrt)
+    fmax = staticmethod(max)
+    sin = staticmethod(math.sin)
+    cos = staticmethod(math.cos)
+    atan2 = staticmethod(math.atan2)
+
+    @staticmethod
+    def norm(z: np.ndarray) -> float:
+        """‖z‖ (what np.linalg.norm computes, without its dispatch)."""
+        return math.sqrt(z.dot(z))
+
+    @staticmethod
+    def dot(a: np.ndarray, b: np.ndarray) -> float:
+        return float(a.dot(b))
+
+    @staticmethod
+    def vertcat(*parts: Any) -> np.ndarray:
+        return np.concatenate(parts)
+
+    @staticmethod
+    def horzcat(*blocks: Any) -> np.ndarray:
+        return np.hstack(blocks)
+
+    @staticmethod
+    def zeros(n: int) -> np.ndarray:
+        return np.zeros(n)
+
+    @staticmethod
+    def diag(M: np.ndarray) -> np.ndarray:
+        """The diagonal of a square matrix, as a vector."""
+        return np.diag(M).copy()
+
+    @staticmethod
+    def copy(x: np.ndarray) -> np.ndarray:
+        """A copy (logged signals must not be views of arrays the law or Pinocchio overwrite)."""
+        return x.copy()
+
+    @staticmethod
+    def index(rows: np.ndarray) -> np.ndarray:
+        """Row indices as the backend indexes with them (``M[r, :]``, ``v[r]``, ``T[r, 3]``): an int array."""
+        return rows
+
+    @staticmethod
+    def if_else(condition: bool, a: Any, b: Any) -> Any:
+        return a if condition else b
+
+
+class Symbolic:
+    """The symbolic primitives of a law: the names of :class:`Numeric` in CasADi SX expressions
+    (:mod:`rigid_body.symbolic`), for the compiled loop (:mod:`controllers.compiled`); called once, when the
+    loop is built. Branches of the numeric law (a singular task, a point not seen) become masked expressions
+    (``if_else``)."""
+
+    symbolic = True
+
+    @staticmethod
+    def gravity(model: pin.Model, data: Any, q: Any) -> Any:
+        from rigid_body.symbolic import gravity_expression
+
+        return gravity_expression(model, q)
+
+    @staticmethod
+    def rnea(model: pin.Model, data: Any, q: Any, qd: Any, qdd: Any) -> Any:
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        return inverse_dynamics_expression(model, q, qd, qdd)
+
+    @staticmethod
+    def inertia(model: pin.Model, data: Any, q: Any) -> Any:
+        from rigid_body.symbolic import inertia_expression
+
+        return inertia_expression(model, q)
+
+    @staticmethod
+    def reference_torque(model: pin.Model, data: Any, q: Any, qd: Any, qd_r: Any, qdd_r: Any) -> Any:
+        from rigid_body.symbolic import reference_torque_expression
+
+        return reference_torque_expression(model, q, qd, qd_r, qdd_r)
+
+    @staticmethod
+    def frame_state(model: pin.Model, data: Any, fid: int, q: Any, qd: Any) -> FrameState:
+        """(T (4×4), J, J̇q̇ = ∂(J q̇)/∂q q̇, the classical acceleration at q̈ = 0, or None)."""
+        from rigid_body.symbolic import frame_state_expression
+
+        return FrameState(*frame_state_expression(model, fid, q, qd))
+
+    @staticmethod
+    def pose_error(model: pin.Model, data: Any, space: Any, fid: int, q: Any, T_d: Any, qd: Any) -> tuple:
+        from rigid_body.symbolic import frame_state_expression, orientation_error_expression
+
+        ca = _casadi()
+        T, J, Jdot_qd = frame_state_expression(model, fid, q, qd)
+        e = ca.vertcat(T_d[:3, 3] - T[:3, 3], orientation_error_expression(T_d[:3, :3], T[:3, :3], space.orientation))
+        rows = list(space.selected)
+        return e[rows], J[rows, :], None if Jdot_qd is None else Jdot_qd[rows], T
+
+    @staticmethod
+    def solve_task(J: Any, b: Any) -> Any:
+        """J⁻¹ b or Jᵀ (J Jᵀ)⁻¹ b (LU); a singular J gives non-finite values (the compiled loop stops there)."""
+        ca = _casadi()
+        return ca.solve(J, b) if J.shape[0] == J.shape[1] else J.T @ ca.solve(J @ J.T, b)
+
+    @staticmethod
+    def times(K: Any, e: Any) -> Any:
+        ca = _casadi()
+        if isinstance(K, np.ndarray) and K.ndim == 1:
+            return ca.DM(K) * e
+        return K @ e
+
+    @staticmethod
+    def sqrt(x: Any) -> Any:
+        return _casadi().sqrt(x)
+
+    @staticmethod
+    def fmax(a: Any, b: Any) -> Any:
+        return _casadi().fmax(a, b)
+
+    @staticmethod
+    def sin(x: Any) -> Any:
+        return _casadi().sin(x)
+
+    @staticmethod
+    def cos(x: Any) -> Any:
+        return _casadi().cos(x)
+
+    @staticmethod
+    def atan2(y: Any, x: Any) -> Any:
+        return _casadi().atan2(y, x)
+
+    @staticmethod
+    def norm(z: Any) -> Any:
+        ca = _casadi()
+        return ca.sqrt(ca.dot(z, z))
+
+    @staticmethod
+    def dot(a: Any, b: Any) -> Any:
+        return _casadi().dot(a, b)
+
+    @staticmethod
+    def vertcat(*parts: Any) -> Any:
+        return _casadi().vertcat(*parts)
+
+    @staticmethod
+    def horzcat(*blocks: Any) -> Any:
+        return _casadi().horzcat(*blocks)
+
+    @staticmethod
+    def zeros(n: int) -> Any:
+        return _casadi().DM.zeros(n)
+
+    @staticmethod
+    def diag(M: Any) -> Any:
+        return _casadi().diag(M)
+
+    @staticmethod
+    def copy(x: Any) -> Any:
+        return x
+
+    @staticmethod
+    def index(rows: Any) -> list[int]:
+        if isinstance(rows, slice):
+            return list(range(*rows.indices(6)))
+        return [int(i) for i in rows]
+
+    @staticmethod
+    def if_else(condition: Any, a: Any, b: Any) -> Any:
+        return _casadi().if_else(condition, a, b)
+
+
+def _fast_gain(K: np.ndarray) -> Any:
+    """The numeric law's form of a gain: a float for a scalar, a vector for a column (n, 1) or a diagonal
+    matrix (:func:`diagonal_or_matrix`), else the matrix."""
+    if K.ndim == 0:
+        return float(K)
+    if K.ndim == 2 and K.shape[1] == 1:
+        return K[:, 0].copy()
+    if K.ndim == 2 and K.shape[0] == K.shape[1]:
+        return diagonal_or_matrix(K)
+    return K
+
+
+def _casadi() -> Any:
+    import casadi
+
+    return casadi
+
+
+# --------------------------------------------------------------------------------------------
+# The law: one body, run by the Python loop (Numeric) and the compiled loop (Symbolic)
+# --------------------------------------------------------------------------------------------
+
+class ControlLaw(LoggedController):
+    """A controller whose law is written once, :meth:`law`, against a namespace of primitives ``ops``.
+
+    ``__call__(t, meas)`` (the Python loop) evaluates ``law(Numeric, ...)`` at every sample; ``symbolic()``
+    (``simulate(..., backend="casadi")``) evaluates the same ``law(Symbolic, ...)`` once on CasADi symbols
+    (:meth:`controllers.compiled.SymbolicLaw.of`). A subclass gives:
+
+    * ``law(ops, K, q, qd, ref, **measured[, state, dt]) -> (u, signals[, next_state])`` — ``K`` the gains by
+      name (numeric: their fast form, a diagonal as a vector; symbolic: the loop's parameters), ``ref`` what
+      ``reference(t)`` returns (a tuple of arrays, open loop), ``measured`` the extra measurement entries it
+      reads (:attr:`measurements`), ``state``/``dt`` its own state (a tuple of parts, :meth:`initial_state`)
+      and the time since the previous sample (0 at the first); ``signals`` the logged signals by name;
+    * ``reference`` (``t -> tuple``) and :attr:`reference_shapes` (the shape of each part), and the gains
+      through :meth:`set_gains` (their values are the compiled loop's parameters ``p``);
+    * ``nq``, ``nv`` (the sizes of q and q̇ the law reads).
+    """
+
+    measurements: tuple[tuple[str, int], ...] = ()
+    """The extra measurement entries the law reads, (name, size): e.g. ``(("wrench", 6),)``."""
+    scalars: tuple[str, ...] = ()
+    """The signals logged as floats ((N,) rather than (N, 1) in the result)."""
+    reference_shapes: tuple[tuple[int, ...], ...] = ()
+    gains: dict[str, np.ndarray] = {}
+    _K: dict[str, Any] = {}
+    _state: tuple | None = None
+    _t_last: float | None = None
+
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple, **kwargs: Any) -> tuple:
+        raise NotImplementedError
+
+    def set_gains(self, **gains: Any) -> None:
+        """The law's gains by name: ``gains`` keeps their values (the compiled loop's parameters, in the shapes
+        given), the numeric law reads their fast form (a float, a vector for a column or a diagonal matrix)."""
+        self.gains = {name: np.asarray(value, dtype=float) for name, value in gains.items()}
+        self._K = {name: _fast_gain(v) for name, v in self.gains.items()}
+
+    def initial_state(self) -> tuple | None:
+        """The law's own state after ``reset()`` (a tuple of floats/vectors), None for a static law."""
+        return None
+
+    def reset(self) -> None:
+        super().reset()
+        self._state = self.initial_state()
+        self._t_last = None
+
+    def measured(self, meas: Any, name: str) -> Any:
+        """The measurement entry ``name`` (e.g. the sensed wrench), ValueError naming the missing sensor."""
+        value = getattr(meas, name, None)
+        if value is None:
+            if name == "wrench":
+                raise ValueError(f"{type(self).__name__} needs a force sensor: the plant's measurement has no "
+                                 "`wrench` (use controllers.plants.ArmInContact)")
+            raise ValueError(f"{type(self).__name__} needs the measurement `{name}`: the plant's measurement has none")
+        return value
+
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        q, qd = as_vector(meas.q, self.nq, "q"), meas.qd
+        extra = {name: self.measured(meas, name) for name, _ in self.measurements} if self.measurements else {}
+        try:
+            if self._state is None:
+                u, signals = self.law(Numeric, self._K, q, qd, self.reference(t), **extra)
+            else:
+                dt = 0.0 if self._t_last is None else t - self._t_last
+                self._t_last = t
+                u, signals, self._state = self.law(Numeric, self._K, q, qd, self.reference(t), **extra,
+                                                   state=self._state, dt=dt)
+        except SingularTask:
+            raise singular_task(f"at t = {t:.6g} s, q = {q}") from None
+        self.record(**signals)
+        return u
+
+    def symbolic(self) -> Any:
+        """The law in CasADi expressions for ``simulate(..., backend="casadi")``, its parameters this
+        controller's gains (a :class:`controllers.compiled.SymbolicLaw`)."""
+        from controllers.compiled import SymbolicLaw
+
+        return SymbolicLaw.of(self)

@@ -43,15 +43,13 @@ from __future__ import annotations
 from typing import Any, Sequence
 
 import numpy as np
-import pinocchio as pin
 from scipy.optimize import fsolve
 
-from controllers.laws import (as_friction, as_gain, as_pose_reference, as_reference, check_redundancy, nonnegative,
-                              position_rows, task_reference)
-from controllers.simulation import LoggedController
+from controllers.laws import (ControlLaw, Numeric, as_friction, as_gain, as_pose_reference, as_reference,
+                              check_redundancy, nonnegative, position_rows, task_reference)
 from rigid_body.dynamics import gravity_torques, inertia_matrix
 from rigid_body.robots import Robot
-from rigid_body.task_space import TaskSpace, frame_state_kernel, pose_error, singular_task, solve_task
+from rigid_body.task_space import TaskSpace, singular_task, solve_task
 from rigid_body.validation import as_vector
 
 CONTROL_ORIENTATIONS = ("none", "axis_angle", "quaternion")
@@ -68,6 +66,7 @@ class _Task:
         self.robot = robot
         self.pose = orientation != "none"
         self._fid = fid = robot.frame(frame)  # resolved once (unknown frame → ValueError now)
+        self._model, self._data = robot.model, robot.data
         if self.pose:
             self.space = TaskSpace(fid, orientation, None if rows is None else tuple(int(r) for r in rows))
             self.rows = np.array(self.space.selected)
@@ -88,6 +87,8 @@ class _Task:
             self.reference = restricted
         else:
             self.reference = as_reference(task_reference(reference, self.rows), self.m)
+        m = self.m
+        self.reference_shapes = ((4, 4) if self.pose else (m,), (m,), (m,))
 
     def target(self, x_d: np.ndarray) -> np.ndarray:
         """The desired pose: T_d itself, or a pose whose origin has the ``rows`` components x_d."""
@@ -96,22 +97,21 @@ class _Task:
         self._T_d[self.rows, 3] = x_d
         return self._T_d
 
-    def error(self, q: np.ndarray, x_d: np.ndarray, qd: np.ndarray | None = None):
-        """(x̃, J, J̇q̇ or None, T_e) at q (and q̇)."""
+    def error(self, q: np.ndarray, x_d: np.ndarray, qd: np.ndarray | None = None, ops: Any = Numeric) -> tuple:
+        """(x̃, J, J̇q̇ or None, T_e) at q (and q̇), for either executor (``ops``)."""
         if not self.pose:                     # position task: x̃ = x_d − p_e[rows] from one kinematics pass
-            st = frame_state_kernel(self.robot.model, self.robot.data, self._fid, q, qd)
-            rows = self.rows
-            return x_d - st.T[rows, 3], st.J[rows], None if qd is None else st.Jdot_qd[rows], st.T
-        err = pose_error(self.robot, q, self.target(x_d), None, self.space, qd)
-        return err.e, err.J, err.Jdot_qd, err.T_e
+            st = ops.frame_state(self._model, self._data, self._fid, q, qd)
+            r = ops.index(self.rows)
+            return x_d - st.T[r, 3], st.J[r, :], None if qd is None else st.Jdot_qd[r], st.T
+        return ops.pose_error(self._model, self._data, self.space, self._fid, q, x_d, qd)
 
-    def logged(self, x_d: np.ndarray, T_e: np.ndarray, e: np.ndarray) -> dict[str, np.ndarray]:
+    def logged(self, ops: Any, x_d: Any, T_e: Any, e: Any) -> dict[str, Any]:
         if self.pose:
-            return {"p_d": x_d[:3, 3].copy(), "p_e": T_e[:3, 3].copy(), "e": e}
-        return {"x_d": x_d, "x_e": T_e[:3, 3][self.rows], "e": e}
+            return {"p_d": ops.copy(x_d[:3, 3]), "p_e": ops.copy(T_e[:3, 3]), "e": e}
+        return {"x_d": x_d, "x_e": T_e[ops.index(self.rows), 3], "e": e}
 
 
-class OperationalPDGravity(LoggedController):
+class OperationalPDGravity(ControlLaw):
     """u = g(q) + Jᵀ(q) K_P x̃ − Jᵀ(q) K_D J(q) q̇ − K_N q̇ (Eq. 8.110, Fig. 8.29), x̃ = x_d − x_e.
 
     For a constant x_d and J of full rank the equilibrium x̃ = 0 is asymptotically stable
@@ -135,47 +135,26 @@ class OperationalPDGravity(LoggedController):
 
     def __init__(self, robot: Robot, K_P: Any, K_D: Any, reference: Any, rows: Sequence[int] | None = None,
                  frame: str | int | None = None, orientation: str = "none", joint_damping: Any = 0.0):
-        self.robot, self.n = robot, robot.nv
+        self.robot, self.n, self.nq, self.nv = robot, robot.nv, robot.nq, robot.nv
         self.task = _Task(robot, rows, frame, orientation, reference)
         m = self.task.m
         check_redundancy(m, self.n)
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
+        self.set_gains(K_P=self.K_P, K_D=self.K_D)
         self.K_N = nonnegative(joint_damping, self.n, "joint_damping")
-        self.reference = self.task.reference
+        self.reference, self.reference_shapes = self.task.reference, self.task.reference_shapes
+        self._model, self._data = robot.model, robot.data
 
-    def __call__(self, t: float, meas: Any) -> np.ndarray:
-        q, qd = meas.q, meas.qd
-        x_d, _, _ = self.reference(t)
-        e, J, _, T_e = self.task.error(q, x_d)
-        u = gravity_torques(self.robot, q) + J.T @ (self.K_P @ e - self.K_D @ (J @ qd)) - self.K_N * qd  # (8.110)
-        self.record(**self.task.logged(x_d, T_e, e))
-        return u
-
-    def symbolic(self) -> Any:
-        """Eq. (8.110) of a position task in CasADi expressions for ``simulate(..., backend="casadi")``;
-        the parameters are this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`)."""
-        from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import gravity_expression, pose_function
-
-        if self.task.pose:
-            raise ValueError("the symbolic form of OperationalPDGravity covers position tasks "
-                             "(orientation='none'): use backend='python'")
-        n, m, robot, rows, K_N = self.n, self.task.m, self.robot, self.task.rows.tolist(), self.K_N
-        pose = pose_function(robot, self.task.space.frame)
-
-        def law(q: Any, qd: Any, r: Any, K: dict) -> tuple[Any, dict]:
-            _, p, J_geo = pose(q)
-            x_e, J = p[rows], J_geo[rows, :]
-            e = r[:m] - x_e
-            g = gravity_expression(robot, q)
-            u = g + J.T @ (K["K_P"] @ e - K["K_D"] @ (J @ qd)) - K_N * qd
-            return u, {"x_d": r[:m], "x_e": x_e, "e": e}
-
-        return SymbolicLaw.build(robot.nq, n, 3 * m, {"K_P": self.K_P, "K_D": self.K_D}, law,
-                                 stacked_reference(self.reference))
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple) -> tuple[Any, dict]:
+        """Eq. (8.110), once for both executors."""
+        x_d = ref[0]
+        e, J, _, T_e = self.task.error(q, x_d, None, ops)
+        u = ops.gravity(self._model, self._data, q) + J.T @ (ops.times(K["K_P"], e) - ops.times(K["K_D"], J @ qd)) \
+            - self.K_N * qd                                                                       # Eq. (8.110)
+        return u, self.task.logged(ops, x_d, T_e, e)
 
 
-class OperationalInverseDynamics(LoggedController):
+class OperationalInverseDynamics(ControlLaw):
     """u = B(q) y + n(q, q̇), y = J†(ẍ_d + K_D x̃̇ + K_P x̃ − J̇ q̇) + (I − J† J) y_0 (Eqs. 8.57, 8.114, Fig. 8.30).
 
     With a perfect model the task error obeys x̃̈ + K_D x̃̇ + K_P x̃ = 0 (x̃̇ = ẋ_d − J q̇; for a pose task
@@ -210,11 +189,12 @@ class OperationalInverseDynamics(LoggedController):
                  frame: str | int | None = None, viscous_friction: Any = 0.0, orientation: str = "none",
                  null_space_damping: Any = 0.0, posture: Any = None, posture_stiffness: Any = 0.0,
                  inertia: Any = None, force_feedback: bool = False):
-        self.robot, self.n = robot, robot.nv
+        self.robot, self.n, self.nq, self.nv = robot, robot.nv, robot.nq, robot.nv
         self.task = _Task(robot, rows, frame, orientation, reference)
         m = self.task.m
         check_redundancy(m, self.n)
         self.K_P, self.K_D = as_gain(K_P, m, "K_P"), as_gain(K_D, m, "K_D")
+        self.set_gains(K_P=self.K_P, K_D=self.K_D)
         self.Fv = as_friction(viscous_friction, self.n)
         self.K_N = nonnegative(null_space_damping, self.n, "null_space_damping")
         self.K_q = nonnegative(posture_stiffness, self.n, "posture_stiffness")
@@ -222,90 +202,39 @@ class OperationalInverseDynamics(LoggedController):
             raise ValueError("`posture` (q_0) is required with a nonzero `posture_stiffness`")
         self.q_0 = np.zeros(robot.nq) if posture is None else as_vector(posture, robot.nq, "posture").copy()
         self.redundant = m < self.n
-        self.reference = self.task.reference
+        self.reference, self.reference_shapes = self.task.reference, self.task.reference_shapes
         self.force_feedback = bool(force_feedback)
         if inertia is None and self.force_feedback:
             raise ValueError("`force_feedback` needs the impedance's desired `inertia` M_d")
         self.M_d_inv = None if inertia is None else np.linalg.inv(as_gain(inertia, m, "inertia"))
+        self.measurements = (("wrench", 6),) if self.force_feedback else ()
+        self._model, self._data = robot.model, robot.data
 
-    def __call__(self, t: float, meas: Any) -> np.ndarray:
-        q, qd = meas.q, meas.qd
-        x_d, xd_d, xdd_d = self.reference(t)
-        e, J, Jdot_qd, T_e = self.task.error(q, x_d, qd)
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple, wrench: Any = None) -> tuple[Any, dict]:
+        """Eqs. (8.57), (8.114) (with the impedance M_d of Eqs. 9.28, 9.30–9.31 and the null-space term of a
+        redundant task), once for both executors."""
+        x_d, xd_d, xdd_d = ref
+        task = self.task
+        e, J, Jdot_qd, T_e = task.error(q, x_d, qd, ops)
         ed = xd_d - J @ qd
         if self.M_d_inv is None:
-            a = xdd_d + self.K_D @ ed + self.K_P @ e - Jdot_qd
+            a = xdd_d + ops.times(K["K_D"], ed) + ops.times(K["K_P"], e) - Jdot_qd
         else:  # impedance, Eq. (9.31) (without h_e: the law of Eq. 9.28)
-            h = self._sensed_wrench(meas) if self.force_feedback else None
-            w = self.K_D @ ed + self.K_P @ e if h is None else self.K_D @ ed + self.K_P @ e - h
+            w = ops.times(K["K_D"], ed) + ops.times(K["K_P"], e)
+            if self.force_feedback:
+                h = wrench[ops.index(task.rows)]
+                w = w - h
             a = xdd_d + self.M_d_inv @ w - Jdot_qd
-        y = solve_task(J, a)  # Eq. (8.114)
-        if y is None:
-            raise singular_task(f"at t = {t:.6g} s, q = {q}")
+        y = ops.solve_task(J, a)                                                        # Eq. (8.114)
         if self.redundant:
             y0 = self.K_q * (self.q_0 - q) - self.K_N * qd
-            y += y0 - solve_task(J, J @ y0)                    # (I − J† J) y_0, cf. (3.54)
-        u = pin.rnea(self.robot.model, self.robot.data, q, qd, y) + self.Fv * qd   # B y + n, trusted inputs
+            y = y + (y0 - ops.solve_task(J, J @ y0))                                    # (I − J† J) y_0, cf. (3.54)
+        u = ops.rnea(self._model, self._data, q, qd, y) + self.Fv * qd                  # B y + n
+        signals = task.logged(ops, x_d, T_e, e)
         if self.force_feedback:
-            u += J.T @ h                                        # + Jᵀ h_e, Eq. (9.30)
-            self.record(**self.task.logged(x_d, T_e, e), h_e=meas.wrench)
-        else:
-            self.record(**self.task.logged(x_d, T_e, e))
-        return u
-
-    def symbolic(self) -> Any:
-        """Eqs. (8.57), (8.114) of a position task (with the impedance M_d of Eqs. 9.28, 9.30–9.31 and the
-        null-space term of a redundant task) in CasADi expressions for ``simulate(..., backend="casadi")``; the
-        parameters are this controller's K_P, K_D (a :class:`controllers.compiled.SymbolicLaw`).
-        J̇q̇ = ∂(J q̇)/∂q q̇ (the classical acceleration of the origin at q̈ = 0). A singular J_A gives
-        non-finite torques there (the loop stops as diverged) rather than the Python law's ValueError."""
-        from controllers.compiled import SymbolicLaw, stacked_reference
-        from rigid_body.symbolic import inverse_dynamics_expression, pose_function
-
-        if self.task.pose:
-            raise ValueError("the symbolic form of OperationalInverseDynamics covers position tasks: "
-                             "use backend='python'")
-        n, m, robot, rows = self.n, self.task.m, self.robot, self.task.rows.tolist()
-        pose = pose_function(robot, self.task.space.frame)
-        M_d_inv, redundant, force = self.M_d_inv, self.redundant, self.force_feedback
-        Fv, K_q, K_N, q_0 = self.Fv, self.K_q, self.K_N, self.q_0
-
-        def law(q: Any, qd: Any, r: Any, K: dict, wrench: Any = None) -> tuple[Any, dict]:
-            import casadi as ca
-
-            _, p, J_geo = pose(q)
-            x_e, J = p[rows], J_geo[rows, :]
-            Jdot_qd = ca.jtimes(J @ qd, q, qd)
-            e = r[:m] - x_e
-            w = K["K_D"] @ (r[m:2 * m] - J @ qd) + K["K_P"] @ e
-            if force:
-                h = wrench[rows]
-                w = w - h                                                   # Eq. (9.31)
-            a = r[2 * m:] + (w if M_d_inv is None else M_d_inv @ w) - Jdot_qd
-
-            def pinv(b: Any) -> Any:                                        # J⁻¹ b or J†b (3.52)
-                return J.T @ ca.solve(J @ J.T, b) if redundant else ca.solve(J, b)
-
-            y = pinv(a)
-            if redundant:
-                y0 = K_q * (q_0 - q) - K_N * qd
-                y = y + y0 - pinv(J @ y0)                                   # (I − J† J) y_0, cf. (3.54)
-            u = inverse_dynamics_expression(robot, q, qd, y) + Fv * qd
-            signals = {"x_d": r[:m], "x_e": x_e, "e": e}
-            if force:
-                u = u + J.T @ h                                             # + Jᵀ h_e, Eq. (9.30)
-                signals["h_e"] = wrench
-            return u, signals
-
-        return SymbolicLaw.build(robot.nq, n, 3 * m, {"K_P": self.K_P, "K_D": self.K_D}, law,
-                                 stacked_reference(self.reference), measurements={"wrench": 6} if force else None)
-
-    def _sensed_wrench(self, meas: Any) -> np.ndarray:
-        wrench = getattr(meas, "wrench", None)
-        if wrench is None:
-            raise ValueError("impedance control with force feedback needs a force sensor: the plant's "
-                             "measurement has no `wrench` (use controllers.plants.ArmInContact)")
-        return wrench[self.task.rows]
+            u = u + J.T @ h                                                             # + Jᵀ h_e, Eq. (9.30)
+            signals["h_e"] = wrench
+        return u, signals
 
 
 def operational_inverse_dynamics_steady_state(plant_robot: Robot, model_robot: Robot, K_P: Any, x_d: Any,

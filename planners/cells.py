@@ -8,7 +8,9 @@
   approximate decomposition into free quadtree boxes (Sect. 12.4.2), the connectivity graph, the
   channel and the channel-to-path extraction with the fix of Problem 12.6 (cell centroids inserted).
 
-Obstacles are convex polygons (:class:`planners.configuration_space.Polygon`), pairwise disjoint.
+Obstacles are convex polygons (:class:`planners.configuration_space.Polygon`); the visibility graph and
+the GVD assume them pairwise disjoint, the cell decompositions accept overlapping obstacles and
+obstacles reaching outside the bounds.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Sects. 12.3–12.4;
 Problems 12.5, 12.6.
@@ -25,8 +27,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 from scipy.spatial import Voronoi
 
-from planners.configuration_space import (Polygon, box, point_segment_distance, segment_intersects_shape,
-                                    segment_shape_distance, shapes_intersect)
+from planners.configuration_space import (Polygon, box, check_bounds, point_segment_distance,
+                                          segment_intersects_shape, segment_shape_distance, shapes_intersect)
 from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
@@ -36,14 +38,7 @@ __all__ = [
 ]
 
 
-def _check_bounds(bounds: Sequence[float]) -> tuple[float, float, float, float]:
-    try:
-        x0, x1, y0, y1 = (float(v) for v in bounds)
-    except (TypeError, ValueError):
-        raise ValueError(f"`bounds` must be (x_min, x_max, y_min, y_max), got {bounds!r}") from None
-    if not (np.isfinite([x0, x1, y0, y1]).all() and x1 > x0 and y1 > y0):
-        raise ValueError(f"`bounds` must be finite with x_max > x_min and y_max > y_min, got {bounds!r}")
-    return x0, x1, y0, y1
+_check_bounds = check_bounds
 
 
 def _check_obstacles(obstacles: Sequence[Any]) -> tuple[Polygon, ...]:
@@ -299,31 +294,80 @@ def _extent(poly: Polygon, x: float) -> tuple[float, float] | None:
     return (min(ys), max(ys)) if ys else None
 
 
+def _crossings_x(obs: Sequence[Polygon], y0: float, y1: float) -> list[float]:
+    """The x of every point where edges of two different obstacles cross, or an edge crosses y = y0 or
+    y = y1: between consecutive such abscissae (and the vertices') the boundary of the free set is made of
+    straight pieces in a fixed vertical order."""
+    xs = []
+    edges = [(k, a, b) for k, o in enumerate(obs) for a, b in zip(*o.edges)]
+    for (k1, a1, b1), (k2, a2, b2) in combinations(edges, 2):
+        if k1 == k2:
+            continue
+        d1, d2, w = b1 - a1, b2 - a2, a2 - a1
+        den = d1[0] * d2[1] - d1[1] * d2[0]
+        if abs(den) < 1e-15:
+            continue
+        t = (w[0] * d2[1] - w[1] * d2[0]) / den
+        u = (w[0] * d1[1] - w[1] * d1[0]) / den
+        if -1e-12 <= t <= 1 + 1e-12 and -1e-12 <= u <= 1 + 1e-12:
+            xs.append(float(a1[0] + t * d1[0]))
+    for _, a, b in edges:
+        for y in (y0, y1):
+            if (a[1] - y) * (b[1] - y) < 0:
+                xs.append(float(a[0] + (y - a[1]) / (b[1] - a[1]) * (b[0] - a[0])))
+    return xs
+
+
 def trapezoidal_decomposition(bounds: Sequence[float], obstacles: Sequence[Any]) -> CellDecomposition:
-    """Exact decomposition of the free rectangle ``bounds`` = (x_min, x_max, y_min, y_max) into trapezoids
-    (or triangles) by vertical lines through every obstacle vertex (Sect. 12.4.1)."""
+    """Exact decomposition of the free part of the rectangle ``bounds`` = (x_min, x_max, y_min, y_max) into
+    trapezoids (or triangles) by vertical lines through every obstacle vertex (Sect. 12.4.1).
+
+    Obstacles may overlap and may reach outside the rectangle: vertical lines also go through the points
+    where two obstacles' edges cross and where an edge crosses the rectangle's top or bottom, so that
+    within each slab the obstacles' extents are straight and keep their order; overlapping extents are
+    merged and clipped to the rectangle before the free intervals between them become cells.
+    """
     obs = _check_obstacles(obstacles)
     x0, x1, y0, y1 = _check_bounds(bounds)
-    xs = np.unique(np.concatenate([[x0, x1]] + [o.vertices[:, 0] for o in obs]))
+    xs = np.unique(np.concatenate([[x0, x1]] + [o.vertices[:, 0] for o in obs] + [_crossings_x(obs, y0, y1)]))
     xs = xs[(xs >= x0) & (xs <= x1)]
+    scale = max(x1 - x0, y1 - y0)
+    xs = xs[np.r_[True, np.diff(xs) > 1e-12 * scale]]
+    xs[-1] = x1
     cells: list[Polygon] = []
     for xa, xb in zip(xs[:-1], xs[1:]):
-        # boundaries are linear across a slab: evaluate inside and extrapolate to its ends
+        # boundaries are straight across a slab: evaluate inside and extrapolate to its ends
         x_in = (xa + 0.25 * (xb - xa), xa + 0.75 * (xb - xa))
+
+        def at(ends: tuple[float, float], x: float) -> float:
+            return ends[0] + (x - x_in[0]) / (x_in[1] - x_in[0]) * (ends[1] - ends[0])
+
         blocks = []
         for o in obs:
             e = [_extent(o, x) for x in x_in]
-            if e[0] is not None and e[1] is not None:
-                blocks.append((e[0], e[1]))
-        blocks.sort(key=lambda b: b[0][0])
+            if e[0] is None or e[1] is None:
+                continue
+            lo = (max(e[0][0], y0), max(e[1][0], y0))        # clipped to the rectangle (no crossing inside)
+            hi = (min(e[0][1], y1), min(e[1][1], y1))
+            if hi[0] > lo[0] or hi[1] > lo[1]:
+                blocks.append((lo, hi))
+        blocks.sort(key=lambda b: (b[0][0], b[0][1]))
+        merged: list[list] = []
+        for lo, hi in blocks:                                 # union of overlapping extents
+            if merged and lo[0] <= merged[-1][1][0] + 1e-12 and lo[1] <= merged[-1][1][1] + 1e-12:
+                top = merged[-1][1]
+                merged[-1][1] = hi if (hi[0] + hi[1]) > (top[0] + top[1]) else top
+            else:
+                merged.append([lo, hi])
         # (value at x_in[0], value at x_in[1]) of the lower and upper boundary of each free interval
-        lower = [(y0, y0)] + [(e0[1], e1[1]) for e0, e1 in blocks]
-        upper = [(e0[0], e1[0]) for e0, e1 in blocks] + [(y1, y1)]
+        lower = [(y0, y0)] + [m[1] for m in merged]
+        upper = [m[0] for m in merged] + [(y1, y1)]
         for lo, hi in zip(lower, upper):
-            def at(ends: tuple[float, float], x: float) -> float:
-                return ends[0] + (x - x_in[0]) / (x_in[1] - x_in[0]) * (ends[1] - ends[0])
             verts = [(xa, at(lo, xa)), (xb, at(lo, xb)), (xb, at(hi, xb)), (xa, at(hi, xa))]
-            uniq = [v for k, v in enumerate(verts) if np.hypot(v[0] - verts[k - 1][0], v[1] - verts[k - 1][1]) > 1e-12]
+            if verts[3][1] - verts[0][1] <= 1e-12 * scale and verts[2][1] - verts[1][1] <= 1e-12 * scale:
+                continue                                      # no free interval here (obstacles touch)
+            uniq = [v for k, v in enumerate(verts) if np.hypot(v[0] - verts[k - 1][0], v[1] - verts[k - 1][1])
+                    > 1e-12 * scale]
             cells.append(Polygon(np.array(uniq)))
     return _build(cells)
 

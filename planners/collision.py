@@ -9,29 +9,43 @@ a Pinocchio ``GeometryModel``) and boxes added as ``coal.Box`` geometry objects 
   robot's SRDF ``<disable_collisions>`` and by adjacency: shapes on the same or on consecutive bodies
   never count), a broad phase (a coal dynamic AABB tree through Pinocchio's ``BroadPhaseManager``)
   in front of the exact narrow phase, and the pairwise check (every active pair) kept as the reference.
+* The edge certificate (:meth:`CollisionChecker.clearances`, :meth:`UrdfCSpace.certify_edge`): the
+  distance of every active pair (coal's GJK through ``pin.computeDistances``, on the convex hulls of the
+  collision meshes — a hull contains its mesh, so its distance is a lower bound) against a bound on how
+  far the pair's two members can move relative to each other along a straight joint-space edge,
+  Σ_k r_k |Δq_k| over the joints that move one relative to the other (r_k: the farthest point of the
+  shapes beyond joint k from its axis, from the joint placements and the shapes' bounding spheres;
+  1 for a prismatic joint); adaptive bisection where it does not suffice.
 * :class:`UrdfCSpace` — the planners' space protocol (:class:`planners.sampling.PlanningSpace`) on the
-  joint box [q_min, q_max]: a uniform sampler, the Euclidean distance, straight interpolation and
-  validity; local paths are checked every ``resolution`` rad, in bisection order, stopping at the
-  first collision.
+  joint box [q_min, q_max]: a uniform sampler, the Euclidean distance, straight interpolation,
+  validity and the certificate; in the explicit sampled mode local paths are checked every
+  ``resolution`` rad, in bisection order, stopping at the first collision.
+
+Pinocchio's work data (``Data``, ``GeometryData``, the broad phase) is kept per thread: two threads may
+check or plan on one checker at once.
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Sect. 12.2
-(C-obstacles of an articulated robot), Sect. 12.5 (sampling-based planning and its collision checker).
+(C-obstacles of an articulated robot), Sect. 12.5 (sampling-based planning and its collision checker);
+Schwarzer, Saha, Latombe, "Exact collision checking of robot paths" (2004) for the certificate.
 """
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any, Sequence
 
 import coal
 import numpy as np
 import pinocchio as pin
 
+from planners.configuration_space import EdgeCertificate, certify_by_bisection
 from rigid_body.robots import example_robot_data_dir
-from rigid_body.validation import as_positive, as_vector
+from rigid_body.validation import as_generator, as_positive, as_vector
 
-__all__ = ["Box", "CollisionChecker", "UrdfCSpace", "example_robot_srdf", "bisection_order"]
+__all__ = ["Box", "CollisionChecker", "UrdfCSpace", "example_robot_srdf", "bisection_order", "DISTANCE_MARGIN"]
 
 
 @dataclass(frozen=True)
@@ -43,10 +57,13 @@ class Box:
     name: str = "box"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "center", as_vector(self.center, 3, "center"))
-        size = as_vector(self.size, 3, "size")
+        try:
+            object.__setattr__(self, "center", as_vector(self.center, 3, "center"))
+            size = as_vector(self.size, 3, "size")
+        except ValueError as err:
+            raise ValueError(f"Box {self.name!r}: {err}") from None
         if np.any(size <= 0):
-            raise ValueError(f"`size` must be positive, got {size}")
+            raise ValueError(f"Box {self.name!r}: `size` must be positive, got {size}")
         object.__setattr__(self, "size", size)
 
     @property
@@ -106,7 +123,6 @@ class CollisionChecker:
                  self_collision: bool = True) -> None:
         self.robot = robot
         self.model = robot.model
-        self.data = robot.model.createData()
         geom = robot.collision_model.clone()
         n_robot = geom.ngeoms
         if n_robot == 0:
@@ -135,23 +151,58 @@ class CollisionChecker:
             for b in box_ids:
                 geom.addCollisionPair(pin.CollisionPair(i, b))
         self.geom = geom
-        self.gdata = geom.createData()
-        self.manager = pin.BroadPhaseManager_DynamicAABBTreeCollisionManager(self.model, geom, self.gdata)
+        self.distance_geom = _convex_hulls(geom)
+        self._local = threading.local()
         self._static_contact_check([i for i in range(n_robot) if parents[i] == 0], box_ids)
+        self.pair_rates = self._pair_rates()
         self.calls = 0
+
+    def _work(self) -> SimpleNamespace:
+        """This thread's Pinocchio work data: ``data``, ``gdata`` and the broad phase ``manager`` for the
+        collision checks, ``ddata`` for the certificate's distances (created on a thread's first call)."""
+        w = getattr(self._local, "work", None)
+        if w is None:
+            gdata = self.geom.createData()
+            w = SimpleNamespace(data=self.model.createData(), gdata=gdata, ddata=self.distance_geom.createData(),
+                                manager=pin.BroadPhaseManager_DynamicAABBTreeCollisionManager(self.model, self.geom,
+                                                                                             gdata))
+            self._local.work = w
+        return w
+
+    @property
+    def data(self) -> Any:
+        """This thread's ``pin.Data``."""
+        return self._work().data
+
+    @property
+    def gdata(self) -> Any:
+        """This thread's ``pin.GeometryData`` of the collision model."""
+        return self._work().gdata
+
+    @property
+    def manager(self) -> Any:
+        """This thread's broad phase."""
+        return self._work().manager
+
+    def _q(self, q: Any) -> np.ndarray:
+        """q as a float vector of size nq (the fast path costs a type and a shape test); ValueError naming ``q``."""
+        if type(q) is np.ndarray and q.dtype == np.float64 and q.shape == (self.model.nq,):
+            return q
+        return as_vector(q, self.model.nq, "q")
 
     def _adjacent(self, ji: int, jj: int) -> bool:
         """Same body, or bodies joined by one joint (their shapes touch at the joint by construction)."""
         return ji == jj or self.model.parents[ji] == jj or self.model.parents[jj] == ji
 
     def _static_contact_check(self, static: list[int], box_ids: list[int]) -> None:
-        pin.updateGeometryPlacements(self.model, self.data, self.geom, self.gdata, pin.neutral(self.model))
+        w = self._work()
+        pin.updateGeometryPlacements(self.model, w.data, self.geom, w.gdata, pin.neutral(self.model))
         req, res = coal.CollisionRequest(), coal.CollisionResult()
         for i in static:
             for b in box_ids:
                 res.clear()
-                if coal.collide(self.geom.geometryObjects[i].geometry, self.gdata.oMg[i],
-                                self.geom.geometryObjects[b].geometry, self.gdata.oMg[b], req, res):
+                if coal.collide(self.geom.geometryObjects[i].geometry, w.gdata.oMg[i],
+                                self.geom.geometryObjects[b].geometry, w.gdata.oMg[b], req, res):
                     raise ValueError(f"the robot's fixed shape {self.geom.geometryObjects[i].name!r} "
                                      f"touches {self.geom.geometryObjects[b].name!r}: move the obstacle")
 
@@ -162,26 +213,117 @@ class CollisionChecker:
 
     def in_collision(self, q: np.ndarray) -> bool:
         """Broad phase (dynamic AABB tree) then the narrow phase on the active pairs; stops at the first contact."""
+        q = self._q(q)
         self.calls += 1
-        return bool(pin.computeCollisions(self.model, self.data, self.manager, q, True))
+        w = self._work()
+        return bool(pin.computeCollisions(self.model, w.data, w.manager, q, True))
 
     def in_collision_pairwise(self, q: np.ndarray) -> bool:
         """Reference: every active pair through the narrow phase (``pin.computeCollisions`` on the pair list)."""
-        return bool(pin.computeCollisions(self.model, self.data, self.geom, self.gdata, q, True))
+        w = self._work()
+        return bool(pin.computeCollisions(self.model, w.data, self.geom, w.gdata, self._q(q), True))
 
     def colliding_pairs(self, q: np.ndarray) -> list[tuple[str, str]]:
         """Names of the geometry pairs in contact at q (all pairs evaluated)."""
-        pin.computeCollisions(self.model, self.data, self.geom, self.gdata, q, False)
+        w = self._work()
+        pin.computeCollisions(self.model, w.data, self.geom, w.gdata, self._q(q), False)
         names = [g.name for g in self.geom.geometryObjects]
-        return [(names[p.first], names[p.second]) for p, r in zip(self.geom.collisionPairs, self.gdata.collisionResults)
+        return [(names[p.first], names[p.second]) for p, r in zip(self.geom.collisionPairs, w.gdata.collisionResults)
                 if r.isCollision()]
 
     def box_clearance(self, q: np.ndarray) -> float:
-        """Smallest distance between the robot and the boxes at q [m] (coal's narrow phase; ≤ 0 in
-        contact; ∞ without boxes)."""
-        pin.computeDistances(self.model, self.data, self.geom, self.gdata, as_vector(q, self.model.nq, "q"))
+        """Smallest distance between the robot and the boxes at q [m] (coal's narrow phase on the collision
+        meshes; ≤ 0 in contact; ∞ without boxes)."""
+        w = self._work()
+        pin.computeDistances(self.model, w.data, self.geom, w.gdata, self._q(q))
         n = self.n_self_pairs
-        return float(min((r.min_distance for r in list(self.gdata.distanceResults)[n:]), default=np.inf))
+        return float(min((r.min_distance for r in list(w.gdata.distanceResults)[n:]), default=np.inf))
+
+    # -- the certificate ---------------------------------------------------------------------------
+
+    def clearances(self, q: Any, pairs: Sequence[int] | None = None) -> np.ndarray:
+        """Distances (P,) of every active pair at q [m] (or of the ``pairs`` listed, in that order), on the
+        convex hulls of the shapes (lower bounds of the meshes' distances), less ``DISTANCE_MARGIN`` (GJK's
+        tolerance); ≤ 0 in contact. All pairs go through ``pin.computeDistances``; a few through
+        ``pin.computeDistance`` after one placement update."""
+        q = self._q(q)
+        w = self._work()
+        if pairs is None:
+            pin.computeDistances(self.model, w.data, self.distance_geom, w.ddata, q)
+            d = np.fromiter((r.min_distance for r in w.ddata.distanceResults), float, len(self.pair_rates))
+        else:
+            pin.updateGeometryPlacements(self.model, w.data, self.distance_geom, w.ddata, q)
+            d = np.fromiter((pin.computeDistance(self.distance_geom, w.ddata, int(k)).min_distance for k in pairs),
+                            float, len(pairs))
+        return d - DISTANCE_MARGIN
+
+    def _pair_rates(self) -> np.ndarray:
+        """W (P, nq): the relative motion of pair p's two shapes along a straight step Δq is at most
+        Σ_k W[p, k] |Δq_k| (module docstring); ∞ in the columns of joints that are neither revolute nor
+        prismatic (no certificate for them)."""
+        model, geom = self.model, self.distance_geom
+        chains = {}
+        for j in range(model.njoints):
+            chain, k = [], j
+            while k > 0:
+                chain.append(k)
+                k = model.parents[k]
+            chains[j] = chain[::-1]
+
+        def reach(g: int, k: int) -> float:
+            """A bound on the distance of any point of shape g from joint k's origin (k on g's chain)."""
+            obj = geom.geometryObjects[g]
+            obj.geometry.computeLocalAABB()
+            c = obj.placement.act(np.asarray(obj.geometry.aabb_center, dtype=float))
+            r = float(np.linalg.norm(c)) + float(obj.geometry.aabb_radius)
+            chain = chains[obj.parentJoint]
+            for m in chain[chain.index(k) + 1:]:
+                r += float(np.linalg.norm(model.jointPlacements[m].translation))
+                if _joint_kind(model, m) == "prismatic":
+                    r += float(max(abs(model.lowerPositionLimit[model.idx_qs[m]]),
+                                   abs(model.upperPositionLimit[model.idx_qs[m]])))
+            return r
+
+        W = np.zeros((len(geom.collisionPairs), model.nq))
+        for p, pair in enumerate(geom.collisionPairs):
+            a, b = pair.first, pair.second
+            ca, cb = chains[geom.geometryObjects[a].parentJoint], chains[geom.geometryObjects[b].parentJoint]
+            for g, own, other in ((a, ca, cb), (b, cb, ca)):
+                for k in own:
+                    if k in other:
+                        continue          # moves both shapes rigidly: no relative motion
+                    kind = _joint_kind(model, k)
+                    cols = slice(model.idx_qs[k], model.idx_qs[k] + model.nqs[k])
+                    W[p, cols] += (np.inf if kind is None else 1.0 if kind == "prismatic" else reach(g, k))
+        return W
+
+
+DISTANCE_MARGIN = 1e-5   # [m] subtracted from coal's GJK distances (its tolerance is 1e-6)
+
+
+def _joint_kind(model: Any, j: int) -> str | None:
+    """"revolute", "prismatic", or None for joints the certificate does not bound (spherical, free, planar,
+    continuous (cos, sin) ...)."""
+    name = model.joints[j].shortname()
+    if model.nqs[j] != 1:
+        return None
+    if name.startswith("JointModelR") and not name.startswith("JointModelRUB"):
+        return "revolute"
+    if name.startswith("JointModelP") and not name.startswith("JointModelPlanar"):
+        return "prismatic"
+    return None
+
+
+def _convex_hulls(geom: Any) -> Any:
+    """A copy of the geometry model whose meshes are replaced by their convex hulls (coal ``Convex``), for
+    fast GJK distances that never exceed the meshes' own."""
+    out = geom.clone()
+    for obj in out.geometryObjects:
+        g = obj.geometry
+        if isinstance(g, coal.BVHModelBase):
+            g.buildConvexHull(True, "Qt")
+            obj.geometry = g.convex
+    return out
 
 
 @dataclass
@@ -212,9 +354,9 @@ class UrdfCSpace:
     def dim(self) -> int:
         return self.checker.model.nq
 
-    def sample(self, rng: np.random.Generator) -> np.ndarray:
+    def sample(self, rng: Any) -> np.ndarray:
         """A configuration drawn uniformly in [lower, upper]."""
-        return rng.uniform(self.lower, self.upper)
+        return as_generator(rng).uniform(self.lower, self.upper)
 
     def distance(self, a: Any, b: Any) -> np.ndarray:
         """‖b − a‖ (Euclidean in joint space); broadcasts over leading axes."""
@@ -253,5 +395,36 @@ class UrdfCSpace:
         return self.interpolate(a, b, np.linspace(0.0, 1.0, n + 1))
 
     def segment_is_free(self, a: Any, b: Any) -> bool:
-        """The segment checker: every configuration of :meth:`local_path` valid."""
+        """The sampled segment checker: every configuration of :meth:`local_path` valid (not a certificate)."""
         return self.all_valid(self.local_path(a, b))
+
+    # -- the edge certificate -------------------------------------------------------------------
+
+    def clearances(self, q: Any, pairs: Sequence[int] | None = None) -> np.ndarray:
+        """The certificate's clearances at q: :meth:`CollisionChecker.clearances`; −∞ for every pair when q
+        is outside the joint box."""
+        q = self.checker._q(q)
+        c = self.checker.clearances(q, pairs)
+        return c if self.in_bounds(q) else np.full(c.shape, -np.inf)
+
+    def edge_rates(self, a: Any, b: Any) -> np.ndarray:
+        """Bounds (P,) on the relative motion of each pair's shapes along the straight edge a → b."""
+        return self.checker.pair_rates @ np.abs(np.asarray(b, dtype=float) - np.asarray(a, dtype=float))
+
+    def certify_edge(self, a: Any, b: Any, ca: np.ndarray | None = None, cb: np.ndarray | None = None,
+                     max_queries: int = 100_000) -> EdgeCertificate:
+        """Certificate that the straight edge a → b is collision-free: adaptive bisection
+        (:func:`planners.configuration_space.certify_by_bisection`) with the pairs' clearances and motion
+        bounds; ``ca``, ``cb`` the clearances at the ends when known. The joint box is convex, so ends inside
+        it keep the whole edge inside."""
+        a, b = self.checker._q(a), self.checker._q(b)
+        rates = self.edge_rates(a, b)
+        if not np.all(np.isfinite(rates)):
+            bad = [self.checker.model.names[j] for j in range(1, self.checker.model.njoints)
+                   if _joint_kind(self.checker.model, j) is None]
+            raise ValueError(f"no motion bound for the joints {bad} (only revolute and prismatic joints are "
+                             "certified): use edge_check='sampled'")
+        ca = self.clearances(a) if ca is None else ca
+        cb = self.clearances(b) if cb is None else cb
+        return certify_by_bisection(lambda s, idx: self.clearances(a + s * (b - a), idx), rates, ca, cb,
+                                    max_queries=max_queries)

@@ -35,7 +35,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 import pinocchio as pin
@@ -43,7 +43,7 @@ from scipy import ndimage
 from scipy.spatial import ConvexHull
 
 from rigid_body.rotations import wrap_angle
-from rigid_body.validation import as_positive, as_vector
+from rigid_body.validation import as_generator, as_positive, as_vector
 
 __all__ = [
     # distances of Ch. 3 and 6
@@ -57,7 +57,8 @@ __all__ = [
     # the C-space of Ch. 12
     "angular_difference", "configuration_difference", "euclidean_distance", "torus_distance",
     "minkowski_c_obstacle", "PlanarArm", "PlanarBody", "PlanarCSpace", "Scene",
-    "free_grid", "connected_components", "densify", "certify_motion", "certify_straight_path",
+    "check_bounds", "free_grid", "connected_components", "densify", "certify_motion", "certify_straight_path",
+    "EdgeCertificate", "certify_by_bisection", "MAX_GRID_NODES",
 ]
 
 
@@ -263,15 +264,29 @@ class Polygon:
         V = as_points(self.vertices, "vertices")
         if V.shape[0] < 3:
             raise ValueError(f"`vertices` must have at least 3 points, got {V.shape[0]}")
-        area2 = np.sum(V[:, 0] * np.roll(V[:, 1], -1) - np.roll(V[:, 0], -1) * V[:, 1])
-        if abs(area2) < 1e-12:
+        e = np.roll(V, -1, axis=0) - V
+        length = np.hypot(e[:, 0], e[:, 1])
+        scale = float(np.max(np.abs(V - V.mean(axis=0)))) or 1.0
+        short = np.flatnonzero(length <= 1e-12 * scale)
+        if short.size:
+            k = int(short[0])
+            raise ValueError(f"`vertices` [{k}] and [{(k + 1) % len(V)}] are the same point {V[k].tolist()}: "
+                             "remove repeated vertices")
+        area2 = float(np.sum(V[:, 0] * np.roll(V[:, 1], -1) - np.roll(V[:, 0], -1) * V[:, 1]))
+        if abs(area2) <= 1e-12 * scale * scale:
             raise ValueError("`vertices` describe a degenerate polygon (zero area)")
         if area2 < 0:
             V = V[::-1].copy()
-        e = np.roll(V, -1, axis=0) - V
+            e = np.roll(V, -1, axis=0) - V
         cross = e[:, 0] * np.roll(e[:, 1], -1) - e[:, 1] * np.roll(e[:, 0], -1)
-        if np.any(cross < -1e-12):
+        dot = e[:, 0] * np.roll(e[:, 0], -1) + e[:, 1] * np.roll(e[:, 1], -1)
+        if np.any(cross < -1e-12 * scale * scale):
             raise ValueError("`vertices` must describe a convex polygon (decompose it into convex pieces)")
+        # a convex polygon turns once round: a star (self-intersecting, every turn to the left) turns more
+        turning = float(np.sum(np.arctan2(cross, dot)))
+        if abs(turning - 2 * np.pi) > 1e-6:
+            raise ValueError(f"`vertices` describe a self-intersecting polygon (its edges turn "
+                             f"{turning / (2 * np.pi):.3g} times round, a simple convex one once)")
         object.__setattr__(self, "vertices", V)
 
     @classmethod
@@ -605,7 +620,11 @@ def minkowski_c_obstacle(obstacle: Polygon, robot: Polygon) -> Polygon:
 
 @dataclass(frozen=True)
 class Scene:
-    """Convex obstacles in the plane; ``bounds`` = (x_min, x_max, y_min, y_max) of the drawing [m]."""
+    """Convex obstacles in the plane; ``bounds`` = (x_min, x_max, y_min, y_max) of the drawing [m].
+
+    Every obstacle is re-validated here (a :class:`Polygon` or :class:`Disc` altered after construction is
+    caught), and a bad one is named: ``obstacles[k]`` and the field.
+    """
 
     obstacles: tuple
     bounds: tuple[float, float, float, float] = (-5.0, 5.0, -5.0, 5.0)
@@ -615,7 +634,12 @@ class Scene:
         for k, o in enumerate(obs):
             if not isinstance(o, (Disc, Polygon)):
                 raise ValueError(f"`obstacles[{k}]` must be a Disc or a Polygon, got {type(o).__name__}")
+            try:
+                Disc(o.center, o.radius) if isinstance(o, Disc) else Polygon(o.vertices)
+            except ValueError as err:
+                raise ValueError(f"`obstacles[{k}]` ({type(o).__name__}): {err}") from None
         object.__setattr__(self, "obstacles", obs)
+        object.__setattr__(self, "bounds", check_bounds(self.bounds))
 
     def clearance(self, bodies: Sequence[Shape]) -> float:
         """Minimum distance between the bodies and the obstacles, shape by shape (0 in contact)."""
@@ -623,16 +647,26 @@ class Scene:
 
     def clearance_many(self, robot: "PlanarArm | PlanarBody", Q: Any) -> np.ndarray:
         """Clearances (N,) of the robot at the N configurations Q (N, dof), batched over Q."""
+        return self.part_clearances(robot, Q).min(axis=1, initial=np.inf)
+
+    def part_clearances(self, robot: "PlanarArm | PlanarBody", Q: Any, parts: Sequence[int] | None = None
+                        ) -> np.ndarray:
+        """Distances (N, P) of each robot part (``robot.placed_parts`` order, or only ``parts``) from the
+        nearest obstacle at the N configurations Q (N, dof); ∞ without obstacles, 0 in contact."""
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
-        out = np.full(Q.shape[0], np.inf)
-        for part in robot.placed_parts(Q):
+        placed = robot.placed_parts(Q)
+        idx = range(len(placed)) if parts is None else parts
+        out = np.full((Q.shape[0], len(idx)), np.inf)
+        for col, p in enumerate(idx):
+            part = placed[p]
             c, r = _bounding_circle(part)
+            best = out[:, col]
             for o, (oc, orad) in zip(self.obstacles, self._bounding_circles):
                 # exact distances only where the bounding circles could beat the running minimum
-                rows = np.flatnonzero(_norm2(c - oc) - r - orad < out)
+                rows = np.flatnonzero(_norm2(c - oc) - r - orad < best)
                 if rows.size:
                     sub = (part[0], part[1][rows]) + tuple(part[2:])
-                    out[rows] = np.minimum(out[rows], batch_distance(sub, o))
+                    best[rows] = np.minimum(best[rows], batch_distance(sub, o))
         return out
 
     @cached_property
@@ -645,6 +679,18 @@ class Scene:
                 c = o.vertices.mean(axis=0)
                 out.append((c, float(np.max(np.linalg.norm(o.vertices - c, axis=1)))))
         return out
+
+
+def check_bounds(bounds: Any) -> tuple[float, float, float, float]:
+    """``bounds`` = (x_min, x_max, y_min, y_max) as finite floats with x_max > x_min and y_max > y_min;
+    ValueError naming ``bounds`` otherwise."""
+    try:
+        x0, x1, y0, y1 = (float(v) for v in bounds)
+    except (TypeError, ValueError):
+        raise ValueError(f"`bounds` must be (x_min, x_max, y_min, y_max), got {bounds!r}") from None
+    if not (np.isfinite([x0, x1, y0, y1]).all() and x1 > x0 and y1 > y0):
+        raise ValueError(f"`bounds` must be finite with x_max > x_min and y_max > y_min, got {bounds!r}")
+    return x0, x1, y0, y1
 
 
 @dataclass(frozen=True)
@@ -663,8 +709,11 @@ class PlanarArm:
 
     def __post_init__(self) -> None:
         lengths = tuple(as_positive(a, f"lengths[{i}]") for i, a in enumerate(self.lengths))
+        if not lengths:
+            raise ValueError("`lengths` must give at least one link")
         object.__setattr__(self, "lengths", lengths)
         as_positive(self.width, "width")
+        object.__setattr__(self, "base", tuple(as_vector(self.base, 2, "base").tolist()))
 
     @property
     def dof(self) -> int:
@@ -730,12 +779,41 @@ class PlanarArm:
         theta = dq if self.fixed_base else dq[2:]
         return base + float(theta @ self.reach())
 
+    @cached_property
+    def _part_reach(self) -> np.ndarray:
+        """R[p, k] (P, n): a bound on the distance of any point of part p from joint k (0 for joints beyond
+        the part's link), by the triangle inequality along the chain."""
+        a = np.asarray(self.lengths)
+        w = self.width / 2
+        R = np.zeros((len(self._templates), len(a)))
+        for p, (i, shape) in enumerate(self._templates):
+            far = np.hypot(a[i], w) if isinstance(shape, Polygon) else w
+            for k in range(i + 1):
+                R[p, k] = a[k:i].sum() + far
+        return R
+
+    def part_motion_bounds(self, dq: Any) -> np.ndarray:
+        """Bounds (P,) on the displacement of every point of each part along the straight step dq:
+        Σ_{k ≤ link} R[p, k] |Δθ_k| (+ ‖Δ(x, y)‖ of a mobile base); linear in dq, as the certificate needs."""
+        dq = np.abs(np.asarray(dq, dtype=float))
+        base = 0.0 if self.fixed_base else float(np.hypot(dq[0], dq[1]))
+        return base + self._part_reach @ (dq if self.fixed_base else dq[2:])
+
 
 @dataclass(frozen=True)
 class PlanarBody:
     """A rigid planar robot made of convex ``parts`` (in its own frame); q = [x, y, θ] ∈ R² × SO(2)."""
 
     parts: tuple
+
+    def __post_init__(self) -> None:
+        parts = tuple(self.parts)
+        if not parts:
+            raise ValueError("`parts` must give at least one Disc or Polygon")
+        for k, s in enumerate(parts):
+            if not isinstance(s, (Disc, Polygon)):
+                raise ValueError(f"`parts[{k}]` must be a Disc or a Polygon, got {type(s).__name__}")
+        object.__setattr__(self, "parts", parts)
 
     @property
     def dof(self) -> int:
@@ -757,15 +835,32 @@ class PlanarBody:
         x, y, th = as_vector(q, 3, "q")
         return [transform_shape(s, x, y, th) for s in self.parts]
 
+    @cached_property
+    def part_radii(self) -> np.ndarray:
+        """Largest distance (P,) of a point of each part from the body's reference point."""
+        return np.array([float(np.linalg.norm(s.center)) + s.radius if isinstance(s, Disc)
+                         else float(np.max(np.linalg.norm(s.vertices, axis=1))) for s in self.parts])
+
     def radius(self) -> float:
         """Largest distance of a point of the body from its reference point."""
-        r = 0.0
-        for s in self.parts:
-            if isinstance(s, Disc):
-                r = max(r, float(np.linalg.norm(s.center)) + s.radius)
-            else:
-                r = max(r, float(np.max(np.linalg.norm(s.vertices, axis=1))))
-        return r
+        return float(self.part_radii.max())
+
+    @property
+    def is_translating_disc(self) -> bool:
+        """True when every part is a disc centred on the reference point: the body is a disc whatever θ, and
+        a straight edge sweeps a stadium (the exact segment test applies)."""
+        return all(isinstance(s, Disc) and not np.any(s.center) for s in self.parts)
+
+    def motion_bound(self, dq: Any) -> float:
+        """Upper bound on the displacement of any point along the straight step dq = (Δx, Δy, Δθ):
+        ‖Δp‖ + r_max |Δθ| (a point at distance r from the reference point turns by at most r |Δθ|)."""
+        dq = as_vector(dq, 3, "dq")
+        return float(np.hypot(dq[0], dq[1]) + self.radius() * abs(dq[2]))
+
+    def part_motion_bounds(self, dq: Any) -> np.ndarray:
+        """Bounds (P,) per part along the straight step dq: ‖Δp‖ + r_p |Δθ|."""
+        dq = np.asarray(dq, dtype=float)
+        return float(np.hypot(dq[0], dq[1])) + self.part_radii * abs(float(dq[2]))
 
 
 @dataclass(frozen=True)
@@ -774,8 +869,10 @@ class PlanarCSpace:
 
     Implements the sampling-planner protocol of :mod:`planners.sampling`: ``sample(rng)``,
     ``distance(a, b)`` (the d₃ of Problem 12.2 on the angular coordinates), ``interpolate(a, b, s)``
-    (straight along the shortest wrapped difference), ``is_valid(q)`` and ``valid_many(Q)``, and
-    ``resolution``: the C-space step at which local paths are checked.
+    (straight along the shortest wrapped difference), ``is_valid(q)`` and ``valid_many(Q)``, the edge
+    certificate (``clearances(q)``, ``certify_edge(a, b)``: :func:`certify_by_bisection` with the robot's
+    per-part motion bounds, or the exact segment test for a disc robot) and ``resolution``, the C-space
+    step of the explicit sampled mode.
     """
 
     robot: PlanarArm | PlanarBody
@@ -785,6 +882,10 @@ class PlanarCSpace:
     resolution: float = 0.01
 
     def __post_init__(self) -> None:
+        if not isinstance(self.robot, (PlanarArm, PlanarBody)):
+            raise ValueError(f"`robot` must be a PlanarArm or a PlanarBody, got {type(self.robot).__name__}")
+        if not isinstance(self.scene, Scene):
+            raise ValueError(f"`scene` must be a Scene, got {type(self.scene).__name__}")
         n = self.robot.dof
         lo, hi = as_vector(self.lower, n, "lower"), as_vector(self.upper, n, "upper")
         if np.any(hi < lo):
@@ -801,17 +902,23 @@ class PlanarCSpace:
     def angular(self) -> np.ndarray:
         return self.robot.angular
 
-    def sample(self, rng: np.random.Generator) -> np.ndarray:
+    def _configs(self, q: Any, name: str) -> np.ndarray:
+        q = np.asarray(q, dtype=float)
+        if q.ndim == 0 or q.shape[-1] != self.dim:
+            raise ValueError(f"`{name}` must have {self.dim} coordinates (last axis), got shape {q.shape}")
+        return q
+
+    def sample(self, rng: Any) -> np.ndarray:
         """A configuration drawn uniformly within [lower, upper]."""
-        return rng.uniform(self.lower, self.upper)
+        return as_generator(rng).uniform(self.lower, self.upper)
 
     def difference(self, a: Any, b: Any) -> np.ndarray:
         """b ⊖ a: the shortest difference, angles wrapped (:func:`configuration_difference`)."""
-        return configuration_difference(a, b, self.angular)
+        return configuration_difference(self._configs(a, "a"), self._configs(b, "b"), self.angular)
 
     def distance(self, a: Any, b: Any) -> np.ndarray:
         """d₃ of Problem 12.2 on the angular coordinates, Euclidean on the others; broadcasts."""
-        return torus_distance(a, b, self.angular)
+        return torus_distance(self._configs(a, "a"), self._configs(b, "b"), self.angular)
 
     def interpolate(self, a: Any, b: Any, s: Any) -> np.ndarray:
         """a + s (b ⊖ a), angles wrapped into (−π, π]; ``s`` scalar → (dim,), ``s`` (k,) → (k, dim)."""
@@ -828,29 +935,82 @@ class PlanarCSpace:
 
     def clearance(self, Q: Any) -> np.ndarray:
         """Distances (N,) of the robot from the obstacles at the configurations Q (N, dim)."""
-        return self.scene.clearance_many(self.robot, Q)
+        return self.scene.clearance_many(self.robot, self._configs(Q, "Q"))
 
     def valid_many(self, Q: Any) -> np.ndarray:
         """Collision-free and within the ranges, for each row of Q (N, dim)."""
-        Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        Q = np.atleast_2d(self._configs(Q, "Q"))
         return self.in_bounds(Q) & (self.clearance(Q) > 0.0)
 
     def is_valid(self, q: Any) -> bool:
         """Collision-free and within the ranges."""
         return bool(self.valid_many(q)[0])
 
+    # -- the edge certificate -------------------------------------------------------------------
+
+    def clearances(self, q: Any, parts: Sequence[int] | None = None) -> np.ndarray:
+        """The certificate's clearances at q: distance (P,) of each robot part from the nearest obstacle
+        (or of the ``parts`` listed); −∞ for every part when q lies outside [lower, upper]."""
+        q = self._configs(q, "q")
+        c = self.scene.part_clearances(self.robot, q[None], parts)[0]
+        return c if self.in_bounds(q[None])[0] else np.full(c.shape, -np.inf)
+
+    def edge_rates(self, a: Any, b: Any) -> np.ndarray:
+        """Per-part bounds (P,) on how far any point of the part moves along the straight edge a → b (the
+        bound over a fraction s of the edge is s times it)."""
+        return self.robot.part_motion_bounds(self.difference(a, b))
+
+    def certify_edge(self, a: Any, b: Any, ca: np.ndarray | None = None, cb: np.ndarray | None = None,
+                     max_queries: int = 100_000) -> "EdgeCertificate":
+        """Certificate that the straight (wrapped) edge a → b is collision-free (:class:`EdgeCertificate`).
+
+        A disc robot that only translates (:attr:`PlanarBody.is_translating_disc`) gets the exact
+        segment–shape test: free iff the segment of its centre keeps more than its radius from every obstacle.
+        Otherwise adaptive bisection (:func:`certify_by_bisection`) with the per-part motion bounds.
+        ``ca``, ``cb`` are the clearances at the ends when already known (a planner caches its vertices').
+        """
+        a, b = self._configs(a, "a"), self._configs(b, "b")
+        robot = self.robot
+        if isinstance(robot, PlanarBody) and robot.is_translating_disc:
+            ends_in = bool(np.all(self.in_bounds(np.stack([a, b]))))
+            r = float(robot.part_radii.max())
+            d = min((segment_shape_distance(a[:2], b[:2], o) for o in self.scene.obstacles), default=np.inf)
+            c = d - r if ends_in else -np.inf
+            return EdgeCertificate(c > 0, c, 1, "" if c > 0 else "the disc's segment touches an obstacle")
+        if ca is None:
+            ca = self.clearances(a)
+        if cb is None:
+            cb = self.clearances(b)
+        return certify_by_bisection(lambda s, idx: self.clearances(self.interpolate(a, b, s), idx),
+                                    self.edge_rates(a, b), ca, cb, max_queries=max_queries)
+
 
 # --------------------------------------------------------------------------------------------
 # The free C-space on a grid (Problem 12.4)
 # --------------------------------------------------------------------------------------------
 
-def free_grid(space: "PlanarCSpace", axes: Sequence[np.ndarray]) -> np.ndarray:
+MAX_GRID_NODES = 20_000_000   # free_grid refuses larger grids (~ 0.5 GB of work arrays for a 3-D C-space)
+
+
+def free_grid(space: "PlanarCSpace", axes: Sequence[np.ndarray], max_nodes: int = MAX_GRID_NODES,
+              chunk: int = 100_000) -> np.ndarray:
     """Boolean array: is the configuration at each node of the grid ``axes`` (one 1-D array of values per
-    coordinate, "ij" indexing) free? Checked in one batch with ``space.valid_many``."""
+    coordinate, "ij" indexing) free? Checked with ``space.valid_many`` in chunks of ``chunk`` nodes; a grid of
+    more than ``max_nodes`` nodes is refused (ValueError) before anything is allocated."""
     if len(axes) != space.dim:
         raise ValueError(f"`axes` must give {space.dim} coordinate arrays, got {len(axes)}")
-    mesh = np.meshgrid(*axes, indexing="ij")
-    return space.valid_many(np.stack([m.ravel() for m in mesh], axis=1)).reshape(mesh[0].shape)
+    axes = [as_vector(a, None, f"axes[{k}]") for k, a in enumerate(axes)]
+    shape = tuple(len(a) for a in axes)
+    nodes = math.prod(shape)
+    if nodes > max_nodes:
+        raise ValueError(f"`axes` give a grid of {' x '.join(map(str, shape))} = {nodes:.3g} nodes, more than "
+                         f"`max_nodes` = {max_nodes:.3g} (about {nodes * (space.dim + 1) * 8 / 2**30:.3g} GiB of "
+                         "configurations): use coarser axes")
+    out = np.empty(nodes, dtype=bool)
+    for start in range(0, nodes, chunk):
+        idx = np.unravel_index(np.arange(start, min(start + chunk, nodes)), shape)
+        out[start:start + chunk] = space.valid_many(np.stack([a[i] for a, i in zip(axes, idx)], axis=1))
+    return out.reshape(shape)
 
 
 def connected_components(free: np.ndarray, periodic: Sequence[bool] | None = None) -> tuple[np.ndarray, int]:
@@ -890,6 +1050,66 @@ def connected_components(free: np.ndarray, periodic: Sequence[bool] | None = Non
 # --------------------------------------------------------------------------------------------
 # Certifying a motion between samples
 # --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class EdgeCertificate:
+    """The answer of an edge certificate: ``free`` (certified collision-free), the smallest clearance met
+    (at the ends and at the bisection points evaluated) and the number of distance ``queries`` spent
+    (configurations evaluated besides the ends); ``message`` says why an edge is refused."""
+
+    free: bool
+    min_clearance: float
+    queries: int
+    message: str = ""
+
+    def __bool__(self) -> bool:
+        return self.free
+
+
+def certify_by_bisection(clearances: Callable[[float, np.ndarray], np.ndarray], rates: Any, c0: Any, c1: Any,
+                         max_queries: int = 100_000, min_bound: float = 1e-9) -> EdgeCertificate:
+    """Adaptive bisection certificate of a motion q(s), s ∈ [0, 1] (Schwarzer, Saha & Latombe 2004).
+
+    ``clearances(s, idx)`` gives the distances (len(idx),) of the pairs ``idx`` (robot part–obstacle, or
+    the self-collision pairs) at q(s); ``rates`` (P,) bound how far the two members of each pair can move
+    relative to each other over the whole motion, and over [s_a, s_b] by rates·(s_b − s_a) (true for a
+    straight C-space edge and for a constant-input arc); ``c0``, ``c1`` the clearances (P,) at the ends.
+    A pair is certified on [s_a, s_b] when c(s_a) + c(s_b) > rates·(s_b − s_a): a point that closes the
+    gap at s has moved at least c(s_a) from s_a and c(s_b) from s_b. Uncertified pairs are evaluated at
+    the midpoint and both halves recurse; a contact (clearance ≤ 0) refuses the edge, and so does an
+    interval whose bound is below ``min_bound`` still uncertified (the motion grazes an obstacle) or a
+    spent ``max_queries``. Refusing is always safe: only ``free=True`` is a promise.
+    """
+    rates = np.asarray(rates, dtype=float)
+    c0, c1 = np.asarray(c0, dtype=float), np.asarray(c1, dtype=float)
+    c_min = float(min(c0.min(initial=np.inf), c1.min(initial=np.inf)))
+    if c_min <= 0:
+        return EdgeCertificate(False, c_min, 0, "an end of the edge is in collision or out of bounds")
+    if not np.all(np.isfinite(rates)):
+        return EdgeCertificate(False, c_min, 0, "the motion bound is not finite")
+    queries = 0
+    stack = [(0.0, 1.0, np.arange(rates.size), c0, c1)]
+    while stack:
+        s0, s1, idx, ca, cb = stack.pop()
+        M = rates[idx] * (s1 - s0)
+        bad = ca + cb <= M
+        if not bad.any():
+            continue
+        idx, ca, cb, M = idx[bad], ca[bad], cb[bad], M[bad]
+        if M.max() <= min_bound:
+            return EdgeCertificate(False, c_min, queries, f"grazes an obstacle near s = {s0:.6g} (clearance → 0)")
+        if queries >= max_queries:
+            return EdgeCertificate(False, c_min, queries, f"certificate budget of {max_queries} queries spent")
+        sm = 0.5 * (s0 + s1)
+        cm = np.asarray(clearances(sm, idx), dtype=float)
+        queries += 1
+        c_min = min(c_min, float(cm.min()))
+        if cm.min() <= 0:
+            return EdgeCertificate(False, c_min, queries, f"collision at s = {sm:.6g}")
+        stack.append((sm, s1, idx, cm, cb))
+        stack.append((s0, sm, idx, ca, cm))
+    return EdgeCertificate(True, c_min, queries)
+
 
 def densify(space: PlanarCSpace, path: Any, step: float) -> np.ndarray:
     """Configurations along the straight (wrapped) C-space segments of ``path``, at most ``step`` apart."""

@@ -23,14 +23,15 @@ from typing import Any, Sequence
 import numpy as np
 from scipy.optimize import root
 
-from planners.configuration_space import Disc, Shape, project_on_segments, ray_shape_distance
-from rigid_body.validation import as_positive, as_vector
+from planners.configuration_space import (Disc, Shape, project_on_segments, ray_shape_distance,
+                                          segment_shape_distance)
+from rigid_body.validation import as_count, as_positive, as_vector
 
 __all__ = [
     "attractive_paraboloid", "attractive_cone", "AttractivePotential", "repulsive_magnitude", "RepulsivePotential",
     "PotentialField", "DescentResult", "gradient_descent", "stationary_point",
     "closest_point", "range_scan", "scan_segments", "reactive_repulsive_force",
-    "arm_joint_forces", "wavefront", "steepest_descent_path", "grid_path_length",
+    "arm_joint_forces", "wavefront", "steepest_descent_path", "certify_grid_path", "grid_path_length",
 ]
 
 
@@ -172,6 +173,18 @@ class PotentialField:
     attractive: AttractivePotential
     repulsive: tuple = ()
 
+    def __post_init__(self) -> None:
+        if not isinstance(self.attractive, AttractivePotential):
+            raise ValueError(f"`attractive` must be an AttractivePotential, got {type(self.attractive).__name__}")
+        if self.attractive.goal.shape != (2,):
+            raise ValueError(f"`attractive.goal` must be a planar point (2,) for a PotentialField on points (…, 2), "
+                             f"got shape {self.attractive.goal.shape}")
+        rep = tuple(self.repulsive)
+        for k, r in enumerate(rep):
+            if not isinstance(r, RepulsivePotential):
+                raise ValueError(f"`repulsive[{k}]` must be a RepulsivePotential, got {type(r).__name__}")
+        object.__setattr__(self, "repulsive", rep)
+
     def potential(self, q: Any) -> np.ndarray:
         q = _points(q)
         return self.attractive.potential(q) + sum((r.potential(q) for r in self.repulsive), np.zeros(q.shape[:-1]))
@@ -189,36 +202,61 @@ class PotentialField:
 
 @dataclass(frozen=True)
 class DescentResult:
-    """Path of the discrete-time planner; ``converged`` when ‖f‖ < tol (a stationary point: goal or not)."""
+    """Path of the discrete-time planner; ``converged`` when ‖f‖ < tol (a stationary point: goal or not).
+
+    ``certified``: the straight steps between the iterates were certified collision-free (a point or disc
+    robot among the ``obstacles`` given to :func:`gradient_descent`, exact segment–shape test), with the
+    smallest clearance ``min_clearance``; False (and NaN) when no obstacles were given — the iterates of a
+    potential field are not checked against anything by themselves.
+    """
 
     path: np.ndarray
     converged: bool
     message: str
+    certified: bool = False
+    min_clearance: float = float("nan")
 
 
 def gradient_descent(force: Any, q0: Any, step: float = 0.01, tol: float = 1e-6,
-                     max_iterations: int = 20000, max_move: float | None = None) -> DescentResult:
+                     max_iterations: int = 20000, max_move: float | None = None,
+                     obstacles: Sequence[Shape] | None = None, robot_radius: float = 0.0) -> DescentResult:
     """The algorithm of Sect. 12.6.3: q_{k+1} = q_k + T f(q_k), until ‖f‖ < tol.
 
     ``force`` is a callable q → f (a :class:`PotentialField`'s ``force`` or a reactive one); ``max_move``
-    optionally caps the length of one step (near obstacles f is large).
+    optionally caps the length of one step (near obstacles f is large). With ``obstacles`` (planar shapes)
+    the polyline of the iterates is certified for a disc robot of radius ``robot_radius`` by the exact
+    segment–shape distance (:class:`DescentResult` ``certified``); otherwise it is marked not certified.
     """
     q = as_vector(q0, None, "q0").copy()
     as_positive(step, "step")
+    max_iterations = as_count(max_iterations, "max_iterations", minimum=0)
     path = [q.copy()]
-    for k in range(int(max_iterations)):
+    result = None
+    for k in range(max_iterations):
         f = np.asarray(force(q), dtype=float)
-        if not np.all(np.isfinite(f)):
-            return DescentResult(np.asarray(path), False, f"the force is not finite at step {k}, q = {q}")
+        if f.shape != q.shape or not np.all(np.isfinite(f)):
+            result = (False, f"the force is not a finite vector of shape {q.shape} at step {k}, q = {q}")
+            break
         n = float(np.linalg.norm(f))
         if n < tol:
-            return DescentResult(np.asarray(path), True, f"‖f‖ < {tol:g} after {k} steps at q = {q}")
+            result = (True, f"‖f‖ < {tol:g} after {k} steps at q = {q}")
+            break
         dq = step * f
         if max_move is not None and step * n > max_move:
             dq *= max_move / (step * n)
         q = q + dq
         path.append(q.copy())
-    return DescentResult(np.asarray(path), False, f"no stationary point within {max_iterations} steps")
+    if result is None:
+        result = (False, f"no stationary point within {max_iterations} steps (the budget `max_iterations`)")
+    P = np.asarray(path)
+    if obstacles is None:
+        return DescentResult(P, *result)
+    r = as_positive(robot_radius, "robot_radius", allow_zero=True)
+    if P.shape[1] != 2:
+        raise ValueError(f"`obstacles` certify planar paths only; the iterates have {P.shape[1]} coordinates")
+    segs = list(zip(P[:-1], P[1:])) or [(P[0], P[0])]
+    c = min((segment_shape_distance(a, b, o) for a, b in segs for o in obstacles), default=np.inf) - r
+    return DescentResult(P, *result, bool(c > 0), float(c))
 
 
 def stationary_point(field: PotentialField, q0: Any) -> np.ndarray:
@@ -324,7 +362,10 @@ def _neighbours(adjacency: int) -> list[tuple[int, int, float]]:
 
 
 def _cell(c: Any, shape: tuple[int, int], name: str) -> tuple[int, int]:
-    i, j = (int(v) for v in c)
+    v = as_vector(c, 2, name)
+    if np.any(v != np.round(v)):
+        raise ValueError(f"`{name}` must be integer (row, column) cell indices, got {v.tolist()}")
+    i, j = (int(x) for x in v)
     if not (0 <= i < shape[0] and 0 <= j < shape[1]):
         raise ValueError(f"`{name}` = {c} is outside the {shape} grid")
     return i, j
@@ -362,7 +403,9 @@ def wavefront(occupied: Any, goal: Any, adjacency: int = 2) -> np.ndarray:
 def steepest_descent_path(value: Any, start: Any, adjacency: int = 2) -> np.ndarray:
     """Cells (k, 2) from ``start`` to the goal (value 0), each step to the neighbour of least value.
 
-    ValueError when the start cell is an obstacle or cannot reach the goal (value ∞).
+    ValueError when the start cell is an obstacle or cannot reach the goal (value ∞). The cells are free,
+    but the path is not certified: a diagonal step (2-adjacency) passes the corner of two side cells that
+    may be obstacles — :func:`certify_grid_path` says whether the motion through the cell centres is free.
     """
     V = np.asarray(value, dtype=float)
     s = _cell(start, V.shape, "start")
@@ -379,6 +422,27 @@ def steepest_descent_path(value: Any, start: Any, adjacency: int = 2) -> np.ndar
             raise ValueError(f"the navigation function has a local minimum at {path[-1]}")
         path.append(best[1])
     return np.array(path)
+
+
+def certify_grid_path(occupied: Any, cells: Any) -> tuple[bool, str]:
+    """Certificate of the motion of a point through the centres of a cell path (k, 2) on an occupancy grid of
+    closed unit squares: a side step stays in its two free cells; a diagonal step passes through the corner
+    shared with the two side cells, so it is free only when both are free. Returns (certified, why not)."""
+    occ = np.asarray(occupied, dtype=bool)
+    C = np.asarray(cells)
+    if C.ndim != 2 or C.shape[1] != 2:
+        raise ValueError(f"`cells` must be a (k, 2) array of cells, got shape {C.shape}")
+    for k, c in enumerate(C):
+        i, j = _cell(c, occ.shape, f"cells[{k}]")
+        if occ[i, j]:
+            return False, f"cell {k} = {(i, j)} is an obstacle"
+    for k, (a, b) in enumerate(zip(C[:-1], C[1:])):
+        di, dj = (int(x) for x in b - a)
+        if max(abs(di), abs(dj)) != 1:
+            return False, f"step {k} from {tuple(a)} to {tuple(b)} is not between neighbouring cells"
+        if di and dj and (occ[a[0] + di, a[1]] or occ[a[0], a[1] + dj]):
+            return False, f"diagonal step {k} from {tuple(a)} to {tuple(b)} touches the corner of an obstacle cell"
+    return True, ""
 
 
 def grid_path_length(cells: Any) -> float:

@@ -140,7 +140,12 @@ def reference_torque(robot: Robot, q: np.ndarray, qd: np.ndarray, qd_r: np.ndarr
     qd = as_vector(qd, robot.nv, "qd")
     qd_r = as_vector(qd_r, robot.nv, "qd_r")
     qdd_r = as_vector(qdd_r, robot.nv, "qdd_r")
-    model, data = robot.model, robot.data
+    return reference_torque_kernel(robot.model, robot.data, q, qd, qd_r, qdd_r)
+
+
+def reference_torque_kernel(model: pin.Model, data: pin.Data, q: np.ndarray, qd: np.ndarray, qd_r: np.ndarray,
+                            qdd_r: np.ndarray) -> np.ndarray:
+    """The unvalidated kernel of :func:`reference_torque` (the adaptive law's hot path)."""
     plus = pin.rnea(model, data, q, qd + qd_r, 4.0 * qdd_r)
     minus = pin.rnea(model, data, q, qd - qd_r, np.zeros(model.nv))
     return (plus - minus) / 4.0 + pin.computeGeneralizedGravity(model, data, q)

@@ -38,9 +38,12 @@ __all__ = [
     "frame_placement_function",
     "geometric_jacobian_function",
     "pose_function",
+    "frame_state_expression",
+    "orientation_error_expression",
     "inverse_dynamics_function",
     "inverse_dynamics_expression",
     "gravity_expression",
+    "inertia_expression",
     "reference_torque_expression",
     "forward_dynamics_expression",
     "forward_dynamics_function",
@@ -218,6 +221,30 @@ def pose_function(robot_or_model: Any, frame: str | int | None = None,
     return _once("pose", model, build, fid, name)
 
 
+def frame_state_expression(robot_or_model: Any, frame: str | int | None, q: ca.SX,
+                           qd: Any = None) -> tuple[ca.SX, ca.SX, ca.SX | None]:
+    """(T (4×4), J (6×nv), J̇q̇ (6) or None) of ``frame`` as SX expressions of ``q`` (and ``qd``): the symbolic
+    :func:`rigid_body.task_space.frame_state`. J̇q̇ = ∂(J q̇)/∂q q̇ is the frame's acceleration at q̈ = 0
+    (the classical acceleration of its origin, Eq. 3.98); ``q`` must then be a symbol."""
+    R, p, J = pose_function(robot_or_model, frame)(q)
+    T = ca.vertcat(ca.horzcat(R, p), ca.DM([[0.0, 0.0, 0.0, 1.0]]))
+    return T, J, None if qd is None else ca.jtimes(ca.mtimes(J, qd), q, qd)
+
+
+def orientation_error_expression(R_d: Any, R_e: Any, orientation: str) -> ca.SX:
+    """e_O (3) of R_e with respect to R_d in SX: ``"axis_angle"`` r sin ϑ = ½ vee(M − Mᵀ) (3.85) and
+    ``"quaternion"`` the vector part of Q_d ∗ Q_e⁻¹ in the hemisphere η ≥ 0 (3.91), r sin(ϑ/2) =
+    vee(M − Mᵀ) / (2 √(1 + tr M)), with M = R_d R_eᵀ = R(ϑ, r): the symbolic
+    :func:`rigid_body.task_space.orientation_error` (ϑ < π)."""
+    M = ca.mtimes(R_d, R_e.T)
+    vee = ca.vertcat(M[2, 1] - M[1, 2], M[0, 2] - M[2, 0], M[1, 0] - M[0, 1])
+    if orientation == "axis_angle":
+        return 0.5 * vee
+    if orientation == "quaternion":
+        return vee / (2.0 * ca.sqrt(1.0 + M[0, 0] + M[1, 1] + M[2, 2]))
+    raise ValueError(f"`orientation` must be 'axis_angle' or 'quaternion' for the symbolic error, got {orientation!r}")
+
+
 # ============================================================================================
 # Symbolic inverse dynamics (recursive Newton–Euler), appended for planners.optimization
 # ============================================================================================
@@ -273,6 +300,18 @@ def gravity_expression(robot_or_model: Any, q: Any) -> ca.SX:
     """g(q) as an SX expression: Newton–Euler at q̇ = q̈ = 0 (the symbolic :func:`rigid_body.dynamics.gravity_torques`)."""
     nv = _model(robot_or_model).nv
     return inverse_dynamics_expression(robot_or_model, q, np.zeros(nv), np.zeros(nv))
+
+
+def inertia_expression(robot_or_model: Any, q: Any) -> ca.SX:
+    """B(q) (7.32) as an SX expression: the Jacobian of the Newton–Euler torque τ(q, 0, a) = B(q) a + g(q),
+    linear in a (its columns are RNEA at unit accelerations, as CRBA computes them; built once per model)."""
+    model = _model(robot_or_model)
+
+    def build() -> ca.Function:
+        x, a = ca.SX.sym("q", model.nq), ca.SX.sym("a", model.nv)
+        return ca.Function("crba", [x], [ca.jacobian(inverse_dynamics_expression(model, x, ca.SX.zeros(model.nv), a), a)])
+
+    return _inlined(_once("crba", model, build), q)
 
 
 def reference_torque_expression(robot_or_model: Any, q: Any, qd: Any, qd_r: Any, qdd_r: Any) -> ca.SX:
@@ -404,17 +443,14 @@ def _cholesky_solve(B: ca.SX, b: ca.SX) -> ca.SX:
 def forward_dynamics_expression(robot_or_model: Any, q: ca.SX, qd: Any, tau: Any) -> ca.SX:
     """q̈ = B(q)⁻¹ (τ − C(q, q̇) q̇ − g(q)) as an SX expression (Eq. 7.42).
 
-    B(q) is the Jacobian of the Newton–Euler torque with respect to q̈ (its columns are RNEA at unit
-    accelerations without velocity and gravity, as CRBA computes them), C q̇ + g is RNEA at q̈ = 0; the
-    system is solved by a symbolic Cholesky factorisation. Mimic rotors and armature are included.
+    B(q) is :func:`inertia_expression`, C q̇ + g is RNEA at q̈ = 0; the system is solved by a symbolic
+    Cholesky factorisation. Mimic rotors and armature are included.
     """
     model = _model(robot_or_model)
 
     def build() -> ca.Function:
-        x, v, t, a = (ca.SX.sym(name, n) for name, n in (("q", model.nq), ("qd", model.nv), ("tau", model.nv),
-                                                            ("a", model.nv)))
-        tau_a = inverse_dynamics_expression(model, x, ca.SX.zeros(model.nv), a)
-        B = ca.jacobian(tau_a, a)           # τ(q, 0, a) = B(q) a + g(q) is linear in a: its Jacobian is B(q)
+        x, v, t = (ca.SX.sym(name, n) for name, n in (("q", model.nq), ("qd", model.nv), ("tau", model.nv)))
+        B = inertia_expression(model, x)
         h = inverse_dynamics_expression(model, x, v, ca.SX.zeros(model.nv))
         return ca.Function("fd", [x, v, t], [_cholesky_solve(B, t - h)])
 

@@ -51,10 +51,13 @@ __all__ = [
     "PoseError",
     "orientation_error",
     "pose_error",
+    "pose_error_kernel",
     "pose_residual",
     "damped_least_squares_inverse",
     "weighted_pseudo_inverse",
     "SINGULAR_CONDITION",
+    "RATE_CONDITION",
+    "resolved_rates",
     "solve_task",
     "singular_task",
     "joint_rates",
@@ -215,10 +218,16 @@ def pose_error(robot: Robot, q: np.ndarray, T_d: np.ndarray, v_d: np.ndarray | N
     With ``qd`` the same kinematics pass also gives J̇q̇ (geometric Jacobian tasks only).
     Unvalidated (hot loop): q (nq,), T_d (4, 4) homogeneous.
     """
-    fid = robot.frame(task.frame)
+    return pose_error_kernel(robot.model, robot.data, robot.frame(task.frame), q, T_d, task, qd, v_d)
+
+
+def pose_error_kernel(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray, T_d: np.ndarray,
+                      task: TaskSpace = TaskSpace(), qd: np.ndarray | None = None,
+                      v_d: np.ndarray | None = None) -> PoseError:
+    """The kernel of :func:`pose_error` on a model, its data and a resolved frame id (hot loops)."""
     if qd is not None and task.euler:
         raise ValueError("J̇_A q̇ of an Euler-angle task is not provided: use 'axis_angle' or 'quaternion'")
-    state = frame_state_kernel(robot.model, robot.data, fid, q, qd)
+    state = frame_state_kernel(model, data, fid, q, qd)
     J, T_e = state.J, state.T
     R_e, p_e = T_e[:3, :3], T_e[:3, 3]
     R_d, p_d = T_d[:3, :3], T_d[:3, 3]
@@ -364,6 +373,43 @@ def _solve3(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     r0, r1, r2 = b.tolist()
     return np.array([(A * r0 + D * r1 + G * r2) / det, (B * r0 + E * r1 + H * r2) / det,
                      (C * r0 + F * r1 + I * r2) / det])
+
+
+RATE_CONDITION = 1e3
+"""cond(J) above which a resolved-velocity law q̇ = J⁻¹ K e refuses to invert J (:func:`resolved_rates`): near a
+singular posture a bounded error asks for joint rates of cond(J) times their usual size (1e3: three orders
+of magnitude; the exactly singular case of :data:`SINGULAR_CONDITION` is far beyond any physical rate)."""
+
+
+def resolved_rates(J: np.ndarray, b: np.ndarray, where: str, max_condition: float = RATE_CONDITION,
+                   damping: float | None = None, rank: int | None = None) -> np.ndarray:
+    """q̇ = J⁻¹ b (square J), else J† b (minimum-norm least squares): the joint rates of a resolved-velocity law,
+    refused near a singular posture.
+
+    ``rank``: the rank J has away from singularities (default min of its sizes; less when it is structurally
+    deficient, e.g. L_s J_c of 8 point features on a 7-joint arm has rank 6): J† then keeps its ``rank``
+    largest singular values. ``damping`` None: ValueError when σ_1/σ_rank > ``max_condition`` (the rates
+    would be unphysical), naming ``where`` (the posture), the condition number and the remedies; ``damping``
+    = λ > 0: the damped least-squares rates Jᵀ(J Jᵀ + λ² I)⁻¹ b (3.59), defined at every posture
+    (|q̇| ≤ |b|/(2λ)), never refused."""
+    m, n = J.shape
+    if damping is not None:
+        return J.T @ np.linalg.solve(J @ J.T + damping * damping * np.eye(m), b)
+    r = min(m, n) if rank is None else rank
+    if m == n == r:                              # square: one gesv gives J⁻¹ b and J⁻¹; cond₂ ≤ ‖J‖_F ‖J⁻¹‖_F
+        rhs = np.empty((m, m + 1), order="F")
+        rhs[:, 0] = b
+        rhs[:, 1:] = np.eye(m)
+        _, _, X, info = _gesv(J, rhs, overwrite_b=True)
+        if info == 0 and math.sqrt(np.vdot(J, J) * np.vdot(X[:, 1:], X[:, 1:])) < max_condition:
+            return X[:, 0].copy()
+    U, sigma, Vt = np.linalg.svd(J, full_matrices=False)
+    if not (r >= 1 and sigma.size >= r and sigma[r - 1] * max_condition > sigma[0] > 0):
+        cond = sigma[0] / sigma[r - 1] if sigma.size >= r and sigma[r - 1] > 0 else math.inf
+        raise ValueError(f"the Jacobian is (near) singular {where}: cond = {cond:.3g} > max_condition = "
+                         f"{max_condition:g}, the joint rates would grow by that factor; move away from the "
+                         "singular posture, raise `max_condition`, or pass `damping` (damped least squares, 3.59)")
+    return Vt[:r].T @ ((U[:, :r].T @ b) / sigma[:r])
 
 
 def singular_task(where: str) -> ValueError:

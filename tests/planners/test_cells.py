@@ -70,3 +70,41 @@ def test_bad_input_names_the_argument():
         quadtree_decomposition((0, 10, 0, 10), [Disc([5, 5], 1)], 0.5)
     with pytest.raises(ValueError, match="free cell"):
         trapezoidal_decomposition((0, 10, 0, 10), [DIAMOND]).locate([6, 5])
+
+
+def _check_cells_against_scene(dec, bounds, obstacles, rng, per_cell=40, n_free=3000):
+    """Random points of every free cell lie outside every obstacle (strictly inside one would be an error)
+    and inside the bounds; random free points of the rectangle lie in some cell (the cells cover C_free)."""
+    x0, x1, y0, y1 = bounds
+    for k, cell in enumerate(dec.cells):
+        V = cell.vertices
+        w = rng.dirichlet(np.ones(len(V)), per_cell)
+        P = w @ V
+        for o in obstacles:
+            assert not np.any(o.contains(P, -1e-9)), f"cell {k} centred at {V.mean(axis=0)} is inside an obstacle"
+        assert np.all((P[:, 0] >= x0 - 1e-9) & (P[:, 0] <= x1 + 1e-9) & (P[:, 1] >= y0 - 1e-9) & (P[:, 1] <= y1 + 1e-9))
+    P = rng.uniform([x0, y0], [x1, y1], (n_free, 2))
+    free = ~np.any([o.contains(P, 1e-9) for o in obstacles], axis=0)
+    for p in P[free]:
+        assert any(c.contains(p, 1e-9) for c in dec.cells), f"free point {p} in no cell"
+
+
+@pytest.mark.parametrize("scene", ["overlapping boxes", "crossing the bounds", "random overlapping"])
+def test_trapezoidal_cells_are_free_and_cover_any_scene(scene):
+    """Issue 25: overlapping obstacles gave a "free" cell centred at [4, 4] inside the box [2, 5]²; a box reaching
+    outside the bounds gave cells outside the rectangle."""
+    rng = np.random.default_rng(4)
+    bounds = (0.0, 10.0, 0.0, 10.0)
+    if scene == "overlapping boxes":
+        obstacles = [box(2, 2, 5, 5), box(3, 4, 7, 6)]
+    elif scene == "crossing the bounds":
+        obstacles = [box(-1, 3, 4, 5), box(6, 8, 12, 12), Polygon([[5, -2], [8, 1], [6, 3]])]
+    else:
+        obstacles = []
+        for _ in range(6):
+            a = np.sort(rng.uniform(0, 2 * np.pi, 5))
+            obstacles.append(Polygon(rng.uniform(-1, 11, 2) + rng.uniform(1, 3) * np.column_stack([np.cos(a), np.sin(a)])))
+    dec = trapezoidal_decomposition(bounds, obstacles)
+    _check_cells_against_scene(dec, bounds, obstacles, rng)
+    quad = quadtree_decomposition(bounds, obstacles, min_size=0.3)
+    _check_cells_against_scene(quad, bounds, obstacles, rng, n_free=0)

@@ -41,3 +41,68 @@ def test_bad_waypoints_are_refused(setting):
         time_optimal_path(arm, np.zeros((1, 2)), limits)
     with pytest.raises(ValueError, match="waypoints"):
         time_optimal_path(arm, np.full((3, 2), np.nan), limits)
+
+
+def test_blended_polyline_is_c1_and_its_derivatives_are_exact():
+    from planners.time_optimal import BlendedPolyline
+
+    W = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [2.0, 2.0]])
+    path = BlendedPolyline(W, [0.2, 0.3])
+    s = np.linspace(0.0, path.length, 4001)
+    q, dq, ddq = path(s), path(s, 1), path(s, 2)
+    h = s[1] - s[0]
+    smooth = ~np.array([np.any((a < path.breakpoints) & (path.breakpoints < b)) for a, b in zip(s[:-1], s[1:])])
+    mid = path(0.5 * (s[1:] + s[:-1]), 1)                  # exact for a quadratic piece: q' integrates to q
+    np.testing.assert_allclose((np.diff(q, axis=0) / h)[smooth], mid[smooth], atol=1e-9)
+    assert np.abs(np.diff(dq, axis=0)).max() <= np.abs(ddq).max() * h + 1e-12                 # no tangent jump (C¹)
+    inner = (ddq[1:-1] == ddq[:-2]).all(axis=1) & (ddq[1:-1] == ddq[2:]).all(axis=1)
+    np.testing.assert_allclose(np.diff(dq, axis=0)[1:][inner] / h, ddq[1:-1][inner], atol=1e-9)
+    np.testing.assert_allclose(q[[0, -1]], W[[0, -1]], atol=1e-12)
+    # the first blend stays in the triangle (v − δu₋, v, v + δu₊): within δ of the corner in every coordinate
+    near = (s >= path.breakpoints[1]) & (s <= path.breakpoints[2])            # the first blend
+    assert np.abs(path.breakpoints[2] - path.breakpoints[1] - 0.4) < 1e-12
+    assert np.all(np.abs(q[near] - W[1]) <= 0.2 + 1e-12)
+
+
+@pytest.fixture(scope="module")
+def panda_scene():
+    from examples.planning import panda_shelf
+
+    return panda_shelf()
+
+
+def test_planner_shortcut_timing_on_the_panda_never_collides(panda_scene):
+    """Issue 25: rrt_connect → shortcut → time_optimal_path(space=...) gives a certified motion on every seed
+    where the planner succeeds, and a dense pairwise re-check of the geometric path (≤ 2.5 mrad steps) finds
+    no contact; the spline through the same waypoints (no space: not certified) does collide."""
+    from planners.sampling import rrt_connect, shortcut
+
+    sc = panda_scene
+    space, checker = sc.space, sc.space.checker
+    limits = JointLimits.from_robot(sc.robot, qdd_max=5.0)
+    spline_hits = 0
+    for seed in range(6):
+        res = rrt_connect(space, sc.q_start, sc.q_goal, seed, step=0.5, max_iterations=5000)
+        assert res.success, res.message
+        path = shortcut(space, res.path, seed, attempts=100)
+        motion = time_optimal_path(sc.robot, path, limits, space=space)
+        assert motion.certified and motion.min_clearance > 0
+        assert np.all(np.abs(motion.qd) <= limits.qd_max * (1 + 1e-6))
+        np.testing.assert_allclose(motion.q[[0, -1]], [sc.q_start, sc.q_goal], atol=1e-12)
+        L = motion.path.length
+        S = np.linspace(0.0, L, int(np.ceil(L / 0.0025)) + 1)
+        Q = motion.path(S)
+        assert np.abs(np.diff(Q, axis=0)).max() <= 0.0025
+        assert not any(checker.in_collision_pairwise(q) for q in Q), f"seed {seed}"
+        assert not any(checker.in_collision_pairwise(q) for q in motion.q)
+        spline = time_optimal_path(sc.robot, path, limits)
+        assert not spline.certified
+        spline_hits += any(checker.in_collision_pairwise(q) for q in spline.q[::5])
+    assert spline_hits >= 1          # the defect the certified blends remove
+
+
+def test_uncertified_waypoints_are_refused(panda_scene):
+    sc = panda_scene
+    limits = JointLimits.from_robot(sc.robot, qdd_max=5.0)
+    with pytest.raises(ValueError, match="not a certified-free polyline"):
+        time_optimal_path(sc.robot, np.array([sc.q_start, sc.q_goal]), limits, space=sc.space)

@@ -731,19 +731,20 @@ class MujocoPlant:
         self.model.opt.timestep = timestep
         mujoco, m, d, n = self._mj, self.model, self.data, self.n
         mujoco.mj_resetData(m, d)           # a run starts afresh: no torque held, no solver warm start
-        mj_step, qpos, qvel, warnings = mujoco.mj_step, d.qpos, d.qvel, d.warning
+        mj_step, qpos, qvel, qfrc, tau_max = mujoco.mj_step, d.qpos, d.qvel, d.qfrc_applied, self.tau_max
+        counts = d.warning.number          # a view of MuJoCo's warning counters
+        acc, pos, vel = (int(w) for w in (mujoco.mjtWarning.mjWARN_BADQACC, mujoco.mjtWarning.mjWARN_BADQPOS,
+                                          mujoco.mjtWarning.mjWARN_BADQVEL))
         substeps = range(k)
-        bad = [int(w) for w in (mujoco.mjtWarning.mjWARN_BADQACC, mujoco.mjtWarning.mjWARN_BADQPOS,
-                                mujoco.mjtWarning.mjWARN_BADQVEL)]
 
         def step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
             qpos[:] = x[:n]
             qvel[:] = x[n:]
-            d.qfrc_applied[:] = u if self.tau_max is None else np.clip(u, -self.tau_max, self.tau_max)
-            before = warnings.number[bad].sum()
+            qfrc[:] = u if tau_max is None else np.clip(u, -tau_max, tau_max)
+            before = counts.item(acc) + counts.item(pos) + counts.item(vel)
             for _ in substeps:
                 mj_step(m, d)
-            if warnings.number[bad].sum() != before:
+            if counts.item(acc) + counts.item(pos) + counts.item(vel) != before:
                 raise SimulationDiverged(f"MuJoCo found a non-finite or huge state or acceleration in the step "
                                          f"from t = {t:.6g} s and reset it: the loop diverges (step h = {h:g} s, "
                                          f"MuJoCo timestep {timestep:g} s)", t)

@@ -434,8 +434,9 @@ def test_a_shape_mujoco_cannot_build_is_named():
         MujocoPlant(arm)
 
 
-def test_a_diverging_loop_stops_and_says_when(panda, panda_plant):
+def test_a_diverging_loop_stops_and_says_when(panda, panda_plant, tmp_path, monkeypatch):
     """MuJoCo resets a state it finds bad (silently, but for a warning): the plant raises SimulationDiverged."""
+    monkeypatch.chdir(tmp_path)                 # MuJoCo writes its warning to MUJOCO_LOG.TXT in the working directory
     with pytest.raises(SimulationDiverged, match="MuJoCo found"):
         simulate(panda_plant, PDGravityCompensation(panda, 1e9, 1e7, panda.configurations["ready"]), (0.0, 0.2),
                  panda_plant.initial_state(panda.configurations["ready"] + 0.1), h=1e-3)

@@ -252,7 +252,7 @@ def panda_wall_on_mujoco() -> Solution:
 # --------------------------------------------------------------------------------------------
 
 def planned_motion_on_mujoco(seed: int = 1) -> Solution:
-    """The Panda's RRT-Connect motion out of the shelf (shortcut, mstraj timing, re-checked) tracked by computed torque
+    """The Panda's RRT-Connect motion out of the shelf (certified, shortcut, time-optimal, re-checked) tracked by computed torque
     (8.57), K_P = 400, K_D = 40, on MuJoCo among the boxes and on ArmPlant; then the straight line between the same
     postures (a quintic in 3 s), which the planner would not accept, on MuJoCo."""
     from examples.planning import panda_shelf, plan_and_time
@@ -261,8 +261,7 @@ def planned_motion_on_mujoco(seed: int = 1) -> Solution:
                    kind="simulation")
     scenario = panda_shelf()
     panda, boxes = scenario.robot, scenario.boxes
-    motion = plan_and_time(scenario, "rrt_connect", seed)
-    law = motion.law
+    law = plan_and_time(scenario, "rrt_connect", seed).motion     # time-optimal along the certified path
     ctrl = InverseDynamicsControl(panda, 400.0, 40.0, law, viscous_friction=panda.friction.viscous)
     mj_plant = MujocoPlant(panda, boxes)
     run, ref = _both(mj_plant, ArmPlant(panda, friction=panda.friction), ctrl, scenario.q_start, law.t_f + 0.5,

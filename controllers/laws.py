@@ -111,7 +111,12 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
     else:
         x_d = as_vector(reference, n, name).copy()
         zero = np.zeros(n)
-        return lambda t: (x_d, zero, zero)
+
+        def set_point(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            return x_d, zero, zero
+
+        set_point.at_times = lambda times: (np.broadcast_to(x_d, (len(times), n)),) + (np.zeros((len(times), n)),) * 2
+        return set_point
 
     def sampled(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         x, xd, xdd = law(t)

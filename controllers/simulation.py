@@ -586,17 +586,24 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     if check_step is not None:
         check_step(h, x)
     if backend != "python":
-        from controllers.compiled import simulate_compiled  # the same loop as one CasADi function
+        from controllers.compiled import CompiledLoopUnavailable, simulate_compiled  # the same loop, compiled
 
-        ts, xs, us, signals, t_bad = simulate_compiled(plant, controller, t0, len(sample_times(t0, tf, Ts)), x, h,
-                                                       n_sub, bound, backend)
-        if t_bad is not None:
-            raise SimulationDiverged(f"plant state became non-finite or exceeded {bound:g} by t = {t_bad:.6g} s "
-                                     f"(backend={backend!r}, checked every Ts): the loop diverges", t_bad)
-        for name, value in ({} if log is None else _logged(log, ts, xs, us)).items():
-            signals[name] = value
-        return SimulationResult(t=ts, x=xs, u=us, signals=signals, layout=dict(getattr(plant, "state_layout", {})),
-                                units=dict(getattr(plant, "units", {})))
+        try:
+            ts, xs, us, signals, t_bad = simulate_compiled(plant, controller, t0, len(sample_times(t0, tf, Ts)), x,
+                                                           h, n_sub, bound, backend)
+        except CompiledLoopUnavailable as fault:   # no compiler, a failing one, an unusable cache: one line, go on
+            import warnings
+
+            warnings.warn(f"{fault}; the loop runs on the Python backend (same results, slower)", stacklevel=2)
+        else:
+            if t_bad is not None:
+                raise SimulationDiverged(f"plant state became non-finite or exceeded {bound:g} by t = {t_bad:.6g} s "
+                                         f"(backend={backend!r}, checked every Ts): the loop diverges", t_bad)
+            for name, value in ({} if log is None else _logged(log, ts, xs, us)).items():
+                signals[name] = value
+            return SimulationResult(t=ts, x=xs, u=us, signals=signals,
+                                    layout=dict(getattr(plant, "state_layout", {})),
+                                    units=dict(getattr(plant, "units", {})))
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
     integrate = getattr(plant, "integrate", None)
     n_dx = getattr(plant, "tangent_size", x.size)

@@ -938,6 +938,15 @@ class VisualServo(Chain):
         return SymbolicLaw.build(robot.nq, n, 1 + camera.n_inputs, law.gains, parts,
                                  _ChainInputs(hold.Ts, camera), state=state)
 
+    def compiled_inputs(self, n_state: int) -> tuple[np.ndarray, np.ndarray, Any]:
+        """(p, c_0, reference) of a compiled run of this chain (:func:`controllers.compiled.law_inputs`): the law's
+        gains, the estimate after ``reset()`` then zeros (the held torque and log), the hold and camera rows."""
+        camera, estimator, hold = self._blocks()
+        p = np.concatenate([np.atleast_2d(np.asarray(v, dtype=float)).ravel(order="F") for v in hold.block.gains.values()])
+        x0 = [estimator.x_hat] if estimator is not None else []
+        c0 = np.concatenate(x0 + [np.zeros(n_state - (4 if estimator is not None else 0))])
+        return p, c0, _ChainInputs(hold.Ts, camera)
+
     @staticmethod
     def _parts(law: Any, estimator: Any, camera: EyeInHandCamera, q: Any, qd: Any, x_hat: Any, K: dict,
                inputs: Any) -> tuple[Any, Any, dict]:

@@ -675,8 +675,8 @@ class CompiledLoop:
     The compiled run is cached by :func:`loop_key` — a digest of the blocks' structure, not of generated code —
     in this process (:func:`compiled_loop`) and on disk (``$RMPC_CACHE``, with the names of its signals beside
     it): a loop found there is loaded without building any expression (``rollout``, ``law`` are then built on
-    first use). ``lookup_time`` is the time to compute the key and find the run [s], ``build_time`` the time
-    spent building expressions, generating and compiling code (0 when found), ``compile_time`` their sum.
+    first use). ``compile_time`` is the time the constructor took [s]: ``build_time`` when it built the run
+    (expressions, C code, the C compiler), ``lookup_time`` when it found it (the key, loading the library).
     """
 
     def __init__(self, plant: Any, controller: Any, h: float, n_sub: int, n_samples: int,
@@ -689,7 +689,7 @@ class CompiledLoop:
         self._law: SymbolicLaw | None = None
         self._sample: ca.Function | None = None
         self._rollout: ca.Function | None = None
-        self._built = 0.0
+        self._buffers = threading.local()
         self.key = key
         if compile:
             self.key = self.key or loop_key(plant, controller, h, n_sub, n_samples)
@@ -701,14 +701,14 @@ class CompiledLoop:
         self.nx, self.nc, self.signals, self.scalars = meta["nx"], meta["nc"], tuple(meta["signals"]), \
             tuple(meta["scalars"])
         self.compile_time = time.perf_counter() - start
-        self.build_time = self._built
-        self.lookup_time = self.compile_time - self.build_time
+        built = self._sample is not None                 # symbolic built here: generated and compiled (or interpreted)
+        self.build_time = self.compile_time if built else 0.0
+        self.lookup_time = 0.0 if built else self.compile_time
 
     # the symbolic loop, built when needed
     def _build(self) -> None:
         if self._sample is not None:
             return
-        start = time.perf_counter()
         plant, controller, h, n_sub = self.plant, self.controller, self.h, self.n_sub
         if hasattr(controller, "reset"):
             controller.reset()                                  # the law's initial state is the reset one
@@ -735,7 +735,6 @@ class CompiledLoop:
             x_next = rk4_step_law(lambda t, xi, ui: f(xi, ui), 0.0, x_next, u, h, stage)
         self._sample = ca.Function("sample", [xc, r, p], [ca.vertcat(x_next, c_next) if nc else x_next, u, *logged])
         self._law, self._nx, self._nc = law, nx, nc
-        self._built += time.perf_counter() - start
 
     @property
     def law(self) -> SymbolicLaw:
@@ -756,7 +755,6 @@ class CompiledLoop:
         """``(x0, R, p) → (X, U, signals…)``: the sample accumulated over the run (built on first use)."""
         if self._rollout is None:
             self._build()
-            start = time.perf_counter()
             sample, n_samples = self._sample, self.n_samples
             X0, R, P = (ca.MX.sym(name, *sample.size_in(i)[:1], cols) for i, (name, cols)
                         in enumerate((("x0", 1), ("R", n_samples), ("p", 1))))
@@ -769,7 +767,6 @@ class CompiledLoop:
                 X, outputs = X0, sample(X0, R[:, 0], P)[1:]
             names = ["X", "U", *(f"signal_{i}" for i in range(len(outputs) - 1))]
             self._rollout = ca.Function("rollout", [X0, R, P], [X, *outputs], ["x0", "R", "p"], names)
-            self._built += time.perf_counter() - start
         return self._rollout
 
     # one run
@@ -807,13 +804,36 @@ class CompiledLoop:
         x0 = np.asarray(x0, dtype=float)
         if self.nc:
             x0 = np.concatenate([x0, c0])
-        X, U, *logged = (np.asarray(v) for v in self.run(x0, R, p))
-        X = X[:self.nx]
-        bad = ~(np.all(np.isfinite(X), axis=0) & (np.max(np.abs(X), axis=0, initial=0.0) <= bound))
-        bad |= ~np.all(np.isfinite(U), axis=0)
-        t_bad = float(ts[int(np.argmax(bad))]) if np.any(bad) else None
-        signals = {name: v.T[:, 0].copy() if name in self.scalars else v.T for name, v in zip(self.signals, logged)}
-        return ts, X.T.copy(), U.T.copy(), signals, t_bad
+        X, U, *logged = self._call(x0, R, p)                 # each (N, rows): the transposes of the run's outputs
+        X = X[:, :self.nx] if self.nc else X
+        t_bad = None
+        if not (np.abs(X).max(initial=0.0) <= bound and np.isfinite(U.sum())):     # one pass; NaN fails it too
+            bad = ~(np.all(np.isfinite(X), axis=1) & (np.max(np.abs(X), axis=1, initial=0.0) <= bound))
+            bad |= ~np.all(np.isfinite(U), axis=1)
+            t_bad = float(ts[int(np.argmax(bad))]) if np.any(bad) else None
+        signals = {name: v[:, 0].copy() if name in self.scalars else v for name, v in zip(self.signals, logged)}
+        return ts, np.ascontiguousarray(X), U, signals, t_bad
+
+    def _call(self, x0: np.ndarray, R: np.ndarray, p: np.ndarray) -> list[np.ndarray]:
+        """``run(x0, R, p)`` through a CasADi function buffer: the inputs are read and the outputs written in place
+        as numpy arrays (column-major (rows, N) is row-major (N, rows): the outputs come transposed, as the result
+        holds them), without converting to and from CasADi matrices."""
+        run = self.run
+        buffers = self._buffers.__dict__
+        if "buffer" not in buffers:                          # one per thread: a buffer holds its arguments
+            buffers["buffer"] = run.buffer()
+        buf, evaluate = buffers["buffer"]
+        inputs = [np.ascontiguousarray(x0, dtype=float), np.ascontiguousarray(R.T, dtype=float),
+                  np.ascontiguousarray(p, dtype=float)]
+        for i, value in enumerate(inputs):
+            if value.size != run.nnz_in(i):
+                raise ValueError(f"the compiled run's input {run.name_in(i)} has {run.nnz_in(i)} entries, got {value.size}")
+            buf.set_arg(i, memoryview(value))
+        outputs = [np.empty((run.size2_out(i), run.size1_out(i))) for i in range(run.n_out())]
+        for i, value in enumerate(outputs):
+            buf.set_res(i, memoryview(value))
+        evaluate()
+        return outputs
 
 
 def _compile(build: Callable[[], ca.Function], name: str, key: bytes, metadata: Callable[[], bytes]

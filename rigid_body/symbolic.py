@@ -64,10 +64,22 @@ def _model(robot_or_model: Any) -> pin.Model:
 _BUILT: dict[tuple, ca.Function] = {}
 
 
+_DIGESTS: dict[int, tuple[pin.Model, bytes]] = {}
+
+
 def model_digest(model: pin.Model) -> bytes:
-    """A digest of the model's content (its serialisation, ≈ 0.2 ms for a 7-DOF arm): the key of everything
-    built once per model — a copy or an equal model shares it, a model changed in place does not."""
-    return hashlib.sha256(model.saveToString().encode()).digest()
+    """A digest of the model's content (its serialisation, ≈ 0.2–0.4 ms for an arm; remembered per model object
+    and reused while the model still equals — Pinocchio's ``==``, under 1 µs — the copy it was computed on): the
+    key of everything built once per model — a copy or an equal model shares it, a model changed in place does
+    not."""
+    known = _DIGESTS.get(id(model))
+    if known is not None and known[0] == model:
+        return known[1]
+    digest = hashlib.sha256(model.saveToString().encode()).digest()
+    if len(_DIGESTS) > 256:
+        _DIGESTS.clear()
+    _DIGESTS[id(model)] = (model.copy(), digest)
+    return digest
 
 
 def _once(kind: str, model: pin.Model, build: Callable[[], ca.Function], *key: Any) -> ca.Function:

@@ -24,7 +24,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from rigid_body.validation import as_positive, as_vector
+from rigid_body.rotations import as_homogeneous
+from rigid_body.validation import as_positive, as_scalar, as_vector
 
 
 class Environment(Protocol):
@@ -38,7 +39,14 @@ NO_CONTACT.setflags(write=False)
 
 
 def _position(T_e: Any) -> np.ndarray:
-    return T_e.translation if hasattr(T_e, "translation") else np.asarray(T_e)[:3, 3]
+    """The origin of the end-effector pose ``T_e`` (a ``pin.SE3`` or a (4, 4) homogeneous transform),
+    checked: ValueError naming ``T_e`` (a (3,) position is not a pose: ``wrench_at`` takes one)."""
+    if hasattr(T_e, "translation") and hasattr(T_e, "rotation"):
+        T_e = T_e.homogeneous
+    if np.shape(T_e) != (4, 4):
+        raise ValueError(f"`T_e` must be the end-effector pose, a pin.SE3 or a (4, 4) homogeneous transform, "
+                         f"got shape {np.shape(T_e)} (for a position p_e (3,) call wrench_at(p_e, v_e))")
+    return as_homogeneous(T_e, "T_e")[:3, 3]
 
 
 class ContactEnvironment:
@@ -50,9 +58,15 @@ class ContactEnvironment:
     def wrench_at(self, p_e: np.ndarray, v_e: np.ndarray) -> np.ndarray:
         raise NotImplementedError
 
+    def contact_modes(self) -> list[tuple[np.ndarray, float, float]]:
+        """The springs of the contact, (direction d (3,), stiffness k [N/m], damping c [N·s/m]) in the base
+        frame: what limits the integration step (:meth:`controllers.plants.ArmInContact.check_step`)."""
+        return []
+
     def wrench(self, T_e: Any, v_e: np.ndarray) -> np.ndarray:
-        """h_e (6,) at the pose T_e (``pin.SE3`` or (4, 4)) and twist v_e (6,)."""
-        return self.wrench_at(_position(T_e), v_e)
+        """h_e (6,) at the pose T_e (``pin.SE3`` or (4, 4)) and twist v_e (6,), both checked (ValueError
+        naming them); ``wrench_at`` is the unchecked form on plain arrays."""
+        return self.wrench_at(_position(T_e), as_vector(v_e, 6, "v_e"))
 
 
 class CompliantPlane(ContactEnvironment):
@@ -92,6 +106,10 @@ class CompliantPlane(ContactEnvironment):
         self._n = tuple(float(c) for c in self.normal)             # plain floats for the hot loop
         self._offset = float(self.normal @ self.point)             # n·p_0
         self._normal_twist = np.concatenate([self.normal, np.zeros(3)])   # v_n = [n; 0]·v_e, h_e = −N [n; 0]
+
+    def contact_modes(self) -> list[tuple[np.ndarray, float, float]]:
+        """One spring along the normal: (n, K, D). (Friction's regularised slope μN/v_s is not counted.)"""
+        return [(self.normal.copy(), self.stiffness, self.damping)]
 
     def penetration(self, p: np.ndarray) -> float:
         """δ = n·(p_0 − p) [m] (positive inside the material)."""
@@ -154,7 +172,7 @@ class SteppedPlane(CompliantPlane):
         if not np.linalg.norm(d) > 1e-9:
             raise ValueError("`direction` must have a component along the plane (not parallel to `normal`)")
         self.direction = d / np.linalg.norm(d)
-        self.step_at = float(as_vector(step_at, 1, "step_at")[0])
+        self.step_at = as_scalar(step_at, "step_at")
         self.depth = as_positive(depth, "depth")
         self._edge = float(self.direction @ self.point) + self.step_at      # d·p beyond which the recess lies
 
@@ -179,6 +197,18 @@ class SurfaceWithHole(ContactEnvironment):
     depth: float
     stiffness: float = 2e4
     damping: float = 50.0
+
+    def __post_init__(self) -> None:
+        checked = {"x_hole": as_scalar(self.x_hole, "x_hole"), "clearance": as_positive(self.clearance, "clearance"),
+                   "depth": as_positive(self.depth, "depth"), "stiffness": as_positive(self.stiffness, "stiffness"),
+                   "damping": as_positive(self.damping, "damping", allow_zero=True)}
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
+
+    def contact_modes(self) -> list[tuple[np.ndarray, float, float]]:
+        """The faces' springs: the hole walls along x, the top surface and the bottom along y."""
+        return [(np.array([1.0, 0.0, 0.0]), self.stiffness, self.damping),
+                (np.array([0.0, 1.0, 0.0]), self.stiffness, self.damping)]
 
     def force(self, p: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Force (f_x, f_y) exerted by the environment on the peg tip at position p, velocity v."""

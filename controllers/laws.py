@@ -26,7 +26,7 @@ from controllers.simulation import LoggedController
 from rigid_body.dynamics import reference_torque_kernel
 from rigid_body.rotations import as_homogeneous
 from rigid_body.task_space import FrameState, frame_state_kernel, pose_error_kernel, singular_task, solve_task
-from rigid_body.validation import as_matrix, as_vector
+from rigid_body.validation import as_matrix, as_positive, as_vector
 
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 PoseReference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
@@ -62,9 +62,12 @@ def as_friction(viscous_friction: Any, n: int) -> np.ndarray:
 
 def as_gain(K: Any, n: int, name: str) -> np.ndarray:
     """A gain matrix (n, n) from a scalar (K I), a vector (diag K) or a matrix; must be positive definite."""
-    K_arr = np.asarray(K, dtype=float)
+    K_arr = np.asarray(K)
+    if K_arr.dtype.kind not in "biuf":
+        raise ValueError(f"`{name}` must be a number, a vector or a matrix of numbers, got {K!r:.60}")
+    K_arr = K_arr.astype(float)
     if K_arr.ndim == 0:
-        M = float(K_arr) * np.eye(n)
+        M = as_vector(K_arr, 1, name)[0] * np.eye(n)
     elif K_arr.ndim == 1:
         M = np.diag(as_vector(K_arr, n, name))
     else:
@@ -226,6 +229,15 @@ class _RowsOfLaw:
     def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         r = self.rows
         return tuple(np.asarray(v, dtype=float)[..., r] for v in self.law(t))
+
+
+def rate_options(max_condition: Any, damping: Any) -> tuple[float, float | None]:
+    """(max_condition, damping) of a resolved-velocity law (:func:`rigid_body.task_space.resolved_rates`):
+    a condition bound ≥ 1 and a damping λ > 0 or None (exact inverse, refused near a singularity)."""
+    bound = as_positive(max_condition, "max_condition")
+    if bound < 1:
+        raise ValueError(f"`max_condition` must be >= 1 (a condition number), got {bound:g}")
+    return bound, None if damping is None else as_positive(damping, "damping")
 
 
 def check_redundancy(m: int, n: int) -> None:

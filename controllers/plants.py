@@ -356,6 +356,45 @@ class ArmInContact:
         self._aba = not robot.has_mimic
         self._measured: tuple = (None, None, None, None)   # (t, x as a list, h_e, J) of the last measurement
 
+    def contact_masses(self, q: Any) -> list[tuple[np.ndarray, float, float, float]]:
+        """(d, k, c, m) for each spring of the environment (its ``contact_modes``): direction d (base frame),
+        stiffness k, damping c and the arm's effective mass along d at the contact point at q,
+        m = 1/(dᵀ J_P B⁻¹ J_Pᵀ d) (the mass a force along d accelerates, Sect. 7.8; inf when the arm
+        cannot move along d there)."""
+        from rigid_body.dynamics import inertia_matrix
+
+        modes = getattr(self.environment, "contact_modes", None)
+        if modes is None:
+            return []
+        q = as_vector(q, self.nq, "q")
+        J = pin.computeFrameJacobian(self._model, self._data, q, self._fid, _LWA)[:3]
+        B = inertia_matrix(self.robot, q)
+        out = []
+        for d, k, c in modes():
+            w = J.T @ np.asarray(d, dtype=float)
+            mobility = float(w @ np.linalg.solve(B, w))
+            out.append((np.asarray(d, dtype=float), float(k), float(c), 1.0 / mobility if mobility > 0 else math.inf))
+        return out
+
+    def check_step(self, h: float, x0: Any) -> None:
+        """ValueError when RK4 of step ``h`` is unstable on a spring of the contact from the state ``x0``:
+        k and c of the environment on the arm's effective mass m at the contact (:meth:`contact_masses`,
+        :func:`controllers.simulation.rk4_stable`; without damping h √(k/m) ≤ 2√2). Such a run would stay
+        bounded and be non-physical (the arm kicked off the wall), so :func:`~controllers.simulation.simulate`
+        calls this before the first step. The mass is the one at x0 (it changes with the posture)."""
+        from controllers.simulation import rk4_stable, rk4_step_bound, rk4_stiffness_bound
+
+        x0 = as_vector(x0, self.state_size, "x0")
+        for d, k, c, m in self.contact_masses(x0[:self.nq]):
+            if math.isfinite(m) and not rk4_stable(m, c, k, h):
+                k_max, h_max = rk4_stiffness_bound(m, c, h), rk4_step_bound(m, c, k)
+                why = f" (h √(k/m) = {h * math.sqrt(k / m):.3g} > 2√2)" if c == 0 else ""
+                raise ValueError(
+                    f"`stiffness` k = {k:.4g} N/m (damping {c:.4g} N·s/m) of the {type(self.environment).__name__} "
+                    f"along {np.round(d, 3).tolist()} is too stiff for the step h = {h:.4g} s: on the arm's "
+                    f"effective mass m = {m:.4g} kg at the contact the RK4 step is unstable{why}. Bound: "
+                    f"k ≤ {k_max:.4g} N/m at this h, or h ≤ {h_max:.4g} s for this k")
+
     def wrench(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(h_e (6,), J (6, nv)) at (q, q̇)."""
         model, data, fid = self._model, self._data, self._fid

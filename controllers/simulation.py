@@ -61,6 +61,11 @@ The plant contract (duck-typed; only ``derivative`` is required)
     ``max |x_i| <= bound`` is evaluated when it fails).
 ``initial_state(q0, qd0=None) -> x0``
     On arm plants: the state at rest (or moving with ``qd0``).
+``check_step(h, x0)``
+    The plant's own test of the integration step, called by :func:`simulate` before the first step
+    (for either backend): ValueError when RK4 of step ``h`` cannot be stable on the plant from ``x0``
+    (:class:`~controllers.plants.ArmInContact`: a contact too stiff for h at the arm's effective mass,
+    :func:`rk4_stable`), instead of a run that stays bounded and is non-physical.
 
 The controller contract
 -----------------------
@@ -328,6 +333,44 @@ RK4_WEIGHTS = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
 """The weights b_i of classical Runge–Kutta: x' = x + h Σ b_i k_i."""
 
 
+# --------------------------------------------------------------------------------------------
+# The step RK4 can take on a spring-mass-damper mode (a stiff contact)
+# --------------------------------------------------------------------------------------------
+
+def rk4_stable(mass: float, damping: float, stiffness: float, h: float) -> bool:
+    """Whether RK4 of step ``h`` is stable on m ẍ + d ẋ + k x = 0: both roots λ of m λ² + d λ + k
+    have |R(hλ)| ≤ 1, R(z) = 1 + z + z²/2 + z³/6 + z⁴/24 (RK4's amplification; without damping
+    h √(k/m) ≤ 2√2)."""
+    roots = np.roots([mass, damping, stiffness]) if stiffness > 0 else np.array([0.0, -damping / mass])
+    z = h * roots.astype(complex)
+    return bool(np.all(np.abs(1 + z + z * z / 2 + z ** 3 / 6 + z ** 4 / 24) <= 1.0 + 1e-12))
+
+
+def rk4_stiffness_bound(mass: float, damping: float, h: float) -> float:
+    """The largest k for which RK4 of step ``h`` is stable on m ẍ + d ẋ + k x = 0 (:func:`rk4_stable`;
+    8 m/h² without damping); 0 when the damping alone is too much for h (h d/m > 2.785)."""
+    if not rk4_stable(mass, damping, 0.0, h):
+        return 0.0
+    lo, hi = 0.0, 8.0 * mass / (h * h)
+    while rk4_stable(mass, damping, hi, h):
+        lo, hi = hi, 2.0 * hi
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if rk4_stable(mass, damping, mid, h) else (lo, mid)
+    return lo
+
+
+def rk4_step_bound(mass: float, damping: float, stiffness: float) -> float:
+    """The largest h for which RK4 is stable on m ẍ + d ẋ + k x = 0 (:func:`rk4_stable`): 2√2 √(m/k)
+    without damping."""
+    rate = float(np.max(np.abs(np.roots([mass, damping, stiffness]))))   # |λ|: stable for h |λ| ≤ 1, not 3.5
+    lo, hi = 1.0 / rate, 3.5 / rate
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if rk4_stable(mass, damping, stiffness, mid) else (lo, mid)
+    return lo
+
+
 def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray], h: float,
                 integrate: Callable[[np.ndarray, np.ndarray, float], np.ndarray] | None = None,
                 dexp_inverse: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None,
@@ -481,7 +524,8 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
 
     Raises
     ------
-    ValueError : bad arguments (naming them), an ``x0`` of the wrong size, a derivative of the wrong shape.
+    ValueError : bad arguments (naming them), an ``x0`` of the wrong size, a derivative of the wrong shape, a step
+        ``h`` the plant says RK4 cannot take (its ``check_step``: e.g. a contact too stiff for h).
     SimulationDiverged : when the state becomes non-finite or exceeds ``bound``, naming the time.
     """
     try:
@@ -510,6 +554,9 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     if nx is not None and x.size != nx:
         raise ValueError(f"`x0` must have {nx} entries for {type(plant).__name__} "
                          f"(see its initial_state), got {x.size}")
+    check_step = getattr(plant, "check_step", None)
+    if check_step is not None:
+        check_step(h, x)
     if backend != "python":
         from controllers.compiled import simulate_compiled  # the same loop as one CasADi function
 

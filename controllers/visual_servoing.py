@@ -31,11 +31,13 @@ import numpy as np
 import pinocchio as pin
 from scipy.linalg import get_lapack_funcs
 
+from controllers.laws import as_gain, per_joint, rate_options
 from controllers.simulation import Chain, LoggedController, ZeroOrderHold
 from rigid_body.camera import FieldOfView, SegmentFeatures, TargetView, segment_features, view_points
 from rigid_body.robots import Robot
-from rigid_body.rotations import nearest_rotation
-from rigid_body.validation import as_matrix, as_positive, as_vector
+from rigid_body.rotations import as_homogeneous, nearest_rotation
+from rigid_body.task_space import RATE_CONDITION, resolved_rates
+from rigid_body.validation import as_points, as_positive, as_scalar, as_vector
 from rigid_body.vision import depth_ratio, homography_dlt, pose_from_homography
 
 SCARA_DOFS = (0, 1, 2, 5)   # v_x, v_y, v_z, ω_z: the camera twist of Example 10.3
@@ -79,6 +81,40 @@ def camera_jacobian(robot: Robot, q: np.ndarray, frame: int) -> np.ndarray:
     """J_c (6×n): the camera twist in the camera frame, [v_c^c; ω_c^c] = J_c q̇ = [R_cᵀ J_P; R_cᵀ J_O] q̇
     (Pinocchio's LOCAL frame Jacobian)."""
     return pin.computeFrameJacobian(robot.model, robot.data, q, frame, pin.LOCAL)
+
+
+TWIST_NAMES = ("v_x", "v_y", "v_z", "ω_x", "ω_y", "ω_z")
+
+
+def _configurations(robot: Robot, count: int = 4) -> list[np.ndarray]:
+    """The robot's neutral configuration and a few random ones within its limits (seeded): where a
+    property of the robot "at some posture" is tested."""
+    rng = np.random.default_rng(0)
+    return [robot.configurations["neutral"]] + [robot.random_configuration(rng) for _ in range(count - 1)]
+
+
+def camera_dofs(robot: Robot, frame: str | int | None = None) -> tuple[int, ...]:
+    """The camera-twist components [v_x, v_y, v_z, ω_x, ω_y, ω_z] (camera frame) along which the robot can move
+    its camera: the rows of J_c (:func:`camera_jacobian`) that are not zero at every posture (sampled: the
+    neutral and random configurations). The SCARA's are (0, 1, 2, 5) (:data:`SCARA_DOFS`), a 6-DOF arm's all six."""
+    fid = robot.ee_frame if frame is None else robot.frame(frame)
+    peak = np.zeros(6)
+    for q in _configurations(robot):
+        peak = np.maximum(peak, np.abs(camera_jacobian(robot, q, fid)).max(axis=1))
+    return tuple(int(i) for i in np.flatnonzero(peak > 1e-9 * max(peak.max(), 1e-300)))
+
+
+def _as_dofs(dofs: Any) -> tuple[int, ...]:
+    """``dofs`` as distinct camera-twist components in 0..5; ValueError naming it."""
+    try:
+        d = tuple(int(i) for i in dofs)
+        if not all(float(i) == j for i, j in zip(dofs, d)):
+            raise ValueError
+    except (TypeError, ValueError):
+        raise ValueError(f"`dofs` must be camera-twist components in 0..5 {TWIST_NAMES}, got {dofs!r}") from None
+    if not d or len(set(d)) != len(d) or min(d) < 0 or max(d) > 5:
+        raise ValueError(f"`dofs` must be distinct camera-twist components in 0..5 {TWIST_NAMES}, got {dofs!r}")
+    return d
 
 
 # --------------------------------------------------------------------------------------------
@@ -142,6 +178,8 @@ def _segment_interaction(x1: float, y1: float, iz1: float, x2: float, y2: float,
     −1 rad/rad and leaves L unchanged)."""
     dx, dy = x2 - x1, y2 - y1
     L2 = dx * dx + dy * dy
+    if L2 == 0:
+        raise ValueError("the segment's end points coincide in the image (seen end-on): α and L_s are undefined")
     L = math.sqrt(L2)
     a1, a2 = x1 * iz1, x2 * iz2
     b1, b2 = y1 * iz1, y2 * iz2
@@ -214,6 +252,11 @@ class TargetFeatures:
             raise ValueError(f"`kind` must be one of {FEATURE_KINDS}, got {kind!r}")
         if kind == "segment" and len(pts) != 2:
             raise ValueError(f"segment features need exactly 2 points, got {len(pts)}")
+        gaps = np.linalg.norm(pts[:, None, :] - pts[None, :, :], axis=2) + np.eye(len(pts))
+        if np.any(gaps == 0):
+            i, j = np.argwhere(gaps == 0)[0]
+            raise ValueError(f"`points_o` {i} and {j} coincide: their images would too (a zero-length segment, "
+                             "a rank-deficient L_s); give distinct points")
         self.points_o, self.kind = pts, kind
 
     @property
@@ -224,16 +267,38 @@ class TargetFeatures:
         """The view of the target when the object frame is at T_co (pose in the camera frame)."""
         return view_points(self.points_o @ T_co[:3, :3].T + T_co[:3, 3], fov)
 
-    def features(self, xy: np.ndarray) -> np.ndarray:
-        """s of the image points ``xy`` (n, 2)."""
+    def _image_points(self, xy: Any) -> np.ndarray:
+        xy = as_points(xy, 2, "xy")
+        if len(xy) != len(self.points_o):
+            raise ValueError(f"`xy` must hold the {len(self.points_o)} image points of the target, got {len(xy)}")
+        return xy
+
+    def features(self, xy: Any) -> np.ndarray:
+        """s of the image points ``xy`` (n, 2) (finite; ValueError naming them)."""
+        return self._features(self._image_points(xy))
+
+    def _features(self, xy: np.ndarray) -> np.ndarray:
+        """:meth:`features` of checked points (the laws' hot path)."""
         if self.kind == "segment":
             if xy[1, 0] == xy[0, 0] and xy[1, 1] == xy[0, 1]:
                 raise ValueError("the segment's end points coincide in the image: α is undefined")
             return _segment(xy)
         return xy.reshape(-1).copy()
 
-    def interaction_matrix(self, xy: np.ndarray, z: np.ndarray) -> np.ndarray:
-        """L_s (k×6) at image points ``xy`` with depths ``z`` (10.26; segments: chain rule through (10.28))."""
+    def interaction_matrix(self, xy: Any, z: Any) -> np.ndarray:
+        """L_s (k×6) at image points ``xy`` with depths ``z`` > 0 (10.26; segments: chain rule through (10.28));
+        ValueError naming them (a point at or behind the camera, coincident segment ends)."""
+        xy = self._image_points(xy)
+        z = as_vector(z, len(xy), "z")
+        if np.any(z <= 0):
+            raise ValueError(f"`z` (depths of the points) must be positive: a point at or behind the camera has no "
+                             f"image, got {z}")
+        if self.kind == "segment" and not np.any(xy[1] != xy[0]):
+            raise ValueError("the segment's end points coincide in the image: α and its interaction matrix are undefined")
+        return self._interaction(xy, z)
+
+    def _interaction(self, xy: np.ndarray, z: np.ndarray) -> np.ndarray:
+        """:meth:`interaction_matrix` of checked points and depths (the laws' hot path)."""
         L = _points_interaction(xy, z)
         return _segment_jacobian(xy) @ L if self.kind == "segment" else L
 
@@ -260,9 +325,9 @@ class EyeInHandCamera:
                  lost: dict[int, tuple[float, float]] | None = None):
         self.robot = robot
         self.frame = robot.ee_frame if frame is None else robot.frame(frame)
-        self.points_b = np.asarray(points_b, dtype=float)
-        if self.points_b.ndim != 2 or self.points_b.shape[1] != 3:
-            raise ValueError(f"`points_b` must have shape (n, 3), got {self.points_b.shape}")
+        self.points_b = as_points(points_b, 3, "points_b")
+        if np.ndim(points_b) != 2:
+            raise ValueError(f"`points_b` must have shape (n, 3), got {np.shape(points_b)}")
         self.fov, self.noise = fov, as_positive(noise, "noise", allow_zero=True)
         if self.noise > 0 and rng is None:
             raise ValueError("`rng` (a numpy Generator) is required when `noise` > 0")
@@ -356,7 +421,7 @@ class PoseEstimator(LoggedController):
     def __init__(self, target: TargetFeatures, x0: Any, K_s: Any, T: float):
         self.target, self.T = target, as_positive(T, "T")
         self.x0 = as_vector(x0, 4, "x0").copy()
-        self.K_s = as_matrix(K_s, (4, 4), "K_s") if np.ndim(K_s) == 2 else float(K_s) * np.eye(4)
+        self.K_s = as_gain(K_s, 4, "K_s")
         if target.size != 4:
             raise ValueError(f"the inverse-Jacobian estimator needs 4 features (a square L_s), got {target.size}")
         # Hot path (every loop sample): the points as floats, K_s as a vector when it is diagonal.
@@ -388,8 +453,11 @@ class PoseEstimator(LoggedController):
             return _segment_interaction(*xy[0], *xy[1])
         return np.array([w for u, v, _ in xy for w in (u, v)]), np.array(rows)
 
-    def update(self, s: np.ndarray) -> np.ndarray:
-        """One step with the measured features ``s``: returns x̂_{k+1} (``x_hat`` then holds it)."""
+    def update(self, s: Any) -> np.ndarray:
+        """One step with the measured features ``s`` (4,): returns x̂_{k+1} (``x_hat`` then holds it)."""
+        return self._update(as_vector(s, 4, "s"))
+
+    def _update(self, s: np.ndarray) -> np.ndarray:
         s_hat, L = self.predicted(self.x_hat)
         e_s = self.target.error(s, s_hat)
         Ke = self._K_s * e_s if self._K_s is not None else self.K_s @ e_s
@@ -437,7 +505,7 @@ class PoseEstimator(LoggedController):
         if not (visible[0] and visible[1]):
             self.record(x_hat=x_k, e_s=np.full(4, np.nan), s_hat=np.full(4, np.nan))
             return x_k                          # feature lost: the estimate is held
-        self.update(self.target.features(image.xy))
+        self._update(self.target._features(image.xy))
         return x_k
 
 
@@ -446,10 +514,24 @@ class PoseEstimator(LoggedController):
 # --------------------------------------------------------------------------------------------
 
 class _CameraLaw(LoggedController):
-    def __init__(self, robot: Robot, frame: str | int | None, dofs: Sequence[int]):
+    """A law on the camera carried by ``frame`` of ``robot`` that models the camera twist components ``dofs``
+    (None: those the robot moves its camera along, :func:`camera_dofs`). ValueError when the robot's camera
+    also moves along a component the law leaves out (the law would not see part of the motion it commands)."""
+
+    def __init__(self, robot: Robot, frame: str | int | None, dofs: Sequence[int] | None):
         self.robot = robot
         self.frame = robot.ee_frame if frame is None else robot.frame(frame)
-        self.dofs = list(dofs)
+        moving = camera_dofs(robot, self.frame)
+        self.dofs = list(moving if dofs is None else _as_dofs(dofs))
+        left_out = [i for i in moving if i not in self.dofs]
+        if left_out:
+            raise ValueError(
+                f"`dofs` {tuple(self.dofs)} leaves out {', '.join(TWIST_NAMES[i] for i in left_out)}, along which the "
+                f"camera of {robot.name!r} moves: {type(self).__name__} would not see part of the motion it "
+                f"commands (the error stalls). " + self._dofs_remedy(moving))
+
+    def _dofs_remedy(self, moving: tuple[int, ...]) -> str:
+        return f"Use dofs={moving} (the default, derived from the robot)."
 
     damping_twist = 1e-6
 
@@ -464,12 +546,23 @@ class _CameraLaw(LoggedController):
         return gamma_matrix(x_co) @ camera_jacobian(self.robot, q, self.frame)[_SCARA_ROWS]
 
 
-class PBVSPDGravity(_CameraLaw):
+class _PlanarPoseLaw(_CameraLaw):
+    """The 4-DOF PBVS laws (poses [x, y, z, φ], Example 10.3): for a camera that turns only about its optical axis."""
+
+    def __init__(self, robot: Robot, frame: str | int | None):
+        super().__init__(robot, frame, SCARA_DOFS)
+
+    def _dofs_remedy(self, moving: tuple[int, ...]) -> str:
+        return ("This law is the 4-DOF case (poses [x, y, z, φ] about the optical axis): for a camera that also "
+                "turns about x_c, y_c use PBVSPoseResolvedVelocity (6-DOF) or an IBVS law.")
+
+
+class PBVSPDGravity(_PlanarPoseLaw):
     """u = g(q) + J_Adᵀ(K_P x̃ − K_D J_Ad q̇), x̃ = x_{d,o} − x̂_{c,o} (Fig. 10.14), reading ``meas.q``,
     ``meas.qd`` and the estimate ``meas.estimate``. Logs ``x_tilde``."""
 
     def __init__(self, robot: Robot, x_do: Any, K_P: Any, K_D: Any, frame: str | int | None = None):
-        super().__init__(robot, frame, SCARA_DOFS)
+        super().__init__(robot, frame)
         self.x_do = as_vector(x_do, 4, "x_do")
         self.K_P = np.diag(as_vector(K_P, 4, "K_P"))
         self.K_D = np.diag(as_vector(K_D, 4, "K_D"))
@@ -499,23 +592,31 @@ class PBVSPDGravity(_CameraLaw):
         return g + J.T @ (K["K_P"] * x_tilde - K["K_D"] * (J @ qd)), {"x_tilde": x_tilde}
 
 
-class PBVSResolvedVelocity(_CameraLaw):
-    """q̇_r = J_Ad⁻¹ K x̃ (Fig. 10.15): x̃̇ = −K x̃ for a robot that follows its velocity reference."""
+class PBVSResolvedVelocity(_PlanarPoseLaw):
+    """q̇_r = J_Ad⁻¹ K x̃ (Fig. 10.15): x̃̇ = −K x̃ for a robot that follows its velocity reference.
 
-    def __init__(self, robot: Robot, x_do: Any, K: Any, frame: str | int | None = None):
-        super().__init__(robot, frame, SCARA_DOFS)
+    Near a singular posture (the SCARA stretched or folded, θ₂ = 0 or π) J_Ad⁻¹ turns a bounded error into
+    unphysical joint rates: the law raises a ValueError naming the posture when cond(J_Ad) > ``max_condition``
+    (default :data:`~rigid_body.task_space.RATE_CONDITION`), unless ``damping`` λ > 0 is given: then
+    q̇_r = J_Adᵀ(J_Ad J_Adᵀ + λ² I)⁻¹ K x̃ (damped least squares, 3.59) at every posture."""
+
+    def __init__(self, robot: Robot, x_do: Any, K: Any, frame: str | int | None = None,
+                 max_condition: float = RATE_CONDITION, damping: float | None = None):
+        super().__init__(robot, frame)
         self.x_do = as_vector(x_do, 4, "x_do")
-        self.K = np.diag(as_vector(K, 4, "K"))
+        self.K = np.diag(per_joint(K, 4, "K"))
+        if np.any(np.diag(self.K) <= 0):
+            raise ValueError(f"`K` must be positive gains, got {np.diag(self.K)}")
         self._k = np.diag(self.K).copy()
+        self.max_condition, self.damping = rate_options(max_condition, damping)
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         x_hat = meas.estimate
         x_tilde = _pose_error(self.x_do, x_hat)
         self.record(x_tilde=x_tilde)
-        _, _, qd_r, info = _gesv(self.pbvs_jacobian(meas.q, x_hat), self._k * x_tilde)
-        if info != 0:
-            raise ValueError(f"J_Ad is singular at q = {meas.q} (t = {t:.4g} s)")
-        return qd_r
+        return resolved_rates(self.pbvs_jacobian(meas.q, x_hat), self._k * x_tilde,
+                              f"(J_Ad at q = {np.round(meas.q, 6).tolist()}, t = {t:.4g} s)", self.max_condition,
+                              self.damping)
 
 
 class PBVSPoseResolvedVelocity(_CameraLaw):
@@ -535,7 +636,8 @@ class PBVSPoseResolvedVelocity(_CameraLaw):
         self.zeta = np.asarray(zeta, dtype=float)
         if self.zeta.ndim != 2 or self.zeta.shape[1] != 2 or len(self.zeta) < 4 or not np.all(np.isfinite(self.zeta)):
             raise ValueError(f"`zeta` must be a finite (n ≥ 4, 2) array of plane points, got {self.zeta.shape}")
-        T = as_matrix(T_do, (4, 4), "T_do")
+        _general_position(self.zeta, "zeta")
+        T = as_homogeneous(T_do, "T_do")
         self.T_od = np.linalg.inv(T)                          # (T_o^d)⁻¹
         self.K_p, self.K_o = as_positive(K_p, "K_p"), as_positive(K_o, "K_o")
 
@@ -559,6 +661,16 @@ class PBVSPoseResolvedVelocity(_CameraLaw):
         return self.joint_rates(meas.q, np.concatenate([self.K_p * o, w]))
 
 
+def _general_position(points: np.ndarray, name: str) -> None:
+    """ValueError naming ``name`` unless the plane points (n ≥ 4, 2) determine a homography (no three of four
+    collinear, no coincident points): the laws estimate one from them at every image."""
+    try:
+        homography_dlt(points, points)
+    except ValueError:
+        raise ValueError(f"`{name}` must hold plane points in general position (a homography needs 4 of them, no 3 "
+                         f"collinear), got {points.tolist()}") from None
+
+
 def _pose_error(x_d: np.ndarray, x: np.ndarray) -> np.ndarray:
     """x_d − x of 4-DOF poses, the angle difference wrapped to (−π, π]."""
     e = x_d - x
@@ -575,14 +687,22 @@ class _IBVSLaw(_CameraLaw):
     """Shared part of the IBVS laws: e_s = s_d − s and J_L = L̂_s(s, ẑ)[:, dofs] J_c[dofs] from ``meas.image``.
 
     ``depth``: a number = the same depth for every point (e.g. the desired one, z_d); None = the measured
-    depths (known depth); a function ``image -> z (n,)`` = an estimate (e.g. :func:`depth_from_segment`). Points not seen drop their rows (point features); with too few rows left the
-    damped least-squares inverse keeps the law defined, and with none the command is zero.
+    depths (known depth); a function ``image -> z (n,)`` = an estimate (e.g. :func:`depth_from_segment`). Points
+    not seen drop their rows (point features); with none left the command is zero.
+
+    ``dofs``: the camera-twist components the law commands (default: those the robot moves its camera along,
+    :func:`camera_dofs`). Refused at construction (ValueError) when the robot's camera also moves along a
+    component left out, or when L_s(s_d)[:, dofs] J_c[dofs] has a rank below min(k features, len(dofs)) at
+    every sampled posture (the chosen components cannot reduce the feature error). A servo that stalls —
+    J_Lᵀ K e_s ≈ 0 with e_s not small: the law commands (almost) nothing while the error remains (a local
+    minimum) — is reported once per run by a ``RuntimeWarning`` and kept in ``stall`` ((t, ‖e_s‖) or None).
     """
 
-    damping = 1e-4
+    STALL_ERROR = 1e-4         # ‖e_s‖ (normalised image units, 0.06 px at f α = 600 px) below which the servo has converged
+    STALL_GRADIENT = 1e-3      # ‖J_Lᵀ K e_s‖ / (‖J_L‖ ‖K e_s‖) below which the error is out of the law's reach
 
     def __init__(self, robot: Robot, target: TargetFeatures, s_d: Any, depth: Any,
-                 frame: str | int | None, dofs: Sequence[int]):
+                 frame: str | int | None, dofs: Sequence[int] | None):
         super().__init__(robot, frame, dofs)
         self.target = target
         self.s_d = as_vector(s_d, target.size, "s_d")
@@ -592,6 +712,73 @@ class _IBVSLaw(_CameraLaw):
             self.depth = as_positive(depth, "depth")
         self._depths = np.full(len(target.points_o), self.depth if isinstance(self.depth, float) else np.nan)
         self._dofs = np.array(self.dofs)
+        self._check_reach()
+        self.stall: tuple[float, float] | None = None
+
+    def reset(self) -> None:
+        super().reset()
+        self.stall = None
+
+    def _estimated_depths(self, image: CameraImage) -> np.ndarray:
+        """The depth estimate ``depth(image)``, checked where a point is seen: (n,), finite and positive."""
+        z = np.asarray(self.depth(image), dtype=float)
+        if z.shape != image.visible.shape:
+            raise ValueError(f"`depth` must return one depth per point ({len(image.visible)},), got shape {z.shape}")
+        seen = z[image.visible]
+        if not np.all(np.isfinite(seen) & (seen > 0)):
+            raise ValueError(f"`depth` estimated non-positive or non-finite depths {z} for points seen in the image")
+        return z
+
+    def _check_reach(self) -> None:
+        """ValueError when J_L = L_s(s_d, ẑ)[:, dofs] J_c[dofs] is degenerate at every sampled posture: its rank
+        below min(k features, rank J_c[dofs]) — some feature directions out of the camera's reach while some
+        camera motions leave the features unchanged (coincident desired points, a segment seen end-on)."""
+        xy = self._desired_points()
+        z = np.full(len(xy), self.depth if isinstance(self.depth, float) else 1.0)
+        L = _points_interaction(xy, z)
+        if self.target.kind == "segment":
+            L = _segment_jacobian(xy) @ L
+        L = L[:, self._dofs]
+        k, best = L.shape[0], None
+        for q in _configurations(self.robot):
+            Jc = camera_jacobian(self.robot, q, self.frame)[self._dofs]
+            motions = int(np.linalg.matrix_rank(Jc, tol=1e-9 * max(1.0, np.abs(Jc).max())))
+            JL = L @ Jc
+            rank = int(np.linalg.matrix_rank(JL, tol=1e-9 * max(1.0, np.abs(JL).max())))
+            if best is None or (rank - min(k, motions), rank) > (best[0] - min(k, best[1]), best[0]):
+                best = (rank, motions)                   # the least deficient posture, the generic rank on ties
+        rank, motions = best
+        self._rank = max(rank, 1)            # the rank of J_L with every feature seen (kept by resolved_rates)
+        if rank < min(k, motions):
+            raise ValueError(
+                f"`s_d`/`dofs` {tuple(self.dofs)}: J_L = L_s J_c has rank {rank} < min({k} features, {motions} "
+                f"independent camera motions) at every sampled posture of {self.robot.name!r}: the servo cannot "
+                "reduce the feature error in every direction (degenerate desired features: coincident points, a "
+                "segment seen end-on?); choose other `s_d`, features or `dofs`")
+
+    def _desired_points(self) -> np.ndarray:
+        """The desired image points (n, 2): s_d itself for points, the segment's ends from [x_m, y_m, L, α]."""
+        if self.target.kind == "points":
+            return self.s_d.reshape(-1, 2)
+        x_m, y_m, length, alpha = self.s_d.tolist()
+        if not length > 0:
+            raise ValueError(f"`s_d` must have a positive segment length L, got {length}")
+        h = 0.5 * length * np.array([math.cos(alpha), math.sin(alpha)])
+        return np.array([[x_m, y_m] - h, [x_m, y_m] + h])
+
+    def _watch_stall(self, t: float, e: np.ndarray, J: np.ndarray, Ke: np.ndarray) -> None:
+        """Report (once per run) a servo whose law no longer reduces the error: J_Lᵀ K e_s ≈ 0, e_s not small."""
+        if self.stall is not None or not math.sqrt(float(e @ e)) > self.STALL_ERROR:
+            return
+        gradient = J.T @ Ke
+        if math.sqrt(float(gradient @ gradient)) <= self.STALL_GRADIENT * np.linalg.norm(J, 2) * np.linalg.norm(Ke):
+            import warnings
+
+            self.stall = (t, float(np.linalg.norm(e)))
+            warnings.warn(f"{type(self).__name__}: the servo stalls at t = {t:.4g} s with ‖e_s‖ = {self.stall[1]:.3g}: "
+                          "J_Lᵀ K e_s ≈ 0, the remaining feature error is out of reach of the commanded twist (a local "
+                          f"minimum of IBVS, or `dofs` {tuple(self.dofs)} that miss the camera's motion)",
+                          RuntimeWarning, stacklevel=2)
 
     def error_and_jacobian(self, q: np.ndarray, image: CameraImage) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(e_s, J_L, rows used) at the current image; rows of unseen points are removed."""
@@ -600,15 +787,15 @@ class _IBVSLaw(_CameraLaw):
         if self.depth is None:
             z = image.z
         elif callable(self.depth):
-            z = self.depth(image)
+            z = self._estimated_depths(image)
         else:
             z = self._depths if len(self._depths) == len(seen) else np.full(len(seen), self.depth)
         if self.target.kind == "segment":
             if not (seen[0] and seen[1]):
                 return np.zeros(0), np.zeros((0, len(q))), np.zeros(0, dtype=int)
             rows = np.arange(4)
-            s = self.target.features(image.xy)
-            L = self.target.interaction_matrix(image.xy, z)
+            s = self.target._features(image.xy)
+            L = self.target._interaction(image.xy, z)
         else:
             rows = np.flatnonzero(np.repeat(seen, 2))
             s = image.xy.reshape(-1)[rows]
@@ -616,29 +803,25 @@ class _IBVSLaw(_CameraLaw):
         e = self.target.error(self.s_d, s) if self.target.kind == "segment" else self.s_d[rows] - s
         return e, L[:, self._dofs] @ Jc[self._dofs], rows
 
-    def inverse(self, J: np.ndarray) -> np.ndarray:
-        """J⁻¹ when J is square and well conditioned, else the damped least-squares inverse (3.59)."""
-        if J.shape[0] == J.shape[1] and np.linalg.cond(J) < 1e8:
-            return np.linalg.inv(J)
-        return J.T @ np.linalg.inv(J @ J.T + self.damping * np.eye(J.shape[0]))
 
 
 class IBVSPDGravity(_IBVSLaw):
     """u = g(q) + J_Lᵀ(K_Ps e_s − K_Ds J_L q̇), e_s = s_d − s (Fig. 10.16). Logs ``e_s``."""
 
     def __init__(self, robot: Robot, target: TargetFeatures, s_d: Any, K_Ps: Any, K_Ds: Any,
-                 depth: Any = None, frame: str | int | None = None, dofs: Sequence[int] = SCARA_DOFS):
+                 depth: Any = None, frame: str | int | None = None, dofs: Sequence[int] | None = None):
         super().__init__(robot, target, s_d, depth, frame, dofs)
-        self.K_Ps = as_vector(K_Ps, target.size, "K_Ps")
-        self.K_Ds = as_vector(K_Ds, target.size, "K_Ds")
+        self.K_Ps = _positive_gains(K_Ps, target.size, "K_Ps")
+        self.K_Ds = _positive_gains(K_Ds, target.size, "K_Ds")
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         e, J, rows = self.error_and_jacobian(meas.q, meas.image)
         self.record(e_s=_full(e, rows, self.target.size))
         g = pin.computeGeneralizedGravity(self.robot.model, self.robot.data, meas.q)   # g(q), (7.39)
-        if rows.size != self.target.size:
-            return g + J.T @ (self.K_Ps[rows] * e - self.K_Ds[rows] * (J @ meas.qd))
-        return g + J.T @ (self.K_Ps * e - self.K_Ds * (J @ meas.qd))
+        K_Ps, K_Ds = (self.K_Ps, self.K_Ds) if rows.size == self.target.size else (self.K_Ps[rows], self.K_Ds[rows])
+        Ke = K_Ps * e
+        self._watch_stall(t, e, J, Ke)
+        return g + J.T @ (Ke - K_Ds * (J @ meas.qd))
 
     def symbolic_gains(self) -> dict[str, np.ndarray]:
         return {"K_Ps": self.K_Ps[:, None], "K_Ds": self.K_Ds[:, None]}
@@ -673,19 +856,37 @@ class IBVSPDGravity(_IBVSLaw):
 
 
 class IBVSResolvedVelocity(_IBVSLaw):
-    """q̇_r = J_L⁻¹ K_s e_s (Fig. 10.17; damped least-squares inverse when J_L is not square): ė_s = −K_s e_s."""
+    """q̇_r = J_L⁻¹ K_s e_s (Fig. 10.17): ė_s = −K_s e_s; J_L† (minimum norm, or least squares for more features
+    than joints) when J_L is not square.
+
+    Near a singular J_L the law raises a ValueError naming the posture when cond(J_L) > ``max_condition``
+    (:func:`rigid_body.task_space.resolved_rates`), unless ``damping`` λ > 0 is given: then the damped
+    least-squares q̇_r = J_Lᵀ(J_L J_Lᵀ + λ² I)⁻¹ K_s e_s (3.59) at every posture."""
 
     def __init__(self, robot: Robot, target: TargetFeatures, s_d: Any, K_s: Any, depth: Any = None,
-                 frame: str | int | None = None, dofs: Sequence[int] = SCARA_DOFS):
+                 frame: str | int | None = None, dofs: Sequence[int] | None = None,
+                 max_condition: float = RATE_CONDITION, damping: float | None = None):
         super().__init__(robot, target, s_d, depth, frame, dofs)
-        self.K_s = as_vector(K_s, target.size, "K_s") if np.ndim(K_s) else np.full(target.size, float(K_s))
+        self.K_s = _positive_gains(K_s, target.size, "K_s")
+        self.max_condition, self.damping = rate_options(max_condition, damping)
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         e, J, rows = self.error_and_jacobian(meas.q, meas.image)
         self.record(e_s=_full(e, rows, self.target.size))
         if rows.size == 0:
             return np.zeros(len(meas.q))        # nothing seen: stop and wait
-        return self.inverse(J) @ (self.K_s[rows] * e)
+        Ke = self.K_s[rows] * e
+        self._watch_stall(t, e, J, Ke)
+        return resolved_rates(J, Ke, f"(J_L = L_s J_c at q = {np.round(meas.q, 6).tolist()}, t = {t:.4g} s)",
+                              self.max_condition, self.damping, min(J.shape[0], self._rank))
+
+
+def _positive_gains(K: Any, size: int, name: str) -> np.ndarray:
+    """Per-feature gains: a scalar or (size,), finite and positive."""
+    k = per_joint(K, size, name)
+    if np.any(k <= 0):
+        raise ValueError(f"`{name}` must be positive gains, got {k}")
+    return k
 
 
 def depth_from_segment(length: float) -> Any:
@@ -695,7 +896,11 @@ def depth_from_segment(length: float) -> Any:
 
     def estimate(image: CameraImage) -> np.ndarray:
         d = image.xy[1] - image.xy[0]
-        return np.full(len(image.visible), length / math.hypot(d[0], d[1]))
+        image_length = math.hypot(d[0], d[1])
+        if image_length == 0:
+            raise ValueError("depth_from_segment: the segment's end points coincide in the image (the segment is "
+                             "seen end-on): its depth ℓ/L is undefined")
+        return np.full(len(image.visible), length / image_length)
 
     return estimate
 
@@ -802,6 +1007,7 @@ def hybrid_error_jacobians(x: float, y: float, z_c: float) -> tuple[np.ndarray, 
     J_p = (1/z_c)[[−1, 0, x], [0, −1, y], [0, 0, −1]], J_o = [[xy, −1−x², y], [1+y², −xy, −x], [−y, x, 0]]
     (z_d ρ_z = z_c, Problem 10.13)."""
     z_c = as_positive(z_c, "z_c")
+    x, y = as_scalar(x, "x"), as_scalar(y, "y")
     J_p = np.array([[-1.0, 0.0, x], [0.0, -1.0, y], [0.0, 0.0, -1.0]]) / z_c
     J_o = np.array([[x * y, -1.0 - x * x, y], [1.0 + y * y, -x * y, -x], [-y, x, 0.0]])
     return J_p, J_o
@@ -829,7 +1035,10 @@ class HybridVisualServo(_CameraLaw):
         self.xy_d = np.asarray(xy_d, dtype=float)
         if self.xy_d.ndim != 2 or self.xy_d.shape[1] != 2 or len(self.xy_d) < 4 or not np.all(np.isfinite(self.xy_d)):
             raise ValueError(f"`xy_d` must be a finite (n ≥ 4, 2) array of desired image points, got {self.xy_d.shape}")
+        _general_position(self.xy_d, "xy_d")
         n = as_vector(n_d, 3, "n_d")
+        if not np.linalg.norm(n) > 0:
+            raise ValueError(f"`n_d` (the plane's normal) must be a non-zero vector, got {n_d!r}")
         self.n_d = n / np.linalg.norm(n)
         self.z_d = as_positive(z_d, "z_d")
         self.K_p = as_vector(K_p, 3, "K_p") if np.ndim(K_p) else np.full(3, as_positive(K_p, "K_p"))

@@ -46,6 +46,7 @@ DEPTH = 0.5          # desired distance of the camera from the plane [m]
 SIDE = 0.2           # side of the square [m]
 TC = 0.02            # vision/controller period [s]
 K_S = 1.0
+DAMPING = 1e-2       # λ of the damped least-squares inverse of J_L (8×7): defined through the occlusion and the retreat
 
 
 @dataclass(frozen=True)
@@ -87,7 +88,7 @@ def run_ibvs(sc: PandaScene, q0: np.ndarray, t_f: float, noise: float = 0.0, los
     s_d = target.features(view_target(sc.T_d, sc.points_b).xy)
     camera = EyeInHandCamera(sc.robot, sc.points_b, FRAME, fov=FOV, noise=noise,
                              rng=np.random.default_rng(seed), lost=lost)
-    law = IBVSResolvedVelocity(sc.robot, target, s_d, K_S, depth=depth, frame=FRAME, dofs=range(6))
+    law = IBVSResolvedVelocity(sc.robot, target, s_d, K_S, depth=depth, frame=FRAME, damping=DAMPING)
     return simulate(KinematicArm(), visual_servo(camera, law, TC), (0.0, t_f), q0, h=TC, Ts=TC)
 
 

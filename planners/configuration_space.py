@@ -16,6 +16,10 @@
   any of their points moves between two configurations (used to certify a path between samples).
 * The free configuration space on a grid and its connected components, with wrap-around on angular
   coordinates (Problem 12.4); certificates that a straight C-space path is collision-free.
+* The edge certificate every planner uses (:func:`certify_by_bisection`, :class:`EdgeCertificate`): the
+  clearances at the ends of a motion against a bound on how far the robot moves along it, bisected where
+  that does not suffice (Schwarzer, Saha & Latombe 2004); :meth:`PlanarCSpace.certify_edge` applies it
+  with per-part motion bounds (or the exact segment test for a translating disc).
 
 Robots loaded from URDF among boxes (coal through Pinocchio's ``GeometryModel``) are in
 :mod:`planners.collision`.

@@ -93,6 +93,7 @@ class PlanResult:
     distance_queries : configurations at which the planner computed clearances (vertices and bisection
         points, accepted and refused edges alike); 0 in the sampled mode.
     validity_checks : configurations checked for validity (samples, and every sampled edge configuration).
+    edges_tested : edges submitted to the edge check (accepted or refused).
     """
 
     success: bool
@@ -106,6 +107,7 @@ class PlanResult:
     min_clearance: float = float("nan")
     distance_queries: int = 0
     validity_checks: int = 0
+    edges_tested: int = 0
 
 
 def local_path(space: PlanningSpace, a: Any, b: Any) -> np.ndarray:
@@ -172,6 +174,7 @@ class _EdgeTester:
             _certifying(space)
         self.queries = 0
         self.checks = 0
+        self.edges = 0
 
     def clear(self, q: np.ndarray) -> np.ndarray | None:
         """The clearances at a new vertex (certified mode), or None (sampled mode)."""
@@ -189,6 +192,7 @@ class _EdgeTester:
 
     def test(self, a: np.ndarray, b: np.ndarray, ca: np.ndarray | None, cb: np.ndarray | None) -> float | None:
         """The edge a → b: its smallest clearance met when accepted (NaN in the sampled mode), None when refused."""
+        self.edges += 1
         if self.certified:
             cert = self.space.certify_edge(a, b, ca, cb)
             self.queries += cert.queries
@@ -211,7 +215,7 @@ class _EdgeTester:
         return PlanResult(success, path, path_length(self.space, path) if success else np.inf,
                           np.asarray(nodes, dtype=float).reshape(-1, dim), np.asarray(edges, dtype=int).reshape(-1, 2),
                           message, np.zeros((0, 2)) if controls is None else controls,
-                          self.certified and success, c_min, self.queries, self.checks)
+                          self.certified and success, c_min, self.queries, self.checks, self.edges)
 
 
 class _Budget:
@@ -645,6 +649,7 @@ def unicycle_rrt(space: PlanningSpace, q_start: Any, q_goal: Any, rng: Any,
         for p, prim in enumerate(prims):
             if p in used[near]:
                 continue
+            tester.edges += 1
             if tester.certified:
                 cert = certify_arc(space, tree.nodes[near], prim, delta, tree.clear[near])
                 tester.queries += cert.queries

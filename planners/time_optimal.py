@@ -182,7 +182,9 @@ class TimeOptimalPath:
     of velocity, acceleration and torque on that grid; ``solve_time`` [s]; ``backoffs`` re-solves;
     ``path`` the geometric path q(s) and ``s`` (M,) its parameter at the samples; ``certified`` (the
     motion stays in certified free space at every instant, not only at the samples), with the smallest
-    clearance certified along the polyline ``min_clearance`` [m] (NaN when not certified)."""
+    clearance certified along the polyline ``min_clearance`` [m] (NaN when not certified). Calling it,
+    ``motion(t)``, gives q, q̇, q̈ at any instants (the exact timing law, like the laws of
+    :mod:`planners.timing`)."""
 
     t: np.ndarray
     q: np.ndarray
@@ -197,6 +199,26 @@ class TimeOptimalPath:
     s: np.ndarray | None = None
     certified: bool = False
     min_clearance: float = float("nan")
+    knots: tuple = ()          # (t_k, s_k, ṡ_k, s̈_k) at the TOPP-RA grid points: the timing law s(t)
+
+    @property
+    def t_i(self) -> float:
+        return 0.0
+
+    def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """q, q̇, q̈ at the instants t (scalar → (n,), (N,) → (N, n)), exactly: s(t) is piecewise quadratic
+        (constant s̈ between grid points) and q = q(s(t)); t is clamped to [0, t_f] (rest outside)."""
+        tk, sk, sdk, sddk = self.knots
+        t_arr = np.asarray(t, dtype=float)
+        T = np.clip(np.atleast_1d(t_arr), 0.0, self.t_f)
+        i = np.clip(np.searchsorted(tk, T, side="right") - 1, 0, len(sddk) - 1)
+        tau = T - tk[i]
+        s = np.minimum(sk[i] + sdk[i] * tau + 0.5 * sddk[i] * tau ** 2, sk[-1])
+        sd = np.maximum(sdk[i] + sddk[i] * tau, 0.0)
+        sdd = np.where(T >= self.t_f, 0.0, sddk[i])
+        dq, ddq = self.path(s, 1), self.path(s, 2)
+        out = self.path(s, 0), dq * sd[:, None], dq * sdd[:, None] + ddq * (sd ** 2)[:, None]
+        return out if t_arr.ndim else tuple(x[0] for x in out)
 
 
 def time_optimal_path(robot: Robot, waypoints: np.ndarray, limits: JointLimits, gridpoints: int = 200,
@@ -281,4 +303,4 @@ def time_optimal_path(robot: Robot, waypoints: np.ndarray, limits: JointLimits, 
             if r > 1.0 + 1e-6:
                 scale[k] *= (1.0 - 1e-4) / r
     return TimeOptimalPath(T, q, qd, qdd, tau, float(t[-1]), ratios, time.perf_counter() - start, backoff,
-                           path, S, certified, c_min)
+                           path, S, certified, c_min, (t, s, sd, sdd))

@@ -27,7 +27,7 @@ from typing import Any, Callable, Protocol
 import numpy as np
 from scipy.linalg import solve_banded
 
-from rigid_body.validation import as_positive, as_vector
+from rigid_body.validation import as_positive, as_scalar, as_vector
 
 __all__ = [
     "TimingLaw", "PiecewisePolynomial", "RaisedCosine", "Trajectory", "sample",
@@ -74,8 +74,8 @@ def _as_value(x: Any, shape: tuple[int, ...] | None, name: str) -> np.ndarray:
 
 def _as_interval(t_i: Any, t_f: Any) -> tuple[float, float, float]:
     """(t_i, t_f, T = t_f − t_i) as finite floats with t_f > t_i; ValueError naming the argument."""
-    t_i = float(as_vector(t_i, 1, "t_i")[0])
-    t_f = float(as_vector(t_f, 1, "t_f")[0])
+    t_i = as_scalar(t_i, "t_i")
+    t_f = as_scalar(t_f, "t_f")
     if not t_f > t_i:
         raise ValueError(f"`t_f` must be greater than `t_i`, got t_i = {t_i}, t_f = {t_f}")
     return t_i, t_f, t_f - t_i
@@ -886,7 +886,7 @@ def multi_segment_times(via_points: Any, qd_max: Any, t_acc: float, *, t_i: floa
     if np.any(vmax <= 0):
         raise ValueError(f"`qd_max` must be positive, got {vmax}")
     t_acc = as_positive(t_acc, "t_acc")
-    t_i = float(as_vector(t_i, 1, "t_i")[0])
+    t_i = as_scalar(t_i, "t_i")
     durations = np.maximum((np.abs(np.diff(q, axis=0)) / vmax).max(axis=1), t_acc)
     return t_i + 0.5 * t_acc + np.concatenate([[0.0], np.cumsum(durations)])
 

@@ -13,7 +13,9 @@ Chapters 9–10) share:
   Jacobian.
 * :func:`damped_least_squares_inverse` (3.59) and :func:`weighted_pseudo_inverse` (3.50)/(3.52).
 * :func:`selection_matrices`, :func:`selection_pseudo_inverse` (9.55), :func:`selection_projection`
-  (P_f, P_v) — the natural/artificial constraints of a force/motion task (Sects. 9.5–9.6).
+  (P_f, P_v) — the natural/artificial constraints of a force/motion task (Sects. 9.5–9.6);
+  :func:`contact_wrenches` and :func:`reciprocal_basis` derive them from a contact model (the twists a
+  pair of bodies admits and the wrenches its contacts exert, each the reciprocal complement of the other).
 * :func:`relative_position_rate`, :func:`relative_euler_rate` — the end-effector motion w.r.t. a
   desired frame, Eqs. (9.10)–(9.11).
 * :func:`joint_rates` — q̇ = J⁻¹ ẋ, q̈ = J⁻¹ (ẍ − J̇ q̇) (3.51 and 3.99 inverted) and
@@ -40,7 +42,7 @@ from rigid_body.robots import Robot, revolute_joints
 from rigid_body.rotations import (axis_angle_error_kernel, euler_rate_matrix_rpy, euler_rate_matrix_zyz, orientation_error_quaternion,
                                   orientation_error_matrix_kernel, rotation_to_euler_zyz, rotation_to_quaternion,
                                   rotation_to_rpy, wrap_angle)
-from rigid_body.validation import as_matrix, as_vector
+from rigid_body.validation import as_matrix, as_points, as_vector
 
 __all__ = [
     "ORIENTATIONS",
@@ -56,6 +58,8 @@ __all__ = [
     "damped_least_squares_inverse",
     "weighted_pseudo_inverse",
     "SINGULAR_CONDITION",
+    "RATE_CONDITION",
+    "resolved_rates",
     "solve_task",
     "singular_task",
     "joint_rates",
@@ -64,6 +68,8 @@ __all__ = [
     "selection_pseudo_inverse",
     "selection_projection",
     "selection_matrices",
+    "contact_wrenches",
+    "reciprocal_basis",
     "relative_position_rate",
     "relative_euler_rate",
 ]
@@ -373,6 +379,43 @@ def _solve3(J: np.ndarray, b: np.ndarray) -> np.ndarray | None:
                      (C * r0 + F * r1 + I * r2) / det])
 
 
+RATE_CONDITION = 1e3
+"""cond(J) above which a resolved-velocity law q̇ = J⁻¹ K e refuses to invert J (:func:`resolved_rates`): near a
+singular posture a bounded error asks for joint rates of cond(J) times their usual size (1e3: three orders
+of magnitude; the exactly singular case of :data:`SINGULAR_CONDITION` is far beyond any physical rate)."""
+
+
+def resolved_rates(J: np.ndarray, b: np.ndarray, where: str, max_condition: float = RATE_CONDITION,
+                   damping: float | None = None, rank: int | None = None) -> np.ndarray:
+    """q̇ = J⁻¹ b (square J), else J† b (minimum-norm least squares): the joint rates of a resolved-velocity law,
+    refused near a singular posture.
+
+    ``rank``: the rank J has away from singularities (default min of its sizes; less when it is structurally
+    deficient, e.g. L_s J_c of 8 point features on a 7-joint arm has rank 6): J† then keeps its ``rank``
+    largest singular values. ``damping`` None: ValueError when σ_1/σ_rank > ``max_condition`` (the rates
+    would be unphysical), naming ``where`` (the posture), the condition number and the remedies; ``damping``
+    = λ > 0: the damped least-squares rates Jᵀ(J Jᵀ + λ² I)⁻¹ b (3.59), defined at every posture
+    (|q̇| ≤ |b|/(2λ)), never refused."""
+    m, n = J.shape
+    if damping is not None:
+        return J.T @ np.linalg.solve(J @ J.T + damping * damping * np.eye(m), b)
+    r = min(m, n) if rank is None else rank
+    if m == n == r:                              # square: one gesv gives J⁻¹ b and J⁻¹; cond₂ ≤ ‖J‖_F ‖J⁻¹‖_F
+        rhs = np.empty((m, m + 1), order="F")
+        rhs[:, 0] = b
+        rhs[:, 1:] = np.eye(m)
+        _, _, X, info = _gesv(J, rhs, overwrite_b=True)
+        if info == 0 and math.sqrt(np.vdot(J, J) * np.vdot(X[:, 1:], X[:, 1:])) < max_condition:
+            return X[:, 0].copy()
+    U, sigma, Vt = np.linalg.svd(J, full_matrices=False)
+    if not (r >= 1 and sigma.size >= r and sigma[r - 1] * max_condition > sigma[0] > 0):
+        cond = sigma[0] / sigma[r - 1] if sigma.size >= r and sigma[r - 1] > 0 else math.inf
+        raise ValueError(f"the Jacobian is (near) singular {where}: cond = {cond:.3g} > max_condition = "
+                         f"{max_condition:g}, the joint rates would grow by that factor; move away from the "
+                         "singular posture, raise `max_condition`, or pass `damping` (damped least squares, 3.59)")
+    return Vt[:r].T @ ((U[:, :r].T @ b) / sigma[:r])
+
+
 def singular_task(where: str) -> ValueError:
     """The error raised when the task Jacobian J_A cannot be inverted (cond(J_A) > SINGULAR_CONDITION)."""
     return ValueError(f"J_A is singular {where} (condition number > {SINGULAR_CONDITION:g}): "
@@ -562,6 +605,46 @@ def selection_matrices(velocity_axes: Sequence[str], R_c: Any = None,
         T = R if len(names) == k else np.kron(np.eye(2), R)
         S_f, S_v = T @ S_f, T @ S_v
     return S_f, S_v
+
+
+def contact_wrenches(points: Any, normals: Any) -> np.ndarray:
+    """The unit wrenches [n_i; p_i × n_i] (6 × k, moments about the frame's origin) that k frictionless
+    point contacts at ``points`` p_i (k, 3) with contact ``normals`` n_i (k, 3, normalised here) can exert.
+
+    A twist ξ = [ṗ; ω] keeps contact i to first order when the contact point's velocity ṗ + ω × p_i
+    has no normal component, n_iᵀ(ṗ + ω × p_i) = [n_i; p_i × n_i]ᵀ ξ = 0: the pair's twist space is
+    :func:`reciprocal_basis` of these wrenches (Sect. 9.6, natural constraints from the geometry).
+    """
+    p = as_points(points, 3, "points")
+    n = as_points(normals, 3, "normals")
+    if n.shape != p.shape:
+        raise ValueError(f"`normals` must have the shape of `points` {p.shape}, got {n.shape}")
+    norm = np.linalg.norm(n, axis=1, keepdims=True)
+    if np.any(norm < 1e-12):
+        raise ValueError("`normals` must be non-zero vectors")
+    n = n / norm
+    return np.vstack([n.T, np.cross(p, n).T])
+
+
+def reciprocal_basis(S: Any, tol: float = 1e-9) -> np.ndarray:
+    """An orthonormal basis (6 × (6 − rank S)) of the screws reciprocal to the columns of ``S`` (6 × k).
+
+    Twists ξ = [ṗ; ω] and wrenches h = [f; μ] pair by the power hᵀξ = fᵀṗ + μᵀω, so the reciprocal
+    complement is {x : Sᵀx = 0}: of a pair's contact wrenches (:func:`contact_wrenches`), its admissible
+    twists (the natural velocity constraints leave these free, S_v); of those twists, the reaction wrenches
+    that do no work on them (S_f, Sect. 9.6: S_fᵀ S_v = 0). ``tol`` is the rank threshold relative to the
+    largest singular value of S (a zero matrix has the whole space as complement).
+    """
+    S = np.asarray(S, dtype=float)
+    if S.ndim == 1:
+        S = S.reshape(-1, 1)
+    if S.ndim != 2 or S.shape[0] != 6 or not np.isfinite(S).all():
+        raise ValueError(f"`S` must be a finite (6, k) array of screws, got shape {S.shape}")
+    if S.shape[1] == 0 or not S.any():
+        return np.eye(6)
+    U, sigma, _ = np.linalg.svd(S)
+    rank = int(np.sum(sigma > tol * sigma[0]))
+    return U[:, rank:]
 
 
 # --------------------------------------------------------------------------------------------

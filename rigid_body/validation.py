@@ -17,12 +17,22 @@ MAX_TOL = 1e-3  # the largest tolerance a geometric check accepts (rotations, Eu
 
 
 def _as_float_array(x: Any, name: str, what: str) -> np.ndarray:
+    """``x`` as a float array; ValueError naming ``name`` for anything that is not numbers — text too, which
+    numpy would parse ("2" → 2.0): a number given as a string is a mistake to report, not to guess."""
     if type(x) is np.ndarray and x.dtype == np.float64:
         return x
     try:
-        return np.asarray(x, dtype=float)
+        a = np.asarray(x)
+        if a.dtype.kind in "USO" and (a.dtype.kind != "O" or _has_text(a)):
+            raise TypeError
+        return a.astype(float) if a.dtype != np.float64 else a
     except (TypeError, ValueError):
         raise ValueError(f"`{name}` must be {what}, got {type(x).__name__} {x!r:.60}") from None
+
+
+def _has_text(a: np.ndarray) -> bool:
+    """Whether an object array holds text (str or bytes) anywhere."""
+    return any(isinstance(v, (str, bytes)) for v in a.ravel().tolist())
 
 
 _FLOAT64, _NDARRAY, _isfinite = np.dtype(np.float64), np.ndarray, math.isfinite
@@ -72,6 +82,8 @@ def as_scalar(value: Any, name: str) -> float:
 
 def as_positive(value: Any, name: str, allow_zero: bool = False) -> float:
     """``value`` as a finite positive (or, with ``allow_zero``, non-negative) float; ValueError naming ``name``."""
+    if isinstance(value, (str, bytes)):
+        raise ValueError(f"`{name}` must be a number, got {type(value).__name__} {value!r:.60}")
     try:
         v = float(value)
     except (TypeError, ValueError):

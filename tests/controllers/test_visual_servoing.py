@@ -71,7 +71,9 @@ def test_estimator_input_checks():
 def test_ibvs_degrades_without_crashing_when_points_are_lost():
     robot = scara_eye_in_hand()
     s_d = TARGET.features(TARGET.view_from_pose(planar_pose(X_DO)).xy)
-    law = IBVSResolvedVelocity(robot, TargetFeatures(P_O, "points"), np.r_[s_d[:2], s_d[:2]], 1.0, depth=0.6)
+    points = TargetFeatures(P_O, "points")
+    law = IBVSResolvedVelocity(robot, points, points.features(points.view_from_pose(planar_pose(X_DO)).xy), 1.0,
+                               depth=0.6)
     camera = EyeInHandCamera(robot, _target_points_b(), lost={0: (0.0, 1.0)})
     meas = ArmMeasurement(Q0, None)
     u = law(0.5, Augmented(meas, image=camera(0.5, meas)))

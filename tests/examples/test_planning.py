@@ -24,21 +24,22 @@ def test_anthropomorphic_demo_all_checks_pass():
 def test_the_straight_motion_is_blocked_and_the_recheck_sees_it(panda):
     """The query is not trivial, and the independent re-check can fail: the timed straight line hits."""
     assert not edge_is_free(panda.space, panda.q_start, panda.q_goal)
+    assert not edge_is_free(panda.space, panda.q_start, panda.q_goal, edge_check="sampled")
     law = time_path(np.array([panda.q_start, panda.q_goal]), panda.qd_max, panda.qdd_max)
     free, n, t_hit = recheck(panda.space.checker, law)
     assert not free and law.t_i < t_hit < law.t_f
 
 
-def test_panda_rrt_connect_motion_is_free_and_within_limits(panda):
+def test_panda_rrt_connect_motion_is_certified_free_and_within_limits(panda):
     m = plan_and_time(panda, "rrt_connect", seed=2)
-    assert m.free and m.qd_scale == 1.0
-    # second re-check, independent of the demo's: the broad-phase checker on a 2 mrad grid of the law
-    t = np.linspace(m.law.t_i, m.law.t_f, 6001)
-    q = np.reshape(m.law(t)[0], (t.size, -1))
+    assert m.free and m.result.certified and m.motion.certified and m.distance_queries > 0
+    # second re-check, independent of the demo's: the broad-phase checker on a 2 mrad grid of the motion
+    t = np.linspace(0.0, m.motion.t_f, 6001)
+    q = np.reshape(m.motion(t)[0], (t.size, -1))
     assert np.abs(np.diff(q, axis=0)).max() < 0.002
     assert not any(panda.space.checker.in_collision(qk) for qk in q[::3])
     assert np.all(q >= panda.space.lower - 1e-9) and np.all(q <= panda.space.upper + 1e-9)
     h = t[1] - t[0]
     assert np.all(np.abs(np.diff(q, axis=0)) / h <= panda.qd_max * 1.001)
-    assert np.all(np.abs(np.diff(q, 2, axis=0)) / h ** 2 <= panda.qdd_max * 1.02)
+    assert np.all(np.abs(np.diff(q, 2, axis=0)) / h ** 2 <= panda.qdd_max * 1.05)
     np.testing.assert_allclose(q[[0, -1]], [panda.q_start, panda.q_goal], atol=1e-12)

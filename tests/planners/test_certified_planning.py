@@ -314,3 +314,25 @@ def test_potential_and_grid_paths_are_certified_or_marked_not():
     assert not ok and "corner" in why
     empty = np.zeros((3, 3), dtype=bool)
     assert certify_grid_path(empty, steepest_descent_path(wavefront(empty, (2, 2)), (0, 0)))[0]
+
+
+def test_unicycle_arcs_are_certified_and_dense_samples_agree():
+    """Problem 12.8's scene: every arc of the certified tree's path is free at samples 1 mm of motion apart
+    (exact shape distances), and an arc leaving the position bounds is refused by its exact extent."""
+    from planners.sampling import certify_arc, unicycle_arc
+    from problems.ch12 import scene_12_8
+
+    space, qs, qg = scene_12_8()
+    prims = [MotionPrimitive(1.0, 0.0), MotionPrimitive(1.0, 1.3), MotionPrimitive(1.0, -1.3)]
+    res = unicycle_rrt(space, qs, qg, 12, prims, 0.9, max_vertices=200, goal_threshold=0.3)
+    assert res.success and res.certified and res.min_clearance > 0
+    r = space.robot.radius()
+    for a, (v, w) in zip(res.path[:-1], res.controls):
+        n = int(np.ceil((abs(v) + abs(w) * r) * 0.9 / 0.001))
+        arc = unicycle_arc(a, v, w, np.linspace(0.0, 0.9, n + 1))
+        assert np.all(space.clearance(arc) > 0)
+    near_wall = np.array([4.5, 0.0, 0.0])                 # heading to x = 5 (the bound) on a 0.9 m arc
+    assert not certify_arc(space, near_wall, MotionPrimitive(1.0, 0.0), 0.9).free
+    assert certify_arc(space, near_wall, MotionPrimitive(1.0, 0.0), 0.4).free
+    turning = np.array([4.0, -4.6, -np.pi / 2])           # a left turn dips below y = −5 before coming back
+    assert not certify_arc(space, turning, MotionPrimitive(1.0, 1.3), 2.0).free

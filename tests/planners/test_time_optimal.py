@@ -106,3 +106,15 @@ def test_uncertified_waypoints_are_refused(panda_scene):
     limits = JointLimits.from_robot(sc.robot, qdd_max=5.0)
     with pytest.raises(ValueError, match="not a certified-free polyline"):
         time_optimal_path(sc.robot, np.array([sc.q_start, sc.q_goal]), limits, space=sc.space)
+
+
+def test_the_timed_motion_evaluates_exactly_between_samples(setting):
+    arm, limits, q_i, q_f = setting
+    m = time_optimal_path(arm, np.linspace(q_i, q_f, 5), limits)
+    q, qd, qdd = m(m.t)
+    np.testing.assert_allclose(q, m.q, atol=1e-12)
+    np.testing.assert_allclose(qd, m.qd, atol=1e-9)
+    t = np.linspace(0.0, m.t_f, 20001)
+    q, qd, _ = m(t)
+    np.testing.assert_allclose(np.diff(q, axis=0) / np.diff(t)[:, None], 0.5 * (qd[1:] + qd[:-1]), atol=1e-4)
+    assert np.allclose(m(-1.0)[0], q_i) and np.allclose(m(m.t_f + 1)[0], q_f) and not np.any(m(m.t_f + 1)[1])

@@ -248,11 +248,13 @@ class OptimalControlResult(OptimalTrajectory):
     trajectory : the N+1 nodes t_k = k dt (q, q̇, and q̈ = the forward dynamics at (q_k, q̇_k, τ_k); the law between
         nodes the cubic Hermite interpolant of q, q̇); tau : (N+1, n) τ_k held on [t_k, t_{k+1}) (the last row
         repeats τ_{N−1}); cost : the optimal value; ratios : max |τ|/τ_max, position ratio in the box, max |q̇|/q̇_max.
-    x : (N+1, 2n) node states; u : (N, n) torques; kkt : the largest KKT residual found by the independent check
+    status : ``"converged"``, ``"iteration limit"``, ``"time limit"`` or ``"qp failure"`` (the SQP's own account;
+        ``success`` adds the independent check). x : (N+1, 2n) node states; u : (N, n) torques; kkt : the largest KKT residual found by the independent check
         (NaN when not verified); defect : max |x_{k+1} − Φ(x_k, τ_k)| by Pinocchio; slack : the total soft-limit
         excess; iterations : SQP iterations; solve_time : wall time of the SQP (the check apart: check_time).
     """
 
+    status: str = ""
     x: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     u: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     dt: float = 0.0
@@ -504,7 +506,7 @@ class OptimalControlSolver:
         position, orientation = pr.pose_terms
         self._pose = (position, orientation)
         stage, stage_value, terminal, terminal_value = _functions(pr.robot, pr.frame, position, orientation)
-        self._stage, self._stage_value = stage.map(N), stage_value.map(N)
+        self._stage, self._stage_value, self._stage_value_one = stage.map(N), stage_value.map(N), stage_value
         self._terminal, self._terminal_value = terminal, terminal_value
         if pr.state_limits == "soft":
             soft_q, soft_v = pr.limited()
@@ -571,7 +573,7 @@ class OptimalControlSolver:
             X[1:, :n] = np.clip(X[1:, :n], pr.q_min, pr.q_max)
             X[1:, n:] = np.clip(X[1:, n:], -pr.qd_max, pr.qd_max)
         rho = 1.0
-        iterations, converged, message, mult, qp_notes = 0, False, "", {}, set()
+        iterations, converged, message, mult, qp_notes, status = 0, False, "", {}, set(), "iteration limit"
         for it in range(max_iter):
             Xn, R, Jac = (np.asarray(v) for v in self._stage(X[:-1].T, U.T, P))
             r_N, J_N = (np.asarray(v) for v in self._terminal(X[-1], P_N))
@@ -579,6 +581,7 @@ class OptimalControlSolver:
             iterations += 1
             if not ok:
                 message = f"the QP of SQP iteration {it + 1} failed ({qp_message})"
+                status = "qp failure"
                 break
             if qp_message:
                 qp_notes.add(qp_message)
@@ -590,22 +593,31 @@ class OptimalControlSolver:
             X[1:] += alpha * dX
             U += alpha * dU
             if size <= o.step_tol and defect <= o.tol:
-                converged = True
+                converged, status = True, "converged"
                 message = f"converged in {iterations} SQP iterations"
                 break
             if alpha < 1e-6 and size <= math.sqrt(o.step_tol) and defect <= o.tol:
-                converged = True               # the merit no longer decreases: at the QP's accuracy (checked below)
+                converged, status = True, "converged"   # the merit no longer decreases: at the QP's accuracy (checked below)
                 message = f"stationary to the QP's accuracy after {iterations} SQP iterations"
                 break
             if time.perf_counter() - start > time_limit:
                 message = f"stopped by the time limit ({time_limit:g} s) after {iterations} SQP iterations"
+                status = "time limit"
                 break
         else:
             message = f"not converged in {max_iter} SQP iterations"
         if qp_notes:
             message += f" (step QPs stopped early: {', '.join(sorted(qp_notes))})"
         solve_time = time.perf_counter() - start
-        return self._result(X, U, P, P_N, mult, converged, message, iterations, solve_time)
+        return self._result(X, U, P, P_N, mult, converged, message, iterations, solve_time, status)
+
+    def predict(self, x: Any, tau: Any) -> np.ndarray:
+        """Φ(x, τ): the state one interval dt after x under the held torque τ, by the problem's model (the same RK4
+        step as the transcription)."""
+        column = np.zeros(_parameter_size(self.n))
+        column[0] = self.problem.dt
+        x_next, _ = self._stage_value_one(as_vector(x, self.nx, "x"), as_vector(tau, self.n, "tau"), column)
+        return np.asarray(x_next).ravel()
 
     def _check_start(self, x0: np.ndarray) -> None:
         pr, n = self.problem, self.n
@@ -749,7 +761,7 @@ class OptimalControlSolver:
 
     # ---- the result and its independent check ----------------------------------------------------------------
     def _result(self, X: np.ndarray, U: np.ndarray, P: np.ndarray, P_N: np.ndarray, mult: dict, converged: bool,
-                message: str, iterations: int, solve_time: float) -> OptimalControlResult:
+                message: str, iterations: int, solve_time: float, status: str) -> OptimalControlResult:
         pr, n, N, o = self.problem, self.n, self.N, self.options
         robot = pr.robot
         cost, _ = self._merit(X, U, P, P_N, 0.0)
@@ -787,7 +799,8 @@ class OptimalControlSolver:
         trajectory = Trajectory(t, q.copy(), qd.copy(), qdd, _hermite(t, q, qd), "optimal control")
         tau = np.vstack([U, U[-1:]])
         return OptimalControlResult(trajectory, tau, float(t[-1]), "optimal control", cost, success, message, ratios,
-                                    iterations, solve_time, x=X.copy(), u=U.copy(), dt=pr.dt, kkt=kkt, defect=defect,
+                                    iterations, solve_time, status=status, x=X.copy(), u=U.copy(), dt=pr.dt, kkt=kkt,
+                                    defect=defect,
                                     slack=penalty, check_time=check_time, multipliers=mult)
 
 

@@ -66,6 +66,12 @@ The plant contract (duck-typed; only ``derivative`` is required)
     (for either backend): ValueError when RK4 of step ``h`` cannot be stable on the plant from ``x0``
     (:class:`~controllers.plants.ArmInContact`: a contact too stiff for h at the arm's effective mass,
     :func:`rk4_stable`), instead of a run that stays bounded and is non-physical.
+``stepper(h) -> step``
+    A plant that advances its own state (a physics engine: :class:`controllers.mujoco.MujocoPlant`) gives the
+    function ``step(t, x, u) -> x(t + h)`` that replaces the loop's RK4 step; the loop asks for it once per run
+    with its step ``h`` (the plant checks that its own step divides h) and holds ``u`` over it as for RK4.
+    ``derivative`` is still required (the first sample's shape check; stage-by-stage comparisons). A plant that
+    detects a divergence itself raises :class:`SimulationDiverged`.
 
 The controller contract
 -----------------------
@@ -574,8 +580,9 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     n_dx = getattr(plant, "tangent_size", x.size)
     acceleration = getattr(plant, "acceleration", None) if n_dx == x.size and x.size % 2 == 0 else None
     timeless = getattr(plant, "time_invariant_acceleration", None) if acceleration is not None else None
-    step = rk4_stepper(derivative, h, integrate, getattr(plant, "dexp_inverse", None), timeless or acceleration,
-                       timeless is not None)
+    own_stepper = getattr(plant, "stepper", None)   # a self-stepping plant (module docstring)
+    step = own_stepper(h) if own_stepper is not None else rk4_stepper(
+        derivative, h, integrate, getattr(plant, "dexp_inverse", None), timeless or acceleration, timeless is not None)
     measure = getattr(plant, "measure", None)
     n_u = getattr(plant, "input_size", None)
     n_u = None if n_u is None else tuple(np.atleast_1d(n_u).tolist())

@@ -13,7 +13,8 @@ References (``planners``)
     ``Trajectory``, ``JointLimits``, ``minimum_time_trajectory``
 Closed loops (``controllers``)
     ``simulate``, ``ArmPlant``, ``PDGravityCompensation``, ``InverseDynamicsControl``,
-    ``ZeroOrderHold``, ``SimulationDiverged``
+    ``ZeroOrderHold``, ``SimulationDiverged``, ``MujocoPlant`` (the same loops on MuJoCo physics:
+    ``pip install 'rmpc[mujoco]'``)
 Problems (``problems``)
     ``solve("8.10")``, ``all_problems()``
 
@@ -60,6 +61,7 @@ _HOMES: dict[str, str] = {
     "SimulationDiverged": "controllers.simulation",
     "ZeroOrderHold": "controllers.simulation",
     "ArmPlant": "controllers.plants",
+    "MujocoPlant": "controllers.mujoco",
     "PDGravityCompensation": "controllers.joint_space",
     "InverseDynamicsControl": "controllers.joint_space",
     # the book's problems

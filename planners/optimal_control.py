@@ -216,8 +216,8 @@ class OptimalControlOptions:
         complementarity); step_tol : the SQP stops when no step component exceeds it (torques relative to τ_max).
     limit_tol : hard limits may be exceeded by this fraction of their size and still hold.
     qp_tol, qp_max_iter : HPIPM's residual tolerances and iteration cap.
-    verify : False skips the independent Pinocchio KKT check (success is then the solver's own convergence
-        with every hard limit checked; real-time loops that cannot afford the check).
+    verify : False skips the independent Pinocchio check (KKT and defects; success is then the solver's own
+        convergence and defects with every hard limit checked; real-time loops that cannot afford the check).
     """
 
     max_iter: int = 50
@@ -817,7 +817,13 @@ class OptimalControlSolver:
             cost += pr.slack_weight * penalty
         check_start = time.perf_counter()
         check = _KKTCheck(pr, P, P_N)
-        defect, qdd = check.defects(X, U)
+        qdd = check.accelerations(X, U)
+        if o.verify:
+            defect = check.defects(X, U)
+        else:                               # the solver's own defect (the real-time loops skip Pinocchio's)
+            Xn, _ = self._stage_value(X[:-1], U, P)
+            defect = float(np.max(np.abs(Xn.T - X[1:])))
+            defect = defect if np.isfinite(defect) else math.inf
         kkt = check.residual(X, U, mult) if (o.verify and converged and mult) else math.nan
         check_time = time.perf_counter() - check_start
         bounded = np.isfinite(pr.q_min)
@@ -902,14 +908,17 @@ class _KKTCheck:
         n = self.n
         return np.concatenate([x[n:], forward_dynamics(self.pr.robot, x[:n], x[n:], u, check=False)])
 
-    def defects(self, X: np.ndarray, U: np.ndarray) -> tuple[float, np.ndarray]:
-        """max |x_{k+1} − Φ(x_k, τ_k)| and the accelerations q̈_k at the nodes (Pinocchio)."""
-        worst, qdd = 0.0, []
+    def defects(self, X: np.ndarray, U: np.ndarray) -> float:
+        """max |x_{k+1} − Φ(x_k, τ_k)| over the intervals, Φ by Pinocchio."""
+        worst = 0.0
         for k in range(len(U)):
             x_next, _ = rk4_step(self._fd, X[k], U[k], self.pr.dt)
             worst = max(worst, float(np.max(np.abs(x_next - X[k + 1]))))
-            qdd.append(self._fd(X[k], U[k])[self.n:])
-        return (worst if np.isfinite(worst) else math.inf), np.array(qdd)
+        return worst if np.isfinite(worst) else math.inf
+
+    def accelerations(self, X: np.ndarray, U: np.ndarray) -> np.ndarray:
+        """q̈_k (N, n) at the nodes under τ_k (Pinocchio)."""
+        return np.array([self._fd(X[k], U[k])[self.n:] for k in range(len(U))])
 
     def _fd_jacobian(self, x: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """f(x, u) = [q̇; q̈] and ∂f/∂[x; u] (2n, 3n): q̈ = B⁻¹(τ − h), ∂q̈ = B⁻¹ (dτ − ∂τ_RNEA/∂q dq − ∂τ_RNEA/∂q̇ dq̇)."""

@@ -200,7 +200,6 @@ def test_computed_torque_tracks_a_quintic_on_the_ur5():
 def test_operational_space_inverse_dynamics_on_the_panda(panda, panda_plant):
     """Operational-space inverse dynamics (8.114) of the Panda's tool towards a point: same run on both plants."""
     q0 = panda.configurations["ready"]
-    p0 = pin.SE3(np.eye(3), np.zeros(3))
     pin.framesForwardKinematics(panda.model, panda.data, q0)
     p0 = panda.data.oMf[panda.frame_id(TOOL)].translation.copy()
     target = p0 + np.array([0.05, -0.1, -0.05])

@@ -26,7 +26,7 @@ from controllers.simulation import LoggedController
 from rigid_body.dynamics import reference_torque_kernel
 from rigid_body.rotations import as_homogeneous
 from rigid_body.task_space import FrameState, frame_state_kernel, pose_error_kernel, singular_task, solve_task
-from rigid_body.validation import as_matrix, as_positive, as_vector
+from rigid_body.validation import as_array, as_matrix, as_positive, as_vector
 
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 PoseReference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
@@ -62,10 +62,7 @@ def as_friction(viscous_friction: Any, n: int) -> np.ndarray:
 
 def as_gain(K: Any, n: int, name: str) -> np.ndarray:
     """A gain matrix (n, n) from a scalar (K I), a vector (diag K) or a matrix; must be positive definite."""
-    K_arr = np.asarray(K)
-    if K_arr.dtype.kind not in "biuf":
-        raise ValueError(f"`{name}` must be a number, a vector or a matrix of numbers, got {K!r:.60}")
-    K_arr = K_arr.astype(float)
+    K_arr = as_array(K, name)
     if K_arr.ndim == 0:
         M = as_vector(K_arr, 1, name)[0] * np.eye(n)
     elif K_arr.ndim == 1:

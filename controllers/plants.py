@@ -186,6 +186,7 @@ class ArmPlant:
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
+        _check_state(x, self.state_size, nq)
         q, qd = x[:nq], x[nq:]
         xd = np.empty(2 * n)
         xd[:n] = qd
@@ -230,6 +231,7 @@ class ArmPlant:
         return tau
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
+        _check_state(x, self.state_size, self.nq)
         return ArmMeasurement(x[:self.nq], x[self.nq:])
 
     def symbolic(self) -> Any:
@@ -250,6 +252,13 @@ class ArmPlant:
         q, qd = x[:n], x[n:]
         qdd = forward_dynamics_expression(self.robot, q, qd, tau - ca.DM(self.Fv) * qd)
         return ca.Function("plant", [x, u], [ca.vertcat(qd, qdd)], ["x", "u"], ["xdot"])
+
+
+def _check_state(x: Any, size: int, nq: int) -> None:
+    """ValueError naming ``x`` unless it is an arm state [q (nq), q̇ (size − nq)] of ``size`` entries."""
+    if np.shape(x) != (size,):
+        raise ValueError(f"`x` (the state [q; q̇], {nq} + {size - nq} entries) must have shape ({size},), "
+                         f"got {np.shape(x)}")
 
 
 class VoltageControlledArm:
@@ -287,7 +296,12 @@ class VoltageControlledArm:
         self.units = {**ARM_UNITS, "u": "V"}
 
     def torque(self, x: np.ndarray, v_c: np.ndarray) -> np.ndarray:
-        """The joint torques the motors deliver at state ``x`` under the voltages ``v_c``."""
+        """The joint torques the motors deliver at state ``x`` under the voltages ``v_c`` (n,) (checked: numpy
+        would broadcast one voltage to every motor)."""
+        _check_state(x, self.state_size, self.arm.nq)
+        if np.shape(v_c) != (self.n,):
+            raise ValueError(f"`u` (the motor voltages v_c) must have shape ({self.n},), one per joint, "
+                             f"got {np.shape(v_c)}")
         return self.voltage_gain * v_c - self.electrical_damping * x[self.arm.nq:]
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
@@ -411,7 +425,10 @@ class ArmInContact:
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
-        q, qd = x[:nq], x[nq:]                  # u: (n,), checked by the loop (simulate)
+        _check_state(x, self.state_size, nq)
+        if np.shape(u) != (n,):
+            raise ValueError(f"the arm needs {n} joint torques, got an input of shape {np.shape(u)}")
+        q, qd = x[:nq], x[nq:]
         xd = np.empty(2 * n)
         xd[:n] = qd
         xd[n:] = qdd = self.acceleration(t, q, qd, u)
@@ -437,6 +454,7 @@ class ArmInContact:
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         nq = self.nq
+        _check_state(x, self.state_size, nq)
         q, qd = x[:nq], x[nq:]
         h_e, J = self.wrench(q, qd)
         kept = h_e if h_e is NO_CONTACT else np.array(h_e, dtype=float)   # the controller may keep or alter its own
@@ -654,6 +672,7 @@ class UnicyclePlant:
         self.wheel_limits = wheel_limits
         self.odometer = bool(odometer)
         self.state_size = 5 if self.odometer else 3
+        self.input_size = 2                                  # (v, ω), checked by the loop at the first sample
         self.state_layout = {"x": 0, "y": 1, "theta": 2, "p": slice(0, 2)}
         self.units = dict(POSTURE_UNITS)
         if self.odometer:
@@ -687,6 +706,7 @@ class BicyclePlant:
     """The bicycle, rear-wheel (11.19) or front-wheel (11.20) drive: x = (x, y, θ, φ), u = (v, ω = φ̇)."""
 
     state_size = 4
+    input_size = 2                                           # (v, ω = φ̇)
     state_layout = {"x": 0, "y": 1, "theta": 2, "phi": 3, "p": slice(0, 2)}
     units = {**POSTURE_UNITS, "phi": "rad"}
 
@@ -711,6 +731,7 @@ class ChainedFormPlant:
     """The (2, n) chained form (11.25), x = z, u = (v1, v2); the measurement is z itself."""
 
     state_layout = {"z": slice(None)}
+    input_size = 2                                           # (v1, v2)
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return chained_form_velocity(x, u)
@@ -753,7 +774,7 @@ class MobileManipulatorPlant:
         self.robot, self.model = robot, robot.model
         self.state_size, self.tangent_size = robot.nq, robot.nv
         self.input_matrix = mobile_manipulator_input_matrix(robot)
-        self.n_inputs = self.input_matrix.shape[1]
+        self.n_inputs = self.input_size = self.input_matrix.shape[1]
         self.state_layout = {"q": slice(None), "p": slice(0, 2)}
         self.input_limits = None if input_limits is None else as_vector(input_limits, self.n_inputs, "input_limits")
 

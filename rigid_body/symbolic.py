@@ -47,6 +47,7 @@ __all__ = [
     "reference_torque_expression",
     "forward_dynamics_expression",
     "forward_dynamics_function",
+    "rotation_log_expression",
 ]
 
 _AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
@@ -474,3 +475,27 @@ def forward_dynamics_function(robot_or_model: Any, name: str = "forward_dynamics
     tau = ca.SX.sym("tau", model.nv)
     return ca.Function(name, [q, qd, tau], [forward_dynamics_expression(model, q, qd, tau)],
                        ["q", "qd", "tau"], ["qdd"])
+
+
+# ============================================================================================
+# Symbolic rotation logarithm (pose costs of planners.optimal_control)
+# ============================================================================================
+
+LOG_TAYLOR = 1e-4
+"""Below this 1 − cos ϑ, ϑ/sin ϑ is evaluated by its Taylor series (exact form: 0/0 at ϑ = 0)."""
+
+
+def rotation_log_expression(R: Any) -> ca.SX:
+    """ϑ r, the rotation vector of the rotation matrix ``R`` (3×3 SX), as an SX expression: the inverse of
+    the exponential map, Pinocchio's ``log3``, equal to the angle and axis of (2.27)–(2.29) multiplied.
+
+    With cos ϑ = (tr R − 1)/2 and the vee of the skew part w = ½ vee(R − Rᵀ) = r sin ϑ, ϑ r = (ϑ / sin ϑ) w;
+    ϑ / sin ϑ = acos(c)/√(1 − c²) is replaced by its series 1 + e/3 + 2e²/15 (e = 1 − c) for e < 1e-4, so the
+    expression and its derivatives are finite at ϑ = 0. Defined for ϑ < π (at ϑ = π the axis is not in w).
+    """
+    c = ca.fmin(ca.fmax(0.5 * (R[0, 0] + R[1, 1] + R[2, 2] - 1.0), -1.0), 1.0)
+    w = 0.5 * ca.vertcat(R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1])
+    e = 1.0 - c
+    factor = ca.if_else(e < LOG_TAYLOR, 1.0 + e / 3.0 + 2.0 * e * e / 15.0,
+                        ca.acos(c) / ca.sqrt(ca.fmax(1.0 - c * c, 1e-300)))
+    return factor * w

@@ -38,14 +38,17 @@ Scenes (``scene``: one object or a sequence) become MuJoCo geoms fixed to the wo
   :class:`~controllers.environment.SteppedPlane` → two boxes (the surface and its recess, the riser included);
   :class:`~controllers.environment.SurfaceWithHole` → three boxes around the hole. Their stiffness K [N/m] and
   damping D [N·s/m] hold *per contact point*: each contact of such a surface is a MuJoCo soft contact in the
-  direct (−stiffness, −damping) format with a constant impedance d, calibrated so that its normal force is
-  f = K δ + D δ̇ + m_v δ̈ with δ the penetration — the compliant plane's law plus a small virtual mass
-  m_v = d/((1 − d) Â), Â MuJoCo's diagonal approximation of the inverse inertia at the contact (MuJoCo's
-  soft-contact identity R f = a_ref − a, Computation chapter of its documentation). A flat face resting on the
+  direct (−stiffness, −damping) format with a constant impedance d = ``CONTACT_IMPEDANCE`` (0.001), calibrated so
+  that its normal force is f = K δ + D δ̇ + m_v δ̈ with δ the penetration — the compliant plane's law plus a small
+  virtual mass m_v = d/((1 − d) Â), Â MuJoCo's diagonal approximation of the inverse inertia at the contact
+  (``body_invweight0``; from MuJoCo's soft-contact identity R f = a_ref − a with R = (1 − d)/d · Â, Computation
+  chapter of its documentation). So the force at rest is the compliant plane's; in motion it differs by m_v δ̈, and
+  a force sensor read at a sample sees the torque held over the interval ending there. A flat face resting on the
   surface makes several contact points (up to 4 for a box face): their stiffnesses add. Coulomb friction μ is
   MuJoCo's elliptic friction cone: below μN it acts as a damper of coefficient D (MuJoCo's default contact damping
-  when D = 0), where the compliant plane regularises as μN tanh(‖v_t‖/v_s). A bilateral plane (a spring that
-  pulls) cannot be represented: MuJoCo's contacts only push.
+  when D = 0), where the compliant plane regularises as μN tanh(‖v_t‖/v_s); while sliding, the soft cone turns part
+  of the tangential push into normal force. A bilateral plane (a spring that pulls) cannot be represented:
+  MuJoCo's contacts only push.
 * :class:`planners.collision.Box` → a box with MuJoCo's default (stiff) contact, e.g. the Chapter 12 scenes.
 
 The sensed wrench (``force_sensor``, default: when the scene has objects) is the sum of the MuJoCo contact forces
@@ -76,7 +79,7 @@ import numpy as np
 import pinocchio as pin
 
 from controllers.environment import CompliantPlane, SteppedPlane, SurfaceWithHole
-from controllers.plants import ARM_UNITS, ArmMeasurement, arm_units
+from controllers.plants import ArmMeasurement, arm_units
 from controllers.simulation import SimulationDiverged
 from rigid_body.robots import EXAMPLE_ROBOTS, JointFriction, Robot
 from rigid_body.validation import as_positive, as_vector
@@ -87,7 +90,7 @@ __all__ = ["MujocoPlant", "MujocoContact", "INSTALL", "import_mujoco", "mujoco_a
 INSTALL = "pip install 'rmpc[mujoco]'  (or: pip install 'mujoco>=3.3,<5')"
 INTEGRATORS = ("RK4", "Euler", "implicit", "implicitfast")
 #: the constant impedance d of the compliant surfaces' contacts: small, so that the virtual mass d/((1 − d) Â)
-#: of MuJoCo's soft contact stays a few per cent of the body's own
+#: of MuJoCo's soft contact stays a thousandth of the body's effective mass 1/Â
 CONTACT_IMPEDANCE = 0.001
 _HALF_SPACE = 2.0     # [m] half extent of the boxes standing for a stepped plane or a surface with a hole
 _ROBOT_GROUP, _SCENE_GROUP, _PROBE_GROUP = 0, 1, 2     # MuJoCo geom groups (visualisation)
@@ -416,8 +419,10 @@ class MujocoPlant:
         if self.tau_max is not None and np.any(self.tau_max <= 0):
             raise ValueError(f"`tau_max` must be positive torque limits, got {self.tau_max}")
         self._rotors = _mimic_parts(model)
-        self._continuous = [(model.joints[j].idx_q, model.joints[j].idx_v) for j in range(1, model.njoints)
-                            if j not in self._rotors and _joint_type(model, j)[2]]
+        #: (idx_q, idx_v, continuous) of the robot's joints (the rotors excluded)
+        self._joint_indices = [(model.joints[j].idx_q, model.joints[j].idx_v, _joint_type(model, j)[2])
+                               for j in range(1, model.njoints) if j not in self._rotors]
+        self._continuous = [(iq, iv) for iq, iv, continuous in self._joint_indices if continuous]
         if self._rotors and rotors is None:
             difference = self._build(scene_list, srdf, self_collision, joint_limits)
             effect = (f"B(q) then differs from the book's by up to {100 * difference:.3g} % (Frobenius norm, random "
@@ -663,15 +668,8 @@ class MujocoPlant:
         if not self._continuous:
             return q
         out = np.empty(self.n)
-        model = self.robot.model
-        for j in range(1, model.njoints):
-            if j in self._rotors:
-                continue
-            iq, iv = model.joints[j].idx_q, model.joints[j].idx_v
-            if (iq, iv) in self._continuous:
-                out[iv] = math.atan2(q[iq + 1], q[iq])
-            else:
-                out[iv] = q[iq]
+        for iq, iv, continuous in self._joint_indices:
+            out[iv] = math.atan2(q[iq + 1], q[iq]) if continuous else q[iq]
         return out
 
     def configuration(self, x: np.ndarray) -> np.ndarray:
@@ -679,12 +677,8 @@ class MujocoPlant:
         if not self._continuous:
             return x[:self.n]
         q = np.empty(self.nq)
-        model = self.robot.model
-        for j in range(1, model.njoints):
-            if j in self._rotors:
-                continue
-            iq, iv = model.joints[j].idx_q, model.joints[j].idx_v
-            if (iq, iv) in self._continuous:
+        for iq, iv, continuous in self._joint_indices:
+            if continuous:
                 q[iq], q[iq + 1] = math.cos(x[iv]), math.sin(x[iv])
             else:
                 q[iq] = x[iv]

@@ -1164,6 +1164,11 @@ def certify_straight_path(space: PlanarCSpace, path: Any, step: float = 0.01,
     Intervals where the certificate is inconclusive are bisected, up to ``max_depth`` times.
     Returns (certified, smallest clearance met, number of configurations evaluated).
     """
+    if not isinstance(space, PlanarCSpace):
+        raise ValueError(f"`space` must be a PlanarCSpace (shape-by-shape geometry), got {type(space).__name__}; "
+                         "certify any space's path with planners.sampling.certify_path")
+    as_positive(step, "step")
+
     def clear(q: np.ndarray) -> float:
         return space.scene.clearance(space.robot.bodies(q))
 

@@ -336,3 +336,8 @@ def test_unicycle_arcs_are_certified_and_dense_samples_agree():
     assert certify_arc(space, near_wall, MotionPrimitive(1.0, 0.0), 0.4).free
     turning = np.array([4.0, -4.6, -np.pi / 2])           # a left turn dips below y = −5 before coming back
     assert not certify_arc(space, turning, MotionPrimitive(1.0, 1.3), 2.0).free
+
+
+def test_certify_straight_path_names_a_space_it_cannot_read(panda_space):
+    with pytest.raises(ValueError, match="certify_path"):
+        certify_straight_path(panda_space, np.zeros((2, 7)))

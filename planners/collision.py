@@ -41,7 +41,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from planners.configuration_space import EdgeCertificate, certify_by_bisection
+from planners.configuration_space import EDGE_QUERY_BUDGET, EdgeCertificate, certify_by_bisection
 from rigid_body.robots import example_robot_data_dir
 from rigid_body.validation import as_generator, as_positive, as_vector
 
@@ -412,7 +412,7 @@ class UrdfCSpace:
         return self.checker.pair_rates @ np.abs(np.asarray(b, dtype=float) - np.asarray(a, dtype=float))
 
     def certify_edge(self, a: Any, b: Any, ca: np.ndarray | None = None, cb: np.ndarray | None = None,
-                     max_queries: int = 100_000) -> EdgeCertificate:
+                     max_queries: int = EDGE_QUERY_BUDGET) -> EdgeCertificate:
         """Certificate that the straight edge a → b is collision-free: adaptive bisection
         (:func:`planners.configuration_space.certify_by_bisection`) with the pairs' clearances and motion
         bounds; ``ca``, ``cb`` the clearances at the ends when known. The joint box is convex, so ends inside

@@ -62,7 +62,7 @@ __all__ = [
     "angular_difference", "configuration_difference", "euclidean_distance", "torus_distance",
     "minkowski_c_obstacle", "PlanarArm", "PlanarBody", "PlanarCSpace", "Scene",
     "check_bounds", "free_grid", "connected_components", "densify", "certify_motion", "certify_straight_path",
-    "EdgeCertificate", "certify_by_bisection", "MAX_GRID_NODES",
+    "EdgeCertificate", "certify_by_bisection", "EDGE_QUERY_BUDGET", "MAX_GRID_NODES",
 ]
 
 
@@ -228,6 +228,8 @@ def distance_to_box(p: Any, obstacle: Any) -> np.ndarray:
 
 
 TWO_PI = 2.0 * np.pi
+EDGE_QUERY_BUDGET = 2000   # distance queries one edge may spend before it is refused (an edge grazing an
+                           # obstacle over a long stretch needs ~ motion bound / clearance of them)
 
 
 # --------------------------------------------------------------------------------------------
@@ -965,7 +967,7 @@ class PlanarCSpace:
         return self.robot.part_motion_bounds(self.difference(a, b))
 
     def certify_edge(self, a: Any, b: Any, ca: np.ndarray | None = None, cb: np.ndarray | None = None,
-                     max_queries: int = 100_000) -> "EdgeCertificate":
+                     max_queries: int = EDGE_QUERY_BUDGET) -> "EdgeCertificate":
         """Certificate that the straight (wrapped) edge a → b is collision-free (:class:`EdgeCertificate`).
 
         A disc robot that only translates (:attr:`PlanarBody.is_translating_disc`) gets the exact
@@ -1071,7 +1073,7 @@ class EdgeCertificate:
 
 
 def certify_by_bisection(clearances: Callable[[float, np.ndarray], np.ndarray], rates: Any, c0: Any, c1: Any,
-                         max_queries: int = 100_000, min_bound: float = 1e-9) -> EdgeCertificate:
+                         max_queries: int = EDGE_QUERY_BUDGET, min_bound: float = 1e-9) -> EdgeCertificate:
     """Adaptive bisection certificate of a motion q(s), s ∈ [0, 1] (Schwarzer, Saha & Latombe 2004).
 
     ``clearances(s, idx)`` gives the distances (len(idx),) of the pairs ``idx`` (robot part–obstacle, or

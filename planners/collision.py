@@ -368,7 +368,7 @@ class UrdfCSpace:
         return a + np.asarray(s, dtype=float)[..., None] * (np.asarray(b, dtype=float) - a)
 
     def in_bounds(self, q: np.ndarray) -> bool:
-        return bool(np.all(q >= self.lower) and np.all(q <= self.upper))
+        return bool((q >= self.lower).all() and (q <= self.upper).all())
 
     def is_valid(self, q: Any) -> bool:
         """Within the joint limits and collision-free."""
@@ -426,5 +426,6 @@ class UrdfCSpace:
                              "certified): use edge_check='sampled'")
         ca = self.clearances(a) if ca is None else ca
         cb = self.clearances(b) if cb is None else cb
-        return certify_by_bisection(lambda s, idx: self.clearances(a + s * (b - a), idx), rates, ca, cb,
-                                    max_queries=max_queries)
+        d = b - a
+        clear = self.checker.clearances                 # the box is convex: the midpoints need no bounds test
+        return certify_by_bisection(lambda s, idx: clear(a + s * d, idx), rates, ca, cb, max_queries=max_queries)

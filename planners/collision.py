@@ -259,8 +259,9 @@ class CollisionChecker:
 
     def _pair_rates(self) -> np.ndarray:
         """W (P, nq): the relative motion of pair p's two shapes along a straight step Δq is at most
-        Σ_k W[p, k] |Δq_k| (module docstring); ∞ in the columns of joints that are neither revolute nor
-        prismatic (no certificate for them)."""
+        Σ_k W[p, k] |Δq_k| (module docstring): r_k for a revolute joint k between the two shapes (a bound on
+        the distance of the moving shape's points from k's axis), 1 for a prismatic one; ∞ in the columns of
+        joints that are neither (no certificate for them)."""
         model, geom = self.model, self.distance_geom
         chains = {}
         for j in range(model.njoints):
@@ -270,19 +271,43 @@ class CollisionChecker:
                 k = model.parents[k]
             chains[j] = chain[::-1]
 
-        def reach(g: int, k: int) -> float:
-            """A bound on the distance of any point of shape g from joint k's origin (k on g's chain)."""
+        def points(g: int) -> np.ndarray:
+            """Points whose convex hull holds shape g, in its parent joint's frame: the hull's vertices, a box's
+            corners, else the corners of its local AABB."""
             obj = geom.geometryObjects[g]
-            obj.geometry.computeLocalAABB()
-            c = obj.placement.act(np.asarray(obj.geometry.aabb_center, dtype=float))
-            r = float(np.linalg.norm(c)) + float(obj.geometry.aabb_radius)
-            chain = chains[obj.parentJoint]
-            for m in chain[chain.index(k) + 1:]:
-                r += float(np.linalg.norm(model.jointPlacements[m].translation))
-                if _joint_kind(model, m) == "prismatic":
-                    r += float(max(abs(model.lowerPositionLimit[model.idx_qs[m]]),
-                                   abs(model.upperPositionLimit[model.idx_qs[m]])))
-            return r
+            shape = obj.geometry
+            if callable(getattr(shape, "points", None)):
+                V = np.asarray(shape.points(), dtype=float)
+            else:
+                shape.computeLocalAABB()
+                lo, hi = np.asarray(shape.aabb_local.min_), np.asarray(shape.aabb_local.max_)
+                V = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+            return V @ obj.placement.rotation.T + obj.placement.translation
+
+        def prismatic_range(m: int) -> float:
+            if _joint_kind(model, m) != "prismatic":
+                return 0.0
+            i = model.idx_qs[m]
+            return float(max(abs(model.lowerPositionLimit[i]), abs(model.upperPositionLimit[i])))
+
+        def reach(g: int, k: int) -> float:
+            """A bound on the distance of any point of shape g from revolute joint k's axis (k on g's chain).
+
+            A point p beyond k: p − o_k = t_{k+1} + (p − o_{k+1}); joint k turns t_{k+1} about its axis, so its
+            distance from the axis is the constant |t_{k+1} × a_k|; the rest is bounded along the chain by
+            the joint offsets (and prismatic ranges) and the shape's farthest point from its own joint."""
+            V = points(g)
+            j = geom.geometryObjects[g].parentJoint
+            axis = _axis(model, k)
+            if j == k:
+                return float(np.max(np.linalg.norm(np.cross(V, axis) if axis is not None else V, axis=1)))
+            chain = chains[j]
+            after = chain[chain.index(k) + 1:]
+            t = np.asarray(model.jointPlacements[after[0]].translation, dtype=float)
+            r = float(np.linalg.norm(np.cross(t, axis) if axis is not None else t)) + prismatic_range(after[0])
+            for m in after[1:]:
+                r += float(np.linalg.norm(model.jointPlacements[m].translation)) + prismatic_range(m)
+            return r + float(np.max(np.linalg.norm(V, axis=1)))
 
         W = np.zeros((len(geom.collisionPairs), model.nq))
         for p, pair in enumerate(geom.collisionPairs):
@@ -312,6 +337,20 @@ def _joint_kind(model: Any, j: int) -> str | None:
     if name.startswith("JointModelP") and not name.startswith("JointModelPlanar"):
         return "prismatic"
     return None
+
+
+def _axis(model: Any, j: int) -> np.ndarray | None:
+    """The unit axis of revolute joint j in its own frame (None when unknown: the bounds then use the distance
+    from the joint's origin)."""
+    name = model.joints[j].shortname()
+    for suffix, a in (("RX", (1.0, 0.0, 0.0)), ("RY", (0.0, 1.0, 0.0)), ("RZ", (0.0, 0.0, 1.0))):
+        if name.endswith(suffix):
+            return np.array(a)
+    try:
+        a = np.asarray(model.joints[j].extract().axis, dtype=float)
+        return a / np.linalg.norm(a)
+    except (AttributeError, TypeError, ValueError):
+        return None
 
 
 def _convex_hulls(geom: Any) -> Any:

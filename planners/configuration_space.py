@@ -1082,7 +1082,8 @@ def certify_by_bisection(clearances: Callable[[float, np.ndarray], np.ndarray], 
     straight C-space edge and for a constant-input arc); ``c0``, ``c1`` the clearances (P,) at the ends.
     A pair is certified on [s_a, s_b] when c(s_a) + c(s_b) > rates·(s_b − s_a): a point that closes the
     gap at s has moved at least c(s_a) from s_a and c(s_b) from s_b. Uncertified pairs are evaluated at
-    the midpoint and both halves recurse; a contact (clearance ≤ 0) refuses the edge, and so does an
+    a split point — the middle of the widest uncovered stretch [c(s_a)/M, 1 − c(s_b)/M] of the worst pair
+    (the midpoint when the ends are alike) — and both parts recurse; a contact (clearance ≤ 0) refuses the edge, and so does an
     interval whose bound is below ``min_bound`` still uncertified (the motion grazes an obstacle) or a
     spent ``max_queries``. Refusing is always safe: only ``free=True`` is a promise.
     """
@@ -1106,7 +1107,10 @@ def certify_by_bisection(clearances: Callable[[float, np.ndarray], np.ndarray], 
             return EdgeCertificate(False, c_min, queries, f"grazes an obstacle near s = {s0:.6g} (clearance → 0)")
         if queries >= max_queries:
             return EdgeCertificate(False, c_min, queries, f"certificate budget of {max_queries} queries spent")
-        sm = 0.5 * (s0 + s1)
+        # split where the worst pair's ends leave the widest uncovered gap [c_a/M, 1 − c_b/M], at its middle
+        lo, hi = ca / M, 1.0 - cb / M
+        w = int(np.argmax(hi - lo))
+        sm = s0 + (s1 - s0) * min(max(0.5 * (lo[w] + hi[w]), 0.05), 0.95)
         cm = np.asarray(clearances(sm, idx), dtype=float)
         queries += 1
         c_min = min(c_min, float(cm.min()))

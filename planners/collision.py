@@ -10,8 +10,8 @@ a Pinocchio ``GeometryModel``) and boxes added as ``coal.Box`` geometry objects 
   never count), a broad phase (a coal dynamic AABB tree through Pinocchio's ``BroadPhaseManager``)
   in front of the exact narrow phase, and the pairwise check (every active pair) kept as the reference.
 * The edge certificate (:meth:`CollisionChecker.clearances`, :meth:`UrdfCSpace.certify_edge`): the
-  distance of every active pair (coal's GJK through ``pin.computeDistances``, on the convex hulls of the
-  collision meshes — a hull contains its mesh, so its distance is a lower bound) against a bound on how
+  distance of every active pair (coal's GJK through ``pin.computeDistances``, on one convex hull per link
+  of its collision shapes — a hull contains its shapes, so its distance is a lower bound) against a bound on how
   far the pair's two members can move relative to each other along a straight joint-space edge,
   Σ_k r_k |Δq_k| over the joints that move one relative to the other (r_k: the farthest point of the
   shapes beyond joint k from its axis, from the joint placements and the shapes' bounding spheres;
@@ -151,7 +151,7 @@ class CollisionChecker:
             for b in box_ids:
                 geom.addCollisionPair(pin.CollisionPair(i, b))
         self.geom = geom
-        self.distance_geom = _convex_hulls(geom)
+        self.distance_geom = _convex_hulls(geom, set(box_ids))
         self._local = threading.local()
         self._static_contact_check([i for i in range(n_robot) if parents[i] == 0], box_ids)
         self.pair_rates = self._pair_rates()
@@ -353,15 +353,54 @@ def _axis(model: Any, j: int) -> np.ndarray | None:
         return None
 
 
-def _convex_hulls(geom: Any) -> Any:
-    """A copy of the geometry model whose meshes are replaced by their convex hulls (coal ``Convex``), for
-    fast GJK distances that never exceed the meshes' own."""
-    out = geom.clone()
-    for obj in out.geometryObjects:
-        g = obj.geometry
-        if isinstance(g, coal.BVHModelBase):
-            g.buildConvexHull(True, "Qt")
-            obj.geometry = g.convex
+def _hull_points(obj: Any) -> np.ndarray | None:
+    """Points whose convex hull is the shape (a mesh's or convex's vertices, a box's corners), in the parent
+    joint's frame; None for other shapes (spheres, cylinders, ...)."""
+    g = obj.geometry
+    if isinstance(g, coal.BVHModelBase):
+        V = np.asarray(g.vertices(), dtype=float)
+    elif callable(getattr(g, "points", None)):
+        V = np.asarray(g.points(), dtype=float)
+    elif isinstance(g, coal.Box):
+        V = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * np.asarray(g.halfSide)
+    else:
+        return None
+    return V @ obj.placement.rotation.T + obj.placement.translation
+
+
+def _convex_hulls(geom: Any, obstacles: set) -> Any:
+    """The certificate's geometry: one convex hull (coal ``Convex``) per robot link of all that link's shapes
+    (a Panda finger's four boxes become one), meshes replaced by their hulls; obstacles and shapes without a
+    vertex description kept as they are. A hull contains its shapes, so its distances never exceed theirs;
+    fewer shapes make fewer pairs (the Panda's 92 become 50). The pairs are the collision model's, mapped to
+    the hulls."""
+    groups: dict = {}
+    for i, obj in enumerate(geom.geometryObjects):
+        pts = None if i in obstacles else _hull_points(obj)
+        key = ("link", obj.parentFrame) if pts is not None else ("single", i)
+        groups.setdefault(key, []).append((i, pts))
+    out = pin.GeometryModel()
+    index = {}
+    for key, members in groups.items():
+        first = geom.geometryObjects[members[0][0]]
+        if key[0] == "single":
+            shape, placement = first.geometry, first.placement
+            name = first.name
+        else:
+            points = coal.StdVec_Vec3s()
+            for p in np.vstack([pts for _, pts in members]):
+                points.append(p)
+            shape, placement = coal.Convex.convexHull(points, True, "Qt"), pin.SE3.Identity()
+            name = first.name if len(members) == 1 else f"{first.name}+{len(members) - 1}"
+        k = out.addGeometryObject(pin.GeometryObject(name, first.parentJoint, first.parentFrame, placement, shape))
+        for i, _ in members:
+            index[i] = k
+    done = set()
+    for pair in geom.collisionPairs:
+        a, b = sorted((index[pair.first], index[pair.second]))
+        if a != b and (a, b) not in done:
+            done.add((a, b))
+            out.addCollisionPair(pin.CollisionPair(a, b))
     return out
 
 

@@ -85,17 +85,19 @@ def panda_space():
 
 
 def _vertices_world(checker, q):
-    """World positions of every mesh vertex (and box corner) of the robot at q, by shape index."""
+    """World positions of the vertices of every shape of the certificate's geometry (the links' convex hulls,
+    box corners) at q, by shape index."""
     import pinocchio as pin
 
+    geom = checker.distance_geom
     data = checker.model.createData()
-    gdata = checker.geom.createData()
-    pin.updateGeometryPlacements(checker.model, data, checker.geom, gdata, q)
+    gdata = geom.createData()
+    pin.updateGeometryPlacements(checker.model, data, geom, gdata, q)
     out = {}
-    for i, obj in enumerate(checker.geom.geometryObjects):
+    for i, obj in enumerate(geom.geometryObjects):
         g = obj.geometry
-        if hasattr(g, "vertices"):
-            V = np.asarray(g.vertices())
+        if callable(getattr(g, "points", None)):
+            V = np.asarray(g.points())
         elif hasattr(g, "halfSide"):
             V = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * g.halfSide
         else:
@@ -142,11 +144,11 @@ def test_pair_motion_bound_bounds_the_real_displacement(panda_space):
             Vs, Js = _vertices_world(checker, a + s * (b - a)), _joint_frames(checker, a + s * (b - a))
             bound = s * panda_space.edge_rates(a, b)
             for k, (g, h) in enumerate(pairs):
-                if h >= checker.geom.ngeoms - n_boxes:                    # against a box: world motion
+                if h >= checker.distance_geom.ngeoms - n_boxes:           # against a box: world motion
                     moved, kind = np.linalg.norm(Vs[g] - Va[g], axis=1).max(), "box"
                 else:                                                     # self pair: in the common joint's frame
-                    c = _common_ancestor(checker.model, checker.geom.geometryObjects[g].parentJoint,
-                                         checker.geom.geometryObjects[h].parentJoint)
+                    c = _common_ancestor(checker.model, checker.distance_geom.geometryObjects[g].parentJoint,
+                                         checker.distance_geom.geometryObjects[h].parentJoint)
                     moved, kind = 0.0, "self"
                     for x in (g, h):
                         rel_a = (Va[x] - Ja[c].translation) @ Ja[c].rotation
@@ -371,3 +373,29 @@ def test_unicycle_arcs_are_certified_and_dense_samples_agree():
 def test_certify_straight_path_names_a_space_it_cannot_read(panda_space):
     with pytest.raises(ValueError, match="certify_path"):
         certify_straight_path(panda_space, np.zeros((2, 7)))
+
+
+def test_the_certificate_geometry_contains_the_collision_shapes(panda_space):
+    """One hull per link: at random configurations no hull distance exceeds the distance of the collision shapes
+    it stands for (coal on the meshes and boxes, pair by pair), and the Panda's 92 pairs become 50."""
+    import pinocchio as pin
+
+    checker = panda_space.checker
+    assert checker.n_pairs == 92 and len(checker.distance_geom.collisionPairs) == 50
+    names = [o.name for o in checker.geom.geometryObjects]
+    hull_of = {}
+    for k, obj in enumerate(checker.distance_geom.geometryObjects):
+        base, _, extra = obj.name.partition("+")
+        start = names.index(base)
+        for i in range(start, start + 1 + (int(extra) if extra else 0)):
+            hull_of[i] = k
+    hull_pairs = {(p.first, p.second): k for k, p in enumerate(checker.distance_geom.collisionPairs)}
+    rng = np.random.default_rng(2)
+    data, gdata = checker.model.createData(), checker.geom.createData()
+    for _ in range(20):
+        q = panda_space.sample(rng)
+        c = checker.clearances(q)
+        pin.computeDistances(checker.model, data, checker.geom, gdata, q)
+        for pair, res in zip(checker.geom.collisionPairs, gdata.distanceResults):
+            k = hull_pairs[tuple(sorted((hull_of[pair.first], hull_of[pair.second])))]
+            assert c[k] <= max(res.min_distance, 0.0) + 1e-6

@@ -40,6 +40,21 @@ TARGETS = {
                                        "tests/rigid_body/test_mutation_survivors.py"],
     "controllers/simulation.py": ["tests/controllers/test_simulation.py",
                                   "tests/controllers/test_loop_fast_paths.py"],
+    # chapters 9-12
+    "controllers/force.py": ["tests/controllers/test_force.py", "tests/controllers/test_peg_in_hole.py"],
+    "controllers/visual_servoing.py": ["tests/controllers/test_visual_servoing.py",
+                                       "tests/examples/test_panda_visual_servoing.py"],
+    "controllers/wheeled.py": ["tests/controllers/test_wheeled.py"],
+    "rigid_body/camera.py": ["tests/rigid_body/test_camera_vision.py", "tests/rigid_body/test_sensors.py",
+                             "tests/rigid_body/test_independent_references.py"],
+    "rigid_body/vision.py": ["tests/rigid_body/test_camera_vision.py"],
+    "rigid_body/wheeled.py": ["tests/rigid_body/test_wheeled.py", "tests/controllers/test_wheeled.py"],
+    "planners/wheeled.py": ["tests/planners/test_wheeled.py", "tests/controllers/test_wheeled.py"],
+    "planners/sampling.py": ["tests/planners/test_sampling.py"],
+    "planners/configuration_space.py": ["tests/planners/test_configuration_space.py", "tests/planners/test_cspace.py"],
+    "planners/collision.py": ["tests/planners/test_collision.py"],
+    "planners/cells.py": ["tests/planners/test_cells.py"],
+    "planners/potentials.py": ["tests/planners/test_potentials.py"],
 }
 
 SWAP = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult,
@@ -120,7 +135,8 @@ def main() -> None:
     parser.add_argument("modules", nargs="*", default=list(TARGETS))
     args = parser.parse_args()
     work = Path(tempfile.mkdtemp(prefix="rmpc-mutation-"))
-    shutil.copytree(ROOT, work / "tree", ignore=shutil.ignore_patterns(".git", "__pycache__", "notebooks"))
+    shutil.copytree(ROOT, work / "tree", ignore=shutil.ignore_patterns(".git", "__pycache__", "notebooks", ".venv*",
+                                                                    "*.egg-info"))
     tree = work / "tree"
     rng = random.Random(args.seed)
     total = survived = 0
@@ -145,7 +161,8 @@ def main() -> None:
                     run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-x", "-p", "no:cacheprovider",
                                           *TARGETS[module]], cwd=tree, capture_output=True,
                                          timeout=args.timeout, env={"PYTHONPATH": str(tree), "PATH": "/usr/bin:/bin",
-                                                                    "MPLBACKEND": "Agg"})
+                                                                    "MPLBACKEND": "Agg",
+                                                                    "RMPC_CACHE": str(work / "cache")})
                     status = "SURVIVED" if run.returncode == 0 else "killed"
                 except subprocess.TimeoutExpired:
                     status = "killed (timeout)"

@@ -24,6 +24,7 @@ Eqs. (11.56)–(11.85); solution manual, Problems 11.14–11.18.
 
 from __future__ import annotations
 
+import math
 from typing import Any, Callable
 
 import numpy as np
@@ -34,7 +35,7 @@ from planners.wheeled import ReferenceSample
 from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
 from rigid_body.task_space import damped_least_squares_inverse, frame_state
-from rigid_body.validation import as_positive, as_vector
+from rigid_body.validation import as_positive, as_scalar, as_vector
 from rigid_body.wheeled import front_wheel_point, front_wheel_point_matrix, mobile_manipulator_input_matrix, unicycle_arc
 
 __all__ = [
@@ -50,10 +51,12 @@ def _wrap(a: float) -> float:
 
 
 def _pose(m: Any) -> tuple[float, float, float]:
-    """(x, y, θ) of a measurement: a :class:`~controllers.plants.Posture`-like object or an array (x, y, θ, …)."""
-    if hasattr(m, "theta"):
-        return m.x, m.y, m.theta
-    return float(m[0]), float(m[1]), float(m[2])
+    """(x, y, θ) of a measurement: a :class:`~controllers.plants.Posture`-like object or an array (x, y, θ, …);
+    ValueError when it is not finite (a NaN posture would give a NaN command)."""
+    x, y, th = (m.x, m.y, m.theta) if hasattr(m, "theta") else (float(m[0]), float(m[1]), float(m[2]))
+    if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(th)):
+        raise ValueError(f"the measured posture (x, y, θ) must be finite, got {(x, y, th)}")
+    return x, y, th
 
 
 def _fed_back(measurement: Any, feedback: str | None) -> tuple[float, float, float]:
@@ -112,18 +115,33 @@ class ApproximateLinearizationTracking(_Tracking):
         return np.array([ref.v * np.cos(e[2]) + k1 * e[0], ref.omega + k2 * e[1] + k3 * e[2]])
 
 
+AT_REST = ("raise", "stop")
+
+
 class NonlinearTracking(_Tracking):
     """Nonlinear tracking (11.68)–(11.70): v = v_d cos e3 + k1 e1, ω = ω_d + k2 v_d (sin e3/e3) e2 + k3 e3,
 
     with k1 = k3 = 2ζ √(ω_d² + b v_d²) and k2 = b > 0 (asymptotic stability when v_d, ω_d do not both vanish).
+    Where the reference is at rest (v_d = ω_d = 0) every gain vanishes and the law commands u = 0 whatever the
+    error: ``at_rest="raise"`` (default) makes that a ValueError when the error is not zero (use a regulator,
+    e.g. :class:`PostureRegulator`, to reach a posture); ``at_rest="stop"`` accepts it (the robot stops where it
+    is while the reference rests, e.g. at the ends of a path timed from and to rest).
     """
 
-    def __init__(self, reference: Callable[[float], ReferenceSample], zeta: float, b: float):
+    def __init__(self, reference: Callable[[float], ReferenceSample], zeta: float, b: float, at_rest: str = "raise"):
         super().__init__(reference)
         self.zeta, self.b = as_positive(zeta, "zeta"), as_positive(b, "b")
+        if at_rest not in AT_REST:
+            raise ValueError(f"`at_rest` must be one of {AT_REST}, got {at_rest!r}")
+        self.at_rest = at_rest
 
     def __call__(self, t: float, measurement: Any) -> np.ndarray:
         ref, e = self._reference_and_error(t, measurement)
+        if self.at_rest == "raise" and abs(ref.v) < 1e-12 and abs(ref.omega) < 1e-12 and np.any(np.abs(e) > 1e-12):
+            raise ValueError(f"nonlinear tracking needs v_d, ω_d not both zero (its gains k1 = k3 = 2ζ√(ω_d² + b v_d²) "
+                             f"and k2 v_d vanish): the reference is at rest at t = {t:g} s with the error e = "
+                             f"{np.round(e, 6).tolist()}, which the law would leave uncorrected; use a regulator "
+                             "(PostureRegulator) for a posture, or at_rest='stop'")
         k1 = k3 = 2 * self.zeta * np.sqrt(ref.omega**2 + self.b * ref.v**2)
         sinc = np.sinc(e[2] / np.pi)  # sin(e3)/e3, 1 at e3 = 0
         return np.array([ref.v * np.cos(e[2]) + k1 * e[0], ref.omega + self.b * ref.v * sinc * e[1] + k3 * e[2]])
@@ -232,15 +250,21 @@ class CartesianRegulator(LoggedController):
 
     γ = Atan2(y, x) − θ + π (pointing error, wrapped). ``backward=True`` is the modification (S11.6) of
     Problem 11.16: ω = k2(γ − sign(γ)π) when nᵀe_p ≤ 0, so the robot aligns with −e_p and backs to the goal.
-    ``feedback``: the measurement's entry holding the posture (None: the measurement itself).
+    ``feedback``: the measurement's entry holding the posture (None: the measurement itself). At the goal
+    (ρ = ‖p‖ ≤ ``tolerance``, default exactly 0) γ is undefined and the command is zero.
     """
 
-    def __init__(self, k1: float, k2: float, backward: bool = False, feedback: str | None = None):
+    def __init__(self, k1: float, k2: float, backward: bool = False, feedback: str | None = None,
+                 tolerance: float = 0.0):
         self.k1, self.k2, self.backward = as_positive(k1, "k1"), as_positive(k2, "k2"), bool(backward)
         self.feedback = feedback
+        self.tolerance = as_positive(tolerance, "tolerance", allow_zero=True)
 
     def __call__(self, t: float, measurement: Any) -> np.ndarray:
         x, y, th = _fed_back(measurement, self.feedback)
+        if math.hypot(x, y) <= self.tolerance:  # at the goal: γ = Atan2(0, 0) − θ + π is undefined; nothing to do
+            self.record(gamma=0.0)
+            return np.zeros(2)
         n_e = -(x * np.cos(th) + y * np.sin(th))  # nᵀ e_p, e_p = −p
         gamma = _wrap(np.arctan2(y, x) - th + np.pi)
         self.record(gamma=gamma)
@@ -256,15 +280,22 @@ class PostureRegulator(LoggedController):
     v = k1 ρ cos γ,  ω = k2 γ + k1 (sin γ cos γ / γ)(γ + k3 δ).
     ``feedback``: the measurement's entry holding the posture (e.g. ``"estimate"`` behind an
     :class:`Odometry` block in a :class:`~controllers.simulation.Chain`; None: the measurement itself).
+    At ρ ≤ ``tolerance`` (default exactly 0) γ and δ are undefined: the robot turns in place to θ = 0,
+    v = 0, ω = −k2 θ (wrapped) — zero at the goal (0, 0, 0), where (11.82) would spin it for ever.
     """
 
-    def __init__(self, k1: float, k2: float, k3: float, feedback: str | None = None):
+    def __init__(self, k1: float, k2: float, k3: float, feedback: str | None = None, tolerance: float = 0.0):
         self.k1, self.k2, self.k3 = as_positive(k1, "k1"), as_positive(k2, "k2"), as_positive(k3, "k3")
         self.feedback = feedback
+        self.tolerance = as_positive(tolerance, "tolerance", allow_zero=True)
 
     def __call__(self, t: float, measurement: Any) -> np.ndarray:
         x, y, th = _fed_back(measurement, self.feedback)
         rho = np.hypot(x, y)
+        if rho <= self.tolerance:               # ρ = 0: γ, δ undefined (Atan2(0, 0)); v = k1 ρ cos γ ≈ 0 anyway
+            heading = _wrap(th)                 # turn in place to θ = 0: zero at the goal (0, 0, 0)
+            self.record(rho=rho, gamma=0.0, delta=-heading)
+            return np.array([0.0, -self.k2 * heading])
         gamma = _wrap(np.arctan2(y, x) - th + np.pi)
         delta = _wrap(gamma + th)
         self.record(rho=rho, gamma=gamma, delta=delta)
@@ -289,6 +320,7 @@ def odometry_step(q: Any, v: float, omega: float, Ts: float, method: str = "rung
     """
     q = as_vector(q, 3, "q")
     Ts = as_positive(Ts, "Ts")
+    v, omega = as_scalar(v, "v"), as_scalar(omega, "omega")
     if method not in ODOMETRY_METHODS:
         raise ValueError(f"`method` must be one of {ODOMETRY_METHODS}, got {method!r}")
     return _odometry_step(q, v, omega, Ts, method)
@@ -327,6 +359,9 @@ class Odometry(LoggedController):
 
     def __call__(self, t: float, measurement: Any) -> Posture:
         s, psi = measurement.distance, measurement.rotation
+        if not (math.isfinite(s) and math.isfinite(psi)):
+            raise ValueError(f"the wheel encoders' readings (distance, rotation) must be finite, got {(s, psi)} at "
+                             f"t = {t:g} s: one would leave the odometric estimate NaN for ever")
         if self._last is not None and t > self._last[0]:
             Ts = t - self._last[0]
             ds, dpsi = s - self._last[1], psi - self._last[2]
@@ -357,7 +392,7 @@ class MobileManipulatorHold(LoggedController):
         self.Gamma = mobile_manipulator_input_matrix(robot)
         self.p_d = as_vector(p_d, 3, "p_d").copy()
         self.base_velocity, self.K = base_velocity, as_positive(K, "K")
-        self.damping = float(damping)
+        self.damping = as_positive(damping, "damping", allow_zero=True)
 
     def __call__(self, t: float, m: Any) -> np.ndarray:
         fs = frame_state(self.robot, m.q)

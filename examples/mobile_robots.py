@@ -108,7 +108,7 @@ def parallel_parking(ell: float = 2.5, phi_max: float = 0.6, T: float = 15.0) ->
     sol.check("planned path respects the steering bound", max_steering_angle(path, ell) <= phi_max,
               f"max |φ| = {max_steering_angle(path, ell):.3f} ≤ {phi_max} rad")
     ref = TimeScaledPath(path, law=quintic_law(0.0, 1.0, T))
-    ctrl = BicycleTracking(NonlinearTracking(ref, zeta=0.7, b=2.0), ell, phi_max, k_phi=5.0)
+    ctrl = BicycleTracking(NonlinearTracking(ref, zeta=0.7, b=2.0, at_rest="stop"), ell, phi_max, k_phi=5.0)
     x0 = np.array([0.1, 0.2, 0.05, 0.0])
     res = simulate(BicyclePlant(ell), ctrl, (0.0, T + 3.0), x0, h=H, Ts=H)
     final = res.x[-1, :3] - q_f

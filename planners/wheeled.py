@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 from numpy.polynomial import Polynomial
 
-from rigid_body.validation import as_positive, as_vector
+from rigid_body.validation import as_count, as_positive, as_vector
 from rigid_body.wheeled import unicycle_arc
 
 __all__ = [
@@ -100,6 +100,28 @@ class CartesianPolynomialPath:
         _, dp, ddp = self(s)
         return unicycle_flat_inputs(dp, ddp, self.forward)
 
+    def velocity_polynomials(self) -> np.ndarray:
+        """(2, 3): the coefficients [c_2, c_1, c_0] of x'(s) and y'(s) = c_2 s² + c_1 s + c_0 (from (11.52))."""
+        pf, pi, a, b = self.q_f[:2], self.q_i[:2], self.alpha, self.beta
+        return np.column_stack([3 * pf - 3 * pi + 3 * a + 3 * b, 6 * pi - 2 * a - 4 * b, -3 * pi + b])
+
+    def slowest_points(self) -> np.ndarray:
+        """The s ∈ [0, 1] where the speed ‖p'(s)‖ is least (the ends and the real roots in [0, 1] of
+        d‖p'‖²/ds, a cubic): where a near-cusp puts the peak of ω̃."""
+        c = self.velocity_polynomials()
+        d = sum(np.convolve(ci, [2 * ci[0], ci[1]]) for ci in c)     # ½ d‖p'‖²/ds = x'x'' + y'y''
+        roots = np.roots(np.trim_zeros(d, "f")) if np.any(d) else np.zeros(0)
+        real = roots[np.abs(roots.imag) <= 1e-12 * (1 + np.abs(roots.real))].real
+        return np.unique(np.r_[0.0, 1.0, real[(real >= 0.0) & (real <= 1.0)]])
+
+    def cusps(self) -> np.ndarray:
+        """The s ∈ [0, 1] where the path stops, p'(s) = 0 (relative to its largest speed, 1e-9): its heading jumps
+        by π there, a cusp that a unicycle moving one way cannot follow."""
+        s = self.slowest_points()
+        _, dp, _ = self(np.r_[s, np.linspace(0.0, 1.0, 65)])
+        speed = np.hypot(dp[:, 0], dp[:, 1])
+        return s[speed[:len(s)] <= 1e-9 * speed.max()]
+
 
 def cartesian_polynomial_path(q_i: Any, q_f: Any, k_i: float = 1.0, k_f: float = 1.0) -> CartesianPolynomialPath:
     """The cubic Cartesian path (11.52) between postures (x, y, θ), with (11.53):
@@ -112,7 +134,13 @@ def cartesian_polynomial_path(q_i: Any, q_f: Any, k_i: float = 1.0, k_f: float =
         raise ValueError(f"`k_i`, `k_f` must be non-zero and of the same sign, got {k_i}, {k_f}")
     alpha = k_f * np.array([np.cos(q_f[2]), np.sin(q_f[2])]) - 3 * q_f[:2]
     beta = k_i * np.array([np.cos(q_i[2]), np.sin(q_i[2])]) + 3 * q_i[:2]
-    return CartesianPolynomialPath(q_i, q_f, float(k_i), float(k_f), alpha, beta)
+    path = CartesianPolynomialPath(q_i, q_f, float(k_i), float(k_f), alpha, beta)
+    cusps = path.cusps()
+    if cusps.size:
+        raise ValueError(f"`q_f`: the cubic path (11.52) from q_i = {q_i.tolist()} to q_f = {q_f.tolist()} with k = "
+                         f"{k_i:g} stops at s = {np.round(cusps, 4).tolist()} (x' = y' = 0): its heading jumps by π there "
+                         "(a cusp), which a unicycle cannot follow; choose other postures or another k")
+    return path
 
 
 def max_steering_angle(path: CartesianPolynomialPath, ell: float, samples: int = 2001) -> float:
@@ -134,7 +162,10 @@ def steering_feasible_path(q_i: Any, q_f: Any, ell: float, phi_max: float, forwa
     dist = max(float(np.hypot(*(q_f[:2] - q_i[:2]))), 1e-3)
 
     def peak(k: float) -> float:
-        return max_steering_angle(cartesian_polynomial_path(q_i, q_f, sign * k, sign * k), ell, 401)
+        try:
+            return max_steering_angle(cartesian_polynomial_path(q_i, q_f, sign * k, sign * k), ell, 401)
+        except ValueError:                      # a cusp for this k: the worst
+            return np.pi / 2
 
     best = minimize_scalar(peak, bounds=(0.1 * dist, 4.0 * dist), method="bounded", options={"xatol": 1e-4})
     path = cartesian_polynomial_path(q_i, q_f, sign * best.x, sign * best.x)
@@ -151,7 +182,14 @@ def uniform_time_scaling(path: CartesianPolynomialPath, v_max: float, omega_max:
     v(t) = ṽ(s)/T and ω(t) = ω̃(s)/T, so T = max(max|ṽ|/v_max, max|ω̃|/ω_max) over s ∈ [0, 1] (sampled).
     """
     v_max, omega_max = as_positive(v_max, "v_max"), as_positive(omega_max, "omega_max")
-    _, v, w = path.geometric_inputs(np.linspace(0.0, 1.0, samples))
+    samples = as_count(samples, "samples", 2)
+    cusps = path.cusps()
+    if cusps.size:
+        raise ValueError(f"`path` stops at s = {np.round(cusps, 4).tolist()} (a cusp): ω would be infinite there")
+    slow = path.slowest_points()                    # ω̃ peaks where the speed is least: sampled densely around them
+    near = (slow[:, None] + np.linspace(-1e-3, 1e-3, 201)[None, :]).ravel()
+    s = np.unique(np.clip(np.r_[np.linspace(0.0, 1.0, samples), near], 0.0, 1.0))
+    _, v, w = path.geometric_inputs(s)
     return float(max(np.max(np.abs(v)) / v_max, np.max(np.abs(w)) / omega_max))
 
 

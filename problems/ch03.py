@@ -639,6 +639,8 @@ def _history_figure(title: str, res, error_panels: list[tuple[str, np.ndarray]],
         ax.plot(res.t, y, label=label.split(" [")[0])
         if label.startswith("distance"):
             ax.axhline(0.0, color="k", lw=0.8, ls=":", label="d = 0 (contact)")
+        elif np.all(np.asarray(y) > 0):
+            ax.set_yscale("log")        # an error norm: its decay over decades is a straight line
         label_axes(ax, "t [s]", label, title=label.split(" [")[0])
     fig.suptitle(title)
     return fig  # laid out by Solution.figure

@@ -128,7 +128,7 @@ def problem_7_1() -> Solution:
                         ("g = [(mℓ1 + mm2 + mℓ2) g, mℓ2 g/√2] (7.39)", worst["g"], 1e-9, "closed form"),
                         ("Pinocchio (URDF with mimic rotors) gives the same B and g (relative)", worst["pin"], 1e-12,
                          "closed form")])
-    sol.figure(frames_figure(robot, [0.4, 0.3], "Fig. S7.1 — frames of the Cartesian arm with joint axis 2 at π/4 (d1 = 0.4, d2 = 0.3)"))
+    sol.figure(frames_figure(robot, [0.4, 0.3], "Fig. S7.1 — Cartesian arm, joint axis 2 at π/4 (d1 = 0.4, d2 = 0.3)"))
     return sol
 
 

@@ -444,7 +444,7 @@ def problem_8_7() -> Solution:
     sol.value("max_error_feedback_only", e_no)
     sol.check("sampled simulation: feedforward reduces the tracking error by more than 20×", e_ff < e_no / 20,
               f"max |ϑ_d − ϑ_m| = {e_ff:.2e} rad with feedforward vs {e_no:.2e} rad without")
-    fig, ax = subplots(figsize=(7, 3.5))
+    fig, ax = subplots(figsize=(8, 3.5))
     for ff, style in ((True, "-"), (False, "--")):
         ax.plot(runs[ff].t, runs[ff]["e"] * 1e3, style, label="with feedforward" if ff else "feedback only")
     label_axes(ax, "t [s]", "ϑ_d − ϑ_m [mrad]", legend=True)

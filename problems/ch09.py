@@ -43,8 +43,8 @@ from problems.registry import Solution, problem
 from rigid_body.kinematics import ELBOW_UP, direct_kinematics, inverse_kinematics_planar_2r
 from rigid_body.robots import Robot, load
 from rigid_body.rotations import euler_rate_matrix_zyz, rotation_to_euler_zyz, skew
-from rigid_body.task_space import (relative_euler_rate, relative_position_rate, selection_matrices,
-                                   selection_projection, selection_pseudo_inverse)
+from rigid_body.task_space import (contact_wrenches, reciprocal_basis, relative_euler_rate, relative_position_rate,
+                                   selection_matrices, selection_projection, selection_pseudo_inverse)
 
 T_C = 1e-3             # controller sampling period = integration step [s]
 T_D = 2.5              # simulated time of the authors' runs [s]
@@ -88,23 +88,23 @@ class _Held:
     the trapezoid (here t_f = 1 s, a sample) the value of the interval that starts there (right limit).
 
     The law is evaluated once, vectorised, at the controller's instants k T_c of [0, T_d] (the loop's
-    t = k T_c exactly); any other instant is evaluated on the spot. Like the law, it takes one instant
-    or an array of them (a timing law: ``t_i``, ``t_f``)."""
+    t = k T_c exactly, T_c = ``period``); any other instant is evaluated on the spot. Like the law, it takes
+    one instant or an array of them (a timing law: ``t_i``, ``t_f``)."""
 
-    def __init__(self, law: Callable[[Any], Any]):
-        self.law, self.t_i, self.t_f = law, law.t_i, law.t_f
-        self.grid = np.arange(int(round(T_D / T_C)) + 1) * T_C
+    def __init__(self, law: Callable[[Any], Any], period: float = T_C):
+        self.law, self.t_i, self.t_f, self.period = law, law.t_i, law.t_f, period
+        self.grid = np.arange(int(round(T_D / period)) + 1) * period
         self.table = [np.asarray(v) for v in law(np.nextafter(self.grid, np.inf))]
 
     def __call__(self, t: Any) -> Any:
         grid, table = self.grid, self.table
         if np.ndim(t) == 0:
-            i = int(round(t / T_C))
+            i = int(round(t / self.period))
             if 0 <= i < grid.size and t == grid[i]:
                 return table[0][i], table[1][i], table[2][i]
             return self.law(np.nextafter(t, np.inf))
         t = np.asarray(t, dtype=float)
-        i = np.clip(np.rint(t / T_C).astype(int), 0, grid.size - 1)
+        i = np.clip(np.rint(t / self.period).astype(int), 0, grid.size - 1)
         on_grid = grid[i] == t
         out = [np.array(v[i]) for v in table]
         if not on_grid.all():
@@ -216,14 +216,15 @@ def problem_9_1() -> Solution:
         err_printed.append(max_abs_error(printed, fd_p))
     sol.value("max_error_9_10", max(err_p))
     sol.value("max_error_9_11", max(err_phi))
-    sol.check("(9.10) matches central differences of R_dᵀ(o_e − o_d) (20 random motions)", max(err_p) < 1e-6,
-              f"max error {max(err_p):.2e} < 1e-6")
-    sol.check("(9.11) with the ZYZ T(φ) of (3.64) matches differences of the extracted angles", max(err_phi) < 1e-6,
-              f"max error {max(err_phi):.2e} < 1e-6")
-    sol.check("(S9.2): Ṙ_dᵀ = −S(ω^d_d) R_dᵀ", max(err_S92) < 1e-6, f"max error {max(err_S92):.2e}")
-    sol.check("erratum (S9.1): the printed sign −Ṙ_dᵀ(o_e − o_d) is wrong (chain rule: +)", min(err_printed) > 1e-3,
-              f"the printed expression misses the differences by at least {min(err_printed):.3g} "
-              f"(the corrected one by at most {max(err_p):.1e})")
+    sol.check_error("(9.10) matches central differences of R_dᵀ(o_e − o_d) (20 random motions)", max(err_p), 1e-6,
+                    reference="finite differences")
+    sol.check_error("(9.11) with the ZYZ T(φ) of (3.64) matches differences of the extracted angles", max(err_phi),
+                    1e-6, reference="finite differences")
+    sol.check_error("(S9.2): Ṙ_dᵀ = −S(ω^d_d) R_dᵀ (central differences of R_dᵀ)", max(err_S92), 1e-6,
+                    reference="finite differences")
+    sol.check_bound("erratum (S9.1): the printed sign −Ṙ_dᵀ(o_e − o_d) misses the differences (chain rule: +); "
+                    "smallest miss over the 20 motions", min(err_printed), 1e-3, ">", reference="finite differences",
+                    detail=f"{min(err_printed):.3g} > 1e-3 (the corrected one misses by at most {max(err_p):.1e})")
     # ω^d_{d,e} = T(φ_{d,e}) φ̇_{d,e} with the book's T: the ZYZ rate matrix at a known angle (3.64)
     T0 = euler_rate_matrix_zyz([0.3, 0.7, -0.4])
     sol.check_close("T(φ) of (3.64) at φ = [0.3, 0.7, −0.4]", T0[:, 2],
@@ -260,14 +261,15 @@ def problem_9_2() -> Solution:
         h_e, dx_ed = compliance_equilibrium(K_P, K, dx_rd)
         errs.append(max_abs_error(np.r_[h_e, dx_ed], direct) / max(1.0, np.abs(direct).max()))
     sol.value("max_relative_error", max(errs))
-    sol.check("(9.22)–(9.23) = direct solution of {h = K_P dx_ed, h = K (dx_rd − dx_ed)}, K of rank 1..6",
-              max(errs) < 1e-10, f"max relative error {max(errs):.2e} < 1e-10")
+    sol.check_error("(9.22)–(9.23) = direct solution (numpy) of the 12 × 12 system {h = K_P dx_ed, h = K (dx_rd − "
+                    "dx_ed)}, K of rank 1..6 (relative)", max(errs), 1e-10, reference="second algorithm")
 
     # Closed loop: PD + gravity (8.110) of the two-link arm pushing into the plane of Fig. 9.16
+    _given_plane(sol)
     arm = _arm()
-    K_P, K_D = 5000.0, 3000.0
+    K_P, K_D = sol.given("K_P", 5000.0, unit="N/m"), sol.given("K_D", 3000.0, unit="N·s/m")
     n = np.r_[R_C[:, 1]]
-    x_d = O_R + R_C @ np.array([0.15, -0.05])        # 5 cm inside the undeformed plane
+    x_d = O_R + R_C @ sol.given("x_d^c − o_r^c (5 cm inside the plane)", np.array([0.15, -0.05]), unit="m")
     q0 = inverse_kinematics_planar_2r(O_R + R_C @ np.array([0.15, 0.0]))[ELBOW_UP]
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
     res = simulate(plant, OperationalPDGravity(arm, K_P, K_D, x_d, rows=(0, 1)), (0.0, T_D), plant.initial_state(q0),
@@ -289,12 +291,12 @@ def problem_9_2() -> Solution:
 M_D, K_D_IMP, K_P_IMP = 100.0, 1600.0, 5000.0   # the impedance of 9.3 (equal along x_c and y_c)
 
 
-def _impedance_run(reference: Any, q0: np.ndarray) -> SimulationResult:
+def _impedance_run(reference: Any, q0: np.ndarray, period: float = T_C) -> SimulationResult:
     arm = _arm()
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
     ctrl = OperationalInverseDynamics(arm, K_P_IMP, K_D_IMP, reference, rows=(0, 1), viscous_friction=F_V,
                                       inertia=M_D, force_feedback=True)
-    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C, backend=fast_backend())
+    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=period, Ts=period, backend=fast_backend())
 
 
 @problem("9.3", "Impedance control of the two-link arm in contact with a compliant plane inclined by π/4",
@@ -316,8 +318,8 @@ def problem_9_3() -> Solution:
     law = _tra_5(sol)
     p_i = law(0.0)[0]
     q0 = inverse_kinematics_planar_2r(p_i[:2])[ELBOW_UP]
-    sol.check_close("initial posture = companion's inv_k2u(p_i)", q0, [0.96343, -1.92685], atol=1e-5,
-                    reference="manual number")
+    sol.check_close("initial posture = companion's inv_k2u(p_i) [0.96343, −1.92685] rad (not printed in the manual)",
+                    q0, [0.96343, -1.92685], atol=1e-5, reference="independent derivation")
     res = _impedance_run(_Held(law), q0)
     f_c, e_c = _in_constraint_frame(res["h_e"]), _in_constraint_frame(res["e"])
     e_base = res["e"]
@@ -329,15 +331,21 @@ def problem_9_3() -> Solution:
     e_inf = y_dr - f_inf / K_Y                                  # ỹ = y_d − y_e = −0.05 m
     sol.check_close("f_y^c(0) = k_y (y_e − y_r) = −500 N (tip 0.1 m inside)", f_c[0, 1], K_Y * y_dr, atol=1e-6,
                     reference="closed form")
-    sol.check("f_y^c(t_d) = k_y k_P/(k_P + k_y)(y_d − y_r) = −250 N (±1 %)", abs(f_end[1] - f_inf) < 0.01 * abs(f_inf),
-              f"{f_end[1]:.4f} N vs {f_inf:.4f} N")
-    sol.check("x̃_y^c(t_d) = −0.05 m (±1 %)", abs(e_end[1] - e_inf) < 0.01 * abs(e_inf), f"{e_end[1]:.6f} m vs {e_inf:.6f} m")
-    sol.check("x̃_x^c ≈ 0 along the unconstrained direction", np.abs(e_c[:, 0]).max() < 1e-3,
-              f"max |x̃_x^c| = {np.abs(e_c[:, 0]).max():.2e} m < 1e-3 (the reference run: 5e-5)")
-    sol.check("no force along x_c (frictionless plane)", np.abs(f_c[:, 0]).max() < 1e-6,
-              f"max |f_x^c| = {np.abs(f_c[:, 0]).max():.1e} N")
-    sol.check_close("base-frame rest: f_e = [176.78, −176.78] N", res["h_e"][-1, :2], R_C @ [0.0, f_inf], atol=0.5,
+    sol.check_close("f_y^c(t_d) = k_y k_P/(k_P + k_y)(y_d − y_r) = −250 N [N]", f_end[1], f_inf, rtol=1e-6,
                     reference="simulation vs prediction")
+    sol.check_close("x̃_y^c(t_d) = y_d − y_r − f_∞/k_y = −0.05 m [m]", e_end[1], e_inf, rtol=1e-6,
+                    reference="simulation vs prediction")
+    # along x_c the continuous loop m_d x̃̈ + k_D x̃̇ + k_P x̃ = 0 from x̃(0) = 0 keeps x̃ ≡ 0 (the manual: "null");
+    # the sampled law leaves an error of first order in T_c: a run at T_c/2 halves it
+    ex_max = sol.value("x_tilde_x_max", float(np.abs(e_c[:, 0]).max()))
+    half = _impedance_run(_Held(law, T_C / 2), q0, T_C / 2)
+    ex_half = sol.value("x_tilde_x_max_half_period", float(np.abs(_in_constraint_frame(half["e"])[:, 0]).max()))
+    sol.value("f_x_max", float(np.abs(f_c[:, 0]).max()))
+    sol.check_close("x̃_x^c null but for sampling: max|x̃_x^c| is first order in T_c (ratio 1 ms / 0.5 ms = 2)",
+                    ex_max / ex_half, 2.0, rtol=0.15, reference="simulation vs prediction")
+    sol.check_bound("… and small: max|x̃_x^c| at T_c = 1 ms [m]", ex_max, 1e-4)
+    sol.check_close("base-frame rest: f_e = R_c [0, f_∞] = [176.78, −176.78] N", res["h_e"][-1, :2], R_C @ [0.0, f_inf],
+                    atol=1e-3, reference="simulation vs prediction")
 
     w_y, z_y = impedance_parameters(M_D, K_D_IMP, K_P_IMP, K_Y)
     w_x, z_x = impedance_parameters(M_D, K_D_IMP, K_P_IMP)
@@ -351,9 +359,8 @@ def problem_9_3() -> Solution:
                     reference="simulation vs prediction")
     least = float(f_c[:, 1].max())
     sol.value("force_least_negative", least)
-    sol.check("small overshoot: least-negative force = f_∞ − (f_0 − f_∞) e^{−ζπ/√(1−ζ²)} ≈ −246.2 N",
-              abs(least - (f_inf - (K_Y * y_dr - f_inf) * _overshoot(z_y))) < 0.5,
-              f"{least:.2f} N vs {f_inf - (K_Y * y_dr - f_inf) * _overshoot(z_y):.2f} N")
+    sol.check_close("small overshoot: least-negative force = f_∞ − (f_0 − f_∞) e^{−ζπ/√(1−ζ²)} ≈ −246.2 N [N]",
+                    least, f_inf - (K_Y * y_dr - f_inf) * _overshoot(z_y), atol=0.1, reference="simulation vs prediction")
 
     # x_c: a separate regulation run from 2 cm off along the plane
     offset = 0.02
@@ -409,19 +416,21 @@ def problem_9_4() -> Solution:
     x_pred = inner_position_loop_equilibrium(x_d, O_R, K, c_F, f_d)
     sol.value("x_e_predicted", x_pred)
     residual = x_pred - (x_d + c_F * (K @ (O_R - x_pred) + f_d))
-    sol.check("closed form satisfies x_e = x_d + C_F(K(x_r − x_e) + f_d)", np.abs(residual).max() < 1e-12,
-              f"residual {np.abs(residual).max():.1e}")
+    sol.check_error("(I + C_F K)⁻¹(x_d + C_F(K x_r + f_d)) satisfies the equilibrium x_e = x_d + C_F(K(x_r − x_e) + f_d)",
+                    np.abs(residual).max(), 1e-12, reference="closed form")
+    K_P, K_D, M_d = sol.given("K_P, K_D, M_d (position loop)", np.array([400.0, 40.0, 1.0]))
     runs = {}
-    for name, K_I in (("P", 0.0), ("PI", 1e-3)):
-        ctrl = ForceWithInnerLoop(arm, 400.0, 40.0, 1.0, c_F, x_d, f_d, K_I=K_I, rows=(0, 1), viscous_friction=F_V)
+    for name, K_I in (("P", 0.0), ("PI", sol.given("integral gain of the PI C_F", 1e-3, unit="m/(N·s)"))):
+        ctrl = ForceWithInnerLoop(arm, K_P, K_D, M_d, c_F, x_d, f_d, K_I=K_I, rows=(0, 1), viscous_friction=F_V)
         runs[name] = simulate(plant, ctrl, (0.0, 3.0), plant.initial_state(q0), h=T_C, Ts=T_C, backend=fast_backend())
     p_run, pi_run = runs["P"], runs["PI"]
     sol.value("x_e_simulated", p_run["x_e"][-1])
     sol.check_close("proportional C_F: simulated rest = x_e of Problem 9.4 [m]", p_run["x_e"][-1], x_pred, atol=1e-6,
                     reference="simulation vs prediction")
     f_rest = K @ (x_pred - O_R)
-    sol.check("proportional C_F: the force error does not vanish", abs((f_rest - f_d) @ n) > 1.0,
-              f"f_e·y_c = {f_rest @ n:.3f} N vs f_d = {f_d @ n:.1f} N (simulated {p_run['f_e'][-1] @ n:.3f} N)")
+    sol.check_close(f"proportional C_F: the force error does not vanish: simulated rest force = K(x_e − x_r) of the "
+                    f"predicted x_e, f_e·y_c = {f_rest @ n:.3f} N, not f_d·y_c = {f_d @ n:.1f} N [N]", p_run["f_e"][-1],
+                    f_rest, atol=1e-6, reference="simulation vs prediction")
     sol.check_close("PI C_F: f_e → f_d [N]", pi_run["f_e"][-1], f_d, atol=0.05, reference="simulation vs prediction")
     fig, ax = subplots(figsize=(6.4, 3.4))
     for name, r in runs.items():
@@ -460,9 +469,9 @@ def problem_9_5() -> Solution:
         g = lambda l: 0.5 * (h_e - S_f @ l) @ W @ (h_e - S_f @ l)
         worse += sum(g(lam + 1e-3 * rng.standard_normal(m)) < g(lam) for _ in range(50))
     sol.value("max_error_vs_lstsq", max(err_ls))
-    sol.check("λ = (S_fᵀWS_f)⁻¹S_fᵀW h_e = least squares of W^½ S_f λ ≈ W^½ h_e", max(err_ls) < 1e-10,
-              f"max error {max(err_ls):.1e}")
-    sol.check("the gradient −S_fᵀW(h_e − S_f λ) vanishes", max(grad) < 1e-10, f"max |∇g| = {max(grad):.1e}")
+    sol.check_error("λ = (S_fᵀWS_f)⁻¹S_fᵀW h_e = least squares of W^½ S_f λ ≈ W^½ h_e (numpy lstsq)", max(err_ls),
+                    1e-10, reference="other library")
+    sol.check_error("the gradient −S_fᵀW(h_e − S_f λ) vanishes", max(grad), 1e-10, reference="closed form")
     sol.check("no perturbation of λ lowers ‖ε‖_W (250 random trials)", worse == 0, f"{worse} lower")
     return sol
 
@@ -472,12 +481,14 @@ def problem_9_6() -> Solution:
     """With C K = K C = I₆, K' = S_f(S_fᵀ C S_f)⁻¹S_fᵀ (9.70) = S_f(S_fᵀ C S_f)⁻¹S_fᵀ C K = S_f S_f† K = P_f K
     (S_f† weighted by C, (9.55)).
 
-    Checked for random SPD K, C = K⁻¹ and S_f of rank 1..5: K' = P_f K, P_f² = P_f, rank K' = m,
-    K' symmetric positive semi-definite.
+    Checked for random SPD K, C = K⁻¹ and S_f of rank 1..5: K' = P_f K; and K' is the stiffness of the
+    compliant environment seen through S_f: a displacement dx splits into the elastic part C S_f λ of a
+    reaction h = S_f λ and a free motion S_v ν (S_fᵀ S_v = 0), and the reaction S_f λ (one linear solve of
+    [C S_f, S_v][λ; ν] = dx) equals K' dx.
     """
     sol = Solution()
     rng = np.random.default_rng(906)
-    err, idem, ranks, psd = [], [], [], []
+    err, split = [], []
     for m in range(1, 6):
         K = _random_spd(rng, 6)
         C = np.linalg.inv(K)
@@ -485,17 +496,98 @@ def problem_9_6() -> Solution:
         K1 = constrained_stiffness(S_f, C)
         P_f = selection_projection(S_f, C)
         err.append(max_abs_error(K1, P_f @ K) / np.abs(K1).max())
-        idem.append(max_abs_error(P_f @ P_f, P_f))
-        ranks.append(int(np.linalg.matrix_rank(K1, tol=1e-9 * np.abs(K1).max())) == m)
-        psd.append(max_abs_error(K1, K1.T) < 1e-9 * np.abs(K1).max() and np.linalg.eigvalsh(K1).min() > -1e-9 * np.abs(K1).max())
+        S_v = reciprocal_basis(S_f)                                  # S_fᵀ S_v = 0
+        dx = rng.standard_normal(6)
+        lam_nu = np.linalg.solve(np.hstack([C @ S_f, S_v]), dx)
+        split.append(max_abs_error(S_f @ lam_nu[:m], K1 @ dx) / np.abs(K1 @ dx).max())
     sol.value("max_relative_error", max(err))
-    sol.check("K' of (9.70) = P_f K", max(err) < 1e-10, f"max relative error {max(err):.1e}")
-    sol.check("P_f is a projection: P_f² = P_f", max(idem) < 1e-10, f"max error {max(idem):.1e}")
-    sol.check("rank K' = m and K' symmetric PSD", all(ranks) and all(psd), f"ranks ok: {ranks}, PSD: {psd}")
+    sol.check_error("K' of (9.70) = P_f K (P_f = S_f S_f†, weight C) (relative)", max(err), 1e-10,
+                    reference="closed form")
+    sol.check_error("K' dx = the reaction S_f λ of the split dx = C S_f λ + S_v ν (one linear solve) (relative)",
+                    max(split), 1e-9, reference="second algorithm")
     return sol
 
 
-SCREW_NATURAL_VELOCITY = ("y", "z", "rx", "ry")   # ṗ_y = ṗ_z = ω_x = ω_y = 0 (Table S9.1)
+AXES = ("x", "y", "z", "rx", "ry", "rz")            # twist [ṗ; ω] and wrench [f; μ] components
+TWIST_NAMES = ("ṗ_x", "ṗ_y", "ṗ_z", "ω_x", "ω_y", "ω_z")
+WRENCH_NAMES = ("f_x", "f_y", "f_z", "μ_x", "μ_y", "μ_z")
+
+
+def _blade_in_slot(blade: float, slot_length: float, depth: float) -> tuple[np.ndarray, np.ndarray]:
+    """Contacts of the screwdriver's blade in the slot (constraint frame at the blade tip's centre on the
+    slot bottom, x_c along the slot, z_c along the screw axis out of the hole): each wall (y = ±blade/2)
+    touches the blade at two depths near both ends of the slot, the bottom (z = 0) at both ends;
+    (points (k, 3), normals (k, 3): the direction of the force the slot exerts on the blade)."""
+    a = 0.4 * slot_length
+    pts, nrm = [], []
+    for side in (1.0, -1.0):                          # the wall at y = ±blade/2 pushes towards ∓y
+        for x in (a, -a):
+            for z in (0.25 * depth, 0.75 * depth):
+                pts.append([x, side * blade / 2, z])
+                nrm.append([0.0, -side, 0.0])
+    for x in (a, -a):                                 # the bottom pushes the blade out of the slot
+        pts.append([x, 0.0, 0.0])
+        nrm.append([0.0, 0.0, 1.0])
+    return np.array(pts), np.array(nrm)
+
+
+def _screw_in_hole(shank: float, lead: float) -> tuple[np.ndarray, np.ndarray]:
+    """Contacts of the screw in its threaded hole: the shank (radius ``shank``) against the hole wall at two
+    depths, four points each (radial normals), and the thread's flanks (radius 0.9·shank, three points
+    120° apart) on the helicoid z = (lead/2π)φ + c, whose normal at (ρ, φ) is (h sin φ, −h cos φ, ρ),
+    h = lead/2π; a null lead is a circular groove (normal z_c): the screw turns without advancing."""
+    h = lead / (2 * np.pi)
+    pts, nrm = [], []
+    for z in (-2.0 * shank, -5.0 * shank):
+        for phi in np.arange(4) * np.pi / 2:
+            pts.append([shank * np.cos(phi), shank * np.sin(phi), z])
+            nrm.append([-np.cos(phi), -np.sin(phi), 0.0])
+    rho = 0.9 * shank
+    for phi in np.arange(3) * 2 * np.pi / 3:
+        pts.append([rho * np.cos(phi), rho * np.sin(phi), -3.0 * shank + h * phi])
+        nrm.append([h * np.sin(phi), -h * np.cos(phi), rho])
+    return np.array(pts), np.array(nrm)
+
+
+def _screwdriver_twists(geometry: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(twist space T (6 × 2), reaction-wrench space W (6 × 4)) of the screwdriver: the blade slides in the
+    slot (the blade–slot pair's twists) and turns with the screw (the screw–hole pair's), T the sum of the
+    two pairs' twist spaces (both about the constraint frame's origin), W its reciprocal complement."""
+    blade = reciprocal_basis(contact_wrenches(*_blade_in_slot(geometry["blade"], geometry["slot_length"],
+                                                              geometry["depth"])))
+    screw = reciprocal_basis(contact_wrenches(*_screw_in_hole(geometry["shank"], geometry["lead"])))
+    U, sigma, _ = np.linalg.svd(np.hstack([blade, screw]))
+    T = U[:, :int(np.sum(sigma > 1e-9 * sigma[0]))]
+    return T, reciprocal_basis(T)
+
+
+def _vanishing(S: np.ndarray) -> np.ndarray:
+    """Mask of the components that vanish on every column of S (a natural constraint on that component)."""
+    return np.all(np.abs(S) < 1e-9, axis=1)
+
+
+def _contact_gap_rates(geometry: dict, xi: np.ndarray, eps: float = 1e-7) -> float:
+    """max over the contacts of |ġ_i|: the rate at which the screwdriver moving along the twist ξ (its finite
+    motion exp(εξ) by Pinocchio, central differences in ε) opens or closes a contact. The blade slides in
+    the slot by the part of ξ the screw cannot take: the screw first turns/advances by the helical part."""
+    h = geometry["lead"] / (2 * np.pi)
+    axis = np.array([0.0, 0.0, h, 0.0, 0.0, 1.0]) / np.hypot(h, 1.0)
+    screw_part = (xi @ axis) * axis                    # ξ = screw motion + blade's motion in the slot
+    pairs = []
+    for twist, (pts, nrm), surface in ((xi - screw_part, _blade_in_slot(geometry["blade"], geometry["slot_length"],
+                                                                        geometry["depth"]), "planes"),
+                                       (screw_part, _screw_in_hole(geometry["shank"], geometry["lead"]), "hole")):
+        def gaps(e: float) -> np.ndarray:
+            M = pin.exp6(pin.Motion(e * twist[:3], e * twist[3:]))
+            moved = np.array([M.act(p) for p in pts])
+            if surface == "planes":                     # signed distances from the wall and bottom planes
+                return np.einsum("ij,ij->i", moved - pts, nrm / np.linalg.norm(nrm, axis=1, keepdims=True))
+            radial = np.hypot(moved[:8, 0], moved[:8, 1]) - geometry["shank"]          # the hole's wall
+            phase = moved[8:, 2] - h * np.unwrap(np.arctan2(moved[8:, 1], moved[8:, 0])) - (pts[8:, 2]
+                                                                                         - h * np.arctan2(pts[8:, 1], pts[8:, 0]))
+            return np.r_[radial, phase]                   # the flank's helicoid z − hφ = const
+        pairs.append(np.abs(gaps(eps) - gaps(-eps)).max() / (2 * eps))
+    return float(max(pairs))
 
 
 @problem("9.7", "Natural and artificial constraints for driving a screw into a hole", kind="derivation")
@@ -504,30 +596,66 @@ def problem_9_7() -> Solution:
     the screw axis z_c. Natural constraints (Table S9.1): ṗ_y^c = ṗ_z^c = ω_x^c = ω_y^c = 0 and
     f_x^c = μ_z^c = 0; artificial: f_y^c, f_z^c, μ_x^c, μ_y^c, ṗ_x^c, ω_z^c.
 
-    Encoded as S_v (ṗ_x, ω_z) and S_f (f_y, f_z, μ_x, μ_y). Erratum: the manual's prose puts the natural
-    force constraint "along axis y_c"; the table (and the slot) give x_c.
+    Derived from a contact model rather than typed: the blade in the slot (blade 1 mm thick, slot 8 mm long
+    and 2 mm deep: frictionless point contacts on both walls and the bottom) and the screw in its hole
+    (shank of radius 3 mm against the hole's wall, the thread's flanks); the twists each pair admits are
+    the reciprocal complement of its contact wrenches [n; p × n], the screwdriver's twist space their sum,
+    and the reaction wrenches the reciprocal complement of that. A natural constraint is a component that
+    vanishes on the whole space. Checked against Table S9.1 and against finite motions of the geometry.
+    The manual's remark: with the thread's lead p (1 mm) the screw advances ṗ_z = (p/2π) ω_z as it turns,
+    so once ω_z is specified ṗ_z is determined. Erratum: the manual's prose puts the natural force
+    constraint "along axis y_c"; the table and the contact model give x_c.
     """
     sol = Solution()
-    axes = ("x", "y", "z", "rx", "ry", "rz")
-    # the environment constrains these velocities; the artificial motion constraints are the rest
-    free = tuple(a for a in axes if a not in SCREW_NATURAL_VELOCITY)
-    S_f, S_v = selection_matrices(free)
-    sol.value("S_f", S_f)
+    geometry = dict(blade=sol.given("blade thickness = slot width", 1e-3, unit="m"),
+                    slot_length=sol.given("slot length", 8e-3, unit="m"),
+                    depth=sol.given("slot depth", 2e-3, unit="m"),
+                    shank=sol.given("shank radius", 3e-3, unit="m"), lead=0.0)
+    lead = sol.given("thread lead p (the remark's pitch)", 1e-3, unit="m")
+    T, W = _screwdriver_twists(geometry)
+    natural_v, natural_f = _vanishing(T), _vanishing(W)
+    sol.value("twist_space_dimension", T.shape[1])
+    sol.value("natural_constraints", [n for n, z in zip(TWIST_NAMES, natural_v) if z]
+              + [n for n, z in zip(WRENCH_NAMES, natural_f) if z])
+    sol.value("artificial_constraints", [n for n, z in zip(WRENCH_NAMES, natural_v) if z]
+              + [n for n, z in zip(TWIST_NAMES, natural_f) if z])
+    # Table S9.1: natural ṗ_y, ṗ_z, ω_x, ω_y | f_x, μ_z (1 = the component is naturally constrained)
+    sol.check_close("natural velocity constraints = Table S9.1: ṗ_y^c = ṗ_z^c = ω_x^c = ω_y^c = 0",
+                    natural_v.astype(float), [0.0, 1, 1, 1, 1, 0], atol=0, reference="manual number")
+    sol.check_close("natural force constraints = Table S9.1: f_x^c = μ_z^c = 0", natural_f.astype(float),
+                    [1.0, 0, 0, 0, 0, 1], atol=0, reference="manual number")
+    S_f, S_v = selection_matrices(tuple(a for a, z in zip(AXES, natural_f) if z))
     sol.value("S_v", S_v)
-    natural_force = [axes[i] for i in np.flatnonzero(S_v.any(axis=1))]   # no reaction where motion is free
-    artificial_force = [axes[i] for i in np.flatnonzero(S_f.any(axis=1))]
-    sol.check("artificial velocities = Table S9.1 (ṗ_x^c, ω_z^c)", free == ("x", "rz"), f"{free}")
-    sol.check("natural forces = Table S9.1 (f_x^c, μ_z^c)", natural_force == ["x", "rz"], f"{natural_force}")
-    sol.check("artificial forces = Table S9.1 (f_y^c, f_z^c, μ_x^c, μ_y^c)", artificial_force == ["y", "z", "rx", "ry"],
-              f"{artificial_force}")
-    sol.check("reciprocity S_fᵀ S_v = 0 and rank [S_f S_v] = 6",
-              np.abs(S_f.T @ S_v).max() == 0 and np.linalg.matrix_rank(np.hstack([S_f, S_v])) == 6)
-    # any reaction wrench in R(S_f) does no work on any admissible twist in R(S_v)
-    rng = np.random.default_rng(907)
-    power = max(abs(float((S_f @ rng.standard_normal(4)) @ (S_v @ rng.standard_normal(2)))) for _ in range(20))
-    sol.check("reaction wrenches do no work on admissible twists", power < 1e-12, f"max |hᵀv| = {power:.1e}")
-    sol.check("erratum: the natural force constraint is along x_c, not y_c as the prose says",
-              "x" in natural_force and "y" not in natural_force, "f_y^c is artificial (commanded), f_x^c natural")
+    sol.value("S_f", S_f)
+    in_span = lambda A, B: np.linalg.norm(A - B @ (B.T @ A)) < 1e-9    # noqa: E731 (B orthonormal)
+    sol.check("selection_matrices(('x', 'rz')) (the library's S_v, S_f of the artificial axes) span the derived "
+              "twist and wrench spaces", S_v.shape == T.shape and S_f.shape == W.shape and in_span(S_v, T)
+              and in_span(S_f, W), f"dim T = {T.shape[1]}, dim W = {W.shape[1]}", reference="second algorithm")
+    admissible = max(_contact_gap_rates(geometry, t) for t in T.T)
+    blocked = min(_contact_gap_rates(geometry, w) for w in W.T)
+    sol.check_error("finite motions (Pinocchio exp6) along the derived twists keep every contact: max |ġ_i| "
+                    "[m/s per unit twist]", admissible, 1e-8, reference="finite differences",
+                    detail=f"along each reaction-wrench direction some contact opens at ≥ {blocked:.2g}")
+    sol.check_bound("… and a motion along any reaction-wrench direction opens a contact (min over the 4 "
+                    "directions of max |ġ_i|)", blocked, 1e-4, ">=", reference="finite differences")
+    sol.check("erratum: the natural force constraint is along x_c, not y_c as the prose says (the walls' "
+              "reactions have an f_y component, none has f_x)", natural_f[0] and not natural_f[1]
+              and np.abs(W[1]).max() > 0.5, f"max |f_y| over the reaction-wrench basis {np.abs(W[1]).max():.2f}")
+    # the manual's remark: a thread of lead p turns the revolute screw–hole pair into a helical one
+    T_p, W_p = _screwdriver_twists(geometry | dict(lead=lead))
+    turn = T_p @ np.linalg.lstsq(T_p[[0, 5]], [0.0, 1.0], rcond=None)[0]   # the admissible twist ṗ_x = 0, ω_z = 1
+    sol.value("pitch_twist", turn)
+    sol.check_close("with the thread (lead p): ω_z^c specified ⇒ ṗ_z^c = (p/2π) ω_z^c (manual's remark) [m/rad]",
+                    turn[2], lead / (2 * np.pi), atol=1e-12, reference="closed form")
+    reaction = W_p[:, np.argmax(np.abs(W_p[2]))]
+    sol.value("pitch_reaction_mu_z_over_f_z", float(reaction[5] / reaction[2]))
+    sol.check("with the thread: ṗ_z^c and μ_z^c no longer vanish alone (ṗ_z − (p/2π)ω_z = 0 and "
+              "μ_z + (p/2π) f_z = 0 are the natural constraints); ṗ_y, ω_x, ω_y, f_x still do",
+              np.array_equal(_vanishing(T_p), [0, 1, 0, 1, 1, 0]) and np.array_equal(_vanishing(W_p), [1, 0, 0, 0, 0, 0])
+              and abs(reaction[5] / reaction[2] + lead / (2 * np.pi)) < 1e-12,
+              f"μ_z/f_z = {reaction[5] / reaction[2]:.4g} m")
+    sol.check_error("with the thread the finite motions keep every contact too", max(_contact_gap_rates(
+        geometry | dict(lead=lead), t) for t in T_p.T), 1e-8, reference="finite differences")
     return sol
 
 
@@ -552,8 +680,10 @@ def problem_9_8() -> Solution:
     corrected = -kD * d_dot + c22 * kP * (lam_d - f_y)
     printed = -kD * d_dot + kP * (lam_d - f_y)
     sol.value("alpha_y", str(derived))
-    sol.check("α_x^c = α_ν", sp.simplify(alpha[0] - a_nu) == 0, str(alpha[0]))
-    sol.check("α_y^c = −k_Dλ δ̇_y^c + c₂₂ k_Pλ (λ_d − f_y^c)", sp.simplify(derived - corrected) == 0, str(derived))
+    sol.check("sympy: α_x^c of (9.77) = α_ν (manual)", sp.simplify(alpha[0] - a_nu) == 0, str(alpha[0]),
+              reference="closed form")
+    sol.check("sympy: α_y^c of (9.77), (9.81) = −k_Dλ δ̇_y^c + c₂₂ k_Pλ (λ_d − f_y^c) (the manual's, corrected)",
+              sp.simplify(derived - corrected) == 0, str(derived), reference="closed form")
     sol.check("erratum: the manual's α_y^c (no c₂₂ on k_Pλ) differs", sp.simplify(derived - printed) != 0,
               f"difference = {sp.factor(derived - printed)}")
     return sol
@@ -580,18 +710,23 @@ def problem_9_9() -> Solution:
 
     Sf_c, Sf = pinv(Sfc, Cc), pinv(Rc * Sfc, Rc * Cc * Rc.T)
     Sv_c, Sv = pinv(Svc, Kc), pinv(Rc * Svc, Rc * Kc * Rc.T)
-    sol.check("S_f^{c†} = [c₁₂/c₂₂, 1]", sp.simplify(Sf_c - sp.Matrix([[c12 / c22, 1]])) == sp.zeros(1, 2), str(Sf_c))
+    cf = dict(reference="closed form")     # sympy's (9.55) against the manual's printed closed forms
+    sol.check("sympy: S_f^{c†} = [c₁₂/c₂₂, 1]", sp.simplify(Sf_c - sp.Matrix([[c12 / c22, 1]])) == sp.zeros(1, 2),
+              str(Sf_c), **cf)
     book_Sf = sp.Matrix([[(c12 - c22) / c22, (c12 + c22) / c22]]) / sp.sqrt(2)
-    sol.check("S_f† = (1/√2)[(c₁₂ − c₂₂)/c₂₂, (c₁₂ + c₂₂)/c₂₂]", sp.simplify(Sf - book_Sf) == sp.zeros(1, 2), str(Sf))
-    sol.check("S_f† = S_f^{c†} R_cᵀ", sp.simplify(Sf - Sf_c * Rc.T) == sp.zeros(1, 2))
+    sol.check("sympy: S_f† = (1/√2)[(c₁₂ − c₂₂)/c₂₂, (c₁₂ + c₂₂)/c₂₂]", sp.simplify(Sf - book_Sf) == sp.zeros(1, 2),
+              str(Sf), **cf)
+    sol.check("sympy: S_f† = S_f^{c†} R_cᵀ", sp.simplify(Sf - Sf_c * Rc.T) == sp.zeros(1, 2), **cf)
     lam_c, lam_b = (Sf_c * sp.Matrix([fx, fy]))[0], (Sf * Rc * sp.Matrix([fx, fy]))[0]
-    sol.check("λ = (c₁₂/c₂₂) f_x^c + f_y^c in both frames", sp.simplify(lam_c - lam_b) == 0
-              and sp.simplify(lam_c - (c12 / c22 * fx + fy)) == 0, str(lam_c))
-    sol.check("λ = f_y^c when f_x^c = 0, whatever the weight", sp.simplify(lam_c.subs(fx, 0) - fy) == 0)
-    sol.check("S_v^{c†} = [1, k₁₂/k₁₁]", sp.simplify(Sv_c - sp.Matrix([[1, k12 / k11]])) == sp.zeros(1, 2), str(Sv_c))
+    sol.check("sympy: λ = (c₁₂/c₂₂) f_x^c + f_y^c in both frames", sp.simplify(lam_c - lam_b) == 0
+              and sp.simplify(lam_c - (c12 / c22 * fx + fy)) == 0, str(lam_c), **cf)
+    sol.check("sympy: λ = f_y^c when f_x^c = 0, whatever the weight", sp.simplify(lam_c.subs(fx, 0) - fy) == 0, **cf)
+    sol.check("sympy: S_v^{c†} = [1, k₁₂/k₁₁]", sp.simplify(Sv_c - sp.Matrix([[1, k12 / k11]])) == sp.zeros(1, 2),
+              str(Sv_c), **cf)
     book_Sv = sp.Matrix([[(k11 - k12) / k11, (k11 + k12) / k11]]) / sp.sqrt(2)
-    sol.check("S_v† = (1/√2)[(k₁₁ − k₁₂)/k₁₁, (k₁₁ + k₁₂)/k₁₁] = S_v^{c†} R_cᵀ",
-              sp.simplify(Sv - book_Sv) == sp.zeros(1, 2) and sp.simplify(Sv - Sv_c * Rc.T) == sp.zeros(1, 2), str(Sv))
+    sol.check("sympy: S_v† = (1/√2)[(k₁₁ − k₁₂)/k₁₁, (k₁₁ + k₁₂)/k₁₁] = S_v^{c†} R_cᵀ",
+              sp.simplify(Sv - book_Sv) == sp.zeros(1, 2) and sp.simplify(Sv - Sv_c * Rc.T) == sp.zeros(1, 2), str(Sv),
+              **cf)
     # numeric: the library's (9.55) against the closed forms evaluated at random SPD matrices
     rng = np.random.default_rng(909)
     errs = []
@@ -604,8 +739,8 @@ def problem_9_9() -> Solution:
         ref_v = np.array([[(K[0, 0] - K[0, 1]) / K[0, 0], (K[0, 0] + K[0, 1]) / K[0, 0]]]) / np.sqrt(2)
         errs.append(max(max_abs_error(got_f, ref_f), max_abs_error(got_v, ref_v)))
     sol.value("max_numeric_error", max(errs))
-    sol.check("numeric S_f†, S_v† (9.55) = the closed forms (10 random SPD C^c, K^c)", max(errs) < 1e-12,
-              f"max error {max(errs):.1e}")
+    sol.check_error("numeric S_f†, S_v† (9.55, the library) = the closed forms (10 random SPD C^c, K^c)", max(errs),
+                    1e-12, reference="closed form")
     return sol
 
 
@@ -655,8 +790,8 @@ def problem_9_10() -> Solution:
     sol.given("K_Pν, K_Iν, K_Dλ, K_Pλ", np.array([K_P_NU, K_I_NU, K_D_LAMBDA, K_P_LAMBDA]))
     _tra_5(sol)                                                     # its data declared; _hybrid_run follows it
     q0 = inverse_kinematics_planar_2r(O_R)[ELBOW_UP]
-    sol.check_close("q(0) = [π/3, −2π/3] puts the tip at o_e(0) = [1, 0]", q0, [np.pi / 3, -2 * np.pi / 3], atol=1e-12,
-                    reference="manual number")
+    sol.check_close("q(0) = [π/3, −2π/3] puts the tip at o_e(0) = [1, 0] (a₁ = a₂ = ‖o_e‖: an equilateral triangle)",
+                    q0, [np.pi / 3, -2 * np.pi / 3], atol=1e-12, reference="closed form")
     res, exact = _hybrid_run(K_HAT), _hybrid_run(K_Y)
     lam, lam_x = res["lam"][:, 0], exact["lam"][:, 0]
     e_nu = res["nu_d"][:, 0] - res["nu"][:, 0]
@@ -671,24 +806,28 @@ def problem_9_10() -> Solution:
                     reference="manual number")
     sol.check_close("velocity loop: ω_nν = 10 rad/s, ζ_ν = 0.8", pi_velocity_parameters(K_P_NU, K_I_NU), [10.0, 0.8],
                     atol=1e-12, reference="manual number")
-    sol.check("λ(t_d) = λ_d = −50 N", abs(lam[-1] - LAMBDA_D) < 0.5, f"λ(2.5 s) = {lam[-1]:.4f} N")
+    sol.check_close("λ(t_d) = λ_d = −50 N [N]", lam[-1], LAMBDA_D, atol=1e-3, reference="simulation vs prediction")
     fit = fit_second_order(res.t, lam, LAMBDA_D, guess=(8.0, 0.6))
     sol.value("omega_zeta_measured", np.array(fit))
     sol.check_close("ω_nλ, ζ_λ measured on the force transient = √(l_f k_Pλ), k_Dλ/(2√(l_f k_Pλ))", fit, [w, z],
                     rtol=0.02, reference="simulation vs prediction")
     peak = LAMBDA_D * (1.0 + _overshoot(z))
-    sol.check("force peak = λ_d (1 + e^{−ζπ/√(1−ζ²)}) ≈ −51.97 N (4 % overshoot)", abs(lam.min() - peak) < 0.1,
-              f"{lam.min():.3f} N vs {peak:.3f} N")
-    sol.check("velocity along x_c tracked: max |ν_d − ν| < 1e-3 m/s", np.abs(e_nu).max() < 1e-3,
-              f"{np.abs(e_nu).max():.2e} m/s")
+    sol.check_close("force peak = λ_d (1 + e^{−ζπ/√(1−ζ²)}) ≈ −52.0 N (4 % overshoot) [N]", lam.min(), peak, atol=0.1,
+                    reference="simulation vs prediction")
+    sol.check_close("velocity along x_c tracked: max |ν_d − ν| ≈ 7.8e-4 m/s (the catalogue's reference simulation)",
+                    np.abs(e_nu).max(), 7.8e-4, rtol=0.05, reference="independent derivation")
     # the plane complies: deflection λ_d/k_y, the path parallel to the plane once the force has settled
     defl = _in_constraint_frame(res["p_e"][:, :2] - O_R)[:, 1]
     sol.value("deflection_final", float(defl[-1]))
-    sol.check("plane deflection y_e^c − y_r^c = λ_d/k_y = −0.01 m (±2 %)", abs(defl[-1] - LAMBDA_D / K_Y) < 2e-4,
-              f"{defl[-1]:.6f} m")
+    sol.check_close("plane deflection y_e^c − y_r^c = λ_d/k_y = −0.01 m [m]", defl[-1], LAMBDA_D / K_Y, atol=1e-7,
+                    reference="simulation vs prediction")
+    # parallel to the plane once the force has settled: |λ − λ_d| ≤ |λ_d| e^{−ζω t}/√(1 − ζ²) (the envelope of
+    # the second-order step response), so the deflection's deviation is at most that over k_y after 0.6 s
     settled = res.t > 0.6
-    sol.check("path parallel to the undeformed plane after the force transient", np.abs(defl[settled] - LAMBDA_D / K_Y).max() < 2e-4,
-              f"max |deflection + 0.01| for t > 0.6 s: {np.abs(defl[settled] - LAMBDA_D / K_Y).max():.1e} m")
+    envelope = abs(LAMBDA_D) * np.exp(-z * w * 0.6) / np.sqrt(1 - z * z) / K_Y
+    sol.check_bound("path parallel to the undeformed plane after 0.6 s: max |deflection − λ_d/k_y| ≤ the force "
+                    "transient's envelope |λ_d| e^{−ζω t}/(√(1−ζ²) k_y) [m]", np.abs(defl[settled] - LAMBDA_D / K_Y).max(),
+                    envelope, reference="simulation vs prediction")
     tip_end = O_R + R_C @ np.array([_tra_5().path.length, LAMBDA_D / K_Y])
     sol.check_close("final tip = o_r + R_c [D_s, λ_d/k_y] ≈ [1.20707, 0.19293] m", res["p_e"][-1, :2], tip_end,
                     atol=1e-5,
@@ -697,9 +836,9 @@ def problem_9_10() -> Solution:
     sol.value("omega_zeta_measured_known_stiffness", np.array(fit1))
     sol.check_close("known stiffness: ω = 10 rad/s, ζ = 0.8 measured", fit1, [w1, z1], rtol=0.02,
                     reference="simulation vs prediction")
-    sol.check("the estimate makes the force loop faster and less damped: larger overshoot",
-              lam.min() < lam_x.min() - 1.0 and abs(lam_x[-1] - LAMBDA_D) < 0.5,
-              f"peaks {lam.min():.2f} N (ĉ₂₂⁻¹ = 4e3) vs {lam_x.min():.2f} N (exact)")
+    sol.check_close("known stiffness: force peak = λ_d (1 + e^{−ζπ/√(1−ζ²)}), ζ = 0.8: −50.76 N, a smaller overshoot "
+                    "than the estimate's [N]", lam_x.min(), LAMBDA_D * (1.0 + _overshoot(z1)), atol=0.1,
+                    reference="simulation vs prediction")
 
     fig, axes = subplots(2, 1, sharex=True, figsize=(6.4, 5.0))
     axes[0].plot(res.t, e_nu, label="ĉ₂₂⁻¹ = 4·10³ N/m")
@@ -752,9 +891,11 @@ def problem_9_11() -> Solution:
     "r̈ − r̈_d + K_Dr(ṙ_d − ṙ) + K_Pr(r_d − r) = 0" is r̃̈ = K_Dr r̃̇ + K_Pr r̃, unstable.
     """
     sol = Solution()
-    rho, K_P, K_D = 0.5, 25.0, 10.0        # critically damped: r̃ = (r̃₀ + (r̃̇₀ + 5 r̃₀) t) e^{−5t}
-    w = 2.0
-    r_d = lambda t: (0.3 * np.sin(w * t), 0.3 * w * np.cos(w * t), -0.3 * w * w * np.sin(w * t))
+    rho = sol.given("ρ (circle radius)", 0.5, unit="m")
+    K_P, K_D = sol.given("K_Pr", 25.0, unit="1/s²"), sol.given("K_Dr", 10.0, unit="1/s")   # critically damped:
+    # r̃ = (r̃₀ + (r̃̇₀ + 5 r̃₀) t) e^{−5t}
+    amplitude, w = sol.given("r_d amplitude", 0.3, unit="m"), sol.given("r_d frequency", 2.0, unit="rad/s")
+    r_d = lambda t: (amplitude * np.sin(w * t), amplitude * w * np.cos(w * t), -amplitude * w * w * np.sin(w * t))
     plant = _PointOnCircle(rho)
 
     def control(t: float, x: np.ndarray) -> np.ndarray:
@@ -767,7 +908,7 @@ def problem_9_11() -> Solution:
         S_v_dot_nu = -p / rho * (nu / rho) * nu                  # Ṡ_v ν = −(ν²/ρ) p/ρ
         return tangent * alpha_nu + S_v_dot_nu
 
-    r0 = 0.2
+    r0 = sol.given("r(0)", 0.2, unit="m")
     x0 = np.r_[rho * np.cos(r0 / rho), rho * np.sin(r0 / rho), 0.0, 0.0]
     res = simulate(plant, control, (0.0, 3.0), x0, h=1e-3, Ts=1e-3)
     r = rho * np.unwrap(np.arctan2(res.x[:, 1], res.x[:, 0]))
@@ -775,11 +916,11 @@ def problem_9_11() -> Solution:
     e0, ed0 = e[0], r_d(0.0)[1] - 0.0
     predicted = (e0 + (ed0 + 5.0 * e0) * res.t) * np.exp(-5.0 * res.t)
     sol.value("max_deviation_from_closed_loop", max_abs_error(e, predicted))
-    sol.check("r̃(t) = solution of r̃̈ + K_Dr r̃̇ + K_Pr r̃ = 0 (sampled law, 1 ms)", max_abs_error(e, predicted) < 2e-3,
-              f"max |r̃ − r̃_pred| = {max_abs_error(e, predicted):.1e} m (r̃₀ = {e0:.2f} m, r̃̇₀ = {ed0:.2f} m/s)")
-    sol.check("r → r_d", abs(e[-1]) < 1e-4, f"|r̃(3 s)| = {abs(e[-1]):.1e} m")
-    sol.check("the constraint holds: ‖p‖ = ρ", np.abs(np.hypot(res.x[:, 0], res.x[:, 1]) - rho).max() < 1e-6,
-              f"max |‖p‖ − ρ| = {np.abs(np.hypot(res.x[:, 0], res.x[:, 1]) - rho).max():.1e} m")
+    sol.value("final_error", float(e[-1]))
+    sol.check_error(f"r̃(t) = solution of r̃̈ + K_Dr r̃̇ + K_Pr r̃ = 0 (sampled law, 1 ms; r̃₀ = {e0:.2f} m, "
+                    f"r̃̇₀ = {ed0:.2f} m/s) [m]", max_abs_error(e, predicted), 2e-4, reference="simulation vs prediction")
+    sol.check_error("the constraint holds: ‖p‖ = ρ [m]", np.abs(np.hypot(res.x[:, 0], res.x[:, 1]) - rho).max(), 1e-6,
+                    reference="simulation vs prediction")
     printed = np.roots([1.0, -K_D, -K_P])      # r̃̈ − K_D r̃̇ − K_P r̃ = 0, the manual's printed signs
     sol.check("erratum: the printed closed loop (r̈ − r̈_d first) would be unstable", printed.real.max() > 0,
               f"its roots {np.round(printed, 3)}; the corrected one has the double root −5")

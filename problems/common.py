@@ -132,7 +132,7 @@ def frames_figure(robot: Any, q: Any, title: str, length: float | None = None, z
     origins = np.array([T[:3, 3] for T in poses])
     span = float(np.ptp(origins, axis=0).max()) or 1.0
     length = 0.2 * span if length is None else length
-    fig = _figure((6, 5))
+    fig = _figure((7, 5.5))
     ax = fig.add_subplot(projection="3d")
     ax.plot(*origins.T, "k-", lw=2, label="links (frame origins)")
     for k, (name, color) in enumerate((("x", "r"), ("y", "g"), ("z", "b"))):

@@ -13,7 +13,9 @@ Chapters 9–10) share:
   Jacobian.
 * :func:`damped_least_squares_inverse` (3.59) and :func:`weighted_pseudo_inverse` (3.50)/(3.52).
 * :func:`selection_matrices`, :func:`selection_pseudo_inverse` (9.55), :func:`selection_projection`
-  (P_f, P_v) — the natural/artificial constraints of a force/motion task (Sects. 9.5–9.6).
+  (P_f, P_v) — the natural/artificial constraints of a force/motion task (Sects. 9.5–9.6);
+  :func:`contact_wrenches` and :func:`reciprocal_basis` derive them from a contact model (the twists a
+  pair of bodies admits and the wrenches its contacts exert, each the reciprocal complement of the other).
 * :func:`relative_position_rate`, :func:`relative_euler_rate` — the end-effector motion w.r.t. a
   desired frame, Eqs. (9.10)–(9.11).
 * :func:`joint_rates` — q̇ = J⁻¹ ẋ, q̈ = J⁻¹ (ẍ − J̇ q̇) (3.51 and 3.99 inverted) and
@@ -40,7 +42,7 @@ from rigid_body.robots import Robot, revolute_joints
 from rigid_body.rotations import (axis_angle_error_kernel, euler_rate_matrix_rpy, euler_rate_matrix_zyz, orientation_error_quaternion,
                                   orientation_error_matrix_kernel, rotation_to_euler_zyz, rotation_to_quaternion,
                                   rotation_to_rpy, wrap_angle)
-from rigid_body.validation import as_matrix, as_vector
+from rigid_body.validation import as_matrix, as_points, as_vector
 
 __all__ = [
     "ORIENTATIONS",
@@ -66,6 +68,8 @@ __all__ = [
     "selection_pseudo_inverse",
     "selection_projection",
     "selection_matrices",
+    "contact_wrenches",
+    "reciprocal_basis",
     "relative_position_rate",
     "relative_euler_rate",
 ]
@@ -601,6 +605,46 @@ def selection_matrices(velocity_axes: Sequence[str], R_c: Any = None,
         T = R if len(names) == k else np.kron(np.eye(2), R)
         S_f, S_v = T @ S_f, T @ S_v
     return S_f, S_v
+
+
+def contact_wrenches(points: Any, normals: Any) -> np.ndarray:
+    """The unit wrenches [n_i; p_i × n_i] (6 × k, moments about the frame's origin) that k frictionless
+    point contacts at ``points`` p_i (k, 3) with contact ``normals`` n_i (k, 3, normalised here) can exert.
+
+    A twist ξ = [ṗ; ω] keeps contact i to first order when the contact point's velocity ṗ + ω × p_i
+    has no normal component, n_iᵀ(ṗ + ω × p_i) = [n_i; p_i × n_i]ᵀ ξ = 0: the pair's twist space is
+    :func:`reciprocal_basis` of these wrenches (Sect. 9.6, natural constraints from the geometry).
+    """
+    p = as_points(points, 3, "points")
+    n = as_points(normals, 3, "normals")
+    if n.shape != p.shape:
+        raise ValueError(f"`normals` must have the shape of `points` {p.shape}, got {n.shape}")
+    norm = np.linalg.norm(n, axis=1, keepdims=True)
+    if np.any(norm < 1e-12):
+        raise ValueError("`normals` must be non-zero vectors")
+    n = n / norm
+    return np.vstack([n.T, np.cross(p, n).T])
+
+
+def reciprocal_basis(S: Any, tol: float = 1e-9) -> np.ndarray:
+    """An orthonormal basis (6 × (6 − rank S)) of the screws reciprocal to the columns of ``S`` (6 × k).
+
+    Twists ξ = [ṗ; ω] and wrenches h = [f; μ] pair by the power hᵀξ = fᵀṗ + μᵀω, so the reciprocal
+    complement is {x : Sᵀx = 0}: of a pair's contact wrenches (:func:`contact_wrenches`), its admissible
+    twists (the natural velocity constraints leave these free, S_v); of those twists, the reaction wrenches
+    that do no work on them (S_f, Sect. 9.6: S_fᵀ S_v = 0). ``tol`` is the rank threshold relative to the
+    largest singular value of S (a zero matrix has the whole space as complement).
+    """
+    S = np.asarray(S, dtype=float)
+    if S.ndim == 1:
+        S = S.reshape(-1, 1)
+    if S.ndim != 2 or S.shape[0] != 6 or not np.isfinite(S).all():
+        raise ValueError(f"`S` must be a finite (6, k) array of screws, got shape {S.shape}")
+    if S.shape[1] == 0 or not S.any():
+        return np.eye(6)
+    U, sigma, _ = np.linalg.svd(S)
+    rank = int(np.sum(sigma > tol * sigma[0]))
+    return U[:, rank:]
 
 
 # --------------------------------------------------------------------------------------------

@@ -22,14 +22,21 @@ from typing import Any, Callable, Sequence
 import numpy as np
 import pinocchio as pin
 
+from scipy.linalg import get_lapack_funcs
+
 from controllers.simulation import LoggedController
-from rigid_body.dynamics import reference_torque_kernel
+from rigid_body.camera import perspective, to_camera_frame
+from rigid_body.dynamics import forward_dynamics, friction_kernel, reference_torque_kernel
 from rigid_body.rotations import as_homogeneous
 from rigid_body.task_space import FrameState, frame_state_kernel, pose_error_kernel, singular_task, solve_task
 from rigid_body.validation import as_array, as_matrix, as_positive, as_vector
 
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+_gesv = get_lapack_funcs("gesv", (np.zeros((1, 1)),))   # LU solve without numpy.linalg's wrapper cost
 PoseReference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+_gesv = get_lapack_funcs("gesv", (np.zeros((1, 1)),))   # LU solve without numpy.linalg's wrapper cost
 
 
 # --------------------------------------------------------------------------------------------
@@ -101,7 +108,12 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
     else:
         x_d = as_vector(reference, n, name).copy()
         zero = np.zeros(n)
-        return lambda t: (x_d, zero, zero)
+
+        def set_point(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            return x_d, zero, zero
+
+        set_point.at_times = lambda times: (np.broadcast_to(x_d, (len(times), n)),) + (np.zeros((len(times), n)),) * 2
+        return set_point
 
     def sampled(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         x, xd, xdd = law(t)
@@ -291,6 +303,61 @@ class Numeric:
         return err.e, err.J, err.Jdot_qd, err.T_e
 
     @staticmethod
+    def forward_dynamics(robot: Any, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        """q̈ = B(q)⁻¹ (τ − C q̇ − g) (7.42): ABA, or the Cholesky solve for an arm with rotors (mimic joints)."""
+        return forward_dynamics(robot, q, qd, tau, check=False)
+
+    @staticmethod
+    def friction(friction: Any, qd: np.ndarray, smoothing: float) -> np.ndarray:
+        """τ_f = F_v q̇ + F_s sgn(q̇) (direction-dependent F_s±; tanh(q̇/ε) for ``smoothing`` ε > 0)."""
+        return friction_kernel(friction, qd, smoothing)
+
+    @staticmethod
+    def integrate(model: pin.Model, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """q ⊕ v on the configuration manifold (``pin.integrate``: continuous joints, a floating base)."""
+        return pin.integrate(model, q, v)
+
+    @staticmethod
+    def frame_jacobian(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray) -> tuple[Any, np.ndarray]:
+        """(T_e, J) of a frame: its pose (a ``pin.SE3``) and geometric Jacobian [J_P; J_O] (3.30), one pass."""
+        J = pin.computeFrameJacobian(model, data, q, fid, _LWA)        # after the forward kinematics of q
+        return pin.updateFramePlacement(model, data, fid), J           # a fresh SE3 (quicker than oMf[fid])
+
+    @staticmethod
+    def translation(T: Any) -> np.ndarray:
+        """The origin of a pose (``pin.SE3`` or (4, 4))."""
+        return T.translation if hasattr(T, "translation") else T[:3, 3]
+
+    @staticmethod
+    def contact_wrench(environment: Any, T_e: Any, v_e: np.ndarray) -> np.ndarray:
+        """h_e of an environment (:mod:`controllers.environment`) at the pose T_e and twist v_e: its
+        ``wrench_at(p_e, v_e)`` on plain arrays when it has one (the hot path), else ``wrench(T_e, v_e)``."""
+        wrench_at = getattr(environment, "wrench_at", None)
+        if wrench_at is not None:
+            return wrench_at(T_e.translation, v_e)
+        return environment.wrench(T_e, v_e)
+
+    @staticmethod
+    def frame_pose(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(R, o) of a frame in the base frame (2.50)."""
+        pin.framesForwardKinematics(model, data, q)
+        M = data.oMf[fid]
+        return M.rotation, M.translation
+
+    @staticmethod
+    def camera_jacobian(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray) -> np.ndarray:
+        """J_c: [v_c^c; ω_c^c] = J_c q̇ = [R_cᵀ J_P; R_cᵀ J_O] q̇ (Pinocchio's LOCAL frame Jacobian)."""
+        return pin.computeFrameJacobian(model, data, q, fid, pin.LOCAL)
+
+    @staticmethod
+    def to_camera(R: np.ndarray, o: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(X, Y, Z) (n,) each: points (n, 3) of the base frame in the frame of a camera at (R, o), (5.35)."""
+        p = to_camera_frame(R, o, points)
+        return p[:, 0], p[:, 1], p[:, 2]
+
+    perspective = staticmethod(perspective)                      # (x, y, in front) of (5.40), NaN behind
+
+    @staticmethod
     def solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray:
         """J⁻¹ b, or J† b = Jᵀ (J Jᵀ)⁻¹ b (3.52) for a redundant task (:func:`rigid_body.task_space.solve_task`);
         :class:`SingularTask` when cond(J) > SINGULAR_CONDITION."""
@@ -306,11 +373,73 @@ class Numeric:
     sin = staticmethod(math.sin)
     cos = staticmethod(math.cos)
     atan2 = staticmethod(math.atan2)
+    hypot = staticmethod(math.hypot)
 
     @staticmethod
     def norm(z: np.ndarray) -> float:
         """‖z‖ (what np.linalg.norm computes, without its dispatch)."""
         return math.sqrt(z.dot(z))
+
+    tanh = staticmethod(np.tanh)
+    sign = staticmethod(np.sign)
+    maximum = staticmethod(np.maximum)                           # elementwise (fmax: two scalars)
+    minimum = staticmethod(np.minimum)
+
+    @staticmethod
+    def clip(x: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+        return np.minimum(np.maximum(x, lower), upper)
+
+    @staticmethod
+    def vector(*entries: Any) -> np.ndarray:
+        """A vector of scalars."""
+        return np.array(entries)
+
+    @staticmethod
+    def matrix(rows: Sequence[Sequence[Any]]) -> np.ndarray:
+        """A matrix of scalars, row by row."""
+        return np.array(rows)
+
+    @staticmethod
+    def solve(A: np.ndarray, b: np.ndarray, why: Callable[[], str]) -> np.ndarray:
+        """A⁻¹ b (LU, LAPACK's gesv without numpy's wrapper); ValueError(``why()``) when A is singular."""
+        _, _, x, info = _gesv(A, b)
+        if info != 0:
+            raise ValueError(why())
+        return x
+
+    @staticmethod
+    def unless(bad: Any, value: Callable[[], Any], why: Callable[[], str]) -> Any:
+        """``value()``, or ValueError(``why()``) where ``bad`` holds (symbolically: NaN there, so the compiled loop
+        stops as diverged)."""
+        if bad:
+            raise ValueError(why())
+        return value()
+
+    @staticmethod
+    def where(mask: np.ndarray, a: Any, b: Any) -> np.ndarray:
+        """Row i of ``a`` where mask_i, else of ``b`` (a scalar ``b`` or ``a`` fills its rows)."""
+        if np.ndim(a) > 1 or np.ndim(b) > 1:
+            mask = mask[:, None]
+        return np.where(mask, a, b)
+    logic_and = staticmethod(np.logical_and)
+    logic_not = staticmethod(np.logical_not)
+    repeat = staticmethod(np.repeat)
+
+    @staticmethod
+    def interleave(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """[x_1, y_1, x_2, y_2, …]."""
+        return np.column_stack((x, y)).reshape(-1)
+
+    @staticmethod
+    def columns(M: np.ndarray, cols: Any) -> np.ndarray:
+        """The columns ``cols`` of M."""
+        return M[:, cols]
+
+    @staticmethod
+    def cond(condition: Any, then: Callable[[], Any], otherwise: Callable[[], Any]) -> Any:
+        """``then()`` where ``condition`` holds, else ``otherwise()``: numerically only the branch taken is
+        evaluated (a guard against 0/0); symbolically both, masked (``if_else``)."""
+        return then() if condition else otherwise()
 
     @staticmethod
     def dot(a: np.ndarray, b: np.ndarray) -> float:
@@ -398,6 +527,72 @@ class Symbolic:
         return e[rows], J[rows, :], None if Jdot_qd is None else Jdot_qd[rows], T
 
     @staticmethod
+    def forward_dynamics(robot: Any, q: Any, qd: Any, tau: Any) -> Any:
+        from rigid_body.symbolic import forward_dynamics_expression
+
+        return forward_dynamics_expression(robot, q, qd, tau)
+
+    @staticmethod
+    def friction(friction: Any, qd: Any, smoothing: float) -> Any:
+        from rigid_body.symbolic import friction_expression
+
+        return friction_expression(friction, qd, smoothing)
+
+    @staticmethod
+    def integrate(model: pin.Model, q: Any, v: Any) -> Any:
+        from rigid_body.symbolic import integrate_expression
+
+        return integrate_expression(model, q, v)
+
+    @staticmethod
+    def frame_jacobian(model: pin.Model, data: Any, fid: int, q: Any) -> tuple[Any, Any]:
+        from rigid_body.symbolic import frame_state_expression
+
+        T, J, _ = frame_state_expression(model, fid, q)
+        return T, J
+
+    @staticmethod
+    def translation(T: Any) -> Any:
+        return T[:3, 3]
+
+    @staticmethod
+    def contact_wrench(environment: Any, T_e: Any, v_e: Any) -> Any:
+        """The environment's one body ``wrench_law(ops, p_e, v_e)`` on symbols (a position-only environment)."""
+        law = getattr(environment, "wrench_law", None)
+        if law is None:
+            from controllers.compiled import no_symbolic_form
+
+            raise no_symbolic_form(environment, "an environment needs wrench_law(ops, p_e, v_e)")
+        return law(Symbolic, T_e[:3, 3], v_e)
+
+    @staticmethod
+    def frame_pose(model: pin.Model, data: Any, fid: int, q: Any) -> tuple[Any, Any]:
+        from rigid_body.symbolic import pose_function
+
+        R, p, _ = pose_function(model, fid)(q)
+        return R, p
+
+    @staticmethod
+    def camera_jacobian(model: pin.Model, data: Any, fid: int, q: Any) -> Any:
+        from rigid_body.symbolic import pose_function
+
+        R, _, J = pose_function(model, fid)(q)
+        return _casadi().vertcat(R.T @ J[:3, :], R.T @ J[3:, :])
+
+    @staticmethod
+    def to_camera(R: Any, o: Any, points: np.ndarray) -> tuple[Any, Any, Any]:
+        ca = _casadi()
+        p = R.T @ (ca.DM(points.T) - ca.repmat(o, 1, points.shape[0]))            # (5.35)
+        return p[0, :].T, p[1, :].T, p[2, :].T
+
+    @staticmethod
+    def perspective(X: Any, Y: Any, Z: Any) -> tuple[Any, Any, Any]:
+        ca = _casadi()
+        in_front = Z > 0
+        Z_seen = ca.if_else(in_front, Z, np.nan)
+        return X / Z_seen, Y / Z_seen, in_front
+
+    @staticmethod
     def solve_task(J: Any, b: Any) -> Any:
         """J⁻¹ b or Jᵀ (J Jᵀ)⁻¹ b (LU); a singular J gives non-finite values (the compiled loop stops there)."""
         ca = _casadi()
@@ -436,6 +631,90 @@ class Symbolic:
         return ca.sqrt(ca.dot(z, z))
 
     @staticmethod
+    def tanh(x: Any) -> Any:
+        return _casadi().tanh(x)
+
+    @staticmethod
+    def sign(x: Any) -> Any:
+        return _casadi().sign(x)
+
+    @staticmethod
+    def maximum(a: Any, b: Any) -> Any:
+        return _casadi().fmax(a, b)
+
+    @staticmethod
+    def minimum(a: Any, b: Any) -> Any:
+        return _casadi().fmin(a, b)
+
+    @staticmethod
+    def clip(x: Any, lower: Any, upper: Any) -> Any:
+        ca = _casadi()
+        return ca.fmin(ca.fmax(x, lower), upper)
+
+    @staticmethod
+    def vector(*entries: Any) -> Any:
+        return _casadi().vertcat(*entries)
+
+    @staticmethod
+    def matrix(rows: Sequence[Sequence[Any]]) -> Any:
+        ca = _casadi()
+        return ca.vertcat(*[ca.horzcat(*row) for row in rows])
+
+    @staticmethod
+    def solve(A: Any, b: Any, why: Callable[[], str]) -> Any:
+        return _casadi().solve(A, b)
+
+    @staticmethod
+    def unless(bad: Any, value: Callable[[], Any], why: Callable[[], str]) -> Any:
+        return _casadi().if_else(bad, np.nan, value())
+
+    @staticmethod
+    def where(mask: Any, a: Any, b: Any) -> Any:
+        """Row i of ``a`` where mask_i, else of ``b`` (a scalar ``b`` or ``a`` fills its rows)."""
+        ca = _casadi()
+        n = mask.shape[0]
+        a, b = (ca.SX(v) if isinstance(v, (np.ndarray, ca.DM)) else v for v in (a, b))
+        cols = max(v.shape[1] if isinstance(v, ca.SX) else 1 for v in (a, b))
+        a, b = (v if isinstance(v, ca.SX) else ca.repmat(ca.SX(v), n, cols) for v in (a, b))
+        return ca.vertcat(*[ca.if_else(mask[i], a[i, :], b[i, :]) for i in range(n)])
+
+    @staticmethod
+    def hypot(a: Any, b: Any) -> Any:
+        return _casadi().hypot(a, b)
+
+    @staticmethod
+    def logic_and(a: Any, b: Any) -> Any:
+        return _casadi().logic_and(a, b)
+
+    @staticmethod
+    def logic_not(a: Any) -> Any:
+        return _casadi().logic_not(a)
+
+    @staticmethod
+    def repeat(mask: Any, k: int) -> Any:
+        ca = _casadi()
+        return ca.vertcat(*[mask[i] for i in range(mask.shape[0]) for _ in range(k)])
+
+    @staticmethod
+    def interleave(x: Any, y: Any) -> Any:
+        ca = _casadi()
+        return ca.vec(ca.horzcat(x, y).T)
+
+    @staticmethod
+    def columns(M: Any, cols: Any) -> Any:
+        return M[:, [int(c) for c in cols]]
+
+    @staticmethod
+    def cond(condition: Any, then: Callable[[], Any], otherwise: Callable[[], Any]) -> Any:
+        ca = _casadi()
+        if isinstance(condition, (bool, np.bool_)):
+            return then() if condition else otherwise()
+        a, b = then(), otherwise()
+        if isinstance(a, tuple):
+            return tuple(ca.if_else(condition, x, y) for x, y in zip(a, b))
+        return ca.if_else(condition, a, b)
+
+    @staticmethod
     def dot(a: Any, b: Any) -> Any:
         return _casadi().dot(a, b)
 
@@ -467,6 +746,8 @@ class Symbolic:
 
     @staticmethod
     def if_else(condition: Any, a: Any, b: Any) -> Any:
+        if isinstance(condition, (bool, np.bool_)):
+            return a if condition else b
         return _casadi().if_else(condition, a, b)
 
 

@@ -418,20 +418,42 @@ def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray
             return result.dot(M)
         return step
 
-    half, full = np.array(hh), np.array(h)  # 0-d arrays: numpy multiplies a vector by them faster than by a float
     weights = 6.0 * RK4_WEIGHTS
 
+    def weighted_sum(k1: np.ndarray, k2: np.ndarray, k3: np.ndarray, k4: np.ndarray) -> np.ndarray:
+        return weights.dot(np.array((k1, k2, k3, k4)))
+
     def manifold_step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        k = derivative(t, x, u)
-        K = np.empty((4, len(k)))
-        K[0] = k
-        for i, (c, ci) in enumerate(((hh, half), (hh, half), (h, full)), start=1):
-            k = derivative(t + c, integrate(x, k, c), u)
-            if dexp_inverse is not None:
-                k = dexp_inverse(x, ci * K[i - 1], k)
-            K[i] = k
-        return integrate(x, weights.dot(K), h / 6.0)
+        return rk4_step_law(derivative, t, x, u, h, integrate, dexp_inverse, weighted_sum)
     return manifold_step
+
+
+def rk4_step_law(derivative: Callable[[Any, Any, Any], Any], t: Any, x: Any, u: Any, h: float,
+                 integrate: Callable[[Any, Any, float], Any] | None = None,
+                 dexp_inverse: Callable[[Any, Any, Any], Any] | None = None,
+                 weighted_sum: Callable[[Any, Any, Any, Any], Any] | None = None) -> Any:
+    """One classical Runge–Kutta step x' = x ⊕ (h/6)(k_1 + 2k_2 + 2k_3 + k_4) of ẋ = f(t, x, u), u held: the one
+    RK4 of rmpc, written once for any scalar type (the Python loop's manifold stepper runs it on arrays, the
+    compiled loop on CasADi symbols; :func:`rk4_stepper`'s matrix and Nyström forms are the Python loop's fast
+    paths of the same steps, rows of the same tableau).
+
+    ``integrate(x, k, c)`` is x ⊕ c k (default x + c k); ``dexp_inverse`` brings the stage derivatives back to
+    the tangent space at x (Runge–Kutta–Munthe-Kaas); ``weighted_sum(k_1, …, k_4)`` is k_1 + 2k_2 + 2k_3 + k_4
+    (default that expression)."""
+    hh = 0.5 * h
+    step = integrate if integrate is not None else (lambda x0, k, c: x0 + c * k)
+    k1 = derivative(t, x, u)
+    k2 = derivative(t + hh, step(x, k1, hh), u)
+    if dexp_inverse is not None:
+        k2 = dexp_inverse(x, hh * k1, k2)
+    k3 = derivative(t + hh, step(x, k2, hh), u)
+    if dexp_inverse is not None:
+        k3 = dexp_inverse(x, hh * k2, k3)
+    k4 = derivative(t + h, step(x, k3, h), u)
+    if dexp_inverse is not None:
+        k4 = dexp_inverse(x, h * k3, k4)
+    total = weighted_sum(k1, k2, k3, k4) if weighted_sum is not None else k1 + 2.0 * k2 + 2.0 * k3 + k4
+    return step(x, total, h / 6.0)
 
 
 def _nystrom_stepper(acceleration: Callable[..., np.ndarray], h: float,
@@ -564,17 +586,24 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     if check_step is not None:
         check_step(h, x)
     if backend != "python":
-        from controllers.compiled import simulate_compiled  # the same loop as one CasADi function
+        from controllers.compiled import CompiledLoopUnavailable, simulate_compiled  # the same loop, compiled
 
-        ts, xs, us, signals, t_bad = simulate_compiled(plant, controller, t0, len(sample_times(t0, tf, Ts)), x, h,
-                                                       n_sub, bound, backend)
-        if t_bad is not None:
-            raise SimulationDiverged(f"plant state became non-finite or exceeded {bound:g} by t = {t_bad:.6g} s "
-                                     f"(backend={backend!r}, checked every Ts): the loop diverges", t_bad)
-        for name, value in ({} if log is None else _logged(log, ts, xs, us)).items():
-            signals[name] = value
-        return SimulationResult(t=ts, x=xs, u=us, signals=signals, layout=dict(getattr(plant, "state_layout", {})),
-                                units=dict(getattr(plant, "units", {})))
+        try:
+            ts, xs, us, signals, t_bad = simulate_compiled(plant, controller, t0, len(sample_times(t0, tf, Ts)), x,
+                                                           h, n_sub, bound, backend)
+        except CompiledLoopUnavailable as fault:   # no compiler, a failing one, an unusable cache: one line, go on
+            import warnings
+
+            warnings.warn(f"{fault}; the loop runs on the Python backend (same results, slower)", stacklevel=2)
+        else:
+            if t_bad is not None:
+                raise SimulationDiverged(f"plant state became non-finite or exceeded {bound:g} by t = {t_bad:.6g} s "
+                                         f"(backend={backend!r}, checked every Ts): the loop diverges", t_bad)
+            for name, value in ({} if log is None else _logged(log, ts, xs, us)).items():
+                signals[name] = value
+            return SimulationResult(t=ts, x=xs, u=us, signals=signals,
+                                    layout=dict(getattr(plant, "state_layout", {})),
+                                    units=dict(getattr(plant, "units", {})))
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
     integrate = getattr(plant, "integrate", None)
     n_dx = getattr(plant, "tangent_size", x.size)

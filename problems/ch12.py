@@ -455,8 +455,9 @@ def problem_12_7() -> Solution:
 
     Scene and parameters from the companion file s12_7: links 1 m × 0.1 m, four discs and a square,
     50 vertices (grown further, up to 200, if q_s and q_g are not yet connected), ≤ 3 neighbours within
-    C-space distance 3, distance d₃ of Problem 12.2 (C is a torus, edges may wrap). Local paths are
-    checked every 0.01 rad; the path found is then re-sampled every 0.05 rad (bisected where
+    C-space distance 3, distance d₃ of Problem 12.2 (C is a torus, edges may wrap).
+    An edge is accepted only when certified free (clearance at its ends against the motion bound, bisected
+    where needed); the path found is then re-sampled every 0.05 rad (bisected where
     inconclusive) and certified free with shape-by-shape geometry (clearance at the samples against
     the bound Σ|Δθ_i| R_i on the motion between them). RRT-Connect (+ shortcutting) is the second planner.
     """

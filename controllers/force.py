@@ -241,7 +241,11 @@ def compliance_equilibrium(K_P: Any, K: Any, dx_rd: Any) -> tuple[np.ndarray, np
     if np.linalg.cond(K_P) > 1e12:
         raise ValueError("`K_P` must be invertible (an active stiffness in every direction)")
     K_Pinv = np.linalg.inv(K_P)
-    h_e = np.linalg.solve(np.eye(m) + K @ K_Pinv, K @ dx)  # Eq. (9.22)
+    A = np.eye(m) + K @ K_Pinv
+    if np.linalg.cond(A) > 1e12:
+        raise ValueError("I + K K_P⁻¹ is singular (K K_P⁻¹ has the eigenvalue −1): no unique rest; `K` must be a "
+                         "stiffness (positive semi-definite) and `K_P` positive definite")
+    h_e = np.linalg.solve(A, K @ dx)  # Eq. (9.22)
     return h_e, K_Pinv @ h_e                                  # Eq. (9.23)
 
 
@@ -255,7 +259,12 @@ def inner_position_loop_equilibrium(x_d: Any, x_r: Any, K: Any, C_F: Any, f_d: A
     m = x_d.size
     x_r, f_d = as_vector(x_r, m, "x_r"), as_vector(f_d, m, "f_d")
     K, C_F = as_square_matrix(K, m, "K"), as_square_matrix(C_F, m, "C_F")
-    return np.linalg.solve(np.eye(m) + C_F @ K, x_d + C_F @ (K @ x_r + f_d))
+    A = np.eye(m) + C_F @ K
+    if np.linalg.cond(A) > 1e12:
+        raise ValueError(f"I + C_F K is singular (C_F K has the eigenvalue −1: {np.round(np.linalg.eigvals(C_F @ K), 6)}): "
+                         "the loop has no unique rest position; change `C_F` (a proportional force gain, positive "
+                         "definite) or `K` (the environment stiffness, positive semi-definite)")
+    return np.linalg.solve(A, x_d + C_F @ (K @ x_r + f_d))
 
 
 def impedance_parameters(m_d: float, k_D: float, k_P: float, k_env: float = 0.0) -> tuple[float, float]:
@@ -407,6 +416,36 @@ def _velocity_reference(reference: Any, k: int) -> Callable[[float], tuple[np.nd
     return sampled
 
 
+def _compliance_and_stiffness(compliance: Any, stiffness: Any, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """(Ĉ, K̂) of hybrid force/motion control: Ĉ (m, m) finite, symmetric, positive semi-definite; K̂ given, or
+    Ĉ⁻¹ when Ĉ is invertible — a rigid direction (Ĉ rank-deficient, the book's Ĉ = R diag(0, c) Rᵀ, or Ĉ = 0)
+    has no Ĉ⁻¹: ValueError asking for ``stiffness``."""
+    C = as_matrix(compliance, (m, m), "compliance")
+    if np.abs(C - C.T).max() > 1e-9 * max(1.0, np.abs(C).max()) or np.linalg.eigvalsh(0.5 * (C + C.T)).min() < \
+            -1e-12 * max(1.0, np.abs(C).max()):
+        raise ValueError(f"`compliance` Ĉ must be symmetric positive semi-definite (a compliance), got {C.tolist()}")
+    if stiffness is not None:
+        return C, as_matrix(stiffness, (m, m), "stiffness")
+    sigma = np.linalg.svd(C, compute_uv=False)
+    if not sigma[-1] > 1e-12 * sigma[0]:
+        rank = int(np.sum(sigma > 1e-12 * sigma[0])) if sigma[0] > 0 else 0
+        raise ValueError(f"`compliance` Ĉ is singular (rank {rank} < {m}: the environment is rigid along some "
+                         "directions): Ĉ⁻¹, the default weight K̂ of S_v†, does not exist; pass `stiffness=` K̂ "
+                         "(e.g. the stiffness of the free directions, as in Problem 9.10)")
+    return C, np.linalg.inv(C)
+
+
+def _weighted_selection(S: np.ndarray, W: np.ndarray, weight: str, columns: str, kind: str) -> np.ndarray:
+    """S† = (Sᵀ W S)⁻¹ Sᵀ W (9.55), the error naming the weight ``weight`` when Sᵀ W S is singular."""
+    try:
+        return selection_pseudo_inverse(S, W)
+    except ValueError:
+        raise ValueError(f"`{weight}` gives a singular {columns}ᵀ W {columns} (W = the {weight}): it must be positive "
+                         f"along every {kind} direction (the columns of `{columns}`)"
+                         + (", e.g. Ĉ = R_c diag(0, c) R_cᵀ with c > 0 along the constrained direction"
+                            if weight == "compliance" else "")) from None
+
+
 class HybridForceMotionControl(ControlLaw):
     """Hybrid force/motion control on a compliant environment (Sect. 9.7.1, Example 9.4).
 
@@ -452,19 +491,23 @@ class HybridForceMotionControl(ControlLaw):
             raise ValueError("`S_f` and `S_v` must be reciprocal: S_fᵀ S_v = 0")
         self.S_f, self.S_v = S_f, S_v
         k_f, k_v = S_f.shape[1], S_v.shape[1]
-        C = as_matrix(compliance, (m, m), "compliance")
-        K = np.linalg.inv(C) if stiffness is None else as_matrix(stiffness, (m, m), "stiffness")
-        self.S_v_dagger = selection_pseudo_inverse(S_v, K)     # ν = S_v† v_e
+        C, K = _compliance_and_stiffness(compliance, stiffness, m)
+        self.S_v_dagger = _weighted_selection(S_v, K, "stiffness", "S_v", "motion-controlled")     # ν = S_v† v_e
         self.K_Pnu, self.K_Inu = as_gain(K_Pnu, k_v, "K_Pnu"), as_gain(K_Inu, k_v, "K_Inu")
         self.velocity_reference = _velocity_reference(velocity_reference, k_v)
         self.motion_only = k_f == 0          # S_v = I: inverse dynamics with the PI velocity law (9.80) alone
         if not self.motion_only:
-            self.S_f_dagger = selection_pseudo_inverse(S_f, C)     # λ = S_f† h_e, Eq. (9.55)
+            self.S_f_dagger = _weighted_selection(S_f, C, "compliance", "S_f", "force-controlled")   # λ = S_f† h_e (9.55)
             P_v = selection_projection(S_v, K)
             C1 = ((np.eye(m) - P_v) @ C if compliance_prime is None
                   else as_matrix(compliance_prime, (m, m), "compliance_prime"))
             self.C_prime_S_f = C1 @ S_f
-            self.G_f = np.linalg.solve(S_f.T @ C1 @ S_f, S_f.T)     # λ̇ = G_f v_e
+            A = S_f.T @ C1 @ S_f
+            if np.linalg.cond(A) > 1e12:
+                raise ValueError(f"`compliance_prime` Ĉ' gives a singular S_fᵀ Ĉ' S_f (condition {np.linalg.cond(A):.3g}): "
+                                 "Ĉ' must be positive along every force-controlled direction (the columns of `S_f`)"
+                                 + ("" if compliance_prime is not None else "; pass `compliance_prime`"))
+            self.G_f = np.linalg.solve(A, S_f.T)     # λ̇ = G_f v_e
             self.K_Plambda = as_gain(K_Plambda, k_f, "K_Plambda")
             K_D = np.asarray(K_Dlambda, dtype=float)
             self.K_Dlambda = as_gain(K_D, k_f, "K_Dlambda") if np.any(K_D) else np.zeros((k_f, k_f))

@@ -66,6 +66,12 @@ The plant contract (duck-typed; only ``derivative`` is required)
     (for either backend): ValueError when RK4 of step ``h`` cannot be stable on the plant from ``x0``
     (:class:`~controllers.plants.ArmInContact`: a contact too stiff for h at the arm's effective mass,
     :func:`rk4_stable`), instead of a run that stays bounded and is non-physical.
+``stepper(h) -> step``
+    A plant that advances its own state (a physics engine: :class:`controllers.mujoco.MujocoPlant`) gives the
+    function ``step(t, x, u) -> x(t + h)`` that replaces the loop's RK4 step; the loop asks for it once per run
+    with its step ``h`` (the plant checks that its own step divides h) and holds ``u`` over it as for RK4.
+    ``derivative`` is still required (the first sample's shape check; stage-by-stage comparisons). A plant that
+    detects a divergence itself raises :class:`SimulationDiverged`.
 
 The controller contract
 -----------------------
@@ -100,6 +106,7 @@ from typing import Any, Callable, Iterable, Mapping, Protocol
 
 import numpy as np
 
+from controllers.integration import RK4_WEIGHTS, rk4_step_law
 from rigid_body.validation import as_positive, as_vector
 
 DEFAULT_BOUND = 1e12
@@ -329,8 +336,6 @@ class SimulationResult:
 # The loop
 # --------------------------------------------------------------------------------------------
 
-RK4_WEIGHTS = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
-"""The weights b_i of classical Runge–Kutta: x' = x + h Σ b_i k_i."""
 
 
 # --------------------------------------------------------------------------------------------
@@ -412,19 +417,13 @@ def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray
             return result.dot(M)
         return step
 
-    half, full = np.array(hh), np.array(h)  # 0-d arrays: numpy multiplies a vector by them faster than by a float
     weights = 6.0 * RK4_WEIGHTS
 
+    def weighted_sum(k1: np.ndarray, k2: np.ndarray, k3: np.ndarray, k4: np.ndarray) -> np.ndarray:
+        return weights.dot(np.array((k1, k2, k3, k4)))
+
     def manifold_step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        k = derivative(t, x, u)
-        K = np.empty((4, len(k)))
-        K[0] = k
-        for i, (c, ci) in enumerate(((hh, half), (hh, half), (h, full)), start=1):
-            k = derivative(t + c, integrate(x, k, c), u)
-            if dexp_inverse is not None:
-                k = dexp_inverse(x, ci * K[i - 1], k)
-            K[i] = k
-        return integrate(x, weights.dot(K), h / 6.0)
+        return rk4_step_law(derivative, t, x, u, h, integrate, dexp_inverse, weighted_sum)
     return manifold_step
 
 
@@ -558,24 +557,32 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     if check_step is not None:
         check_step(h, x)
     if backend != "python":
-        from controllers.compiled import simulate_compiled  # the same loop as one CasADi function
+        from controllers.compiled import CompiledLoopUnavailable, simulate_compiled  # the same loop, compiled
 
-        ts, xs, us, signals, t_bad = simulate_compiled(plant, controller, t0, len(sample_times(t0, tf, Ts)), x, h,
-                                                       n_sub, bound, backend)
-        if t_bad is not None:
-            raise SimulationDiverged(f"plant state became non-finite or exceeded {bound:g} by t = {t_bad:.6g} s "
-                                     f"(backend={backend!r}, checked every Ts): the loop diverges", t_bad)
-        for name, value in ({} if log is None else _logged(log, ts, xs, us)).items():
-            signals[name] = value
-        return SimulationResult(t=ts, x=xs, u=us, signals=signals, layout=dict(getattr(plant, "state_layout", {})),
-                                units=dict(getattr(plant, "units", {})))
+        try:
+            ts, xs, us, signals, t_bad = simulate_compiled(plant, controller, t0, len(sample_times(t0, tf, Ts)), x,
+                                                           h, n_sub, bound, backend)
+        except CompiledLoopUnavailable as fault:   # no compiler, a failing one, an unusable cache: one line, go on
+            import warnings
+
+            warnings.warn(f"{fault}; the loop runs on the Python backend (same results, slower)", stacklevel=2)
+        else:
+            if t_bad is not None:
+                raise SimulationDiverged(f"plant state became non-finite or exceeded {bound:g} by t = {t_bad:.6g} s "
+                                         f"(backend={backend!r}, checked every Ts): the loop diverges", t_bad)
+            for name, value in ({} if log is None else _logged(log, ts, xs, us)).items():
+                signals[name] = value
+            return SimulationResult(t=ts, x=xs, u=us, signals=signals,
+                                    layout=dict(getattr(plant, "state_layout", {})),
+                                    units=dict(getattr(plant, "units", {})))
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
     integrate = getattr(plant, "integrate", None)
     n_dx = getattr(plant, "tangent_size", x.size)
     acceleration = getattr(plant, "acceleration", None) if n_dx == x.size and x.size % 2 == 0 else None
     timeless = getattr(plant, "time_invariant_acceleration", None) if acceleration is not None else None
-    step = rk4_stepper(derivative, h, integrate, getattr(plant, "dexp_inverse", None), timeless or acceleration,
-                       timeless is not None)
+    own_stepper = getattr(plant, "stepper", None)   # a self-stepping plant (module docstring)
+    step = own_stepper(h) if own_stepper is not None else rk4_stepper(
+        derivative, h, integrate, getattr(plant, "dexp_inverse", None), timeless or acceleration, timeless is not None)
     measure = getattr(plant, "measure", None)
     n_u = getattr(plant, "input_size", None)
     n_u = None if n_u is None else tuple(np.atleast_1d(n_u).tolist())

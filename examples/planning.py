@@ -8,8 +8,9 @@ in :class:`planners.collision.UrdfCSpace` with certified edges, certified random
 time-optimal timing of the certified polyline with certified blends
 (:func:`planners.time_optimal.time_optimal_path` with ``space``) under velocity, acceleration and torque
 limits — and an independent re-check of the *timed* motion on a fine grid with the pairwise narrow phase
-on the collision meshes (no broad phase, no certificate). The Toolbox's ``mstraj`` law (:func:`time_path`)
-is kept for comparison: its blends cut the polyline's corners unchecked, and the re-check catches them.
+on the collision meshes (no broad phase, no certificate). The multi-segment law (:func:`time_path`, after
+the Toolbox's ``mstraj``) is kept for comparison: its blends cut the polyline's corners unchecked, and the
+re-check catches them.
 Not a problem of the book: run it from a notebook or ``python -m examples.planning``; each scene returns
 a :class:`problems.registry.Solution`.
 
@@ -107,7 +108,7 @@ def limits(scenario: Scenario) -> JointLimits:
 
 
 def time_path(path: Any, qd_max: Any, qdd_max: Any) -> PiecewisePolynomial:
-    """The ``mstraj`` law through the waypoints under |q̇_j| ≤ q̇_max,j and |q̈_j| ≤ q̈_max,j.
+    """The multi-segment law (:func:`planners.timing.multi_segment_law`) through the waypoints under |q̇_j| ≤ q̇_max,j and |q̈_j| ≤ q̈_max,j.
 
     Each segment runs at its slowest joint's speed limit (so |q̇_j| ≤ q̇_max,j); a blend of duration
     t_acc changes the velocity by at most 2 q̇_max,j, so t_acc = max_j 2 q̇_max,j / q̈_max,j keeps

@@ -15,7 +15,7 @@ Every law below but the raised cosine is a :class:`PiecewisePolynomial`.
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009,
 Sect. 4.2 (point-to-point: (4.1)–(4.9)), Sect. 4.3 (via points: (4.10)–(4.28));
 P. Corke, *Robotics, Vision and Control*, Springer 2017, Sect. 3.3.3 (``mstraj``: multi-segment
-trajectories timed by per-axis speed limits), for :func:`multi_segment_law`.
+trajectories timed by per-axis speed limits), the idea of :func:`multi_segment_law` (not its timing).
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from typing import Any, Callable, Protocol
 import numpy as np
 from scipy.linalg import solve_banded
 
-from rigid_body.validation import as_positive, as_scalar, as_vector
+from rigid_body.validation import as_array, as_positive, as_scalar, as_vector
 
 __all__ = [
     "TimingLaw", "PiecewisePolynomial", "RaisedCosine", "Trajectory", "sample",
@@ -37,7 +37,7 @@ __all__ = [
     "via_point_velocities", "via_point_accelerations", "polynomial_sequence_law", "polynomial_sequence",
     "SplineSystem", "spline_system", "cubic_spline_law", "cubic_spline",
     "BlendCoefficients", "blend_coefficients", "linear_parabolic_blends_law", "linear_parabolic_blends",
-    "multi_segment_times", "multi_segment_law", "multi_segment",
+    "multi_segment_times", "multi_segment_law", "multi_segment", "time_scaled",
 ]
 
 
@@ -56,10 +56,7 @@ class TimingLaw(Protocol):
 
 def _as_value(x: Any, shape: tuple[int, ...] | None, name: str) -> np.ndarray:
     """``x`` as a finite float array (scalar or vector) of the given shape."""
-    try:
-        v = np.asarray(x, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"`{name}` must be numeric, got {type(x).__name__}") from None
+    v = as_array(x, name)
     if v.ndim > 1:
         raise ValueError(f"`{name}` must be a scalar or a 1-D vector, got shape {v.shape}")
     if shape is not None:
@@ -94,7 +91,7 @@ def _as_times(t: Any, name: str = "t", minimum: int = 2) -> np.ndarray:
 
 def _as_points(q: Any, m: int, name: str = "q") -> np.ndarray:
     """Via points: (m,) for one joint or (m, n) for n joints (one row per instant)."""
-    q = np.asarray(q, dtype=float)
+    q = as_array(q, name)
     if q.ndim not in (1, 2) or q.shape[0] != m:
         raise ValueError(f"`{name}` must have shape ({m},) or ({m}, n): one row per time instant, "
                          f"got {q.shape}")
@@ -870,58 +867,77 @@ def linear_parabolic_blends(t: Any, q: Any, blend: Any, qd_i: Any = 0.0, qd_f: A
 
 
 # --------------------------------------------------------------------------------------------
-# Multi-segment trajectories timed by per-axis speed limits (the Toolbox's mstraj)
+# Multi-segment trajectories timed by per-axis speed limits (in the spirit of the Toolbox's mstraj)
 # --------------------------------------------------------------------------------------------
 
-def multi_segment_times(via_points: Any, qd_max: Any, t_acc: float, *, t_i: float = 0.0) -> np.ndarray:
+def multi_segment_times(via_points: Any, qd_max: Any = None, t_acc: float = 0.0, *, t_i: float = 0.0,
+                        tsegment: Any = None) -> np.ndarray:
     """Instants t_1, ..., t_m of the via points of :func:`multi_segment_law`.
 
-    Each segment lasts Δt_k = max(max_j |q_{k+1,j} − q_{k,j}| / q̇_max,j, t_acc): the slowest axis
-    runs at its speed limit, the others slower, so that all arrive together; a segment shorter
-    than the blend time is stretched to ``t_acc`` (blends may not overlap). The first blend starts
-    at ``t_i``, so t_1 = t_i + t_acc/2.
+    With ``qd_max``, each segment lasts Δt_k = max(max_j |q_{k+1,j} − q_{k,j}| / q̇_max,j, t_acc): the slowest
+    axis runs at its speed limit, the others slower, so that all arrive together; a segment shorter than the
+    blend time (a repeated via point among them) is stretched to ``t_acc`` (blends may not overlap). With
+    ``tsegment`` (m − 1 durations, each ≥ t_acc) the segments last as given. Give one of the two. The first
+    blend starts at ``t_i``, so t_1 = t_i + t_acc/2.
     """
     q = _as_via_points(via_points)
-    vmax = _as_value(qd_max, q.shape[1:], "qd_max")
-    if np.any(vmax <= 0):
-        raise ValueError(f"`qd_max` must be positive, got {vmax}")
     t_acc = as_positive(t_acc, "t_acc")
     t_i = as_scalar(t_i, "t_i")
-    durations = np.maximum((np.abs(np.diff(q, axis=0)) / vmax).max(axis=1), t_acc)
+    if (qd_max is None) == (tsegment is None):
+        raise ValueError("give one of `qd_max` (speed limits) and `tsegment` (segment durations)")
+    if tsegment is not None:
+        durations = as_vector(tsegment, q.shape[0] - 1, "tsegment")
+        if np.any(durations < t_acc):
+            k = int(np.argmax(durations < t_acc))
+            raise ValueError(f"`tsegment`[{k}] = {durations[k]:g} s is shorter than the blend time t_acc = {t_acc:g} s: "
+                             "the blends would overlap")
+    else:
+        vmax = _as_value(qd_max, q.shape[1:], "qd_max")
+        if np.any(vmax <= 0):
+            raise ValueError(f"`qd_max` must be positive, got {vmax}")
+        durations = np.maximum((np.abs(np.diff(q, axis=0)) / vmax).max(axis=1), t_acc)
     return t_i + 0.5 * t_acc + np.concatenate([[0.0], np.cumsum(durations)])
 
 
-def multi_segment_law(via_points: Any, qd_max: Any, t_acc: float, *, t_i: float = 0.0) -> PiecewisePolynomial:
-    """Linear segments through the via points, joined by parabolic blends of duration ``t_acc``,
-    each segment timed by its slowest axis (the Robotics Toolbox's ``mstraj``).
+def multi_segment_law(via_points: Any, qd_max: Any = None, t_acc: float = 0.0, *, t_i: float = 0.0,
+                      tsegment: Any = None) -> PiecewisePolynomial:
+    """Linear segments through the via points, joined by parabolic blends of duration ``t_acc`` (Sect. 4.3),
+    each segment timed by its slowest axis or given its duration (``tsegment``).
 
-    The segment times are :func:`multi_segment_times`; the law is then
-    :func:`linear_parabolic_blends_law` with those instants, blends of ``t_acc`` centred on the via
-    points and rest at both ends. It starts at q_1 at ``t_i``, ends at q_m at t_m + t_acc/2, never
-    exceeds |q̇_j| ≤ q̇_max,j (the blends move between two admissible segment velocities), and
-    passes near each interior via point: q(t_k) = q_k + (q̇_{k,k+1} − q̇_{k−1,k}) t_acc/8 (Problem 4.6).
+    The segment times are :func:`multi_segment_times`; the law is then :func:`linear_parabolic_blends_law`
+    with those instants, blends of ``t_acc`` centred on the via points and rest at both ends. It starts at
+    q_1 at ``t_i``, ends at q_m at t_m + t_acc/2, never exceeds |q̇_j| ≤ q̇_max,j (the blends move between two
+    admissible segment velocities), and passes near each interior via point:
+    q(t_k) = q_k + (q̇_{k,k+1} − q̇_{k−1,k}) t_acc/8 (Problem 4.6).
+
+    The multi-segment trajectory of the Robotics Toolbox (``mstraj``, Corke Sect. 3.3.3) has the same idea but is
+    not this law: it is sampled, rounds every time up to a multiple of its step dt, makes each segment last at
+    least 2 t_acc, starts with half a blend and blends with quintics, so its timing depends on dt (for the via
+    points of its documentation, (4, 1), (4, 4), (5, 2), (2, 5) at q̇_max = (2, 1) and t_acc = 1 s: 8 s at
+    dt = 1 s and 10.5 s at dt = 1 ms; this law: 9 s).
 
     Parameters
     ----------
     via_points : (m, n) positions, one row per via point (the first is the start, the last the goal),
         m ≥ 2; or (m,) for a scalar law.
-    qd_max : scalar or (n,) positive speed limits [rad/s | m/s].
+    qd_max : scalar or (n,) positive speed limits [rad/s | m/s]; or
+    tsegment : (m − 1,) durations of the segments [s] (each ≥ t_acc).
     t_acc : blend (acceleration) time [s], the same at every via point.
     """
     q = _as_via_points(via_points)
-    t = multi_segment_times(q, qd_max, t_acc, t_i=t_i)
+    t = multi_segment_times(q, qd_max, t_acc, t_i=t_i, tsegment=tsegment)
     return linear_parabolic_blends_law(t, q[:, 0] if np.ndim(via_points) == 1 else q, t_acc)
 
 
-def multi_segment(via_points: Any, qd_max: Any, t_acc: float, *, t_i: float = 0.0, samples: int | None = None,
-                  dt: float | None = None) -> Trajectory:
+def multi_segment(via_points: Any, qd_max: Any = None, t_acc: float = 0.0, *, t_i: float = 0.0,
+                  tsegment: Any = None, samples: int | None = None, dt: float | None = None) -> Trajectory:
     """Sampled :func:`multi_segment_law`."""
-    return sample(multi_segment_law(via_points, qd_max, t_acc, t_i=t_i), samples=samples, dt=dt,
+    return sample(multi_segment_law(via_points, qd_max, t_acc, t_i=t_i, tsegment=tsegment), samples=samples, dt=dt,
                   name="multi-segment")
 
 
 def _as_via_points(via_points: Any) -> np.ndarray:
-    q = np.asarray(via_points, dtype=float)
+    q = as_array(via_points, "via_points")
     if q.ndim == 1:
         q = q[:, None]
     if q.ndim != 2 or q.shape[0] < 2:
@@ -929,3 +945,20 @@ def _as_via_points(via_points: Any) -> np.ndarray:
     if not np.all(np.isfinite(q)):
         raise ValueError("`via_points` must be finite")
     return q
+
+
+def time_scaled(law: PiecewisePolynomial, speed: float) -> PiecewisePolynomial:
+    """The same path run ``speed`` times faster: q_s(t) = q(speed · t), so q̇_s = speed · q̇ and q̈_s = speed² · q̈
+    (the time scaling of Sect. 4.2; the torques' inertial part grows like speed²). Exact for a piecewise polynomial:
+    its breaks and origins divided by ``speed``, its j-th coefficients multiplied by speedʲ.
+
+    >>> fast = time_scaled(cubic_law([0.0], [1.0], 2.0), 2.0)
+    >>> fast.t_f, [round(float(v[0]), 6) for v in fast(0.5)]
+    (1.0, [0.5, 1.5, 0.0])
+    """
+    if not isinstance(law, PiecewisePolynomial):
+        raise ValueError(f"`law` must be a PiecewisePolynomial (e.g. a Trajectory's law), got {type(law).__name__}")
+    speed = as_positive(speed, "speed")
+    powers = speed ** np.arange(law.coefficients.shape[1])
+    c = law.coefficients * powers.reshape((1, -1) + (1,) * (law.coefficients.ndim - 2))
+    return PiecewisePolynomial(law.breaks / speed, c, law.origins / speed)

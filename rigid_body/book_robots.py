@@ -291,10 +291,17 @@ def book_robot_spec(name: str, **params: Any) -> BookRobot:
     tables = {**BOOK_ROBOTS, **DH_ROBOTS}
     if name not in tables:
         raise ValueError(f"unknown book robot {name!r}; available: {', '.join(sorted(tables))}")
+    import inspect
+
+    signature = inspect.signature(tables[name]).parameters
+    accepted = [k for k, p in signature.items() if p.kind is not p.VAR_KEYWORD]
+    unknown = sorted(set(params) - set(accepted))
+    if unknown and len(accepted) == len(signature):
+        raise ValueError(f"book robot {name!r}: unknown parameters {unknown}; it takes {accepted}")
     try:
         return tables[name](**params)
     except TypeError as exc:
-        raise TypeError(f"book robot {name!r}: {exc}") from None
+        raise ValueError(f"book robot {name!r}: {exc}") from None
 
 
 def write_all(directory: Path = _SOURCE_URDF_DIR) -> list[Path]:

@@ -299,6 +299,21 @@ def _check_inertia(mass: float, inertia: np.ndarray, where: str) -> None:
         raise ValueError(f"{where}: `inertia` must be symmetric positive semi-definite, got {inertia.tolist()}")
 
 
+def _check_urdf_text(xml: str, source: str) -> None:
+    """ValueError naming ``source`` unless ``xml`` is well-formed XML whose root is ``<robot>`` with a ``<link>``
+    (Pinocchio's parser would raise a bare error, or print to the C++ stderr, without the file's name)."""
+    if not isinstance(xml, str) or not xml.strip():
+        raise ValueError(f"{source}: empty, not a URDF (no <robot> element)")
+    try:
+        root = ET.fromstring(xml)
+    except ET.ParseError as err:
+        raise ValueError(f"{source}: malformed URDF XML ({err})") from None
+    if root.tag != "robot":
+        raise ValueError(f"{source}: not a URDF: the root element is <{root.tag}>, not <robot>")
+    if root.find("link") is None:
+        raise ValueError(f"{source}: a URDF robot needs at least one <link>")
+
+
 def _declared_inertials(xml: str) -> float:
     """Check every ``<inertial>`` of the URDF text (finite numbers, mass ≥ 0, inertia PSD) and return the total mass.
 
@@ -342,9 +357,15 @@ def _check_model_inertias(model: pin.Model, declared_mass: float) -> None:
 
 def _build(xml: str, gravity: Any | None, name: str, ee: str | None, path: Path | None,
            lock: tuple[str, ...] = (), package_dirs: Sequence[str] = ()) -> Robot:
-    """The Robot of URDF text ``xml``: rotors kept as mimic joints, joints ``lock`` fixed at 0 (model and geometry)."""
-    declared_mass = _declared_inertials(xml)
-    model = pin.buildModelFromXML(xml, mimic=not lock)
+    """The Robot of URDF text ``xml``: rotors kept as mimic joints, joints ``lock`` fixed at 0 (model and geometry).
+    ValueError naming the file (``path``, or the robot's name for text) when the text is not a URDF."""
+    source = str(path) if path is not None else f"the URDF text of {name!r}"
+    _check_urdf_text(xml, source)
+    try:
+        declared_mass = _declared_inertials(xml)
+        model = pin.buildModelFromXML(xml, mimic=not lock)
+    except (ValueError, RuntimeError) as err:
+        raise ValueError(f"{source}: {err}") from None
     model.name = name
     _check_model_inertias(model, declared_mass)
     lock_ids = [model.getJointId(j) for j in lock if model.existJointName(j)]
@@ -555,7 +576,8 @@ def load(name_or_path: str | os.PathLike, payload: float = 0.0, **params: Any) -
             robot = _build(spec.urdf(), spec.gravity, key, "ee", None)
         return _with_dh_payload(_with_table_configurations(robot, spec.configurations), spec.payload)
     if params:
-        raise TypeError(f"parameters {sorted(params)} are only accepted for the book's robots")
+        raise ValueError(f"parameters {sorted(params)} change a book robot's table (load(name, a=..., ...) for "
+                         f"{', '.join(sorted(BOOK_ROBOTS) + sorted(DH_ROBOTS))}); {key!r} takes only `payload`")
     if key in EXAMPLE_ROBOTS:
         robot = _load_example_robot(key)
     else:

@@ -38,6 +38,12 @@ def _has_text(a: np.ndarray) -> bool:
 _FLOAT64, _NDARRAY, _isfinite = np.dtype(np.float64), np.ndarray, math.isfinite
 
 
+def as_array(x: Any, name: str) -> np.ndarray:
+    """``x`` as a float array of any shape (not checked for finiteness); ValueError naming ``name`` when it is
+    not numbers (text too: "2" is not 2.0)."""
+    return _as_float_array(x, name, "numbers")
+
+
 def as_vector(x: Any, n: int | None, name: str) -> np.ndarray:
     """``x`` as a finite float vector of shape (n,); ValueError naming ``name`` otherwise.
 

@@ -1,8 +1,9 @@
 """See it move: ``show``, ``animate``, ``export_html`` for any robot, and the report's animations.
 
 A *motion* is anything with times ``t`` and configurations: a ``planners.timing.Trajectory``
-(``.t``, ``.q``), a ``controllers.simulation.SimulationResult`` (``res.q`` when it has it, else the
-first nq columns of its state ``x = [q, q̇]``), or a pair ``(t, q)``.
+(``.t``, ``.q``), a ``controllers.simulation.SimulationResult`` (``res.q`` when it has it, the states named
+after the robot's joints, or the first nq columns of an unnamed state ``x = [q, q̇]``: :func:`motion_of`),
+or a pair ``(t, q)``.
 """
 
 from __future__ import annotations
@@ -18,24 +19,23 @@ import pinocchio as pin
 from rigid_body.robots import Robot
 from rigid_body.rotations import axis_angle_to_rotation
 from rigid_body.validation import as_vector
-from viewer.scene import Scene
+from viewer.scene import Scene, as_robot
 
 
 def motion_of(motion: Any, robot: Robot) -> tuple[np.ndarray, np.ndarray]:
-    """``(t, q)`` of a Trajectory, a SimulationResult or a ``(t, q)`` pair, q as (N, nq)."""
+    """``(t, q)`` of a Trajectory, a SimulationResult or a ``(t, q)`` pair, q as (N, nq).
+
+    A SimulationResult gives its joint positions ``q`` (a logged signal or a named part of its plant's state),
+    or else the states named after the robot's joints (a unicycle's x, y, θ for
+    :func:`viewer.mobile.planar_body`), or else — its plant naming no state — the first nq columns of a state
+    of nq or nq + nv entries (an arm's [q, q̇]); anything else (a unicycle's result for an arm) is a ValueError
+    naming what the result holds."""
     if isinstance(motion, tuple) and len(motion) == 2:
         t, q = motion
+    elif hasattr(motion, "signals") and hasattr(motion, "layout") and hasattr(motion, "x"):
+        t, q = motion.t, _result_positions(motion, robot)
     else:
-        t = getattr(motion, "t", None)
-        try:
-            q = motion.q  # a Trajectory; a SimulationResult whose plant names its states
-        except (AttributeError, KeyError):
-            q = None
-        if q is None and getattr(motion, "x", None) is not None:
-            x = np.asarray(motion.x, dtype=float)
-            if x.ndim != 2 or x.shape[1] < robot.nq:
-                raise ValueError(f"`motion` state x has shape {x.shape}: fewer than nq = {robot.nq} columns")
-            q = x[:, :robot.nq]  # arm plants: x = [q, q̇]
+        t, q = getattr(motion, "t", None), getattr(motion, "q", None)
         if t is None or q is None:
             raise ValueError(f"`motion` must be a Trajectory, a SimulationResult or a (t, q) pair, "
                              f"got {type(motion).__name__}")
@@ -46,6 +46,23 @@ def motion_of(motion: Any, robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     if q.shape != (t.size, robot.nq):
         raise ValueError(f"`motion` q must have shape ({t.size}, {robot.nq}) for robot {robot.name!r}, got {q.shape}")
     return t, q
+
+
+def _result_positions(res: Any, robot: Robot) -> np.ndarray:
+    """The configurations (N, nq) of ``robot`` in a SimulationResult: its ``q``, or its states named after the
+    robot's (one-coordinate) joints; ValueError otherwise."""
+    if "q" in res.signals or "q" in res.layout:
+        return res["q"]
+    model = robot.model
+    joints = [model.names[j] for j in range(1, model.njoints)]
+    if all(model.joints[j].nq == 1 for j in range(1, model.njoints)) and joints and all(n in res.layout for n in joints):
+        return np.column_stack([np.asarray(res.x[:, res.layout[n]], dtype=float).reshape(len(res.t)) for n in joints])
+    width = np.shape(res.x)[1] if np.ndim(res.x) == 2 else -1
+    if not res.layout and width in (robot.nq, robot.nq + robot.nv):      # an unnamed arm state [q] or [q, q̇]
+        return np.asarray(res.x)[:, :robot.nq]
+    raise ValueError(f"`motion`: this SimulationResult holds no configuration of {robot.name!r}: no `q` among its "
+                     f"signals {sorted(res.signals)} or states {sorted(res.layout)}, and not the robot's joints "
+                     f"{joints}; animate its own robot, or pass (res.t, q)")
 
 
 def up_rotation(gravity: Any) -> np.ndarray:
@@ -90,7 +107,7 @@ def default_camera(robot: Robot, R_up: np.ndarray | None = None) -> tuple[np.nda
     return centre + np.array([1.4, 1.0, 0.65]) * spread, centre
 
 
-def show(robot: Robot, q: Any | None = None, *, server: bool = False, scene: Scene | None = None,
+def show(robot: Robot | str, q: Any | None = None, *, server: bool = False, scene: Scene | None = None,
          overlays: Callable[[Scene], None] | None = None, camera: tuple[Any, Any] | None = None,
          **options: Any) -> Scene:
     """Draw ``robot`` at ``q`` (neutral by default); the Scene shows itself inline in a notebook.
@@ -100,6 +117,7 @@ def show(robot: Robot, q: Any | None = None, *, server: bool = False, scene: Sce
     viewer's frame replaces :func:`default_camera` (e.g. ``viewer.mobile.plane_camera`` for a mobile
     robot's workspace). ``options`` go to :meth:`Scene.add_robot`.
     """
+    robot = as_robot(robot)
     new = scene is None
     scene = Scene(server=server) if new else scene
     if new:
@@ -118,7 +136,7 @@ def show(robot: Robot, q: Any | None = None, *, server: bool = False, scene: Sce
     return scene
 
 
-def animate(robot: Robot, motion: Any, speed: float = 1.0, *, server: bool = False, scene: Scene | None = None,
+def animate(robot: Robot | str, motion: Any, speed: float = 1.0, *, server: bool = False, scene: Scene | None = None,
             overlays: Callable[[Scene], None] | None = None, tracks: dict[str, Any] | None = None,
             fps: float = 30.0, camera: tuple[Any, Any] | None = None, **options: Any) -> Scene:
     """Animate ``robot`` along ``motion`` (a SimulationResult, a Trajectory or ``(t, q)``).
@@ -126,13 +144,14 @@ def animate(robot: Robot, motion: Any, speed: float = 1.0, *, server: bool = Fal
     ``speed`` scales playback (2 = twice as fast); ``tracks`` moves overlays with the motion (see
     :meth:`Scene.animate`). Save it with ``scene.save(path)`` or :func:`export_html`.
     """
+    robot = as_robot(robot)
     t, q = motion_of(motion, robot)
     scene = show(robot, q[0], server=server, scene=scene, overlays=overlays, camera=camera, **options)
     scene.animate(t, q, name=options.get("name", "robot"), speed=speed, fps=fps, tracks=tracks)
     return scene
 
 
-def export_html(robot: Robot, motion: Any, path: str | Path, speed: float = 1.0, title: str = "",
+def export_html(robot: Robot | str, motion: Any, path: str | Path, speed: float = 1.0, title: str = "",
                 **options: Any) -> Path:
     """Write a self-contained HTML animation of ``robot`` along ``motion`` (no server, no network)."""
     scene = animate(robot, motion, speed, **options)

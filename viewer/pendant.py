@@ -9,7 +9,7 @@ import numpy as np
 from rigid_body.robots import Robot
 from rigid_body.validation import as_vector
 from viewer.animation import show
-from viewer.scene import Scene
+from viewer.scene import Scene, as_robot
 
 
 class TeachPendant:
@@ -19,7 +19,8 @@ class TeachPendant:
     ipywidgets panel: the sliders next to the live viewer.
     """
 
-    def __init__(self, robot: Robot, q: Any | None = None, scene: Scene | None = None, server: bool = True):
+    def __init__(self, robot: Robot | str, q: Any | None = None, scene: Scene | None = None, server: bool = True):
+        robot = as_robot(robot)
         if robot.nq != robot.nv:
             raise ValueError(f"robot {robot.name!r}: the pendant moves joints with one coordinate each (nq == nv)")
         self.robot = robot

@@ -114,6 +114,19 @@ class _Frame(AnimationFrameVisualizer):
         return _Frame(self.animation, self.path.append(path), self.current_frame)
 
 
+def as_robot(robot: Any) -> Robot:
+    """``robot`` itself, or the robot ``load`` gives for a name or URDF path (``show("panda")``); ValueError for
+    anything else."""
+    if isinstance(robot, Robot):
+        return robot
+    if isinstance(robot, (str, Path)):
+        from rigid_body.robots import load
+
+        return load(robot)
+    raise ValueError(f"`robot` must be a Robot or a name/URDF path for rigid_body.robots.load (e.g. 'panda'), "
+                     f"got {type(robot).__name__}")
+
+
 def _decompose(T: np.ndarray) -> tuple[list[float], list[float], list[float]]:
     """T = [R diag(s) | p] → p, quaternion [x, y, z, w] (three.js order) of R, s."""
     T = np.asarray(T, dtype=float)
@@ -261,6 +274,7 @@ class Scene:
         ``frames`` are drawn as triads that follow the robot; by default the book's DH frames
         ``frame_i`` and the end effector. ``color`` overrides the URDF colours.
         """
+        robot = as_robot(robot)
         geom = _as_triangle_meshes(geometry_of(robot, kind))
         viz = MeshcatVisualizer(robot.model, None, geom)  # drawn once, as the visual group
         viz.initViewer(viewer=self.vis)
@@ -498,6 +512,8 @@ class Scene:
         self._node(name).delete()
 
     # -- animation ---------------------------------------------------------------------------------
+    MAX_FRAMES = 36000          # 20 minutes at 30 fps: beyond, the page would hold millions of transforms
+
     def animate(self, t: Any, q: Any, name: str = "robot", speed: float = 1.0, fps: float = 30.0,
                 tracks: Mapping[str, Any] | None = None, repetitions: int = 1000) -> int:
         """Record the motion ``q(t)`` of robot ``name`` as the page's animation; return the frame count.
@@ -522,7 +538,13 @@ class Scene:
             poses[key] = np.asarray(value, dtype=float)
             if poses[key].shape != (t.size, 4, 4):
                 raise ValueError(f"`tracks[{key!r}]` must have shape ({t.size}, 4, 4), got {poses[key].shape}")
-        n_frames = int(np.floor((t[-1] - t[0]) / speed * fps + 1e-9)) + 1
+        span = float(t[-1] - t[0])
+        frames = span / speed * fps
+        if not frames < self.MAX_FRAMES:
+            raise ValueError(f"animating {span:.4g} s of motion at `speed` {speed:g} and `fps` {fps:g} takes "
+                             f"{frames:.3g} frames, more than Scene.MAX_FRAMES = {self.MAX_FRAMES}: raise `speed` "
+                             f"(≥ {span * fps / self.MAX_FRAMES:.3g}), lower `fps`, or animate a shorter span")
+        n_frames = int(np.floor(frames + 1e-9)) + 1
         animation = Animation(default_framerate=fps)
         for k in range(n_frames):
             tk = t[0] + k * speed / fps

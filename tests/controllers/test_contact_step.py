@@ -158,3 +158,71 @@ def test_wrench_checks_the_pose(T, name):
 def test_wrench_checks_the_twist(v):
     with pytest.raises(ValueError, match="`v_e`"):
         CompliantPlane([0, 0, 0], [0, 0, 1], 1e4).wrench(np.eye(4), v)
+
+
+# --------------------------------------------------------------------------------------------
+# Item 11: singular compliances and equilibria say what is singular and what to pass
+# --------------------------------------------------------------------------------------------
+
+def _hybrid(C, **kwargs):
+    from controllers.force import HybridForceMotionControl
+
+    R = np.array([[math.cos(math.pi / 4), -math.sin(math.pi / 4)], [math.sin(math.pi / 4), math.cos(math.pi / 4)]])
+    return HybridForceMotionControl(load("planar_2r"), R[:, 1:2], R[:, 0:1], 10.0, 0.0, 20.0, 100.0, 20.0, 100.0,
+                                    compliance=C, rows=(0, 1), **kwargs), R
+
+
+@pytest.mark.parametrize("C", [
+    lambda R: R @ np.diag([0.0, 1 / 5e3]) @ R.T,          # the book's: rigid along the motion direction
+    lambda R: np.zeros((2, 2)),                           # Ĉ = 0
+    lambda R: np.diag([1e-4, 0.0]),
+])
+def test_rank_deficient_compliance_asks_for_the_stiffness(C):
+    R = np.array([[math.cos(math.pi / 4), -math.sin(math.pi / 4)], [math.sin(math.pi / 4), math.cos(math.pi / 4)]])
+    with pytest.raises(ValueError, match=r"`compliance` Ĉ is singular \(rank \d < 2.*pass `stiffness=`"):
+        _hybrid(C(R))
+
+
+def test_book_compliance_with_stiffness_is_accepted_and_matches_the_weighted_inverse():
+    R = np.array([[math.cos(math.pi / 4), -math.sin(math.pi / 4)], [math.sin(math.pi / 4), math.cos(math.pi / 4)]])
+    law, _ = _hybrid(R @ np.diag([0.0, 1 / 5e3]) @ R.T, stiffness=R @ np.diag([1e4, 5e3]) @ R.T)
+    # S_f† with the weight Ĉ picks the force along y_c: λ = y_cᵀ h_e (a unit S_f)
+    h = np.array([3.0, -1.0])
+    assert law.S_f_dagger @ h == pytest.approx(R[:, 1] @ h)
+
+
+def test_zero_compliance_along_the_force_directions_is_named():
+    with pytest.raises(ValueError, match=r"`compliance` gives a singular S_fᵀ W S_f"):
+        _hybrid(np.zeros((2, 2)), stiffness=np.eye(2))
+    R = np.array([[math.cos(math.pi / 4), -math.sin(math.pi / 4)], [math.sin(math.pi / 4), math.cos(math.pi / 4)]])
+    with pytest.raises(ValueError, match=r"`stiffness` gives a singular S_vᵀ W S_v"):
+        _hybrid(np.eye(2) / 5e3, stiffness=R @ np.diag([0.0, 1.0]) @ R.T)
+    with pytest.raises(ValueError, match=r"`compliance_prime`"):
+        _hybrid(np.eye(2) / 5e3, compliance_prime=np.zeros((2, 2)))
+    with pytest.raises(ValueError, match=r"symmetric positive semi-definite"):
+        _hybrid(-np.eye(2))
+
+
+@pytest.mark.parametrize("K, C_F", [(np.eye(2), -np.eye(2)), (np.diag([1.0, 0.0]), -np.eye(2)),
+                                    (np.array([[1.0, 1.0], [1.0, 1.0]]), -0.5 * np.eye(2))])
+def test_singular_inner_loop_equilibrium_is_named(K, C_F):
+    from controllers.force import inner_position_loop_equilibrium
+
+    with pytest.raises(ValueError, match=r"I \+ C_F K is singular"):
+        inner_position_loop_equilibrium([0.0, 0.0], [0.0, 0.0], K, C_F, [1.0, 1.0])
+
+
+def test_inner_loop_equilibrium_solves_its_fixed_point():
+    from controllers.force import inner_position_loop_equilibrium
+
+    K, C_F = np.diag([2e3, 0.0]), np.diag([1e-3, 2e-3])
+    x_d, x_r, f_d = np.array([0.1, 0.2]), np.array([0.12, 0.0]), np.array([5.0, 1.0])
+    x_e = inner_position_loop_equilibrium(x_d, x_r, K, C_F, f_d)
+    np.testing.assert_allclose(x_e, x_d + C_F @ (K @ (x_r - x_e) + f_d), atol=1e-14)   # Problem 9.4's rest
+
+
+def test_singular_compliance_equilibrium_is_named():
+    from controllers.force import compliance_equilibrium
+
+    with pytest.raises(ValueError, match=r"I \+ K K_P⁻¹ is singular"):
+        compliance_equilibrium(np.eye(2), -np.eye(2), [0.01, 0.0])

@@ -1,4 +1,5 @@
-"""Multi-segment trajectories with per-axis speed limits (the Toolbox's mstraj).
+"""Multi-segment trajectories with per-axis speed limits or given segment times (after the Toolbox's mstraj,
+not its timing).
 
 Expected segment times, blend positions and peak speeds are computed here from the formulas:
 Δt_k = max_j |Δq_kj| / q̇_max,j, and a parabolic blend of duration t_acc between the segment

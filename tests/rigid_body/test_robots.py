@@ -25,9 +25,9 @@ def test_load_from_path_and_parameters(tmp_path):
     from rigid_body.kinematics import direct_kinematics
 
     np.testing.assert_allclose(direct_kinematics(longer, np.zeros(3))[0, 3], 3.0)
-    with pytest.raises(TypeError, match="planar_3r"):
+    with pytest.raises(ValueError, match="planar_3r"):
         load("planar_3r", lengths=(1, 1, 1))
-    with pytest.raises(TypeError, match="only accepted for the book"):
+    with pytest.raises(ValueError, match="'panda' takes only `payload`"):
         load("panda", a=(1.0, 1.0))
     with pytest.raises(FileNotFoundError):
         load(str(tmp_path / "missing.urdf"))

@@ -950,7 +950,7 @@ class VisualServo(Chain):
     @staticmethod
     def _parts(law: Any, estimator: Any, camera: EyeInHandCamera, q: Any, qd: Any, x_hat: Any, K: dict,
                inputs: Any) -> tuple[Any, Any, dict]:
-        from controllers.laws import Symbolic
+        from controllers.compiled import Symbolic
 
         x, y, z, seen = camera.image_law(Symbolic, q, *camera.split_inputs(inputs))
         x_next, est_log = (None, {}) if estimator is None else estimator.estimator_law(Symbolic, x_hat, x, y, seen)

@@ -1075,8 +1075,8 @@ def _reactive_comparison(obstacles: list, goal: np.ndarray, R: float, n_rays: in
         ratio.append(err / bound)
     q0 = np.array([0.0, 0.8])
     runs = [gradient_descent(lambda q, rep=rep: att.force(q) + rep(q), q0, step=0.02, tol=1e-3, max_iterations=3000,
-                             max_move=0.05, obstacles=obstacles, robot_radius=radius)
-            for rep in (offline_repulsion, reactive_repulsion)]
+                             max_move=0.05, obstacles=shapes, robot_radius=radius)
+            for rep, shapes in ((offline_repulsion, None), (reactive_repulsion, obstacles))]   # the reactive one certified
     return dict(rel=np.array(rel), ratio=np.array(ratio), offline=runs[0], reactive=runs[1])
 
 

@@ -7,6 +7,7 @@ the tree, and the module's tests run against the copy. A mutant *survives* when 
 
     python benchmarks/mutation.py --per-module 50 --out /tmp/mutation.txt
     python benchmarks/mutation.py --lines 294-316 controllers/simulation.py   # every point of rk4_step
+    python benchmarks/mutation.py --rerun /tmp/mutation.txt --out /tmp/after.txt   # its survivors, after new tests
 
 Docstrings and ``raise ValueError`` messages are skipped (they carry no behaviour the tests measure).
 """
@@ -46,11 +47,12 @@ TARGETS = {
     "controllers/visual_servoing.py": ["tests/controllers/test_visual_servoing.py",
                                        "tests/controllers/test_visual_servoing_inputs.py",
                                        "tests/examples/test_panda_visual_servoing.py"],
-    "controllers/wheeled.py": ["tests/controllers/test_wheeled.py", "tests/controllers/test_wheeled_inputs.py"],
+    "controllers/wheeled.py": ["tests/controllers/test_wheeled.py", "tests/controllers/test_wheeled_inputs.py",
+                               "tests/controllers/test_wheeled_laws.py"],
     "rigid_body/camera.py": ["tests/rigid_body/test_camera_vision.py", "tests/rigid_body/test_sensors.py",
                              "tests/rigid_body/test_independent_references.py",
-                             "tests/controllers/test_visual_servoing.py"],
-    "rigid_body/vision.py": ["tests/rigid_body/test_camera_vision.py"],
+                             "tests/controllers/test_visual_servoing.py", "tests/rigid_body/test_vision_references.py"],
+    "rigid_body/vision.py": ["tests/rigid_body/test_camera_vision.py", "tests/rigid_body/test_vision_references.py"],
     "rigid_body/wheeled.py": ["tests/rigid_body/test_wheeled.py", "tests/controllers/test_wheeled.py",
                               "tests/controllers/test_wheeled_inputs.py"],
     "planners/wheeled.py": ["tests/planners/test_wheeled.py", "tests/controllers/test_wheeled.py",
@@ -138,6 +140,8 @@ def main() -> None:
     parser.add_argument("--timeout", type=float, default=120.0)
     parser.add_argument("--out", type=Path, default=Path("mutation.txt"))
     parser.add_argument("--lines", default="", help="FIRST-LAST: only the points on these lines (all of them)")
+    parser.add_argument("--rerun", type=Path, default=None,
+                        help="a previous --out log: run again only the mutants that SURVIVED there (same module code)")
     parser.add_argument("modules", nargs="*", default=list(TARGETS))
     args = parser.parse_args()
     work = Path(tempfile.mkdtemp(prefix="rmpc-mutation-"))
@@ -145,6 +149,13 @@ def main() -> None:
                                                                     "*.egg-info"))
     tree = work / "tree"
     rng = random.Random(args.seed)
+    rerun: dict[str, set[str]] = {}
+    if args.rerun is not None:
+        for line in args.rerun.read_text().splitlines():
+            if line.startswith("SURVIVED"):
+                module, what = line.split()[1], line.split(None, 2)[2].rsplit(" [", 1)[0]
+                rerun.setdefault(module, set()).add(what)
+        args.modules = [m for m in args.modules if m in rerun] if args.modules != list(TARGETS) else list(rerun)
     total = survived = 0
     with args.out.open("w") as log:
         for module in args.modules:
@@ -153,7 +164,10 @@ def main() -> None:
             if args.lines:
                 first, last = (int(n) for n in args.lines.split("-"))
                 points = [(k, what) for k, what in points if first <= int(what.split(":")[0][5:]) <= last]
-            sample = sorted(rng.sample(points, min(args.per_module, len(points))))
+            if args.rerun is not None:
+                sample = [(k, what) for k, what in points if what in rerun.get(module, ())]
+            else:
+                sample = sorted(rng.sample(points, min(args.per_module, len(points))))
             print(f"# {module}: {len(points)} points, {len(sample)} sampled", file=log, flush=True)
             for index, what in sample:
                 try:

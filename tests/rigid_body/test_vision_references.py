@@ -55,3 +55,16 @@ def test_coplanar_point_clouds_are_registered():
     line = np.outer(np.linspace(-1, 1, 5), [1.0, 2.0, -1.0])
     with pytest.raises(ValueError, match="collinear"):
         register_point_clouds(line @ R.T + o, line)
+
+
+def test_degenerate_data_are_refused():
+    """A homography needs 4 points, no 3 aligned: with 5 on one line A (12×9) has rank 7, not 8 — refused
+    rather than a wrong H; collinear clouds at any scale (1 km here) are refused by the registration."""
+    from rigid_body.vision import homography_dlt
+
+    zeta = np.r_[np.c_[np.linspace(-1, 1, 5), np.zeros(5)], [[0.3, 0.7]]]
+    with pytest.raises(ValueError, match="degenerate"):
+        homography_dlt(zeta, 0.4 * zeta + [0.1, 0.2])
+    line = 1e3 * np.outer(np.linspace(-1, 1, 6), [1.0, 2.0, -1.0]) + 1e-9 * np.random.default_rng(2).normal(size=(6, 3))
+    with pytest.raises(ValueError, match="collinear"):
+        register_point_clouds(line + [5.0, 0.0, 0.0], line)

@@ -9,6 +9,9 @@ the tree, and the module's tests run against the copy. A mutant *survives* when 
     python benchmarks/mutation.py --lines 294-316 controllers/simulation.py   # every point of rk4_step
     python benchmarks/mutation.py --rerun /tmp/mutation.txt --out /tmp/after.txt   # its survivors, after new tests
 
+``--rerun`` takes the log of an earlier run of the same module code with the same ``--seed`` and ``--per-module``:
+the samples are drawn again in the same order and the mutants that SURVIVED there are run again, one for one.
+
 Docstrings and ``raise ValueError`` messages are skipped (they carry no behaviour the tests measure).
 """
 
@@ -145,7 +148,8 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("mutation.txt"))
     parser.add_argument("--lines", default="", help="FIRST-LAST: only the points on these lines (all of them)")
     parser.add_argument("--rerun", type=Path, default=None,
-                        help="a previous --out log: run again only the mutants that SURVIVED there (same module code)")
+                        help="a previous --out log (same module code, --seed and --per-module): run again only the "
+                             "mutants that SURVIVED there")
     parser.add_argument("modules", nargs="*", default=list(TARGETS))
     args = parser.parse_args()
     work = Path(tempfile.mkdtemp(prefix="rmpc-mutation-"))
@@ -153,13 +157,15 @@ def main() -> None:
                                                                     "*.egg-info"))
     tree = work / "tree"
     rng = random.Random(args.seed)
-    rerun: dict[str, set[str]] = {}
+    outcomes: dict[str, list[str]] = {}          # --rerun: each module's statuses, in its sample's order
     if args.rerun is not None:
         for line in args.rerun.read_text().splitlines():
-            if line.startswith("SURVIVED"):
-                module, what = line.split()[1], line.split(None, 2)[2].rsplit(" [", 1)[0]
-                rerun.setdefault(module, set()).add(what)
-        args.modules = [m for m in args.modules if m in rerun] if args.modules != list(TARGETS) else list(rerun)
+            if line.startswith("# ") and ": " in line and "points" in line:
+                outcomes[line[2:].split(":")[0]] = []
+            elif line.split(" ")[0] in ("killed", "SURVIVED", "SKIP"):
+                module = line.split()[1] if not line.startswith("SKIP") else line.split()[1]
+                outcomes[module].append(line.split()[0])
+        args.modules = list(outcomes)              # the same modules in the same order: the same draws
     total = survived = 0
     with args.out.open("w") as log:
         for module in args.modules:
@@ -168,10 +174,12 @@ def main() -> None:
             if args.lines:
                 first, last = (int(n) for n in args.lines.split("-"))
                 points = [(k, what) for k, what in points if first <= int(what.split(":")[0][5:]) <= last]
+            sample = sorted(rng.sample(points, min(args.per_module, len(points))))
             if args.rerun is not None:
-                sample = [(k, what) for k, what in points if what in rerun.get(module, ())]
-            else:
-                sample = sorted(rng.sample(points, min(args.per_module, len(points))))
+                if len(outcomes[module]) != len(sample):
+                    raise SystemExit(f"{module}: {len(outcomes[module])} lines in {args.rerun}, {len(sample)} drawn: "
+                                     "not the same code, --seed or --per-module")
+                sample = [point for point, status in zip(sample, outcomes[module]) if status == "SURVIVED"]
             print(f"# {module}: {len(points)} points, {len(sample)} sampled", file=log, flush=True)
             for index, what in sample:
                 try:

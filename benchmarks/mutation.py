@@ -163,7 +163,7 @@ def main() -> None:
             if line.startswith("# ") and ": " in line and "points" in line:
                 outcomes[line[2:].split(":")[0]] = []
             elif line.split(" ")[0] in ("killed", "SURVIVED", "SKIP"):
-                module = line.split()[1] if not line.startswith("SKIP") else line.split()[1]
+                module = next(word for word in line.split() if word.endswith(".py"))   # after "killed (timeout)"
                 outcomes[module].append(line.split()[0])
         args.modules = list(outcomes)              # the same modules in the same order: the same draws
     total = survived = 0

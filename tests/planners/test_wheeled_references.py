@@ -59,12 +59,14 @@ def test_reeds_shepp_finds_the_zero_length_segments():
 
 
 def test_dubins_straight_paths_have_no_turn():
-    """A goal straight ahead: LSL and RSR both reduce to the straight segment (no 2π arc from rounding)."""
-    for th in (0.0, 0.3, -2.0, np.pi):
-        q_i = np.array([0.5, -0.2, th])
-        q_f = q_i + np.array([4.0 * np.cos(th), 4.0 * np.sin(th), 0.0])
-        lengths = {p.word: p.length for p in pw.dubins_paths(q_i, q_f, 0.7)}
-        assert lengths["LSL"] == pytest.approx(4.0, abs=1e-9) and lengths["RSR"] == pytest.approx(4.0, abs=1e-9)
+    """A goal straight ahead, at any heading: LSL and RSR both reduce to the straight segment (an angle of −1e-17
+    from rounding is no turn, not a 2π one)."""
+    for th in np.linspace(-np.pi, np.pi, 73):
+        for L in (1.0, 4.0):
+            q_i = np.array([0.5, -0.2, th])
+            q_f = q_i + np.array([L * np.cos(th), L * np.sin(th), 0.0])
+            lengths = {p.word: p.length for p in pw.dubins_paths(q_i, q_f, 0.7)}
+            assert lengths["LSL"] == pytest.approx(L, abs=1e-9) and lengths["RSR"] == pytest.approx(L, abs=1e-9)
 
 
 def test_unicycle_arc_straight_limit_and_arc_by_rotation():
@@ -100,3 +102,10 @@ def test_trailer_axles_as_a_chain_of_hinges():
     for i, L in enumerate(lengths, start=1):
         expected.append(expected[-1] - L * np.array([np.cos(q[3 + i]), np.sin(q[3 + i])]))
     np.testing.assert_allclose(pts, expected, atol=1e-12)
+
+
+def test_reeds_shepp_candidates_include_every_family_solution_with_empty_segments():
+    """A goal straight ahead: the LSL and RSR words (first and last arcs empty) are both among the candidates,
+    as the closed forms give them; leaving one out would not show in the shortest length."""
+    words = {(p.word, round(p.length, 9)) for p in pw.reeds_shepp_paths([0.0, 0.0, 0.0], [3.0, 0.0, 0.0], 1.0)}
+    assert ("LSL", 3.0) in words and ("RSR", 3.0) in words

@@ -92,7 +92,8 @@ def panda_space():
 
 
 def test_the_first_moving_link_is_checked_against_the_obstacles():
-    """A 2 cm cube inside panda_link1's hull (above the fixed link0): a collision."""
+    """A 2 cm cube inside panda_link1's hull (above the fixed link0): a collision for the broad phase, for the
+    pairwise check and for the certificate's clearances (which only see the pairs made with the boxes)."""
     robot = load("panda")
     geom, data = robot.collision_model, robot.model.createData()
     q = pin.neutral(robot.model)
@@ -101,7 +102,8 @@ def test_the_first_moving_link_is_checked_against_the_obstacles():
     k = next(i for i, o in enumerate(geom.geometryObjects) if o.parentJoint == 1)
     centre = gdata.oMg[k].translation + np.array([0.0, 0.0, 0.05])
     checker = CollisionChecker(robot, [Box(centre, [0.02, 0.02, 0.02], "cube")])
-    assert checker.in_collision(q)
+    assert checker.in_collision(q) and checker.in_collision_pairwise(q)
+    assert checker.box_clearance(q) <= 0 and checker.clearances(q).min() <= 0
 
 
 def test_the_motion_bound_is_never_below_the_true_motion_of_the_hulls(panda_space):
@@ -143,9 +145,10 @@ def test_wavefront_costs_on_an_empty_grid():
 
 
 def test_trapezoidal_cells_tile_the_free_space_of_overlapping_obstacles():
-    """Two overlapping squares (their edges cross) and a triangle: the cells' areas add up to the free area
-    (box − union, by inclusion–exclusion), no cell overlaps an obstacle, every free sample lies in a cell."""
-    A, B = box(2, 2, 5, 5), box(4, 3, 7, 6)
+    """A diamond and a box that overlap (their edges cross at x = 5, no vertex's abscissa) and a triangle: the
+    cells' areas add up to the free area (box − union, by inclusion–exclusion: the overlap is 2 m²), no cell
+    overlaps an obstacle, every free sample lies in a cell."""
+    A, B = Polygon([[2, 4], [4, 2], [6, 4], [4, 6]]), box(4.5, 3, 8, 5)
     T = Polygon([[1, 7], [3, 8.5], [1.5, 9]])
     dec = trapezoidal_decomposition((0, 10, 0, 10), [A, B, T])
 
@@ -153,7 +156,7 @@ def test_trapezoidal_cells_tile_the_free_space_of_overlapping_obstacles():
         x, y = P.vertices.T
         return 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
-    free = 100.0 - (9 + 9 - 2 + area(T))                   # the squares share [4, 5] × [3, 5]
+    free = 100.0 - (area(A) + area(B) - 2.0 + area(T))     # A ∩ B: 1 over x ∈ [4.5, 5] and 1 over [5, 6]
     assert sum(area(c) for c in dec.cells) == pytest.approx(free, abs=1e-9)
     for c in dec.cells:
         assert not any(o.contains(c.centroid) for o in (A, B, T))

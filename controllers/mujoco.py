@@ -748,6 +748,11 @@ class MujocoPlant:
             return out
         return step
 
+    def symbolic(self) -> Any:
+        """No CasADi form: MuJoCo steps this plant (``simulate(..., backend="casadi")`` names the way out)."""
+        raise ValueError("`plant`: MujocoPlant is stepped by MuJoCo (mj_step), which has no CasADi form for "
+                         "backend='casadi': use backend='python'")
+
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         q = self.configuration(x)
         if not self.force_sensor:

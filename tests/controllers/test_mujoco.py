@@ -415,6 +415,9 @@ def test_bad_input_is_named(panda):
     with pytest.raises(ValueError, match="timestep.*must divide"):
         simulate(MujocoPlant(panda, timestep=3e-4), lambda t, m: np.zeros(7), (0.0, 0.01),
                  np.r_[panda.configurations["ready"], np.zeros(7)], h=1e-3)
+    with pytest.raises(ValueError, match="stepped by MuJoCo.*backend='python'"):
+        simulate(MujocoPlant(panda), PDGravityCompensation(panda, 100.0, 20.0, panda.configurations["ready"]),
+                 (0.0, 0.01), np.r_[panda.configurations["ready"], np.zeros(7)], h=1e-3, backend="casadi")
     from rigid_body.wheeled import mobile_manipulator
 
     with pytest.raises(ValueError, match="Planar joint"):

@@ -30,7 +30,7 @@ from benchtools import json_rows, markdown, print_rows  # noqa: E402
 
 # In the order of the table: the wrappers and the book's algorithms, IK, trajectories, the loops, chapters 9-12, MuJoCo.
 SCRIPTS = ("wrappers", "dynamics", "closed_form_ik", "ik", "trajectories", "control", "loop", "compiled", "tasks",
-           "force", "vision", "wheeled", "planning", "mujoco")
+           "force", "vision", "wheeled", "planning", "mujoco", "mpc")
 
 
 def script_name(text: str) -> str:

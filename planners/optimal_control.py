@@ -216,8 +216,8 @@ class OptimalControlOptions:
         complementarity); step_tol : the SQP stops when no step component exceeds it (torques relative to τ_max).
     limit_tol : hard limits may be exceeded by this fraction of their size and still hold.
     qp_tol, qp_max_iter : HPIPM's residual tolerances and iteration cap.
-    verify : False skips the independent Pinocchio KKT check (success is then the solver's own convergence
-        with every hard limit checked; real-time loops that cannot afford the check).
+    verify : False skips the independent Pinocchio check (KKT and defects; success is then the solver's own
+        convergence and defects with every hard limit checked; real-time loops that cannot afford the check).
     """
 
     max_iter: int = 50
@@ -351,6 +351,47 @@ def _functions(robot: Robot, frame: int, position: bool, orientation: bool) -> t
     return built
 
 
+class _Call:
+    """A CasADi function called on numpy arrays without DM conversions (CasADi's function buffer): each argument's
+    C-order data is the input's column-major nonzeros (a dense (r, c) input is given as its (c, r) transpose);
+    returns the outputs as dense (rows, cols) arrays (copies)."""
+
+    def __init__(self, function: ca.Function):
+        self.function = function
+        self._buffer, self._run = function.buffer()
+        self._outputs = []
+        for i in range(function.n_out()):
+            sp = function.sparsity_out(i)
+            nz = np.zeros(sp.nnz())
+            self._buffer.set_res(i, memoryview(nz))
+            rows, cols = (np.array(v, dtype=int) for v in sp.get_triplet())
+            self._outputs.append((nz, rows, cols, (sp.size1(), sp.size2()), sp.is_dense()))
+        self._inputs: list[np.ndarray] = [np.zeros(0)] * function.n_in()
+        self._sizes = [function.sparsity_in(i).nnz() for i in range(function.n_in())]
+
+    def __call__(self, *args: Any) -> list[np.ndarray]:
+        for i, a in enumerate(args):
+            a = np.ascontiguousarray(a, dtype=float).reshape(-1)
+            if a.size != self._sizes[i]:
+                raise ValueError(f"{self.function.name()}: input {i} has {a.size} values, expected {self._sizes[i]}")
+            self._inputs[i] = a                      # kept alive for the call
+            self._buffer.set_arg(i, memoryview(a))
+        self._run()
+        out = []
+        for nz, rows, cols, shape, dense in self._outputs:
+            if dense:
+                out.append(nz.reshape(shape[1], shape[0]).T.copy())
+            else:
+                full = np.zeros(shape)
+                full[rows, cols] = nz
+                out.append(full)
+        return out
+
+    def stats(self) -> dict:
+        """The statistics of the last call (a solver's iterations and status)."""
+        return self._buffer.stats()
+
+
 # --------------------------------------------------------------------------------------------
 # The structured QP of one SQP step (HPIPM through CasADi's conic interface)
 # --------------------------------------------------------------------------------------------
@@ -399,6 +440,13 @@ class _StepQP:
                                {**structure, "error_on_fail": False,
                                 "hpipm": {"mode": "robust", "iter_max": options.qp_max_iter, "res_g_max": tol,
                                           "res_b_max": tol, "res_d_max": tol, "res_m_max": tol}})
+
+    def solve(self, h: np.ndarray, a: np.ndarray, **vectors: np.ndarray) -> tuple[dict[str, np.ndarray], dict]:
+        """HPIPM on the nonzeros ``h``, ``a`` of the fixed patterns and the vectors g, lba, uba, lbx, ubx: the outputs
+        by name (flat arrays) and the solver's statistics. (Called through DMs: CasADi's function buffer gave
+        wrong steps from the second call of this conic on.)"""
+        sol = self.solver(h=ca.DM(self.H_sp, h), a=ca.DM(self.A_sp, a), **vectors)
+        return {name: np.asarray(sol[name]).ravel() for name in ("x", "lam_a", "lam_x")}, self.solver.stats()
 
     def _a_layout(self, rows: list, cols: list, src: list) -> None:
         """Rows [gap_0, gap_1, lincon_1, …, gap_{N−1}, lincon_{N−1}, lincon_N]; the value vector of
@@ -506,8 +554,9 @@ class OptimalControlSolver:
         position, orientation = pr.pose_terms
         self._pose = (position, orientation)
         stage, stage_value, terminal, terminal_value = _functions(pr.robot, pr.frame, position, orientation)
-        self._stage, self._stage_value, self._stage_value_one = stage.map(N), stage_value.map(N), stage_value
-        self._terminal, self._terminal_value = terminal, terminal_value
+        self._stage, self._stage_value = _Call(stage.map(N)), _Call(stage_value.map(N))
+        self._stage_value_one = _Call(stage_value)
+        self._terminal, self._terminal_value = _Call(terminal), _Call(terminal_value)
         if pr.state_limits == "soft":
             soft_q, soft_v = pr.limited()
         else:
@@ -518,7 +567,7 @@ class OptimalControlSolver:
     # ---- references -----------------------------------------------------------------------------------------
     def parameters(self, x0: np.ndarray, q_ref: Any = None, qd_ref: Any = None, tau_ref: Any = None,
                    T_d: Any = None) -> tuple[np.ndarray, np.ndarray]:
-        """The per-node parameter columns (running (np, N), terminal (np,)) for the references: q_ref, qd_ref
+        """The per-node parameters (running (N, np), one row per interval; terminal (np,)) for the references: q_ref, qd_ref
         ((n,) or (N+1, n); default the start's q and rest), tau_ref ((n,) or (N, n); default 0), T_d ((4, 4) or
         (N+1, 4, 4); required when a pose weight is set)."""
         pr, n, N = self.problem, self.n, self.N
@@ -543,7 +592,7 @@ class OptimalControlSolver:
                                    np.sqrt(cost.q), np.sqrt(cost.qd), np.sqrt(cost.tau),
                                    [math.sqrt(cost.position), math.sqrt(cost.orientation)]])
 
-        P = np.column_stack([column(pr.running, k, tau_ref[k]) for k in range(N)])
+        P = np.vstack([column(pr.running, k, tau_ref[k]) for k in range(N)])
         P_N = column(pr.terminal, N, np.zeros(n))
         return P, P_N
 
@@ -575,8 +624,8 @@ class OptimalControlSolver:
         rho = 1.0
         iterations, converged, message, mult, qp_notes, status = 0, False, "", {}, set(), "iteration limit"
         for it in range(max_iter):
-            Xn, R, Jac = (np.asarray(v) for v in self._stage(X[:-1].T, U.T, P))
-            r_N, J_N = (np.asarray(v) for v in self._terminal(X[-1], P_N))
+            Xn, R, Jac = self._stage(X[:-1], U, P)
+            r_N, J_N = self._terminal(X[-1], P_N)
             step, mult, ok, qp_message = self._step(X, U, Xn, R, Jac, r_N.ravel(), J_N)
             iterations += 1
             if not ok:
@@ -702,18 +751,16 @@ class OptimalControlSolver:
                     bounds += [(-np.inf, v_hi[j] - xk[n + j]), (-v_hi[j] - xk[n + j], np.inf)]
                 lba[rows], uba[rows] = np.array(bounds).T
         big = QP_BOUND                      # CasADi's HPIPM interface clips infinite bounds by wrong counts: none given
-        sol = qp.solver(h=ca.DM(qp.H_sp, h_values[qp.H_src]), g=g_full,
-                        a=ca.DM(qp.A_sp, qp.a_values(As, Bs, D_x)), lba=np.maximum(lba, -big),
-                        uba=np.minimum(uba, big), lbx=np.maximum(lbx, -big), ubx=np.minimum(ubx, big))
-        stats = qp.solver.stats()
-        z = np.asarray(sol["x"]).ravel()
+        sol, stats = qp.solve(h=h_values[qp.H_src], g=g_full, a=qp.a_values(As, Bs, D_x), lba=np.maximum(lba, -big),
+                              uba=np.minimum(uba, big), lbx=np.maximum(lbx, -big), ubx=np.minimum(ubx, big))
+        z = sol["x"]
         if not np.all(np.isfinite(z)):
             return None, {}, False, f"non-finite step, HPIPM status {stats.get('return_status')}"
         ok = bool(stats.get("success", False))
         dX = np.stack([z[qp.idx[k]["x"]] for k in range(1, N + 1)]) * D_x
         dU = np.stack([z[qp.idx[k]["u"]] for k in range(N)]) * D_u
         S = np.stack([z[qp.idx[k]["s"]] for k in range(1, N + 1)]) if ns else np.zeros((N, 0))
-        lam_a, lam_x = np.asarray(sol["lam_a"]).ravel(), np.asarray(sol["lam_x"]).ravel()
+        lam_a, lam_x = sol["lam_a"], sol["lam_x"]
         mult = {"gap": np.stack([lam_a[qp.gap_rows[k][:nx]] for k in range(N)]),
                 "tau": np.stack([lam_x[qp.idx[k]["u"]] for k in range(N)]) / D_u,
                 "x": np.stack([lam_x[qp.idx[k]["x"]] for k in range(1, N + 1)]) / D_x,
@@ -724,8 +771,8 @@ class OptimalControlSolver:
 
     def _merit(self, X: np.ndarray, U: np.ndarray, P: np.ndarray, P_N: np.ndarray, rho: float) -> tuple[float, float]:
         """(cost, L1 merit = cost + soft-limit penalty + ρ Σ |defects|) at (X, U)."""
-        Xn, R = (np.asarray(v) for v in self._stage_value(X[:-1].T, U.T, P))
-        r_N = np.asarray(self._terminal_value(X[-1], P_N)).ravel()
+        Xn, R = self._stage_value(X[:-1], U, P)
+        r_N = self._terminal_value(X[-1], P_N)[0].ravel()
         cost = 0.5 * float(np.sum(R * R) + r_N @ r_N)
         penalty = self.problem.slack_weight * self._excess(X) if self.problem.state_limits == "soft" else 0.0
         return cost, cost + penalty + rho * float(np.sum(np.abs(Xn.T - X[1:])))
@@ -770,7 +817,13 @@ class OptimalControlSolver:
             cost += pr.slack_weight * penalty
         check_start = time.perf_counter()
         check = _KKTCheck(pr, P, P_N)
-        defect, qdd = check.defects(X, U)
+        qdd = check.accelerations(X, U)
+        if o.verify:
+            defect = check.defects(X, U)
+        else:                               # the solver's own defect (the real-time loops skip Pinocchio's)
+            Xn, _ = self._stage_value(X[:-1], U, P)
+            defect = float(np.max(np.abs(Xn.T - X[1:])))
+            defect = defect if np.isfinite(defect) else math.inf
         kkt = check.residual(X, U, mult) if (o.verify and converged and mult) else math.nan
         check_time = time.perf_counter() - check_start
         bounded = np.isfinite(pr.q_min)
@@ -855,14 +908,17 @@ class _KKTCheck:
         n = self.n
         return np.concatenate([x[n:], forward_dynamics(self.pr.robot, x[:n], x[n:], u, check=False)])
 
-    def defects(self, X: np.ndarray, U: np.ndarray) -> tuple[float, np.ndarray]:
-        """max |x_{k+1} − Φ(x_k, τ_k)| and the accelerations q̈_k at the nodes (Pinocchio)."""
-        worst, qdd = 0.0, []
+    def defects(self, X: np.ndarray, U: np.ndarray) -> float:
+        """max |x_{k+1} − Φ(x_k, τ_k)| over the intervals, Φ by Pinocchio."""
+        worst = 0.0
         for k in range(len(U)):
             x_next, _ = rk4_step(self._fd, X[k], U[k], self.pr.dt)
             worst = max(worst, float(np.max(np.abs(x_next - X[k + 1]))))
-            qdd.append(self._fd(X[k], U[k])[self.n:])
-        return (worst if np.isfinite(worst) else math.inf), np.array(qdd)
+        return worst if np.isfinite(worst) else math.inf
+
+    def accelerations(self, X: np.ndarray, U: np.ndarray) -> np.ndarray:
+        """q̈_k (N, n) at the nodes under τ_k (Pinocchio)."""
+        return np.array([self._fd(X[k], U[k])[self.n:] for k in range(len(U))])
 
     def _fd_jacobian(self, x: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """f(x, u) = [q̇; q̈] and ∂f/∂[x; u] (2n, 3n): q̈ = B⁻¹(τ − h), ∂q̈ = B⁻¹ (dτ − ∂τ_RNEA/∂q dq − ∂τ_RNEA/∂q̇ dq̇)."""
@@ -942,7 +998,7 @@ class _KKTCheck:
         stat_x = np.zeros((N + 1, nx))
         stat_u = np.zeros((N, n))
         for k in range(N):
-            p = self.P[:, k]
+            p = self.P[k]
             _, dPhi, states, jacs = self._interval(X[k], U[k])
             g = np.zeros(3 * n)
             for c, s, ds in zip(RK4_WEIGHTS, states, jacs):

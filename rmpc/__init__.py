@@ -10,11 +10,12 @@ Models (``rigid_body``)
 References (``planners``)
     ``solve_ik`` (the recommended IK), ``solve_clik``, ``CLIK``, ``TaskSpace`` (which pose rows an IK or
     CLIK controls: ``TaskSpace(rows=(0, 1, 2))`` the position only), ``quintic``, ``trapezoidal``,
-    ``Trajectory``, ``JointLimits``, ``minimum_time_trajectory``
+    ``Trajectory``, ``JointLimits``, ``minimum_time_trajectory``; optimal control (beyond the book):
+    ``OptimalControlProblem``, ``StageCost``, ``OptimalControlSolver``, ``solve_optimal_control``
 Closed loops (``controllers``)
     ``simulate``, ``ArmPlant``, ``PDGravityCompensation``, ``InverseDynamicsControl``,
     ``ZeroOrderHold``, ``SimulationDiverged``, ``MujocoPlant`` (the same loops on MuJoCo physics:
-    ``pip install 'rmpc[mujoco]'``)
+    ``pip install 'rmpc[mujoco]'``), ``ModelPredictiveControl``, ``MPCOptions``
 Problems (``problems``)
     ``solve("8.10")``, ``all_problems()``
 
@@ -55,6 +56,11 @@ _HOMES: dict[str, str] = {
     "trapezoidal": "planners.timing",
     "JointLimits": "planners.optimization",
     "minimum_time_trajectory": "planners.optimization",
+    "OptimalControlProblem": "planners.optimal_control",
+    "StageCost": "planners.optimal_control",
+    "OptimalControlSolver": "planners.optimal_control",
+    "OptimalControlOptions": "planners.optimal_control",
+    "solve_optimal_control": "planners.optimal_control",
     # closed loops
     "simulate": "controllers.simulation",
     "SimulationResult": "controllers.simulation",
@@ -64,6 +70,8 @@ _HOMES: dict[str, str] = {
     "MujocoPlant": "controllers.mujoco",
     "PDGravityCompensation": "controllers.joint_space",
     "InverseDynamicsControl": "controllers.joint_space",
+    "ModelPredictiveControl": "controllers.mpc",
+    "MPCOptions": "controllers.mpc",
     # the book's problems
     "solve": "problems.registry",
     "all_problems": "problems.registry",

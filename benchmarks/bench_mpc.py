@@ -1,0 +1,143 @@
+"""Optimal control and MPC: rmpc's SQP against Crocoddyl's box-FDDP, MPC solve times at 100 Hz, MPC vs computed
+torque under saturation.
+
+(a) The Panda reach of :func:`examples.optimal_control.reach_problem` (N = 50, dt = 10 ms, RK4, the same costs, hard
+    torque box, joint limits inactive in both) solved from the same initial guess (the start held, gravity torques)
+    by :class:`planners.optimal_control.OptimalControlSolver` and by Crocoddyl 3's ``SolverBoxFDDP`` in its own
+    environment (``benchmarks/crocoddyl_reach.py``: set ``RMPC_CROCODDYL_PYTHON`` to that environment's python, or
+    let it be found at /tmp/croc/bin/python). Solve-time ratio at equal optimal cost (±1 %); target ≤ 2.
+(b) MPC on the Panda reach at 100 Hz with a 0.5 s horizon: median and worst solve time per sample, the share of
+    missed deadlines (solve time > T_s), with up to 5 SQP iterations per sample and in real-time-iteration mode.
+(c) MPC vs inverse dynamics control (8.57) on the two-link arm tracking Chapter 4's minimum-time motion 1.2× faster
+    than its torque limits allow: tracking errors and commanded torques beyond the limits.
+
+Times on a shared machine are noisy: compare the ratios measured in one run.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from benchtools import print_rows
+
+from controllers.mpc import MPCOptions, ModelPredictiveControl
+from controllers.plants import ArmPlant
+from controllers.simulation import simulate
+from examples.optimal_control import reach_problem, reach_target, two_link_tracking
+from planners.optimal_control import OptimalControlProblem, OptimalControlSolver
+from rigid_body.robots import LOCKED_JOINTS, load
+
+CROCODDYL_SCRIPT = Path(__file__).resolve().parent / "crocoddyl_reach.py"
+CROCODDYL_HELP = ("python3 -m venv /tmp/croc && /tmp/croc/bin/pip install crocoddyl 'pin<4' 'libpinocchio<4' "
+                  "'cmeel-urdfdom<5' 'cmeel-tinyxml2<11', then RMPC_CROCODDYL_PYTHON=/tmp/croc/bin/python")
+
+
+def crocoddyl_python() -> str | None:
+    """The Python of Crocoddyl's environment: $RMPC_CROCODDYL_PYTHON, else /tmp/croc/bin/python if it exists."""
+    path = os.environ.get("RMPC_CROCODDYL_PYTHON", "/tmp/croc/bin/python")
+    return path if Path(path).exists() else None
+
+
+def panda_reach(repeats: int = 3) -> list[dict]:
+    """Row (a): the Panda reach by rmpc and by Crocoddyl's box-FDDP on the equal problem."""
+    robot = load("panda")
+    n = robot.nv
+    q0 = robot.configurations["ready"]
+    x0 = np.r_[q0, np.zeros(n)]
+    T_d = reach_target(robot, q0)
+    base = reach_problem(robot)
+    problem = OptimalControlProblem(robot, base.horizon, base.dt, base.running, base.terminal, q_min=-np.inf,
+                                    q_max=np.inf, qd_max=np.inf)        # joint limits inactive, as in Crocoddyl
+    solver = OptimalControlSolver(problem)
+    times, result = [], None
+    for _ in range(repeats + 1):                                        # the first call loads the compiled code
+        start = time.perf_counter()
+        result = solver.solve(x0, q_ref=q0, T_d=T_d)
+        times.append(time.perf_counter() - start)
+    rmpc_time = min(times[1:])
+    rows = [dict(measurement=f"Panda reach OCP (N=50, RK4), rmpc SQP: {result.iterations} iterations, "
+                             f"success {result.success}, KKT {result.kkt:.1g} [s]",
+                 rmpc=rmpc_time, reference=None, target=None)]
+    python = crocoddyl_python()
+    if python is None:
+        rows.append(dict(measurement=f"Panda reach vs Crocoddyl box-FDDP: skipped (no Crocoddyl environment: "
+                                     f"{CROCODDYL_HELP})", rmpc=rmpc_time, reference=None, target=None))
+        return rows
+    g = pin.computeGeneralizedGravity(robot.model, robot.model.createData(), q0)
+    run, ter = problem.running, problem.terminal
+    spec = {"urdf": str(robot.urdf_path), "lock": list(LOCKED_JOINTS.get("panda", ())),
+            "gravity": list(robot.model.gravity.linear), "frame": robot.model.frames[robot.ee_frame].name,
+            "N": problem.horizon, "dt": problem.dt, "x0": list(x0), "p_d": list(T_d[:3, 3]), "R_d": T_d[:3, :3].tolist(),
+            "x_ref": list(x0), "tau_max": list(problem.tau_max), "us_init": [list(g)] * problem.horizon,
+            "running": {"position": run.position, "orientation": run.orientation,
+                        "state": list(np.r_[run.q, run.qd]), "effort": list(run.tau)},
+            "terminal": {"position": ter.position, "orientation": ter.orientation, "state": list(np.r_[ter.q, ter.qd])},
+            "repeats": repeats + 1}
+    out = subprocess.run([python, str(CROCODDYL_SCRIPT)], input=json.dumps(spec), capture_output=True, text=True)
+    if out.returncode != 0:
+        raise RuntimeError(f"crocoddyl_reach.py failed: {out.stderr.strip()[-500:]}")
+    croc = json.loads(out.stdout)
+    croc_time = min(croc["times"][1:])
+    equal = abs(result.cost - croc["cost"]) <= 0.01 * abs(croc["cost"])
+    rows.append(dict(measurement=f"Panda reach: rmpc SQP vs Crocoddyl {croc['crocoddyl']} box-FDDP "
+                                 f"({croc['iterations']} iterations), cost {result.cost:.6g} vs {croc['cost']:.6g} "
+                                 f"(equal within 1 %: {equal}) [s]",
+                     rmpc=rmpc_time, reference=croc_time, ref_name="Crocoddyl box-FDDP",
+                     target=("ratio<=", 2.0) if equal else ("ratio<=", 0.0)))
+    return rows
+
+
+def panda_mpc(duration: float = 1.0) -> list[dict]:
+    """Row (b): MPC on the Panda reach at 100 Hz, 0.5 s horizon."""
+    robot = load("panda")
+    q0 = robot.configurations["ready"]
+    x0 = np.r_[q0, np.zeros(robot.nv)]
+    T_d = reach_target(robot, q0)
+    problem = reach_problem(robot)
+    rows = []
+    for label, options in (("up to 5 SQP iterations", MPCOptions(max_iter=5)),
+                           ("real-time iteration", MPCOptions(real_time_iteration=True))):
+        mpc = ModelPredictiveControl(problem, reference=q0, target=T_d, options=options)
+        run = simulate(ArmPlant(robot, tau_max=problem.tau_max), mpc, (0.0, duration), x0, h=1e-3, Ts=problem.dt)
+        solve = run["solve_time"]
+        missed = float(np.mean(run["deadline_met"] == 0))
+        rows.append(dict(measurement=f"Panda MPC 100 Hz, N=50 ({label}): median solve per sample [s] "
+                                     f"(worst {solve.max() * 1e3:.1f} ms, {100 * missed:.0f} % deadlines missed, "
+                                     f"{int(run['failed'].sum())} failed)",
+                         rmpc=float(np.median(solve)), reference=problem.dt, ref_name="T_s",
+                         target=("ratio<=", 1.0)))
+    return rows
+
+
+def two_link_saturation() -> list[dict]:
+    """Row (c): MPC vs computed torque on the two-link arm beyond its torque limits."""
+    sol = two_link_tracking(speed=1.2)
+    v = sol.values
+    ct, mpc = "computed torque (8.57)", "MPC"
+    return [dict(measurement=f"2R min-time motion x1.2: max tracking error, MPC vs computed torque [rad] "
+                             f"(RMS {v['rms_error ' + mpc]:.3g} vs {v['rms_error ' + ct]:.3g})",
+                 rmpc=v["max_error " + mpc], reference=v["max_error " + ct], ref_name="computed torque (8.57)",
+                 target=("ratio<=", 1.0)),
+            dict(measurement=f"2R min-time motion x1.2: share of samples commanding beyond the torque limits "
+                             f"(computed torque: {v['commanded_over_limit ' + ct]:.2f})",
+                 rmpc=v["commanded_over_limit " + mpc], reference=None, target=("<=", 0.0))]
+
+
+def rows(quick: bool = False) -> list[dict]:
+    return panda_reach(repeats=1 if quick else 3) + panda_mpc(0.3 if quick else 1.0) + two_link_saturation()
+
+
+def main() -> None:
+    print_rows(rows(quick="--quick" in sys.argv))
+
+
+if __name__ == "__main__":
+    main()

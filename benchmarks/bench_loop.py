@@ -148,8 +148,10 @@ def book_loop_rows(pids: tuple[str, ...] = BOOK_LOOPS) -> list[dict]:
         try:
             for pid in pids:
                 compiled._loaded.clear()
+                compiled._LOOPS.clear()
                 simulated, cold, uses_compiled = book_loops(pid)
-                compiled._loaded.clear()                        # warm: the libraries are on disk
+                compiled._loaded.clear()                        # warm: the libraries are on disk (a new process)
+                compiled._LOOPS.clear()
                 warm = book_loops(pid)[1]
                 name = f"problem {pid} closed loops{' (compiled)' if uses_compiled else ''} [sim s / wall s]"
                 out.append(dict(measurement=name, rmpc=simulated / (warm if uses_compiled else min(cold, warm)),

@@ -36,22 +36,315 @@ References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Sprin
 
 from __future__ import annotations
 
+import errno
+import functools
 import hashlib
+import json
 import os
 import shutil
 import subprocess
 import tempfile
+import threading
 import time
+import types
 import warnings
+from collections import OrderedDict
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Mapping
+from typing import Any, Callable, Iterator, Mapping, Sequence
 
 import casadi as ca
 import numpy as np
+import pinocchio as pin
+
+from controllers.integration import rk4_step_law
+from rigid_body.task_space import FrameState
 
 
 BACKENDS = ("python", "casadi")
+
+
+# --------------------------------------------------------------------------------------------
+# The symbolic primitives of a law (the twin of controllers.laws.Numeric)
+# --------------------------------------------------------------------------------------------
+
+class Symbolic:
+    """The symbolic primitives of a law: the names of :class:`Numeric` in CasADi SX expressions
+    (:mod:`rigid_body.symbolic`), for the compiled loop (:mod:`controllers.compiled`); called once, when the
+    loop is built. Branches of the numeric law (a singular task, a point not seen) become masked expressions
+    (``if_else``)."""
+
+    symbolic = True
+
+    @staticmethod
+    def gravity(model: pin.Model, data: Any, q: Any) -> Any:
+        from rigid_body.symbolic import gravity_expression
+
+        return gravity_expression(model, q)
+
+    @staticmethod
+    def rnea(model: pin.Model, data: Any, q: Any, qd: Any, qdd: Any) -> Any:
+        from rigid_body.symbolic import inverse_dynamics_expression
+
+        return inverse_dynamics_expression(model, q, qd, qdd)
+
+    @staticmethod
+    def inertia(model: pin.Model, data: Any, q: Any) -> Any:
+        from rigid_body.symbolic import inertia_expression
+
+        return inertia_expression(model, q)
+
+    @staticmethod
+    def reference_torque(model: pin.Model, data: Any, q: Any, qd: Any, qd_r: Any, qdd_r: Any) -> Any:
+        from rigid_body.symbolic import reference_torque_expression
+
+        return reference_torque_expression(model, q, qd, qd_r, qdd_r)
+
+    @staticmethod
+    def frame_state(model: pin.Model, data: Any, fid: int, q: Any, qd: Any) -> FrameState:
+        """(T (4×4), J, J̇q̇ = ∂(J q̇)/∂q q̇, the classical acceleration at q̈ = 0, or None)."""
+        from rigid_body.symbolic import frame_state_expression
+
+        return FrameState(*frame_state_expression(model, fid, q, qd))
+
+    @staticmethod
+    def pose_error(model: pin.Model, data: Any, space: Any, fid: int, q: Any, T_d: Any, qd: Any) -> tuple:
+        from rigid_body.symbolic import frame_state_expression, orientation_error_expression
+
+        ca = _casadi()
+        T, J, Jdot_qd = frame_state_expression(model, fid, q, qd)
+        e = ca.vertcat(T_d[:3, 3] - T[:3, 3], orientation_error_expression(T_d[:3, :3], T[:3, :3], space.orientation))
+        rows = list(space.selected)
+        return e[rows], J[rows, :], None if Jdot_qd is None else Jdot_qd[rows], T
+
+    @staticmethod
+    def forward_dynamics(robot: Any, q: Any, qd: Any, tau: Any) -> Any:
+        from rigid_body.symbolic import forward_dynamics_expression
+
+        return forward_dynamics_expression(robot, q, qd, tau)
+
+    @staticmethod
+    def friction(friction: Any, qd: Any, smoothing: float) -> Any:
+        from rigid_body.symbolic import friction_expression
+
+        return friction_expression(friction, qd, smoothing)
+
+    @staticmethod
+    def integrate(model: pin.Model, q: Any, v: Any) -> Any:
+        from rigid_body.symbolic import integrate_expression
+
+        return integrate_expression(model, q, v)
+
+    @staticmethod
+    def frame_jacobian(model: pin.Model, data: Any, fid: int, q: Any) -> tuple[Any, Any]:
+        from rigid_body.symbolic import frame_state_expression
+
+        T, J, _ = frame_state_expression(model, fid, q)
+        return T, J
+
+    @staticmethod
+    def translation(T: Any) -> Any:
+        return T[:3, 3]
+
+    @staticmethod
+    def contact_wrench(environment: Any, T_e: Any, v_e: Any) -> Any:
+        """The environment's one body ``wrench_law(ops, p_e, v_e)`` on symbols (a position-only environment)."""
+        law = getattr(environment, "wrench_law", None)
+        if law is None:
+            raise no_symbolic_form(environment, "an environment needs wrench_law(ops, p_e, v_e)")
+        return law(Symbolic, T_e[:3, 3], v_e)
+
+    @staticmethod
+    def frame_pose(model: pin.Model, data: Any, fid: int, q: Any) -> tuple[Any, Any]:
+        from rigid_body.symbolic import pose_function
+
+        R, p, _ = pose_function(model, fid)(q)
+        return R, p
+
+    @staticmethod
+    def camera_jacobian(model: pin.Model, data: Any, fid: int, q: Any) -> Any:
+        from rigid_body.symbolic import pose_function
+
+        R, _, J = pose_function(model, fid)(q)
+        return _casadi().vertcat(R.T @ J[:3, :], R.T @ J[3:, :])
+
+    @staticmethod
+    def to_camera(R: Any, o: Any, points: np.ndarray) -> tuple[Any, Any, Any]:
+        ca = _casadi()
+        p = R.T @ (ca.DM(points.T) - ca.repmat(o, 1, points.shape[0]))            # (5.35)
+        return p[0, :].T, p[1, :].T, p[2, :].T
+
+    @staticmethod
+    def perspective(X: Any, Y: Any, Z: Any) -> tuple[Any, Any, Any]:
+        ca = _casadi()
+        in_front = Z > 0
+        Z_seen = ca.if_else(in_front, Z, np.nan)
+        return X / Z_seen, Y / Z_seen, in_front
+
+    @staticmethod
+    def solve_task(J: Any, b: Any) -> Any:
+        """J⁻¹ b or Jᵀ (J Jᵀ)⁻¹ b (LU); a singular J gives non-finite values (the compiled loop stops there)."""
+        ca = _casadi()
+        return ca.solve(J, b) if J.shape[0] == J.shape[1] else J.T @ ca.solve(J @ J.T, b)
+
+    @staticmethod
+    def times(K: Any, e: Any) -> Any:
+        ca = _casadi()
+        if isinstance(K, np.ndarray) and K.ndim == 1:
+            return ca.DM(K) * e
+        return K @ e
+
+    @staticmethod
+    def sqrt(x: Any) -> Any:
+        return _casadi().sqrt(x)
+
+    @staticmethod
+    def fmax(a: Any, b: Any) -> Any:
+        return _casadi().fmax(a, b)
+
+    @staticmethod
+    def sin(x: Any) -> Any:
+        return _casadi().sin(x)
+
+    @staticmethod
+    def cos(x: Any) -> Any:
+        return _casadi().cos(x)
+
+    @staticmethod
+    def atan2(y: Any, x: Any) -> Any:
+        return _casadi().atan2(y, x)
+
+    @staticmethod
+    def norm(z: Any) -> Any:
+        ca = _casadi()
+        return ca.sqrt(ca.dot(z, z))
+
+    @staticmethod
+    def tanh(x: Any) -> Any:
+        return _casadi().tanh(x)
+
+    @staticmethod
+    def sign(x: Any) -> Any:
+        return _casadi().sign(x)
+
+    @staticmethod
+    def maximum(a: Any, b: Any) -> Any:
+        return _casadi().fmax(a, b)
+
+    @staticmethod
+    def minimum(a: Any, b: Any) -> Any:
+        return _casadi().fmin(a, b)
+
+    @staticmethod
+    def clip(x: Any, lower: Any, upper: Any) -> Any:
+        ca = _casadi()
+        return ca.fmin(ca.fmax(x, lower), upper)
+
+    @staticmethod
+    def vector(*entries: Any) -> Any:
+        return _casadi().vertcat(*entries)
+
+    @staticmethod
+    def matrix(rows: Sequence[Sequence[Any]]) -> Any:
+        ca = _casadi()
+        return ca.vertcat(*[ca.horzcat(*row) for row in rows])
+
+    @staticmethod
+    def solve(A: Any, b: Any, why: Callable[[], str]) -> Any:
+        return _casadi().solve(A, b)
+
+    @staticmethod
+    def unless(bad: Any, value: Callable[[], Any], why: Callable[[], str]) -> Any:
+        return _casadi().if_else(bad, np.nan, value())
+
+    @staticmethod
+    def where(mask: Any, a: Any, b: Any) -> Any:
+        """Row i of ``a`` where mask_i, else of ``b`` (a scalar ``b`` or ``a`` fills its rows)."""
+        ca = _casadi()
+        n = mask.shape[0]
+        a, b = (ca.SX(v) if isinstance(v, (np.ndarray, ca.DM)) else v for v in (a, b))
+        cols = max(v.shape[1] if isinstance(v, ca.SX) else 1 for v in (a, b))
+        a, b = (v if isinstance(v, ca.SX) else ca.repmat(ca.SX(v), n, cols) for v in (a, b))
+        return ca.vertcat(*[ca.if_else(mask[i], a[i, :], b[i, :]) for i in range(n)])
+
+    @staticmethod
+    def hypot(a: Any, b: Any) -> Any:
+        return _casadi().hypot(a, b)
+
+    @staticmethod
+    def logic_and(a: Any, b: Any) -> Any:
+        return _casadi().logic_and(a, b)
+
+    @staticmethod
+    def logic_not(a: Any) -> Any:
+        return _casadi().logic_not(a)
+
+    @staticmethod
+    def repeat(mask: Any, k: int) -> Any:
+        ca = _casadi()
+        return ca.vertcat(*[mask[i] for i in range(mask.shape[0]) for _ in range(k)])
+
+    @staticmethod
+    def interleave(x: Any, y: Any) -> Any:
+        ca = _casadi()
+        return ca.vec(ca.horzcat(x, y).T)
+
+    @staticmethod
+    def columns(M: Any, cols: Any) -> Any:
+        return M[:, [int(c) for c in cols]]
+
+    @staticmethod
+    def cond(condition: Any, then: Callable[[], Any], otherwise: Callable[[], Any]) -> Any:
+        ca = _casadi()
+        if isinstance(condition, (bool, np.bool_)):
+            return then() if condition else otherwise()
+        a, b = then(), otherwise()
+        if isinstance(a, tuple):
+            return tuple(ca.if_else(condition, x, y) for x, y in zip(a, b))
+        return ca.if_else(condition, a, b)
+
+    @staticmethod
+    def dot(a: Any, b: Any) -> Any:
+        return _casadi().dot(a, b)
+
+    @staticmethod
+    def vertcat(*parts: Any) -> Any:
+        return _casadi().vertcat(*parts)
+
+    @staticmethod
+    def horzcat(*blocks: Any) -> Any:
+        return _casadi().horzcat(*blocks)
+
+    @staticmethod
+    def zeros(n: int) -> Any:
+        return _casadi().DM.zeros(n)
+
+    @staticmethod
+    def diag(M: Any) -> Any:
+        return _casadi().diag(M)
+
+    @staticmethod
+    def copy(x: Any) -> Any:
+        return x
+
+    @staticmethod
+    def index(rows: Any) -> list[int]:
+        if isinstance(rows, slice):
+            return list(range(*rows.indices(6)))
+        return [int(i) for i in rows]
+
+    @staticmethod
+    def if_else(condition: Any, a: Any, b: Any) -> Any:
+        if isinstance(condition, (bool, np.bool_)):
+            return a if condition else b
+        return _casadi().if_else(condition, a, b)
+
+
+def _casadi() -> Any:
+    import casadi
+
+    return casadi
 
 
 # --------------------------------------------------------------------------------------------
@@ -116,11 +409,9 @@ class SymbolicLaw:
     @staticmethod
     def of(law: Any) -> "SymbolicLaw":
         """The symbolic form of a :class:`controllers.laws.ControlLaw`: its one body ``law.law`` evaluated on
-        CasADi symbols with the :class:`controllers.laws.Symbolic` primitives. The reference r stacks the
+        CasADi symbols with the :class:`controllers.compiled.Symbolic` primitives. The reference r stacks the
         parts of ``law.reference(t)`` (shapes ``law.reference_shapes``, matrices column by column), the
         parameters are ``law.gains``, the state the parts of ``law.initial_state()`` after ``reset()``."""
-        from controllers.laws import Symbolic
-
         shapes = tuple(tuple(shape) for shape in law.reference_shapes)
         sizes = [int(np.prod(shape)) for shape in shapes]
         state = law._state
@@ -158,8 +449,14 @@ class SymbolicLaw:
 
 class ConstantInput:
     """The open-loop input u(t) = ``value`` (a step applied at t_0, e.g. V'_c of Problem 5.2), as a controller
-    of either backend: ``(t, measurement) -> u`` and its :class:`SymbolicLaw`, which reads nothing of the
-    measurement (``plant``'s ``state_layout`` gives only the sizes of q and q̇ the law is called with)."""
+    of either backend: its law ``u = value`` (:meth:`law`) reads nothing of the measurement (``plant``'s
+    ``state_layout`` gives only the sizes of q and q̇ the symbolic law is called with); ``value`` is the
+    compiled loop's parameter."""
+
+    measurements: tuple = ()
+    scalars: tuple = ()
+    reference_shapes: tuple = ()
+    _state = None
 
     def __init__(self, value: Any, plant: Any):
         self.value = np.atleast_1d(np.asarray(value, dtype=float)).copy()
@@ -169,18 +466,22 @@ class ConstantInput:
         layout = getattr(plant, "state_layout", {})
         if "q" not in layout or "qd" not in layout:
             raise ValueError("`plant` needs a state_layout with 'q' and 'qd'")
-        self._sizes = (_length(layout["q"]), _length(layout["qd"]))
+        self.nq, self.nv = _length(layout["q"]), _length(layout["qd"])
+        self.gains = {"u": self.value[:, None]}
+
+    def reference(self, t: float) -> tuple:
+        """No reference: the law reads nothing."""
+        return ()
+
+    def law(self, ops: Any, K: dict, q: Any, qd: Any, ref: tuple) -> tuple[Any, dict]:
+        """u = value, for both executors (numeric: the value itself, read-only)."""
+        return K["u"], {}
 
     def __call__(self, t: float, measurement: Any) -> np.ndarray:
-        return self.value
+        return self.law(None, {"u": self.value}, None, None, ())[0]
 
     def symbolic(self) -> SymbolicLaw:
-        def no_reference(t: float) -> np.ndarray:
-            return np.zeros(0)
-
-        no_reference.at_times = lambda times: np.zeros((0, len(times)))
-        return SymbolicLaw.build(*self._sizes, 0, {"u": self.value[:, None]}, lambda q, qd, r, K: (K["u"], {}),
-                                 no_reference)
+        return SymbolicLaw.of(self)
 
 
 def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]],
@@ -196,13 +497,25 @@ def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]],
 
     def stacked(t: float) -> np.ndarray:
         parts = reference(t)
+        if not parts:
+            return np.zeros(0)
         if matrix is None or not any(matrix):
             return np.concatenate([np.ravel(v) for v in parts])
         return np.concatenate([np.ravel(v, order="F" if m else "C") for v, m in zip(parts, matrix)])
 
+    if shapes == ():
+        stacked.at_times = lambda times: np.zeros((0, len(times)))
+        return stacked
     at_times = getattr(reference, "at_times", None)
-    if at_times is not None and not (matrix and any(matrix)):
-        stacked.at_times = lambda times: np.hstack([np.reshape(v, (len(times), -1)) for v in at_times(times)]).T
+    if at_times is not None:
+        def stacked_at(times: np.ndarray) -> np.ndarray:
+            N = len(times)
+            parts = at_times(times)
+            flags = matrix if matrix is not None else [False] * len(parts)
+            return np.hstack([np.reshape(np.swapaxes(v, 1, 2) if m else v, (N, -1))
+                              for v, m in zip(parts, flags)]).T
+
+        stacked.at_times = stacked_at
     return stacked
 
 
@@ -210,17 +523,45 @@ def stacked_reference(reference: Callable[[float], tuple[np.ndarray, ...]],
 # The plant
 # --------------------------------------------------------------------------------------------
 
-def plant_function(plant: Any) -> tuple[ca.Function, int, int]:
-    """``(f, nq, nv)``: the plant's ẋ = f(x, u) from its ``symbolic()``, and the sizes of q and q̇ in x
-    (from its ``state_layout``). :class:`~controllers.plants.ArmPlant` provides both."""
+class NoSymbolicForm(ValueError):
+    """A block of the loop has no symbolic form: ``backend="casadi"`` refuses it (:func:`no_symbolic_form`)."""
+
+
+def no_symbolic_form(block: Any, why: str = "") -> NoSymbolicForm:
+    """The one refusal of the compiled loop: ``block`` (a controller, a plant, an environment or a function
+    inside them) has no symbolic form — a Python function, a block that gives no ``symbolic()`` — so the loop
+    runs on the Python backend only. The error names the block and why."""
+    name = getattr(block, "__qualname__", None) or type(block).__name__
+    return NoSymbolicForm(f"{name} has no symbolic form for backend='casadi'{f' ({why})' if why else ''}: "
+                          "use backend='python' (the same loop)")
+
+
+def plant_of(plant: Any) -> ca.Function:
+    """``ẋ = f(x, u)`` as a ``casadi.Function`` from the plant's one body ``plant.dynamics(ops, x, u)`` evaluated
+    on symbols (:class:`controllers.compiled.Symbolic`); x has ``state_size`` entries, u ``symbolic_input_size``
+    (default ``input_size``)."""
+    nu = getattr(plant, "symbolic_input_size", None) or plant.input_size
+    x, u = ca.SX.sym("x", plant.state_size), ca.SX.sym("u", int(nu))
+    return ca.Function("plant", [x, u], [plant.dynamics(Symbolic, x, u)], ["x", "u"], ["xdot"])
+
+
+def integrate_of(plant: Any) -> ca.Function:
+    """``x ⊕ h dx`` as a ``casadi.Function`` (x, dx, h) → x' from the plant's one body ``plant.integrate_law``."""
+    x, dx, h = ca.SX.sym("x", plant.state_size), ca.SX.sym("dx", plant.tangent_size), ca.SX.sym("h")
+    return ca.Function("integrate", [x, dx, h], [plant.integrate_law(Symbolic, x, dx, h)], ["x", "dx", "h"], ["x_next"])
+
+
+def plant_function(plant: Any) -> tuple[ca.Function, int, int, ca.Function | None]:
+    """``(f, nq, nv, integrate)``: the plant's ẋ = f(x, u) from its ``symbolic()``, the sizes of q and q̇ in x
+    (from its ``state_layout``) and its x ⊕ h dx (``symbolic_integrate()``, None on a vector space)."""
     if not hasattr(plant, "symbolic"):
-        raise ValueError(f"`plant` {type(plant).__name__} has no symbolic() form for backend='casadi' "
-                         "(an ArmPlant, or a plant with symbolic() and a state_layout)")
+        raise no_symbolic_form(plant, "a plant needs dynamics(ops, x, u) or symbolic() and a state_layout")
     f = plant.symbolic()
     layout = getattr(plant, "state_layout", {})
     if "q" not in layout or "qd" not in layout:
-        raise ValueError("`plant` with a symbolic form needs a state_layout with 'q' and 'qd'")
-    return f, _length(layout["q"]), _length(layout["qd"])
+        raise no_symbolic_form(plant, "a compiled plant needs a state_layout with 'q' and 'qd'")
+    integrate = plant.symbolic_integrate() if hasattr(plant, "symbolic_integrate") else None
+    return f, _length(layout["q"]), _length(layout["qd"]), integrate
 
 
 def plant_measurement(plant: Any, name: str) -> ca.Function:
@@ -236,12 +577,23 @@ def _length(index: Any) -> int:
 
 
 # --------------------------------------------------------------------------------------------
-# Compilation
+# Compilation: a compiler, a cache, and what happens when either fails
 # --------------------------------------------------------------------------------------------
 
 CACHE = Path(os.environ.get("RMPC_CACHE", Path(tempfile.gettempdir()) / "rmpc-casadi"))
-_SOURCE_HASH = hashlib.sha256(Path(__file__).read_bytes()).hexdigest().encode()   # in the loops' cache keys
-_loaded: dict[str, ca.Function] = {}
+_loaded: dict[str, ca.Function] = {}             # compiled functions loaded in this process, by cache key
+_key_locks: dict[str, threading.Lock] = {}       # one lock per key: threads of this process build a key once
+_key_locks_guard = threading.Lock()
+
+
+class CompiledLoopUnavailable(RuntimeError):
+    """The compiled loop cannot be built here: ``kind`` is ``"no compiler"``, ``"compiler failed"`` or
+    ``"cache unusable"``; the message (one line) says what to fix. :func:`controllers.simulation.simulate`
+    then runs the Python loop (the same results) with that line as a warning."""
+
+    def __init__(self, kind: str, message: str):
+        super().__init__(message)
+        self.kind = kind
 
 
 def compiler() -> str | None:
@@ -256,7 +608,8 @@ def fast_backend(controller: Any = None) -> str:
     """The backend for a loop that needs speed: ``"casadi"`` when a C compiler can build the compiled loop,
     else ``"python"`` (the same loop, slower; a one-line warning says so) — never the interpreted CasADi.
     Given the ``controller``, ``"python"`` also when it has no symbolic form (its ``compilable``, by
-    default whether it has ``symbolic()``)."""
+    default whether it has ``symbolic()``). A compiler or cache that fails later sends the run to the Python
+    loop too (:class:`CompiledLoopUnavailable`)."""
     if controller is not None and not getattr(controller, "compilable", hasattr(controller, "symbolic")):
         return "python"
     if compiler() is not None:
@@ -280,37 +633,273 @@ COMPILE_FLAGS = ("-O1",)
 about 40 % faster than ``-O2`` and runs as fast (Puma 560 PD + g rollout: 8.1 ms with either)."""
 
 
-def compile_function(function: ca.Function | Callable[[], ca.Function], flags: tuple[str, ...] = COMPILE_FLAGS,
-                     name: str | None = None, key: bytes | None = None) -> ca.Function:
-    """``function`` generated as C, compiled into a shared library (cached by the code's hash) and loaded.
+def _key_lock(key: str) -> threading.Lock:
+    with _key_locks_guard:
+        return _key_locks.setdefault(key, threading.Lock())
 
-    Without a C compiler the function is returned as it is (interpreted), with a warning. With ``key``
-    (bytes that determine the code) and ``name``, ``function`` may be a callable building it: the cache
-    is looked up by the hash of ``key`` and the function built and generated only when it misses.
+
+@contextmanager
+def _file_lock(path: Path) -> Iterator[None]:
+    """An exclusive lock on ``path`` (created) between processes (``fcntl.flock``; a no-op where there is none)."""
+    try:
+        import fcntl
+    except ImportError:                                  # not POSIX: the atomic rename still protects the files
+        yield
+        return
+    with open(path, "a+b") as handle:
+        fcntl.flock(handle.fileno(), fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle.fileno(), fcntl.LOCK_UN)
+
+
+def _usable_cache(cache: Path) -> Path:
+    """The cache directory, created if needed; a temporary directory when it exists but cannot be written
+    (read-only); :class:`CompiledLoopUnavailable` when it is not a directory at all (``RMPC_CACHE`` names a
+    file) or cannot be made."""
+    if cache.exists() and not cache.is_dir():
+        raise CompiledLoopUnavailable("cache unusable", f"the compiled-loop cache RMPC_CACHE={cache} is not a directory: "
+                                      "point RMPC_CACHE at a writable directory (or unset it)")
+    try:
+        cache.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        if cache.exists() and cache.is_dir():
+            pass
+        elif isinstance(err, PermissionError) or err.errno in (errno.EROFS, errno.EACCES):
+            return _temporary_cache()
+        else:
+            raise CompiledLoopUnavailable("cache unusable", f"the compiled-loop cache RMPC_CACHE={cache} cannot be "
+                                          f"created ({err.strerror}): point RMPC_CACHE at a writable directory") from None
+    if not os.access(cache, os.W_OK | os.X_OK):
+        return _temporary_cache()
+    return cache
+
+
+_temporary: list[Path] = []
+
+
+def _temporary_cache() -> Path:
+    """One temporary directory per process, for a cache that is full or read-only (removed at exit)."""
+    if not _temporary:
+        import atexit
+
+        path = Path(tempfile.mkdtemp(prefix="rmpc-casadi-"))
+        atexit.register(shutil.rmtree, path, True)
+        _temporary.append(path)
+    return _temporary[0]
+
+
+def _build_library(code: bytes, name: str, key: str, cache: Path, cc: str, flags: tuple[str, ...],
+                   metadata: bytes | None) -> Path:
+    """Compile ``code`` into ``cache/{name}_{key}.so`` (and its metadata beside it): under a file lock per key,
+    into unique temporary names published by an atomic rename, so that threads and processes building the
+    same key never see a partial file; a library already there is taken as it is."""
+    library = cache / f"{name}_{key}.so"
+    with _file_lock(cache / f"{name}_{key}.lock"):
+        if library.exists():
+            return library
+        fd, c_path = tempfile.mkstemp(prefix=f"{name}_{key}.", suffix=".c", dir=cache)
+        so_path = c_path[:-2] + ".so"
+        try:
+            with os.fdopen(fd, "wb") as handle:
+                handle.write(code)
+            result = subprocess.run([cc, *flags, "-fPIC", "-shared", c_path, "-o", so_path, "-lm"],
+                                    capture_output=True)
+            if result.returncode != 0:
+                detail = (result.stderr.decode(errors="replace").strip().splitlines() or ["no message"])[0]
+                if any(s in detail for s in ("No space left", "Read-only file system", "Permission denied")):
+                    raise OSError(errno.ENOSPC, detail)
+                raise CompiledLoopUnavailable("compiler failed", f"the C compiler `{cc}` failed (exit {result.returncode}"
+                                              f": {detail[:160]}): fix it or set CC to a working compiler")
+            if metadata is not None:
+                meta_fd, meta_path = tempfile.mkstemp(prefix=f"{name}_{key}.", suffix=".json", dir=cache)
+                with os.fdopen(meta_fd, "wb") as handle:
+                    handle.write(metadata)
+                os.replace(meta_path, cache / f"{name}_{key}.json")
+            os.replace(so_path, library)                                 # atomic: the library appears whole
+        finally:
+            for path in (c_path, so_path):
+                if os.path.exists(path):
+                    os.remove(path)
+    return library
+
+
+def compile_function(function: ca.Function | Callable[[], ca.Function], flags: tuple[str, ...] = COMPILE_FLAGS,
+                     name: str | None = None, key: bytes | None = None, metadata: Callable[[], bytes] | None = None
+                     ) -> ca.Function:
+    """``function`` generated as C, compiled into a shared library (cached) and loaded.
+
+    The cache key is the hash of the code, or of ``key`` (bytes that determine the code, e.g. a structure digest)
+    with ``name``: then ``function`` may be a callable that builds it, called only when the cache misses.
+    Safe under concurrency (a lock per key, unique temporary files, an atomic rename). A cache that is full or
+    read-only is replaced by a temporary folder; no compiler, a failing compiler or an unusable cache raise
+    :class:`CompiledLoopUnavailable` (the compiled loop then falls back to the Python loop).
     """
     cc = compiler()
     if cc is None:
-        warnings.warn("no C compiler found: the CasADi loop runs interpreted (slower)", stacklevel=2)
-        return function if key is None else function()
+        raise CompiledLoopUnavailable("no compiler", "no C compiler found: install gcc (or clang) or set CC to one")
     code = None
     if key is None:
         name, code = function.name(), c_code(function)
         key = code
-    key = hashlib.sha256(key + " ".join((cc, *flags)).encode()).hexdigest()[:16]
-    if key in _loaded:
-        return _loaded[key]
-    CACHE.mkdir(parents=True, exist_ok=True)
-    library = CACHE / f"{name}_{key}.so"
-    if not library.exists():
-        code = code if code is not None else c_code(function())
-        c_file = CACHE / f"{name}_{key}.c"
-        c_file.write_bytes(code)
-        partial = CACHE / f"{name}_{key}.{os.getpid()}.so"
-        subprocess.run([cc, *flags, "-fPIC", "-shared", str(c_file), "-o", str(partial), "-lm"],
-                       check=True, capture_output=True)
-        partial.replace(library)                                # atomic: parallel runs share it
-    _loaded[key] = ca.external(name, str(library))
-    return _loaded[key]
+    digest = hashlib.sha256(key + " ".join((cc, *flags)).encode()).hexdigest()[:16]
+    with _key_lock(digest):
+        if digest in _loaded:
+            return _loaded[digest]
+        cache = _usable_cache(CACHE)
+        library = cache / f"{name}_{digest}.so"
+        for attempt in range(2):
+            try:
+                if not library.exists():
+                    code = code if code is not None else c_code(function())
+                    library = _build_library(code, name, digest, cache, cc, flags,
+                                             None if metadata is None else metadata())
+                function = ca.external(name, str(library))
+                meta = library.with_suffix(".json")
+                if metadata is not None and meta.exists():
+                    _METADATA[id(function)] = json.loads(meta.read_text())
+                _loaded[digest] = function
+                return function
+            except OSError as err:                                  # full or read-only: a temporary folder
+                if attempt or err.errno not in (errno.ENOSPC, errno.EROFS, errno.EACCES, errno.EDQUOT):
+                    raise CompiledLoopUnavailable("cache unusable", f"the compiled-loop cache {cache} cannot be "
+                                                  f"written ({err.strerror}): point RMPC_CACHE at a writable "
+                                                  "directory with free space") from None
+                cache = _temporary_cache()
+                library = cache / f"{name}_{digest}.so"
+            except RuntimeError as err:                             # CasADi cannot load the library
+                if isinstance(err, CompiledLoopUnavailable) or attempt:
+                    raise
+                library.unlink(missing_ok=True)                     # a damaged file in the cache: build it again
+    raise AssertionError("unreachable")
+
+
+# --------------------------------------------------------------------------------------------
+# The key of a loop: a digest of its blocks' structure, without generating code
+# --------------------------------------------------------------------------------------------
+
+_NOT_STRUCTURE = frozenset({"gains", "_K", "_state", "_t_last", "_log", "stall", "rng", "transitions", "_measured",
+                            "_data", "data", "_local"})
+"""Attributes that are not part of a block's symbolic structure: its parameters (gains, fed as p), its state
+(fed as the initial law state), references (fed as R: every attribute whose name ends in ``reference``), logs
+and Pinocchio's work data."""
+_SOURCES: dict[str, bytes] = {}
+
+
+def _source_digest(module: str) -> bytes:
+    """The digest of a module's source file (cached): a loop built from changed code gets a new key."""
+    if module not in _SOURCES:
+        import sys
+
+        path = getattr(sys.modules.get(module), "__file__", None)
+        _SOURCES[module] = hashlib.sha256(Path(path).read_bytes()).digest() if path else module.encode()
+    return _SOURCES[module]
+
+
+def structure_digest(*blocks: Any) -> str:
+    """A digest of what determines the symbolic form of ``blocks`` (a plant, a controller): their classes and the
+    source of their modules, every attribute that is not a parameter, a state, a reference or work data, the
+    names and shapes of the gains, robot models by content (:func:`rigid_body.symbolic.model_digest`). Two
+    blocks with the same digest build the same loop, so it is the cache key — computed without generating
+    code (≈ 0.3 ms for an arm and its law)."""
+    from rigid_body.robots import Robot
+    from rigid_body.symbolic import model_digest
+
+    h = hashlib.sha256()
+    seen: dict[int, int] = {}
+    models: dict[int, bytes] = {}
+    modules: set[str] = set()
+
+    def feed(tag: str, payload: bytes) -> None:
+        h.update(tag.encode())
+        h.update(len(payload).to_bytes(8, "little"))
+        h.update(payload)
+
+    def walk(v: Any, depth: int = 0) -> None:
+        if v is None or isinstance(v, (bool, int, float, complex, str, bytes)):
+            feed("s", repr(v).encode())
+            return
+        if isinstance(v, np.generic):
+            feed("s", repr(v.item()).encode())
+            return
+        if isinstance(v, np.ndarray):
+            feed("a", f"{v.dtype}{v.shape}".encode() + (np.ascontiguousarray(v).tobytes() if v.dtype != object
+                                                         else repr(v.tolist()).encode()))
+            return
+        if isinstance(v, (pin.Data, np.random.Generator, threading.local)) or depth > 12:
+            feed("o", type(v).__qualname__.encode())
+            return
+        if isinstance(v, pin.Model):
+            if id(v) not in models:
+                models[id(v)] = model_digest(v)
+            feed("m", models[id(v)])
+            return
+        if isinstance(v, Robot):
+            walk(v.model, depth + 1)
+            return
+        if isinstance(v, (slice, range)):
+            feed("s", repr(v).encode())
+            return
+        if isinstance(v, (list, tuple, set, frozenset)):
+            feed("l", f"{type(v).__name__}{len(v)}".encode())
+            for item in (sorted(v, key=repr) if isinstance(v, (set, frozenset)) else v):
+                walk(item, depth + 1)
+            return
+        if isinstance(v, dict):
+            feed("d", str(len(v)).encode())
+            for k in sorted(v, key=repr):
+                walk(k, depth + 1)
+                walk(v[k], depth + 1)
+            return
+        if isinstance(v, type):
+            feed("t", f"{v.__module__}.{v.__qualname__}".encode())
+            modules.add(v.__module__)
+            return
+        if isinstance(v, types.FunctionType):
+            feed("f", f"{v.__module__}.{v.__qualname__}".encode() + v.__code__.co_code + repr(v.__code__.co_consts).encode())
+            modules.add(v.__module__)
+            for cell in v.__closure__ or ():
+                try:
+                    walk(cell.cell_contents, depth + 1)
+                except ValueError:                          # an empty cell
+                    feed("e", b"")
+            walk(v.__defaults__, depth + 1)
+            return
+        if isinstance(v, types.MethodType):
+            feed("b", v.__func__.__qualname__.encode())
+            walk(v.__self__, depth + 1)
+            return
+        if isinstance(v, (types.BuiltinFunctionType, functools.partial)) or type(v).__module__ == "Boost.Python":
+            feed("n", repr(v).encode())
+            return
+        if id(v) in seen:
+            feed("r", str(seen[id(v)]).encode())
+            return
+        seen[id(v)] = len(seen)
+        cls = type(v)
+        feed("c", f"{cls.__module__}.{cls.__qualname__}".encode())
+        modules.add(cls.__module__)
+        attributes = dict(getattr(v, "__dict__", {}))
+        for slot in getattr(cls, "__slots__", ()):
+            if hasattr(v, slot):
+                attributes[slot] = getattr(v, slot)
+        gains = attributes.get("gains")
+        gain_values = [] if not isinstance(gains, dict) else list(gains.values())
+        if gain_values:
+            feed("g", repr([(k, np.shape(g)) for k, g in gains.items()]).encode())
+        for name in sorted(attributes):
+            value = attributes[name]
+            if name in _NOT_STRUCTURE or name.endswith("reference") or any(value is g for g in gain_values):
+                continue
+            feed("k", name.encode())
+            walk(value, depth + 1)
+
+    for block in blocks:
+        walk(block)
+    for module in sorted(modules | {__name__, "controllers.laws", "controllers.simulation", "rigid_body.symbolic"}):
+        feed("M", module.encode() + _source_digest(module))
+    return h.hexdigest()
 
 
 # --------------------------------------------------------------------------------------------
@@ -319,8 +908,37 @@ def compile_function(function: ca.Function | Callable[[], ca.Function], flags: t
 
 MAPACCUM_BASE = 2
 """The nesting base of the run's ``mapaccum`` (a tower of loops of this many samples): 2 builds a run of
-N samples several times faster than CasADi's default 10 (the build is timed with every ``simulate``),
-for the same operations."""
+N samples several times faster than CasADi's default 10, for the same operations."""
+
+LOOPS_KEPT = 32
+"""How many built loops a process keeps (least recently used dropped): ``simulate(..., backend="casadi")``
+called again with blocks of the same structure reuses one."""
+_LOOPS: OrderedDict[str, "CompiledLoop"] = OrderedDict()
+_LOOPS_GUARD = threading.Lock()
+
+
+def law_inputs(controller: Any, n_state: int = 0) -> tuple[np.ndarray, np.ndarray | None, Callable[[float], Any]]:
+    """(p, c_0, reference) of a controller for a compiled run — what a loop built for another controller of
+    the same structure needs from this one: its gains (the parameters p, stacked as :meth:`SymbolicLaw.build`
+    does), its own state after ``reset()`` (None for a static law) and its stacked reference (the rows R). A
+    controller may give them itself (``compiled_inputs(n_state)``; ``n_state`` the size of the law's state)."""
+    custom = getattr(controller, "compiled_inputs", None)
+    if custom is not None:
+        return custom(n_state)
+    gains = getattr(controller, "gains", {})
+    p = (np.concatenate([np.atleast_2d(np.asarray(v, dtype=float)).ravel(order="F") for v in gains.values()])
+         if gains else np.zeros(0))
+    state = getattr(controller, "_state", None)
+    c0 = None if state is None else np.concatenate([np.ravel(np.asarray(s, dtype=float)) for s in state])
+    shapes = tuple(tuple(s) for s in getattr(controller, "reference_shapes", ()))
+    return p, c0, stacked_reference(controller.reference, shapes)
+
+
+def loop_key(plant: Any, controller: Any, h: float, n_sub: int, n_samples: int) -> str:
+    """The cache key of the loop of ``plant`` and ``controller``: :func:`structure_digest` of both and the run's
+    grid (no code generated)."""
+    grid = repr((float(h), int(n_sub), int(n_samples), MAPACCUM_BASE, ca.__version__, COMPILE_FLAGS)).encode()
+    return hashlib.sha256(structure_digest(plant, controller).encode() + grid).hexdigest()
 
 
 class CompiledLoop:
@@ -328,61 +946,92 @@ class CompiledLoop:
 
     ``rollout`` is the CasADi function ``(x0, R, p) → (X (nx, N), U (nu, N), signals…)`` (R: the
     references at the N samples, p: the gains), differentiable; ``run`` is the same compiled (or
-    interpreted). With a law that has a state, x0 and X also hold it (below the plant's state) and R
-    has the row dt (see :meth:`references`).
-    ``compile_time`` is the time spent building and compiling [s].
+    interpreted, ``compile=False``). With a law that has a state, x0 and X also hold it (below the plant's
+    state) and R has the row dt (see :meth:`references`).
+
+    The compiled run is cached by :func:`loop_key` — a digest of the blocks' structure, not of generated code —
+    in this process (:func:`compiled_loop`) and on disk (``$RMPC_CACHE``, with the names of its signals beside
+    it): a loop found there is loaded without building any expression (``rollout``, ``law`` are then built on
+    first use). ``compile_time`` is the time the constructor took [s]: ``build_time`` when it built the run
+    (expressions, C code, the C compiler), ``lookup_time`` when it found it (the key, loading the library).
     """
 
     def __init__(self, plant: Any, controller: Any, h: float, n_sub: int, n_samples: int,
-                 compile: bool = True):
+                 compile: bool = True, key: str | None = None):
         if not hasattr(controller, "symbolic"):
-            raise ValueError(f"`controller` {type(controller).__name__} has no symbolic() law: "
-                             "use backend='python'")
+            raise no_symbolic_form(controller, "a controller needs a ControlLaw body or symbolic()")
         start = time.perf_counter()
+        self.plant, self.controller = plant, controller
+        self.h, self.n_sub, self.n_samples, self.Ts = h, n_sub, n_samples, n_sub * h
+        self._law: SymbolicLaw | None = None
+        self._sample: ca.Function | None = None
+        self._rollout: ca.Function | None = None
+        self._buffers = threading.local()
+        self.key = key
+        if compile:
+            self.key = self.key or loop_key(plant, controller, h, n_sub, n_samples)
+            self.run, meta = _compile(lambda: self.rollout, "rollout", self.key.encode(), self._metadata)
+            meta = meta or self._metadata_of_build()
+        else:
+            self.run = self.rollout
+            meta = self._metadata_of_build()
+        self.nx, self.nc, self.signals, self.scalars = meta["nx"], meta["nc"], tuple(meta["signals"]), \
+            tuple(meta["scalars"])
+        self.compile_time = time.perf_counter() - start
+        built = self._sample is not None                 # symbolic built here: generated and compiled (or interpreted)
+        self.build_time = self.compile_time if built else 0.0
+        self.lookup_time = 0.0 if built else self.compile_time
+
+    # the symbolic loop, built when needed
+    def _build(self) -> None:
+        if self._sample is not None:
+            return
+        plant, controller, h, n_sub = self.plant, self.controller, self.h, self.n_sub
         if hasattr(controller, "reset"):
             controller.reset()                                  # the law's initial state is the reset one
-        self.law = controller.symbolic()
-        f, nq, nv = plant_function(plant)
-        self.nq, self.nv, self.n_samples = nq, nv, n_samples
-        nx, nr, n_p = f.size1_in(0), self.law.function.size1_in(2), self.law.function.size1_in(3)
-        nc = 0 if self.law.state is None else self.law.state.size
-        self.nx, self.nc = nx, nc
+        law = controller.symbolic()
+        f, nq, nv, integrate = plant_function(plant)
+        nx, nr, n_p = f.size1_in(0), law.function.size1_in(2), law.function.size1_in(3)
+        nc = 0 if law.state is None else law.state.size
         xc, r, p = ca.SX.sym("x", nx + nc), ca.SX.sym("r", nr + (1 if nc else 0)), ca.SX.sym("p", n_p)
         x = xc[:nx]
         layout = plant.state_layout                              # q, q̇ where the plant keeps them in x
         args = [x[layout["q"]], x[layout["qd"]], r[:nr], p,
-                *(plant_measurement(plant, name)(x) for name in self.law.measurements)]
+                *(plant_measurement(plant, name)(x) for name in law.measurements)]
         if nc:
             args += [xc[nx:], r[nr]]                             # the law's state, dt (the last row of R)
-        out = self.law.function(*args)
+        out = law.function(*args)
         out = list(out) if isinstance(out, (list, tuple)) else [out]
         u, c_next, logged = out[0], (out[1] if nc else None), out[1 + (1 if nc else 0):]
         if u.shape[0] != f.size1_in(1):
             raise ValueError(f"the symbolic law of {type(controller).__name__} gives {u.shape[0]} inputs, "
                              f"the plant takes {f.size1_in(1)}")
+        stage = None if integrate is None else (lambda x0, k, c: integrate(x0, k, c))
         x_next = x
-        for _ in range(n_sub):                                  # RK4 with u held (ZOH), as rk4_step
-            k1 = f(x_next, u)
-            k2 = f(x_next + 0.5 * h * k1, u)
-            k3 = f(x_next + 0.5 * h * k2, u)
-            k4 = f(x_next + h * k3, u)
-            x_next = x_next + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        for _ in range(n_sub):                                  # the one RK4, u held (ZOH)
+            x_next = rk4_step_law(lambda t, xi, ui: f(xi, ui), 0.0, x_next, u, h, stage)
         self._sample = ca.Function("sample", [xc, r, p], [ca.vertcat(x_next, c_next) if nc else x_next, u, *logged])
-        self._rollout: ca.Function | None = None
-        if compile:                       # the run's code is fixed by the sample's, N and this module's source
-            key = b"|".join((c_code(self._sample), str((n_samples, MAPACCUM_BASE, ca.__version__)).encode(),
-                             _SOURCE_HASH))
-            self.run = compile_function(lambda: self.rollout, name="rollout", key=key)
-        else:
-            self.run = self.rollout
-        self.compile_time = time.perf_counter() - start
-        self.Ts = n_sub * h
-        self._references: tuple[float, np.ndarray] | None = None
+        self._law, self._nx, self._nc = law, nx, nc
+
+    @property
+    def law(self) -> SymbolicLaw:
+        """The controller's :class:`SymbolicLaw` (built on first use when the run came from the cache)."""
+        self._build()
+        return self._law
+
+    def _metadata_of_build(self) -> dict:
+        self._build()
+        law = self._law
+        return {"nx": self._nx, "nc": self._nc, "signals": list(law.signals), "scalars": list(law.scalars)}
+
+    def _metadata(self) -> bytes:
+        return json.dumps(self._metadata_of_build()).encode()
 
     @property
     def rollout(self) -> ca.Function:
         """``(x0, R, p) → (X, U, signals…)``: the sample accumulated over the run (built on first use)."""
         if self._rollout is None:
+            self._build()
             sample, n_samples = self._sample, self.n_samples
             X0, R, P = (ca.MX.sym(name, *sample.size_in(i)[:1], cols) for i, (name, cols)
                         in enumerate((("x0", 1), ("R", n_samples), ("p", 1))))
@@ -397,44 +1046,113 @@ class CompiledLoop:
             self._rollout = ca.Function("rollout", [X0, R, P], [X, *outputs], ["x0", "R", "p"], names)
         return self._rollout
 
-    def references(self, t0: float) -> np.ndarray:
-        """R (nr, N): the reference sampled at the controller instants from ``t0`` (kept for the next run:
-        references are functions of time only)."""
-        if self._references is None or self._references[0] != t0:
-            times = t0 + self.Ts * np.arange(self.n_samples)
-            at_times = getattr(self.law.reference, "at_times", None)
-            R = at_times(times) if at_times is not None else np.column_stack([self.law.reference(float(t))
-                                                                             for t in times])
-            if self.nc:                                        # dt = t_k − t_{k−1} as the Python loop's, 0 at k = 0
-                R = np.vstack([R, np.diff(times, prepend=times[0])])
-            self._references = (t0, np.ascontiguousarray(R, dtype=float))
-        return self._references[1]
+    # one run
+    def inputs(self, t0: float, controller: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+        """(R (nr, N), p, c_0) of a run from ``t0`` for ``controller`` (default the one the loop was built for;
+        any controller of the same structure), after its ``reset()``: the reference sampled at the controller
+        instants (at once when it can: ``at_times``), with the row dt = t_k − t_{k−1} (0 at k = 0) as the
+        Python loop's when the law has a state."""
+        controller = self.controller if controller is None else controller
+        if hasattr(controller, "reset"):
+            controller.reset()
+        p, c0, reference = law_inputs(controller, self.nc)
+        times = t0 + self.Ts * np.arange(self.n_samples)
+        at_times = getattr(reference, "at_times", None)
+        R = at_times(times) if at_times is not None else np.column_stack([reference(float(t)) for t in times])
+        R = np.reshape(R, (-1, self.n_samples))
+        if self.nc:
+            R = np.vstack([R, np.diff(times, prepend=times[0])])
+        return np.ascontiguousarray(R, dtype=float), p, c0
 
-    def arrays(self, t0: float, x0: Any, bound: float = 1e12) -> tuple[np.ndarray, np.ndarray, np.ndarray,
-                                                                      dict[str, np.ndarray], float | None]:
-        """One run from ``x0`` at ``t0``: (t (N,), x (N, nx), u (N, nu), signals, t_diverged).
+    def references(self, t0: float) -> np.ndarray:
+        """R (nr, N): the references of a run from ``t0`` (see :meth:`inputs`)."""
+        return self.inputs(t0)[0]
+
+    def arrays(self, t0: float, x0: Any, bound: float = 1e12, controller: Any = None
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray], float | None]:
+        """One run from ``x0`` at ``t0`` (of ``controller``, default the loop's): (t (N,), x (N, nx), u (N, nu),
+        signals, t_diverged).
 
         ``t_diverged`` is None, or the first sample whose state is non-finite or beyond ``bound``
         (divergence is checked on the samples, every ``Ts``).
         """
+        R, p, c0 = self.inputs(t0, controller)
         ts = t0 + self.Ts * np.arange(self.n_samples)
         x0 = np.asarray(x0, dtype=float)
         if self.nc:
-            x0 = np.concatenate([x0, self.law.state])
-        X, U, *logged = (np.asarray(v) for v in self.run(x0, self.references(t0), self.law.parameters))
-        X = X[:self.nx]
-        bad = ~(np.all(np.isfinite(X), axis=0) & (np.max(np.abs(X), axis=0, initial=0.0) <= bound))
-        bad |= ~np.all(np.isfinite(U), axis=0)
-        t_bad = float(ts[int(np.argmax(bad))]) if np.any(bad) else None
-        signals = {name: v.T[:, 0].copy() if name in self.law.scalars else v.T
-                   for name, v in zip(self.law.signals, logged)}
-        return ts, X.T.copy(), U.T.copy(), signals, t_bad
+            x0 = np.concatenate([x0, c0])
+        X, U, *logged = self._call(x0, R, p)                 # each (N, rows): the transposes of the run's outputs
+        X = X[:, :self.nx] if self.nc else X
+        t_bad = None
+        if not (np.abs(X).max(initial=0.0) <= bound and np.isfinite(U.sum())):     # one pass; NaN fails it too
+            bad = ~(np.all(np.isfinite(X), axis=1) & (np.max(np.abs(X), axis=1, initial=0.0) <= bound))
+            bad |= ~np.all(np.isfinite(U), axis=1)
+            t_bad = float(ts[int(np.argmax(bad))]) if np.any(bad) else None
+        signals = {name: v[:, 0].copy() if name in self.scalars else v for name, v in zip(self.signals, logged)}
+        return ts, np.ascontiguousarray(X), U, signals, t_bad
+
+    def _call(self, x0: np.ndarray, R: np.ndarray, p: np.ndarray) -> list[np.ndarray]:
+        """``run(x0, R, p)`` through a CasADi function buffer: the inputs are read and the outputs written in place
+        as numpy arrays (column-major (rows, N) is row-major (N, rows): the outputs come transposed, as the result
+        holds them), without converting to and from CasADi matrices."""
+        run = self.run
+        buffers = self._buffers.__dict__
+        if "buffer" not in buffers:                          # one per thread: a buffer holds its arguments
+            buffers["buffer"] = run.buffer()
+        buf, evaluate = buffers["buffer"]
+        inputs = [np.ascontiguousarray(x0, dtype=float), np.ascontiguousarray(R.T, dtype=float),
+                  np.ascontiguousarray(p, dtype=float)]
+        for i, value in enumerate(inputs):
+            if value.size != run.nnz_in(i):
+                raise ValueError(f"the compiled run's input {run.name_in(i)} has {run.nnz_in(i)} entries, got {value.size}")
+            buf.set_arg(i, memoryview(value))
+        outputs = [np.empty((run.size2_out(i), run.size1_out(i))) for i in range(run.n_out())]
+        for i, value in enumerate(outputs):
+            buf.set_res(i, memoryview(value))
+        evaluate()
+        return outputs
+
+
+def _compile(build: Callable[[], ca.Function], name: str, key: bytes, metadata: Callable[[], bytes]
+             ) -> tuple[ca.Function, dict | None]:
+    """:func:`compile_function` of a keyed build, and the metadata stored beside it (None when it was built here:
+    the caller has it)."""
+    function = compile_function(build, name=name, key=key, metadata=metadata)
+    return function, _METADATA.get(id(function))
+
+
+_METADATA: dict[int, dict] = {}
+
+
+def compiled_loop(plant: Any, controller: Any, h: float, n_sub: int, n_samples: int) -> CompiledLoop:
+    """The :class:`CompiledLoop` of ``plant`` and ``controller`` on this grid: the one this process built for
+    blocks of the same structure (:func:`loop_key`), else one loaded from the disk cache or built."""
+    if not hasattr(controller, "symbolic"):
+        raise no_symbolic_form(controller, "a controller needs a ControlLaw body or symbolic()")
+    key = loop_key(plant, controller, h, n_sub, n_samples)
+    with _LOOPS_GUARD:
+        loop = _LOOPS.get(key)
+        if loop is not None:
+            _LOOPS.move_to_end(key)
+            return loop
+    with _key_lock("loop" + key):
+        with _LOOPS_GUARD:
+            loop = _LOOPS.get(key)
+        if loop is None:
+            loop = CompiledLoop(plant, controller, h, n_sub, n_samples, key=key)
+            with _LOOPS_GUARD:
+                _LOOPS[key] = loop
+                while len(_LOOPS) > LOOPS_KEPT:
+                    _LOOPS.popitem(last=False)
+    return loop
 
 
 def simulate_compiled(plant: Any, controller: Any, t0: float, n_samples: int, x0: np.ndarray, h: float,
                       n_sub: int, bound: float, backend: str) -> tuple:
     """The body of ``simulate(..., backend="casadi")`` over ``n_samples`` controller samples (arguments
-    validated by ``simulate``), returning :meth:`CompiledLoop.arrays`."""
+    validated by ``simulate``), returning :meth:`CompiledLoop.arrays`: the loop of blocks of this structure
+    (:func:`compiled_loop`, built once per process, cached on disk), run with this controller's gains, state
+    and reference. :class:`CompiledLoopUnavailable` when no compiler or cache can build it."""
     if backend not in BACKENDS:
         raise ValueError(f"`backend` must be one of {BACKENDS}, got {backend!r}")
-    return CompiledLoop(plant, controller, h, n_sub, n_samples).arrays(t0, x0, bound)
+    return compiled_loop(plant, controller, h, n_sub, n_samples).arrays(t0, x0, bound, controller)

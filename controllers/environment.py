@@ -18,12 +18,12 @@ Sects. 9.1–9.2, Eq. (7.42); Problem 6.3.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any, Protocol
 
 import numpy as np
 
+from controllers.laws import Numeric
 from rigid_body.rotations import as_homogeneous
 from rigid_body.validation import as_positive, as_scalar, as_vector
 
@@ -113,46 +113,49 @@ class CompliantPlane(ContactEnvironment):
 
     def penetration(self, p: np.ndarray) -> float:
         """δ = n·(p_0 − p) [m] (positive inside the material)."""
+        return self.penetration_law(Numeric, p if isinstance(p, np.ndarray) else np.asarray(p, dtype=float))
+
+    def penetration_law(self, ops: Any, p: Any) -> Any:
+        """δ = n·(p_0 − p), for either loop."""
         n0, n1, n2 = self._n
-        x, y, z = p.tolist() if isinstance(p, np.ndarray) else p
-        return self._offset - (n0 * x + n1 * y + n2 * z)
+        return self._offset - (n0 * p[0] + n1 * p[1] + n2 * p[2])
 
     def in_contact(self, T_e: Any) -> bool:
         """True when the end effector is inside the material (always for a bilateral spring)."""
         return self.bilateral or self.penetration(_position(T_e)) > 0.0
 
     def wrench_at(self, p_e: np.ndarray, v_e: np.ndarray) -> np.ndarray:
-        delta = self.penetration(p_e)
-        if delta <= 0.0 and not self.bilateral:
-            return NO_CONTACT
-        v_n = float(self._normal_twist @ v_e)
-        push = self.stiffness * delta - self.damping * v_n
-        if not self.bilateral and push <= 0.0:
-            return NO_CONTACT
-        h = self._normal_twist * -push
-        if self.friction > 0.0 and push > 0.0:
-            v_t = v_e[:3] - v_n * self.normal
-            speed = math.sqrt(float(v_t @ v_t))
-            if speed > 0.0:
-                h[:3] += self.friction * push * math.tanh(speed / self.slip_velocity) / speed * v_t
-        return h
+        return self.wrench_law(Numeric, p_e, v_e)
 
+    def wrench_law(self, ops: Any, p_e: Any, v_e: Any) -> Any:
+        """h_e at the position p_e and twist v_e: the one body of the plane for both loops (no contact:
+        :data:`NO_CONTACT`; the branches are masked expressions in the compiled loop)."""
+        delta = self.penetration_law(ops, p_e)
 
-    def symbolic_wrench_at(self, p_e: Any, v_e: Any) -> Any:
-        """:meth:`wrench_at` in CasADi expressions (p_e (3), v_e (6)) for the compiled loop; frictionless
-        planes only (ValueError otherwise, or for a subclass: its surface differs)."""
-        import casadi as ca
+        def pushed() -> Any:
+            v_n = ops.dot(self._normal_twist, v_e)
+            push = self.stiffness * delta - self.damping * v_n
+            if self.bilateral:
+                return self._reaction(ops, push, v_n, v_e)
+            return ops.cond(push <= 0.0, lambda: NO_CONTACT, lambda: self._reaction(ops, push, v_n, v_e))
 
-        if type(self) is not CompliantPlane or self.friction > 0.0:
-            raise ValueError(f"`environment`: the symbolic wrench covers a frictionless CompliantPlane, "
-                             f"not {type(self).__name__}" + (" with friction" if self.friction > 0.0 else ""))
-        n0, n1, n2 = self._n
-        delta = self._offset - (n0 * p_e[0] + n1 * p_e[1] + n2 * p_e[2])           # δ = n·(p_0 − p)
-        push = self.stiffness * delta - self.damping * ca.dot(ca.DM(self._normal_twist), v_e)
-        h = ca.DM(self._normal_twist) * -push
         if self.bilateral:
+            return pushed()
+        return ops.cond(delta <= 0.0, lambda: NO_CONTACT, pushed)
+
+    def _reaction(self, ops: Any, push: Any, v_n: Any, v_e: Any) -> Any:
+        """−N [n; 0] with N = K δ + D δ̇, plus the regularised Coulomb friction μ N tanh(‖v_t‖/v_s) v_t/‖v_t‖."""
+        h = self._normal_twist * -push
+        if self.friction <= 0.0:
             return h
-        return ca.if_else(ca.logic_and(delta > 0.0, push > 0.0), h, ca.DM.zeros(6))
+
+        def sliding() -> Any:
+            v_t = v_e[:3] - v_n * self.normal
+            speed = ops.norm(v_t)
+            tangential = lambda: self.friction * push * ops.tanh(speed / self.slip_velocity) / speed * v_t
+            return ops.cond(speed > 0.0, lambda: h + ops.vertcat(tangential(), ops.zeros(3)), lambda: h)
+
+        return ops.cond(push > 0.0, sliding, lambda: h)
 
 
 class SteppedPlane(CompliantPlane):
@@ -176,9 +179,9 @@ class SteppedPlane(CompliantPlane):
         self.depth = as_positive(depth, "depth")
         self._edge = float(self.direction @ self.point) + self.step_at      # d·p beyond which the recess lies
 
-    def penetration(self, p: np.ndarray) -> float:
-        delta = super().penetration(p)
-        return delta - self.depth if float(self.direction @ p) - self._edge > 0.0 else delta
+    def penetration_law(self, ops: Any, p: Any) -> Any:
+        delta = super().penetration_law(ops, p)
+        return ops.cond(ops.dot(self.direction, p) - self._edge > 0.0, lambda: delta - self.depth, lambda: delta)
 
 
 @dataclass(frozen=True)

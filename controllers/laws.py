@@ -22,14 +22,21 @@ from typing import Any, Callable, Sequence
 import numpy as np
 import pinocchio as pin
 
+from scipy.linalg import get_lapack_funcs
+
 from controllers.simulation import LoggedController
-from rigid_body.dynamics import reference_torque_kernel
+from rigid_body.camera import perspective, to_camera_frame
+from rigid_body.dynamics import forward_dynamics, friction_kernel, reference_torque_kernel
 from rigid_body.rotations import as_homogeneous
-from rigid_body.task_space import FrameState, frame_state_kernel, pose_error_kernel, singular_task, solve_task
+from rigid_body.task_space import frame_state_kernel, pose_error_kernel, singular_task, solve_task
 from rigid_body.validation import as_array, as_matrix, as_positive, as_vector
 
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+_gesv = get_lapack_funcs("gesv", (np.zeros((1, 1)),))   # LU solve without numpy.linalg's wrapper cost
 PoseReference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+_gesv = get_lapack_funcs("gesv", (np.zeros((1, 1)),))   # LU solve without numpy.linalg's wrapper cost
 
 
 # --------------------------------------------------------------------------------------------
@@ -101,7 +108,12 @@ def as_reference(reference: Any, n: int, name: str = "reference") -> Reference:
     else:
         x_d = as_vector(reference, n, name).copy()
         zero = np.zeros(n)
-        return lambda t: (x_d, zero, zero)
+
+        def set_point(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            return x_d, zero, zero
+
+        set_point.at_times = lambda times: (np.broadcast_to(x_d, (len(times), n)),) + (np.zeros((len(times), n)),) * 2
+        return set_point
 
     def sampled(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         x, xd, xdd = law(t)
@@ -256,12 +268,14 @@ class Numeric:
     """The numeric primitives of a law: numpy and Pinocchio on floats, called at every sample of the Python loop.
 
     A law's body (:meth:`ControlLaw.law`) is written once against a namespace ``ops`` of primitives; this
-    class is that namespace for the Python loop and :class:`Symbolic` the same names in CasADi expressions for
-    the compiled loop, as Pinocchio's ``cpin`` mirrors ``pin`` (one algorithm, two scalar types). The
+    class is that namespace for the Python loop and :class:`controllers.compiled.Symbolic` the same names in
+    CasADi expressions for the compiled loop, as Pinocchio's ``cpin`` mirrors ``pin`` (one algorithm, two scalar
+    types). The
     robot primitives take ``(model, data, ...)`` as Pinocchio does (the symbolic ones ignore ``data``); the
     hot-path kernels (ABA, the frame state in one pass, the task solve with its 3 × 3 cofactor inverse) are
     the numeric implementations of a named primitive, in one place each. The namespace is the class itself
-    (never instantiated).
+    (never instantiated); its symbolic twin, :class:`controllers.compiled.Symbolic`, lives with the compiled
+    loop.
     """
 
     symbolic = False
@@ -291,6 +305,61 @@ class Numeric:
         return err.e, err.J, err.Jdot_qd, err.T_e
 
     @staticmethod
+    def forward_dynamics(robot: Any, q: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        """q̈ = B(q)⁻¹ (τ − C q̇ − g) (7.42): ABA, or the Cholesky solve for an arm with rotors (mimic joints)."""
+        return forward_dynamics(robot, q, qd, tau, check=False)
+
+    @staticmethod
+    def friction(friction: Any, qd: np.ndarray, smoothing: float) -> np.ndarray:
+        """τ_f = F_v q̇ + F_s sgn(q̇) (direction-dependent F_s±; tanh(q̇/ε) for ``smoothing`` ε > 0)."""
+        return friction_kernel(friction, qd, smoothing)
+
+    @staticmethod
+    def integrate(model: pin.Model, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """q ⊕ v on the configuration manifold (``pin.integrate``: continuous joints, a floating base)."""
+        return pin.integrate(model, q, v)
+
+    @staticmethod
+    def frame_jacobian(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray) -> tuple[Any, np.ndarray]:
+        """(T_e, J) of a frame: its pose (a ``pin.SE3``) and geometric Jacobian [J_P; J_O] (3.30), one pass."""
+        J = pin.computeFrameJacobian(model, data, q, fid, _LWA)        # after the forward kinematics of q
+        return pin.updateFramePlacement(model, data, fid), J           # a fresh SE3 (quicker than oMf[fid])
+
+    @staticmethod
+    def translation(T: Any) -> np.ndarray:
+        """The origin of a pose (``pin.SE3`` or (4, 4))."""
+        return T.translation if hasattr(T, "translation") else T[:3, 3]
+
+    @staticmethod
+    def contact_wrench(environment: Any, T_e: Any, v_e: np.ndarray) -> np.ndarray:
+        """h_e of an environment (:mod:`controllers.environment`) at the pose T_e and twist v_e: its
+        ``wrench_at(p_e, v_e)`` on plain arrays when it has one (the hot path), else ``wrench(T_e, v_e)``."""
+        wrench_at = getattr(environment, "wrench_at", None)
+        if wrench_at is not None:
+            return wrench_at(T_e.translation, v_e)
+        return environment.wrench(T_e, v_e)
+
+    @staticmethod
+    def frame_pose(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(R, o) of a frame in the base frame (2.50)."""
+        pin.framesForwardKinematics(model, data, q)
+        M = data.oMf[fid]
+        return M.rotation, M.translation
+
+    @staticmethod
+    def camera_jacobian(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray) -> np.ndarray:
+        """J_c: [v_c^c; ω_c^c] = J_c q̇ = [R_cᵀ J_P; R_cᵀ J_O] q̇ (Pinocchio's LOCAL frame Jacobian)."""
+        return pin.computeFrameJacobian(model, data, q, fid, pin.LOCAL)
+
+    @staticmethod
+    def to_camera(R: np.ndarray, o: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(X, Y, Z) (n,) each: points (n, 3) of the base frame in the frame of a camera at (R, o), (5.35)."""
+        p = to_camera_frame(R, o, points)
+        return p[:, 0], p[:, 1], p[:, 2]
+
+    perspective = staticmethod(perspective)                      # (x, y, in front) of (5.40), NaN behind
+
+    @staticmethod
     def solve_task(J: np.ndarray, b: np.ndarray) -> np.ndarray:
         """J⁻¹ b, or J† b = Jᵀ (J Jᵀ)⁻¹ b (3.52) for a redundant task (:func:`rigid_body.task_space.solve_task`);
         :class:`SingularTask` when cond(J) > SINGULAR_CONDITION."""
@@ -306,11 +375,73 @@ class Numeric:
     sin = staticmethod(math.sin)
     cos = staticmethod(math.cos)
     atan2 = staticmethod(math.atan2)
+    hypot = staticmethod(math.hypot)
 
     @staticmethod
     def norm(z: np.ndarray) -> float:
         """‖z‖ (what np.linalg.norm computes, without its dispatch)."""
         return math.sqrt(z.dot(z))
+
+    tanh = staticmethod(np.tanh)
+    sign = staticmethod(np.sign)
+    maximum = staticmethod(np.maximum)                           # elementwise (fmax: two scalars)
+    minimum = staticmethod(np.minimum)
+
+    @staticmethod
+    def clip(x: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+        return np.minimum(np.maximum(x, lower), upper)
+
+    @staticmethod
+    def vector(*entries: Any) -> np.ndarray:
+        """A vector of scalars."""
+        return np.array(entries)
+
+    @staticmethod
+    def matrix(rows: Sequence[Sequence[Any]]) -> np.ndarray:
+        """A matrix of scalars, row by row."""
+        return np.array(rows)
+
+    @staticmethod
+    def solve(A: np.ndarray, b: np.ndarray, why: Callable[[], str]) -> np.ndarray:
+        """A⁻¹ b (LU, LAPACK's gesv without numpy's wrapper); ValueError(``why()``) when A is singular."""
+        _, _, x, info = _gesv(A, b)
+        if info != 0:
+            raise ValueError(why())
+        return x
+
+    @staticmethod
+    def unless(bad: Any, value: Callable[[], Any], why: Callable[[], str]) -> Any:
+        """``value()``, or ValueError(``why()``) where ``bad`` holds (symbolically: NaN there, so the compiled loop
+        stops as diverged)."""
+        if bad:
+            raise ValueError(why())
+        return value()
+
+    @staticmethod
+    def where(mask: np.ndarray, a: Any, b: Any) -> np.ndarray:
+        """Row i of ``a`` where mask_i, else of ``b`` (a scalar ``b`` or ``a`` fills its rows)."""
+        if np.ndim(a) > 1 or np.ndim(b) > 1:
+            mask = mask[:, None]
+        return np.where(mask, a, b)
+    logic_and = staticmethod(np.logical_and)
+    logic_not = staticmethod(np.logical_not)
+    repeat = staticmethod(np.repeat)
+
+    @staticmethod
+    def interleave(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """[x_1, y_1, x_2, y_2, …]."""
+        return np.column_stack((x, y)).reshape(-1)
+
+    @staticmethod
+    def columns(M: np.ndarray, cols: Any) -> np.ndarray:
+        """The columns ``cols`` of M."""
+        return M[:, cols]
+
+    @staticmethod
+    def cond(condition: Any, then: Callable[[], Any], otherwise: Callable[[], Any]) -> Any:
+        """``then()`` where ``condition`` holds, else ``otherwise()``: numerically only the branch taken is
+        evaluated (a guard against 0/0); symbolically both, masked (``if_else``)."""
+        return then() if condition else otherwise()
 
     @staticmethod
     def dot(a: np.ndarray, b: np.ndarray) -> float:
@@ -348,128 +479,6 @@ class Numeric:
         return a if condition else b
 
 
-class Symbolic:
-    """The symbolic primitives of a law: the names of :class:`Numeric` in CasADi SX expressions
-    (:mod:`rigid_body.symbolic`), for the compiled loop (:mod:`controllers.compiled`); called once, when the
-    loop is built. Branches of the numeric law (a singular task, a point not seen) become masked expressions
-    (``if_else``)."""
-
-    symbolic = True
-
-    @staticmethod
-    def gravity(model: pin.Model, data: Any, q: Any) -> Any:
-        from rigid_body.symbolic import gravity_expression
-
-        return gravity_expression(model, q)
-
-    @staticmethod
-    def rnea(model: pin.Model, data: Any, q: Any, qd: Any, qdd: Any) -> Any:
-        from rigid_body.symbolic import inverse_dynamics_expression
-
-        return inverse_dynamics_expression(model, q, qd, qdd)
-
-    @staticmethod
-    def inertia(model: pin.Model, data: Any, q: Any) -> Any:
-        from rigid_body.symbolic import inertia_expression
-
-        return inertia_expression(model, q)
-
-    @staticmethod
-    def reference_torque(model: pin.Model, data: Any, q: Any, qd: Any, qd_r: Any, qdd_r: Any) -> Any:
-        from rigid_body.symbolic import reference_torque_expression
-
-        return reference_torque_expression(model, q, qd, qd_r, qdd_r)
-
-    @staticmethod
-    def frame_state(model: pin.Model, data: Any, fid: int, q: Any, qd: Any) -> FrameState:
-        """(T (4×4), J, J̇q̇ = ∂(J q̇)/∂q q̇, the classical acceleration at q̈ = 0, or None)."""
-        from rigid_body.symbolic import frame_state_expression
-
-        return FrameState(*frame_state_expression(model, fid, q, qd))
-
-    @staticmethod
-    def pose_error(model: pin.Model, data: Any, space: Any, fid: int, q: Any, T_d: Any, qd: Any) -> tuple:
-        from rigid_body.symbolic import frame_state_expression, orientation_error_expression
-
-        ca = _casadi()
-        T, J, Jdot_qd = frame_state_expression(model, fid, q, qd)
-        e = ca.vertcat(T_d[:3, 3] - T[:3, 3], orientation_error_expression(T_d[:3, :3], T[:3, :3], space.orientation))
-        rows = list(space.selected)
-        return e[rows], J[rows, :], None if Jdot_qd is None else Jdot_qd[rows], T
-
-    @staticmethod
-    def solve_task(J: Any, b: Any) -> Any:
-        """J⁻¹ b or Jᵀ (J Jᵀ)⁻¹ b (LU); a singular J gives non-finite values (the compiled loop stops there)."""
-        ca = _casadi()
-        return ca.solve(J, b) if J.shape[0] == J.shape[1] else J.T @ ca.solve(J @ J.T, b)
-
-    @staticmethod
-    def times(K: Any, e: Any) -> Any:
-        ca = _casadi()
-        if isinstance(K, np.ndarray) and K.ndim == 1:
-            return ca.DM(K) * e
-        return K @ e
-
-    @staticmethod
-    def sqrt(x: Any) -> Any:
-        return _casadi().sqrt(x)
-
-    @staticmethod
-    def fmax(a: Any, b: Any) -> Any:
-        return _casadi().fmax(a, b)
-
-    @staticmethod
-    def sin(x: Any) -> Any:
-        return _casadi().sin(x)
-
-    @staticmethod
-    def cos(x: Any) -> Any:
-        return _casadi().cos(x)
-
-    @staticmethod
-    def atan2(y: Any, x: Any) -> Any:
-        return _casadi().atan2(y, x)
-
-    @staticmethod
-    def norm(z: Any) -> Any:
-        ca = _casadi()
-        return ca.sqrt(ca.dot(z, z))
-
-    @staticmethod
-    def dot(a: Any, b: Any) -> Any:
-        return _casadi().dot(a, b)
-
-    @staticmethod
-    def vertcat(*parts: Any) -> Any:
-        return _casadi().vertcat(*parts)
-
-    @staticmethod
-    def horzcat(*blocks: Any) -> Any:
-        return _casadi().horzcat(*blocks)
-
-    @staticmethod
-    def zeros(n: int) -> Any:
-        return _casadi().DM.zeros(n)
-
-    @staticmethod
-    def diag(M: Any) -> Any:
-        return _casadi().diag(M)
-
-    @staticmethod
-    def copy(x: Any) -> Any:
-        return x
-
-    @staticmethod
-    def index(rows: Any) -> list[int]:
-        if isinstance(rows, slice):
-            return list(range(*rows.indices(6)))
-        return [int(i) for i in rows]
-
-    @staticmethod
-    def if_else(condition: Any, a: Any, b: Any) -> Any:
-        return _casadi().if_else(condition, a, b)
-
-
 def _fast_gain(K: np.ndarray) -> Any:
     """The numeric law's form of a gain: a float for a scalar, a vector for a column (n, 1) or a diagonal
     matrix (:func:`diagonal_or_matrix`), else the matrix."""
@@ -480,12 +489,6 @@ def _fast_gain(K: np.ndarray) -> Any:
     if K.ndim == 2 and K.shape[0] == K.shape[1]:
         return diagonal_or_matrix(K)
     return K
-
-
-def _casadi() -> Any:
-    import casadi
-
-    return casadi
 
 
 # --------------------------------------------------------------------------------------------

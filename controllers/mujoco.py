@@ -38,14 +38,17 @@ Scenes (``scene``: one object or a sequence) become MuJoCo geoms fixed to the wo
   :class:`~controllers.environment.SteppedPlane` → two boxes (the surface and its recess, the riser included);
   :class:`~controllers.environment.SurfaceWithHole` → three boxes around the hole. Their stiffness K [N/m] and
   damping D [N·s/m] hold *per contact point*: each contact of such a surface is a MuJoCo soft contact in the
-  direct (−stiffness, −damping) format with a constant impedance d, calibrated so that its normal force is
-  f = K δ + D δ̇ + m_v δ̈ with δ the penetration — the compliant plane's law plus a small virtual mass
-  m_v = d/((1 − d) Â), Â MuJoCo's diagonal approximation of the inverse inertia at the contact (MuJoCo's
-  soft-contact identity R f = a_ref − a, Computation chapter of its documentation). A flat face resting on the
+  direct (−stiffness, −damping) format with a constant impedance d = ``CONTACT_IMPEDANCE`` (0.001), calibrated so
+  that its normal force is f = K δ + D δ̇ + m_v δ̈ with δ the penetration — the compliant plane's law plus a small
+  virtual mass m_v = d/((1 − d) Â), Â MuJoCo's diagonal approximation of the inverse inertia at the contact
+  (``body_invweight0``; from MuJoCo's soft-contact identity R f = a_ref − a with R = (1 − d)/d · Â, Computation
+  chapter of its documentation). So the force at rest is the compliant plane's; in motion it differs by m_v δ̈, and
+  a force sensor read at a sample sees the torque held over the interval ending there. A flat face resting on the
   surface makes several contact points (up to 4 for a box face): their stiffnesses add. Coulomb friction μ is
   MuJoCo's elliptic friction cone: below μN it acts as a damper of coefficient D (MuJoCo's default contact damping
-  when D = 0), where the compliant plane regularises as μN tanh(‖v_t‖/v_s). A bilateral plane (a spring that
-  pulls) cannot be represented: MuJoCo's contacts only push.
+  when D = 0), where the compliant plane regularises as μN tanh(‖v_t‖/v_s); while sliding, the soft cone turns part
+  of the tangential push into normal force. A bilateral plane (a spring that pulls) cannot be represented:
+  MuJoCo's contacts only push.
 * :class:`planners.collision.Box` → a box with MuJoCo's default (stiff) contact, e.g. the Chapter 12 scenes.
 
 The sensed wrench (``force_sensor``, default: when the scene has objects) is the sum of the MuJoCo contact forces
@@ -76,7 +79,7 @@ import numpy as np
 import pinocchio as pin
 
 from controllers.environment import CompliantPlane, SteppedPlane, SurfaceWithHole
-from controllers.plants import ARM_UNITS, ArmMeasurement, arm_units
+from controllers.plants import ArmMeasurement, arm_units
 from controllers.simulation import SimulationDiverged
 from rigid_body.robots import EXAMPLE_ROBOTS, JointFriction, Robot
 from rigid_body.validation import as_positive, as_vector
@@ -87,7 +90,7 @@ __all__ = ["MujocoPlant", "MujocoContact", "INSTALL", "import_mujoco", "mujoco_a
 INSTALL = "pip install 'rmpc[mujoco]'  (or: pip install 'mujoco>=3.3,<5')"
 INTEGRATORS = ("RK4", "Euler", "implicit", "implicitfast")
 #: the constant impedance d of the compliant surfaces' contacts: small, so that the virtual mass d/((1 − d) Â)
-#: of MuJoCo's soft contact stays a few per cent of the body's own
+#: of MuJoCo's soft contact stays a thousandth of the body's effective mass 1/Â
 CONTACT_IMPEDANCE = 0.001
 _HALF_SPACE = 2.0     # [m] half extent of the boxes standing for a stepped plane or a surface with a hole
 _ROBOT_GROUP, _SCENE_GROUP, _PROBE_GROUP = 0, 1, 2     # MuJoCo geom groups (visualisation)
@@ -391,8 +394,7 @@ class MujocoPlant:
                  frame: str | int | None = None, force_sensor: bool | None = None, friction: Any = "robot",
                  rotors: str | None = None, probe: float | None = None, srdf: Any = "auto",
                  self_collision: bool = True, joint_limits: bool = True, tau_max: Any = None):
-        mujoco = import_mujoco()
-        self._mj = mujoco
+        import_mujoco()        # the module is imported where used, never kept on the plant (its state is data)
         if not isinstance(robot, Robot):
             raise ValueError(f"`robot` must be a rigid_body.robots.Robot, got {type(robot).__name__}")
         self.robot = robot
@@ -416,8 +418,10 @@ class MujocoPlant:
         if self.tau_max is not None and np.any(self.tau_max <= 0):
             raise ValueError(f"`tau_max` must be positive torque limits, got {self.tau_max}")
         self._rotors = _mimic_parts(model)
-        self._continuous = [(model.joints[j].idx_q, model.joints[j].idx_v) for j in range(1, model.njoints)
-                            if j not in self._rotors and _joint_type(model, j)[2]]
+        #: (idx_q, idx_v, continuous) of the robot's joints (the rotors excluded)
+        self._joint_indices = [(model.joints[j].idx_q, model.joints[j].idx_v, _joint_type(model, j)[2])
+                               for j in range(1, model.njoints) if j not in self._rotors]
+        self._continuous = [(iq, iv) for iq, iv, continuous in self._joint_indices if continuous]
         if self._rotors and rotors is None:
             difference = self._build(scene_list, srdf, self_collision, joint_limits)
             effect = (f"B(q) then differs from the book's by up to {100 * difference:.3g} % (Frobenius norm, random "
@@ -463,7 +467,7 @@ class MujocoPlant:
     def _build(self, scene: list, srdf: Any, self_collision: bool, joint_limits: bool) -> float:
         """Write the MJCF, compile it, calibrate the compliant contacts; returns the largest relative difference of
         MuJoCo's B(q) from the robot's over random configurations."""
-        mujoco = self._mj
+        mujoco = import_mujoco()
         robot, model = self.robot, self.robot.model
         rotors = self._rotors
         root = ET.Element("mujoco", model=robot.name)
@@ -618,7 +622,7 @@ class MujocoPlant:
 
     def _check_order(self, mj_model: Any) -> None:
         """The robot's joints are MuJoCo's first dofs, in the robot's order (a property of the body tree written)."""
-        mujoco, model = self._mj, self.robot.model
+        mujoco, model = import_mujoco(), self.robot.model
         for j in range(1, model.njoints):
             if j in self._rotors:
                 continue
@@ -631,7 +635,7 @@ class MujocoPlant:
         """Each compliant pair's solref (direct format) and constant impedance d so that a contact point's normal
         force is K δ + D δ̇ (+ the virtual mass): stiffness_mj = K (1 − d) Â, damping_mj = D (1 − d) Â with Â
         the body's translational inverse weight (MuJoCo's diagonal approximation for a contact on it)."""
-        mujoco, d = self._mj, CONTACT_IMPEDANCE
+        mujoco, d = import_mujoco(), CONTACT_IMPEDANCE
         for i, (geom, _, _, (K, D, _)) in enumerate(compliant):
             body = mj_model.geom_bodyid[mujoco.mj_name2id(mj_model, mujoco.mjtObj.mjOBJ_GEOM, geom)]
             A_hat = float(mj_model.body_invweight0[body, 0])
@@ -663,15 +667,8 @@ class MujocoPlant:
         if not self._continuous:
             return q
         out = np.empty(self.n)
-        model = self.robot.model
-        for j in range(1, model.njoints):
-            if j in self._rotors:
-                continue
-            iq, iv = model.joints[j].idx_q, model.joints[j].idx_v
-            if (iq, iv) in self._continuous:
-                out[iv] = math.atan2(q[iq + 1], q[iq])
-            else:
-                out[iv] = q[iq]
+        for iq, iv, continuous in self._joint_indices:
+            out[iv] = math.atan2(q[iq + 1], q[iq]) if continuous else q[iq]
         return out
 
     def configuration(self, x: np.ndarray) -> np.ndarray:
@@ -679,12 +676,8 @@ class MujocoPlant:
         if not self._continuous:
             return x[:self.n]
         q = np.empty(self.nq)
-        model = self.robot.model
-        for j in range(1, model.njoints):
-            if j in self._rotors:
-                continue
-            iq, iv = model.joints[j].idx_q, model.joints[j].idx_v
-            if (iq, iv) in self._continuous:
+        for iq, iv, continuous in self._joint_indices:
+            if continuous:
                 q[iq], q[iq + 1] = math.cos(x[iv]), math.sin(x[iv])
             else:
                 q[iq] = x[iv]
@@ -715,7 +708,7 @@ class MujocoPlant:
         """ẋ = [q̇, q̈] with q̈ MuJoCo's ``qacc`` from ``mj_forward`` at (x, u): contacts, joint limits, damping and
         friction loss included — the stage-by-stage counterpart of ``ArmPlant.derivative``."""
         self._set(x, u)
-        self._mj.mj_forward(self.model, self.data)
+        import_mujoco().mj_forward(self.model, self.data)
         return np.concatenate([x[self.n:], self.data.qacc])
 
     def stepper(self, h: float) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray]:
@@ -729,7 +722,7 @@ class MujocoPlant:
         if k < 1 or abs(ratio - k) > 1e-9 * max(1.0, ratio):
             raise ValueError(f"MujocoPlant: `timestep` = {timestep:g} s must divide the loop's step h = {h:g} s")
         self.model.opt.timestep = timestep
-        mujoco, m, d, n = self._mj, self.model, self.data, self.n
+        mujoco, m, d, n = import_mujoco(), self.model, self.data, self.n
         mujoco.mj_resetData(m, d)           # a run starts afresh: no torque held, no solver warm start
         mj_step, qpos, qvel, qfrc, tau_max = mujoco.mj_step, d.qpos, d.qvel, d.qfrc_applied, self.tau_max
         counts = d.warning.number          # a view of MuJoCo's warning counters
@@ -754,6 +747,11 @@ class MujocoPlant:
             return out
         return step
 
+    def symbolic(self) -> Any:
+        """No CasADi form: MuJoCo steps this plant (``simulate(..., backend="casadi")`` names the way out)."""
+        raise ValueError("`plant`: MujocoPlant is stepped by MuJoCo (mj_step), which has no CasADi form for "
+                         "backend='casadi': use backend='python'")
+
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         q = self.configuration(x)
         if not self.force_sensor:
@@ -767,13 +765,13 @@ class MujocoPlant:
         force is found with the accelerations (its soft contacts carry a small virtual mass), so a force sensor
         read at a sample sees the torque of the interval that ends there."""
         self._set(np.asarray(x, dtype=float))
-        self._mj.mj_forward(self.model, self.data)
+        import_mujoco().mj_forward(self.model, self.data)
 
     def wrench(self, x: np.ndarray) -> np.ndarray:
         """h_e = [f; μ] (6,): the contact forces the end effector's body exerts on the scene at state x, in the
         base frame, μ about the end-effector frame's origin (Sect. 9.1)."""
         self._forward(x)
-        mujoco, m, d = self._mj, self.model, self.data
+        mujoco, m, d = import_mujoco(), self.model, self.data
         h = np.zeros(6)
         if d.ncon == 0:
             return h
@@ -798,7 +796,7 @@ class MujocoPlant:
     def contacts(self, x: np.ndarray) -> list[MujocoContact]:
         """Every MuJoCo contact at state x (robot–scene and robot–robot)."""
         self._forward(x)
-        mujoco, m, d = self._mj, self.model, self.data
+        mujoco, m, d = import_mujoco(), self.model, self.data
         out, f6 = [], np.zeros(6)
         for i in range(d.ncon):
             g1, g2 = d.contact.geom[i]
@@ -830,7 +828,7 @@ class MujocoPlant:
         (MuJoCo's ``mj_geomDistance``, convex hulls for meshes; negative in penetration; ``distmax`` when all are
         farther)."""
         self._forward(x)
-        mujoco, m, d = self._mj, self.model, self.data
+        mujoco, m, d = import_mujoco(), self.model, self.data
         robot = [g for g in range(m.ngeom) if m.geom_group[g] == _ROBOT_GROUP and m.body_weldid[m.geom_bodyid[g]] != 0]
         return min((mujoco.mj_geomDistance(m, d, g, s, distmax, None) for g in robot for s in self._scene_geom_ids),
                    default=distmax)
@@ -839,7 +837,7 @@ class MujocoPlant:
 
     def inertia_matrix(self, q: Any) -> np.ndarray:
         """MuJoCo's joint-space inertia B(q) (``mj_fullM`` of ``qM``), armature included."""
-        mujoco, m, d = self._mj, self.model, self.data
+        mujoco, m, d = import_mujoco(), self.model, self.data
         d.qpos[:] = self._positions(as_vector(q, self.nq, "q"))
         mujoco.mj_fwdPosition(m, d)
         M = np.zeros((m.nv, m.nv))
@@ -851,7 +849,7 @@ class MujocoPlant:
 
     def bias_forces(self, q: Any, qd: Any) -> np.ndarray:
         """MuJoCo's bias forces C(q, q̇) q̇ + g(q) (``qfrc_bias``, by its recursive Newton–Euler)."""
-        mujoco, m, d = self._mj, self.model, self.data
+        mujoco, m, d = import_mujoco(), self.model, self.data
         d.qpos[:] = self._positions(as_vector(q, self.nq, "q"))
         d.qvel[:] = as_vector(qd, self.n, "qd")
         mujoco.mj_fwdPosition(m, d)

@@ -40,7 +40,7 @@ import pinocchio as pin
 
 from controllers.environment import NO_CONTACT
 from controllers.independent_joint import JointDrive
-from controllers.laws import as_friction, per_joint
+from controllers.laws import Numeric, as_friction, per_joint
 from rigid_body.actuators import DCServomotor, PIRegulator
 from rigid_body.robots import JointFriction, Robot, joint_units
 from rigid_body.validation import as_positive, as_vector
@@ -161,11 +161,13 @@ class ArmPlant:
         return np.concatenate([q0, qd0])
 
     def _integrate_configuration(self, x: np.ndarray, dx: np.ndarray, h: float) -> np.ndarray:
+        return self.integrate_law(Numeric, x, dx, h)
+
+    def integrate_law(self, ops: Any, x: Any, dx: Any, h: Any) -> Any:
+        """x ⊕ h dx: q moved on its manifold by ``integrate`` (q ⊕ h v), v by h v̇ — the one body of both loops'
+        RK4 stages when nq ≠ nv."""
         nq, n = self.nq, self.n
-        out = np.empty(nq + n)
-        out[:nq] = pin.integrate(self.robot.model, x[:nq], h * dx[:n])
-        out[nq:] = x[nq:] + h * dx[n:]
-        return out
+        return ops.vertcat(ops.integrate(self.robot.model, x[:nq], h * dx[:n]), x[nq:] + h * dx[n:])
 
     def _dexp_inverse(self, x: np.ndarray, xi: np.ndarray, dx: np.ndarray) -> np.ndarray:
         """The RK4 stage derivative dx, taken at integrate(x, xi, 1), as a tangent vector at x: the
@@ -178,11 +180,32 @@ class ArmPlant:
 
     def torque(self, u: np.ndarray) -> np.ndarray:
         """The torque actually applied: ``u`` saturated at ±tau_max."""
+        return self._saturated(Numeric, self._checked_input(u))
+
+    def _checked_input(self, u: Any) -> np.ndarray:
         if type(u) is not np.ndarray or u.shape != self._u_shape:
             if np.shape(u) != (self.n,):
                 raise ValueError(f"the arm needs {self.n} joint torques, got an input of shape {np.shape(u)}")
             u = np.asarray(u, dtype=float)
-        return u if self.tau_max is None else np.minimum(np.maximum(u, self._tau_min), self.tau_max)
+        return u
+
+    def _saturated(self, ops: Any, u: Any) -> Any:
+        return u if self.tau_max is None else ops.clip(u, self._tau_min, self.tau_max)
+
+    def torque_law(self, ops: Any, qd: Any, u: Any) -> Any:
+        """τ − τ_f: the commanded torques saturated at ±tau_max, minus friction (F_v q̇, and F_s sgn(q̇) with the
+        exact sign unless smoothed) — the one body of both loops (the external force is the Python loop's)."""
+        tau = self._saturated(ops, u)
+        if self._coulomb:
+            return tau - ops.friction(self.friction, qd, self.friction_smoothing)
+        return tau - self.Fv * qd if self._viscous else tau
+
+    def dynamics(self, ops: Any, x: Any, u: Any) -> Any:
+        """ẋ = [v, B⁻¹(q)(τ − τ_f − C v − g)] (Eq. 7.42), the one body of the plant: the compiled loop evaluates
+        it on symbols; the Python loop's :meth:`derivative` and :meth:`acceleration` take the same steps with
+        the numeric primitives (ABA bound to this plant's data on the hot path)."""
+        q, qd = x[:self.nq], x[self.nq:]
+        return ops.vertcat(qd, ops.forward_dynamics(self.robot, q, qd, self.torque_law(ops, qd, u)))
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
@@ -201,7 +224,7 @@ class ArmPlant:
         if self._simple and type(u) is np.ndarray and u.shape == self._u_shape:
             if self._frictionless:  # the benchmark's plain arm: ABA on u as it is
                 return pin.aba(self._model, self._data, q, qd, u)
-            tau = u - self.Fv * qd if self._viscous else u
+            tau = self.torque_law(Numeric, qd, u)
         else:
             tau = self.applied_torque(t, q, qd, u)
         if self._data is None:  # rotors (mimic joints): the Cholesky solve
@@ -221,11 +244,7 @@ class ArmPlant:
     def applied_torque(self, t: float, q: np.ndarray, qd: np.ndarray, u: Any) -> np.ndarray:
         """τ − τ_f − τ_ext: the commanded torques ``u`` (n,) saturated at ±tau_max, minus friction and the
         external forces' joint torques at (t, q, q̇)."""
-        tau = np.asarray(self.torque(u), dtype=float)  # names a wrong input shape; saturates
-        if self._coulomb:
-            tau = tau - self._friction_torques(self.robot, qd, self.friction_smoothing, self.friction, check=False)
-        elif self._viscous:
-            tau = tau - self.Fv * qd
+        tau = self.torque_law(Numeric, qd, self._checked_input(u))  # names a wrong input shape
         if self.external_force is not None:
             tau = tau - self.external_force(t, q, qd)
         return tau
@@ -235,23 +254,20 @@ class ArmPlant:
         return ArmMeasurement(x[:self.nq], x[self.nq:])
 
     def symbolic(self) -> Any:
-        """ẋ = f(x, u) as a ``casadi.Function`` for ``simulate(..., backend="casadi")`` (nq = nv, no
-        external force, no Coulomb friction): B(q) q̈ = sat(u) − F_v q̇ − C q̇ − g by the symbolic Newton–Euler."""
-        import casadi as ca
+        """ẋ = f(x, u) of :meth:`dynamics` as a ``casadi.Function`` for ``simulate(..., backend="casadi")``; the
+        compiled stage moves q by :meth:`integrate_law` when nq ≠ nv. An external-force function has no symbolic
+        form (the generic refusal of :func:`controllers.compiled.no_symbolic_form`)."""
+        from controllers.compiled import no_symbolic_form, plant_of
 
-        from rigid_body.symbolic import forward_dynamics_expression
+        if self.external_force is not None:
+            raise no_symbolic_form(self, "an external_force function")
+        return plant_of(self)
 
-        if self.nq != self.n or self.external_force is not None:
-            raise ValueError("`plant`: backend='casadi' takes an ArmPlant with nq = nv and no external_force")
-        if self._coulomb:
-            raise ValueError("`plant`: backend='casadi' takes an ArmPlant with viscous friction only (no Coulomb "
-                             "friction): use backend='python'")
-        n = self.n
-        x, u = ca.SX.sym("x", 2 * n), ca.SX.sym("u", n)
-        tau = u if self.tau_max is None else ca.fmin(ca.fmax(u, -self.tau_max), self.tau_max)
-        q, qd = x[:n], x[n:]
-        qdd = forward_dynamics_expression(self.robot, q, qd, tau - ca.DM(self.Fv) * qd)
-        return ca.Function("plant", [x, u], [ca.vertcat(qd, qdd)], ["x", "u"], ["xdot"])
+    def symbolic_integrate(self) -> Any:
+        """x ⊕ h dx of :meth:`integrate_law` as a ``casadi.Function`` (x, dx, h) → x', None when nq = nv."""
+        from controllers.compiled import integrate_of
+
+        return None if self.nq == self.n else integrate_of(self)
 
 
 def _check_state(x: Any, size: int, nq: int) -> None:
@@ -302,24 +318,31 @@ class VoltageControlledArm:
         if np.shape(v_c) != (self.n,):
             raise ValueError(f"`u` (the motor voltages v_c) must have shape ({self.n},), one per joint, "
                              f"got {np.shape(v_c)}")
-        return self.voltage_gain * v_c - self.electrical_damping * x[self.arm.nq:]
+        return self.motor_torque(x[self.arm.nq:], v_c)
+
+    def motor_torque(self, qd: Any, v_c: Any) -> Any:
+        """τ = K_r k_t R_a⁻¹ (G_v v_c − k_v K_r q̇) (Eqs. 8.6–8.7), for either loop."""
+        return self.voltage_gain * v_c - self.electrical_damping * qd
+
+    def dynamics(self, ops: Any, x: Any, u: Any) -> Any:
+        """ẋ of the arm (:meth:`ArmPlant.dynamics`) under the motor torques."""
+        return self.arm.dynamics(ops, x, self.motor_torque(x[self.arm.nq:], u))
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return self.arm.derivative(t, x, self.torque(x, u))
 
     def acceleration(self, t: float, q: np.ndarray, qd: np.ndarray, u: np.ndarray) -> np.ndarray:
         """q̈ under the voltages ``u`` (the loop's Nyström form of RK4, see :class:`ArmPlant`)."""
-        return self.arm.acceleration(t, q, qd, self.voltage_gain * u - self.electrical_damping * qd)
+        return self.arm.acceleration(t, q, qd, self.motor_torque(qd, u))
 
     def symbolic(self) -> Any:
-        """ẋ = f(x, v_c) as a ``casadi.Function`` for ``simulate(..., backend="casadi")``: the arm's
-        (:meth:`ArmPlant.symbolic`) under the motor torques of :meth:`torque`."""
-        import casadi as ca
+        """ẋ = f(x, v_c) of :meth:`dynamics` as a ``casadi.Function`` for ``simulate(..., backend="casadi")``."""
+        from controllers.compiled import plant_of
 
-        arm, n = self.arm.symbolic(), self.n
-        x, v_c = ca.SX.sym("x", 2 * n), ca.SX.sym("u", n)
-        tau = ca.DM(self.voltage_gain) * v_c - ca.DM(self.electrical_damping) * x[n:]
-        return ca.Function("plant", [x, v_c], [arm(x, tau)], ["x", "u"], ["xdot"])
+        return plant_of(self)
+
+    def symbolic_integrate(self) -> Any:
+        return self.arm.symbolic_integrate()
 
 
 def _positive(x: Any, n: int, name: str) -> np.ndarray:
@@ -411,12 +434,25 @@ class ArmInContact:
 
     def wrench(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(h_e (6,), J (6, nv)) at (q, q̇)."""
-        model, data, fid = self._model, self._data, self._fid
-        J = pin.computeFrameJacobian(model, data, q, fid, _LWA)          # after the forward kinematics of q
-        T_e = pin.updateFramePlacement(model, data, fid)                 # a fresh SE3 (quicker than oMf[fid])
-        if self._wrench_at is not None:
-            return self._wrench_at(T_e.translation, J.dot(qd)), J
-        return self.environment.wrench(T_e, J.dot(qd)), J
+        return self.contact_wrench(Numeric, q, qd)
+
+    def contact_wrench(self, ops: Any, q: Any, qd: Any) -> tuple[Any, Any]:
+        """(h_e, J): the environment's wrench at the frame's pose T_e and twist v_e = J q̇, one kinematics pass —
+        the one body of the contact for both loops."""
+        T_e, J = ops.frame_jacobian(self._model, self._data, self._fid, q)
+        return ops.contact_wrench(self.environment, T_e, J @ qd), J
+
+    def torque_law(self, ops: Any, qd: Any, u: Any, h_e: Any, J: Any) -> Any:
+        """u − F_v q̇ − Jᵀ h_e (Eq. 7.42); no contact (:data:`~controllers.environment.NO_CONTACT`) skips Jᵀ h_e."""
+        tau = u - self._Fv * qd if self._viscous else u
+        return tau if h_e is NO_CONTACT else tau - J.T @ h_e
+
+    def dynamics(self, ops: Any, x: Any, u: Any) -> Any:
+        """ẋ = [v, B⁻¹(q)(u − F_v v − Jᵀ h_e − C v − g)] (Eq. 7.42): the one body of the plant (the Python
+        loop's :meth:`acceleration` reuses the measurement's h_e at the sample)."""
+        q, qd = x[:self.nq], x[self.nq:]
+        h_e, J = self.contact_wrench(ops, q, qd)
+        return ops.vertcat(qd, ops.forward_dynamics(self.robot, q, qd, self.torque_law(ops, qd, u, h_e, J)))
 
     def contact_torques(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Jᵀ h_e: the joint torques the contact takes from the arm."""
@@ -448,9 +484,8 @@ class ArmInContact:
         first RK4 stage follows the measurement at the sample)."""
         t_m, x_m, h_e, J = self._measured
         if t != t_m or t is None or q.tolist() + qd.tolist() != x_m:
-            h_e, J = self.wrench(q, qd)
-        tau = u - self._Fv * qd if self._viscous else u
-        return tau if h_e is NO_CONTACT else tau - J.T.dot(h_e)                   # Eq. (7.42)
+            h_e, J = self.contact_wrench(Numeric, q, qd)
+        return self.torque_law(Numeric, qd, u, h_e, J)                           # Eq. (7.42)
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         nq = self.nq
@@ -461,41 +496,26 @@ class ArmInContact:
         self._measured = (t, x.tolist(), kept, J)
         return ArmMeasurement(q, qd, h_e)
 
-    def _symbolic_wrench(self) -> tuple[Any, Any, Any, Any]:
-        """(x, q̇, h_e, J) in CasADi expressions: h_e from the environment's ``symbolic_wrench_at``."""
-        import casadi as ca
-
-        from rigid_body.symbolic import pose_function
-
-        if self.nq != self.n or not hasattr(self.environment, "symbolic_wrench_at"):
-            raise ValueError("`plant`: backend='casadi' takes an ArmInContact with nq = nv and an environment "
-                             "with symbolic_wrench_at (a CompliantPlane)")
-        n = self.n
-        x = ca.SX.sym("x", 2 * n)
-        q, qd = x[:n], x[n:]
-        _, p, J = pose_function(self.robot, self._fid)(q)
-        return x, qd, self.environment.symbolic_wrench_at(p, J @ qd), J
-
     def symbolic(self) -> Any:
-        """ẋ = f(x, u) as a ``casadi.Function`` for ``simulate(..., backend="casadi")``:
-        B(q) q̈ = u − F_v q̇ − Jᵀ h_e − C q̇ − g (Eq. 7.42) by the symbolic Newton–Euler."""
-        import casadi as ca
+        """ẋ = f(x, u) of :meth:`dynamics` as a ``casadi.Function`` for ``simulate(..., backend="casadi")``
+        (the environment's wrench from its ``wrench_law``)."""
+        from controllers.compiled import plant_of
 
-        from rigid_body.symbolic import forward_dynamics_expression
+        return plant_of(self)
 
-        x, qd, h_e, J = self._symbolic_wrench()
-        u = ca.SX.sym("u", self.n)
-        tau = u - ca.DM(self._Fv) * qd - J.T @ h_e
-        qdd = forward_dynamics_expression(self.robot, x[:self.n], qd, tau)
-        return ca.Function("plant", [x, u], [ca.vertcat(qd, qdd)], ["x", "u"], ["xdot"])
+    def symbolic_integrate(self) -> Any:
+        return self.arm.symbolic_integrate()
 
     def symbolic_measurement(self, name: str) -> Any:
         """The measurement entry ``name`` (``"wrench"``: h_e (6,)) as a ``casadi.Function`` x → value."""
         import casadi as ca
 
+        from controllers.compiled import Symbolic
+
         if name != "wrench":
             raise ValueError(f"`name`: ArmInContact measures q, qd and wrench, got {name!r}")
-        x, _, h_e, _ = self._symbolic_wrench()
+        x = ca.SX.sym("x", self.state_size)
+        h_e, _ = self.contact_wrench(Symbolic, x[:self.nq], x[self.nq:])
         return ca.Function("wrench", [x], [h_e], ["x"], ["wrench"])
 
 
@@ -554,36 +574,38 @@ class ServomotorPlant:
 
     def armature_voltage(self, x: np.ndarray, v_c: float) -> float:
         """v_a: the amplifier output."""
+        return self._amplifier(x, v_c)[0]
+
+    def _amplifier(self, x: Any, v_c: Any) -> tuple[Any, Any, Any]:
+        """(v_a, the amplifier's input G_v C_i(e), the current error e): with T_v = 0 the output follows the input."""
         m = self.motor
-        return x[3] if m.Tv > 0 else m.Gv * self.regulator_output(x, v_c)
+        e = v_c - m.ki * x[0]
+        regulated = m.Gv * (self._KP * e + self._KI * x[4])                    # cf. (S5.5)
+        return (x[3] if m.Tv > 0 else regulated), regulated, e
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return self.dynamics(Numeric, x, u)
+
+    def dynamics(self, ops: Any, x: Any, u: Any) -> Any:
+        """ẋ of (5.1)–(5.4) with the amplifier lag and the PI integral, u = [v'_c] or [v'_c, c_r]: the one body of
+        both loops."""
         m = self.motor
-        v_c = float(u[0])
-        c_r = float(u[1]) if len(u) > 1 else 0.0
+        v_c, c_r = u[0], (u[1] if u.shape[0] > 1 else 0.0)
         i_a, omega = x[0], x[1]
-        e = v_c - m.ki * i_a
-        v_a = self.armature_voltage(x, v_c)
-        di = (v_a - m.Ra * i_a - m.kv * omega) / m.La               # (5.1)–(5.2)
-        domega = (m.kt * i_a - m.Fm * omega - c_r) / m.Im         # (5.3)–(5.4)
-        dva = (m.Gv * (self._KP * e + self._KI * x[4]) - x[3]) / m.Tv if m.Tv > 0 else 0.0
-        return np.array([di, domega, omega, dva, e])
+        v_a, regulated, e = self._amplifier(x, v_c)
+        dva = (regulated - x[3]) / m.Tv if m.Tv > 0 else 0.0
+        return ops.vector((v_a - m.Ra * i_a - m.kv * omega) / m.La,           # (5.1)–(5.2)
+                          (m.kt * i_a - m.Fm * omega - c_r) / m.Im,           # (5.3)–(5.4)
+                          omega, dva, e)
+
+    symbolic_input_size = 2
 
     def symbolic(self) -> Any:
-        """ẋ = f(x, u) of :meth:`derivative` as a ``casadi.Function`` (u = [v'_c, c_r]) for
-        ``simulate(..., backend="casadi")``: (5.1)–(5.4) with the amplifier lag and the PI integral."""
-        import casadi as ca
+        """ẋ = f(x, u) of :meth:`dynamics` (u = [v'_c, c_r]) as a ``casadi.Function`` for
+        ``simulate(..., backend="casadi")``."""
+        from controllers.compiled import plant_of
 
-        m = self.motor
-        x, u = ca.SX.sym("x", 5), ca.SX.sym("u", 2)
-        i_a, omega, v_c, c_r = x[0], x[1], u[0], u[1]
-        e = v_c - m.ki * i_a
-        regulated = m.Gv * (self._KP * e + self._KI * x[4])
-        v_a = x[3] if m.Tv > 0 else regulated
-        dva = (regulated - x[3]) / m.Tv if m.Tv > 0 else ca.SX(0.0)
-        xdot = ca.vertcat((v_a - m.Ra * i_a - m.kv * omega) / m.La, (m.kt * i_a - m.Fm * omega - c_r) / m.Im,
-                          omega, dva, e)
-        return ca.Function("plant", [x, u], [xdot], ["x", "u"], ["xdot"])
+        return plant_of(self)
 
 
 class JointIntegrator:

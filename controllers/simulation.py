@@ -106,6 +106,7 @@ from typing import Any, Callable, Iterable, Mapping, Protocol
 
 import numpy as np
 
+from controllers.integration import RK4_WEIGHTS, rk4_step_law
 from rigid_body.validation import as_positive, as_vector
 
 DEFAULT_BOUND = 1e12
@@ -335,8 +336,6 @@ class SimulationResult:
 # The loop
 # --------------------------------------------------------------------------------------------
 
-RK4_WEIGHTS = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
-"""The weights b_i of classical Runge–Kutta: x' = x + h Σ b_i k_i."""
 
 
 # --------------------------------------------------------------------------------------------
@@ -418,19 +417,13 @@ def rk4_stepper(derivative: Callable[[float, np.ndarray, np.ndarray], np.ndarray
             return result.dot(M)
         return step
 
-    half, full = np.array(hh), np.array(h)  # 0-d arrays: numpy multiplies a vector by them faster than by a float
     weights = 6.0 * RK4_WEIGHTS
 
+    def weighted_sum(k1: np.ndarray, k2: np.ndarray, k3: np.ndarray, k4: np.ndarray) -> np.ndarray:
+        return weights.dot(np.array((k1, k2, k3, k4)))
+
     def manifold_step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        k = derivative(t, x, u)
-        K = np.empty((4, len(k)))
-        K[0] = k
-        for i, (c, ci) in enumerate(((hh, half), (hh, half), (h, full)), start=1):
-            k = derivative(t + c, integrate(x, k, c), u)
-            if dexp_inverse is not None:
-                k = dexp_inverse(x, ci * K[i - 1], k)
-            K[i] = k
-        return integrate(x, weights.dot(K), h / 6.0)
+        return rk4_step_law(derivative, t, x, u, h, integrate, dexp_inverse, weighted_sum)
     return manifold_step
 
 
@@ -564,17 +557,24 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     if check_step is not None:
         check_step(h, x)
     if backend != "python":
-        from controllers.compiled import simulate_compiled  # the same loop as one CasADi function
+        from controllers.compiled import CompiledLoopUnavailable, simulate_compiled  # the same loop, compiled
 
-        ts, xs, us, signals, t_bad = simulate_compiled(plant, controller, t0, len(sample_times(t0, tf, Ts)), x, h,
-                                                       n_sub, bound, backend)
-        if t_bad is not None:
-            raise SimulationDiverged(f"plant state became non-finite or exceeded {bound:g} by t = {t_bad:.6g} s "
-                                     f"(backend={backend!r}, checked every Ts): the loop diverges", t_bad)
-        for name, value in ({} if log is None else _logged(log, ts, xs, us)).items():
-            signals[name] = value
-        return SimulationResult(t=ts, x=xs, u=us, signals=signals, layout=dict(getattr(plant, "state_layout", {})),
-                                units=dict(getattr(plant, "units", {})))
+        try:
+            ts, xs, us, signals, t_bad = simulate_compiled(plant, controller, t0, len(sample_times(t0, tf, Ts)), x,
+                                                           h, n_sub, bound, backend)
+        except CompiledLoopUnavailable as fault:   # no compiler, a failing one, an unusable cache: one line, go on
+            import warnings
+
+            warnings.warn(f"{fault}; the loop runs on the Python backend (same results, slower)", stacklevel=2)
+        else:
+            if t_bad is not None:
+                raise SimulationDiverged(f"plant state became non-finite or exceeded {bound:g} by t = {t_bad:.6g} s "
+                                         f"(backend={backend!r}, checked every Ts): the loop diverges", t_bad)
+            for name, value in ({} if log is None else _logged(log, ts, xs, us)).items():
+                signals[name] = value
+            return SimulationResult(t=ts, x=xs, u=us, signals=signals,
+                                    layout=dict(getattr(plant, "state_layout", {})),
+                                    units=dict(getattr(plant, "units", {})))
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
     integrate = getattr(plant, "integrate", None)
     n_dx = getattr(plant, "tangent_size", x.size)

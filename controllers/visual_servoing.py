@@ -29,9 +29,8 @@ from typing import Any, Sequence
 
 import numpy as np
 import pinocchio as pin
-from scipy.linalg import get_lapack_funcs
 
-from controllers.laws import as_gain, per_joint, rate_options
+from controllers.laws import ControlLaw, Numeric, as_gain, diagonal_or_matrix, per_joint, rate_options
 from controllers.simulation import Chain, LoggedController, ZeroOrderHold
 from rigid_body.camera import FieldOfView, SegmentFeatures, TargetView, segment_features, view_points
 from rigid_body.robots import Robot
@@ -43,7 +42,6 @@ from rigid_body.vision import depth_ratio, homography_dlt, pose_from_homography
 SCARA_DOFS = (0, 1, 2, 5)   # v_x, v_y, v_z, ω_z: the camera twist of Example 10.3
 FEATURE_KINDS = ("points", "segment")
 _SCARA_ROWS = np.array(SCARA_DOFS)
-_gesv = get_lapack_funcs("gesv", (np.zeros((1, 1)),))   # LU solve without numpy.linalg's wrapper cost
 
 
 # --------------------------------------------------------------------------------------------
@@ -71,10 +69,12 @@ def relative_pose_vector(T_bc: np.ndarray, T_bo: np.ndarray) -> np.ndarray:
     return planar_pose_vector(np.linalg.solve(T_bc, T_bo))
 
 
-def gamma_matrix(o: np.ndarray) -> np.ndarray:
+def gamma_matrix(o: Any, ops: Any = None) -> Any:
     """Γ(o_{c,o}^c) (4×4) with ẋ_{c,o} = Γ [v_c^c; ω_z] for a fixed object, Eq. (10.41), 4-DOF case:
-    Γ = [[−I, s_3(o)], [0ᵀ, −1]], s_3(o) = S(o) e_z = [o_y, −o_x, 0]ᵀ."""
-    return np.array([[-1.0, 0.0, 0.0, o[1]], [0.0, -1.0, 0.0, -o[0]], [0.0, 0.0, -1.0, 0.0], [0.0, 0.0, 0.0, -1.0]])
+    Γ = [[−I, s_3(o)], [0ᵀ, −1]], s_3(o) = S(o) e_z = [o_y, −o_x, 0]ᵀ (``ops``: the loop's primitives, default
+    numeric)."""
+    return (ops or Numeric).matrix([[-1.0, 0.0, 0.0, o[1]], [0.0, -1.0, 0.0, -o[0]], [0.0, 0.0, -1.0, 0.0],
+                                    [0.0, 0.0, 0.0, -1.0]])
 
 
 def camera_jacobian(robot: Robot, q: np.ndarray, frame: int) -> np.ndarray:
@@ -141,110 +141,62 @@ class CameraImage:
         return segment_features(self.xy[0], self.xy[1])
 
 
-def _points_interaction(xy: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """(2n×6) stack of (10.26) for trusted inputs (hot loops; the checked version is in rigid_body.camera)."""
+def _points_interaction(ops: Any, x: Any, y: Any, z: Any) -> Any:
+    """(2n×6) stack of (10.26) at image points (x_i, y_i) with depths z_i, for either loop (``ops``; unvalidated:
+    the checked version is :func:`rigid_body.camera.point_interaction_matrix`)."""
     rows = []
-    for (x, y), zi in zip(xy.tolist(), z.tolist()):
-        iz = 1.0 / zi
-        rows.append([-iz, 0.0, x * iz, x * y, -(1.0 + x * x), y])
-        rows.append([0.0, -iz, y * iz, 1.0 + y * y, -x * y, -x])
-    return np.array(rows).reshape(-1, 6)
+    for i in range(x.shape[0]):
+        xi, yi, iz = x[i], y[i], 1.0 / z[i]
+        rows.append([-iz, 0.0, xi * iz, xi * yi, -(1.0 + xi * xi), yi])
+        rows.append([0.0, -iz, yi * iz, 1.0 + yi * yi, -xi * yi, -xi])
+    return ops.matrix(rows)
 
 
-def _segment(xy: np.ndarray) -> np.ndarray:
-    """[x_m, y_m, L, α] of (10.28) for trusted inputs."""
-    return _segment_of(*xy.ravel().tolist())
-
-
-def _segment_of(x1: float, y1: float, x2: float, y2: float) -> np.ndarray:
+def _segment(ops: Any, x1: Any, y1: Any, x2: Any, y2: Any) -> Any:
+    """[x_m, y_m, L, α] of (10.28), for either loop."""
     dx, dy = x2 - x1, y2 - y1
-    return np.array([0.5 * (x1 + x2), 0.5 * (y1 + y2), math.hypot(dx, dy), math.atan2(dy, dx)])
+    return ops.vector(0.5 * (x1 + x2), 0.5 * (y1 + y2), ops.hypot(dx, dy), ops.atan2(dy, dx))
 
 
-def _segment_jacobian(xy: np.ndarray) -> np.ndarray:
-    """∂s/∂[x1, y1, x2, y2] of (10.28) for trusted inputs (the checked version is in rigid_body.camera)."""
-    return _segment_jacobian_of(*xy.ravel().tolist())
-
-
-def _segment_jacobian_of(x1: float, y1: float, x2: float, y2: float) -> np.ndarray:
+def _segment_jacobian(ops: Any, x1: Any, y1: Any, x2: Any, y2: Any) -> Any:
+    """∂s/∂[x1, y1, x2, y2] of (10.28), for either loop (the checked version is in rigid_body.camera)."""
     dx, dy = x2 - x1, y2 - y1
     L2 = dx * dx + dy * dy
-    L = math.sqrt(L2)
-    return np.array([[0.5, 0.0, 0.5, 0.0], [0.0, 0.5, 0.0, 0.5], [-dx / L, -dy / L, dx / L, dy / L],
-                     [dy / L2, -dx / L2, -dy / L2, dx / L2]])
+    L = ops.sqrt(L2)
+    return ops.matrix([[0.5, 0.0, 0.5, 0.0], [0.0, 0.5, 0.0, 0.5], [-dx / L, -dy / L, dx / L, dy / L],
+                       [dy / L2, -dx / L2, -dy / L2, dx / L2]])
 
 
-def _segment_interaction(x1: float, y1: float, iz1: float, x2: float, y2: float, iz2: float
-                         ) -> tuple[np.ndarray, np.ndarray]:
+def _segment_interaction(ops: Any, x1: Any, y1: Any, iz1: Any, x2: Any, y2: Any, iz2: Any) -> tuple[Any, Any]:
     """(s, L_s) of the segment (10.28) with end points (x_i, y_i) at inverse depths iz_i, L_s restricted to
     the SCARA's v_x, v_y, v_z, ω_z: the chain rule ∂s/∂(x, y) · (10.26) in closed form (ω_z turns α at
     −1 rad/rad and leaves L unchanged)."""
     dx, dy = x2 - x1, y2 - y1
     L2 = dx * dx + dy * dy
-    if L2 == 0:
-        raise ValueError("the segment's end points coincide in the image (seen end-on): α and L_s are undefined")
-    L = math.sqrt(L2)
+    L = ops.unless(L2 == 0.0, lambda: ops.sqrt(L2),
+                   lambda: "the segment's end points coincide in the image (seen end-on): α and L_s are undefined")
     a1, a2 = x1 * iz1, x2 * iz2
     b1, b2 = y1 * iz1, y2 * iz2
     di = iz1 - iz2
-    s = np.array([0.5 * (x1 + x2), 0.5 * (y1 + y2), L, math.atan2(dy, dx)])
-    J = np.array([[-0.5 * (iz1 + iz2), 0.0, 0.5 * (a1 + a2), 0.5 * (y1 + y2)],
-                  [0.0, -0.5 * (iz1 + iz2), 0.5 * (b1 + b2), -0.5 * (x1 + x2)],
-                  [dx * di / L, dy * di / L, (dx * (a2 - a1) + dy * (b2 - b1)) / L, 0.0],
-                  [-dy * di / L2, dx * di / L2, (dy * (a1 - a2) + dx * (b2 - b1)) / L2, -1.0]])
+    s = ops.vector(0.5 * (x1 + x2), 0.5 * (y1 + y2), L, ops.atan2(dy, dx))
+    J = ops.matrix([[-0.5 * (iz1 + iz2), 0.0, 0.5 * (a1 + a2), 0.5 * (y1 + y2)],
+                    [0.0, -0.5 * (iz1 + iz2), 0.5 * (b1 + b2), -0.5 * (x1 + x2)],
+                    [dx * di / L, dy * di / L, (dx * (a2 - a1) + dy * (b2 - b1)) / L, 0.0],
+                    [-dy * di / L2, dx * di / L2, (dy * (a1 - a2) + dx * (b2 - b1)) / L2, -1.0]])
     return s, J
 
 
-def _symbolic_segment(x1: Any, y1: Any, x2: Any, y2: Any) -> Any:
-    """[x_m, y_m, L, α] of (10.28) in CasADi expressions."""
-    import casadi as ca
-
-    dx, dy = x2 - x1, y2 - y1
-    return ca.vertcat(0.5 * (x1 + x2), 0.5 * (y1 + y2), ca.sqrt(dx * dx + dy * dy), ca.atan2(dy, dx))
-
-
-def _symbolic_wrapped_difference(a: Any, b: Any) -> Any:
-    """a − b of 4-DOF vectors (poses, segment features) with the last entry wrapped to (−π, π], in CasADi."""
-    import casadi as ca
-
+def _wrapped_difference(ops: Any, a: Any, b: Any) -> Any:
+    """a − b of 4-DOF vectors (poses, segment features) with the last entry wrapped to (−π, π]."""
     e = a - b
-    return ca.vertcat(e[:3], ca.atan2(ca.sin(e[3]), ca.cos(e[3])))
-
-
-def _symbolic_camera_jacobian(robot: Robot, frame: int, q: Any) -> Any:
-    """J_c of :func:`camera_jacobian` (LOCAL: [R_cᵀ J_P; R_cᵀ J_O]) in CasADi expressions."""
-    import casadi as ca
-
-    from rigid_body.symbolic import pose_function
-
-    R, _, J = pose_function(robot, frame)(q)
-    return ca.vertcat(R.T @ J[:3, :], R.T @ J[3:, :])
-
-
-def _symbolic_points_interaction(x: Any, y: Any, z: Any) -> Any:
-    """(2n×6) stack of (10.26) in CasADi expressions."""
-    import casadi as ca
-
-    rows = []
-    for i in range(x.shape[0]):
-        xi, yi, iz = x[i], y[i], 1.0 / z[i]
-        rows.append(ca.horzcat(-iz, 0.0, xi * iz, xi * yi, -(1.0 + xi * xi), yi))
-        rows.append(ca.horzcat(0.0, -iz, yi * iz, 1.0 + yi * yi, -xi * yi, -xi))
-    return ca.vertcat(*rows)
-
-
-def _symbolic_gamma(o: Any) -> Any:
-    """Γ(o) of :func:`gamma_matrix` in CasADi expressions."""
-    import casadi as ca
-
-    return ca.vertcat(ca.horzcat(-1.0, 0.0, 0.0, o[1]), ca.horzcat(0.0, -1.0, 0.0, -o[0]),
-                      ca.horzcat(0.0, 0.0, -1.0, 0.0), ca.horzcat(0.0, 0.0, 0.0, -1.0))
+    return ops.vector(e[0], e[1], e[2], ops.atan2(ops.sin(e[3]), ops.cos(e[3])))
 
 
 class TargetFeatures:
     """The feature model of a target with points ``points_o`` (n, 3) in the object frame.
 
     ``kind = "points"``: s = [x_1, y_1, …, x_n, y_n]; ``kind = "segment"``: s = [x_m, y_m, L, α] of P_1P_2 (10.28).
+    The features, their interaction matrix and error are written once (``*_law(ops, …)``) for both loops.
     """
 
     def __init__(self, points_o: Any, kind: str = "segment"):
@@ -282,11 +234,15 @@ class TargetFeatures:
 
     def _features(self, xy: np.ndarray) -> np.ndarray:
         """:meth:`features` of checked points (the laws' hot path)."""
+        if self.kind == "segment" and xy[1, 0] == xy[0, 0] and xy[1, 1] == xy[0, 1]:
+            raise ValueError("the segment's end points coincide in the image: α is undefined")
+        return self.features_law(Numeric, xy[:, 0], xy[:, 1])
+
+    def features_law(self, ops: Any, x: Any, y: Any) -> Any:
+        """s of the image points (x (n,), y (n,)), for either loop."""
         if self.kind == "segment":
-            if xy[1, 0] == xy[0, 0] and xy[1, 1] == xy[0, 1]:
-                raise ValueError("the segment's end points coincide in the image: α is undefined")
-            return _segment(xy)
-        return xy.reshape(-1).copy()
+            return _segment(ops, x[0], y[0], x[1], y[1])
+        return ops.interleave(x, y)
 
     def interaction_matrix(self, xy: Any, z: Any) -> np.ndarray:
         """L_s (k×6) at image points ``xy`` with depths ``z`` > 0 (10.26; segments: chain rule through (10.28));
@@ -298,20 +254,19 @@ class TargetFeatures:
                              f"image, got {z}")
         if self.kind == "segment" and not np.any(xy[1] != xy[0]):
             raise ValueError("the segment's end points coincide in the image: α and its interaction matrix are undefined")
-        return self._interaction(xy, z)
+        return self.interaction_law(Numeric, xy[:, 0], xy[:, 1], z)
 
-    def _interaction(self, xy: np.ndarray, z: np.ndarray) -> np.ndarray:
-        """:meth:`interaction_matrix` of checked points and depths (the laws' hot path)."""
-        L = _points_interaction(xy, z)
-        return _segment_jacobian(xy) @ L if self.kind == "segment" else L
+    def interaction_law(self, ops: Any, x: Any, y: Any, z: Any) -> Any:
+        """L_s of (x, y) at depths z, for either loop (unvalidated)."""
+        L = _points_interaction(ops, x, y, z)
+        return _segment_jacobian(ops, x[0], y[0], x[1], y[1]) @ L if self.kind == "segment" else L
 
     def error(self, s_d: np.ndarray, s: np.ndarray) -> np.ndarray:
         """e_s = s_d − s, with the segment angle difference wrapped to (−π, π]."""
-        e = s_d - s
-        if self.kind == "segment":
-            a = float(e[3])
-            e[3] = math.atan2(math.sin(a), math.cos(a))
-        return e
+        return self.error_law(Numeric, s_d, s)
+
+    def error_law(self, ops: Any, s_d: Any, s: Any) -> Any:
+        return _wrapped_difference(ops, s_d, s) if self.kind == "segment" else s_d - s
 
 
 class EyeInHandCamera:
@@ -321,6 +276,11 @@ class EyeInHandCamera:
     zero-mean Gaussian noise of that standard deviation to the normalised coordinates (``rng`` required);
     ``fov`` marks points outside the field of view as not seen; ``lost`` = {point index: (t_from, t_to)}
     hides points over a time interval (an occlusion).
+
+    The image is one body, :meth:`image_law` (the projection (5.35), (5.40), the field of view and the
+    occlusion as masks): the Python loop evaluates it at every call, the compiled loop once on symbols, with
+    the noise and the occlusion — functions of time only — sampled before the run and fed as inputs
+    (:meth:`inputs_at`: the same draws of ``rng``, in the same order, as the Python loop's calls).
     """
 
     def __init__(self, robot: Robot, points_b: Any, frame: str | int | None = None, fov: FieldOfView | None = None,
@@ -335,78 +295,78 @@ class EyeInHandCamera:
         if self.noise > 0 and rng is None:
             raise ValueError("`rng` (a numpy Generator) is required when `noise` > 0")
         self.rng, self.lost = rng, dict(lost or {})
-        # Hot path of __call__ (every loop sample): no field of view, occlusion or noise to apply.
-        self._plain = fov is None and not self.lost and self.noise == 0
-        self._all_seen = np.ones(len(self.points_b), dtype=bool)
-        self._all_seen.flags.writeable = False
-        self._points_list = self.points_b.tolist() if len(self.points_b) <= 8 else None
+        self._model, self._data = robot.model, robot.data
+
+    @property
+    def n_points(self) -> int:
+        return len(self.points_b)
+
+    @property
+    def n_inputs(self) -> int:
+        """The number of rows of :meth:`inputs_at`: 2n for the noise, n for the occlusion."""
+        return (2 * self.n_points if self.noise > 0 else 0) + (self.n_points if self.lost else 0)
 
     def pose(self, q: np.ndarray) -> np.ndarray:
         """T_c^b of the camera at q."""
-        pin.framesForwardKinematics(self.robot.model, self.robot.data, q)
-        M = self.robot.data.oMf[self.frame]
+        R, o = Numeric.frame_pose(self._model, self._data, self.frame, q)
         T = np.eye(4)
-        T[:3, :3], T[:3, 3] = M.rotation, M.translation
+        T[:3, :3], T[:3, 3] = R, o
         return T
 
-    def symbolic_view(self, q: Any) -> tuple[Any, Any, Any]:
-        """(x (n), y (n), z (n)) of the image at q in CasADi expressions, for the compiled loop: the plain
-        camera only (no field of view, occlusion or noise); a point behind the camera gives NaN (the
-        compiled loop then stops as diverged, where the Python loop would report it unseen)."""
-        import casadi as ca
-
-        from rigid_body.symbolic import pose_function
-
-        if not self._plain:
-            raise ValueError("`camera`: the symbolic image covers a camera without field of view, occlusion "
-                             "or noise: use backend='python'")
-        R, o, _ = pose_function(self.robot, self.frame)(q)
-        p = R.T @ (ca.DM(self.points_b.T) - ca.repmat(o, 1, len(self.points_b)))   # p^c = R_cᵀ (p − o_c), (5.35)
-        z = p[2, :].T
-        z_seen = ca.if_else(z > 0, z, np.nan)
-        return p[0, :].T / z_seen, p[1, :].T / z_seen, z
-
-    def _plain_view(self, M: pin.SE3) -> CameraImage | None:
-        """The image of a few points, all in front, on Python floats (no field of view, occlusion or
-        noise); None when a point is behind the camera."""
-        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = M.rotation.tolist()
-        ox, oy, oz = M.translation.tolist()
-        xy, depth = [], []
-        for X, Y, Z in self._points_list:
-            dx, dy, dz = X - ox, Y - oy, Z - oz                     # p^c = R_cᵀ (p − o_c), (5.35)
-            pz = r02 * dx + r12 * dy + r22 * dz
-            if pz <= 0:
-                return None
-            xy.append(((r00 * dx + r10 * dy + r20 * dz) / pz, (r01 * dx + r11 * dy + r21 * dz) / pz))
-            depth.append(pz)
-        return CameraImage(xy=np.array(xy), visible=self._all_seen, z=np.array(depth))
-
-    def __call__(self, t: float, meas: Any) -> CameraImage:
-        pin.framesForwardKinematics(self.robot.model, self.robot.data, meas.q)
-        M = self.robot.data.oMf[self.frame]
-        if self._plain and self._points_list is not None:
-            image = self._plain_view(M)
-            if image is not None:
-                return image
-        p = (self.points_b - M.translation) @ M.rotation            # p^c = R_cᵀ (p − o_c), (5.35)
-        z = p[:, 2]
-        visible = z > 0
-        all_in_front = visible.all()
-        if all_in_front:
-            xy = p[:, :2] / z[:, None]
-        else:
-            xy = np.full((len(z), 2), np.nan)
-            xy[visible] = p[visible, :2] / z[visible, None]
+    def image_law(self, ops: Any, q: Any, noise: tuple | None = None, hidden: Any = None) -> tuple:
+        """(x (n), y (n), z (n), seen (n)) of the image at q, for either loop: p^c = R_cᵀ (p − o_c) (5.35),
+        x = p_x/p_z, y = p_y/p_z (5.40) for the points in front of the camera, within the field of view and not
+        ``hidden`` (a mask), plus the ``noise`` (dx, dy); x, y are NaN where a point is not seen."""
+        R, o = ops.frame_pose(self._model, self._data, self.frame, q)
+        X, Y, Z = ops.to_camera(R, o, self.points_b)                               # (5.35)
+        x, y, seen = ops.perspective(X, Y, Z)                                       # (5.40)
         if self.fov is not None:
-            visible &= self.fov.contains(xy if all_in_front else np.where(visible[:, None], xy, 0.0))
+            seen = ops.logic_and(seen, self.fov.contains_xy(x, y, both=ops.logic_and))
+        if hidden is not None:
+            seen = ops.logic_and(seen, ops.logic_not(hidden))
+        if noise is not None:
+            x, y = x + noise[0], y + noise[1]
+        return ops.where(seen, x, np.nan), ops.where(seen, y, np.nan), Z, seen
+
+    def hidden_at(self, t: float) -> np.ndarray | None:
+        """The occlusion at t: (n,) True for the points hidden then (``lost``), None without occlusions."""
+        if not self.lost:
+            return None
+        hidden = np.zeros(self.n_points, dtype=bool)
         for i, (t0, t1) in self.lost.items():
             if t0 <= t < t1:
-                visible[i] = False
+                hidden[i] = True
+        return hidden
+
+    def inputs_at(self, times: np.ndarray) -> np.ndarray:
+        """The camera's inputs of a compiled run at its sample ``times``: rows [noise x (n); noise y (n);
+        hidden (n)] (those the camera has) per column — the noise drawn from ``rng`` as the Python loop's calls
+        draw it (one (n, 2) sample per call, in order)."""
+        rows = []
         if self.noise > 0:
-            xy = xy + self.noise * self.rng.standard_normal(xy.shape)
-        if not visible.all():
-            xy[~visible] = np.nan
-        return CameraImage(xy=xy, visible=visible, z=z)
+            draws = self.noise * self.rng.standard_normal((len(times), self.n_points, 2))
+            rows += [draws[:, :, 0].T, draws[:, :, 1].T]
+        if self.lost:
+            rows.append(np.column_stack([self.hidden_at(float(t)) for t in times]).astype(float))
+        return np.vstack(rows) if rows else np.zeros((0, len(times)))
+
+    def split_inputs(self, r: Any) -> tuple[tuple | None, Any]:
+        """(noise, hidden) from the rows of :meth:`inputs_at` (symbols of the compiled loop)."""
+        n, k = self.n_points, 0
+        noise = hidden = None
+        if self.noise > 0:
+            noise, k = (r[0:n], r[n:2 * n]), 2 * n
+        if self.lost:
+            hidden = r[k:k + n] > 0.5
+        return noise, hidden
+
+    def __call__(self, t: float, meas: Any) -> CameraImage:
+        noise = None
+        if self.noise > 0:
+            draws = self.noise * self.rng.standard_normal((self.n_points, 2))
+            noise = (draws[:, 0], draws[:, 1])
+        x, y, z, seen = self.image_law(Numeric, meas.q, noise, self.hidden_at(t))
+        return CameraImage(xy=np.column_stack((x, y)), visible=seen, z=z)
 
 
 # --------------------------------------------------------------------------------------------
@@ -418,7 +378,8 @@ class PoseEstimator(LoggedController):
 
     ``target`` gives ŝ(x̂) and L_s(x̂) (its 4 columns v_x, v_y, v_z, ω_z, square for two points or a
     segment). Called with a measurement carrying ``image`` (:class:`CameraImage`), or directly with the
-    measured feature vector ``s`` through :meth:`update`. Logs ``x_hat``, ``e_s``, ``s_hat``.
+    measured feature vector ``s`` through :meth:`update`. Logs ``x_hat``, ``e_s``, ``s_hat``. One body for
+    both loops: :meth:`step_law` (a lost feature holds the estimate: a masked branch in the compiled loop).
     """
 
     def __init__(self, target: TargetFeatures, x0: Any, K_s: Any, T: float):
@@ -427,10 +388,8 @@ class PoseEstimator(LoggedController):
         self.K_s = as_gain(K_s, 4, "K_s")
         if target.size != 4:
             raise ValueError(f"the inverse-Jacobian estimator needs 4 features (a square L_s), got {target.size}")
-        # Hot path (every loop sample): the points as floats, K_s as a vector when it is diagonal.
         self._points = target.points_o.tolist()
-        diagonal = not np.any(self.K_s - np.diag(np.diag(self.K_s)))
-        self._K_s = np.diag(self.K_s).copy() if diagonal else None
+        self._K_s = diagonal_or_matrix(self.K_s)
         self.reset()
 
     def reset(self) -> None:
@@ -440,63 +399,49 @@ class PoseEstimator(LoggedController):
     def predicted(self, x_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(ŝ, L_s) at the estimate: the features and the 4×4 interaction matrix of the estimated pose
         (columns v_x, v_y, v_z, ω_z of (10.26); segments through (10.28))."""
-        x, y, z, phi = x_hat.tolist()
-        c, s = math.cos(phi), math.sin(phi)
+        return self.predicted_law(Numeric, x_hat.tolist())
+
+    def predicted_law(self, ops: Any, x_hat: Any) -> tuple[Any, Any]:
+        x, y, z, phi = x_hat[0], x_hat[1], x_hat[2], x_hat[3]
+        c, s = ops.cos(phi), ops.sin(phi)
         xy, rows = [], []
         for X, Y, Z in self._points:                     # p^c = o + R_z(φ) P, then (5.40)
             pz = Z + z
-            if pz <= 0:
-                raise ValueError(f"the estimate x̂ = {x_hat} puts target points behind the camera: diverged")
-            iz = 1.0 / pz
+            iz = ops.unless(pz <= 0.0, lambda pz=pz: 1.0 / pz,
+                            lambda: f"the estimate x̂ = {np.asarray(x_hat)} puts target points behind the camera: "
+                                    "diverged")
             u, v = (c * X - s * Y + x) * iz, (s * X + c * Y + y) * iz
             xy.append((u, v, iz))
-            rows.append((-iz, 0.0, u * iz, v))
-            rows.append((0.0, -iz, v * iz, -u))
+            rows.append([-iz, 0.0, u * iz, v])
+            rows.append([0.0, -iz, v * iz, -u])
         if self.target.kind == "segment":
-            return _segment_interaction(*xy[0], *xy[1])
-        return np.array([w for u, v, _ in xy for w in (u, v)]), np.array(rows)
+            return _segment_interaction(ops, *xy[0], *xy[1])
+        return ops.vector(*[w for u, v, _ in xy for w in (u, v)]), ops.matrix(rows)
+
+    def step_law(self, ops: Any, x_hat: Any, s: Any) -> tuple[Any, Any, Any]:
+        """(x̂_{k+1}, e_s, ŝ) from the measured features s: (10.40), then (10.41) by forward Euler."""
+        s_hat, L = self.predicted_law(ops, x_hat)
+        e_s = self.target.error_law(ops, s, s_hat)
+        v_hat = ops.solve(L, ops.times(self._K_s, e_s),
+                          lambda: f"the interaction matrix is singular at x̂ = {np.asarray(x_hat)}")    # (10.40)
+        return x_hat + self.T * (gamma_matrix(x_hat, ops) @ v_hat), e_s, s_hat                               # (10.41)
 
     def update(self, s: Any) -> np.ndarray:
         """One step with the measured features ``s`` (4,): returns x̂_{k+1} (``x_hat`` then holds it)."""
-        return self._update(as_vector(s, 4, "s"))
-
-    def _update(self, s: np.ndarray) -> np.ndarray:
-        s_hat, L = self.predicted(self.x_hat)
-        e_s = self.target.error(s, s_hat)
-        Ke = self._K_s * e_s if self._K_s is not None else self.K_s @ e_s
-        _, _, v_hat, info = _gesv(L, Ke)                                    # (10.40)
-        if info != 0:
-            raise ValueError(f"the interaction matrix is singular at x̂ = {self.x_hat}")
+        s = as_vector(s, 4, "s")
+        x_next, e_s, s_hat = self.step_law(Numeric, self.x_hat, s)
         self.record(x_hat=self.x_hat, e_s=e_s, s_hat=s_hat)
-        self.x_hat = self.x_hat + self.T * (gamma_matrix(self.x_hat) @ v_hat)   # (10.41), Euler
+        self.x_hat = x_next
         return self.x_hat
 
-    def symbolic_step(self, x_hat: Any, x: Any, y: Any) -> tuple[Any, dict[str, Any]]:
-        """(x̂_{k+1}, log) of :meth:`update` from the image points (x, y) in CasADi expressions (segment
-        features; an estimate behind the camera gives NaN: the compiled loop stops as diverged)."""
-        import casadi as ca
+    def estimator_law(self, ops: Any, x_hat: Any, x: Any, y: Any, seen: Any) -> tuple[Any, dict]:
+        """(x̂_{k+1}, log) from the image (x, y, seen): the estimate is held while an end point is not seen."""
+        def step() -> tuple:
+            return self.step_law(ops, x_hat, self.target.features_law(ops, x, y))
 
-        if self.target.kind != "segment":
-            raise ValueError("the symbolic estimator covers segment features: use backend='python'")
-        c, s = ca.cos(x_hat[3]), ca.sin(x_hat[3])
-        ends = []
-        for X, Y, Z in self._points:                                        # p^c = o + R_z(φ) P, then (5.40)
-            pz = Z + x_hat[2]
-            iz = 1.0 / ca.if_else(pz > 0, pz, np.nan)
-            ends += [(c * X - s * Y + x_hat[0]) * iz, (s * X + c * Y + x_hat[1]) * iz, iz]
-        u1, v1, iz1, u2, v2, iz2 = ends
-        dx, dy = u2 - u1, v2 - v1
-        L2 = dx * dx + dy * dy
-        L = ca.sqrt(L2)
-        a1, a2, b1, b2, di = u1 * iz1, u2 * iz2, v1 * iz1, v2 * iz2, iz1 - iz2
-        s_hat = ca.vertcat(0.5 * (u1 + u2), 0.5 * (v1 + v2), L, ca.atan2(dy, dx))
-        J = ca.vertcat(ca.horzcat(-0.5 * (iz1 + iz2), 0.0, 0.5 * (a1 + a2), 0.5 * (v1 + v2)),
-                       ca.horzcat(0.0, -0.5 * (iz1 + iz2), 0.5 * (b1 + b2), -0.5 * (u1 + u2)),
-                       ca.horzcat(dx * di / L, dy * di / L, (dx * (a2 - a1) + dy * (b2 - b1)) / L, 0.0),
-                       ca.horzcat(-dy * di / L2, dx * di / L2, (dy * (a1 - a2) + dx * (b2 - b1)) / L2, -1.0))
-        e_s = _symbolic_wrapped_difference(_symbolic_segment(x[0], y[0], x[1], y[1]), s_hat)
-        v_hat = ca.solve(J, ca.DM(self.K_s) @ e_s)                          # (10.40)
-        return x_hat + self.T * (_symbolic_gamma(x_hat) @ v_hat), {"x_hat": x_hat, "e_s": e_s, "s_hat": s_hat}
+        lost = np.full(4, np.nan)
+        x_next, e_s, s_hat = ops.cond(ops.logic_and(seen[0], seen[1]), step, lambda: (x_hat, lost, lost))
+        return x_next, {"x_hat": x_hat, "e_s": e_s, "s_hat": s_hat}
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         """The discrete block: outputs x̂_k, then steps to x̂_{k+1} with the image of sample k (a unit
@@ -505,10 +450,10 @@ class PoseEstimator(LoggedController):
         image = meas.image
         x_k = self.x_hat
         visible = image.visible
-        if not (visible[0] and visible[1]):
-            self.record(x_hat=x_k, e_s=np.full(4, np.nan), s_hat=np.full(4, np.nan))
-            return x_k                          # feature lost: the estimate is held
-        self._update(self.target._features(image.xy))
+        if visible[0] and visible[1]:
+            self.target._features(image.xy)                 # coincident end points: α undefined (ValueError)
+        self.x_hat, signals = self.estimator_law(Numeric, x_k, image.xy[:, 0], image.xy[:, 1], visible)
+        self.record(**signals)
         return x_k
 
 
@@ -516,13 +461,20 @@ class PoseEstimator(LoggedController):
 # Position-based visual servoing (4-DOF, Sect. 10.7.1)
 # --------------------------------------------------------------------------------------------
 
-class _CameraLaw(LoggedController):
+class _CameraLaw(ControlLaw):
     """A law on the camera carried by ``frame`` of ``robot`` that models the camera twist components ``dofs``
     (None: those the robot moves its camera along, :func:`camera_dofs`). ValueError when the robot's camera
-    also moves along a component the law leaves out (the law would not see part of the motion it commands)."""
+    also moves along a component the law leaves out (the law would not see part of the motion it commands).
+
+    It reads ``meas.image`` (and ``meas.estimate`` after an estimator). Those with one body,
+    ``servo_law(ops, K, q, qd, image, estimate)`` (``image`` = (x, y, z, seen)), run in either loop; the compiled
+    one composes them inside :class:`VisualServo` (``symbolic()`` of the chain)."""
+
+    servo = False        # whether servo_law is the law (it runs compiled inside a VisualServo)
 
     def __init__(self, robot: Robot, frame: str | int | None, dofs: Sequence[int] | None):
         self.robot = robot
+        self.nq, self.nv = robot.nq, robot.nv
         self.frame = robot.ee_frame if frame is None else robot.frame(frame)
         moving = camera_dofs(robot, self.frame)
         self.dofs = list(moving if dofs is None else _as_dofs(dofs))
@@ -532,11 +484,28 @@ class _CameraLaw(LoggedController):
                 f"`dofs` {tuple(self.dofs)} leaves out {', '.join(TWIST_NAMES[i] for i in left_out)}, along which the "
                 f"camera of {robot.name!r} moves: {type(self).__name__} would not see part of the motion it "
                 f"commands (the error stalls). " + self._dofs_remedy(moving))
+        self._model, self._data = robot.model, robot.data
 
     def _dofs_remedy(self, moving: tuple[int, ...]) -> str:
         return f"Use dofs={moving} (the default, derived from the robot)."
 
     damping_twist = 1e-6
+
+    @staticmethod
+    def _image(meas: Any) -> tuple:
+        image = meas.image
+        return image.xy[:, 0], image.xy[:, 1], image.z, image.visible
+
+    def __call__(self, t: float, meas: Any) -> np.ndarray:
+        u, signals = self.servo_law(Numeric, self._K, meas.q, meas.qd, self._image(meas),
+                                    getattr(meas, "estimate", None))
+        self.record(**signals)
+        return u
+
+    def symbolic(self) -> Any:
+        from controllers.compiled import no_symbolic_form
+
+        raise no_symbolic_form(self, "a camera law runs compiled inside visual_servo(camera, law, Tc)")
 
     def joint_rates(self, q: np.ndarray, twist: np.ndarray) -> np.ndarray:
         """q̇ = J_c^† [v_c; ω_c]: the joint rates of a camera twist (camera frame), damped least squares
@@ -546,7 +515,11 @@ class _CameraLaw(LoggedController):
 
     def pbvs_jacobian(self, q: np.ndarray, x_co: np.ndarray) -> np.ndarray:
         """J_Ad = ∂x_{c,o}/∂q = Γ(o_{c,o}) [R_cᵀ J_P; ω_z rows] (4×n), 4-DOF case of (10.67)."""
-        return gamma_matrix(x_co) @ camera_jacobian(self.robot, q, self.frame)[_SCARA_ROWS]
+        return self._pbvs_jacobian(Numeric, q, x_co)
+
+    def _pbvs_jacobian(self, ops: Any, q: Any, x_co: Any) -> Any:
+        Jc = ops.camera_jacobian(self._model, self._data, self.frame, q)
+        return gamma_matrix(x_co, ops) @ Jc[ops.index(_SCARA_ROWS), :]
 
 
 class _PlanarPoseLaw(_CameraLaw):
@@ -564,34 +537,20 @@ class PBVSPDGravity(_PlanarPoseLaw):
     """u = g(q) + J_Adᵀ(K_P x̃ − K_D J_Ad q̇), x̃ = x_{d,o} − x̂_{c,o} (Fig. 10.14), reading ``meas.q``,
     ``meas.qd`` and the estimate ``meas.estimate``. Logs ``x_tilde``."""
 
+    servo = True
+
     def __init__(self, robot: Robot, x_do: Any, K_P: Any, K_D: Any, frame: str | int | None = None):
         super().__init__(robot, frame)
         self.x_do = as_vector(x_do, 4, "x_do")
         self.K_P = np.diag(as_vector(K_P, 4, "K_P"))
         self.K_D = np.diag(as_vector(K_D, 4, "K_D"))
-        self._k_p, self._k_d = np.diag(self.K_P).copy(), np.diag(self.K_D).copy()   # diagonal gains as vectors
+        self.set_gains(K_P=np.diag(self.K_P)[:, None], K_D=np.diag(self.K_D)[:, None])
 
-    def __call__(self, t: float, meas: Any) -> np.ndarray:
-        x_hat = meas.estimate
-        J = self.pbvs_jacobian(meas.q, x_hat)
-        x_tilde = _pose_error(self.x_do, x_hat)
-        self.record(x_tilde=x_tilde)
-        g = pin.computeGeneralizedGravity(self.robot.model, self.robot.data, meas.q)   # g(q), (7.39)
-        return g + J.T @ (self._k_p * x_tilde - self._k_d * (J @ meas.qd))
-
-    def symbolic_gains(self) -> dict[str, np.ndarray]:
-        return {"K_P": self._k_p[:, None], "K_D": self._k_d[:, None]}
-
-    def symbolic_law(self, q: Any, qd: Any, image: tuple, estimate: Any, K: dict) -> tuple[Any, dict[str, Any]]:
-        """The law (Fig. 10.14) in CasADi expressions (``image`` unused: the estimate carries it)."""
-        import casadi as ca
-
-        from rigid_body.symbolic import gravity_expression
-
-        Jc = _symbolic_camera_jacobian(self.robot, self.frame, q)
-        J = _symbolic_gamma(estimate) @ Jc[_SCARA_ROWS.tolist(), :]
-        x_tilde = _symbolic_wrapped_difference(ca.DM(self.x_do), estimate)
-        g = gravity_expression(self.robot, q)
+    def servo_law(self, ops: Any, K: dict, q: Any, qd: Any, image: tuple, estimate: Any) -> tuple[Any, dict]:
+        """The law (Fig. 10.14), once for both loops (``image`` unused: the estimate carries it)."""
+        J = self._pbvs_jacobian(ops, q, estimate)
+        x_tilde = _wrapped_difference(ops, self.x_do, estimate)
+        g = ops.gravity(self._model, self._data, q)                                    # g(q), (7.39)
         return g + J.T @ (K["K_P"] * x_tilde - K["K_D"] * (J @ qd)), {"x_tilde": x_tilde}
 
 
@@ -615,7 +574,7 @@ class PBVSResolvedVelocity(_PlanarPoseLaw):
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         x_hat = meas.estimate
-        x_tilde = _pose_error(self.x_do, x_hat)
+        x_tilde = _wrapped_difference(Numeric, self.x_do, x_hat)
         self.record(x_tilde=x_tilde)
         return resolved_rates(self.pbvs_jacobian(meas.q, x_hat), self._k * x_tilde,
                               f"(J_Ad at q = {np.round(meas.q, 6).tolist()}, t = {t:.4g} s)", self.max_condition,
@@ -674,14 +633,6 @@ def _general_position(points: np.ndarray, name: str) -> None:
                          f"collinear), got {points.tolist()}") from None
 
 
-def _pose_error(x_d: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """x_d − x of 4-DOF poses, the angle difference wrapped to (−π, π]."""
-    e = x_d - x
-    a = float(e[3])
-    e[3] = math.atan2(math.sin(a), math.cos(a))
-    return e
-
-
 # --------------------------------------------------------------------------------------------
 # Image-based visual servoing (Sect. 10.7.2)
 # --------------------------------------------------------------------------------------------
@@ -690,15 +641,17 @@ class _IBVSLaw(_CameraLaw):
     """Shared part of the IBVS laws: e_s = s_d − s and J_L = L̂_s(s, ẑ)[:, dofs] J_c[dofs] from ``meas.image``.
 
     ``depth``: a number = the same depth for every point (e.g. the desired one, z_d); None = the measured
-    depths (known depth); a function ``image -> z (n,)`` = an estimate (e.g. :func:`depth_from_segment`). Points
-    not seen drop their rows (point features); with none left the command is zero.
+    depths (known depth); :func:`depth_from_segment` or any function ``image -> z (n,)`` = an estimate (a plain
+    function runs on the Python loop only). Points not seen drop their rows (point features: zero rows in
+    :meth:`features_and_jacobian`, the one body); with none left the command is zero.
 
     ``dofs``: the camera-twist components the law commands (default: those the robot moves its camera along,
     :func:`camera_dofs`). Refused at construction (ValueError) when the robot's camera also moves along a
     component left out, or when L_s(s_d)[:, dofs] J_c[dofs] has a rank below min(k features, len(dofs)) at
     every sampled posture (the chosen components cannot reduce the feature error). A servo that stalls —
     J_Lᵀ K e_s ≈ 0 with e_s not small: the law commands (almost) nothing while the error remains (a local
-    minimum) — is reported once per run by a ``RuntimeWarning`` and kept in ``stall`` ((t, ‖e_s‖) or None).
+    minimum) — is reported once per run by a ``RuntimeWarning`` and kept in ``stall`` ((t, ‖e_s‖) or None; the
+    Python loop's diagnosis).
     """
 
     STALL_ERROR = 1e-4         # ‖e_s‖ (normalised image units, 0.06 px at f α = 600 px) below which the servo has converged
@@ -721,7 +674,6 @@ class _IBVSLaw(_CameraLaw):
     def reset(self) -> None:
         super().reset()
         self.stall = None
-
     def _estimated_depths(self, image: CameraImage) -> np.ndarray:
         """The depth estimate ``depth(image)``, checked where a point is seen: (n,), finite and positive."""
         z = np.asarray(self.depth(image), dtype=float)
@@ -738,9 +690,7 @@ class _IBVSLaw(_CameraLaw):
         camera motions leave the features unchanged (coincident desired points, a segment seen end-on)."""
         xy = self._desired_points()
         z = np.full(len(xy), self.depth if isinstance(self.depth, float) else 1.0)
-        L = _points_interaction(xy, z)
-        if self.target.kind == "segment":
-            L = _segment_jacobian(xy) @ L
+        L = self.target.interaction_law(Numeric, xy[:, 0], xy[:, 1], z)
         L = L[:, self._dofs]
         k, best = L.shape[0], None
         for q in _configurations(self.robot):
@@ -783,79 +733,78 @@ class _IBVSLaw(_CameraLaw):
                           f"minimum of IBVS, or `dofs` {tuple(self.dofs)} that miss the camera's motion)",
                           RuntimeWarning, stacklevel=2)
 
+    def features_and_jacobian(self, ops: Any, q: Any, image: tuple) -> tuple[Any, Any, Any]:
+        """(e_s, J_L, used) at the image (x, y, z, seen), for either loop: the rows of the features not seen are
+        zero in e_s and J_L (``used`` False there), which is the law without them."""
+        x, y, z, seen = image
+        Jc = ops.camera_jacobian(self._model, self._data, self.frame, q)
+        if self.depth is None:
+            z_used = ops.where(seen, z, 1.0)                          # measured (unseen rows are dropped)
+        elif callable(self.depth):
+            z_used = self._estimated_depth(ops, x, y, z, seen)
+        else:
+            z_used = self._depths
+        if self.target.kind == "segment":
+            both = ops.logic_and(seen[0], seen[1])
+            used = ops.repeat(ops.vector(both), 4)
+            xs, ys = ops.where(used[:2], x, _SPARE_ENDS), ops.where(used[:2], y, 0.0)   # a valid segment when lost
+            s = self.target.features_law(ops, xs, ys)
+            L = self.target.interaction_law(ops, xs, ys, ops.where(used[:2], z_used, 1.0))
+            e = self.target.error_law(ops, self.s_d, s)
+        else:
+            used = ops.repeat(seen, 2)
+            xs, ys = ops.where(seen, x, 0.0), ops.where(seen, y, 0.0)
+            e = self.s_d - ops.interleave(xs, ys)
+            L = _points_interaction(ops, xs, ys, z_used)
+        J = ops.columns(L, self._dofs) @ Jc[ops.index(self._dofs), :]
+        return ops.where(used, e, 0.0), ops.where(used, J, 0.0), used
+
+    def _estimated_depth(self, ops: Any, x: Any, y: Any, z: Any, seen: Any) -> Any:
+        law = getattr(self.depth, "depth_law", None)
+        if law is not None:
+            return law(ops, x, y, seen)
+        if ops.symbolic:
+            from controllers.compiled import no_symbolic_form
+
+            raise no_symbolic_form(self.depth, "a depth estimate needs depth_law(ops, x, y, seen)")
+        return self._estimated_depths(CameraImage(xy=np.column_stack((x, y)), visible=seen, z=z))
+
     def error_and_jacobian(self, q: np.ndarray, image: CameraImage) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(e_s, J_L, rows used) at the current image; rows of unseen points are removed."""
-        Jc = camera_jacobian(self.robot, q, self.frame)
-        seen = image.visible
-        if self.depth is None:
-            z = image.z
-        elif callable(self.depth):
-            z = self._estimated_depths(image)
-        else:
-            z = self._depths if len(self._depths) == len(seen) else np.full(len(seen), self.depth)
-        if self.target.kind == "segment":
-            if not (seen[0] and seen[1]):
-                return np.zeros(0), np.zeros((0, len(q))), np.zeros(0, dtype=int)
-            rows = np.arange(4)
-            s = self.target._features(image.xy)
-            L = self.target._interaction(image.xy, z)
-        else:
-            rows = np.flatnonzero(np.repeat(seen, 2))
-            s = image.xy.reshape(-1)[rows]
-            L = _points_interaction(image.xy[seen], z[seen])
-        e = self.target.error(self.s_d, s) if self.target.kind == "segment" else self.s_d[rows] - s
-        return e, L[:, self._dofs] @ Jc[self._dofs], rows
-
+        e, J, used = self.features_and_jacobian(Numeric, q, (image.xy[:, 0], image.xy[:, 1], image.z,
+                                                              image.visible))
+        rows = np.flatnonzero(used)
+        if self.target.kind == "segment" and rows.size == 0:
+            return np.zeros(0), np.zeros((0, len(q))), rows
+        return e[rows], J[rows], rows
 
 
 class IBVSPDGravity(_IBVSLaw):
     """u = g(q) + J_Lᵀ(K_Ps e_s − K_Ds J_L q̇), e_s = s_d − s (Fig. 10.16). Logs ``e_s``."""
+
+    servo = True
 
     def __init__(self, robot: Robot, target: TargetFeatures, s_d: Any, K_Ps: Any, K_Ds: Any,
                  depth: Any = None, frame: str | int | None = None, dofs: Sequence[int] | None = None):
         super().__init__(robot, target, s_d, depth, frame, dofs)
         self.K_Ps = _positive_gains(K_Ps, target.size, "K_Ps")
         self.K_Ds = _positive_gains(K_Ds, target.size, "K_Ds")
+        self.set_gains(K_Ps=self.K_Ps[:, None], K_Ds=self.K_Ds[:, None])
+
+    def servo_law(self, ops: Any, K: dict, q: Any, qd: Any, image: tuple, estimate: Any) -> tuple[Any, dict]:
+        """The law (Fig. 10.16), once for both loops: the rows of the features not seen are zero."""
+        return self._pd(ops, K, q, qd, *self.features_and_jacobian(ops, q, image))
+
+    def _pd(self, ops: Any, K: dict, q: Any, qd: Any, e: Any, J: Any, used: Any) -> tuple[Any, dict]:
+        g = ops.gravity(self._model, self._data, q)                                    # g(q), (7.39)
+        return g + J.T @ (K["K_Ps"] * e - K["K_Ds"] * (J @ qd)), {"e_s": ops.where(used, e, np.nan)}
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
-        e, J, rows = self.error_and_jacobian(meas.q, meas.image)
-        self.record(e_s=_full(e, rows, self.target.size))
-        g = pin.computeGeneralizedGravity(self.robot.model, self.robot.data, meas.q)   # g(q), (7.39)
-        K_Ps, K_Ds = (self.K_Ps, self.K_Ds) if rows.size == self.target.size else (self.K_Ps[rows], self.K_Ds[rows])
-        Ke = K_Ps * e
-        self._watch_stall(t, e, J, Ke)
-        return g + J.T @ (Ke - K_Ds * (J @ meas.qd))
-
-    def symbolic_gains(self) -> dict[str, np.ndarray]:
-        return {"K_Ps": self.K_Ps[:, None], "K_Ds": self.K_Ds[:, None]}
-
-    def symbolic_law(self, q: Any, qd: Any, image: tuple, estimate: Any, K: dict) -> tuple[Any, dict[str, Any]]:
-        """The law (Fig. 10.16) in CasADi expressions, every point seen; the depth measured or a constant ẑ."""
-        import casadi as ca
-
-        from rigid_body.symbolic import gravity_expression
-
-        if callable(self.depth):
-            raise ValueError("the symbolic IBVS law takes the measured or a constant depth: use backend='python'")
-        x, y, z = image
-        if self.depth is not None:
-            z = ca.DM(self._depths)
-        L = _symbolic_points_interaction(x, y, z)
-        if self.target.kind == "segment":
-            dx, dy = x[1] - x[0], y[1] - y[0]
-            L2 = dx * dx + dy * dy
-            Ln = ca.sqrt(L2)
-            D = ca.vertcat(ca.horzcat(0.5, 0.0, 0.5, 0.0), ca.horzcat(0.0, 0.5, 0.0, 0.5),
-                           ca.horzcat(-dx / Ln, -dy / Ln, dx / Ln, dy / Ln),
-                           ca.horzcat(dy / L2, -dx / L2, -dy / L2, dx / L2))      # ∂s/∂[x1, y1, x2, y2] (10.28)
-            L = D @ L
-            e = _symbolic_wrapped_difference(ca.DM(self.s_d), _symbolic_segment(x[0], y[0], x[1], y[1]))
-        else:
-            e = ca.DM(self.s_d) - ca.vec(ca.horzcat(x, y).T)
-        dofs = self._dofs.tolist()
-        J = L[:, dofs] @ _symbolic_camera_jacobian(self.robot, self.frame, q)[dofs, :]
-        g = gravity_expression(self.robot, q)
-        return g + J.T @ (K["K_Ps"] * e - K["K_Ds"] * (J @ qd)), {"e_s": e}
+        e, J, used = self.features_and_jacobian(Numeric, meas.q, self._image(meas))
+        u, signals = self._pd(Numeric, self._K, meas.q, meas.qd, e, J, used)
+        self._watch_stall(t, e, J, self._K["K_Ps"] * e)        # the zero rows change no norm nor Jᵀ K e
+        self.record(**signals)
+        return u
 
 
 class IBVSResolvedVelocity(_IBVSLaw):
@@ -892,20 +841,30 @@ def _positive_gains(K: Any, size: int, name: str) -> np.ndarray:
     return k
 
 
-def depth_from_segment(length: float) -> Any:
+_SPARE_ENDS = np.array([0.0, 1.0])      # x of a unit segment standing in for a segment not seen (rows masked)
+
+
+class SegmentDepth:
+    """The depth estimate of :func:`depth_from_segment`: z ≈ ℓ/L for both end points, a function of the image
+    (``__call__``) and of its coordinates for either loop (:meth:`depth_law`)."""
+
+    def __init__(self, length: float):
+        self.length = as_positive(length, "length")
+
+    def depth_law(self, ops: Any, x: Any, y: Any, seen: Any) -> Any:
+        L = ops.hypot(x[1] - x[0], y[1] - y[0])
+        z = self.length / ops.unless(L == 0.0, lambda: L, lambda: "depth_from_segment: the segment's end points "
+                                     "coincide in the image (the segment is seen end-on): its depth ℓ/L is undefined")
+        return ops.vector(*([z] * x.shape[0]))
+
+    def __call__(self, image: CameraImage) -> np.ndarray:
+        return self.depth_law(Numeric, image.xy[:, 0], image.xy[:, 1], image.visible)
+
+
+def depth_from_segment(length: float) -> SegmentDepth:
     """A depth estimate for a segment of known ``length`` [m] parallel to the image plane: z ≈ ℓ/L, with L
     the segment's image length (10.28) — both end points get it (NaN when an end point is not seen)."""
-    length = as_positive(length, "length")
-
-    def estimate(image: CameraImage) -> np.ndarray:
-        d = image.xy[1] - image.xy[0]
-        image_length = math.hypot(d[0], d[1])
-        if image_length == 0:
-            raise ValueError("depth_from_segment: the segment's end points coincide in the image (the segment is "
-                             "seen end-on): its depth ℓ/L is undefined")
-        return np.full(len(image.visible), length / image_length)
-
-    return estimate
+    return SegmentDepth(length)
 
 
 def _full(e: np.ndarray, rows: np.ndarray, size: int) -> np.ndarray:
@@ -927,9 +886,11 @@ def visual_servo(camera: EyeInHandCamera, law: Any, Tc: float, estimator: PoseEs
 
 class VisualServo(Chain):
     """The chain of :func:`visual_servo` (camera → [estimator →] law held over ``Tc``), with its symbolic
-    form for ``simulate(..., backend="casadi")``: the estimate x̂, the held torque and the held log of the
-    law are the law's state; the instants where the hold samples the law are found by the rule of
-    :class:`~controllers.simulation.ZeroOrderHold` on the run's grid and fed as a reference row."""
+    form for ``simulate(..., backend="casadi")``: the blocks' one bodies (:meth:`EyeInHandCamera.image_law`,
+    :meth:`PoseEstimator.estimator_law`, the law's ``servo_law``) composed on symbols; the estimate x̂, the held
+    torque and the held log of the law are the law's state; the instants where the hold samples the law are
+    found by the rule of :class:`~controllers.simulation.ZeroOrderHold` on the run's grid and fed as a
+    reference row, with the camera's noise and occlusion (:meth:`EyeInHandCamera.inputs_at`)."""
 
     def _blocks(self) -> tuple[EyeInHandCamera, PoseEstimator | None, ZeroOrderHold]:
         inner = self.second
@@ -939,30 +900,31 @@ class VisualServo(Chain):
 
     @property
     def compilable(self) -> bool:
-        """Whether :meth:`symbolic` can build the chain: its law has a ``symbolic_law``."""
-        return hasattr(self._blocks()[2].block, "symbolic_law")
+        """Whether :meth:`symbolic` can build the chain: its law is written once (``servo_law``)."""
+        return getattr(self._blocks()[2].block, "servo", False)
 
     def symbolic(self) -> Any:
-        """The chain as a :class:`controllers.compiled.SymbolicLaw` (laws with ``symbolic_law``:
+        """The chain as a :class:`controllers.compiled.SymbolicLaw` (laws with a ``servo_law``:
         :class:`PBVSPDGravity`, :class:`IBVSPDGravity`); the parameters are the law's gains."""
         import casadi as ca
 
-        from controllers.compiled import SymbolicLaw
+        from controllers.compiled import SymbolicLaw, no_symbolic_form
 
         camera, estimator, hold = self._blocks()
         law = hold.block
-        if not hasattr(law, "symbolic_law"):
-            raise ValueError(f"`controller`: {type(law).__name__} has no symbolic law: use backend='python'")
+        if not getattr(law, "servo", False):
+            raise no_symbolic_form(law, "a camera law needs its one body servo_law")
         robot = camera.robot
         n = robot.nv
-        gains = {name: ca.DM(value) for name, value in law.symbolic_gains().items()}
-        _, _, probe = self._symbolic_parts(law, estimator, camera, ca.SX.sym("q", robot.nq), ca.SX.sym("qd", n),
-                                           ca.SX.sym("x_hat", 4), gains)
+        gains = {name: ca.DM(value) for name, value in law.gains.items()}
+        q_sym, qd_sym = ca.SX.sym("q", robot.nq), ca.SX.sym("qd", n)
+        _, _, probe = self._parts(law, estimator, camera, q_sym, qd_sym, ca.SX.sym("x_hat", 4), gains,
+                                  ca.SX.sym("r", camera.n_inputs))
         held_sizes = [probe["law"][name].shape[0] for name in sorted(probe["law"])]
 
         def parts(q: Any, qd: Any, r: Any, K: dict, state: Any, dt: Any) -> tuple[Any, dict, Any]:
             x_hat = state[:4] if estimator is not None else None
-            u_law, x_next, logs = self._symbolic_parts(law, estimator, camera, q, qd, x_hat, K)
+            u_law, x_next, logs = self._parts(law, estimator, camera, q, qd, x_hat, K, r[1:])
             sample = r[0] > 0.5                                             # the hold samples the law now
             k = 4 if estimator is not None else 0
             u = ca.if_else(sample, u_law, state[k:k + n])
@@ -976,29 +938,42 @@ class VisualServo(Chain):
 
         x0 = [estimator.x_hat] if estimator is not None else []
         state = np.concatenate(x0 + [np.zeros(n)] + [np.zeros(size) for size in held_sizes])
-        return SymbolicLaw.build(robot.nq, n, 1, law.symbolic_gains(), parts, _HoldInstants(hold.Ts), state=state)
+        return SymbolicLaw.build(robot.nq, n, 1 + camera.n_inputs, law.gains, parts,
+                                 _ChainInputs(hold.Ts, camera), state=state)
+
+    def compiled_inputs(self, n_state: int) -> tuple[np.ndarray, np.ndarray, Any]:
+        """(p, c_0, reference) of a compiled run of this chain (:func:`controllers.compiled.law_inputs`): the law's
+        gains, the estimate after ``reset()`` then zeros (the held torque and log), the hold and camera rows."""
+        camera, estimator, hold = self._blocks()
+        p = np.concatenate([np.atleast_2d(np.asarray(v, dtype=float)).ravel(order="F") for v in hold.block.gains.values()])
+        x0 = [estimator.x_hat] if estimator is not None else []
+        c0 = np.concatenate(x0 + [np.zeros(n_state - (4 if estimator is not None else 0))])
+        return p, c0, _ChainInputs(hold.Ts, camera)
 
     @staticmethod
-    def _symbolic_parts(law: Any, estimator: Any, camera: EyeInHandCamera, q: Any, qd: Any, x_hat: Any,
-                        K: dict) -> tuple[Any, Any, dict]:
-        x, y, z = camera.symbolic_view(q)
-        x_next, est_log = (None, {}) if estimator is None else estimator.symbolic_step(x_hat, x, y)
-        u, law_log = law.symbolic_law(q, qd, (x, y, z), x_hat, K)
+    def _parts(law: Any, estimator: Any, camera: EyeInHandCamera, q: Any, qd: Any, x_hat: Any, K: dict,
+               inputs: Any) -> tuple[Any, Any, dict]:
+        from controllers.compiled import Symbolic
+
+        x, y, z, seen = camera.image_law(Symbolic, q, *camera.split_inputs(inputs))
+        x_next, est_log = (None, {}) if estimator is None else estimator.estimator_law(Symbolic, x_hat, x, y, seen)
+        u, law_log = law.servo_law(Symbolic, K, q, qd, (x, y, z, seen), x_hat)
         return u, x_next, {"estimator": est_log, "law": law_log}
 
 
-class _HoldInstants:
-    """The reference row of :class:`VisualServo`: 1 at the samples where a :class:`ZeroOrderHold` of period
-    ``Ts`` evaluates its block (:meth:`ZeroOrderHold.instants`, from the first sample of the run), else 0."""
+class _ChainInputs:
+    """The reference rows of :class:`VisualServo`: 1 at the samples where a :class:`ZeroOrderHold` of period
+    ``Ts`` evaluates its block (:meth:`ZeroOrderHold.instants`, from the first sample of the run), else 0; then
+    the camera's inputs (:meth:`EyeInHandCamera.inputs_at`: noise, occlusion)."""
 
-    def __init__(self, Ts: float):
-        self.Ts = Ts
+    def __init__(self, Ts: float, camera: EyeInHandCamera):
+        self.Ts, self.camera = Ts, camera
 
     def __call__(self, t: float) -> np.ndarray:
         raise ValueError("the hold instants depend on the run's first sample: sample them with at_times")
 
     def at_times(self, times: np.ndarray) -> np.ndarray:
-        return ZeroOrderHold.instants(times, self.Ts).astype(float)[None]
+        return np.vstack([ZeroOrderHold.instants(times, self.Ts).astype(float)[None], self.camera.inputs_at(times)])
 
 
 # --------------------------------------------------------------------------------------------

@@ -10,8 +10,8 @@ a Pinocchio ``GeometryModel``) and boxes added as ``coal.Box`` geometry objects 
   never count), a broad phase (a coal dynamic AABB tree through Pinocchio's ``BroadPhaseManager``)
   in front of the exact narrow phase, and the pairwise check (every active pair) kept as the reference.
 * The edge certificate (:meth:`CollisionChecker.clearances`, :meth:`UrdfCSpace.certify_edge`): the
-  distance of every active pair (coal's GJK through ``pin.computeDistances``, on the convex hulls of the
-  collision meshes — a hull contains its mesh, so its distance is a lower bound) against a bound on how
+  distance of every active pair (coal's GJK through ``pin.computeDistances``, on one convex hull per link
+  of its collision shapes — a hull contains its shapes, so its distance is a lower bound) against a bound on how
   far the pair's two members can move relative to each other along a straight joint-space edge,
   Σ_k r_k |Δq_k| over the joints that move one relative to the other (r_k: the farthest point of the
   shapes beyond joint k from its axis, from the joint placements and the shapes' bounding spheres;
@@ -41,7 +41,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from planners.configuration_space import EdgeCertificate, certify_by_bisection
+from planners.configuration_space import EDGE_QUERY_BUDGET, EdgeCertificate, certify_by_bisection
 from rigid_body.robots import example_robot_data_dir
 from rigid_body.validation import as_generator, as_positive, as_vector
 
@@ -151,7 +151,7 @@ class CollisionChecker:
             for b in box_ids:
                 geom.addCollisionPair(pin.CollisionPair(i, b))
         self.geom = geom
-        self.distance_geom = _convex_hulls(geom)
+        self.distance_geom = _convex_hulls(geom, set(box_ids))
         self._local = threading.local()
         self._static_contact_check([i for i in range(n_robot) if parents[i] == 0], box_ids)
         self.pair_rates = self._pair_rates()
@@ -259,8 +259,9 @@ class CollisionChecker:
 
     def _pair_rates(self) -> np.ndarray:
         """W (P, nq): the relative motion of pair p's two shapes along a straight step Δq is at most
-        Σ_k W[p, k] |Δq_k| (module docstring); ∞ in the columns of joints that are neither revolute nor
-        prismatic (no certificate for them)."""
+        Σ_k W[p, k] |Δq_k| (module docstring): r_k for a revolute joint k between the two shapes (a bound on
+        the distance of the moving shape's points from k's axis), 1 for a prismatic one; ∞ in the columns of
+        joints that are neither (no certificate for them)."""
         model, geom = self.model, self.distance_geom
         chains = {}
         for j in range(model.njoints):
@@ -270,19 +271,43 @@ class CollisionChecker:
                 k = model.parents[k]
             chains[j] = chain[::-1]
 
-        def reach(g: int, k: int) -> float:
-            """A bound on the distance of any point of shape g from joint k's origin (k on g's chain)."""
+        def points(g: int) -> np.ndarray:
+            """Points whose convex hull holds shape g, in its parent joint's frame: the hull's vertices, a box's
+            corners, else the corners of its local AABB."""
             obj = geom.geometryObjects[g]
-            obj.geometry.computeLocalAABB()
-            c = obj.placement.act(np.asarray(obj.geometry.aabb_center, dtype=float))
-            r = float(np.linalg.norm(c)) + float(obj.geometry.aabb_radius)
-            chain = chains[obj.parentJoint]
-            for m in chain[chain.index(k) + 1:]:
-                r += float(np.linalg.norm(model.jointPlacements[m].translation))
-                if _joint_kind(model, m) == "prismatic":
-                    r += float(max(abs(model.lowerPositionLimit[model.idx_qs[m]]),
-                                   abs(model.upperPositionLimit[model.idx_qs[m]])))
-            return r
+            shape = obj.geometry
+            if callable(getattr(shape, "points", None)):
+                V = np.asarray(shape.points(), dtype=float)
+            else:
+                shape.computeLocalAABB()
+                lo, hi = np.asarray(shape.aabb_local.min_), np.asarray(shape.aabb_local.max_)
+                V = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+            return V @ obj.placement.rotation.T + obj.placement.translation
+
+        def prismatic_range(m: int) -> float:
+            if _joint_kind(model, m) != "prismatic":
+                return 0.0
+            i = model.idx_qs[m]
+            return float(max(abs(model.lowerPositionLimit[i]), abs(model.upperPositionLimit[i])))
+
+        def reach(g: int, k: int) -> float:
+            """A bound on the distance of any point of shape g from revolute joint k's axis (k on g's chain).
+
+            A point p beyond k: p − o_k = t_{k+1} + (p − o_{k+1}); joint k turns t_{k+1} about its axis, so its
+            distance from the axis is the constant |t_{k+1} × a_k|; the rest is bounded along the chain by
+            the joint offsets (and prismatic ranges) and the shape's farthest point from its own joint."""
+            V = points(g)
+            j = geom.geometryObjects[g].parentJoint
+            axis = _axis(model, k)
+            if j == k:
+                return float(np.max(np.linalg.norm(np.cross(V, axis) if axis is not None else V, axis=1)))
+            chain = chains[j]
+            after = chain[chain.index(k) + 1:]
+            t = np.asarray(model.jointPlacements[after[0]].translation, dtype=float)
+            r = float(np.linalg.norm(np.cross(t, axis) if axis is not None else t)) + prismatic_range(after[0])
+            for m in after[1:]:
+                r += float(np.linalg.norm(model.jointPlacements[m].translation)) + prismatic_range(m)
+            return r + float(np.max(np.linalg.norm(V, axis=1)))
 
         W = np.zeros((len(geom.collisionPairs), model.nq))
         for p, pair in enumerate(geom.collisionPairs):
@@ -314,15 +339,68 @@ def _joint_kind(model: Any, j: int) -> str | None:
     return None
 
 
-def _convex_hulls(geom: Any) -> Any:
-    """A copy of the geometry model whose meshes are replaced by their convex hulls (coal ``Convex``), for
-    fast GJK distances that never exceed the meshes' own."""
-    out = geom.clone()
-    for obj in out.geometryObjects:
-        g = obj.geometry
-        if isinstance(g, coal.BVHModelBase):
-            g.buildConvexHull(True, "Qt")
-            obj.geometry = g.convex
+def _axis(model: Any, j: int) -> np.ndarray | None:
+    """The unit axis of revolute joint j in its own frame (None when unknown: the bounds then use the distance
+    from the joint's origin)."""
+    name = model.joints[j].shortname()
+    for suffix, a in (("RX", (1.0, 0.0, 0.0)), ("RY", (0.0, 1.0, 0.0)), ("RZ", (0.0, 0.0, 1.0))):
+        if name.endswith(suffix):
+            return np.array(a)
+    try:
+        a = np.asarray(model.joints[j].extract().axis, dtype=float)
+        return a / np.linalg.norm(a)
+    except (AttributeError, TypeError, ValueError):
+        return None
+
+
+def _hull_points(obj: Any) -> np.ndarray | None:
+    """Points whose convex hull is the shape (a mesh's or convex's vertices, a box's corners), in the parent
+    joint's frame; None for other shapes (spheres, cylinders, ...)."""
+    g = obj.geometry
+    if isinstance(g, coal.BVHModelBase):
+        V = np.asarray(g.vertices(), dtype=float)
+    elif callable(getattr(g, "points", None)):
+        V = np.asarray(g.points(), dtype=float)
+    elif isinstance(g, coal.Box):
+        V = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * np.asarray(g.halfSide)
+    else:
+        return None
+    return V @ obj.placement.rotation.T + obj.placement.translation
+
+
+def _convex_hulls(geom: Any, obstacles: set) -> Any:
+    """The certificate's geometry: one convex hull (coal ``Convex``) per robot link of all that link's shapes
+    (a Panda finger's four boxes become one), meshes replaced by their hulls; obstacles and shapes without a
+    vertex description kept as they are. A hull contains its shapes, so its distances never exceed theirs;
+    fewer shapes make fewer pairs (the Panda's 92 become 50). The pairs are the collision model's, mapped to
+    the hulls."""
+    groups: dict = {}
+    for i, obj in enumerate(geom.geometryObjects):
+        pts = None if i in obstacles else _hull_points(obj)
+        key = ("link", obj.parentFrame) if pts is not None else ("single", i)
+        groups.setdefault(key, []).append((i, pts))
+    out = pin.GeometryModel()
+    index = {}
+    for key, members in groups.items():
+        first = geom.geometryObjects[members[0][0]]
+        if key[0] == "single":
+            shape, placement = first.geometry, first.placement
+            name = first.name
+        else:
+            points = coal.StdVec_Vec3s()
+            for p in np.vstack([pts for _, pts in members]):
+                points.append(p)
+            shape, placement = coal.Convex.convexHull(points, True, "Qt"), pin.SE3.Identity()
+            name = first.name if len(members) == 1 else f"{first.name}+{len(members) - 1}"
+        k = out.addGeometryObject(pin.GeometryObject(name, first.parentJoint, first.parentFrame, placement, shape))
+        for i, _ in members:
+            index[i] = k
+    done = set()
+    for pair in geom.collisionPairs:
+        a, b = sorted((index[pair.first], index[pair.second]))
+        if a != b and (a, b) not in done:
+            done.add((a, b))
+            out.addCollisionPair(pin.CollisionPair(a, b))
     return out
 
 
@@ -368,7 +446,7 @@ class UrdfCSpace:
         return a + np.asarray(s, dtype=float)[..., None] * (np.asarray(b, dtype=float) - a)
 
     def in_bounds(self, q: np.ndarray) -> bool:
-        return bool(np.all(q >= self.lower) and np.all(q <= self.upper))
+        return bool((q >= self.lower).all() and (q <= self.upper).all())
 
     def is_valid(self, q: Any) -> bool:
         """Within the joint limits and collision-free."""
@@ -412,7 +490,7 @@ class UrdfCSpace:
         return self.checker.pair_rates @ np.abs(np.asarray(b, dtype=float) - np.asarray(a, dtype=float))
 
     def certify_edge(self, a: Any, b: Any, ca: np.ndarray | None = None, cb: np.ndarray | None = None,
-                     max_queries: int = 100_000) -> EdgeCertificate:
+                     max_queries: int = EDGE_QUERY_BUDGET) -> EdgeCertificate:
         """Certificate that the straight edge a → b is collision-free: adaptive bisection
         (:func:`planners.configuration_space.certify_by_bisection`) with the pairs' clearances and motion
         bounds; ``ca``, ``cb`` the clearances at the ends when known. The joint box is convex, so ends inside
@@ -426,5 +504,6 @@ class UrdfCSpace:
                              "certified): use edge_check='sampled'")
         ca = self.clearances(a) if ca is None else ca
         cb = self.clearances(b) if cb is None else cb
-        return certify_by_bisection(lambda s, idx: self.clearances(a + s * (b - a), idx), rates, ca, cb,
-                                    max_queries=max_queries)
+        d = b - a
+        clear = self.checker.clearances                 # the box is convex: the midpoints need no bounds test
+        return certify_by_bisection(lambda s, idx: clear(a + s * d, idx), rates, ca, cb, max_queries=max_queries)

@@ -62,7 +62,7 @@ __all__ = [
     "angular_difference", "configuration_difference", "euclidean_distance", "torus_distance",
     "minkowski_c_obstacle", "PlanarArm", "PlanarBody", "PlanarCSpace", "Scene",
     "check_bounds", "free_grid", "connected_components", "densify", "certify_motion", "certify_straight_path",
-    "EdgeCertificate", "certify_by_bisection", "MAX_GRID_NODES",
+    "EdgeCertificate", "certify_by_bisection", "EDGE_QUERY_BUDGET", "MAX_GRID_NODES",
 ]
 
 
@@ -228,6 +228,8 @@ def distance_to_box(p: Any, obstacle: Any) -> np.ndarray:
 
 
 TWO_PI = 2.0 * np.pi
+EDGE_QUERY_BUDGET = 2000   # distance queries one edge may spend before it is refused (an edge grazing an
+                           # obstacle over a long stretch needs ~ motion bound / clearance of them)
 
 
 # --------------------------------------------------------------------------------------------
@@ -965,7 +967,7 @@ class PlanarCSpace:
         return self.robot.part_motion_bounds(self.difference(a, b))
 
     def certify_edge(self, a: Any, b: Any, ca: np.ndarray | None = None, cb: np.ndarray | None = None,
-                     max_queries: int = 100_000) -> "EdgeCertificate":
+                     max_queries: int = EDGE_QUERY_BUDGET) -> "EdgeCertificate":
         """Certificate that the straight (wrapped) edge a → b is collision-free (:class:`EdgeCertificate`).
 
         A disc robot that only translates (:attr:`PlanarBody.is_translating_disc`) gets the exact
@@ -1071,7 +1073,7 @@ class EdgeCertificate:
 
 
 def certify_by_bisection(clearances: Callable[[float, np.ndarray], np.ndarray], rates: Any, c0: Any, c1: Any,
-                         max_queries: int = 100_000, min_bound: float = 1e-9) -> EdgeCertificate:
+                         max_queries: int = EDGE_QUERY_BUDGET, min_bound: float = 1e-9) -> EdgeCertificate:
     """Adaptive bisection certificate of a motion q(s), s ∈ [0, 1] (Schwarzer, Saha & Latombe 2004).
 
     ``clearances(s, idx)`` gives the distances (len(idx),) of the pairs ``idx`` (robot part–obstacle, or
@@ -1080,7 +1082,8 @@ def certify_by_bisection(clearances: Callable[[float, np.ndarray], np.ndarray], 
     straight C-space edge and for a constant-input arc); ``c0``, ``c1`` the clearances (P,) at the ends.
     A pair is certified on [s_a, s_b] when c(s_a) + c(s_b) > rates·(s_b − s_a): a point that closes the
     gap at s has moved at least c(s_a) from s_a and c(s_b) from s_b. Uncertified pairs are evaluated at
-    the midpoint and both halves recurse; a contact (clearance ≤ 0) refuses the edge, and so does an
+    a split point — the middle of the widest uncovered stretch [c(s_a)/M, 1 − c(s_b)/M] of the worst pair
+    (the midpoint when the ends are alike) — and both parts recurse; a contact (clearance ≤ 0) refuses the edge, and so does an
     interval whose bound is below ``min_bound`` still uncertified (the motion grazes an obstacle) or a
     spent ``max_queries``. Refusing is always safe: only ``free=True`` is a promise.
     """
@@ -1104,7 +1107,10 @@ def certify_by_bisection(clearances: Callable[[float, np.ndarray], np.ndarray], 
             return EdgeCertificate(False, c_min, queries, f"grazes an obstacle near s = {s0:.6g} (clearance → 0)")
         if queries >= max_queries:
             return EdgeCertificate(False, c_min, queries, f"certificate budget of {max_queries} queries spent")
-        sm = 0.5 * (s0 + s1)
+        # split where the worst pair's ends leave the widest uncovered gap [c_a/M, 1 − c_b/M], at its middle
+        lo, hi = ca / M, 1.0 - cb / M
+        w = int(np.argmax(hi - lo))
+        sm = s0 + (s1 - s0) * min(max(0.5 * (lo[w] + hi[w]), 0.05), 0.95)
         cm = np.asarray(clearances(sm, idx), dtype=float)
         queries += 1
         c_min = min(c_min, float(cm.min()))
@@ -1164,6 +1170,11 @@ def certify_straight_path(space: PlanarCSpace, path: Any, step: float = 0.01,
     Intervals where the certificate is inconclusive are bisected, up to ``max_depth`` times.
     Returns (certified, smallest clearance met, number of configurations evaluated).
     """
+    if not isinstance(space, PlanarCSpace):
+        raise ValueError(f"`space` must be a PlanarCSpace (shape-by-shape geometry), got {type(space).__name__}; "
+                         "certify any space's path with planners.sampling.certify_path")
+    as_positive(step, "step")
+
     def clear(q: np.ndarray) -> float:
         return space.scene.clearance(space.robot.bodies(q))
 

@@ -219,10 +219,11 @@ class _EdgeTester:
 
 
 class _Budget:
-    """A planner's wall-clock budget (None: none)."""
+    """A planner's wall-clock budget (None: none) and its bound on rejected samples."""
 
-    def __init__(self, time_limit: float | None) -> None:
+    def __init__(self, time_limit: float | None, max_rejected: int = MAX_REJECTED) -> None:
         self.limit = None if time_limit is None else as_positive(time_limit, "time_limit")
+        self.max_rejected = as_count(max_rejected, "max_rejected")
         self.start = time.perf_counter()
 
     def spent(self) -> bool:
@@ -230,6 +231,14 @@ class _Budget:
 
     def message(self) -> str:
         return f"time limit of {self.limit:g} s reached"
+
+    def exhausted(self, rejected: int) -> str:
+        """Which budget is spent ("" when none): the time limit or the rejected samples."""
+        if self.spent():
+            return self.message()
+        if rejected >= self.max_rejected:
+            return f"{rejected} samples rejected (the budget `max_rejected`): the free set is too small to sample"
+        return ""
 
 
 def path_length(space: PlanningSpace, path: Any) -> float:
@@ -288,8 +297,7 @@ def prm(space: PlanningSpace, q_start: Any, q_goal: Any, rng: Any, n_vertices: i
     n_vertices, max_neighbors = as_count(n_vertices, "n_vertices"), as_count(max_neighbors, "max_neighbors")
     as_positive(max_distance, "max_distance")
     max_vertices = n_vertices if max_vertices is None else as_count(max_vertices, "max_vertices")
-    max_rejected = as_count(max_rejected, "max_rejected")
-    budget = _Budget(time_limit)
+    budget = _Budget(time_limit, max_rejected)
     nodes: list[np.ndarray] = []
     clear: list[np.ndarray | None] = []
     edges: list[tuple[int, int]] = []
@@ -323,11 +331,8 @@ def prm(space: PlanningSpace, q_start: Any, q_goal: Any, rng: Any, n_vertices: i
     samples = rejected = 0
     stop = ""
     while samples < n_vertices or (find(0) != find(1) and samples < max_vertices):
-        if budget.spent():
-            stop = budget.message()
-            break
-        if rejected >= max_rejected:
-            stop = f"{rejected} samples rejected (the budget `max_rejected`): the free set is too small to sample"
+        stop = budget.exhausted(rejected)
+        if stop:
             break
         q = space.sample(rng)
         tester.checks += 1
@@ -615,8 +620,7 @@ def unicycle_rrt(space: PlanningSpace, q_start: Any, q_goal: Any, rng: Any,
     if not 0.0 <= float(goal_bias) <= 1.0:
         raise ValueError(f"`goal_bias` must lie in [0, 1], got {goal_bias}")
     max_iterations = 50 * max_vertices if max_iterations is None else as_count(max_iterations, "max_iterations")
-    max_rejected = as_count(max_rejected, "max_rejected")
-    budget = _Budget(time_limit)
+    budget = _Budget(time_limit, max_rejected)
     times = np.linspace(0.0, delta, as_count(checks, "checks") + 1)[1:]
     tree = _Tree(qs, cs)
     used: list[set] = [set()]
@@ -629,11 +633,9 @@ def unicycle_rrt(space: PlanningSpace, q_start: Any, q_goal: Any, rng: Any,
         if it == max_iterations:
             stop = f"{max_iterations} iterations (the budget `max_iterations`)"
             break
-        if budget.spent():
-            stop = budget.message()
-            break
-        if rejected >= max_rejected:
-            stop = f"{rejected} samples rejected (the budget `max_rejected`)"
+        spent = budget.exhausted(rejected)
+        if spent:
+            stop = spent
             break
         q_rand = qg if rng.random() < goal_bias else space.sample(rng)
         tester.checks += 1

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from rigid_body.rotations import as_homogeneous, homogeneous_inverse
+from rigid_body.rotations import as_homogeneous
 from rigid_body.validation import as_points, as_vector
 
 
@@ -88,7 +88,8 @@ def project(camera: PinholeCamera, p_b: Any, T_bc: Any | None = None) -> Project
     """
     p = as_vector(p_b, 3, "p_b")
     if T_bc is not None:
-        p = (homogeneous_inverse(as_homogeneous(T_bc, "T_bc")) @ np.append(p, 1.0))[:3]   # (5.35)
+        T = as_homogeneous(T_bc, "T_bc")
+        p = to_camera_frame(T[:3, :3], T[:3, 3], p[None])[0]                                     # (5.35)
     if p[2] <= 0:
         raise ValueError(f"point is behind the camera (depth p_z = {p[2]:.4g} m ≤ 0); it cannot be imaged")
     Pi = np.hstack([np.eye(3), np.zeros((3, 1))])
@@ -125,8 +126,13 @@ class FieldOfView:
 
     def contains(self, xy: np.ndarray, margin: float = 0.0) -> np.ndarray:
         """(n,) True where the normalised point (n, 2) lies inside the window shrunk by ``margin``."""
-        return ((xy[:, 0] >= self.x_min + margin) & (xy[:, 0] <= self.x_max - margin)
-                & (xy[:, 1] >= self.y_min + margin) & (xy[:, 1] <= self.y_max - margin))
+        return self.contains_xy(xy[:, 0], xy[:, 1], margin)
+
+    def contains_xy(self, x: Any, y: Any, margin: float = 0.0, both: Any = np.logical_and) -> Any:
+        """:meth:`contains` of the coordinates x (n,), y (n,); ``both`` is the elementwise "and" (numpy's, or
+        CasADi's ``logic_and`` for the compiled loop's masked expressions). NaN (a point not imaged) is outside."""
+        return both(both(x >= self.x_min + margin, x <= self.x_max - margin),
+                    both(y >= self.y_min + margin, y <= self.y_max - margin))
 
 
 @dataclass(frozen=True)
@@ -155,14 +161,31 @@ class TargetView:
         return self
 
 
+def to_camera_frame(R_c: np.ndarray, o_c: np.ndarray, points_b: np.ndarray) -> np.ndarray:
+    """p^c = R_cᵀ (p^b − o_c) of points (n, 3) given in the base frame, for a camera at (R_c, o_c) = T_c^b:
+    the one (5.35) of rmpc (unvalidated; the compiled loop's symbolic form is
+    :meth:`controllers.compiled.Symbolic.to_camera`)."""
+    return (points_b - o_c) @ R_c
+
+
+def perspective(X: np.ndarray, Y: np.ndarray, Z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(x, y, in_front) of (5.40) for camera-frame coordinates (n,) each: x = X/Z, y = Y/Z where Z > 0, NaN for
+    a point at or behind the camera plane (never silently projected). Unvalidated."""
+    in_front = Z > 0
+    if in_front.all():
+        return X / Z, Y / Z, in_front
+    x, y = np.full(Z.shape, np.nan), np.full(Z.shape, np.nan)
+    x[in_front], y[in_front] = X[in_front] / Z[in_front], Y[in_front] / Z[in_front]
+    return x, y, in_front
+
+
 def view_points(p_c: Any, fov: FieldOfView | None = None) -> TargetView:
     """Perspective view (5.40) of points ``p_c`` (n, 3) already in the camera frame."""
     p = as_points(p_c, 3, "p_c")
     z = p[:, 2].copy()
-    in_front = z > 0
-    xy = np.full((p.shape[0], 2), np.nan)
-    xy[in_front] = p[in_front, :2] / z[in_front, None]
-    in_view = in_front.copy() if fov is None else in_front & fov.contains(np.where(in_front[:, None], xy, 0.0))
+    x, y, in_front = perspective(p[:, 0], p[:, 1], z)
+    xy = np.column_stack((x, y))
+    in_view = in_front.copy() if fov is None else in_front & fov.contains(xy)
     return TargetView(p_c=p, z=z, xy=xy, in_front=in_front, in_view=in_view)
 
 
@@ -170,7 +193,7 @@ def view_target(T_bc: Any, points_b: Any, fov: FieldOfView | None = None) -> Tar
     """View of target points ``points_b`` (n, 3), given in the base frame, from a camera at ``T_bc`` = T_c^b (5.35)."""
     T = as_homogeneous(T_bc, "T_bc")
     p = as_points(points_b, 3, "points_b")
-    return view_points((p - T[:3, 3]) @ T[:3, :3], fov)
+    return view_points(to_camera_frame(T[:3, :3], T[:3, 3], p), fov)
 
 
 def view_target_from_robot(robot: Any, q: Any, points_b: Any, frame: str | int | None = None,

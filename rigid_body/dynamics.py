@@ -123,7 +123,11 @@ def friction_torques(robot: Robot, qd: np.ndarray, smoothing: float = 0.0,
         qd = as_vector(qd, robot.nv, "qd")
         if not (np.isfinite(smoothing) and smoothing >= 0):
             raise ValueError(f"`smoothing` must be a non-negative velocity [rad/s], got {smoothing!r}")
-    f = robot.friction if friction is None else friction
+    return friction_kernel(robot.friction if friction is None else friction, qd, smoothing)
+
+
+def friction_kernel(f: JointFriction, qd: np.ndarray, smoothing: float = 0.0) -> np.ndarray:
+    """The unvalidated kernel of :func:`friction_torques` with the friction data ``f`` (the plants' hot path)."""
     s = np.tanh(qd / smoothing) if smoothing > 0 else np.sign(qd)
     return f.viscous * qd + f.coulomb_positive * np.maximum(s, 0.0) + f.coulomb_negative * np.minimum(s, 0.0)
 

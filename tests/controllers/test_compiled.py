@@ -134,22 +134,70 @@ def test_casadi_backend_reproduces_python_loop_in_contact(arm, force_feedback):
         np.testing.assert_allclose(b[name], a[name], rtol=0, atol=1e-9)
 
 
-def test_symbolic_wrench_refuses_what_it_does_not_model(arm):
-    with pytest.raises(ValueError, match="friction"):
-        CompliantPlane([1.2, 0, 0], [-1, 0, 0], 5e3, friction=0.3).symbolic_wrench_at(np.zeros(3), np.zeros(6))
-    stepped = SteppedPlane([1.2, 0, 0], [-1, 0, 0], [0, 1, 0], 0.1, 0.01, 5e3)
-    with pytest.raises(ValueError, match="SteppedPlane"):
-        stepped.symbolic_wrench_at(np.zeros(3), np.zeros(6))
+@pytest.mark.parametrize("environment", ["friction", "stepped", "bilateral"])
+def test_casadi_backend_reproduces_python_loop_against_more_environments(arm, environment):
+    """The plane's one body (wrench_law) with Coulomb friction on the surface, a stepped plane (the recess as a
+    masked branch) and a bilateral spring, against the Python loop."""
+    if environment == "friction":
+        env = CompliantPlane([1.2, 0.0, 0.0], [-1.0, -1.0, 0.0], 5e3, damping=20.0, friction=0.3, slip_velocity=1e-2)
+    elif environment == "stepped":
+        env = SteppedPlane([1.2, 0.0, 0.0], [-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], 0.05, 0.02, 5e3, damping=20.0)
+    else:
+        env = CompliantPlane([1.2, 0.0, 0.0], [-1.0, -1.0, 0.0], 5e3, damping=20.0, bilateral=True)
+    plant = ArmInContact(arm, env, viscous_friction=100.0)
+    make = lambda: OperationalPDGravity(arm, 3000, 600, PathLaw(Segment([0.9, 0.55, 0.0], [0.6, 0.95, 0.0]),
+                                                                trapezoidal_law(0.0, 0.5, 0.5, 2.0)), rows=(0, 1))
+    x0 = plant.initial_state(np.array([0.2, -1.6]))
+    a = simulate(plant, make(), (0.0, 0.6), x0, h=1e-3, Ts=1e-3)
+    b = simulate(plant, make(), (0.0, 0.6), x0, h=1e-3, Ts=1e-3, backend="casadi")
+    wrench = np.array([plant.wrench(x[:2], x[2:])[0] for x in a.x])
+    assert np.any(wrench[:, :2] != 0)
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-8)
 
 
-def test_compiled_arm_refuses_coulomb_friction(arm):
-    """The symbolic arm models viscous friction only: an arm with Coulomb friction is refused rather than
-    simulated with other dynamics (its Python derivative includes F_s sgn(q̇))."""
-    plant = ArmPlant(arm, coulomb_friction=5.0)
-    x0 = plant.initial_state(Q_D - 0.1)
-    with pytest.raises(ValueError, match="Coulomb"):
-        simulate(plant, PDGravityCompensation(arm, 3750, 750, Q_D), (0.0, 0.01), x0, h=1e-3, backend="casadi")
-    assert simulate(plant, PDGravityCompensation(arm, 3750, 750, Q_D), (0.0, 0.01), x0, h=1e-3).x.shape == (11, 4)
+def test_compiled_loop_refuses_blocks_without_a_symbolic_form(arm):
+    """The one generic refusal: a Python function inside a block (an external force, an environment without
+    a wrench law) names the block and points to the Python loop."""
+    from controllers.environment import SurfaceWithHole
+
+    law = PDGravityCompensation(arm, 3750, 750, Q_D)
+    x0 = np.r_[Q_D - 0.1, 0.0, 0.0]
+    with pytest.raises(compiled.NoSymbolicForm, match="ArmPlant.*external_force.*backend='python'"):
+        simulate(ArmPlant(arm, external_force=lambda t, q, v: np.zeros(2)), law, (0, 0.01), x0, h=1e-3,
+                 backend="casadi")
+    with pytest.raises(compiled.NoSymbolicForm, match="SurfaceWithHole.*wrench_law"):
+        simulate(ArmInContact(arm, SurfaceWithHole(0.6, 0.01, 0.05)), law, (0, 0.01), x0, h=1e-3, backend="casadi")
+
+
+def test_casadi_backend_reproduces_python_loop_with_exact_coulomb_friction(arm):
+    """Coulomb friction with the exact sign (the default, F_s sgn(q̇)) and direction-dependent values, and its
+    smoothed form, run compiled: the arm is stopped by friction (q̇ = 0 along the way) in both loops alike."""
+    from rigid_body.robots import JointFriction
+
+    for plant in (ArmPlant(arm, friction=JointFriction(np.array([5.0, 2.0]), np.array([40.0, 20.0]),
+                                                       np.array([30.0, 25.0]))),
+                  ArmPlant(arm, viscous_friction=5.0, coulomb_friction=30.0, friction_smoothing=0.05)):
+        x0 = plant.initial_state(Q_D - 0.1, [0.5, -0.4])
+        make = lambda: PDGravityCompensation(arm, 400, 40, Q_D)
+        a = simulate(plant, make(), (0.0, 0.5), x0, h=1e-3, Ts=1e-3)
+        b = simulate(plant, make(), (0.0, 0.5), x0, h=1e-3, Ts=1e-3, backend="casadi")
+        np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-8)
+
+
+def test_casadi_backend_reproduces_python_loop_on_a_continuous_joint():
+    """nq ≠ nv: a continuous joint (q = [cos θ, sin θ]) — the compiled RK4 stages move q by the plant's
+    integrate (the symbolic pin.integrate), as the Python loop does."""
+    from tests.controllers.test_plants import _pendulum
+
+    plant = ArmPlant(_pendulum(pin.JointModelRUBZ()), viscous_friction=0.1)
+    x0 = plant.initial_state([1.0, 0.0], [0.5])
+    a = simulate(plant, lambda t, m: np.array([0.3]), (0.0, 1.0), x0, h=1e-3, Ts=1e-2)
+    b = simulate(plant, compiled.ConstantInput([0.3], plant), (0.0, 1.0), x0, h=1e-3, Ts=1e-2, backend="casadi")
+    assert np.ptp(np.arctan2(a.q[:, 1], a.q[:, 0])) > 0.5                  # it swings
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(np.linalg.norm(b.q, axis=1), 1.0, atol=1e-12)
 
 
 R_C = np.array([[1.0, -1.0], [1.0, 1.0]]) / np.sqrt(2.0)        # constraint frame: x_c along the plane, y_c normal

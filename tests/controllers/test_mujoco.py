@@ -200,7 +200,6 @@ def test_computed_torque_tracks_a_quintic_on_the_ur5():
 def test_operational_space_inverse_dynamics_on_the_panda(panda, panda_plant):
     """Operational-space inverse dynamics (8.114) of the Panda's tool towards a point: same run on both plants."""
     q0 = panda.configurations["ready"]
-    p0 = pin.SE3(np.eye(3), np.zeros(3))
     pin.framesForwardKinematics(panda.model, panda.data, q0)
     p0 = panda.data.oMf[panda.frame_id(TOOL)].translation.copy()
     target = p0 + np.array([0.05, -0.1, -0.05])
@@ -416,6 +415,9 @@ def test_bad_input_is_named(panda):
     with pytest.raises(ValueError, match="timestep.*must divide"):
         simulate(MujocoPlant(panda, timestep=3e-4), lambda t, m: np.zeros(7), (0.0, 0.01),
                  np.r_[panda.configurations["ready"], np.zeros(7)], h=1e-3)
+    with pytest.raises(ValueError, match="stepped by MuJoCo.*backend='python'"):
+        simulate(MujocoPlant(panda), PDGravityCompensation(panda, 100.0, 20.0, panda.configurations["ready"]),
+                 (0.0, 0.01), np.r_[panda.configurations["ready"], np.zeros(7)], h=1e-3, backend="casadi")
     from rigid_body.wheeled import mobile_manipulator
 
     with pytest.raises(ValueError, match="Planar joint"):
@@ -446,3 +448,47 @@ def test_missing_mujoco_names_the_install_command(monkeypatch):
     monkeypatch.setitem(sys.modules, "mujoco", None)
     with pytest.raises(ImportError, match=r"pip install 'rmpc\[mujoco\]'"):
         MujocoPlant(load("planar_3r"))
+
+
+def test_peg_in_hole_state_machine_on_mujoco():
+    """Problem 6.3's peg-in-hole (hybrid force/motion phases, wrist force sensor) on MuJoCo: the hole's blocks as
+    boxes, a 1 mm probe as the peg tip; the state machine passes through the same states as on ArmInContact, inverts
+    its search once, and ends with the peg inside the hole, at nearly the same instants."""
+    from controllers.force import PEG_STATES, PegInHoleController, PegInHoleTask, run_peg_in_hole
+    from rigid_body.kinematics import inverse_kinematics_planar_3r
+
+    robot = load("planar_3r")
+    task = PegInHoleTask(x_H=0.6)
+    hole = SurfaceWithHole(x_hole=task.x_H - 0.012, clearance=0.004, depth=0.05)
+    q0 = inverse_kinematics_planar_3r(np.array([0.55, 0.15, task.phi]))[0]
+    ref, ref_ctrl = run_peg_in_hole(robot, hole, task, q0, 7.0)
+    plant = MujocoPlant(robot, hole, probe=0.001)
+    ctrl = PegInHoleController(robot, task, stiffness=hole.stiffness)
+    mj = simulate(plant, ctrl, (0.0, 7.0), plant.initial_state(q0), h=1e-3)
+    assert [s for _, s in ctrl.transitions] == [s for _, s in ref_ctrl.transitions] == list(PEG_STATES)
+    assert ctrl.inversions == ref_ctrl.inversions == 1
+    assert np.allclose([t for t, _ in ctrl.transitions], [t for t, _ in ref_ctrl.transitions], atol=0.05)
+    tip = mj["x_e"][-1]
+    assert abs(tip[1] + task.insert_depth) < 1e-3 and abs(tip[0] - hole.x_hole) <= hole.clearance + 5e-4
+
+
+def test_model_predictive_control_on_mujoco():
+    """The MPC of controllers/mpc.py (multiple shooting on the symbolic model, SQP per sample, every 20 ms) regulating
+    the UR5 within its effort limits: the same torques and joint paths on MujocoPlant as on ArmPlant."""
+    from controllers.mpc import ModelPredictiveControl
+    from planners.optimal_control import OptimalControlProblem, StageCost
+
+    ur5 = load("ur5")
+    q0 = ur5.configurations["home"]
+    target = q0 + np.array([0.3, -0.2, 0.2, 0.1, -0.2, 0.3])
+    tau_max = np.array(ur5.model.effortLimit)
+    problem = OptimalControlProblem(ur5, horizon=10, dt=0.02, running=StageCost(q=1e3, qd=1.0, tau=1e-6),
+                                    terminal=StageCost(q=1e4, qd=1e2), tau_max=tau_max)
+    runs = []
+    for plant in (MujocoPlant(ur5, tau_max=tau_max), ArmPlant(ur5, tau_max=tau_max)):
+        runs.append(simulate(plant, ModelPredictiveControl(problem, reference=target), (0.0, 0.6),
+                             plant.initial_state(q0), h=1e-3, Ts=0.02))
+    mj, ref = runs
+    assert mj["failed"].sum() == 0 and np.abs(mj.q[-1] - target).max() < 1e-3
+    assert np.all(np.abs(mj.u) <= tau_max + 1e-9)
+    assert np.abs(mj.q - ref.q).max() < 1e-8 and np.abs(mj.u - ref.u).max() < 1e-6 * tau_max.max()

@@ -202,3 +202,59 @@ def test_compiled_ibvs_loop_reproduces_the_python_loop(kind, depth):
     np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
     np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-9)
     np.testing.assert_allclose(b["e_s"], a["e_s"], rtol=0, atol=1e-9)
+
+
+def _chain_runs(case: str, t_end: float = 0.6):
+    """The Python and compiled runs of a 10.8/10.10-like chain with the camera or features of ``case``."""
+    from controllers.plants import ArmPlant
+    from controllers.simulation import simulate
+    from controllers.visual_servoing import (EyeInHandCamera, IBVSPDGravity, PBVSPDGravity, depth_from_segment,
+                                             visual_servo)
+    from problems import ch10
+    from rigid_body.camera import FieldOfView
+
+    runs = []
+    for backend in ("python", "casadi"):
+        robot = ch10.scara_eye_in_hand()
+        points = ch10._target_points_b()
+        plant = ArmPlant(robot, viscous_friction=ch10.F_V)
+        x0 = plant.initial_state(ch10.Q0)
+        camera_options = {}
+        if case == "fov":
+            camera_options["fov"] = FieldOfView(-0.3, 0.185, -0.3, 0.3)         # point 1 enters the view later
+        if case in ("occlusion_noise", "estimator_lost"):
+            camera_options.update(lost={1: (0.1, 0.25)}, noise=2e-4, rng=np.random.default_rng(7))
+        camera = EyeInHandCamera(robot, points, **camera_options)
+        if case.startswith("estimator"):
+            kind = "points" if case == "estimator_points" else "segment"
+            estimator = PoseEstimator(TargetFeatures(ch10.P_O, kind), ch10.X_DO, ch10.K_S_ESTIMATOR, ch10.T_ESTIMATOR)
+            law = PBVSPDGravity(robot, ch10.X_DO, [500, 500, 10, 10], [500, 500, 10, 10])
+            controller, Ts = visual_servo(camera, law, ch10.TC_COMPANION, estimator), ch10.T_ESTIMATOR
+        else:
+            kind = "points" if case == "fov" else "segment"
+            target = TargetFeatures(ch10.P_O, kind)
+            s_d = target.features(target.view_from_pose(ch10.planar_pose(ch10.X_DO)).xy)
+            depth = depth_from_segment(float(np.linalg.norm(ch10.P_O[1] - ch10.P_O[0]))) \
+                if case == "estimated_depth" else None
+            law = IBVSPDGravity(robot, target, s_d, [5.0] * target.size, [0.5] * target.size, depth=depth)
+            controller, Ts = visual_servo(camera, law, ch10.TC_MANUAL), ch10.TC_MANUAL
+        runs.append(simulate(plant, controller, (0.0, t_end), x0, h=ch10.H_ARM, Ts=Ts, backend=backend))
+    return runs
+
+
+@pytest.mark.parametrize("case", ["fov", "occlusion_noise", "estimated_depth", "estimator_points", "estimator_lost"])
+def test_compiled_visual_servo_covers_the_camera_and_the_features(case):
+    """The camera's field of view and occlusion (masked expressions), its noise (pre-sampled from the same
+    generator, fed as an input), the depth estimated from the segment, the estimator on point features and an
+    estimator holding its estimate while the segment is hidden: the compiled chain against the Python one."""
+    a, b = _chain_runs(case)
+    signal = "e_s" if "e_s" in a.signals else "x_hat"
+    if case in ("fov", "occlusion_noise", "estimator_lost"):
+        assert np.isnan(a["e_s"]).any()                          # some feature is not seen along the run
+    assert np.abs(a.x[-1] - a.x[0]).max() > 1e-3
+    np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b.u, a.u, rtol=1e-12, atol=1e-8)
+    assert set(a.signals) == set(b.signals)
+    for name in a.signals:
+        np.testing.assert_allclose(b[name], a[name], rtol=0, atol=1e-9)
+    assert signal in a.signals

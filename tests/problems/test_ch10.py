@@ -46,7 +46,7 @@ def test_estimator_check_fails_with_a_wrong_interaction_matrix(monkeypatch):
     import controllers.visual_servoing as vs
 
     original = vs.gamma_matrix
-    monkeypatch.setattr(vs, "gamma_matrix", lambda o: -original(o))
+    monkeypatch.setattr(vs, "gamma_matrix", lambda o, ops=None: -original(o, ops))
     try:
         assert not solve("10.4").passed
     except ValueError as exc:                # the estimate may run behind the camera: also a failure

@@ -1,0 +1,184 @@
+"""The compiled loop's cache: keyed without generating code, reused, safe under concurrency (threads and
+processes), and never stopping a run: no compiler, a failing compiler or an unusable cache run the Python loop
+with one warning; a full or read-only cache builds in a temporary folder (issue 26, items 8–9)."""
+
+import errno
+import json
+import os
+import re
+import subprocess
+import sys
+import threading
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import controllers.compiled as compiled
+from controllers.joint_space import InverseDynamicsControl, PDGravityCompensation
+from controllers.plants import ArmPlant
+from controllers.simulation import simulate
+from planners.timing import quintic
+from rigid_body.robots import load
+
+Q_D = np.array([np.pi / 4, -np.pi / 2])
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture
+def fresh_cache(tmp_path, monkeypatch):
+    """An empty cache directory and nothing built or loaded in this process."""
+    cache = tmp_path / "cache"
+    monkeypatch.setattr(compiled, "CACHE", cache)
+    monkeypatch.setattr(compiled, "_loaded", {})
+    monkeypatch.setattr(compiled, "_LOOPS", compiled.OrderedDict())
+    return cache
+
+
+def _run(backend, gains=(400.0, 40.0), n=0.3):
+    arm = load("planar_2r")
+    plant = ArmPlant(arm, viscous_friction=100.0)
+    return simulate(plant, PDGravityCompensation(arm, *gains, Q_D), (0.0, n), plant.initial_state(Q_D - 0.1),
+                    h=1e-3, backend=backend)
+
+
+def test_the_key_is_the_structure_not_the_gains_nor_the_reference():
+    arm = load("planar_2r")
+    plant = ArmPlant(arm, viscous_friction=100.0)
+    key = lambda ctrl, p=plant: compiled.loop_key(p, ctrl, 1e-3, 1, 100)
+    base = key(PDGravityCompensation(arm, 400, 40, Q_D))
+    assert key(PDGravityCompensation(arm, 900, 10, Q_D + 0.2)) == base             # parameters and references
+    assert key(PDGravityCompensation(arm, 400, 40, quintic(Q_D, Q_D + 0.1, 1.0, dt=1e-3))) == base
+    assert key(PDGravityCompensation(load("planar_2r"), 400, 40, Q_D)) == base      # an equal model
+    assert key(PDGravityCompensation(arm, 400, 40, Q_D), ArmPlant(arm, viscous_friction=50.0)) != base
+    assert key(PDGravityCompensation(arm, [400, 300], 40, Q_D)) == base            # diagonal gains: same shape
+    assert key(InverseDynamicsControl(arm, 400, 40, Q_D)) != base
+    assert compiled.loop_key(plant, PDGravityCompensation(arm, 400, 40, Q_D), 1e-3, 1, 101) != base
+    other = load("planar_2r")
+    other.model.inertias[2].mass = 3.0                                               # a model changed in place
+    assert key(PDGravityCompensation(other, 400, 40, Q_D), ArmPlant(other, viscous_friction=100.0)) != base
+
+
+def test_repeated_call_reuses_the_loop_and_keeps_the_gains_apart(fresh_cache):
+    a = _run("casadi")
+    loops = dict(compiled._LOOPS)
+    b = _run("casadi", gains=(900.0, 60.0))
+    assert dict(compiled._LOOPS) == loops and len(loops) == 1                       # one loop, reused
+    np.testing.assert_allclose(a.x, _run("python").x, atol=1e-9)
+    np.testing.assert_allclose(b.x, _run("python", gains=(900.0, 60.0)).x, atol=1e-9)
+
+
+def test_a_fresh_process_loads_the_run_without_building_it(fresh_cache):
+    """The disk cache: the library and the names of its signals; a new process finds them by the key alone."""
+    _run("casadi")
+    assert len(list(fresh_cache.glob("rollout_*.so"))) == 1
+    meta = json.loads(next(fresh_cache.glob("rollout_*.json")).read_text())
+    assert meta["signals"] == ["q_d", "e"]
+    compiled._loaded.clear()
+    compiled._LOOPS.clear()
+    arm = load("planar_2r")
+    plant = ArmPlant(arm, viscous_friction=100.0)
+    loop = compiled.compiled_loop(plant, PDGravityCompensation(arm, 400, 40, Q_D), 1e-3, 1, 301)
+    assert loop.build_time == 0.0 and loop._sample is None                           # nothing symbolic was built
+
+
+def test_two_threads_build_one_loop_into_a_fresh_cache(fresh_cache):
+    expected = _run("python")
+    results, errors = [], []
+
+    def work():
+        try:
+            results.append(_run("casadi"))
+        except Exception as exc:                      # noqa: BLE001 — reported below
+            errors.append(exc)
+
+    threads = [threading.Thread(target=work) for _ in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors
+    for res in results:
+        np.testing.assert_allclose(res.x, expected.x, rtol=0, atol=1e-9)
+    assert len(list(fresh_cache.glob("rollout_*.so"))) == 1
+    assert not [p for p in fresh_cache.iterdir() if p.suffix in (".c",) or p.name.count(".") > 1]   # no partial files
+
+
+_WORKER = """
+import sys, numpy as np
+sys.path.insert(0, {root!r})
+from controllers.joint_space import PDGravityCompensation
+from controllers.plants import ArmPlant
+from controllers.simulation import simulate
+from rigid_body.robots import load
+arm = load("planar_2r")
+plant = ArmPlant(arm, viscous_friction=100.0)
+res = simulate(plant, PDGravityCompensation(arm, 400.0, 40.0, np.array([np.pi / 4, -np.pi / 2])), (0.0, 0.3),
+               plant.initial_state(np.array([np.pi / 4, -np.pi / 2]) - 0.1), h=1e-3, backend="casadi")
+np.save(sys.argv[1], res.x)
+"""
+
+
+def test_two_processes_build_one_loop_into_a_fresh_cache(tmp_path):
+    cache = tmp_path / "shared"
+    script = tmp_path / "worker.py"
+    script.write_text(_WORKER.format(root=str(ROOT)))
+    env = {**os.environ, "RMPC_CACHE": str(cache)}
+    procs = [subprocess.Popen([sys.executable, str(script), str(tmp_path / f"x{i}.npy")], env=env,
+                              stderr=subprocess.PIPE) for i in range(2)]
+    for p in procs:
+        assert p.wait(timeout=600) == 0, p.stderr.read().decode()
+    x0, x1 = (np.load(tmp_path / f"x{i}.npy") for i in range(2))
+    np.testing.assert_array_equal(x0, x1)
+    np.testing.assert_allclose(x0, _run("python").x, rtol=0, atol=1e-9)
+    assert len(list(cache.glob("rollout_*.so"))) == 1
+
+
+@pytest.mark.parametrize("fault", ["no compiler", "failing compiler", "cache is a file"])
+def test_a_compiler_or_cache_fault_runs_the_python_loop_with_one_warning(fresh_cache, monkeypatch, fault):
+    if fault == "no compiler":
+        monkeypatch.setattr(compiled, "compiler", lambda: None)
+        match = "no C compiler found: install gcc"
+    elif fault == "failing compiler":
+        monkeypatch.setenv("CC", "/bin/false")
+        match = "C compiler `/bin/false` failed"
+    else:
+        fresh_cache.write_text("not a directory")
+        match = "RMPC_CACHE=.* is not a directory"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = _run("casadi")
+    messages = [str(w.message) for w in caught]
+    assert len(messages) == 1 and "Python backend" in messages[0], messages
+    assert re.search(match, messages[0]), messages[0]                           # which fault, and what to fix
+    np.testing.assert_array_equal(res.x, _run("python").x)                     # the Python loop itself
+
+
+def test_a_full_or_read_only_cache_builds_in_a_temporary_folder(fresh_cache, monkeypatch):
+    real = compiled._build_library
+
+    def full(code, name, key, cache, *args):
+        if cache == fresh_cache:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return real(code, name, key, cache, *args)
+
+    monkeypatch.setattr(compiled, "_build_library", full)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                               # compiled, without falling back
+        res = _run("casadi")
+    np.testing.assert_allclose(res.x, _run("python").x, rtol=0, atol=1e-9)
+    assert compiled._temporary and list(compiled._temporary[0].glob("rollout_*.so"))
+    monkeypatch.setattr(compiled.os, "access", lambda path, mode: False)           # read-only
+    assert compiled._usable_cache(fresh_cache) == compiled._temporary[0]
+
+
+def test_rmpc_solve_9_3_survives_a_failing_compiler_and_a_cache_that_is_a_file(tmp_path):
+    """The CLI: CC=/bin/false, then RMPC_CACHE naming a file — `rmpc solve 9.3` still solves (exit 0)."""
+    cache_file = tmp_path / "a-file"
+    cache_file.write_text("")
+    for env in ({"CC": "/bin/false", "RMPC_CACHE": str(tmp_path / "empty-cache")}, {"RMPC_CACHE": str(cache_file)}):
+        run = subprocess.run([sys.executable, "-m", "problems.cli", "solve", "9.3"], cwd=ROOT, capture_output=True,
+                             env={**os.environ, **env}, timeout=900)
+        assert run.returncode == 0, run.stderr.decode()[-2000:]
+        assert "Python backend" in run.stderr.decode()

@@ -28,7 +28,7 @@ from controllers.simulation import LoggedController
 from rigid_body.camera import perspective, to_camera_frame
 from rigid_body.dynamics import forward_dynamics, friction_kernel, reference_torque_kernel
 from rigid_body.rotations import as_homogeneous
-from rigid_body.task_space import FrameState, frame_state_kernel, pose_error_kernel, singular_task, solve_task
+from rigid_body.task_space import frame_state_kernel, pose_error_kernel, singular_task, solve_task
 from rigid_body.validation import as_array, as_matrix, as_positive, as_vector
 
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
@@ -268,12 +268,14 @@ class Numeric:
     """The numeric primitives of a law: numpy and Pinocchio on floats, called at every sample of the Python loop.
 
     A law's body (:meth:`ControlLaw.law`) is written once against a namespace ``ops`` of primitives; this
-    class is that namespace for the Python loop and :class:`Symbolic` the same names in CasADi expressions for
-    the compiled loop, as Pinocchio's ``cpin`` mirrors ``pin`` (one algorithm, two scalar types). The
+    class is that namespace for the Python loop and :class:`controllers.compiled.Symbolic` the same names in
+    CasADi expressions for the compiled loop, as Pinocchio's ``cpin`` mirrors ``pin`` (one algorithm, two scalar
+    types). The
     robot primitives take ``(model, data, ...)`` as Pinocchio does (the symbolic ones ignore ``data``); the
     hot-path kernels (ABA, the frame state in one pass, the task solve with its 3 × 3 cofactor inverse) are
     the numeric implementations of a named primitive, in one place each. The namespace is the class itself
-    (never instantiated).
+    (never instantiated); its symbolic twin, :class:`controllers.compiled.Symbolic`, lives with the compiled
+    loop.
     """
 
     symbolic = False
@@ -477,280 +479,6 @@ class Numeric:
         return a if condition else b
 
 
-class Symbolic:
-    """The symbolic primitives of a law: the names of :class:`Numeric` in CasADi SX expressions
-    (:mod:`rigid_body.symbolic`), for the compiled loop (:mod:`controllers.compiled`); called once, when the
-    loop is built. Branches of the numeric law (a singular task, a point not seen) become masked expressions
-    (``if_else``)."""
-
-    symbolic = True
-
-    @staticmethod
-    def gravity(model: pin.Model, data: Any, q: Any) -> Any:
-        from rigid_body.symbolic import gravity_expression
-
-        return gravity_expression(model, q)
-
-    @staticmethod
-    def rnea(model: pin.Model, data: Any, q: Any, qd: Any, qdd: Any) -> Any:
-        from rigid_body.symbolic import inverse_dynamics_expression
-
-        return inverse_dynamics_expression(model, q, qd, qdd)
-
-    @staticmethod
-    def inertia(model: pin.Model, data: Any, q: Any) -> Any:
-        from rigid_body.symbolic import inertia_expression
-
-        return inertia_expression(model, q)
-
-    @staticmethod
-    def reference_torque(model: pin.Model, data: Any, q: Any, qd: Any, qd_r: Any, qdd_r: Any) -> Any:
-        from rigid_body.symbolic import reference_torque_expression
-
-        return reference_torque_expression(model, q, qd, qd_r, qdd_r)
-
-    @staticmethod
-    def frame_state(model: pin.Model, data: Any, fid: int, q: Any, qd: Any) -> FrameState:
-        """(T (4×4), J, J̇q̇ = ∂(J q̇)/∂q q̇, the classical acceleration at q̈ = 0, or None)."""
-        from rigid_body.symbolic import frame_state_expression
-
-        return FrameState(*frame_state_expression(model, fid, q, qd))
-
-    @staticmethod
-    def pose_error(model: pin.Model, data: Any, space: Any, fid: int, q: Any, T_d: Any, qd: Any) -> tuple:
-        from rigid_body.symbolic import frame_state_expression, orientation_error_expression
-
-        ca = _casadi()
-        T, J, Jdot_qd = frame_state_expression(model, fid, q, qd)
-        e = ca.vertcat(T_d[:3, 3] - T[:3, 3], orientation_error_expression(T_d[:3, :3], T[:3, :3], space.orientation))
-        rows = list(space.selected)
-        return e[rows], J[rows, :], None if Jdot_qd is None else Jdot_qd[rows], T
-
-    @staticmethod
-    def forward_dynamics(robot: Any, q: Any, qd: Any, tau: Any) -> Any:
-        from rigid_body.symbolic import forward_dynamics_expression
-
-        return forward_dynamics_expression(robot, q, qd, tau)
-
-    @staticmethod
-    def friction(friction: Any, qd: Any, smoothing: float) -> Any:
-        from rigid_body.symbolic import friction_expression
-
-        return friction_expression(friction, qd, smoothing)
-
-    @staticmethod
-    def integrate(model: pin.Model, q: Any, v: Any) -> Any:
-        from rigid_body.symbolic import integrate_expression
-
-        return integrate_expression(model, q, v)
-
-    @staticmethod
-    def frame_jacobian(model: pin.Model, data: Any, fid: int, q: Any) -> tuple[Any, Any]:
-        from rigid_body.symbolic import frame_state_expression
-
-        T, J, _ = frame_state_expression(model, fid, q)
-        return T, J
-
-    @staticmethod
-    def translation(T: Any) -> Any:
-        return T[:3, 3]
-
-    @staticmethod
-    def contact_wrench(environment: Any, T_e: Any, v_e: Any) -> Any:
-        """The environment's one body ``wrench_law(ops, p_e, v_e)`` on symbols (a position-only environment)."""
-        law = getattr(environment, "wrench_law", None)
-        if law is None:
-            from controllers.compiled import no_symbolic_form
-
-            raise no_symbolic_form(environment, "an environment needs wrench_law(ops, p_e, v_e)")
-        return law(Symbolic, T_e[:3, 3], v_e)
-
-    @staticmethod
-    def frame_pose(model: pin.Model, data: Any, fid: int, q: Any) -> tuple[Any, Any]:
-        from rigid_body.symbolic import pose_function
-
-        R, p, _ = pose_function(model, fid)(q)
-        return R, p
-
-    @staticmethod
-    def camera_jacobian(model: pin.Model, data: Any, fid: int, q: Any) -> Any:
-        from rigid_body.symbolic import pose_function
-
-        R, _, J = pose_function(model, fid)(q)
-        return _casadi().vertcat(R.T @ J[:3, :], R.T @ J[3:, :])
-
-    @staticmethod
-    def to_camera(R: Any, o: Any, points: np.ndarray) -> tuple[Any, Any, Any]:
-        ca = _casadi()
-        p = R.T @ (ca.DM(points.T) - ca.repmat(o, 1, points.shape[0]))            # (5.35)
-        return p[0, :].T, p[1, :].T, p[2, :].T
-
-    @staticmethod
-    def perspective(X: Any, Y: Any, Z: Any) -> tuple[Any, Any, Any]:
-        ca = _casadi()
-        in_front = Z > 0
-        Z_seen = ca.if_else(in_front, Z, np.nan)
-        return X / Z_seen, Y / Z_seen, in_front
-
-    @staticmethod
-    def solve_task(J: Any, b: Any) -> Any:
-        """J⁻¹ b or Jᵀ (J Jᵀ)⁻¹ b (LU); a singular J gives non-finite values (the compiled loop stops there)."""
-        ca = _casadi()
-        return ca.solve(J, b) if J.shape[0] == J.shape[1] else J.T @ ca.solve(J @ J.T, b)
-
-    @staticmethod
-    def times(K: Any, e: Any) -> Any:
-        ca = _casadi()
-        if isinstance(K, np.ndarray) and K.ndim == 1:
-            return ca.DM(K) * e
-        return K @ e
-
-    @staticmethod
-    def sqrt(x: Any) -> Any:
-        return _casadi().sqrt(x)
-
-    @staticmethod
-    def fmax(a: Any, b: Any) -> Any:
-        return _casadi().fmax(a, b)
-
-    @staticmethod
-    def sin(x: Any) -> Any:
-        return _casadi().sin(x)
-
-    @staticmethod
-    def cos(x: Any) -> Any:
-        return _casadi().cos(x)
-
-    @staticmethod
-    def atan2(y: Any, x: Any) -> Any:
-        return _casadi().atan2(y, x)
-
-    @staticmethod
-    def norm(z: Any) -> Any:
-        ca = _casadi()
-        return ca.sqrt(ca.dot(z, z))
-
-    @staticmethod
-    def tanh(x: Any) -> Any:
-        return _casadi().tanh(x)
-
-    @staticmethod
-    def sign(x: Any) -> Any:
-        return _casadi().sign(x)
-
-    @staticmethod
-    def maximum(a: Any, b: Any) -> Any:
-        return _casadi().fmax(a, b)
-
-    @staticmethod
-    def minimum(a: Any, b: Any) -> Any:
-        return _casadi().fmin(a, b)
-
-    @staticmethod
-    def clip(x: Any, lower: Any, upper: Any) -> Any:
-        ca = _casadi()
-        return ca.fmin(ca.fmax(x, lower), upper)
-
-    @staticmethod
-    def vector(*entries: Any) -> Any:
-        return _casadi().vertcat(*entries)
-
-    @staticmethod
-    def matrix(rows: Sequence[Sequence[Any]]) -> Any:
-        ca = _casadi()
-        return ca.vertcat(*[ca.horzcat(*row) for row in rows])
-
-    @staticmethod
-    def solve(A: Any, b: Any, why: Callable[[], str]) -> Any:
-        return _casadi().solve(A, b)
-
-    @staticmethod
-    def unless(bad: Any, value: Callable[[], Any], why: Callable[[], str]) -> Any:
-        return _casadi().if_else(bad, np.nan, value())
-
-    @staticmethod
-    def where(mask: Any, a: Any, b: Any) -> Any:
-        """Row i of ``a`` where mask_i, else of ``b`` (a scalar ``b`` or ``a`` fills its rows)."""
-        ca = _casadi()
-        n = mask.shape[0]
-        a, b = (ca.SX(v) if isinstance(v, (np.ndarray, ca.DM)) else v for v in (a, b))
-        cols = max(v.shape[1] if isinstance(v, ca.SX) else 1 for v in (a, b))
-        a, b = (v if isinstance(v, ca.SX) else ca.repmat(ca.SX(v), n, cols) for v in (a, b))
-        return ca.vertcat(*[ca.if_else(mask[i], a[i, :], b[i, :]) for i in range(n)])
-
-    @staticmethod
-    def hypot(a: Any, b: Any) -> Any:
-        return _casadi().hypot(a, b)
-
-    @staticmethod
-    def logic_and(a: Any, b: Any) -> Any:
-        return _casadi().logic_and(a, b)
-
-    @staticmethod
-    def logic_not(a: Any) -> Any:
-        return _casadi().logic_not(a)
-
-    @staticmethod
-    def repeat(mask: Any, k: int) -> Any:
-        ca = _casadi()
-        return ca.vertcat(*[mask[i] for i in range(mask.shape[0]) for _ in range(k)])
-
-    @staticmethod
-    def interleave(x: Any, y: Any) -> Any:
-        ca = _casadi()
-        return ca.vec(ca.horzcat(x, y).T)
-
-    @staticmethod
-    def columns(M: Any, cols: Any) -> Any:
-        return M[:, [int(c) for c in cols]]
-
-    @staticmethod
-    def cond(condition: Any, then: Callable[[], Any], otherwise: Callable[[], Any]) -> Any:
-        ca = _casadi()
-        if isinstance(condition, (bool, np.bool_)):
-            return then() if condition else otherwise()
-        a, b = then(), otherwise()
-        if isinstance(a, tuple):
-            return tuple(ca.if_else(condition, x, y) for x, y in zip(a, b))
-        return ca.if_else(condition, a, b)
-
-    @staticmethod
-    def dot(a: Any, b: Any) -> Any:
-        return _casadi().dot(a, b)
-
-    @staticmethod
-    def vertcat(*parts: Any) -> Any:
-        return _casadi().vertcat(*parts)
-
-    @staticmethod
-    def horzcat(*blocks: Any) -> Any:
-        return _casadi().horzcat(*blocks)
-
-    @staticmethod
-    def zeros(n: int) -> Any:
-        return _casadi().DM.zeros(n)
-
-    @staticmethod
-    def diag(M: Any) -> Any:
-        return _casadi().diag(M)
-
-    @staticmethod
-    def copy(x: Any) -> Any:
-        return x
-
-    @staticmethod
-    def index(rows: Any) -> list[int]:
-        if isinstance(rows, slice):
-            return list(range(*rows.indices(6)))
-        return [int(i) for i in rows]
-
-    @staticmethod
-    def if_else(condition: Any, a: Any, b: Any) -> Any:
-        if isinstance(condition, (bool, np.bool_)):
-            return a if condition else b
-        return _casadi().if_else(condition, a, b)
-
-
 def _fast_gain(K: np.ndarray) -> Any:
     """The numeric law's form of a gain: a float for a scalar, a vector for a column (n, 1) or a diagonal
     matrix (:func:`diagonal_or_matrix`), else the matrix."""
@@ -761,12 +489,6 @@ def _fast_gain(K: np.ndarray) -> Any:
     if K.ndim == 2 and K.shape[0] == K.shape[1]:
         return diagonal_or_matrix(K)
     return K
-
-
-def _casadi() -> Any:
-    import casadi
-
-    return casadi
 
 
 # --------------------------------------------------------------------------------------------

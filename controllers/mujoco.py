@@ -394,8 +394,7 @@ class MujocoPlant:
                  frame: str | int | None = None, force_sensor: bool | None = None, friction: Any = "robot",
                  rotors: str | None = None, probe: float | None = None, srdf: Any = "auto",
                  self_collision: bool = True, joint_limits: bool = True, tau_max: Any = None):
-        mujoco = import_mujoco()
-        self._mj = mujoco
+        import_mujoco()        # the module is imported where used, never kept on the plant (its state is data)
         if not isinstance(robot, Robot):
             raise ValueError(f"`robot` must be a rigid_body.robots.Robot, got {type(robot).__name__}")
         self.robot = robot
@@ -468,7 +467,7 @@ class MujocoPlant:
     def _build(self, scene: list, srdf: Any, self_collision: bool, joint_limits: bool) -> float:
         """Write the MJCF, compile it, calibrate the compliant contacts; returns the largest relative difference of
         MuJoCo's B(q) from the robot's over random configurations."""
-        mujoco = self._mj
+        mujoco = import_mujoco()
         robot, model = self.robot, self.robot.model
         rotors = self._rotors
         root = ET.Element("mujoco", model=robot.name)
@@ -623,7 +622,7 @@ class MujocoPlant:
 
     def _check_order(self, mj_model: Any) -> None:
         """The robot's joints are MuJoCo's first dofs, in the robot's order (a property of the body tree written)."""
-        mujoco, model = self._mj, self.robot.model
+        mujoco, model = import_mujoco(), self.robot.model
         for j in range(1, model.njoints):
             if j in self._rotors:
                 continue
@@ -636,7 +635,7 @@ class MujocoPlant:
         """Each compliant pair's solref (direct format) and constant impedance d so that a contact point's normal
         force is K δ + D δ̇ (+ the virtual mass): stiffness_mj = K (1 − d) Â, damping_mj = D (1 − d) Â with Â
         the body's translational inverse weight (MuJoCo's diagonal approximation for a contact on it)."""
-        mujoco, d = self._mj, CONTACT_IMPEDANCE
+        mujoco, d = import_mujoco(), CONTACT_IMPEDANCE
         for i, (geom, _, _, (K, D, _)) in enumerate(compliant):
             body = mj_model.geom_bodyid[mujoco.mj_name2id(mj_model, mujoco.mjtObj.mjOBJ_GEOM, geom)]
             A_hat = float(mj_model.body_invweight0[body, 0])
@@ -709,7 +708,7 @@ class MujocoPlant:
         """ẋ = [q̇, q̈] with q̈ MuJoCo's ``qacc`` from ``mj_forward`` at (x, u): contacts, joint limits, damping and
         friction loss included — the stage-by-stage counterpart of ``ArmPlant.derivative``."""
         self._set(x, u)
-        self._mj.mj_forward(self.model, self.data)
+        import_mujoco().mj_forward(self.model, self.data)
         return np.concatenate([x[self.n:], self.data.qacc])
 
     def stepper(self, h: float) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray]:
@@ -723,7 +722,7 @@ class MujocoPlant:
         if k < 1 or abs(ratio - k) > 1e-9 * max(1.0, ratio):
             raise ValueError(f"MujocoPlant: `timestep` = {timestep:g} s must divide the loop's step h = {h:g} s")
         self.model.opt.timestep = timestep
-        mujoco, m, d, n = self._mj, self.model, self.data, self.n
+        mujoco, m, d, n = import_mujoco(), self.model, self.data, self.n
         mujoco.mj_resetData(m, d)           # a run starts afresh: no torque held, no solver warm start
         mj_step, qpos, qvel, qfrc, tau_max = mujoco.mj_step, d.qpos, d.qvel, d.qfrc_applied, self.tau_max
         counts = d.warning.number          # a view of MuJoCo's warning counters
@@ -766,13 +765,13 @@ class MujocoPlant:
         force is found with the accelerations (its soft contacts carry a small virtual mass), so a force sensor
         read at a sample sees the torque of the interval that ends there."""
         self._set(np.asarray(x, dtype=float))
-        self._mj.mj_forward(self.model, self.data)
+        import_mujoco().mj_forward(self.model, self.data)
 
     def wrench(self, x: np.ndarray) -> np.ndarray:
         """h_e = [f; μ] (6,): the contact forces the end effector's body exerts on the scene at state x, in the
         base frame, μ about the end-effector frame's origin (Sect. 9.1)."""
         self._forward(x)
-        mujoco, m, d = self._mj, self.model, self.data
+        mujoco, m, d = import_mujoco(), self.model, self.data
         h = np.zeros(6)
         if d.ncon == 0:
             return h
@@ -797,7 +796,7 @@ class MujocoPlant:
     def contacts(self, x: np.ndarray) -> list[MujocoContact]:
         """Every MuJoCo contact at state x (robot–scene and robot–robot)."""
         self._forward(x)
-        mujoco, m, d = self._mj, self.model, self.data
+        mujoco, m, d = import_mujoco(), self.model, self.data
         out, f6 = [], np.zeros(6)
         for i in range(d.ncon):
             g1, g2 = d.contact.geom[i]
@@ -829,7 +828,7 @@ class MujocoPlant:
         (MuJoCo's ``mj_geomDistance``, convex hulls for meshes; negative in penetration; ``distmax`` when all are
         farther)."""
         self._forward(x)
-        mujoco, m, d = self._mj, self.model, self.data
+        mujoco, m, d = import_mujoco(), self.model, self.data
         robot = [g for g in range(m.ngeom) if m.geom_group[g] == _ROBOT_GROUP and m.body_weldid[m.geom_bodyid[g]] != 0]
         return min((mujoco.mj_geomDistance(m, d, g, s, distmax, None) for g in robot for s in self._scene_geom_ids),
                    default=distmax)
@@ -838,7 +837,7 @@ class MujocoPlant:
 
     def inertia_matrix(self, q: Any) -> np.ndarray:
         """MuJoCo's joint-space inertia B(q) (``mj_fullM`` of ``qM``), armature included."""
-        mujoco, m, d = self._mj, self.model, self.data
+        mujoco, m, d = import_mujoco(), self.model, self.data
         d.qpos[:] = self._positions(as_vector(q, self.nq, "q"))
         mujoco.mj_fwdPosition(m, d)
         M = np.zeros((m.nv, m.nv))
@@ -850,7 +849,7 @@ class MujocoPlant:
 
     def bias_forces(self, q: Any, qd: Any) -> np.ndarray:
         """MuJoCo's bias forces C(q, q̇) q̇ + g(q) (``qfrc_bias``, by its recursive Newton–Euler)."""
-        mujoco, m, d = self._mj, self.model, self.data
+        mujoco, m, d = import_mujoco(), self.model, self.data
         d.qpos[:] = self._positions(as_vector(q, self.nq, "q"))
         d.qvel[:] = as_vector(qd, self.n, "qd")
         mujoco.mj_fwdPosition(m, d)

@@ -510,7 +510,7 @@ class ArmInContact:
         """The measurement entry ``name`` (``"wrench"``: h_e (6,)) as a ``casadi.Function`` x → value."""
         import casadi as ca
 
-        from controllers.laws import Symbolic
+        from controllers.compiled import Symbolic
 
         if name != "wrench":
             raise ValueError(f"`name`: ArmInContact measures q, qd and wrench, got {name!r}")

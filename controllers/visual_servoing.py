@@ -90,7 +90,10 @@ def _configurations(robot: Robot, count: int = 4) -> list[np.ndarray]:
     """The robot's neutral configuration and a few random ones within its limits (seeded): where a
     property of the robot "at some posture" is tested."""
     rng = np.random.default_rng(0)
-    return [robot.configurations["neutral"]] + [robot.random_configuration(rng) for _ in range(count - 1)]
+    qs = [robot.random_configuration(rng) for _ in range(count - 1)]
+    if robot.nq != robot.nv:                 # unit-complex coordinates (continuous, planar joints) back on the circle
+        qs = [pin.normalize(robot.model, q) for q in qs]
+    return [robot.configurations["neutral"]] + qs
 
 
 def camera_dofs(robot: Robot, frame: str | int | None = None) -> tuple[int, ...]:
@@ -950,7 +953,7 @@ class VisualServo(Chain):
     @staticmethod
     def _parts(law: Any, estimator: Any, camera: EyeInHandCamera, q: Any, qd: Any, x_hat: Any, K: dict,
                inputs: Any) -> tuple[Any, Any, dict]:
-        from controllers.laws import Symbolic
+        from controllers.compiled import Symbolic
 
         x, y, z, seen = camera.image_law(Symbolic, q, *camera.split_inputs(inputs))
         x_next, est_log = (None, {}) if estimator is None else estimator.estimator_law(Symbolic, x_hat, x, y, seen)

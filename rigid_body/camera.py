@@ -164,7 +164,7 @@ class TargetView:
 def to_camera_frame(R_c: np.ndarray, o_c: np.ndarray, points_b: np.ndarray) -> np.ndarray:
     """p^c = R_cᵀ (p^b − o_c) of points (n, 3) given in the base frame, for a camera at (R_c, o_c) = T_c^b:
     the one (5.35) of rmpc (unvalidated; the compiled loop's symbolic form is
-    :meth:`controllers.laws.Symbolic.to_camera`)."""
+    :meth:`controllers.compiled.Symbolic.to_camera`)."""
     return (points_b - o_c) @ R_c
 
 

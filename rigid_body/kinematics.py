@@ -195,58 +195,98 @@ def _checked(links: Sequence[DHLink], qs: np.ndarray, T_target: np.ndarray, mask
 def _within_limits(links: Sequence[DHLink], qs: np.ndarray, robot: str) -> np.ndarray:
     """The rows of ``qs`` within the joint limits of ``links`` (where given); a revolute angle outside is
     shifted by the multiple of 2π that brings it in, when there is one. ValueError when no row is left."""
-    bounds = [(-np.inf if link.lower is None else link.lower, np.inf if link.upper is None else link.upper,
-               link.joint == "revolute") for link in links]
-    if not any(isfinite(lo) or isfinite(hi) for lo, hi, _ in bounds):
-        return qs
-    rows, kept = [], []  # a few rows of a few joints: Python floats, no array overhead (IK at every sample)
-    for q in qs.tolist():
-        for k, (lo, hi, revolute) in enumerate(bounds):
-            if revolute and (q[k] < lo - IK_TOL or q[k] > hi + IK_TOL):
-                base = lo if isfinite(lo) else -np.pi
-                shifted = base + (q[k] - base) % (2 * np.pi)  # the smallest q + 2πk ≥ lower
-                if shifted <= hi + IK_TOL:
-                    q[k] = shifted
-        rows.append(q)
-        if all(lo - IK_TOL <= v <= hi + IK_TOL for v, (lo, hi, _) in zip(q, bounds)):
-            kept.append(q)
-    if not kept:
-        lo, hi = ([round(b[i], 4) for b in bounds] for i in (0, 1))
+    shifted, valid = _into_limits(links, np.array(qs, dtype=float))
+    if not valid.any():
+        lo, hi = ([round(b, 4) for b in bounds] for bounds in _limits(links))
         raise ValueError(f"pose unreachable by the {robot} within its joint limits (lower {lo}, upper {hi}): every "
-                         f"closed-form solution {np.round(rows, 4).tolist()} violates them")
-    return np.array(kept, dtype=float)
+                         f"closed-form solution {np.round(shifted, 4).tolist()} violates them")
+    return shifted[valid]
 
 
-def _snap_cosine(c: float) -> float:
-    """Clip a cosine to [−1, 1] and snap it to ±1 within 1e-12: at the elbow singularity s = √(1 − c²) would
+def _limits(links: Sequence[DHLink]) -> tuple[list[float], list[float]]:
+    return ([-np.inf if link.lower is None else link.lower for link in links],
+            [np.inf if link.upper is None else link.upper for link in links])
+
+
+def _into_limits(links: Sequence[DHLink], Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(Q shifted, valid): the rows of Q (…, n) with each revolute angle outside its limits moved by the multiple
+    of 2π that brings it in (when one does: the smallest q + 2πk ≥ lower), and whether each row is then within
+    every limit (IK_TOL of slack) — the one rule of the closed-form solvers, per pose or for a batch."""
+    lower, upper, limited, revolute, base = _limit_arrays(links)
+    if not limited.any():
+        return Q, np.ones(Q.shape[:-1], dtype=bool)
+    shifted = base + (Q - base) % (2 * np.pi)
+    outside = (Q < lower - IK_TOL) | (Q > upper + IK_TOL)
+    Q = np.where(revolute & outside & (shifted <= upper + IK_TOL), shifted, Q)
+    valid = (~limited | ((lower - IK_TOL <= Q) & (Q <= upper + IK_TOL))).all(axis=-1)
+    return Q, valid
+
+
+_TABLES: dict[tuple, tuple] = {}
+
+
+def _per_table(kind: str, links: Sequence[DHLink], build: Any) -> tuple:
+    """``build(links)`` once per DH table object (its links kept with the result, so their ids stay theirs)."""
+    key = (kind, *map(id, links))
+    found = _TABLES.get(key)
+    if found is None:
+        if len(_TABLES) > 256:
+            _TABLES.clear()
+        found = _TABLES[key] = (tuple(links), build(links))
+    return found[1]
+
+
+def _limit_arrays(links: Sequence[DHLink]) -> tuple[np.ndarray, ...]:
+    """(lower, upper, limited, revolute and limited, the base of the 2π shift) of a DH table, per joint."""
+    return _per_table("limits", links, _build_limit_arrays)
+
+
+def _build_limit_arrays(links: Sequence[DHLink]) -> tuple[np.ndarray, ...]:
+    lower, upper = (np.array(bounds) for bounds in _limits(links))
+    limited = np.isfinite(lower) | np.isfinite(upper)
+    revolute = limited & np.array([link.joint == "revolute" for link in links])
+    return lower, upper, limited, revolute, np.where(np.isfinite(lower), lower, -np.pi)
+
+
+def _snap_cosines(c: np.ndarray) -> np.ndarray:
+    """Cosines clipped to [−1, 1] and snapped to ±1 within 1e-12: at the elbow singularity s = √(1 − c²) would
     otherwise be ~1e-8 from round-off alone (the position error of snapping is second order, ~1e-12 m)."""
-    c = float(np.clip(c, -1.0, 1.0))
-    return float(np.sign(c)) if 1.0 - abs(c) < 1e-12 else c
+    c = np.clip(c, -1.0, 1.0)
+    return np.where(1.0 - np.abs(c) < 1e-12, np.sign(c), c)
 
 
 def _two_link(px: float, py: float, a1: float, a2: float, robot: str, origin: str = "joint 1",
               theta1: float = 0.0) -> np.ndarray:
-    """(θ1, θ2) of a two-link planar arm reaching (px, py), Eqs. (2.91)–(2.92): rows [s2 < 0, s2 > 0].
+    """(θ1, θ2) of a two-link planar arm reaching (px, py), Eqs. (2.91)–(2.92): rows [s2 < 0, s2 > 0] — the
+    core :func:`_two_link_batch` at one point."""
+    return _two_link_batch(np.array([px], dtype=float), np.array([py], dtype=float), a1, a2, robot, origin, theta1)[0]
+
+
+def _two_link_batch(px: np.ndarray, py: np.ndarray, a1: float, a2: float, robot: str, origin: str = "joint 1",
+                    theta1: float = 0.0) -> np.ndarray:
+    """(θ1, θ2) of a two-link planar arm reaching N points (px, py) at once, Eqs. (2.91)–(2.92): (N, 2, 2), rows
+    [s2 < 0, s2 > 0] of each point.
 
     c2 = (px² + py² − a1² − a2²)/(2 a1 a2), s2 = ∓√(1 − c2²), θ2 = Atan2(s2, c2) and
     θ1 = Atan2((a1 + a2 c2) py − a2 s2 px, (a1 + a2 c2) px + a2 s2 py) (the book's s1, c1 times the
     positive px² + py²; at px = py = 0 with a1 = a2, θ1 is arbitrary and ``theta1`` is returned).
     """
     c2 = (px**2 + py**2 - a1**2 - a2**2) / (2.0 * a1 * a2)
-    if abs(c2) > 1.0 + 1e-12:
-        r = np.hypot(px, py)
-        raise ValueError(f"point unreachable by the {robot}: distance {r:.6g} m from {origin} is outside "
-                         f"[|a1 - a2|, a1 + a2] = [{abs(a1 - a2):.6g}, {a1 + a2:.6g}] m")
-    c2 = _snap_cosine(c2)
-    out = []
-    for s2 in (-np.sqrt(1.0 - c2**2), np.sqrt(1.0 - c2**2)):
+    far = ~(np.abs(c2) <= 1.0 + 1e-12)
+    if far.any():
+        k = int(np.argmax(far))
+        which = "point" if len(c2) == 1 else f"point {k}"
+        raise ValueError(f"{which} unreachable by the {robot}: distance {np.hypot(px[k], py[k]):.6g} m from {origin} is "
+                         f"outside [|a1 - a2|, a1 + a2] = [{abs(a1 - a2):.6g}, {a1 + a2:.6g}] m")
+    c2 = _snap_cosines(c2)
+    out = np.empty((c2.size, 2, 2))
+    for row, s2 in enumerate((-np.sqrt(1.0 - c2**2), np.sqrt(1.0 - c2**2))):
         k1, k2 = a1 + a2 * c2, a2 * s2
-        if abs(k1) < 1e-12 and abs(k2) < 1e-12 and abs(px) < 1e-12 and abs(py) < 1e-12:
-            t1 = float(theta1)  # a1 = a2 and p = 0: θ1 arbitrary
-        else:
-            t1 = np.arctan2(k1 * py - k2 * px, k1 * px + k2 * py)
-        out.append([t1, np.arctan2(s2, c2)])
-    return np.array(out)
+        t1 = np.arctan2(k1 * py - k2 * px, k1 * px + k2 * py)
+        arbitrary = (np.abs(k1) < 1e-12) & (np.abs(k2) < 1e-12) & (np.abs(px) < 1e-12) & (np.abs(py) < 1e-12)
+        out[:, row, 0] = np.where(arbitrary, float(theta1), t1)
+        out[:, row, 1] = np.arctan2(s2, c2)
+    return out
 
 
 def inverse_kinematics_planar_2r(p: np.ndarray, links: Sequence[DHLink | dict] | None = None,
@@ -271,53 +311,39 @@ def inverse_kinematics_planar_3r(x: np.ndarray, links: Sequence[DHLink | dict] |
     """Both solutions q = [θ1, θ2, θ3] of the three-link planar arm for ``x = [px, py, φ]``, Sect. 2.12.1.
 
     p_W = p − a3 [cφ, sφ] (2.91)–(2.92), (θ1, θ2) as for the two-link arm, θ3 = φ − θ1 − θ2.
-    Rows ``[ELBOW_UP, ELBOW_DOWN]`` = [s2 < 0, s2 > 0]. ``links``: the arm's DH table; default the
-    book's ``planar_3r`` with ``params`` (``a``).
+    Rows ``[ELBOW_UP, ELBOW_DOWN]`` = [s2 < 0, s2 > 0] (those within the joint limits). ``links``: the arm's
+    DH table; default the book's ``planar_3r`` with ``params`` (``a``). The batch solver
+    :func:`inverse_kinematics_planar_3r_batch` at one pose.
     """
-    links = _book_structure(_arm_links(links, "planar_3r", params), "planar_3r", "three-link planar arm")
-    px, py, phi = as_vector(x, 3, "x")
-    a1, a2, a3 = (link.a for link in links)
-    q12 = _two_link(px - a3 * np.cos(phi), py - a3 * np.sin(phi), a1, a2, "three-link planar arm")
-    qs = wrap_angle(np.column_stack([q12, phi - q12.sum(axis=1)]))
-    T = np.eye(4)
-    T[:3, :3] = rot_z(phi)
-    T[:2, 3] = px, py
-    return _checked(links, qs, T, np.ones((4, 4), bool), "three-link planar arm")
+    Q, valid = inverse_kinematics_planar_3r_batch(as_vector(x, 3, "x")[None], links, **params)
+    return Q[0][valid[0]]
 
 
-def _two_link_batch(px: np.ndarray, py: np.ndarray, a1: float, a2: float, robot: str) -> np.ndarray:
-    """:func:`_two_link` at N points at once: (N, 2, 2), rows [s2 < 0, s2 > 0] of each point (θ1 = 0 where
-    it is arbitrary)."""
-    c2 = (px**2 + py**2 - a1**2 - a2**2) / (2.0 * a1 * a2)
-    far = ~(np.abs(c2) <= 1.0 + 1e-12)
-    if far.any():
-        k = int(np.argmax(far))
-        raise ValueError(f"point {k} unreachable by the {robot}: distance {np.hypot(px[k], py[k]):.6g} m from "
-                         f"joint 1 is outside [|a1 - a2|, a1 + a2] = [{abs(a1 - a2):.6g}, {a1 + a2:.6g}] m")
-    c2 = np.clip(c2, -1.0, 1.0)
-    c2 = np.where(1.0 - np.abs(c2) < 1e-12, np.sign(c2), c2)                 # as _snap_cosine
-    out = np.empty((c2.size, 2, 2))
-    for row, s2 in enumerate((-np.sqrt(1.0 - c2**2), np.sqrt(1.0 - c2**2))):
-        k1, k2 = a1 + a2 * c2, a2 * s2
-        t1 = np.arctan2(k1 * py - k2 * px, k1 * px + k2 * py)
-        arbitrary = (np.abs(k1) < 1e-12) & (np.abs(k2) < 1e-12) & (np.abs(px) < 1e-12) & (np.abs(py) < 1e-12)
-        out[:, row, 0] = np.where(arbitrary, 0.0, t1)
-        out[:, row, 1] = np.arctan2(s2, c2)
-    return out
+def _dh_arrays(links: Sequence[DHLink]) -> tuple[np.ndarray, ...]:
+    """(revolute, θ, d, a, cos α, sin α) of a DH table, per link."""
+    return _per_table("dh", links, _build_dh_arrays)
+
+
+def _build_dh_arrays(links: Sequence[DHLink]) -> tuple[np.ndarray, ...]:
+    alpha = np.array([link.alpha for link in links])
+    return (np.array([link.joint == "revolute" for link in links]), np.array([link.theta for link in links]),
+            np.array([link.d for link in links]), np.array([link.a for link in links]), np.cos(alpha), np.sin(alpha))
 
 
 def _dh_product_batch(links: Sequence[DHLink], Q: np.ndarray) -> np.ndarray:
     """The DH product (2.50) A_1(q_1) ⋯ A_n(q_n), Eq. (2.52) per link, at M configurations Q (M, n): (M, 4, 4)."""
-    T = np.broadcast_to(np.eye(4), (Q.shape[0], 4, 4))
-    for link, q in zip(links, Q.T):
-        theta = link.theta + q if link.joint == "revolute" else np.full_like(q, link.theta)
-        d = link.d + q if link.joint == "prismatic" else np.full_like(q, link.d)
-        ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(link.alpha), np.sin(link.alpha)
-        A = np.zeros((Q.shape[0], 4, 4))
-        A[:, 0, 0], A[:, 0, 1], A[:, 0, 2], A[:, 0, 3] = ct, -st * ca, st * sa, link.a * ct
-        A[:, 1, 0], A[:, 1, 1], A[:, 1, 2], A[:, 1, 3] = st, ct * ca, -ct * sa, link.a * st
-        A[:, 2, 1], A[:, 2, 2], A[:, 2, 3], A[:, 3, 3] = sa, ca, d, 1.0
-        T = T @ A
+    M, n = Q.shape
+    revolute, theta0, d0, a, ca, sa = _dh_arrays(links)
+    theta = theta0 + np.where(revolute, Q, 0.0)
+    d = d0 + np.where(revolute, 0.0, Q)
+    ct, st = np.cos(theta), np.sin(theta)
+    A = np.zeros((M, n, 4, 4))
+    A[..., 0, 0], A[..., 0, 1], A[..., 0, 2], A[..., 0, 3] = ct, -st * ca, st * sa, a * ct
+    A[..., 1, 0], A[..., 1, 1], A[..., 1, 2], A[..., 1, 3] = st, ct * ca, -ct * sa, a * st
+    A[..., 2, 1], A[..., 2, 2], A[..., 2, 3], A[..., 3, 3] = sa, ca, d, 1.0
+    T = A[:, 0]
+    for k in range(1, n):
+        T = T @ A[:, k]
     return T
 
 
@@ -326,9 +352,9 @@ def inverse_kinematics_planar_3r_batch(X: np.ndarray, links: Sequence[DHLink | d
     """:func:`inverse_kinematics_planar_3r` at N poses X (N, 3) = [px, py, φ] in one vectorised pass.
 
     Returns ``(Q, valid)``: Q (N, 2, 3) both solutions of each pose in the same row order
-    [ELBOW_UP, ELBOW_DOWN] (revolute angles shifted by 2π into the joint limits as
-    :func:`_within_limits` does) and ``valid`` (N, 2), the rows within the limits — the rows the
-    per-pose solver returns. The DH product of every row is checked against the pose; ValueError
+    [ELBOW_UP, ELBOW_DOWN] (revolute angles shifted by 2π into the joint limits, :func:`_into_limits`) and
+    ``valid`` (N, 2), the rows within the limits — the rows :func:`inverse_kinematics_planar_3r` returns (it is
+    this solver at N = 1). The DH product of every row is checked against the pose; ValueError
     naming the first unreachable pose.
     """
     links = _book_structure(_arm_links(links, "planar_3r", params), "planar_3r", "three-link planar arm")
@@ -342,30 +368,24 @@ def inverse_kinematics_planar_3r_batch(X: np.ndarray, links: Sequence[DHLink | d
     Q[:, :, 2] = phi[:, None] - Q[:, :, :2].sum(axis=2)
     Q = wrap_angle(Q)
     T = _dh_product_batch(links, Q.reshape(-1, 3)).reshape(-1, 2, 4, 4)
-    c, s = np.cos(phi)[:, None], np.sin(phi)[:, None]
-    err = np.max(np.abs(np.stack([T[..., 0, 0] - c, T[..., 0, 1] + s, T[..., 1, 0] - s, T[..., 1, 1] - c,
-                                  T[..., 2, 2] - 1.0, T[..., 0, 3] - px[:, None], T[..., 1, 3] - py[:, None],
-                                  T[..., 2, 3], T[..., 0, 2], T[..., 1, 2], T[..., 2, 0], T[..., 2, 1]])), axis=0)
+    target = np.zeros((X.shape[0], 1, 4, 4))                  # the pose: R_z(φ), (px, py, 0)
+    target[:, 0, 0, 0] = target[:, 0, 1, 1] = np.cos(phi)
+    target[:, 0, 1, 0] = np.sin(phi)
+    target[:, 0, 0, 1] = -target[:, 0, 1, 0]
+    target[:, 0, 2, 2] = target[:, 0, 3, 3] = 1.0
+    target[:, 0, 0, 3], target[:, 0, 1, 3] = px, py
+    err = np.abs(T - target).max(axis=(2, 3))
+    which = (lambda k: "pose") if len(X) == 1 else (lambda k: f"pose {k}")
     if not (err <= IK_TOL).all():
         k = int(np.argmax(~(err <= IK_TOL).all(axis=1)))
-        raise ValueError(f"pose {k} unreachable by the three-link planar arm: closed-form residual "
+        raise ValueError(f"{which(k)} unreachable by the three-link planar arm: closed-form residual "
                          f"{err[k].max():.3g} > {IK_TOL:g}")
-    valid = np.ones(Q.shape[:2], bool)
-    for k, link in enumerate(links):                     # :func:`_within_limits`, on whole columns
-        lo = -np.inf if link.lower is None else link.lower
-        hi = np.inf if link.upper is None else link.upper
-        if not (isfinite(lo) or isfinite(hi)):
-            continue
-        q = Q[..., k]
-        if link.joint == "revolute":
-            base = lo if isfinite(lo) else -np.pi
-            shifted = base + (q - base) % (2 * np.pi)
-            q[:] = np.where(((q < lo - IK_TOL) | (q > hi + IK_TOL)) & (shifted <= hi + IK_TOL), shifted, q)
-        valid &= (lo - IK_TOL <= q) & (q <= hi + IK_TOL)
+    Q, valid = _into_limits(links, Q)
     if not valid.any(axis=1).all():
         k = int(np.argmin(valid.any(axis=1)))
-        raise ValueError(f"pose {k} unreachable by the three-link planar arm within its joint limits: every "
-                         f"closed-form solution {np.round(Q[k], 4).tolist()} violates them")
+        lo, hi = ([round(b, 4) for b in bounds] for bounds in _limits(links))
+        raise ValueError(f"{which(k)} unreachable by the three-link planar arm within its joint limits (lower {lo}, "
+                         f"upper {hi}): every closed-form solution {np.round(Q[k], 4).tolist()} violates them")
     return Q, valid
 
 

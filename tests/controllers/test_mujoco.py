@@ -470,3 +470,25 @@ def test_peg_in_hole_state_machine_on_mujoco():
     assert np.allclose([t for t, _ in ctrl.transitions], [t for t, _ in ref_ctrl.transitions], atol=0.05)
     tip = mj["x_e"][-1]
     assert abs(tip[1] + task.insert_depth) < 1e-3 and abs(tip[0] - hole.x_hole) <= hole.clearance + 5e-4
+
+
+def test_model_predictive_control_on_mujoco():
+    """The MPC of controllers/mpc.py (multiple shooting on the symbolic model, SQP per sample, every 20 ms) regulating
+    the UR5 within its effort limits: the same torques and joint paths on MujocoPlant as on ArmPlant."""
+    from controllers.mpc import ModelPredictiveControl
+    from planners.optimal_control import OptimalControlProblem, StageCost
+
+    ur5 = load("ur5")
+    q0 = ur5.configurations["home"]
+    target = q0 + np.array([0.3, -0.2, 0.2, 0.1, -0.2, 0.3])
+    tau_max = np.array(ur5.model.effortLimit)
+    problem = OptimalControlProblem(ur5, horizon=10, dt=0.02, running=StageCost(q=1e3, qd=1.0, tau=1e-6),
+                                    terminal=StageCost(q=1e4, qd=1e2), tau_max=tau_max)
+    runs = []
+    for plant in (MujocoPlant(ur5, tau_max=tau_max), ArmPlant(ur5, tau_max=tau_max)):
+        runs.append(simulate(plant, ModelPredictiveControl(problem, reference=target), (0.0, 0.6),
+                             plant.initial_state(q0), h=1e-3, Ts=0.02))
+    mj, ref = runs
+    assert mj["failed"].sum() == 0 and np.abs(mj.q[-1] - target).max() < 1e-3
+    assert np.all(np.abs(mj.u) <= tau_max + 1e-9)
+    assert np.abs(mj.q - ref.q).max() < 1e-8 and np.abs(mj.u - ref.u).max() < 1e-6 * tau_max.max()

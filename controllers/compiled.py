@@ -40,6 +40,7 @@ import errno
 import functools
 import hashlib
 import json
+import logging
 import os
 import shutil
 import subprocess
@@ -56,6 +57,10 @@ from typing import Any, Callable, Iterator, Mapping, Sequence
 
 import casadi as ca
 import numpy as np
+
+#: Tells when a compiled function is built (the first run on a machine compiles each loop once: ~1 s each):
+#: ``rmpc report`` shows these INFO lines as its progress while the compiler works.
+log = logging.getLogger(__name__)
 import pinocchio as pin
 
 from controllers.integration import rk4_step_law
@@ -752,9 +757,12 @@ def compile_function(function: ca.Function | Callable[[], ca.Function], flags: t
         for attempt in range(2):
             try:
                 if not library.exists():
+                    started = time.perf_counter()
+                    log.info("compiling %s (C code for %s; once, then loaded from %s)", name, cc, cache)
                     code = code if code is not None else c_code(function())
                     library = _build_library(code, name, digest, cache, cc, flags,
                                              None if metadata is None else metadata())
+                    log.info("compiled %s in %.1f s", name, time.perf_counter() - started)
                 function = ca.external(name, str(library))
                 meta = library.with_suffix(".json")
                 if metadata is not None and meta.exists():

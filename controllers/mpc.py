@@ -30,6 +30,7 @@ Diehl, Bock & Schlöder, SIAM J. Control Optim. 43 (2005) (real-time iteration).
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -41,7 +42,7 @@ from controllers.plants import ArmMeasurement
 from controllers.simulation import LoggedController
 from planners.optimal_control import (OptimalControlOptions, OptimalControlProblem, OptimalControlResult,
                                       OptimalControlSolver)
-from rigid_body.rotations import as_homogeneous
+from rigid_body.rotations import ORTHONORMAL_TOL, as_homogeneous
 from rigid_body.validation import as_positive
 
 __all__ = ["MPCOptions", "ModelPredictiveControl"]
@@ -115,6 +116,7 @@ class ModelPredictiveControl(LoggedController):
             raise ValueError(f"`options` must be MPCOptions, got {type(self.options).__name__}")
         self.robot, self.n, self.N, self.dt = problem.robot, problem.n, problem.horizon, problem.dt
         self.reference = None if reference is None else as_reference(reference, self.n)
+        self._target_fixed: np.ndarray | None = None
         if target is None:
             if any(problem.pose_terms):
                 raise ValueError("`target` is required: the problem has an end-effector pose cost")
@@ -125,6 +127,8 @@ class ModelPredictiveControl(LoggedController):
         else:
             T = as_homogeneous(target, "target").copy()
             self._target = lambda t: T
+            self._target_fixed = T                                   # one pose: checked once, not per sample
+        self._constant_reference = reference is None or not (callable(reference) or hasattr(reference, "evaluate"))
         o = self.options
         self.solver = OptimalControlSolver(problem, OptimalControlOptions(
             max_iter=1 if o.real_time_iteration else o.max_iter, verify=o.verify,
@@ -145,6 +149,7 @@ class ModelPredictiveControl(LoggedController):
         self._pending: np.ndarray | None = None   # with delay: the torque committed for the current sample
         self._hold: dict[str, Any] = {}
         self._q0: np.ndarray | None = None
+        self._references: dict[str, np.ndarray] | None = None    # a set point's, computed once
         self.failures = 0
         self.samples = 0
         self.missed_deadlines = 0
@@ -153,6 +158,8 @@ class ModelPredictiveControl(LoggedController):
     def horizon_reference(self, t: float) -> dict[str, np.ndarray]:
         """q_ref, qd_ref (N+1, n), tau_ref (N, n) and T_d at the nodes t + i·dt of the horizon from ``t``."""
         n, N = self.n, self.N
+        if self._references is not None:
+            return self._references
         times = t + self.dt * np.arange(N + 1)
         if self.reference is None:
             q = np.tile(self._q0, (N + 1, 1))
@@ -167,8 +174,12 @@ class ModelPredictiveControl(LoggedController):
         if self.options.feedforward:
             model, data = self.robot.model, self._data
             out["tau_ref"] = np.array([pin.rnea(model, data, q[i], qd[i], qdd[i]) for i in range(N)])
-        if self._target is not None:
-            out["T_d"] = np.array([as_homogeneous(self._target(float(s)), "target") for s in times])
+        if self._target_fixed is not None:
+            out["T_d"] = self._target_fixed
+        elif self._target is not None:
+            out["T_d"] = _poses(np.array([self._target(float(s)) for s in times]), "target")
+        if self._constant_reference and (self._target is None or self._target_fixed is not None):
+            self._references = out                                  # a set point and one pose: every sample's
         return out
 
     # ---- one sample -----------------------------------------------------------------------------------------
@@ -176,6 +187,7 @@ class ModelPredictiveControl(LoggedController):
         if self._next is not None and t < self._next - 1e-9 * self.dt:
             self.record(**self._hold)
             return self._u                                          # held between the controller's samples
+        start = time.perf_counter()
         self._next = t + self.dt if self._next is None else self._next + self.dt
         q, qd = np.asarray(meas.q, dtype=float), np.asarray(meas.qd, dtype=float)
         if self._q0 is None:
@@ -204,7 +216,7 @@ class ModelPredictiveControl(LoggedController):
         else:
             self._plan, self._plan_age = plan, 0
             tau = np.clip(plan.u[0], -self.problem.tau_max, self.problem.tau_max)
-        solve_time = plan.solve_time if plan is not None else math.nan
+        solve_time = time.perf_counter() - start                    # the whole sample: references, SQP, checks
         deadline = bool(plan is not None and solve_time <= self.dt)
         self.missed_deadlines += not deadline
         if self.options.delay:
@@ -244,3 +256,16 @@ class ModelPredictiveControl(LoggedController):
         return (f"ModelPredictiveControl (N = {self.N}, dt = {self.dt:g} s): {self.failures} failed solves and "
                 f"{self.missed_deadlines} missed deadlines in {self.samples} samples; the prediction model "
                 f"{self.robot.name!r} may differ too much from the plant")
+
+
+def _poses(T: np.ndarray, name: str) -> np.ndarray:
+    """Homogeneous transforms (m, 4, 4), checked at once: finite, last row [0, 0, 0, 1], rotation blocks (the
+    vectorised :func:`rigid_body.rotations.as_homogeneous`)."""
+    if T.ndim != 3 or T.shape[1:] != (4, 4) or not np.all(np.isfinite(T)):
+        raise ValueError(f"`{name}` must give finite (4, 4) homogeneous transforms, got shape {T.shape[1:]}")
+    R = T[:, :3, :3]
+    if (np.max(np.abs(T[:, 3] - [0.0, 0.0, 0.0, 1.0])) > ORTHONORMAL_TOL
+            or np.max(np.abs(R @ np.transpose(R, (0, 2, 1)) - np.eye(3))) > ORTHONORMAL_TOL
+            or np.any(np.linalg.det(R) < 0)):
+        raise ValueError(f"`{name}` must give homogeneous transforms (rotation block, last row [0, 0, 0, 1])")
+    return T

@@ -43,7 +43,10 @@ def test_regulation_within_the_torque_limits_and_logs(problem):
 def test_faster_loop_holds_the_torque_between_samples(problem):
     _, res = run(problem, Ts=0.005, t_f=0.1)
     np.testing.assert_array_equal(res.u[1:4], np.repeat(res.u[:1], 3, axis=0))
-    assert not np.array_equal(res.u[4], res.u[0])
+    np.testing.assert_array_equal(res["q_pred"][1:4], np.repeat(res["q_pred"][:1], 3, axis=0))
+    assert not np.array_equal(res["q_pred"][4], res["q_pred"][0])        # a new plan at the next sample (20 ms)
+    changes = np.flatnonzero(np.any(res.u[1:] != res.u[:-1], axis=1)) + 1
+    assert changes.size and np.all(changes % 4 == 0)                     # the torque changes only at samples
 
 
 def test_real_time_iteration_takes_one_sqp_step(problem):

@@ -35,7 +35,9 @@ Diehl et al., SIAM J. Control Optim. 43 (2005) (real-time iteration).
 from __future__ import annotations
 
 import ctypes
+import hashlib
 import math
+import platform
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -376,7 +378,7 @@ def _functions(robot: Robot, frame: int, position: bool, orientation: bool) -> t
     cached = _FUNCTIONS.get(key)
     if cached is not None:
         return cached
-    from controllers.compiled import compile_function  # the C code cache (one home, in the compiled loop's module)
+    from controllers.compiled import COMPILE_FLAGS, CompiledLoopUnavailable, compile_function   # the C code cache
 
     n = robot.nv
     x, u, p = ca.SX.sym("x", 2 * n), ca.SX.sym("u", n), ca.SX.sym("p", _parameter_size(n))
@@ -393,24 +395,44 @@ def _functions(robot: Robot, frame: int, position: bool, orientation: bool) -> t
                      for c, s in zip(RK4_WEIGHTS, stages)],
                    ca.sqrt(P["dt"]) * P["sw_tau"] * (u - P["tau_ref"]))
     tag = f"{'p' if position else ''}{'o' if orientation else ''}"
-    stage = ca.Function(f"ocp_stage{tag}", [x, u, p], list(_linearised_interval(robot, frame, x, u, p, position,
-                                                                                  orientation)))
+    x_next_, r_, J_, qdd_ = _linearised_interval(robot, frame, x, u, p, position, orientation)
+    stage = ca.Function(f"ocp_stage{tag}", [x, u, p], [x_next_, r_, ca.densify(J_), qdd_])
     stage_value = ca.Function(f"ocp_value{tag}", [x, u, p], [x_next, r, slopes[0][n:]])
     r_N = _state_residual(robot, frame, x, P, position, orientation)
-    terminal = ca.Function(f"ocp_terminal{tag}", [x, p], [r_N, ca.jacobian(r_N, x)])
+    terminal = ca.Function(f"ocp_terminal{tag}", [x, p], [r_N, ca.densify(ca.jacobian(r_N, x))])
     terminal_value = ca.Function(f"ocp_terminal_value{tag}", [x, p], [r_N])
-    built = tuple(compile_function(g) for g in (stage, stage_value, terminal, terminal_value))
+    try:                                    # the linearisation, the hot spot: the host's instruction set
+        stage = compile_function(stage, flags=(*COMPILE_FLAGS, "-march=native", f"-DRMPC_HOST={_host()}"))
+    except CompiledLoopUnavailable as err:
+        if err.kind != "compiler failed":
+            raise
+        stage = compile_function(stage)     # a compiler without -march=native
+    built = (stage, *(compile_function(g) for g in (stage_value, terminal, terminal_value)))
     _FUNCTIONS[key] = built
     return built
+
+
+def _host() -> str:
+    """A digest of this machine's processor (its name and features): a library built for its instruction set is cached
+    under it, so a cache shared with another machine never loads one it cannot run."""
+    info = f"{platform.machine()} {platform.processor()}"
+    try:
+        with open("/proc/cpuinfo") as f:
+            info += "".join(sorted({line for line in f if line.startswith(("model name", "flags", "Features"))}))
+    except OSError:
+        pass
+    return hashlib.sha256(info.encode()).hexdigest()[:12]
 
 
 class _Call:
     """A CasADi function called on numpy arrays without DM conversions (CasADi's function buffer): each argument's
     C-order data is the input's column-major nonzeros (a dense (r, c) input is given as its (c, r) transpose);
-    returns the outputs as dense (rows, cols) arrays (copies)."""
+    returns the outputs as dense (rows, cols) arrays (copies), or with ``transposed`` as their (cols, rows)
+    transposes, views of the output buffers without a copy (valid until the next call; dense outputs only): a
+    function mapped over N intervals then gives one row per interval."""
 
-    def __init__(self, function: ca.Function):
-        self.function = function
+    def __init__(self, function: ca.Function, transposed: bool = False):
+        self.function, self.transposed = function, transposed
         self._buffer, self._run = function.buffer()
         self._outputs = []
         for i in range(function.n_out()):
@@ -430,6 +452,8 @@ class _Call:
             self._inputs[i] = a                      # kept alive for the call
             self._buffer.set_arg(i, memoryview(a))
         self._run()
+        if self.transposed:
+            return [nz.reshape(shape[1], shape[0]) for nz, _, _, shape, _ in self._outputs]
         out = []
         for nz, rows, cols, shape, dense in self._outputs:
             if dense:
@@ -641,7 +665,8 @@ class OptimalControlSolver:
         position, orientation = pr.pose_terms
         self._pose = (position, orientation)
         stage, stage_value, terminal, terminal_value = _functions(pr.robot, pr.frame, position, orientation)
-        self._stage, self._stage_value = _Call(stage.map(N)), _Call(stage_value.map(N))
+        self._stage = _Call(stage.map(N), transposed=True)            # rows: intervals; Jacobians as [Φ; r]ᵀ
+        self._stage_value = _Call(stage_value.map(N), transposed=True)
         self._stage_value_one = _Call(stage_value)
         self._terminal, self._terminal_value = _Call(terminal), _Call(terminal_value)
         q_lim, v_lim = pr.limited()
@@ -716,10 +741,10 @@ class OptimalControlSolver:
         iterations, converged, message, mult, qp_notes, status = 0, False, "", {}, set(), "iteration limit"
         values = None
         for it in range(max_iter):
-            Xn, R, Jac, qdd = self._stage(X[:-1], U, P)
+            Xn, R, JT, qdd = self._stage(X[:-1], U, P)      # (N, 2n), (N, nr), (N·3n, 2n + nr), (N, n)
             r_N, J_N = self._terminal(X[-1], P_N)
             values = (Xn, R, r_N.ravel(), qdd)
-            step, mult, ok, qp_message = self._step(X, U, Xn, R, Jac, r_N.ravel(), J_N)
+            step, mult, ok, qp_message = self._step(X, U, Xn, R, JT.reshape(N, nx + n, -1), r_N.ravel(), J_N)
             iterations += 1
             if not ok:
                 message = f"the QP of SQP iteration {it + 1} failed ({qp_message})"
@@ -727,11 +752,11 @@ class OptimalControlSolver:
                 break
             if qp_message:
                 qp_notes.add(qp_message)
-            dX, dU, S = step
+            dX, dU, S, slope = step
             size = max(float(np.max(np.abs(dX), initial=0.0)), float(np.max(np.abs(dU) / tau_max, initial=0.0)))
-            defect = float(np.max(np.abs(Xn.T - X[1:])))
+            defect = float(np.max(np.abs(Xn - X[1:])))
             rho = max(rho, 1.5 * float(np.max(np.abs(mult["gap"]), initial=0.0)))
-            alpha, values = self._line_search(X, U, dX, dU, S, P, P_N, R, Jac, r_N.ravel(), J_N, Xn, rho)
+            alpha, values = self._line_search(X, U, dX, dU, S, slope, P, P_N, values, rho)
             X[1:] += alpha * dX
             U += alpha * dU
             if size <= o.step_tol and defect <= o.tol:
@@ -789,9 +814,11 @@ class OptimalControlSolver:
                              f"got {x.shape} and {u.shape}")
         return x, u
 
-    def _step(self, X: np.ndarray, U: np.ndarray, Xn: np.ndarray, R: np.ndarray, Jac: np.ndarray, r_N: np.ndarray,
+    def _step(self, X: np.ndarray, U: np.ndarray, Xn: np.ndarray, R: np.ndarray, JT: np.ndarray, r_N: np.ndarray,
               J_N: np.ndarray) -> tuple:
-        """Solve the QP of the step at (X, U): ((δX (N, 2n), δU (N, n), S (N, n_limited)), multipliers, ok, message).
+        """Solve the QP of the step at (X, U), given Φ(x_k, τ_k) (N, 2n), the residuals R (N, nr) and the transposed
+        Jacobians JT_k = ∂[Φ; r]/∂[x_k; τ_k]ᵀ (N, 3n, 2n + nr): ((δX (N, 2n), δU (N, n), S (N, n_limited), the
+        cost's directional derivative along the step), multipliers, ok, message).
 
         The Gauss–Newton Hessian JᵀJ and gradient Jᵀr of each interval, the dynamics' linearisation and the limits go
         straight into HPIPM's stage arrays. Each variable is scaled by 1/√(its Hessian diagonal) (Jacobi scaling: the
@@ -799,11 +826,9 @@ class OptimalControlSolver:
         absolute tolerances mean the same on a 12 N·m wrist and on a 10⁶ N·m bound. S: the total slack (lower +
         upper) of each limited quantity, soft limits only."""
         pr, n, N, nx, qp = self.problem, self.n, self.N, self.nx, self._qp
-        nz = nx + n
-        J = Jac.reshape(nx + R.shape[0], N, nz).transpose(1, 0, 2)          # (N, nx + nr, nz)
-        A, B, Jr = J[:, :nx, :nx], J[:, :nx, nx:], J[:, nx:, :]
-        H = np.matmul(np.transpose(Jr, (0, 2, 1)), Jr)                        # Gauss–Newton: JᵀJ, (N, nz, nz)
-        g = np.einsum("kri,kr->ki", Jr, R.T)
+        JT_r = JT[:, :, nx:]                                                  # (N, nz, nr): ∂r/∂z transposed
+        H = JT_r @ np.transpose(JT_r, (0, 2, 1))                              # Gauss–Newton: JᵀJ, (N, nz, nz)
+        g = (JT_r @ R[:, :, None])[:, :, 0]                                   # Jᵀr, (N, nz)
         H_N, g_N = J_N.T @ J_N, J_N.T @ r_N
         diag = np.vstack([np.diagonal(H, axis1=1, axis2=2), np.concatenate([np.diag(H_N), np.zeros(n)])])
         top = max(float(np.max(diag)), 1e-12)
@@ -818,9 +843,9 @@ class OptimalControlSolver:
         qp.r[:N] = g[:, nx:] * D_u
         qp.q[1:N] = g[1:, :nx] * D_x[:-1]
         qp.q[N] = g_N * D_x[-1]
-        qp.A[1:N] = np.transpose(A[1:] * D_x[:-1, None, :] * inv[1:, :, None], (0, 2, 1))
-        qp.B[:N] = np.transpose(B * D_u[:, None, :] * inv[:, :, None], (0, 2, 1))
-        qp.b[:N] = (Xn.T - X[1:]) * inv                                        # the defects
+        qp.A[1:N] = JT[1:, :nx, :nx] * D_x[:-1, :, None] * inv[1:, None, :]  # A_kᵀ, B_kᵀ scaled (HPIPM's order)
+        qp.B[:N] = JT[:, nx:, :nx] * D_u[:, :, None] * inv[:, None, :]
+        qp.b[:N] = (Xn - X[1:]) * inv                                         # the defects
         qp.lbu[:N] = (-pr.tau_max - U) / D_u
         qp.ubu[:N] = (pr.tau_max - U) / D_u
         limited, nb = self._limited, qp.nb
@@ -858,6 +883,7 @@ class OptimalControlSolver:
         mult = {"gap": qp.pi[:N] * inv, "tau": (qp.lam_ub[:N, :n] - qp.lam_lb[:N, :n]) / D_u,
                 "x": np.zeros((N, nx))}
         mult["x"][:, limited] = bx / D_l
+        slope = float(np.sum(g[:, :nx][1:] * dX[:-1]) + np.sum(g[:, nx:] * dU) + g_N @ dX[-1])
         S = np.zeros((N, 0))
         if qp.ns:
             S = (qp.sl[1:, :nb] + qp.su[1:, :nb]) * D_l
@@ -865,11 +891,12 @@ class OptimalControlSolver:
                         upper=np.vstack([qp.lam_ub[1:N, n:n + nb], qp.lam_ub[N:, :nb]]) / D_l,
                         slack_lower=qp.lam_ls[1:, :nb] / D_l, slack_upper=qp.lam_us[1:, :nb] / D_l)
         note = "" if status == 0 else f"HPIPM status {status} (residual {residual:.1g})"
-        return (dX, dU, S), mult, True, note
+        return (dX, dU, S, slope), mult, True, note
 
 
     def _values(self, X: np.ndarray, U: np.ndarray, P: np.ndarray, P_N: np.ndarray) -> tuple:
-        """(Φ(x_k, τ_k) (2n, N), the running residuals, the terminal residual, q̈_k (n, N)) at (X, U)."""
+        """(Φ(x_k, τ_k) (N, 2n), the running residuals (N, nr), the terminal residual, q̈_k (N, n)) at (X, U)
+        (views of the function's buffers: valid until its next call)."""
         Xn, R, qdd = self._stage_value(X[:-1], U, P)
         return Xn, R, self._terminal_value(X[-1], P_N)[0].ravel(), qdd
 
@@ -878,7 +905,7 @@ class OptimalControlSolver:
         Xn, R, r_N, _ = values
         cost = 0.5 * float(np.sum(R * R) + r_N @ r_N)
         penalty = self.problem.slack_weight * self._excess(X) if self.problem.state_limits == "soft" else 0.0
-        return cost, cost + penalty + rho * float(np.sum(np.abs(Xn.T - X[1:])))
+        return cost, cost + penalty + rho * float(np.sum(np.abs(Xn - X[1:])))
 
     def _excess(self, X: np.ndarray) -> float:
         """Σ over nodes 1..N and limited joints of the amount by which q and |q̇| leave their limits."""
@@ -888,17 +915,14 @@ class OptimalControlSolver:
         fast = np.maximum(np.abs(v) - pr.qd_max, 0.0)
         return float(np.sum(over[np.isfinite(over)]) + np.sum(fast[np.isfinite(fast)]))
 
-    def _line_search(self, X, U, dX, dU, S, P, P_N, R, Jac, r_N, J_N, Xn, rho) -> tuple[float, tuple]:
-        """Armijo backtracking on the L1 merit along the step, its directional derivative from the linearisation:
-        (the step length, the values at the point taken)."""
-        pr, n, N, nx = self.problem, self.n, self.N, self.nx
-        cost0 = 0.5 * float(np.sum(R * R) + r_N @ r_N)
-        penalty0 = pr.slack_weight * self._excess(X) if pr.state_limits == "soft" else 0.0
-        defects = float(np.sum(np.abs(Xn.T - X[1:])))
-        merit0 = cost0 + penalty0 + rho * defects
-        J = Jac.reshape(nx + R.shape[0], N, nx + n).transpose(1, 0, 2)[:, nx:, :]
-        dz = np.concatenate([np.vstack([np.zeros(nx), dX[:-1]]), dU], axis=1)   # (N, nz): δx_k, δτ_k
-        slope = float(np.einsum("kr,krz,kz->", R.T, J, dz) + r_N @ (J_N @ dX[-1]))
+    def _line_search(self, X: np.ndarray, U: np.ndarray, dX: np.ndarray, dU: np.ndarray, S: np.ndarray,
+                     slope: float, P: np.ndarray, P_N: np.ndarray, values: tuple, rho: float) -> tuple[float, tuple]:
+        """Armijo backtracking on the L1 merit along the step; its directional derivative from the linearisation
+        (``slope``: the cost's, from the QP's gradient): (the step length, the values at the point taken, copied)."""
+        pr = self.problem
+        cost0, merit0 = self._merit(X, values, rho)
+        penalty0 = merit0 - cost0 - rho * float(np.sum(np.abs(values[0] - X[1:])))
+        defects = float(np.sum(np.abs(values[0] - X[1:])))
         slope += (pr.slack_weight * float(np.sum(S)) - penalty0) if pr.state_limits == "soft" else 0.0
         slope -= rho * defects
         alpha = 1.0
@@ -908,9 +932,9 @@ class OptimalControlSolver:
             trial = self._merit(X_trial, values, rho)[1]
             if trial <= merit0 + 1e-4 * alpha * min(slope, 0.0) or trial <= merit0 - 1e-12 * abs(merit0) \
                     and slope >= 0:
-                return alpha, values
+                break
             alpha *= 0.5
-        return alpha, values
+        return alpha, tuple(v.copy() for v in values)
 
     # ---- the result and its independent check ----------------------------------------------------------------
     def _result(self, X: np.ndarray, U: np.ndarray, P: np.ndarray, P_N: np.ndarray, values: tuple | None,
@@ -933,8 +957,8 @@ class OptimalControlSolver:
             defect = check.defects(X, U)
             kkt = check.residual(X, U, mult) if (converged and mult) else math.nan
         else:                               # the solver's own defect (the real-time loops skip Pinocchio's)
-            qdd = values[3].T
-            defect = float(np.max(np.abs(values[0].T - X[1:])))
+            qdd = values[3]
+            defect = float(np.max(np.abs(values[0] - X[1:])))
             defect = defect if np.isfinite(defect) else math.inf
             kkt = math.nan
         check_time = time.perf_counter() - check_start

@@ -15,8 +15,18 @@ torque already committed. A solve that fails (its QP fails or its plan is not fi
 controller applies the previous plan's next torque and logs the failure; it never outputs NaN.
 
 Logged signals: ``q_d`` (the reference at t), ``e`` = q_d − q, ``tau_plan`` (the planned first torque), ``q_pred``
-(the predicted positions over the horizon, (N+1, n) per sample), ``solve_time`` [s], ``iterations``, ``deadline_met``
-(solve_time ≤ the sampling period), ``failed``, ``converged`` and ``cost``.
+(the predicted positions over the horizon, (N+1, n) per sample), ``solve_time`` [s] (the wall time of the whole
+sample: references, SQP, checks), ``cpu_time`` [s] (its processor time: what it takes on an idle core),
+``linearisation_time`` and ``qp_time`` [s] (its two largest parts), ``iterations``, ``deadline_met`` (solve_time ≤ the
+sampling period), ``failed``, ``converged``, ``cost`` and ``defect`` (max |x_{k+1} − Φ(x_k, τ_k)| of the plan).
+
+What is checked at each sample: without ``verify`` (the real-time default) the plan is checked from the solver's own
+quantities, all computed with the step (nothing is evaluated again): HPIPM's status (a NaN step is a failure),
+finite states and torques, the torques within ±τ_max (the QP's hard box; the torque applied is clipped to it as
+well), and the plan's dynamics defect by the solver's model (logged; a real-time iteration closes it over the next
+samples). Pinocchio's independent check (KKT conditions, defects by Pinocchio's dynamics) runs with
+``MPCOptions(verify=True)``, at about the cost of one more SQP iteration per sample; :func:`~planners.optimal_control.
+solve_optimal_control` always runs it.
 
 The law is an optimisation solved numerically at each sample; it has no symbolic form, so ``simulate(...,
 backend="casadi")`` refuses it through the compiled loop's one generic path (a controller without ``symbolic()``)
@@ -187,7 +197,7 @@ class ModelPredictiveControl(LoggedController):
         if self._next is not None and t < self._next - 1e-9 * self.dt:
             self.record(**self._hold)
             return self._u                                          # held between the controller's samples
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         self._next = t + self.dt if self._next is None else self._next + self.dt
         q, qd = np.asarray(meas.q, dtype=float), np.asarray(meas.qd, dtype=float)
         if self._q0 is None:
@@ -217,6 +227,7 @@ class ModelPredictiveControl(LoggedController):
             self._plan, self._plan_age = plan, 0
             tau = np.clip(plan.u[0], -self.problem.tau_max, self.problem.tau_max)
         solve_time = time.perf_counter() - start                    # the whole sample: references, SQP, checks
+        cpu_time = time.process_time() - start_cpu
         deadline = bool(plan is not None and solve_time <= self.dt)
         self.missed_deadlines += not deadline
         if self.options.delay:
@@ -225,13 +236,17 @@ class ModelPredictiveControl(LoggedController):
             u = tau
         self._u = u
         q_ref = refs["q_ref"][0] if not self.options.delay else self._reference_at(t)
+        timings = plan.timings if plan is not None else {}
         shown = plan if plan is not None and not failed else self._plan
         self._hold = dict(q_d=q_ref, e=q_ref - q, tau_plan=tau,
                           q_pred=(shown.x[:, :self.n] if shown is not None else np.tile(q, (self.N + 1, 1))),
                           solve_time=float(solve_time), iterations=float(plan.iterations if plan is not None else 0),
                           deadline_met=float(deadline), failed=float(failed),
                           converged=float(plan is not None and plan.status == "converged"),
-                          cost=float(plan.cost if plan is not None and not failed else math.nan))
+                          cost=float(plan.cost if plan is not None and not failed else math.nan),
+                          defect=float(plan.defect if plan is not None and not failed else math.nan),
+                          cpu_time=float(cpu_time), linearisation_time=float(timings.get("linearisation", math.nan)),
+                          qp_time=float(timings.get("qp", math.nan)))
         self.record(**self._hold)
         return u
 

@@ -260,7 +260,9 @@ class OptimalControlResult(OptimalTrajectory):
     status : ``"converged"``, ``"iteration limit"``, ``"time limit"`` or ``"qp failure"`` (the SQP's own account;
         ``success`` adds the independent check). x : (N+1, 2n) node states; u : (N, n) torques; kkt : the largest KKT residual found by the independent check
         (NaN when not verified); defect : max |x_{k+1} − Φ(x_k, τ_k)| by Pinocchio; slack : the total soft-limit
-        excess; iterations : SQP iterations; solve_time : wall time of the SQP (the check apart: check_time).
+        excess; iterations : SQP iterations; solve_time : wall time of the SQP (the check apart: check_time);
+        timings : where solve_time went [s]: ``"linearisation"`` (the compiled intervals' values and Jacobians),
+        ``"qp assembly"`` (the step QP's stage arrays), ``"qp"`` (HPIPM), ``"line search"``.
     """
 
     status: str = ""
@@ -272,6 +274,7 @@ class OptimalControlResult(OptimalTrajectory):
     slack: float = 0.0
     check_time: float = 0.0
     multipliers: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    timings: dict[str, float] = field(default_factory=dict, repr=False)
 
     def __repr__(self) -> str:
         ratios = ", ".join(f"{k} {v:.3g}" for k, v in self.ratios.items())
@@ -527,7 +530,9 @@ class _StageQP:
     below (each stage's matrix as its transpose in C order, i.e. column-major as HPIPM reads it), which HPIPM reads
     through arrays of pointers made once (one call per solve). A state bound can be left out (its mask 0)."""
 
-    def __init__(self, N: int, nx: int, nu: int, limited: np.ndarray, soft: bool, options: OptimalControlOptions):
+    def __init__(self, N: int, nx: int, nu: int, limited: np.ndarray, soft: bool, options: OptimalControlOptions,
+                 inputs_of: "_StageQP | None" = None):
+        """``inputs_of``: a QP of the same sizes whose arrays of data (not its slack costs) this one reads."""
         lib = self.lib = _hpipm()
         self.N, self.nx, self.nu = N, nx, nu
         limited = np.ascontiguousarray(limited, dtype=np.int32)
@@ -561,6 +566,9 @@ class _StageQP:
         self.lbu, self.ubu, self.lbx, self.ubx = f((N + 1, nu)), f((N + 1, nu)), f((N + 1, nbs)), f((N + 1, nbs))
         self.zl, self.zu = f((N + 1, nss)), f((N + 1, nss))
         self.lbx_mask, self.ubx_mask = np.ones((N + 1, nbs)), np.ones((N + 1, nbs))   # 0: the bound is left out
+        if inputs_of is not None:
+            for name in ("A", "B", "b", "Q", "S", "R", "q", "r", "lbu", "ubu", "lbx", "ubx", "lbx_mask", "ubx_mask"):
+                setattr(self, name, getattr(inputs_of, name))
         self._masks = np.ones((2, N + 1, nbs))                                        # as HPIPM has them
         self.u, self.x, self.pi = f((N + 1, nu)), f((N + 1, nx)), f((N + 1, nx))
         self.sl, self.su, self.lam_ls, self.lam_us = f((N + 1, nss)), f((N + 1, nss)), f((N + 1, nss)), f((N + 1, nss))
@@ -676,7 +684,10 @@ class OptimalControlSolver:
         span = self._upper - self._lower
         self._margin = np.where(np.isfinite(span), SCREEN_FRACTION * span, np.inf)
         self._qp = _StageQP(N, self.nx, n, self._limited, pr.state_limits == "soft", self.options)
-        self.qp_solves = 0
+        self._hard_qp = None                # soft limits: the same QP with them hard, tried first (fewer iterations)
+        if self._qp.ns:
+            self._hard_qp = _StageQP(N, self.nx, n, self._limited, False, self.options, inputs_of=self._qp)
+        self.qp_solves, self._qp_time = 0, 0.0
         self._gravity_data = pr.robot.model.createData()
         self._weights = tuple(np.concatenate([np.sqrt(c.q), np.sqrt(c.qd), np.sqrt(c.tau),
                                               [math.sqrt(c.position), math.sqrt(c.orientation)]])
@@ -740,11 +751,17 @@ class OptimalControlSolver:
         rho = 1.0
         iterations, converged, message, mult, qp_notes, status = 0, False, "", {}, set(), "iteration limit"
         values = None
+        clock = time.perf_counter
+        self._qp_time, lin_time, step_time, search_time = 0.0, 0.0, 0.0, 0.0
         for it in range(max_iter):
+            t0 = clock()
             Xn, R, JT, qdd = self._stage(X[:-1], U, P)      # (N, 2n), (N, nr), (N·3n, 2n + nr), (N, n)
             r_N, J_N = self._terminal(X[-1], P_N)
             values = (Xn, R, r_N.ravel(), qdd)
+            t1 = clock()
             step, mult, ok, qp_message = self._step(X, U, Xn, R, JT.reshape(N, nx + n, -1), r_N.ravel(), J_N)
+            t2 = clock()
+            lin_time, step_time = lin_time + t1 - t0, step_time + t2 - t1
             iterations += 1
             if not ok:
                 message = f"the QP of SQP iteration {it + 1} failed ({qp_message})"
@@ -757,6 +774,7 @@ class OptimalControlSolver:
             defect = float(np.max(np.abs(Xn - X[1:])))
             rho = max(rho, 1.5 * float(np.max(np.abs(mult["gap"]), initial=0.0)))
             alpha, values = self._line_search(X, U, dX, dU, S, slope, P, P_N, values, rho)
+            search_time += clock() - t2
             X[1:] += alpha * dX
             U += alpha * dU
             if size <= o.step_tol and defect <= o.tol:
@@ -776,7 +794,9 @@ class OptimalControlSolver:
         if qp_notes:
             message += f" (step QPs stopped early: {', '.join(sorted(qp_notes))})"
         solve_time = time.perf_counter() - start
-        return self._result(X, U, P, P_N, values, mult, converged, message, iterations, solve_time, status)
+        timings = {"linearisation": lin_time, "qp assembly": step_time - self._qp_time, "qp": self._qp_time,
+                   "line search": search_time}
+        return self._result(X, U, P, P_N, values, mult, converged, message, iterations, solve_time, status, timings)
 
     def predict(self, x: Any, tau: Any) -> np.ndarray:
         """Φ(x, τ): the state one interval dt after x under the held torque τ, by the problem's model (the same RK4
@@ -857,6 +877,9 @@ class OptimalControlSolver:
             if qp.ns:
                 qp.zl[1:, :nb] = qp.zu[1:, :nb] = pr.slack_weight * D_l
             lower_on, upper_on = y - self._lower < self._margin, self._upper - y < self._margin
+        # soft limits that the iterate satisfies: first the QP with them hard; its step is the soft QP's when it
+        # solves and no limit's multiplier exceeds the slack's price (then the slacks are 0 and w − λ ≥ 0 theirs)
+        hard_first = self._hard_qp is not None and bool(np.all(y >= self._lower) and np.all(y <= self._upper))
         solves = 0
         while True:
             if nb:
@@ -864,10 +887,25 @@ class OptimalControlSolver:
                 slack_costs = qp.zl[1:, :nb][lower_on | upper_on] if qp.ns else np.zeros(0)
             else:
                 slack_costs = np.zeros(0)
-            qp.set_mu0(max(MU0_FLOOR, float(np.max(slack_costs, initial=0.0))))
-            status, iterations, residual = qp.solve()
-            solves += 1
-            dX, dU = qp.x[1:] * D_x, qp.u[:N] * D_u
+            t0 = time.perf_counter()
+            solved = None
+            if hard_first:
+                self._hard_qp.set_mu0(MU0_FLOOR)
+                status, iterations, residual = self._hard_qp.solve()
+                solves += 1
+                hard = self._hard_qp
+                priced = np.maximum(_bound_rows(hard.lam_lb, n, nb), _bound_rows(hard.lam_ub, n, nb))
+                if status == 0 and np.all(priced <= qp.zl[1:, :nb]):
+                    solved = hard
+                else:
+                    hard_first = False          # the soft QP from here on (this step)
+            if solved is None:
+                qp.set_mu0(max(MU0_FLOOR, float(np.max(slack_costs, initial=0.0))))
+                status, iterations, residual = qp.solve()
+                solves += 1
+                solved = qp
+            self._qp_time += time.perf_counter() - t0
+            dX, dU = solved.x[1:] * D_x, solved.u[:N] * D_u
             if status == 3 or not (np.all(np.isfinite(dX)) and np.all(np.isfinite(dU))):
                 return None, {}, False, f"non-finite step, HPIPM status {status} after {iterations} iterations"
             if not nb:
@@ -878,18 +916,20 @@ class OptimalControlSolver:
                 break                       # every limit left out holds at the step: it solves the full QP
             lower_on, upper_on = lower_on | lower_out, upper_on | upper_out
         self.qp_solves += solves
-        bx = np.vstack([qp.lam_ub[1:N, n:n + nb], qp.lam_ub[N:, :nb]]) - \
-            np.vstack([qp.lam_lb[1:N, n:n + nb], qp.lam_lb[N:, :nb]])
-        mult = {"gap": qp.pi[:N] * inv, "tau": (qp.lam_ub[:N, :n] - qp.lam_lb[:N, :n]) / D_u,
+        lower, upper = _bound_rows(solved.lam_lb, n, nb) / D_l, _bound_rows(solved.lam_ub, n, nb) / D_l
+        mult = {"gap": solved.pi[:N] * inv, "tau": (solved.lam_ub[:N, :n] - solved.lam_lb[:N, :n]) / D_u,
                 "x": np.zeros((N, nx))}
-        mult["x"][:, limited] = bx / D_l
+        mult["x"][:, limited] = upper - lower
         slope = float(np.sum(g[:, :nx][1:] * dX[:-1]) + np.sum(g[:, nx:] * dU) + g_N @ dX[-1])
         S = np.zeros((N, 0))
-        if qp.ns:
+        if qp.ns and solved is qp:
             S = (qp.sl[1:, :nb] + qp.su[1:, :nb]) * D_l
-            mult.update(lower=np.vstack([qp.lam_lb[1:N, n:n + nb], qp.lam_lb[N:, :nb]]) / D_l,
-                        upper=np.vstack([qp.lam_ub[1:N, n:n + nb], qp.lam_ub[N:, :nb]]) / D_l,
-                        slack_lower=qp.lam_ls[1:, :nb] / D_l, slack_upper=qp.lam_us[1:, :nb] / D_l)
+            mult.update(lower=lower, upper=upper, slack_lower=qp.lam_ls[1:, :nb] / D_l,
+                        slack_upper=qp.lam_us[1:, :nb] / D_l)
+        elif qp.ns:                         # the hard QP's step: no slack, the slacks' multipliers w − λ
+            S = np.zeros((N, nb))
+            w = pr.slack_weight
+            mult.update(lower=lower, upper=upper, slack_lower=w - lower, slack_upper=w - upper)
         note = "" if status == 0 else f"HPIPM status {status} (residual {residual:.1g})"
         return (dX, dU, S, slope), mult, True, note
 
@@ -939,7 +979,7 @@ class OptimalControlSolver:
     # ---- the result and its independent check ----------------------------------------------------------------
     def _result(self, X: np.ndarray, U: np.ndarray, P: np.ndarray, P_N: np.ndarray, values: tuple | None,
                 mult: dict, converged: bool, message: str, iterations: int, solve_time: float,
-                status: str) -> OptimalControlResult:
+                status: str, timings: dict | None = None) -> OptimalControlResult:
         """The result at (X, U); ``values`` are the solver's own at that point (:meth:`_values`). With ``verify``
         Pinocchio recomputes the accelerations and defects and checks the KKT conditions; without, the defects and
         accelerations are the solver's (computed with the step, nothing is evaluated again)."""
@@ -990,7 +1030,13 @@ class OptimalControlSolver:
         return OptimalControlResult(trajectory, tau, float(t[-1]), "optimal control", cost, success, message, ratios,
                                     iterations, solve_time, status=status, x=X.copy(), u=U.copy(), dt=pr.dt, kkt=kkt,
                                     defect=defect,
-                                    slack=penalty, check_time=check_time, multipliers=mult)
+                                    slack=penalty, check_time=check_time, multipliers=mult, timings=timings or {})
+
+
+def _bound_rows(lam: np.ndarray, n: int, nb: int) -> np.ndarray:
+    """The state bounds' entries (N, nb) of HPIPM's per-stage bound multipliers (stages 1 … N: after the n torque
+    bounds, except at the last stage, which has none)."""
+    return np.vstack([lam[1:-1, n:n + nb], lam[-1:, :nb]])
 
 
 def _per_node(value: Any, rows: int, n: int, name: str) -> np.ndarray:

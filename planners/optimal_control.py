@@ -14,18 +14,29 @@ the same RK4 stages that integrate the state (cost at the four stage states, wei
 the project's symbolic dynamics (:func:`rigid_body.symbolic.forward_dynamics_expression`, rotors included).
 
 Solver: a Gauss–Newton SQP. Each iteration linearises every interval at once — Φ, its Jacobians A_k = ∂Φ/∂x,
-B_k = ∂Φ/∂τ and the cost residuals with their Jacobians, one CasADi function generated as C, compiled once per
-model content and cached — and solves the quadratic program of the step with HPIPM (a Riccati-recursion interior
-point method that works stage by stage: its cost grows like N, not N³), then an Armijo line search on the L1 merit
-function. Measured on the Panda reach (N = 50): a dense or general sparse QP per iteration (proxsuite's sparse
-backend, OSQP, qrqp) took 10–20 times HPIPM's time, CasADi's FATROP with an expanded NLP minutes, IPOPT's
-exact Hessian of the RK4 dynamics is the costliest expression of all (``benchmarks/bench_mpc.py``). Warm start from a
-previous result (shifted for MPC), a trajectory, or the state held at rest with gravity torques.
+B_k = ∂Φ/∂τ and the cost residuals with their Jacobians, one CasADi function generated as C (for the host's
+instruction set), compiled once per model content and cached. The Jacobians follow the RK4 stages by the chain rule,
+with the dynamics' partials ∂q̈/∂[q, q̇] = −B⁻¹ ∂RNEA/∂[q, q̇], ∂q̈/∂τ = B⁻¹ (one Cholesky factor of B; a third of the
+operations of differentiating the whole step automatically). The quadratic program of the step goes to HPIPM (a
+Riccati-recursion interior point method that works stage by stage: its cost grows like N, not N³), called directly
+through its C interface on arrays filled in place, soft limits as its native L1 slacks, warm-started from the
+previous QP's solution. A state limit enters the QP only near the iterate (within ``SCREEN_FRACTION`` of its range);
+a step that crosses one left out is solved again with it, so the step is always the full QP's. Soft limits that the
+iterate satisfies are tried as hard bounds first (half the interior point iterations): that step is the soft QP's
+when no multiplier exceeds the slack price, else the soft QP is solved. Then an Armijo line search on the L1 merit
+function, whose values at the point taken are those of the result. Measured on the Panda reach (N = 50): a dense or
+general sparse QP per iteration (proxsuite's sparse backend, OSQP, qrqp) took 10–20 times HPIPM's time, CasADi's
+FATROP with an expanded NLP minutes, IPOPT's exact Hessian of the RK4 dynamics is the costliest expression of all;
+per MPC sample (one real-time iteration) the linearisation and HPIPM take about 1.5 ms each
+(``benchmarks/bench_mpc.py``; ``result.timings`` splits each solve). Warm start from a previous result (shifted for
+MPC), a trajectory, or the state held at rest with gravity torques.
 
 Success is decided independently of the iterations, as the IK does: at the returned solution Pinocchio (not the
 CasADi model) integrates every interval, differentiates the dynamics and the costs, and the KKT conditions —
 stationarity of the Lagrangian with the solver's multipliers, primal feasibility (defects, every hard limit),
-complementarity — must hold within ``tol``.
+complementarity — must hold within ``tol``. Real-time loops that cannot afford that pass (``verify=False``) get
+success from the solver's own quantities instead, computed with the step: convergence, finite values, every hard
+limit, and the defects of the solver's model within ``tol`` (the KKT residual is then NaN).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Sects. 4.2, 7.2–7.5,
 8.5 (Eq. (7.42)); Bock & Plitt, IFAC 1984 (multiple shooting); Frison & Diehl, IFAC 2020 (HPIPM);
@@ -806,10 +817,15 @@ class OptimalControlSolver:
         x_next = self._stage_value_one(as_vector(x, self.nx, "x"), as_vector(tau, self.n, "tau"), column)[0]
         return np.asarray(x_next).ravel()
 
-    def _check_start(self, x0: np.ndarray) -> None:
+    def violated(self, x0: Any) -> np.ndarray:
+        """The joints (0-based) whose position or speed in the state ``x0`` is beyond the problem's limits."""
         pr, n = self.problem, self.n
+        x0 = np.asarray(x0, dtype=float)
         q, qd = x0[:n], x0[n:]
-        bad = np.flatnonzero((q < pr.q_min) | (q > pr.q_max) | (np.abs(qd) > pr.qd_max))
+        return np.flatnonzero((q < pr.q_min) | (q > pr.q_max) | (np.abs(qd) > pr.qd_max))
+
+    def _check_start(self, x0: np.ndarray) -> None:
+        bad = self.violated(x0)
         if bad.size:
             raise ValueError(f"`x0` violates the hard state limits at joint(s) {(bad + 1).tolist()}: with "
                              "state_limits='hard' the start must be feasible (use state_limits='soft')")

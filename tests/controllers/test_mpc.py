@@ -114,3 +114,17 @@ def test_bad_input(problem):
         ModelPredictiveControl(posed, target=np.ones((4, 4)))
     with pytest.raises(ValueError, match="reference"):
         ModelPredictiveControl(problem, reference=[0.0, np.nan])
+
+
+def test_a_measured_state_beyond_a_hard_limit_is_a_failed_sample(problem):
+    """Hard speed limits and a measured state beyond one: no plan can start there (the solver would refuse x0); the
+    loop goes on with the fallback torque and logs the failed samples instead of stopping."""
+    hard = OptimalControlProblem(problem.robot, problem.horizon, problem.dt, problem.running, problem.terminal,
+                                 tau_max=problem.tau_max, qd_max=[1.0, 1.0], state_limits="hard")
+    mpc = ModelPredictiveControl(hard, reference=TARGET)
+    plant = ArmPlant(problem.robot, tau_max=problem.tau_max)
+    res = simulate(plant, mpc, (0.0, 0.1), np.array([0.0, 0.0, 1.5, 0.0]), h=1e-3, Ts=0.02)
+    assert np.all(res["failed"] == 1.0) and mpc.failures == mpc.samples == len(res.t)
+    assert np.all(np.isfinite(res.u)) and np.all(np.abs(res.u) <= problem.tau_max + 1e-9)
+    with pytest.raises(ValueError, match="x0"):                          # the solver alone refuses that start
+        mpc.solver.solve(np.array([0.0, 0.0, 1.5, 0.0]))

@@ -90,7 +90,10 @@ def _configurations(robot: Robot, count: int = 4) -> list[np.ndarray]:
     """The robot's neutral configuration and a few random ones within its limits (seeded): where a
     property of the robot "at some posture" is tested."""
     rng = np.random.default_rng(0)
-    return [robot.configurations["neutral"]] + [robot.random_configuration(rng) for _ in range(count - 1)]
+    qs = [robot.random_configuration(rng) for _ in range(count - 1)]
+    if robot.nq != robot.nv:                 # unit-complex coordinates (continuous, planar joints) back on the circle
+        qs = [pin.normalize(robot.model, q) for q in qs]
+    return [robot.configurations["neutral"]] + qs
 
 
 def camera_dofs(robot: Robot, frame: str | int | None = None) -> tuple[int, ...]:

@@ -67,7 +67,7 @@ from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
     "StageCost", "OptimalControlProblem", "OptimalControlOptions", "OptimalControlResult", "OptimalControlSolver",
-    "solve_optimal_control", "rk4_step",
+    "solve_optimal_control", "rk4_step", "rk4_sensitivities",
 ]
 
 STATE_LIMITS = ("hard", "soft")
@@ -92,6 +92,28 @@ def rk4_step(f: Any, x: Any, u: Any, h: Any) -> tuple[Any, list]:
     s4 = x + h * k3
     k4 = f(s4, u)
     return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4), [s1, s2, s3, s4]
+
+
+def rk4_sensitivities(slope: Any, x: Any, u: Any, h: Any, E_x: Any, E_u: Any) -> tuple[Any, Any, list, list]:
+    """:func:`rk4_step` with its forward sensitivities (the chain rule through the stages): ``slope(s, u)`` gives
+    (f, ∂f/∂s, ∂f/∂u) at a stage state; E_x = ∂x/∂z = [I 0] and E_u = ∂u/∂z = [0 I] with z = [x; u]. Returns (x_next,
+    ∂x_next/∂z, [s_1 … s_4], [∂s_1/∂z … ∂s_4/∂z]). The same arithmetic on numpy arrays (the independent check, with
+    Pinocchio's derivatives) and on CasADi expressions (the transcription, with the symbolic ones)."""
+    s, ds = x, E_x
+    slopes, slope_jacobians, states, state_jacobians = [], [], [], []
+    for c in (0.5, 0.5, 1.0, None):
+        k, k_s, k_u = slope(s, u)
+        dk = k_s @ ds + k_u @ E_u
+        states.append(s)
+        state_jacobians.append(ds)
+        slopes.append(k)
+        slope_jacobians.append(dk)
+        if c is not None:
+            s, ds = x + c * h * k, E_x + c * h * dk
+    k1, k2, k3, k4 = slopes
+    d1, d2, d3, d4 = slope_jacobians
+    return (x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4), E_x + (h / 6.0) * (d1 + 2.0 * d2 + 2.0 * d3 + d4),
+            states, state_jacobians)
 
 
 # --------------------------------------------------------------------------------------------
@@ -350,21 +372,16 @@ def _linearised_interval(robot: Robot, frame: int, x: Any, u: Any, p: Any, posit
     s_sym, p_sym = ca.SX.sym("s", nx), ca.SX.sym("p", p.shape[0])
     r_sym = _state_residual(robot, frame, s_sym, _unpack(p_sym, n), position, orientation)
     state_residual = ca.Function("state_residual", [s_sym, p_sym], [r_sym, ca.jacobian(r_sym, s_sym)])
-    s, ds = x, E_x
-    slopes, slope_jacobians, states, state_jacobians = [], [], [], []
-    for c in (0.5, 0.5, 1.0, None):
-        qdd, J = forward_dynamics_derivatives_expression(robot, s[:n], s[n:], u)
-        k = ca.vertcat(s[n:], qdd)
-        dk = ca.vertcat(ds[n:, :], ca.mtimes(J[:, :nx], ds) + ca.mtimes(J[:, nx:], E_u))
-        states.append(s)
-        state_jacobians.append(ds)
-        slopes.append(k)
-        slope_jacobians.append(dk)
-        if c is not None:
-            s, ds = x + c * h * k, E_x + c * h * dk
+    zero, eye = ca.SX(n, n), ca.SX.eye(n)
+    accelerations: list = []
+
+    def slope(s: Any, v: Any) -> tuple[Any, Any, Any]:
+        qdd, J = forward_dynamics_derivatives_expression(robot, s[:n], s[n:], v)
+        accelerations.append(qdd)
+        return ca.vertcat(s[n:], qdd), ca.vertcat(ca.horzcat(zero, eye), J[:, :nx]), ca.vertcat(zero, J[:, nx:])
+
+    x_next, dx_next, states, state_jacobians = rk4_sensitivities(slope, x, u, h, E_x, E_u)
     w = RK4_WEIGHTS
-    x_next = x + h * sum((wi * k for wi, k in zip(w, slopes)), ca.SX.zeros(nx))
-    dx_next = E_x + h * sum((wi * dk for wi, dk in zip(w, slope_jacobians)), ca.SX.zeros(nx, nz))
     residuals, residual_jacobians = [], []
     for wi, s, ds in zip(w, states, state_jacobians):
         scale = ca.sqrt(wi * h)
@@ -374,7 +391,7 @@ def _linearised_interval(robot: Robot, frame: int, x: Any, u: Any, p: Any, posit
     torque = ca.sqrt(h) * P["sw_tau"]
     residuals.append(torque * (u - P["tau_ref"]))
     residual_jacobians.append(ca.mtimes(ca.diag(torque), E_u))
-    return x_next, ca.vertcat(*residuals), ca.vertcat(dx_next, *residual_jacobians), slopes[0][n:]
+    return x_next, ca.vertcat(*residuals), ca.vertcat(dx_next, *residual_jacobians), accelerations[0]
 
 
 _FUNCTIONS: dict[tuple, tuple] = {}
@@ -1141,26 +1158,16 @@ class _KKTCheck:
         return f, Jf
 
     def _interval(self, x: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, list, list]:
-        """Φ(x, u), ∂Φ/∂[x; u], the RK4 stage states and their Jacobians ∂s_i/∂[x; u] (chain rule of rk4_step)."""
-        n, h = self.n, self.pr.dt
-        nx, nz = 2 * n, 3 * n
-        I = np.eye(nx, nz)
-        du = np.zeros((n, nz))
-        du[:, nx:] = np.eye(n)
-        states, jacobians, ks, dks = [], [], [], []
-        s, ds = x, I
-        for c in (0.5, 0.5, 1.0, None):
-            k, Jf = self._fd_jacobian(s, u)
-            dk = Jf @ np.vstack([ds, du])
-            states.append(s)
-            jacobians.append(ds)
-            ks.append(k)
-            dks.append(dk)
-            if c is not None:
-                s, ds = x + c * h * k, I + c * h * dk
-        x_next = x + h / 6.0 * (ks[0] + 2 * ks[1] + 2 * ks[2] + ks[3])
-        dx_next = I + h / 6.0 * (dks[0] + 2 * dks[1] + 2 * dks[2] + dks[3])
-        return x_next, dx_next, states, jacobians
+        """Φ(x, u), ∂Φ/∂[x; u], the RK4 stage states and their Jacobians ∂s_i/∂[x; u] (:func:`rk4_sensitivities`
+        with Pinocchio's dynamics and derivatives)."""
+        n, nx = self.n, 2 * self.n
+        E = np.eye(nx + n)
+
+        def slope(s: np.ndarray, v: np.ndarray) -> tuple:
+            f, Jf = self._fd_jacobian(s, v)
+            return f, Jf[:, :nx], Jf[:, nx:]
+
+        return rk4_sensitivities(slope, x, u, self.pr.dt, E[:nx], E[nx:])
 
     def _state_gradient(self, x: np.ndarray, p: np.ndarray) -> np.ndarray:
         """∂/∂x of ½‖r(x)‖², r the state and pose residual with the parameter column p."""

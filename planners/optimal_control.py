@@ -520,6 +520,9 @@ def _hpipm() -> Any:
     if not found:
         raise RuntimeError(f"HPIPM's library (libhpipm) was not found beside CasADi in {folder}")
     lib = ctypes.CDLL(str(found[0]))
+    if hasattr(lib, "d_ocp_qp_dim_set_nsbx"):      # HPIPM before its interface of August 2025 (ns, idxs_rev)
+        raise RuntimeError(f"the HPIPM shipped with CasADi {ca.__version__} has an older interface than the optimal "
+                           "control solver calls: install CasADi >= 3.8 (pip install -U casadi)")
     P, I = _C_PTR, _C_INT
     signatures: dict[str, tuple[Any, list]] = {
         "d_ocp_qp_dim_memsize": (_C_SIZE, [I]), "d_ocp_qp_dim_create": (None, [I, P, P]),

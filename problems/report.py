@@ -290,7 +290,7 @@ _SOLVING = [""]   # the problem this process is solving (the compiler's progress
 
 
 def show_compiler_progress() -> None:
-    """Print the compiled backend's build messages (INFO of ``controllers.compiled``) on stderr, each with the
+    """Print the compiled backend's build messages (INFO of the logger ``rmpc.compiler``) on stderr, each with the
     problem being solved: the first report on a machine compiles its closed loops (20–25 s in all) while the
     progress bar waits for them."""
     import logging
@@ -300,7 +300,7 @@ def show_compiler_progress() -> None:
             record.problem = _SOLVING[0] or "-"
             return True
 
-    logger = logging.getLogger("controllers.compiled")
+    logger = logging.getLogger("rmpc.compiler")
     if any(getattr(h, "rmpc_report", False) for h in logger.handlers):
         return
     handler = logging.StreamHandler(sys.stderr)

@@ -787,6 +787,12 @@ and Pinocchio's work data."""
 _SOURCES: dict[str, bytes] = {}
 
 
+def _module_of(obj: Any) -> str:
+    """The name of the module defining ``obj`` ('' when it has none as a string, e.g. a pybind11 class)."""
+    name = getattr(obj, "__module__", "")
+    return name if isinstance(name, str) else ""
+
+
 def _source_digest(module: str) -> bytes:
     """The digest of a module's source file (cached): a loop built from changed code gets a new key."""
     if module not in _SOURCES:
@@ -852,13 +858,16 @@ def structure_digest(*blocks: Any) -> str:
                 walk(k, depth + 1)
                 walk(v[k], depth + 1)
             return
+        if isinstance(v, types.ModuleType):
+            feed("u", v.__name__.encode())
+            return
         if isinstance(v, type):
-            feed("t", f"{v.__module__}.{v.__qualname__}".encode())
-            modules.add(v.__module__)
+            feed("t", f"{_module_of(v)}.{v.__qualname__}".encode())
+            modules.add(_module_of(v))
             return
         if isinstance(v, types.FunctionType):
-            feed("f", f"{v.__module__}.{v.__qualname__}".encode() + v.__code__.co_code + repr(v.__code__.co_consts).encode())
-            modules.add(v.__module__)
+            feed("f", f"{_module_of(v)}.{v.__qualname__}".encode() + v.__code__.co_code + repr(v.__code__.co_consts).encode())
+            modules.add(_module_of(v))
             for cell in v.__closure__ or ():
                 try:
                     walk(cell.cell_contents, depth + 1)
@@ -878,8 +887,11 @@ def structure_digest(*blocks: Any) -> str:
             return
         seen[id(v)] = len(seen)
         cls = type(v)
-        feed("c", f"{cls.__module__}.{cls.__qualname__}".encode())
-        modules.add(cls.__module__)
+        feed("c", f"{_module_of(cls)}.{cls.__qualname__}".encode())
+        modules.add(_module_of(cls))
+        if not hasattr(v, "__dict__") and not getattr(cls, "__slots__", ()):
+            feed("i", f"{os.getpid()}:{id(v)}".encode())    # opaque (an extension object): this object only
+            return
         attributes = dict(getattr(v, "__dict__", {}))
         for slot in getattr(cls, "__slots__", ()):
             if hasattr(v, slot):

@@ -726,16 +726,28 @@ def _build_library(code: bytes, name: str, key: str, cache: Path, cc: str, flags
 
 
 def compile_function(function: ca.Function | Callable[[], ca.Function], flags: tuple[str, ...] = COMPILE_FLAGS,
-                     name: str | None = None, key: bytes | None = None, metadata: Callable[[], bytes] | None = None
-                     ) -> ca.Function:
+                     name: str | None = None, key: bytes | None = None) -> ca.Function:
     """``function`` generated as C, compiled into a shared library (cached) and loaded.
 
     The cache key is the hash of the code, or of ``key`` (bytes that determine the code, e.g. a structure digest)
     with ``name``: then ``function`` may be a callable that builds it, called only when the cache misses.
-    Safe under concurrency (a lock per key, unique temporary files, an atomic rename). A cache that is full or
-    read-only is replaced by a temporary folder; no compiler, a failing compiler or an unusable cache raise
-    :class:`CompiledLoopUnavailable` (the compiled loop then falls back to the Python loop).
+    Safe under concurrency (a lock per key, unique temporary files, an atomic rename); a cache that is full or
+    read-only is replaced by a temporary folder. Without a usable compiler or cache the function is returned as
+    it is, interpreted by CasADi, with one warning line naming the fault (the compiled loop instead falls back to
+    the Python loop: :class:`CompiledLoopUnavailable`).
     """
+    try:
+        return _compiled_library(function, flags, name, key)
+    except CompiledLoopUnavailable as fault:
+        warnings.warn(f"{fault}; the function runs interpreted by CasADi (slower)", stacklevel=2)
+        return function if key is None else function()
+
+
+def _compiled_library(function: ca.Function | Callable[[], ca.Function], flags: tuple[str, ...] = COMPILE_FLAGS,
+                      name: str | None = None, key: bytes | None = None,
+                      metadata: Callable[[], bytes] | None = None) -> ca.Function:
+    """:func:`compile_function`, raising :class:`CompiledLoopUnavailable` on a compiler or cache fault; with
+    ``metadata`` (bytes stored beside the library) read back into :data:`_METADATA` when the library is loaded."""
     cc = compiler()
     if cc is None:
         raise CompiledLoopUnavailable("no compiler", "no C compiler found: install gcc (or clang) or set CC to one")
@@ -1129,7 +1141,7 @@ def _compile(build: Callable[[], ca.Function], name: str, key: bytes, metadata: 
              ) -> tuple[ca.Function, dict | None]:
     """:func:`compile_function` of a keyed build, and the metadata stored beside it (None when it was built here:
     the caller has it)."""
-    function = compile_function(build, name=name, key=key, metadata=metadata)
+    function = _compiled_library(build, name=name, key=key, metadata=metadata)
     return function, _METADATA.get(id(function))
 
 

@@ -200,3 +200,16 @@ def test_the_digest_takes_modules_and_opaque_objects():
     assert compiled.structure_digest(a) != compiled.structure_digest(b)              # two opaque handles
     assert compiled.structure_digest(a) == compiled.structure_digest(a)
     assert isinstance(np, pytypes.ModuleType)
+
+
+def test_compile_function_without_a_compiler_runs_interpreted(fresh_cache, monkeypatch):
+    """The generic helper (used beyond the loop, e.g. by planners.optimal_control) keeps working: interpreted,
+    one warning naming the fault."""
+    import casadi as ca
+
+    x = ca.SX.sym("x")
+    f = ca.Function("square", [x], [x * x])
+    monkeypatch.setenv("CC", "/bin/false")
+    with pytest.warns(UserWarning, match="compiler `/bin/false` failed.*interpreted"):
+        g = compiled.compile_function(f)
+    assert float(g(3.0)) == 9.0

@@ -1,29 +1,30 @@
 """Compiled backend of the one simulation loop: ``simulate(..., backend="casadi")``.
 
-The same loop as :func:`controllers.simulation.simulate` — classical RK4 of step ``h`` on the plant,
-the controller every ``Ts`` with zero-order hold — written once as CasADi expressions: one *sample*
-(the controller's law, then ``Ts/h`` RK4 steps with the output held) is a ``casadi.Function``
-``(x_k, r_k, p) → (x_{k+1}, u_k)`` and the whole run is that function accumulated over the samples
-(``Function.mapaccum``). The run is generated as C and compiled with the system C compiler (``cc``,
-cached by the hash of the sample's code, the number of samples and this module's source, so that a
-cached run is loaded without building the accumulated function); without a compiler it is interpreted
-by CasADi's virtual machine (a one-line note says so).
+The same loop as :func:`controllers.simulation.simulate` — the one RK4 of step ``h``
+(:func:`controllers.integration.rk4_step_law`) on the plant, the controller every ``Ts`` with zero-order
+hold — as CasADi expressions: one *sample* (the controller's law, then ``Ts/h`` RK4 steps with the output
+held) is a ``casadi.Function`` ``(x_k, r_k, p) → (x_{k+1}, u_k, signals)`` and the whole run is that function
+accumulated over the samples (``Function.mapaccum``), generated as C and compiled with the system C compiler.
 
-What the loop needs from its two blocks, beside the contract of :mod:`controllers.simulation`:
+The blocks are written once (:mod:`controllers.laws`): a controller's body ``law(ops, …)`` and a plant's
+``dynamics(ops, x, u)`` are evaluated here on symbols with :class:`Symbolic`, the twin of
+:class:`controllers.laws.Numeric` (the Python loop's primitives). What the loop needs from its blocks, beside
+the contract of :mod:`controllers.simulation`:
 
-* the plant: ``symbolic() -> casadi.Function (x, u) → ẋ`` (time-invariant, x + h·ẋ integration)
-  and a ``state_layout`` with ``q`` and ``qd`` (where the law reads them in x): an
-  :class:`~controllers.plants.ArmPlant` with nq = nv and no external force (forward dynamics
-  :func:`rigid_body.symbolic.forward_dynamics_expression`), a :class:`~controllers.plants.ServomotorPlant`;
-* the controller: ``symbolic() -> SymbolicLaw``: the law ``(q, q̇, r, p) → (u, signals…)`` in CasADi
-  expressions. The reference ``r`` is open loop (a function of time only), so it is sampled in Python
-  at the controller instants and fed to the run; the parameters ``p`` are the gains, their values
-  taken from the numeric controller (its single source). A law may read more of the measurement
-  (``measurements``, e.g. the sensed ``wrench``: the plant's ``symbolic_measurement(name)``, a
-  ``casadi.Function`` x → value) and keep a state of its own (``state``: its value after ``reset()``;
-  the law also receives ``dt``, the time since the previous sample, 0 at the first, and returns the
-  next state: an integral action, an adaptive estimate). Chains and ``ZeroOrderHold`` blocks stay on
-  the Python backend.
+* the plant: ``dynamics(ops, x, u)`` (or ``symbolic() -> casadi.Function (x, u) → ẋ``), a ``state_layout``
+  with ``q`` and ``qd`` (where the law reads them in x), ``integrate_law`` when the state is on a manifold
+  (nq ≠ nv) and ``symbolic_measurement(name)`` for what else the law reads (the sensed ``wrench``);
+* the controller: a :class:`~controllers.laws.ControlLaw` (or ``symbolic() -> SymbolicLaw``): the law
+  ``(q, q̇, r, p[, measurements][, state, dt]) → (u[, next_state], signals…)``. The reference ``r`` is open loop
+  (a function of time only), sampled at the controller instants before the run (at once when it can:
+  ``at_times``) and fed to it, as are the camera's noise and occlusion of a visual servo; the parameters ``p``
+  are the gains (the numeric controller's values); the law's own state starts at its value after ``reset()``.
+
+The run is keyed by a digest of the blocks' structure (:func:`loop_key`: no code generated), built once per
+process (:func:`compiled_loop`) and cached on disk (``$RMPC_CACHE``) with the names of its signals, safely
+under concurrency; a compiler or cache fault sends ``simulate`` to the Python loop with one warning
+(:class:`CompiledLoopUnavailable`). A block without a symbolic form is refused through one path,
+:func:`no_symbolic_form`.
 
 Because the run is one CasADi function of ``(x_0, R, p)``, its derivatives with respect to the
 initial state and the gains come by automatic differentiation (:meth:`CompiledLoop.rollout`):

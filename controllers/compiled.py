@@ -274,6 +274,10 @@ class Symbolic:
         return _casadi().hypot(a, b)
 
     @staticmethod
+    def entries(v: Any) -> list:
+        return [v[i] for i in range(v.shape[0])]
+
+    @staticmethod
     def logic_and(a: Any, b: Any) -> Any:
         return _casadi().logic_and(a, b)
 

@@ -572,7 +572,7 @@ class ControlLaw(LoggedController):
                                                    state=self._state, dt=dt)
         except SingularTask:
             raise singular_task(f"at t = {t:.6g} s, q = {q}") from None
-        self.record(**signals)
+        self._log = signals                                  # record(**signals), without copying the dict
         return u
 
     def symbolic(self) -> Any:

@@ -41,6 +41,7 @@ import errno
 import functools
 import hashlib
 import json
+import logging
 import os
 import shutil
 import subprocess
@@ -57,6 +58,10 @@ from typing import Any, Callable, Iterator, Mapping, Sequence
 
 import casadi as ca
 import numpy as np
+
+#: Tells when a compiled function is built (the first run on a machine compiles each loop once: ~1 s each):
+#: ``rmpc report`` shows these INFO lines as its progress while the compiler works.
+log = logging.getLogger("rmpc.compiler")    # a stable name: rmpc report listens to it
 import pinocchio as pin
 
 from controllers.integration import rk4_step_law
@@ -769,9 +774,12 @@ def _compiled_library(function: ca.Function | Callable[[], ca.Function], flags: 
         for attempt in range(2):
             try:
                 if not library.exists():
+                    started = time.perf_counter()
+                    log.info("compiling %s (C code for %s; once, then loaded from %s)", name, cc, cache)
                     code = code if code is not None else c_code(function())
                     library = _build_library(code, name, digest, cache, cc, flags,
                                              None if metadata is None else metadata())
+                    log.info("compiled %s in %.1f s", name, time.perf_counter() - started)
                 function = ca.external(name, str(library))
                 meta = library.with_suffix(".json")
                 if metadata is not None and meta.exists():

@@ -90,7 +90,10 @@ def _configurations(robot: Robot, count: int = 4) -> list[np.ndarray]:
     """The robot's neutral configuration and a few random ones within its limits (seeded): where a
     property of the robot "at some posture" is tested."""
     rng = np.random.default_rng(0)
-    return [robot.configurations["neutral"]] + [robot.random_configuration(rng) for _ in range(count - 1)]
+    qs = [robot.random_configuration(rng) for _ in range(count - 1)]
+    if robot.nq != robot.nv:                 # unit-complex coordinates (continuous, planar joints) back on the circle
+        qs = [pin.normalize(robot.model, q) for q in qs]
+    return [robot.configurations["neutral"]] + qs
 
 
 def camera_dofs(robot: Robot, frame: str | int | None = None) -> tuple[int, ...]:
@@ -673,6 +676,13 @@ class _IBVSLaw(_CameraLaw):
         self._check_reach()
         self.stall: tuple[float, float] | None = None
 
+    @property
+    def signal_components(self) -> dict[str, list[tuple[str, str]]]:
+        """The columns of the logged e_s: x₁, y₁ … of points or x_m, y_m, L, α of a segment (normalised units)."""
+        from controllers.signals import SEGMENT_FEATURES, point_features
+
+        return {"e_s": list(SEGMENT_FEATURES) if self.target.kind == "segment" else point_features(self.target.size)}
+
     def reset(self) -> None:
         super().reset()
         self.stall = None
@@ -894,6 +904,13 @@ class VisualServo(Chain):
     found by the rule of :class:`~controllers.simulation.ZeroOrderHold` on the run's grid and fed as a
     reference row, with the camera's noise and occlusion (:meth:`EyeInHandCamera.inputs_at`)."""
 
+    def __call__(self, t: float, measurement: Any) -> Any:
+        if isinstance(measurement, np.ndarray):    # a JointIntegrator's bare state q: read it as the encoders
+            from controllers.plants import ArmMeasurement
+
+            measurement = ArmMeasurement(measurement, None)
+        return super().__call__(t, measurement)
+
     def _blocks(self) -> tuple[EyeInHandCamera, PoseEstimator | None, ZeroOrderHold]:
         inner = self.second
         if isinstance(inner, Chain):
@@ -1058,3 +1075,101 @@ class HybridVisualServo(_CameraLaw):
         v = -np.linalg.solve(J_p, self.K_p * e_p + J_o @ w)
         self.record(e_p=e_p, theta=float(np.linalg.norm(theta_r)))
         return self.joint_rates(meas.q, np.concatenate([v, w]))
+
+
+# --------------------------------------------------------------------------------------------
+# Set-up in one call: an eye-in-hand camera servoed to a desired pose by IBVS (Fig. 10.17)
+# --------------------------------------------------------------------------------------------
+
+def desired_point_features(T_d: Any, points_b: Any) -> tuple[TargetFeatures, np.ndarray]:
+    """The point features a camera at the desired pose ``T_d`` (= T_c^b, 4×4) sees of ``points_b`` (n, 3, base
+    frame): the target (its points in the desired camera frame, (5.35)) and s_d = [x₁, y₁, …, x_n, y_n] (10.26),
+    normalised image coordinates. ValueError when a point is not in front of that camera."""
+    T = as_homogeneous(T_d, "T_d")
+    points = as_points(points_b, 3, "points_b")
+    view = view_points((points - T[:3, 3]) @ T[:3, :3])
+    if not view.all_visible:
+        hidden = np.flatnonzero(~view.in_front).tolist()
+        raise ValueError(f"`points_b` {hidden} are not in front of the camera at `T_desired`: no desired image")
+    target = TargetFeatures((points - T[:3, 3]) @ T[:3, :3], kind="points")
+    return target, target.features(view.xy)
+
+
+@dataclass
+class EyeInHandLoop:
+    """An eye-in-hand IBVS loop built by :func:`eye_in_hand_ibvs`: the ``camera`` block, the ``law``
+    (:class:`IBVSResolvedVelocity`), their chain ``controller`` (:func:`visual_servo`), the ``plant``
+    (:class:`~controllers.plants.KinematicArm`, q̇ = u), the desired features ``s_d``, the vision period ``Tc`` [s]
+    and the field of view ``fov`` (None: unbounded image)."""
+
+    robot: Robot
+    camera: EyeInHandCamera
+    law: IBVSResolvedVelocity
+    controller: Any
+    plant: Any
+    s_d: np.ndarray
+    Tc: float
+    fov: FieldOfView | None = None
+
+    def run(self, q0: Any, t_f: float, **options: Any) -> Any:
+        """``simulate`` the loop from the joint positions ``q0`` for ``t_f`` seconds (step and sampling ``Tc``);
+        ``options`` go to :func:`controllers.simulation.simulate` (``backend=`` …). The result logs ``e_s``."""
+        from controllers.simulation import simulate
+
+        return simulate(self.plant, self.controller, (0.0, t_f), q0, h=self.Tc, Ts=self.Tc, **options)
+
+    def image(self, q: Any) -> np.ndarray:
+        """The noise-free image points (n, 2) (normalised coordinates; NaN where not seen) at joint positions q."""
+        x, y, _, _ = self.camera.image_law(Numeric, as_vector(q, self.robot.nq, "q"))
+        return np.column_stack((x, y))
+
+    def image_error(self, res: Any) -> np.ndarray:
+        """max |s − s_d| of the noise-free image at every sample of a run (NaN while a point is not seen)."""
+        return np.array([np.max(np.abs(self.image(q).ravel() - self.s_d)) for q in res.q])
+
+    def __repr__(self) -> str:
+        return (f"EyeInHandLoop({self.robot.name!r}, {self.camera.n_points} points, K_s = "
+                f"{np.unique(self.law.K_s).tolist()}, Tc = {self.Tc:g} s)")
+
+
+def eye_in_hand_ibvs(robot: Robot, points_b: Any, T_desired: Any, *, frame: str | int | None = None,
+                     camera: Any = None, image_size: tuple[float, float] | None = None, K_s: Any = 1.0,
+                     Tc: float = 0.02, depth: Any = None, damping: float | None = 1e-2, noise: float = 0.0,
+                     rng: np.random.Generator | None = None, lost: dict[int, tuple[float, float]] | None = None,
+                     dofs: Sequence[int] | None = None) -> EyeInHandLoop:
+    """Resolved-velocity IBVS (Fig. 10.17) of a camera on ``frame`` of ``robot`` (default: its end effector, z the
+    optical axis) looking at the points ``points_b`` (n, 3, base frame), to bring their image to the one seen from
+    the desired camera pose ``T_desired`` (4×4, base frame): builds the :class:`EyeInHandCamera`, the desired point
+    features (:func:`desired_point_features`), the law q̇_r = J_L^† K_s e_s, its chain at the vision period ``Tc``
+    and the kinematic plant. ``camera`` (a :class:`rigid_body.camera.PinholeCamera`) with ``image_size`` (width,
+    height) [pixel] bounds the field of view (points outside are not seen); ``depth`` None uses the measured depths,
+    a number a constant one (e.g. the desired depth); ``damping`` λ of the damped least squares (None: the plain
+    pseudo-inverse, refused near a singular J_L); ``noise`` σ [normalised units] with ``rng``, ``lost`` = {point:
+    (t_from, t_to)} an occlusion; ``dofs`` the camera-twist components commanded (default: all it moves along).
+
+    >>> import numpy as np
+    >>> from rigid_body.robots import load
+    >>> from rigid_body.kinematics import direct_kinematics
+    >>> panda = load("panda")
+    >>> q_d = panda.configurations["ready"]
+    >>> T_d = direct_kinematics(panda, q_d, "panda_hand")                 # the hand camera looks down along z
+    >>> square = T_d[:3, 3] + 0.5 * T_d[:3, 2] + 0.1 * np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]) @ T_d[:3, :3].T
+    >>> loop = eye_in_hand_ibvs(panda, square, T_d, frame="panda_hand", K_s=2.0)
+    >>> res = loop.run(q_d + 0.1, 4.0)                                  # from 0.1 rad off at every joint
+    >>> bool(loop.image_error(res)[-1] < 1e-3)
+    True
+    """
+    from controllers.plants import KinematicArm
+
+    fov = None
+    if camera is not None:
+        if image_size is None:
+            raise ValueError("`image_size` (width, height) [pixel] is required with `camera`: it bounds the field of view")
+        fov = camera.field_of_view(*image_size)
+    elif image_size is not None:
+        raise ValueError("`image_size` needs `camera` (a PinholeCamera) to give its field of view")
+    target, s_d = desired_point_features(T_desired, points_b)
+    Tc = as_positive(Tc, "Tc")
+    sensor = EyeInHandCamera(robot, points_b, frame, fov=fov, noise=noise, rng=rng, lost=lost)
+    law = IBVSResolvedVelocity(robot, target, s_d, K_s, depth=depth, frame=frame, dofs=dofs, damping=damping)
+    return EyeInHandLoop(robot, sensor, law, visual_servo(sensor, law, Tc), KinematicArm(), s_d, Tc, fov)

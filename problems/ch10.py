@@ -249,6 +249,8 @@ def _given_scene(sol: Solution, servo: bool = True) -> None:
     if servo:
         sol.given("x_o (object pose)", X_O, unit="m, m, m, rad"), sol.given("x_c(0)", X_C0, unit="m, m, m, rad")
         sol.given("F_v", F_V, unit="N·m·s/rad (N·s/m)"), sol.given("t_d", T_FINAL, unit="s")
+        sol.given("m₃, I₄ (last link)", np.array([2.0, 1.0]), unit="kg, kg·m²")
+        sol.given("K_s, T_e (estimator)", np.array([K_S_ESTIMATOR, T_ESTIMATOR]), unit="-, s")
 
 
 def _estimation(sol: Solution, target: TargetFeatures, s: np.ndarray, tol: float, ratio_tol: float):

@@ -94,8 +94,8 @@ def test_payload_and_locked_joints_carry_over(panda, rng):
 
 
 def test_changed_book_parameters_carry_over(rng):
-    """A book robot rebuilt with other link lengths and a payload: MuJoCo's B(q) follows (point-mass/thin-rod bodies get the
-    minimum principal moments MuJoCo needs, a difference of ≤ 1e-9 relative, reported)."""
+    """A book robot rebuilt with other link lengths and a payload: MuJoCo's B(q) follows (point-mass/thin-rod bodies
+    get the minimum principal moments MuJoCo needs, a difference of ≤ 1e-9 relative, reported)."""
     arm = load("scara", a=(0.6, 0.3), payload=1.5)
     plant = MujocoPlant(arm)
     for q in random_configurations(arm, rng, 10):
@@ -392,7 +392,8 @@ def test_planar_scenes_become_boxes():
         assert ik.success
         expected = hole.wrench_at(np.r_[tip, 0.0], np.zeros(6))
         assert np.abs(expected).max() > 10.0
-        assert np.allclose(plant.wrench(plant.initial_state(ik.q)), expected, rtol=0.01, atol=0.01 * np.abs(expected).max())
+        h = plant.wrench(plant.initial_state(ik.q))
+        assert np.allclose(h, expected, rtol=0.01, atol=0.01 * np.abs(expected).max())
 
 
 # --------------------------------------------------------------------------------------------
@@ -470,3 +471,25 @@ def test_peg_in_hole_state_machine_on_mujoco():
     assert np.allclose([t for t, _ in ctrl.transitions], [t for t, _ in ref_ctrl.transitions], atol=0.05)
     tip = mj["x_e"][-1]
     assert abs(tip[1] + task.insert_depth) < 1e-3 and abs(tip[0] - hole.x_hole) <= hole.clearance + 5e-4
+
+
+def test_model_predictive_control_on_mujoco():
+    """The MPC of controllers/mpc.py (multiple shooting on the symbolic model, SQP per sample, every 20 ms) regulating
+    the UR5 within its effort limits: the same torques and joint paths on MujocoPlant as on ArmPlant."""
+    from controllers.mpc import ModelPredictiveControl
+    from planners.optimal_control import OptimalControlProblem, StageCost
+
+    ur5 = load("ur5")
+    q0 = ur5.configurations["home"]
+    target = q0 + np.array([0.3, -0.2, 0.2, 0.1, -0.2, 0.3])
+    tau_max = np.array(ur5.model.effortLimit)
+    problem = OptimalControlProblem(ur5, horizon=10, dt=0.02, running=StageCost(q=1e3, qd=1.0, tau=1e-6),
+                                    terminal=StageCost(q=1e4, qd=1e2), tau_max=tau_max)
+    runs = []
+    for plant in (MujocoPlant(ur5, tau_max=tau_max), ArmPlant(ur5, tau_max=tau_max)):
+        runs.append(simulate(plant, ModelPredictiveControl(problem, reference=target), (0.0, 0.6),
+                             plant.initial_state(q0), h=1e-3, Ts=0.02))
+    mj, ref = runs
+    assert mj["failed"].sum() == 0 and np.abs(mj.q[-1] - target).max() < 1e-3
+    assert np.all(np.abs(mj.u) <= tau_max + 1e-9)
+    assert np.abs(mj.q - ref.q).max() < 1e-8 and np.abs(mj.u - ref.u).max() < 1e-6 * tau_max.max()

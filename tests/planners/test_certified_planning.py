@@ -79,7 +79,7 @@ def test_sampled_mode_is_explicit_and_says_not_certified(thin_wall):
 
 @pytest.fixture(scope="module")
 def panda_space():
-    from examples.planning import panda_shelf
+    from controllers.scenes import panda_shelf
 
     return panda_shelf().space
 
@@ -185,7 +185,7 @@ def test_certified_panda_edges_pass_a_dense_pairwise_recheck(panda_space):
 
 def test_two_threads_plan_on_one_space_as_one_thread_does(panda_space):
     """Two threads planning on one UrdfCSpace at once get exactly the single-threaded results."""
-    from examples.planning import panda_shelf
+    from controllers.scenes import panda_shelf
 
     sc = panda_shelf()
     alone = [rrt_connect(panda_space, sc.q_start, sc.q_goal, seed, step=0.5, max_iterations=5000)

@@ -58,14 +58,14 @@ from typing import Any, Callable, Iterator, Mapping, Sequence
 
 import casadi as ca
 import numpy as np
-
-#: Tells when a compiled function is built (the first run on a machine compiles each loop once: ~1 s each):
-#: ``rmpc report`` shows these INFO lines as its progress while the compiler works.
-log = logging.getLogger("rmpc.compiler")    # a stable name: rmpc report listens to it
 import pinocchio as pin
 
 from controllers.integration import rk4_step_law
 from rigid_body.task_space import FrameState
+
+#: Tells when a compiled function is built (the first run on a machine compiles each loop once: ~1 s each):
+#: ``rmpc report`` shows these INFO lines as its progress while the compiler works.
+log = logging.getLogger("rmpc.compiler")    # a stable name: rmpc report listens to it
 
 
 BACKENDS = ("python", "casadi")

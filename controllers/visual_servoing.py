@@ -153,9 +153,12 @@ def _points_interaction(ops: Any, x: Any, y: Any, z: Any) -> Any:
 
 
 def _segment(ops: Any, x1: Any, y1: Any, x2: Any, y2: Any) -> Any:
-    """[x_m, y_m, L, α] of (10.28), for either loop."""
+    """[x_m, y_m, L, α] of (10.28), for either loop (coincident end points: α undefined, a ValueError — NaN in
+    the compiled loop)."""
     dx, dy = x2 - x1, y2 - y1
-    return ops.vector(0.5 * (x1 + x2), 0.5 * (y1 + y2), ops.hypot(dx, dy), ops.atan2(dy, dx))
+    alpha = ops.unless(ops.logic_and(dx == 0.0, dy == 0.0), lambda: ops.atan2(dy, dx),
+                       lambda: "the segment's end points coincide in the image: α is undefined")
+    return ops.vector(0.5 * (x1 + x2), 0.5 * (y1 + y2), ops.hypot(dx, dy), alpha)
 
 
 def _segment_jacobian(ops: Any, x1: Any, y1: Any, x2: Any, y2: Any) -> Any:
@@ -234,8 +237,6 @@ class TargetFeatures:
 
     def _features(self, xy: np.ndarray) -> np.ndarray:
         """:meth:`features` of checked points (the laws' hot path)."""
-        if self.kind == "segment" and xy[1, 0] == xy[0, 0] and xy[1, 1] == xy[0, 1]:
-            raise ValueError("the segment's end points coincide in the image: α is undefined")
         return self.features_law(Numeric, xy[:, 0], xy[:, 1])
 
     def features_law(self, ops: Any, x: Any, y: Any) -> Any:
@@ -319,13 +320,15 @@ class EyeInHandCamera:
         ``hidden`` (a mask), plus the ``noise`` (dx, dy); x, y are NaN where a point is not seen."""
         R, o = ops.frame_pose(self._model, self._data, self.frame, q)
         X, Y, Z = ops.to_camera(R, o, self.points_b)                               # (5.35)
-        x, y, seen = ops.perspective(X, Y, Z)                                       # (5.40)
+        x, y, seen = ops.perspective(X, Y, Z)                                       # (5.40): NaN behind the camera
         if self.fov is not None:
             seen = ops.logic_and(seen, self.fov.contains_xy(x, y, both=ops.logic_and))
         if hidden is not None:
             seen = ops.logic_and(seen, ops.logic_not(hidden))
         if noise is not None:
             x, y = x + noise[0], y + noise[1]
+        if self.fov is None and hidden is None:
+            return x, y, Z, seen
         return ops.where(seen, x, np.nan), ops.where(seen, y, np.nan), Z, seen
 
     def hidden_at(self, t: float) -> np.ndarray | None:
@@ -366,12 +369,18 @@ class EyeInHandCamera:
             draws = self.noise * self.rng.standard_normal((self.n_points, 2))
             noise = (draws[:, 0], draws[:, 1])
         x, y, z, seen = self.image_law(Numeric, meas.q, noise, self.hidden_at(t))
-        return CameraImage(xy=np.column_stack((x, y)), visible=seen, z=z)
+        xy = np.empty((len(z), 2))
+        xy[:, 0], xy[:, 1] = x, y
+        return CameraImage(xy=xy, visible=seen, z=z)
 
 
 # --------------------------------------------------------------------------------------------
 # Pose estimation by inversion of the image Jacobian, Eqs. (10.40)–(10.41) (4-DOF case)
 # --------------------------------------------------------------------------------------------
+
+_NAN4 = np.full(4, np.nan)          # the estimator's log while the feature is lost (shared, read-only)
+_NAN4.setflags(write=False)
+
 
 class PoseEstimator(LoggedController):
     """x̂_{c,o} ← x̂ + T Γ(ô) L_s⁻¹(ŝ) K_s (s − ŝ): the discrete estimator of Fig. 10.11 / S10.1 at period ``T``.
@@ -399,10 +408,10 @@ class PoseEstimator(LoggedController):
     def predicted(self, x_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(ŝ, L_s) at the estimate: the features and the 4×4 interaction matrix of the estimated pose
         (columns v_x, v_y, v_z, ω_z of (10.26); segments through (10.28))."""
-        return self.predicted_law(Numeric, x_hat.tolist())
+        return self.predicted_law(Numeric, x_hat)
 
     def predicted_law(self, ops: Any, x_hat: Any) -> tuple[Any, Any]:
-        x, y, z, phi = x_hat[0], x_hat[1], x_hat[2], x_hat[3]
+        x, y, z, phi = ops.entries(x_hat)
         c, s = ops.cos(phi), ops.sin(phi)
         xy, rows = [], []
         for X, Y, Z in self._points:                     # p^c = o + R_z(φ) P, then (5.40)
@@ -439,8 +448,7 @@ class PoseEstimator(LoggedController):
         def step() -> tuple:
             return self.step_law(ops, x_hat, self.target.features_law(ops, x, y))
 
-        lost = np.full(4, np.nan)
-        x_next, e_s, s_hat = ops.cond(ops.logic_and(seen[0], seen[1]), step, lambda: (x_hat, lost, lost))
+        x_next, e_s, s_hat = ops.cond(ops.logic_and(seen[0], seen[1]), step, lambda: (x_hat, _NAN4, _NAN4))
         return x_next, {"x_hat": x_hat, "e_s": e_s, "s_hat": s_hat}
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
@@ -449,10 +457,7 @@ class PoseEstimator(LoggedController):
         never modified in place, so the output is not copied."""
         image = meas.image
         x_k = self.x_hat
-        visible = image.visible
-        if visible[0] and visible[1]:
-            self.target._features(image.xy)                 # coincident end points: α undefined (ValueError)
-        self.x_hat, signals = self.estimator_law(Numeric, x_k, image.xy[:, 0], image.xy[:, 1], visible)
+        self.x_hat, signals = self.estimator_law(Numeric, x_k, image.xy[:, 0], image.xy[:, 1], image.visible)
         self.record(**signals)
         return x_k
 

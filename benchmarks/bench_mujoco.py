@@ -88,7 +88,8 @@ def rows() -> list[dict]:
     res_mj, res_py, res_c = run_mj(), run_py(), run_compiled()     # the compiled loop is built (and cached) here
     t_mj = t_py = t_c = float("inf")
     for _ in range(3):       # interleaved, so that a change of the machine's load hits all alike
-        t_mj, t_py, t_c = min(t_mj, best_of(run_mj, 1)[0]), min(t_py, best_of(run_py, 1)[0]), min(t_c, best_of(run_compiled, 1)[0])
+        t_mj, t_py = min(t_mj, best_of(run_mj, 1)[0]), min(t_py, best_of(run_py, 1)[0])
+        t_c = min(t_c, best_of(run_compiled, 1)[0])
     t_step, t_four, t_forward, t_bare, t_aba = step_costs()
     gap = float(max(np.abs(res_mj.q - res_py.q).max(), np.abs(res_c.q - res_py.q).max()))
     return [

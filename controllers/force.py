@@ -57,7 +57,7 @@ from rigid_body.robots import Robot
 from rigid_body.rotations import wrap_angle
 from rigid_body.task_space import (selection_matrices, selection_projection, selection_pseudo_inverse,
                                   singular_task)
-from rigid_body.validation import as_matrix, as_positive, as_square_matrix, as_vector
+from rigid_body.validation import as_matrix, as_positive, as_scalar, as_square_matrix, as_vector
 
 
 PEG_STATES = ("approach", "descend", "search", "insert", "done")
@@ -208,6 +208,13 @@ class PegInHoleTask:
     v_search: float = 0.02
     T_approach: float = 1.0
     phi: float = -np.pi / 2
+
+    def __post_init__(self) -> None:
+        checked = {"x_H": as_scalar(self.x_H, "x_H"), "phi": as_scalar(self.phi, "phi")}
+        for name in ("dy", "dx", "eps", "f_push", "insert_depth", "v_slow", "v_search", "T_approach"):
+            checked[name] = as_positive(getattr(self, name), name)
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
 
 
 def run_peg_in_hole(robot: Robot, environment: SurfaceWithHole, task: PegInHoleTask, q0: Any,

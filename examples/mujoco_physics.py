@@ -156,9 +156,11 @@ def panda_wall_on_mujoco() -> Solution:
     by impedance control (9.30)–(9.31), K_P = 1000 N/m: on MuJoCo the fingertip boxes of the URDF touch it (two faces,
     8 contact points); the compliant-plane prediction at the equivalent stiffness 8K, moved to where the fingertips
     reach, is the rest k_P K_eq/(k_P + K_eq)(δ + reach), which ArmInContact on that plane reproduces. Then the hybrid
-    force/motion control of ``examples.panda_wall_contact`` on its stepped wall with friction μ = 0.3, a probe at the tool.
+    force/motion control of ``examples.panda_wall_contact`` on its stepped wall with friction μ = 0.3, a probe at the
+    tool.
     """
     import examples.panda_wall_contact as wall_example
+    from controllers.scenes import WALL_FRICTION, panda_wall
 
     sol = Solution(id="mujoco-panda-wall", title="The Panda on a MuJoCo wall: fingertip contacts, friction cone",
                    kind="simulation")
@@ -199,10 +201,10 @@ def panda_wall_on_mujoco() -> Solution:
               "(within 2 %)", abs(f_imp["MuJoCo"][-1] / f_pred - 1) < 0.02,
               f"{f_imp['MuJoCo'][-1]:.4f} N vs {f_pred:.4f} N (K_eq = {K_eq:g} N/m, reach {reach * 1e3:.2f} mm)")
 
-    scene = wall_example._panda_wall_scene()
-    stepped = scene["wall"]
-    S_f, S_v = selection_matrices(("x", "y", "rx", "ry", "rz"), scene["R_c"])
-    slide = scene["slide"]
+    scene = panda_wall()
+    stepped = scene.wall
+    S_f, S_v = selection_matrices(("x", "y", "rx", "ry", "rz"), scene.R_c)
+    slide = scene.slide
 
     def nu_reference(t: float) -> tuple[np.ndarray, np.ndarray]:
         _, sd, sdd = slide(t)
@@ -212,26 +214,29 @@ def panda_wall_on_mujoco() -> Solution:
                                       compliance=np.eye(6) / stepped.stiffness, frame=TOOL, null_space_damping=10.0)
     # the CLIK start posture has joint 5 on its limit: MuJoCo's limits are left out, as ArmInContact has none
     hyb_mj, hyb_pin = _both(MujocoPlant(panda, stepped, frame=TOOL, probe=0.005, joint_limits=False),
-                            ArmInContact(panda, stepped, frame=TOOL), hybrid, scene["q0"], wall_example.T_PANDA)
-    n_s, t = scene["n"], hyb_mj.t
+                            ArmInContact(panda, stepped, frame=TOOL), hybrid, scene.q0, wall_example.T_PANDA)
+    n_s, t = scene.n, hyb_mj.t
     f_hyb = {"MuJoCo": -(hyb_mj["h_e"][:, :3] @ n_s), "Pinocchio": -(hyb_pin["h_e"][:, :3] @ n_s)}
     cruise = (t > 1.3) & (t < 1.9)
-    friction = {k: float(np.linalg.norm(r["h_e"][cruise, :3] - np.outer(r["h_e"][cruise, :3] @ n_s, n_s), axis=1).mean())
-                for k, r in (("MuJoCo", hyb_mj), ("Pinocchio", hyb_pin))}
+    tangential = {k: r["h_e"][cruise, :3] - np.outer(r["h_e"][cruise, :3] @ n_s, n_s)
+                  for k, r in (("MuJoCo", hyb_mj), ("Pinocchio", hyb_pin))}
+    friction = {k: float(np.linalg.norm(h_t, axis=1).mean()) for k, h_t in tangential.items()}
     normal = {k: float(v[cruise].mean()) for k, v in f_hyb.items()}
     sol.value("hybrid_sliding_normal_force", normal)
     sol.value("hybrid_sliding_friction_force", friction)
     sol.check("sliding: friction = μ f_n on both (MuJoCo's cone edge, the regularised Coulomb law)",
-              all(abs(friction[k] / (wall_example.WALL_FRICTION * normal[k]) - 1) < 0.02 for k in friction),
+              all(abs(friction[k] / (WALL_FRICTION * normal[k]) - 1) < 0.02 for k in friction),
               ", ".join(f"{k}: {friction[k]:.3f} N / {normal[k]:.3f} N" for k in friction))
-    sol.check("sliding: MuJoCo's normal force exceeds the 20 N held on the compliant plane by < 10 % (its soft friction "
-              "cone turns part of the tangential push into normal force)",
-              0 < normal["MuJoCo"] - normal["Pinocchio"] < 2.0, f"{normal['MuJoCo']:.3f} N vs {normal['Pinocchio']:.3f} N")
+    sol.check("sliding: MuJoCo's normal force exceeds the 20 N held on the compliant plane by < 10 % (its soft "
+              "friction cone turns part of the tangential push into normal force)",
+              0 < normal["MuJoCo"] - normal["Pinocchio"] < 2.0,
+              f"{normal['MuJoCo']:.3f} N vs {normal['Pinocchio']:.3f} N")
     lost = {k: t[(v == 0.0) & (t > 1.0)] for k, v in f_hyb.items()}
     sol.value("hybrid_contact_lost_regained", {k: (float(v[0]), float(v[-1])) for k, v in lost.items()})
     sol.check("contact lost at the edge (±20 ms) and regained within 60 ms of each other (MuJoCo presses harder "
               "while sliding, so the tool springs back further at the edge)",
-              abs(lost["MuJoCo"][0] - lost["Pinocchio"][0]) < 0.02 and abs(lost["MuJoCo"][-1] - lost["Pinocchio"][-1]) < 0.06,
+              abs(lost["MuJoCo"][0] - lost["Pinocchio"][0]) < 0.02
+              and abs(lost["MuJoCo"][-1] - lost["Pinocchio"][-1]) < 0.06,
               ", ".join(f"{k}: {v[0]:.3f}–{v[-1]:.3f} s" for k, v in lost.items()))
 
     fig, axes = subplots(1, 2, figsize=(11, 4))
@@ -252,10 +257,11 @@ def panda_wall_on_mujoco() -> Solution:
 # --------------------------------------------------------------------------------------------
 
 def planned_motion_on_mujoco(seed: int = 1) -> Solution:
-    """The Panda's RRT-Connect motion out of the shelf (certified, shortcut, time-optimal, re-checked) tracked by computed torque
-    (8.57), K_P = 400, K_D = 40, on MuJoCo among the boxes and on ArmPlant; then the straight line between the same
-    postures (a quintic in 3 s), which the planner would not accept, on MuJoCo."""
-    from examples.planning import panda_shelf, plan_and_time
+    """The Panda's RRT-Connect motion out of the shelf (certified, shortcut, time-optimal, re-checked) tracked by
+    computed torque (8.57), K_P = 400, K_D = 40, on MuJoCo among the boxes and on ArmPlant; then the straight line
+    between the same postures (a quintic in 3 s), which the planner would not accept, on MuJoCo."""
+    from controllers.scenes import panda_shelf
+    from examples.planning import plan_and_time
 
     sol = Solution(id="mujoco-plan", title="A planned Panda motion executed on MuJoCo among the boxes",
                    kind="simulation")
@@ -275,9 +281,11 @@ def planned_motion_on_mujoco(seed: int = 1) -> Solution:
               run["scene_contacts"].max() == 0 and run["self_contacts"].max() == 0,
               f"max penetration {run['penetration'].max():.1e} m")
     excess = clearance_coal - clearance_mj
-    sol.check("MuJoCo's clearance to the boxes ≤ coal's (to 1 µm) and within 0.5 mm of it (MuJoCo collides the convex hull of each "
-              "collision mesh, coal the mesh itself)", bool(np.all(excess >= -1e-6) and excess.max() < 5e-4),
-              f"coal − MuJoCo ∈ [{excess.min():.1e}, {excess.max():.1e}] m; min clearance {clearance_mj.min() * 1e3:.2f} mm")
+    sol.check("MuJoCo's clearance to the boxes ≤ coal's (to 1 µm) and within 0.5 mm of it (MuJoCo collides the "
+              "convex hull of each collision mesh, coal the mesh itself)",
+              bool(np.all(excess >= -1e-6) and excess.max() < 5e-4),
+              f"coal − MuJoCo ∈ [{excess.min():.1e}, {excess.max():.1e}] m; "
+              f"min clearance {clearance_mj.min() * 1e3:.2f} mm")
     gap = float(np.abs(run.q - ref.q).max())
     sol.value("joint_path_max_difference", gap)
     sol.check("the same joint path on MuJoCo and ArmPlant (1e-6 rad)", gap < 1e-6, f"max |Δq| = {gap:.1e} rad")
@@ -289,14 +297,16 @@ def planned_motion_on_mujoco(seed: int = 1) -> Solution:
         s, sd, sdd = straight(t)
         return scenario.q_start + s * dq, sd * dq, sdd * dq
 
-    blocked = simulate(mj_plant, InverseDynamicsControl(panda, 400.0, 40.0, line, viscous_friction=panda.friction.viscous),
-                       (0.0, 3.5), mj_plant.initial_state(scenario.q_start), h=T_C, log=mj_plant.contact_signals)
+    unplanned = InverseDynamicsControl(panda, 400.0, 40.0, line, viscous_friction=panda.friction.viscous)
+    blocked = simulate(mj_plant, unplanned, (0.0, 3.5), mj_plant.initial_state(scenario.q_start), h=T_C,
+                       log=mj_plant.contact_signals)
     hit = int(np.argmax(blocked["scene_contacts"] > 0))
     touching = mj_plant.contacts(blocked.x[hit + 50])
     sol.value("straight_line_first_contact", float(blocked.t[hit]))
     sol.check("the unplanned straight line hits a box and MuJoCo reports it",
               blocked["scene_contacts"].max() > 0 and bool(touching),
-              f"first contact at {blocked.t[hit]:.3f} s: " + ", ".join(sorted({f'{c.geom1}–{c.geom2}' for c in touching}))
+              f"first contact at {blocked.t[hit]:.3f} s: "
+              + ", ".join(sorted({f'{c.geom1}–{c.geom2}' for c in touching}))
               + f"; contact force {max(np.linalg.norm(c.force) for c in touching):.0f} N")
 
     fig, axes = subplots(2, 1, figsize=(8, 6), sharex=True)

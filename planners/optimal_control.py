@@ -14,18 +14,29 @@ the same RK4 stages that integrate the state (cost at the four stage states, wei
 the project's symbolic dynamics (:func:`rigid_body.symbolic.forward_dynamics_expression`, rotors included).
 
 Solver: a Gauss–Newton SQP. Each iteration linearises every interval at once — Φ, its Jacobians A_k = ∂Φ/∂x,
-B_k = ∂Φ/∂τ and the cost residuals with their Jacobians, one CasADi function generated as C, compiled once per
-model content and cached — and solves the quadratic program of the step with HPIPM (a Riccati-recursion interior
-point method that works stage by stage: its cost grows like N, not N³), then an Armijo line search on the L1 merit
-function. Measured on the Panda reach (N = 50): a dense or general sparse QP per iteration (proxsuite's sparse
-backend, OSQP, qrqp) took 10–20 times HPIPM's time, CasADi's FATROP with an expanded NLP minutes, IPOPT's
-exact Hessian of the RK4 dynamics is the costliest expression of all (``benchmarks/bench_mpc.py``). Warm start from a
-previous result (shifted for MPC), a trajectory, or the state held at rest with gravity torques.
+B_k = ∂Φ/∂τ and the cost residuals with their Jacobians, one CasADi function generated as C (for the host's
+instruction set), compiled once per model content and cached. The Jacobians follow the RK4 stages by the chain rule,
+with the dynamics' partials ∂q̈/∂[q, q̇] = −B⁻¹ ∂RNEA/∂[q, q̇], ∂q̈/∂τ = B⁻¹ (one Cholesky factor of B; a third of the
+operations of differentiating the whole step automatically). The quadratic program of the step goes to HPIPM (a
+Riccati-recursion interior point method that works stage by stage: its cost grows like N, not N³), called directly
+through its C interface on arrays filled in place, soft limits as its native L1 slacks, warm-started from the
+previous QP's solution. A state limit enters the QP only near the iterate (within ``SCREEN_FRACTION`` of its range);
+a step that crosses one left out is solved again with it, so the step is always the full QP's. Soft limits that the
+iterate satisfies are tried as hard bounds first (half the interior point iterations): that step is the soft QP's
+when no multiplier exceeds the slack price, else the soft QP is solved. Then an Armijo line search on the L1 merit
+function, whose values at the point taken are those of the result. Measured on the Panda reach (N = 50): a dense or
+general sparse QP per iteration (proxsuite's sparse backend, OSQP, qrqp) took 10–20 times HPIPM's time, CasADi's
+FATROP with an expanded NLP minutes, IPOPT's exact Hessian of the RK4 dynamics is the costliest expression of all;
+per MPC sample (one real-time iteration) the linearisation and HPIPM take about 1.5 ms each
+(``benchmarks/bench_mpc.py``; ``result.timings`` splits each solve). Warm start from a previous result (shifted for
+MPC), a trajectory, or the state held at rest with gravity torques.
 
 Success is decided independently of the iterations, as the IK does: at the returned solution Pinocchio (not the
 CasADi model) integrates every interval, differentiates the dynamics and the costs, and the KKT conditions —
 stationarity of the Lagrangian with the solver's multipliers, primal feasibility (defects, every hard limit),
-complementarity — must hold within ``tol``.
+complementarity — must hold within ``tol``. Real-time loops that cannot afford that pass (``verify=False``) get
+success from the solver's own quantities instead, computed with the step: convergence, finite values, every hard
+limit, and the defects of the solver's model within ``tol`` (the KKT residual is then NaN).
 
 References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Springer 2009, Sects. 4.2, 7.2–7.5,
 8.5 (Eq. (7.42)); Bock & Plitt, IFAC 1984 (multiple shooting); Frison & Diehl, IFAC 2020 (HPIPM);
@@ -34,9 +45,13 @@ Diehl et al., SIAM J. Control Optim. 43 (2005) (real-time iteration).
 
 from __future__ import annotations
 
+import ctypes
+import hashlib
 import math
+import platform
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import casadi as ca
@@ -46,17 +61,22 @@ import pinocchio as pin
 from planners.optimization import OptimalTrajectory
 from planners.timing import PiecewisePolynomial, Trajectory
 from rigid_body.robots import Robot
-from rigid_body.symbolic import forward_dynamics_expression, frame_placement, model_digest, rotation_log_expression
+from rigid_body.symbolic import (forward_dynamics_derivatives_expression, forward_dynamics_expression, frame_placement,
+                                 model_digest, rotation_log_expression)
 from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
     "StageCost", "OptimalControlProblem", "OptimalControlOptions", "OptimalControlResult", "OptimalControlSolver",
-    "solve_optimal_control", "rk4_step",
+    "solve_optimal_control", "rk4_step", "rk4_sensitivities",
 ]
 
 STATE_LIMITS = ("hard", "soft")
-QP_BOUND = 1e4
-"""Bounds of the step QP beyond this are absent: [rad | rad/s] for the states, τ_max for the torques."""
+SCREEN_FRACTION = 0.1
+"""A state limit enters the step QP when the iterate is within this fraction of its range from it (or beyond); the
+others are checked on the QP's step and added when it crosses them (the QP is then solved again), so the step is
+the full QP's."""
+MU0_FLOOR = 1e2
+"""HPIPM's initial barrier parameter: the largest slack cost of the limits in the QP, at least this."""
 RK4_WEIGHTS = (1.0 / 6.0, 2.0 / 6.0, 2.0 / 6.0, 1.0 / 6.0)
 
 
@@ -72,6 +92,28 @@ def rk4_step(f: Any, x: Any, u: Any, h: Any) -> tuple[Any, list]:
     s4 = x + h * k3
     k4 = f(s4, u)
     return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4), [s1, s2, s3, s4]
+
+
+def rk4_sensitivities(slope: Any, x: Any, u: Any, h: Any, E_x: Any, E_u: Any) -> tuple[Any, Any, list, list]:
+    """:func:`rk4_step` with its forward sensitivities (the chain rule through the stages): ``slope(s, u)`` gives
+    (f, ∂f/∂s, ∂f/∂u) at a stage state; E_x = ∂x/∂z = [I 0] and E_u = ∂u/∂z = [0 I] with z = [x; u]. Returns (x_next,
+    ∂x_next/∂z, [s_1 … s_4], [∂s_1/∂z … ∂s_4/∂z]). The same arithmetic on numpy arrays (the independent check, with
+    Pinocchio's derivatives) and on CasADi expressions (the transcription, with the symbolic ones)."""
+    s, ds = x, E_x
+    slopes, slope_jacobians, states, state_jacobians = [], [], [], []
+    for c in (0.5, 0.5, 1.0, None):
+        k, k_s, k_u = slope(s, u)
+        dk = k_s @ ds + k_u @ E_u
+        states.append(s)
+        state_jacobians.append(ds)
+        slopes.append(k)
+        slope_jacobians.append(dk)
+        if c is not None:
+            s, ds = x + c * h * k, E_x + c * h * dk
+    k1, k2, k3, k4 = slopes
+    d1, d2, d3, d4 = slope_jacobians
+    return (x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4), E_x + (h / 6.0) * (d1 + 2.0 * d2 + 2.0 * d3 + d4),
+            states, state_jacobians)
 
 
 # --------------------------------------------------------------------------------------------
@@ -251,7 +293,9 @@ class OptimalControlResult(OptimalTrajectory):
     status : ``"converged"``, ``"iteration limit"``, ``"time limit"`` or ``"qp failure"`` (the SQP's own account;
         ``success`` adds the independent check). x : (N+1, 2n) node states; u : (N, n) torques; kkt : the largest KKT residual found by the independent check
         (NaN when not verified); defect : max |x_{k+1} − Φ(x_k, τ_k)| by Pinocchio; slack : the total soft-limit
-        excess; iterations : SQP iterations; solve_time : wall time of the SQP (the check apart: check_time).
+        excess; iterations : SQP iterations; solve_time : wall time of the SQP (the check apart: check_time);
+        timings : where solve_time went [s]: ``"linearisation"`` (the compiled intervals' values and Jacobians),
+        ``"qp assembly"`` (the step QP's stage arrays), ``"qp"`` (HPIPM), ``"line search"``.
     """
 
     status: str = ""
@@ -263,6 +307,7 @@ class OptimalControlResult(OptimalTrajectory):
     slack: float = 0.0
     check_time: float = 0.0
     multipliers: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    timings: dict[str, float] = field(default_factory=dict, repr=False)
 
     def __repr__(self) -> str:
         ratios = ", ".join(f"{k} {v:.3g}" for k, v in self.ratios.items())
@@ -311,6 +356,44 @@ def _state_residual(robot: Robot, frame: int, x: Any, P: dict, position: bool, o
     return ca.vertcat(*parts)
 
 
+def _linearised_interval(robot: Robot, frame: int, x: Any, u: Any, p: Any, position: bool,
+                         orientation: bool) -> tuple[Any, Any, Any, Any]:
+    """One interval's (Φ(x, u), r, ∂[Φ; r]/∂[x; u], q̈(x, u)) as SX, the Jacobian by the chain rule through the RK4 stages
+    (forward sensitivities): with z = [x; u], each stage state s_i has ∂s_i/∂z, the stage slope k_i = f(s_i, u)
+    has ∂k_i/∂z = ∂f/∂s ∂s_i/∂z + ∂f/∂u ∂u/∂z, the dynamics' partials from
+    :func:`rigid_body.symbolic.forward_dynamics_derivatives_expression` (−B⁻¹ times the Newton–Euler partials: about
+    a third of the operations of differentiating the whole step automatically)."""
+    n = robot.nv
+    nx, nz = 2 * n, 3 * n
+    P = _unpack(p, n)
+    h = P["dt"]
+    E_x = ca.SX(ca.DM(ca.Sparsity.diag(nx, nz), 1.0))                # ∂x/∂z = [I 0]
+    E_u = ca.SX(ca.DM(ca.Sparsity.triplet(n, nz, list(range(n)), list(range(nx, nz))), 1.0))   # ∂u/∂z = [0 I]
+    s_sym, p_sym = ca.SX.sym("s", nx), ca.SX.sym("p", p.shape[0])
+    r_sym = _state_residual(robot, frame, s_sym, _unpack(p_sym, n), position, orientation)
+    state_residual = ca.Function("state_residual", [s_sym, p_sym], [r_sym, ca.jacobian(r_sym, s_sym)])
+    zero, eye = ca.SX(n, n), ca.SX.eye(n)
+    accelerations: list = []
+
+    def slope(s: Any, v: Any) -> tuple[Any, Any, Any]:
+        qdd, J = forward_dynamics_derivatives_expression(robot, s[:n], s[n:], v)
+        accelerations.append(qdd)
+        return ca.vertcat(s[n:], qdd), ca.vertcat(ca.horzcat(zero, eye), J[:, :nx]), ca.vertcat(zero, J[:, nx:])
+
+    x_next, dx_next, states, state_jacobians = rk4_sensitivities(slope, x, u, h, E_x, E_u)
+    w = RK4_WEIGHTS
+    residuals, residual_jacobians = [], []
+    for wi, s, ds in zip(w, states, state_jacobians):
+        scale = ca.sqrt(wi * h)
+        r_s, dr_s = state_residual(s, p)
+        residuals.append(scale * r_s)
+        residual_jacobians.append(scale * ca.mtimes(dr_s, ds))
+    torque = ca.sqrt(h) * P["sw_tau"]
+    residuals.append(torque * (u - P["tau_ref"]))
+    residual_jacobians.append(ca.mtimes(ca.diag(torque), E_u))
+    return x_next, ca.vertcat(*residuals), ca.vertcat(dx_next, *residual_jacobians), accelerations[0]
+
+
 _FUNCTIONS: dict[tuple, tuple] = {}
 
 
@@ -318,46 +401,69 @@ def _functions(robot: Robot, frame: int, position: bool, orientation: bool) -> t
     """(stage, stage_value, terminal, terminal_value): the compiled interval and terminal functions, built once per
     (model content, frame, pose terms).
 
-    stage (x, u, p) → (Φ(x, u), r, ∂[Φ; r]/∂[x; u]); stage_value (x, u, p) → (Φ, r); terminal (x, p) → (r_N, ∂r_N/∂x)
-    and terminal_value (x, p) → r_N, with ½‖r‖² the interval's cost (RK4 quadrature) and ½‖r_N‖² the terminal one.
+    stage (x, u, p) → (Φ(x, u), r, ∂[Φ; r]/∂[x; u], q̈(x, u)); stage_value (x, u, p) → (Φ, r, q̈); terminal (x, p) →
+    (r_N, ∂r_N/∂x) and terminal_value (x, p) → r_N, with ½‖r‖² the interval's cost (RK4 quadrature) and ½‖r_N‖² the
+    terminal one.
     """
     key = (model_digest(robot.model), frame, position, orientation)
     cached = _FUNCTIONS.get(key)
     if cached is not None:
         return cached
-    from controllers.compiled import compile_function  # the C code cache (one home, in the compiled loop's module)
+    from controllers.compiled import COMPILE_FLAGS, CompiledLoopUnavailable, compile_function   # the C code cache
 
     n = robot.nv
     x, u, p = ca.SX.sym("x", 2 * n), ca.SX.sym("u", n), ca.SX.sym("p", _parameter_size(n))
     P = _unpack(p, n)
 
+    slopes: list = []
+
     def f(xs: Any, us: Any) -> Any:
-        return ca.vertcat(xs[n:], forward_dynamics_expression(robot, xs[:n], xs[n:], us))
+        slopes.append(ca.vertcat(xs[n:], forward_dynamics_expression(robot, xs[:n], xs[n:], us)))
+        return slopes[-1]
 
     x_next, stages = rk4_step(f, x, u, P["dt"])
     r = ca.vertcat(*[ca.sqrt(c * P["dt"]) * _state_residual(robot, frame, s, P, position, orientation)
                      for c, s in zip(RK4_WEIGHTS, stages)],
                    ca.sqrt(P["dt"]) * P["sw_tau"] * (u - P["tau_ref"]))
-    z = ca.vertcat(x, u)
-    out = ca.vertcat(x_next, r)
     tag = f"{'p' if position else ''}{'o' if orientation else ''}"
-    stage = ca.Function(f"ocp_stage{tag}", [x, u, p], [x_next, r, ca.jacobian(out, z)])
-    stage_value = ca.Function(f"ocp_value{tag}", [x, u, p], [x_next, r])
+    x_next_, r_, J_, qdd_ = _linearised_interval(robot, frame, x, u, p, position, orientation)
+    stage = ca.Function(f"ocp_stage{tag}", [x, u, p], [x_next_, r_, ca.densify(J_), qdd_])
+    stage_value = ca.Function(f"ocp_value{tag}", [x, u, p], [x_next, r, slopes[0][n:]])
     r_N = _state_residual(robot, frame, x, P, position, orientation)
-    terminal = ca.Function(f"ocp_terminal{tag}", [x, p], [r_N, ca.jacobian(r_N, x)])
+    terminal = ca.Function(f"ocp_terminal{tag}", [x, p], [r_N, ca.densify(ca.jacobian(r_N, x))])
     terminal_value = ca.Function(f"ocp_terminal_value{tag}", [x, p], [r_N])
-    built = tuple(compile_function(g) for g in (stage, stage_value, terminal, terminal_value))
+    try:                                    # the linearisation, the hot spot: the host's instruction set
+        stage = compile_function(stage, flags=(*COMPILE_FLAGS, "-march=native", f"-DRMPC_HOST={_host()}"))
+    except CompiledLoopUnavailable as err:
+        if err.kind != "compiler failed":
+            raise
+        stage = compile_function(stage)     # a compiler without -march=native
+    built = (stage, *(compile_function(g) for g in (stage_value, terminal, terminal_value)))
     _FUNCTIONS[key] = built
     return built
+
+
+def _host() -> str:
+    """A digest of this machine's processor (its name and features): a library built for its instruction set is cached
+    under it, so a cache shared with another machine never loads one it cannot run."""
+    info = f"{platform.machine()} {platform.processor()}"
+    try:
+        with open("/proc/cpuinfo") as f:
+            info += "".join(sorted({line for line in f if line.startswith(("model name", "flags", "Features"))}))
+    except OSError:
+        pass
+    return hashlib.sha256(info.encode()).hexdigest()[:12]
 
 
 class _Call:
     """A CasADi function called on numpy arrays without DM conversions (CasADi's function buffer): each argument's
     C-order data is the input's column-major nonzeros (a dense (r, c) input is given as its (c, r) transpose);
-    returns the outputs as dense (rows, cols) arrays (copies)."""
+    returns the outputs as dense (rows, cols) arrays (copies), or with ``transposed`` as their (cols, rows)
+    transposes, views of the output buffers without a copy (valid until the next call; dense outputs only): a
+    function mapped over N intervals then gives one row per interval."""
 
-    def __init__(self, function: ca.Function):
-        self.function = function
+    def __init__(self, function: ca.Function, transposed: bool = False):
+        self.function, self.transposed = function, transposed
         self._buffer, self._run = function.buffer()
         self._outputs = []
         for i in range(function.n_out()):
@@ -377,6 +483,8 @@ class _Call:
             self._inputs[i] = a                      # kept alive for the call
             self._buffer.set_arg(i, memoryview(a))
         self._run()
+        if self.transposed:
+            return [nz.reshape(shape[1], shape[0]) for nz, _, _, shape, _ in self._outputs]
         out = []
         for nz, rows, cols, shape, dense in self._outputs:
             if dense:
@@ -393,138 +501,180 @@ class _Call:
 
 
 # --------------------------------------------------------------------------------------------
-# The structured QP of one SQP step (HPIPM through CasADi's conic interface)
+# The structured QP of one SQP step: HPIPM called directly
 # --------------------------------------------------------------------------------------------
 
-class _StepQP:
-    """The QP of one SQP step, stage-wise as HPIPM takes it (x_0 given, so stage 0 has no state)::
+_HPIPM: Any = None
+_C_SIZE, _C_PTR, _C_INT = ctypes.c_size_t, ctypes.c_void_p, ctypes.c_int
+HPIPM_MODES = {"speed_abs": 0, "speed": 1, "balance": 2, "robust": 3}
+"""HPIPM's modes (its ``enum hpipm_mode``)."""
 
-        min ½ δᵀ H δ + gᵀ δ   s.t.  δx_{k+1} = A_k δx_k + B_k δτ_k + d_k,  soft-limit rows,  bounds,
 
-    δτ in units of τ_max. With soft limits each node k >= 1 also has the slacks s_k >= 0 (absolute values, cost
-    slack_weight each) as states, set by the controls v_{k−1} of the interval before (s_{k+1} = v_k), so that the
-    rows q_j − s ≤ q_max, q_j + s ≥ q_min, q̇_j − s ≤ q̇_max, q̇_j + s ≥ −q̇_max are stage-wise as HPIPM needs.
-    Stage k's variables: state [δx_k; s_k] (k >= 1), control [δτ_k; v_k] (k < N). The sparsity patterns are fixed
-    at construction; each step fills their nonzeros from stacked blocks."""
+def _hpipm() -> Any:
+    """HPIPM's C library, the one CasADi ships (and its HPIPM plugin loads), with the signatures used here."""
+    global _HPIPM
+    if _HPIPM is not None:
+        return _HPIPM
+    folder = Path(ca.__file__).parent
+    found = sorted(folder.glob("libhpipm.*")) or sorted(folder.glob("*hpipm*.dll"))
+    if not found:
+        raise RuntimeError(f"HPIPM's library (libhpipm) was not found beside CasADi in {folder}")
+    lib = ctypes.CDLL(str(found[0]))
+    if hasattr(lib, "d_ocp_qp_dim_set_nsbx"):      # HPIPM before its interface of August 2025 (ns, idxs_rev)
+        raise RuntimeError(f"the HPIPM shipped with CasADi {ca.__version__} has an older interface than the optimal "
+                           "control solver calls: install CasADi >= 3.8 (pip install -U casadi)")
+    P, I = _C_PTR, _C_INT
+    signatures: dict[str, tuple[Any, list]] = {
+        "d_ocp_qp_dim_memsize": (_C_SIZE, [I]), "d_ocp_qp_dim_create": (None, [I, P, P]),
+        "d_ocp_qp_dim_set_all": (None, [P] * 7), "d_ocp_qp_memsize": (_C_SIZE, [P]),
+        "d_ocp_qp_create": (None, [P, P, P]), "d_ocp_qp_sol_memsize": (_C_SIZE, [P]),
+        "d_ocp_qp_sol_create": (None, [P, P, P]), "d_ocp_qp_ipm_arg_memsize": (_C_SIZE, [P]),
+        "d_ocp_qp_ipm_arg_create": (None, [P, P, P]), "d_ocp_qp_ipm_arg_set_default": (None, [I, P]),
+        "d_ocp_qp_ipm_ws_memsize": (_C_SIZE, [P, P]), "d_ocp_qp_ipm_ws_create": (None, [P, P, P, P]),
+        "d_ocp_qp_ipm_solve": (None, [P, P, P, P]), "d_ocp_qp_sol_get_all": (None, [P] * 12),
+        "d_ocp_qp_set_all": (None, [P] * 27),
+    }
+    for what in ("dim", "", "sol", "ipm_arg", "ipm_ws"):
+        signatures[f"d_ocp_qp_{what + '_' if what else ''}strsize"] = (_C_SIZE, [])
+    for field_ in ("idxs_rev", "lbx_mask", "ubx_mask"):
+        signatures[f"d_ocp_qp_set_{field_}"] = (None, [I, P, P])
+    for field_ in ("iter_max", "tol_stat", "tol_eq", "tol_ineq", "tol_comp", "warm_start", "mu0", "pred_corr", "reg_prim", "ric_alg", "split_step", "comp_res_exit", "cond_pred_corr"):
+        signatures[f"d_ocp_qp_ipm_arg_set_{field_}"] = (None, [P, P])
+    for field_ in ("status", "iter", "max_res_stat", "max_res_eq", "max_res_ineq", "max_res_comp"):
+        signatures[f"d_ocp_qp_ipm_get_{field_}"] = (None, [P, P])
+    for name, (restype, argtypes) in signatures.items():
+        function = getattr(lib, name)
+        function.restype, function.argtypes = restype, argtypes
+    _HPIPM = lib
+    return lib
 
-    def __init__(self, N: int, n: int, soft_q: np.ndarray, soft_v: np.ndarray, options: OptimalControlOptions):
-        nx = 2 * n
-        self.N, self.n, self.nx = N, n, nx
-        ns = soft_q.size + soft_v.size
-        self.ns, self.soft_q, self.soft_v = ns, soft_q, soft_v
-        idx, k0 = [], 0
-        for k in range(N + 1):
-            stage = {}
-            for name, size in (("x", nx if k > 0 else 0), ("s", ns if k > 0 else 0), ("u", n if k < N else 0),
-                               ("v", ns if k < N else 0)):
-                stage[name] = np.arange(k0, k0 + size)
-                k0 += size
-            idx.append(stage)
-        self.idx, self.nz = idx, k0
-        rows, cols, src = [], [], []
-        self._a_layout(rows, cols, src)
-        self.A_sp, self.A_src = self._pattern(rows, cols, src, self.n_rows, self.nz)
-        rows, cols, src, k = [], [], [], 0
-        for stage in idx:                                  # dense blocks over (δx_k, δτ_k): Gauss–Newton's JᵀJ
-            block = np.concatenate([stage["x"], stage["u"]])
-            for i in block:
-                for j in block:
-                    rows.append(i)
-                    cols.append(j)
-                    src.append(k)
-                    k += 1
-        self.H_sp, self.H_src = self._pattern(rows, cols, src, self.nz, self.nz)
-        structure = {"N": N, "nx": [0] + [nx + ns] * N, "nu": [n + ns] * N + [0], "ng": [0] + [2 * ns] * N}
-        tol = options.qp_tol
-        self.solver = ca.conic("ocp_step", "hpipm", {"h": self.H_sp, "a": self.A_sp},
-                               {**structure, "error_on_fail": False,
-                                "hpipm": {"mode": "robust", "iter_max": options.qp_max_iter, "res_g_max": tol,
-                                          "res_b_max": tol, "res_d_max": tol, "res_m_max": tol}})
 
-    def solve(self, h: np.ndarray, a: np.ndarray, **vectors: np.ndarray) -> tuple[dict[str, np.ndarray], dict]:
-        """HPIPM on the nonzeros ``h``, ``a`` of the fixed patterns and the vectors g, lba, uba, lbx, ubx: the outputs
-        by name (flat arrays) and the solver's statistics. (Called through DMs: CasADi's function buffer gave
-        wrong steps from the second call of this conic on.)"""
-        sol = self.solver(h=ca.DM(self.H_sp, h), a=ca.DM(self.A_sp, a), **vectors)
-        return {name: np.asarray(sol[name]).ravel() for name in ("x", "lam_a", "lam_x")}, self.solver.stats()
+class _StageQP:
+    """The QP of one SQP step in HPIPM's stage-wise form, solved by HPIPM's Riccati-based interior point method
+    (its C interface, called directly: no CasADi matrices are built per step)::
 
-    def _a_layout(self, rows: list, cols: list, src: list) -> None:
-        """Rows [gap_0, gap_1, lincon_1, …, gap_{N−1}, lincon_{N−1}, lincon_N]; the value vector of
-        :meth:`a_values` is [A_1…A_{N−1} (row-major blocks), B_0…B_{N−1}, constants]."""
-        N, nx, n, ns, idx = self.N, self.nx, self.n, self.ns, self.idx
-        n_A, n_B, n_I = (N - 1) * nx * nx, N * nx * n, N * nx
-        n_L = N * 2 * ns
-        constants: list[float] = []
-        row = 0
-        self.gap_rows, self.lincon_rows = [], []
-        self._lincon_count = 0
+        min Σ_k ½ [δτ_k; δx_k]ᵀ [R_k S_k; S_kᵀ Q_k] [δτ_k; δx_k] + r_kᵀ δτ_k + q_kᵀ δx_k  (+ Σ z (s_l + s_u))
+        s.t. δx_{k+1} = A_k δx_k + B_k δτ_k + b_k,   lbu ≤ δτ_k ≤ ubu (k < N),
+             lbx − s_l ≤ δx_k[limited] ≤ ubx + s_u,  s_l, s_u ≥ 0  (k ≥ 1; hard limits: no slacks).
 
-        def constant(r: int, c: int, value: float) -> None:
-            rows.append(r)
-            cols.append(c)
-            src.append(n_A + n_B + n_I + n_L + len(constants))
-            constants.append(value)
+    Stage 0 has no state (x_0 is given). The structure is set once; the numbers are written into the numpy arrays
+    below (each stage's matrix as its transpose in C order, i.e. column-major as HPIPM reads it), which HPIPM reads
+    through arrays of pointers made once (one call per solve). A state bound can be left out (its mask 0)."""
 
-        def scaled(r: int, c: int, position: int) -> None:
-            rows.append(r)
-            cols.append(c)
-            src.append(position)
+    def __init__(self, N: int, nx: int, nu: int, limited: np.ndarray, soft: bool, options: OptimalControlOptions,
+                 inputs_of: "_StageQP | None" = None):
+        """``inputs_of``: a QP of the same sizes whose arrays of data (not its slack costs) this one reads."""
+        lib = self.lib = _hpipm()
+        self.N, self.nx, self.nu = N, nx, nu
+        limited = np.ascontiguousarray(limited, dtype=np.int32)
+        nb = self.nb = limited.size
+        ns = self.ns = nb if soft else 0
+        ints = lambda values: np.ascontiguousarray(values, dtype=np.int32)
+        self._memory: list[Any] = []
+        dims = [ints([0] + [nx] * N), ints([nu] * N + [0]), ints([0] + [nb] * N), ints([nu] * N + [0]),
+                ints([0] * (N + 1)), ints([0] + [ns] * N)]
+        self._memory += dims
+        self.dim = self._block(lib.d_ocp_qp_dim_strsize())
+        lib.d_ocp_qp_dim_create(N, self.dim, self._block(lib.d_ocp_qp_dim_memsize(N)))
+        lib.d_ocp_qp_dim_set_all(*[d.ctypes.data for d in dims], self.dim)
+        self.qp = self._block(lib.d_ocp_qp_strsize())
+        lib.d_ocp_qp_create(self.dim, self.qp, self._block(lib.d_ocp_qp_memsize(self.dim)))
+        self.sol = self._block(lib.d_ocp_qp_sol_strsize())
+        lib.d_ocp_qp_sol_create(self.dim, self.sol, self._block(lib.d_ocp_qp_sol_memsize(self.dim)))
+        self.arg = self._block(lib.d_ocp_qp_ipm_arg_strsize())
+        lib.d_ocp_qp_ipm_arg_create(self.dim, self.arg, self._block(lib.d_ocp_qp_ipm_arg_memsize(self.dim)))
+        lib.d_ocp_qp_ipm_arg_set_default(HPIPM_MODES["robust"], self.arg)
+        lib.d_ocp_qp_ipm_arg_set_iter_max(ctypes.byref(ctypes.c_int(options.qp_max_iter)), self.arg)
+        for name in ("tol_stat", "tol_eq", "tol_ineq", "tol_comp"):
+            getattr(lib, f"d_ocp_qp_ipm_arg_set_{name}")(ctypes.byref(ctypes.c_double(options.qp_tol)), self.arg)
+        self.ws = self._block(lib.d_ocp_qp_ipm_ws_strsize())
+        lib.d_ocp_qp_ipm_ws_create(self.dim, self.arg, self.ws,
+                                   self._block(lib.d_ocp_qp_ipm_ws_memsize(self.dim, self.arg)))
+        f, nbs, nss = np.zeros, max(nb, 1), max(ns, 1)
+        self.A, self.B, self.b = f((N + 1, nx, nx)), f((N + 1, nu, nx)), f((N + 1, nx))        # A_kᵀ, B_kᵀ
+        self.Q, self.S, self.R = f((N + 1, nx, nx)), f((N + 1, nx, nu)), f((N + 1, nu, nu))   # S_kᵀ (S_k: nu × nx)
+        self.q, self.r = f((N + 1, nx)), f((N + 1, nu))
+        self.lbu, self.ubu, self.lbx, self.ubx = f((N + 1, nu)), f((N + 1, nu)), f((N + 1, nbs)), f((N + 1, nbs))
+        self.zl, self.zu = f((N + 1, nss)), f((N + 1, nss))
+        self.lbx_mask, self.ubx_mask = np.ones((N + 1, nbs)), np.ones((N + 1, nbs))   # 0: the bound is left out
+        if inputs_of is not None:
+            for name in ("A", "B", "b", "Q", "S", "R", "q", "r", "lbu", "ubu", "lbx", "ubx", "lbx_mask", "ubx_mask"):
+                setattr(self, name, getattr(inputs_of, name))
+        self._masks = np.ones((2, N + 1, nbs))                                        # as HPIPM has them
+        self.u, self.x, self.pi = f((N + 1, nu)), f((N + 1, nx)), f((N + 1, nx))
+        self.sl, self.su, self.lam_ls, self.lam_us = f((N + 1, nss)), f((N + 1, nss)), f((N + 1, nss)), f((N + 1, nss))
+        self.lam_lb, self.lam_ub = f((N + 1, nu + nb)), f((N + 1, nu + nb))
+        # the structure (the bounded variables, the slack of each bound: −1 hard) and the slacks' fixed data
+        # (L1: no quadratic term, s >= 0)
+        idxbu, idxbx, zeros = ints(np.arange(nu)), limited, np.zeros((N + 1, nss))
+        slack_of = ints(np.concatenate([np.arange(nb) if soft else np.full(nb, -1), np.full(nu, -1)]))
+        slack_of_u = ints(np.concatenate([np.full(nu, -1), slack_of[:nb]]))
+        unused = f((N + 1, 1))
+        self._memory += [idxbu, idxbx, zeros, slack_of, slack_of_u, unused]
+        for k in range(1, N + 1):
+            if nb:
+                lib.d_ocp_qp_set_idxs_rev(k, (slack_of_u if k < N else slack_of).ctypes.data, self.qp)
 
-        for k in range(N):
-            self.gap_rows.append(np.arange(row, row + nx + ns))
-            for i in range(nx):
-                if k > 0:
-                    for j in range(nx):
-                        rows.append(row + i)
-                        cols.append(idx[k]["x"][j])
-                        src.append((k - 1) * nx * nx + i * nx + j)
-                for j in range(n):
-                    rows.append(row + i)
-                    cols.append(idx[k]["u"][j])
-                    src.append(n_A + k * nx * n + i * n + j)
-                scaled(row + i, idx[k + 1]["x"][i], n_A + n_B + k * nx + i)       # −d_x of x_{k+1}
-            for i in range(ns):                              # s_{k+1} = v_k
-                constant(row + nx + i, idx[k]["v"][i], 1.0)
-                constant(row + nx + i, idx[k + 1]["s"][i], -1.0)
-            row += nx + ns
-            if ns and k > 0:
-                row = self._lincons(k, row, constant, scaled, n_A + n_B + n_I)
-        if ns:
-            row = self._lincons(N, row, constant, scaled, n_A + n_B + n_I)
-        self.n_rows = row
-        self._constants = np.array(constants)
-        self.targets = np.array([j for j in self.soft_q] + [self.n + j for j in self.soft_v], dtype=int)
+        def rows(a: np.ndarray) -> Any:
+            pointers = (ctypes.c_void_p * (N + 1))(*[a.ctypes.data + k * a.strides[0] for k in range(N + 1)])
+            self._memory.append(pointers)
+            return pointers
 
-    def _lincons(self, k: int, row: int, constant: Any, scaled: Any, offset: int) -> int:
-        """The soft-limit rows of node k: for each limited quantity y_j (q_j, then q̇_j), y_j − s ≤ max, y_j + s ≥ min
-        (y_j's coefficient is its variable scale)."""
-        first = row
-        x, s = self.idx[k]["x"], self.idx[k]["s"]
-        targets = [j for j in self.soft_q] + [self.n + j for j in self.soft_v]
-        for m, j in enumerate(targets):
-            for sign in (-1.0, 1.0):
-                scaled(row, x[j], offset + self._lincon_count)
-                self._lincon_count += 1
-                constant(row, s[m], sign)
-                row += 1
-        self.lincon_rows.append(np.arange(first, row))
-        return row
+        def same(a: np.ndarray) -> Any:
+            pointers = (ctypes.c_void_p * (N + 1))(*[a.ctypes.data] * (N + 1))
+            self._memory.append(pointers)
+            return pointers
 
-    @staticmethod
-    def _pattern(rows: list, cols: list, src: list, n_rows: int, n_cols: int) -> tuple[ca.Sparsity, np.ndarray]:
-        """The CasADi pattern of the entries (rows, cols) and, for each nonzero in its column-major order, the index
-        of its value in the stacked value vector."""
-        rows, cols, src = np.asarray(rows), np.asarray(cols), np.asarray(src)
-        order = np.lexsort((rows, cols))
-        rows, cols, src = rows[order], cols[order], src[order]
-        colind = np.searchsorted(cols, np.arange(n_cols + 1))
-        return ca.Sparsity(n_rows, n_cols, colind.tolist(), rows.tolist()), src
+        # d_ocp_qp_set_all(A, B, b, Q, S, R, q, r, idxbx, lbx, ubx, idxbu, lbu, ubu, C, D, lg, ug, Zl, Zu, zl, zu,
+        # idxs, idxs_rev, ls, us, qp): idxs, idxs_rev NULL (the soft structure above stays)
+        self._all = [rows(self.A), rows(self.B), rows(self.b), rows(self.Q), rows(self.S), rows(self.R), rows(self.q),
+                     rows(self.r), same(idxbx), rows(self.lbx), rows(self.ubx), same(idxbu), rows(self.lbu),
+                     rows(self.ubu), rows(unused), rows(unused), rows(unused), rows(unused), rows(zeros), rows(zeros),
+                     rows(self.zl), rows(self.zu), None, None, rows(zeros), rows(zeros), self.qp]
+        self._outputs = [rows(a) for a in (self.u, self.x, self.sl, self.su, self.pi, self.lam_lb, self.lam_ub,
+                                           unused, unused, self.lam_ls, self.lam_us)]
+        self._mask_setters = [(lib.d_ocp_qp_set_lbx_mask, self.lbx_mask), (lib.d_ocp_qp_set_ubx_mask, self.ubx_mask)]
+        self._status, self._iter, self._res = ctypes.c_int(), ctypes.c_int(), ctypes.c_double()
+        self._mu0, self._warm = ctypes.c_double(), ctypes.c_int(0)
+        self._solved = False                    # HPIPM's solution struct holds a solution to start the next from
 
-    def a_values(self, A: np.ndarray, B: np.ndarray, Dx: np.ndarray) -> np.ndarray:
-        """A's nonzeros from the scaled A_k (N, nx, nx) (A_0 unused: δx_0 = 0), B_k (N, nx, n) and the scales Dx
-        (N, nx) of the states x_1 … x_N (the −I of x_{k+1} becomes −diag(Dx_k); the soft rows' coefficients)."""
-        lincon = np.repeat(Dx[:, self.targets], 2, axis=1).ravel() if self.ns else np.zeros(0)
-        return np.concatenate([A[1:].ravel(), B.ravel(), -Dx.ravel(), lincon, self._constants])[self.A_src]
+    def set_mu0(self, value: float) -> None:
+        """HPIPM's initial barrier parameter (of the order of the largest cost gradient: fewer iterations)."""
+        self._mu0.value = value
+        self.lib.d_ocp_qp_ipm_arg_set_mu0(ctypes.byref(self._mu0), self.arg)
+
+    def _block(self, size: int) -> int:
+        """The address of ``size`` fresh bytes aligned to 64 (kept alive with the QP)."""
+        memory = np.zeros(int(size) + 64, dtype=np.uint8)
+        self._memory.append(memory)
+        return (memory.ctypes.data + 63) // 64 * 64
+
+    def solve(self) -> tuple[int, int, float]:
+        """Hand the arrays to HPIPM, solve, read the solution into u, x, s_l, s_u, π, λ: (status, iterations, the
+        largest of HPIPM's residuals). Status 0: solved to tolerance; 1: iteration limit; 2: step too small; 3: NaN."""
+        lib, qp = self.lib, self.qp
+        lib.d_ocp_qp_set_all(*self._all)
+        if self.nb:
+            for m, (setter, mask) in enumerate(self._mask_setters):
+                changed = np.flatnonzero(np.any(mask != self._masks[m], axis=1))
+                for k in changed[changed > 0]:
+                    setter(int(k), mask.ctypes.data + int(k) * mask.strides[0], qp)
+                self._masks[m] = mask
+        if self._warm.value != (2 if self._solved else 0):
+            # start from the previous solution, primal and dual (the QPs of successive SQP iterations and MPC samples
+            # are alike: fewer iterations), cold at first and after a failure
+            self._warm.value = 2 if self._solved else 0
+            lib.d_ocp_qp_ipm_arg_set_warm_start(ctypes.byref(self._warm), self.arg)
+        lib.d_ocp_qp_ipm_solve(qp, self.sol, self.arg, self.ws)
+        lib.d_ocp_qp_sol_get_all(self.sol, *self._outputs)
+        lib.d_ocp_qp_ipm_get_status(self.ws, ctypes.byref(self._status))
+        lib.d_ocp_qp_ipm_get_iter(self.ws, ctypes.byref(self._iter))
+        worst = 0.0
+        for name in ("stat", "eq", "ineq", "comp"):
+            getattr(lib, f"d_ocp_qp_ipm_get_max_res_{name}")(self.ws, ctypes.byref(self._res))
+            worst = max(worst, self._res.value)
+        self._solved = self._status.value in (0, 1) and math.isfinite(worst)
+        return self._status.value, self._iter.value, worst
 
 
 # --------------------------------------------------------------------------------------------
@@ -554,15 +704,25 @@ class OptimalControlSolver:
         position, orientation = pr.pose_terms
         self._pose = (position, orientation)
         stage, stage_value, terminal, terminal_value = _functions(pr.robot, pr.frame, position, orientation)
-        self._stage, self._stage_value = _Call(stage.map(N)), _Call(stage_value.map(N))
+        self._stage = _Call(stage.map(N), transposed=True)            # rows: intervals; Jacobians as [Φ; r]ᵀ
+        self._stage_value = _Call(stage_value.map(N), transposed=True)
         self._stage_value_one = _Call(stage_value)
         self._terminal, self._terminal_value = _Call(terminal), _Call(terminal_value)
-        if pr.state_limits == "soft":
-            soft_q, soft_v = pr.limited()
-        else:
-            soft_q, soft_v = np.zeros(0, dtype=int), np.zeros(0, dtype=int)
-        self._qp = _StepQP(N, n, soft_q, soft_v, self.options)
+        q_lim, v_lim = pr.limited()
+        self._limited = np.concatenate([q_lim, n + v_lim]).astype(int)        # the limited entries of x
+        self._lower = np.concatenate([pr.q_min, -pr.qd_max])[self._limited]
+        self._upper = np.concatenate([pr.q_max, pr.qd_max])[self._limited]
+        span = self._upper - self._lower
+        self._margin = np.where(np.isfinite(span), SCREEN_FRACTION * span, np.inf)
+        self._qp = _StageQP(N, self.nx, n, self._limited, pr.state_limits == "soft", self.options)
+        self._hard_qp = None                # soft limits: the same QP with them hard, tried first (fewer iterations)
+        if self._qp.ns:
+            self._hard_qp = _StageQP(N, self.nx, n, self._limited, False, self.options, inputs_of=self._qp)
+        self.qp_solves, self._qp_time = 0, 0.0
         self._gravity_data = pr.robot.model.createData()
+        self._weights = tuple(np.concatenate([np.sqrt(c.q), np.sqrt(c.qd), np.sqrt(c.tau),
+                                              [math.sqrt(c.position), math.sqrt(c.orientation)]])
+                              for c in (pr.running, pr.terminal))
 
     # ---- references -----------------------------------------------------------------------------------------
     def parameters(self, x0: np.ndarray, q_ref: Any = None, qd_ref: Any = None, tau_ref: Any = None,
@@ -587,13 +747,11 @@ class OptimalControlSolver:
             if np.max(np.abs(R @ np.transpose(R, (0, 2, 1)) - np.eye(3))) > 1e-6 or np.any(np.linalg.det(R) < 0):
                 raise ValueError("`T_d` must hold rotation matrices in its upper-left 3×3 block")
 
-        def column(cost: StageCost, k: int, tau: np.ndarray) -> np.ndarray:
-            return np.concatenate([[pr.dt], q_ref[k], qd_ref[k], tau, T[k, :3, 3], T[k, :3, :3].ravel(order="F"),
-                                   np.sqrt(cost.q), np.sqrt(cost.qd), np.sqrt(cost.tau),
-                                   [math.sqrt(cost.position), math.sqrt(cost.orientation)]])
-
-        P = np.vstack([column(pr.running, k, tau_ref[k]) for k in range(N)])
-        P_N = column(pr.terminal, N, np.zeros(n))
+        rotations = np.transpose(T[:, :3, :3], (0, 2, 1)).reshape(N + 1, 9)   # each R_d by columns
+        running, terminal = self._weights
+        P = np.hstack([np.full((N, 1), pr.dt), q_ref[:N], qd_ref[:N], tau_ref, T[:N, :3, 3], rotations[:N],
+                       np.broadcast_to(running, (N, running.size))])
+        P_N = np.concatenate([[pr.dt], q_ref[N], qd_ref[N], np.zeros(n), T[N, :3, 3], rotations[N], terminal])
         return P, P_N
 
     # ---- the SQP --------------------------------------------------------------------------------------------
@@ -623,10 +781,18 @@ class OptimalControlSolver:
             X[1:, n:] = np.clip(X[1:, n:], -pr.qd_max, pr.qd_max)
         rho = 1.0
         iterations, converged, message, mult, qp_notes, status = 0, False, "", {}, set(), "iteration limit"
+        values = None
+        clock = time.perf_counter
+        self._qp_time, lin_time, step_time, search_time = 0.0, 0.0, 0.0, 0.0
         for it in range(max_iter):
-            Xn, R, Jac = self._stage(X[:-1], U, P)
+            t0 = clock()
+            Xn, R, JT, qdd = self._stage(X[:-1], U, P)      # (N, 2n), (N, nr), (N·3n, 2n + nr), (N, n)
             r_N, J_N = self._terminal(X[-1], P_N)
-            step, mult, ok, qp_message = self._step(X, U, Xn, R, Jac, r_N.ravel(), J_N)
+            values = (Xn, R, r_N.ravel(), qdd)
+            t1 = clock()
+            step, mult, ok, qp_message = self._step(X, U, Xn, R, JT.reshape(N, nx + n, -1), r_N.ravel(), J_N)
+            t2 = clock()
+            lin_time, step_time = lin_time + t1 - t0, step_time + t2 - t1
             iterations += 1
             if not ok:
                 message = f"the QP of SQP iteration {it + 1} failed ({qp_message})"
@@ -634,11 +800,12 @@ class OptimalControlSolver:
                 break
             if qp_message:
                 qp_notes.add(qp_message)
-            dX, dU, S = step
+            dX, dU, S, slope = step
             size = max(float(np.max(np.abs(dX), initial=0.0)), float(np.max(np.abs(dU) / tau_max, initial=0.0)))
-            defect = float(np.max(np.abs(Xn.T - X[1:])))
+            defect = float(np.max(np.abs(Xn - X[1:])))
             rho = max(rho, 1.5 * float(np.max(np.abs(mult["gap"]), initial=0.0)))
-            alpha = self._line_search(X, U, dX, dU, S, P, P_N, R, Jac, r_N.ravel(), J_N, Xn, rho)
+            alpha, values = self._line_search(X, U, dX, dU, S, slope, P, P_N, values, rho)
+            search_time += clock() - t2
             X[1:] += alpha * dX
             U += alpha * dU
             if size <= o.step_tol and defect <= o.tol:
@@ -658,20 +825,27 @@ class OptimalControlSolver:
         if qp_notes:
             message += f" (step QPs stopped early: {', '.join(sorted(qp_notes))})"
         solve_time = time.perf_counter() - start
-        return self._result(X, U, P, P_N, mult, converged, message, iterations, solve_time, status)
+        timings = {"linearisation": lin_time, "qp assembly": step_time - self._qp_time, "qp": self._qp_time,
+                   "line search": search_time}
+        return self._result(X, U, P, P_N, values, mult, converged, message, iterations, solve_time, status, timings)
 
     def predict(self, x: Any, tau: Any) -> np.ndarray:
         """Φ(x, τ): the state one interval dt after x under the held torque τ, by the problem's model (the same RK4
         step as the transcription)."""
         column = np.zeros(_parameter_size(self.n))
         column[0] = self.problem.dt
-        x_next, _ = self._stage_value_one(as_vector(x, self.nx, "x"), as_vector(tau, self.n, "tau"), column)
+        x_next = self._stage_value_one(as_vector(x, self.nx, "x"), as_vector(tau, self.n, "tau"), column)[0]
         return np.asarray(x_next).ravel()
 
-    def _check_start(self, x0: np.ndarray) -> None:
+    def violated(self, x0: Any) -> np.ndarray:
+        """The joints (0-based) whose position or speed in the state ``x0`` is beyond the problem's limits."""
         pr, n = self.problem, self.n
+        x0 = np.asarray(x0, dtype=float)
         q, qd = x0[:n], x0[n:]
-        bad = np.flatnonzero((q < pr.q_min) | (q > pr.q_max) | (np.abs(qd) > pr.qd_max))
+        return np.flatnonzero((q < pr.q_min) | (q > pr.q_max) | (np.abs(qd) > pr.qd_max))
+
+    def _check_start(self, x0: np.ndarray) -> None:
+        bad = self.violated(x0)
         if bad.size:
             raise ValueError(f"`x0` violates the hard state limits at joint(s) {(bad + 1).tolist()}: with "
                              "state_limits='hard' the start must be feasible (use state_limits='soft')")
@@ -696,86 +870,118 @@ class OptimalControlSolver:
                              f"got {x.shape} and {u.shape}")
         return x, u
 
-    def _step(self, X: np.ndarray, U: np.ndarray, Xn: np.ndarray, R: np.ndarray, Jac: np.ndarray, r_N: np.ndarray,
+    def _step(self, X: np.ndarray, U: np.ndarray, Xn: np.ndarray, R: np.ndarray, JT: np.ndarray, r_N: np.ndarray,
               J_N: np.ndarray) -> tuple:
-        """Solve the QP of the step at (X, U): ((δX (N, 2n), δU (N, n), S (N, ns)), multipliers, ok, message).
+        """Solve the QP of the step at (X, U), given Φ(x_k, τ_k) (N, 2n), the residuals R (N, nr) and the transposed
+        Jacobians JT_k = ∂[Φ; r]/∂[x_k; τ_k]ᵀ (N, 3n, 2n + nr): ((δX (N, 2n), δU (N, n), S (N, n_limited), the
+        cost's directional derivative along the step), multipliers, ok, message).
 
-        Each variable is scaled by 1/√(its Hessian diagonal) (Jacobi scaling: the scaled Hessian has a unit diagonal),
-        so that HPIPM's absolute tolerances mean the same on a 12 N·m wrist and on a 10⁶ N·m bound."""
+        The Gauss–Newton Hessian JᵀJ and gradient Jᵀr of each interval, the dynamics' linearisation and the limits go
+        straight into HPIPM's stage arrays. Each variable is scaled by 1/√(its Hessian diagonal) (Jacobi scaling: the
+        scaled Hessian has a unit diagonal) and each dynamics row by the scale of the state it defines, so that HPIPM's
+        absolute tolerances mean the same on a 12 N·m wrist and on a 10⁶ N·m bound. S: the total slack (lower +
+        upper) of each limited quantity, soft limits only."""
         pr, n, N, nx, qp = self.problem, self.n, self.N, self.nx, self._qp
-        nz = nx + n
-        J = Jac.reshape(nx + R.shape[0], N, nz).transpose(1, 0, 2)          # (N, nx + nr, nz)
-        A, B, Jr = J[:, :nx, :nx], J[:, :nx, nx:], J[:, nx:, :]
-        H = np.matmul(np.transpose(Jr, (0, 2, 1)), Jr)                        # Gauss–Newton: JᵀJ, (N, nz, nz)
-        g = np.einsum("kri,kr->ki", Jr, R.T)
+        JT_r = JT[:, :, nx:]                                                  # (N, nz, nr): ∂r/∂z transposed
+        H = JT_r @ np.transpose(JT_r, (0, 2, 1))                              # Gauss–Newton: JᵀJ, (N, nz, nz)
+        g = (JT_r @ R[:, :, None])[:, :, 0]                                   # Jᵀr, (N, nz)
         H_N, g_N = J_N.T @ J_N, J_N.T @ r_N
         diag = np.vstack([np.diagonal(H, axis1=1, axis2=2), np.concatenate([np.diag(H_N), np.zeros(n)])])
         top = max(float(np.max(diag)), 1e-12)
         D = 1.0 / np.sqrt(np.maximum(diag, 1e-8 * top))                      # (N+1, nz): x_k, τ_k scales
         D_x, D_u = D[1:, :nx], D[:N, nx:]                                     # x_1..x_N, τ_0..τ_{N−1}
+        inv = 1.0 / D_x                                                       # row scales of the dynamics
         Hs = H * D[:N, :, None] * D[:N, None, :]
-        H_Ns = H_N * D_x[-1][:, None] * D_x[-1][None, :]
-        h_values = np.concatenate([Hs[0, nx:, nx:].ravel(), Hs[1:].ravel(), H_Ns.ravel()])
-        As, Bs = A * D[:N, None, :nx], B * D_u[:, None, :]
-        ns = qp.ns
-        g_full = np.zeros(qp.nz)
-        g_full[qp.idx[0]["u"]] = g[0, nx:] * D_u[0]
-        for k in range(1, N):
-            g_full[qp.idx[k]["x"]] = g[k, :nx] * D_x[k - 1]
-            g_full[qp.idx[k]["u"]] = g[k, nx:] * D_u[k]
-        g_full[qp.idx[N]["x"]] = g_N * D_x[-1]
-        lbx, ubx = np.full(qp.nz, -np.inf), np.full(qp.nz, np.inf)
-        for k in range(N):
-            lbx[qp.idx[k]["u"]] = (-pr.tau_max - U[k]) / D_u[k]
-            ubx[qp.idx[k]["u"]] = (pr.tau_max - U[k]) / D_u[k]
-        q_lo, q_hi, v_hi = pr.q_min, pr.q_max, pr.qd_max
-        lba, uba = np.full(qp.n_rows, -np.inf), np.full(qp.n_rows, np.inf)
-        d = Xn.T - X[1:]                                                      # defects (N, nx)
-        for k in range(N):
-            lba[qp.gap_rows[k][:nx]] = uba[qp.gap_rows[k][:nx]] = -d[k]
-            lba[qp.gap_rows[k][nx:]] = uba[qp.gap_rows[k][nx:]] = 0.0
-        for k in range(1, N + 1):
-            xk = X[k]
-            if pr.state_limits == "hard":
-                lbx[qp.idx[k]["x"]] = (np.concatenate([q_lo, -v_hi]) - xk) / D_x[k - 1]
-                ubx[qp.idx[k]["x"]] = (np.concatenate([q_hi, v_hi]) - xk) / D_x[k - 1]
-            elif ns:
-                s = qp.idx[k]["s"]
-                lbx[s], ubx[s] = 0.0, np.inf
-                g_full[s] = pr.slack_weight
-                rows = qp.lincon_rows[k - 1]
-                bounds = []
-                for j in qp.soft_q:
-                    bounds += [(-np.inf, q_hi[j] - xk[j]), (q_lo[j] - xk[j], np.inf)]
-                for j in qp.soft_v:
-                    bounds += [(-np.inf, v_hi[j] - xk[n + j]), (-v_hi[j] - xk[n + j], np.inf)]
-                lba[rows], uba[rows] = np.array(bounds).T
-        big = QP_BOUND                      # CasADi's HPIPM interface clips infinite bounds by wrong counts: none given
-        sol, stats = qp.solve(h=h_values[qp.H_src], g=g_full, a=qp.a_values(As, Bs, D_x), lba=np.maximum(lba, -big),
-                              uba=np.minimum(uba, big), lbx=np.maximum(lbx, -big), ubx=np.minimum(ubx, big))
-        z = sol["x"]
-        if not np.all(np.isfinite(z)):
-            return None, {}, False, f"non-finite step, HPIPM status {stats.get('return_status')}"
-        ok = bool(stats.get("success", False))
-        dX = np.stack([z[qp.idx[k]["x"]] for k in range(1, N + 1)]) * D_x
-        dU = np.stack([z[qp.idx[k]["u"]] for k in range(N)]) * D_u
-        S = np.stack([z[qp.idx[k]["s"]] for k in range(1, N + 1)]) if ns else np.zeros((N, 0))
-        lam_a, lam_x = sol["lam_a"], sol["lam_x"]
-        mult = {"gap": np.stack([lam_a[qp.gap_rows[k][:nx]] for k in range(N)]),
-                "tau": np.stack([lam_x[qp.idx[k]["u"]] for k in range(N)]) / D_u,
-                "x": np.stack([lam_x[qp.idx[k]["x"]] for k in range(1, N + 1)]) / D_x,
-                "slack": S,
-                "slack_bound": np.stack([lam_x[qp.idx[k]["s"]] for k in range(1, N + 1)]) if ns else np.zeros((N, 0)),
-                "soft": np.stack([lam_a[r] for r in qp.lincon_rows]) if ns else np.zeros((N, 0))}
-        return (dX, dU, S), mult, True, "" if ok else f"HPIPM status {stats.get('return_status')}"
+        qp.R[:N] = Hs[:, nx:, nx:]
+        qp.S[1:N] = Hs[1:, :nx, nx:]
+        qp.Q[1:N] = Hs[1:, :nx, :nx]
+        qp.Q[N] = H_N * D_x[-1][:, None] * D_x[-1][None, :]
+        qp.r[:N] = g[:, nx:] * D_u
+        qp.q[1:N] = g[1:, :nx] * D_x[:-1]
+        qp.q[N] = g_N * D_x[-1]
+        qp.A[1:N] = JT[1:, :nx, :nx] * D_x[:-1, :, None] * inv[1:, None, :]  # A_kᵀ, B_kᵀ scaled (HPIPM's order)
+        qp.B[:N] = JT[:, nx:, :nx] * D_u[:, :, None] * inv[:, None, :]
+        qp.b[:N] = (Xn - X[1:]) * inv                                         # the defects
+        qp.lbu[:N] = (-pr.tau_max - U) / D_u
+        qp.ubu[:N] = (pr.tau_max - U) / D_u
+        limited, nb = self._limited, qp.nb
+        D_l = D_x[:, limited]
+        if nb:                              # the limits near the iterate (or beyond) enter the QP; the others are
+            y = X[1:, limited]              # checked on the step and added if it crosses them (then solved again)
+            qp.lbx[1:, :nb] = (self._lower - y) / D_l
+            qp.ubx[1:, :nb] = (self._upper - y) / D_l
+            if qp.ns:
+                qp.zl[1:, :nb] = qp.zu[1:, :nb] = pr.slack_weight * D_l
+            lower_on, upper_on = y - self._lower < self._margin, self._upper - y < self._margin
+        # soft limits that the iterate satisfies: first the QP with them hard; its step is the soft QP's when it
+        # solves and no limit's multiplier exceeds the slack's price (then the slacks are 0 and w − λ ≥ 0 theirs)
+        hard_first = self._hard_qp is not None and bool(np.all(y >= self._lower) and np.all(y <= self._upper))
+        solves = 0
+        while True:
+            if nb:
+                qp.lbx_mask[1:, :nb], qp.ubx_mask[1:, :nb] = lower_on, upper_on
+                slack_costs = qp.zl[1:, :nb][lower_on | upper_on] if qp.ns else np.zeros(0)
+            else:
+                slack_costs = np.zeros(0)
+            t0 = time.perf_counter()
+            solved = None
+            if hard_first:
+                self._hard_qp.set_mu0(MU0_FLOOR)
+                status, iterations, residual = self._hard_qp.solve()
+                solves += 1
+                hard = self._hard_qp
+                priced = np.maximum(_bound_rows(hard.lam_lb, n, nb), _bound_rows(hard.lam_ub, n, nb))
+                if status == 0 and np.all(priced <= qp.zl[1:, :nb]):
+                    solved = hard
+                else:
+                    hard_first = False          # the soft QP from here on (this step)
+            if solved is None:
+                qp.set_mu0(max(MU0_FLOOR, float(np.max(slack_costs, initial=0.0))))
+                status, iterations, residual = qp.solve()
+                solves += 1
+                solved = qp
+            self._qp_time += time.perf_counter() - t0
+            dX, dU = solved.x[1:] * D_x, solved.u[:N] * D_u
+            if status == 3 or not (np.all(np.isfinite(dX)) and np.all(np.isfinite(dU))):
+                return None, {}, False, f"non-finite step, HPIPM status {status} after {iterations} iterations"
+            if not nb:
+                break
+            y_new = y + dX[:, limited]
+            lower_out, upper_out = ~lower_on & (y_new < self._lower), ~upper_on & (y_new > self._upper)
+            if not (lower_out.any() or upper_out.any()):
+                break                       # every limit left out holds at the step: it solves the full QP
+            lower_on, upper_on = lower_on | lower_out, upper_on | upper_out
+        self.qp_solves += solves
+        lower, upper = _bound_rows(solved.lam_lb, n, nb) / D_l, _bound_rows(solved.lam_ub, n, nb) / D_l
+        mult = {"gap": solved.pi[:N] * inv, "tau": (solved.lam_ub[:N, :n] - solved.lam_lb[:N, :n]) / D_u,
+                "x": np.zeros((N, nx))}
+        mult["x"][:, limited] = upper - lower
+        slope = float(np.sum(g[:, :nx][1:] * dX[:-1]) + np.sum(g[:, nx:] * dU) + g_N @ dX[-1])
+        S = np.zeros((N, 0))
+        if qp.ns and solved is qp:
+            S = (qp.sl[1:, :nb] + qp.su[1:, :nb]) * D_l
+            mult.update(lower=lower, upper=upper, slack_lower=qp.lam_ls[1:, :nb] / D_l,
+                        slack_upper=qp.lam_us[1:, :nb] / D_l)
+        elif qp.ns:                         # the hard QP's step: no slack, the slacks' multipliers w − λ
+            S = np.zeros((N, nb))
+            w = pr.slack_weight
+            mult.update(lower=lower, upper=upper, slack_lower=w - lower, slack_upper=w - upper)
+        note = "" if status == 0 else f"HPIPM status {status} (residual {residual:.1g})"
+        return (dX, dU, S, slope), mult, True, note
 
-    def _merit(self, X: np.ndarray, U: np.ndarray, P: np.ndarray, P_N: np.ndarray, rho: float) -> tuple[float, float]:
-        """(cost, L1 merit = cost + soft-limit penalty + ρ Σ |defects|) at (X, U)."""
-        Xn, R = self._stage_value(X[:-1], U, P)
-        r_N = self._terminal_value(X[-1], P_N)[0].ravel()
+
+    def _values(self, X: np.ndarray, U: np.ndarray, P: np.ndarray, P_N: np.ndarray) -> tuple:
+        """(Φ(x_k, τ_k) (N, 2n), the running residuals (N, nr), the terminal residual, q̈_k (N, n)) at (X, U)
+        (views of the function's buffers: valid until its next call)."""
+        Xn, R, qdd = self._stage_value(X[:-1], U, P)
+        return Xn, R, self._terminal_value(X[-1], P_N)[0].ravel(), qdd
+
+    def _merit(self, X: np.ndarray, values: tuple, rho: float) -> tuple[float, float]:
+        """(cost, L1 merit = cost + soft-limit penalty + ρ Σ |defects|) at X with its ``values``."""
+        Xn, R, r_N, _ = values
         cost = 0.5 * float(np.sum(R * R) + r_N @ r_N)
         penalty = self.problem.slack_weight * self._excess(X) if self.problem.state_limits == "soft" else 0.0
-        return cost, cost + penalty + rho * float(np.sum(np.abs(Xn.T - X[1:])))
+        return cost, cost + penalty + rho * float(np.sum(np.abs(Xn - X[1:])))
 
     def _excess(self, X: np.ndarray) -> float:
         """Σ over nodes 1..N and limited joints of the amount by which q and |q̇| leave their limits."""
@@ -785,46 +991,52 @@ class OptimalControlSolver:
         fast = np.maximum(np.abs(v) - pr.qd_max, 0.0)
         return float(np.sum(over[np.isfinite(over)]) + np.sum(fast[np.isfinite(fast)]))
 
-    def _line_search(self, X, U, dX, dU, S, P, P_N, R, Jac, r_N, J_N, Xn, rho) -> float:
-        """Armijo backtracking on the L1 merit along the step; its directional derivative from the linearisation."""
-        pr, n, N, nx = self.problem, self.n, self.N, self.nx
-        cost0 = 0.5 * float(np.sum(R * R) + r_N @ r_N)
-        penalty0 = pr.slack_weight * self._excess(X) if pr.state_limits == "soft" else 0.0
-        defects = float(np.sum(np.abs(Xn.T - X[1:])))
-        merit0 = cost0 + penalty0 + rho * defects
-        J = Jac.reshape(nx + R.shape[0], N, nx + n).transpose(1, 0, 2)[:, nx:, :]
-        dz = np.concatenate([np.vstack([np.zeros(nx), dX[:-1]]), dU], axis=1)   # (N, nz): δx_k, δτ_k
-        slope = float(np.einsum("kr,krz,kz->", R.T, J, dz) + r_N @ (J_N @ dX[-1]))
+    def _line_search(self, X: np.ndarray, U: np.ndarray, dX: np.ndarray, dU: np.ndarray, S: np.ndarray,
+                     slope: float, P: np.ndarray, P_N: np.ndarray, values: tuple, rho: float) -> tuple[float, tuple]:
+        """Armijo backtracking on the L1 merit along the step; its directional derivative from the linearisation
+        (``slope``: the cost's, from the QP's gradient): (the step length, the values at the point taken, copied)."""
+        pr = self.problem
+        cost0, merit0 = self._merit(X, values, rho)
+        penalty0 = merit0 - cost0 - rho * float(np.sum(np.abs(values[0] - X[1:])))
+        defects = float(np.sum(np.abs(values[0] - X[1:])))
         slope += (pr.slack_weight * float(np.sum(S)) - penalty0) if pr.state_limits == "soft" else 0.0
         slope -= rho * defects
         alpha = 1.0
         for _ in range(30):
-            trial = self._merit(np.vstack([X[:1], X[1:] + alpha * dX]), U + alpha * dU, P, P_N, rho)[1]
+            X_trial = np.vstack([X[:1], X[1:] + alpha * dX])
+            values = self._values(X_trial, U + alpha * dU, P, P_N)
+            trial = self._merit(X_trial, values, rho)[1]
             if trial <= merit0 + 1e-4 * alpha * min(slope, 0.0) or trial <= merit0 - 1e-12 * abs(merit0) \
                     and slope >= 0:
-                return alpha
+                break
             alpha *= 0.5
-        return alpha
+        return alpha, tuple(v.copy() for v in values)
 
     # ---- the result and its independent check ----------------------------------------------------------------
-    def _result(self, X: np.ndarray, U: np.ndarray, P: np.ndarray, P_N: np.ndarray, mult: dict, converged: bool,
-                message: str, iterations: int, solve_time: float, status: str) -> OptimalControlResult:
+    def _result(self, X: np.ndarray, U: np.ndarray, P: np.ndarray, P_N: np.ndarray, values: tuple | None,
+                mult: dict, converged: bool, message: str, iterations: int, solve_time: float,
+                status: str, timings: dict | None = None) -> OptimalControlResult:
+        """The result at (X, U); ``values`` are the solver's own at that point (:meth:`_values`). With ``verify``
+        Pinocchio recomputes the accelerations and defects and checks the KKT conditions; without, the defects and
+        accelerations are the solver's (computed with the step, nothing is evaluated again)."""
         pr, n, N, o = self.problem, self.n, self.N, self.options
-        robot = pr.robot
-        cost, _ = self._merit(X, U, P, P_N, 0.0)
+        if values is None:
+            values = self._values(X, U, P, P_N)
+        cost, _ = self._merit(X, values, 0.0)
         penalty = self._excess(X)
         if pr.state_limits == "soft":
             cost += pr.slack_weight * penalty
         check_start = time.perf_counter()
-        check = _KKTCheck(pr, P, P_N)
-        qdd = check.accelerations(X, U)
         if o.verify:
+            check = _KKTCheck(pr, P, P_N)
+            qdd = check.accelerations(X, U)
             defect = check.defects(X, U)
+            kkt = check.residual(X, U, mult) if (converged and mult) else math.nan
         else:                               # the solver's own defect (the real-time loops skip Pinocchio's)
-            Xn, _ = self._stage_value(X[:-1], U, P)
-            defect = float(np.max(np.abs(Xn.T - X[1:])))
+            qdd = values[3]
+            defect = float(np.max(np.abs(values[0] - X[1:])))
             defect = defect if np.isfinite(defect) else math.inf
-        kkt = check.residual(X, U, mult) if (o.verify and converged and mult) else math.nan
+            kkt = math.nan
         check_time = time.perf_counter() - check_start
         bounded = np.isfinite(pr.q_min)
         mid = 0.5 * (pr.q_max[bounded] + pr.q_min[bounded])
@@ -854,7 +1066,13 @@ class OptimalControlSolver:
         return OptimalControlResult(trajectory, tau, float(t[-1]), "optimal control", cost, success, message, ratios,
                                     iterations, solve_time, status=status, x=X.copy(), u=U.copy(), dt=pr.dt, kkt=kkt,
                                     defect=defect,
-                                    slack=penalty, check_time=check_time, multipliers=mult)
+                                    slack=penalty, check_time=check_time, multipliers=mult, timings=timings or {})
+
+
+def _bound_rows(lam: np.ndarray, n: int, nb: int) -> np.ndarray:
+    """The state bounds' entries (N, nb) of HPIPM's per-stage bound multipliers (stages 1 … N: after the n torque
+    bounds, except at the last stage, which has none)."""
+    return np.vstack([lam[1:-1, n:n + nb], lam[-1:, :nb]])
 
 
 def _per_node(value: Any, rows: int, n: int, name: str) -> np.ndarray:
@@ -943,26 +1161,16 @@ class _KKTCheck:
         return f, Jf
 
     def _interval(self, x: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, list, list]:
-        """Φ(x, u), ∂Φ/∂[x; u], the RK4 stage states and their Jacobians ∂s_i/∂[x; u] (chain rule of rk4_step)."""
-        n, h = self.n, self.pr.dt
-        nx, nz = 2 * n, 3 * n
-        I = np.eye(nx, nz)
-        du = np.zeros((n, nz))
-        du[:, nx:] = np.eye(n)
-        states, jacobians, ks, dks = [], [], [], []
-        s, ds = x, I
-        for c in (0.5, 0.5, 1.0, None):
-            k, Jf = self._fd_jacobian(s, u)
-            dk = Jf @ np.vstack([ds, du])
-            states.append(s)
-            jacobians.append(ds)
-            ks.append(k)
-            dks.append(dk)
-            if c is not None:
-                s, ds = x + c * h * k, I + c * h * dk
-        x_next = x + h / 6.0 * (ks[0] + 2 * ks[1] + 2 * ks[2] + ks[3])
-        dx_next = I + h / 6.0 * (dks[0] + 2 * dks[1] + 2 * dks[2] + dks[3])
-        return x_next, dx_next, states, jacobians
+        """Φ(x, u), ∂Φ/∂[x; u], the RK4 stage states and their Jacobians ∂s_i/∂[x; u] (:func:`rk4_sensitivities`
+        with Pinocchio's dynamics and derivatives)."""
+        n, nx = self.n, 2 * self.n
+        E = np.eye(nx + n)
+
+        def slope(s: np.ndarray, v: np.ndarray) -> tuple:
+            f, Jf = self._fd_jacobian(s, v)
+            return f, Jf[:, :nx], Jf[:, nx:]
+
+        return rk4_sensitivities(slope, x, u, self.pr.dt, E[:nx], E[nx:])
 
     def _state_gradient(self, x: np.ndarray, p: np.ndarray) -> np.ndarray:
         """∂/∂x of ½‖r(x)‖², r the state and pose residual with the parameter column p."""
@@ -1013,32 +1221,28 @@ class _KKTCheck:
         gN = self._state_gradient(X[N], self.P_N)
         grad_x[N] += gN
         stat_x[N] += gN
-        stat_x[1:] += mult["x"]
-        soft = pr.state_limits == "soft" and mult["soft"].size
-        if soft:                                # lincons q_j ∓ s ≤/≥ limits: ∂/∂x of ν (q_j ∓ s) is ν e_j
-            m = 0
-            for offset, joints in ((0, np.flatnonzero(np.isfinite(pr.q_min))), (n, np.flatnonzero(np.isfinite(pr.qd_max)))):
-                for j in joints:
-                    stat_x[1:, offset + j] += mult["soft"][:, 2 * m] + mult["soft"][:, 2 * m + 1]
-                    m += 1
+        stat_x[1:] += mult["x"]                 # the limits' multipliers (upper − lower) on the limited entries
         scale = 1.0 + max(float(np.max(np.abs(grad_x))), float(np.max(np.abs(grad_u))))
         stationarity = max(float(np.max(np.abs(stat_x[1:]))), float(np.max(np.abs(stat_u)))) / scale
         comp_soft = 0.0
-        if soft:                                # slacks: w_s − ν_upper + ν_lower + μ_s = 0, s ≥ 0, rows complementary
-            nu_, S, mu_s = mult["soft"], mult["slack"], mult["slack_bound"]
-            stat_s = pr.slack_weight - nu_[:, 0::2] + nu_[:, 1::2] + mu_s
-            stationarity = max(stationarity, float(np.max(np.abs(stat_s))) / (1.0 + pr.slack_weight))
-            joints = [j for j in np.flatnonzero(np.isfinite(pr.q_min))] + \
-                     [n + j for j in np.flatnonzero(np.isfinite(pr.qd_max))]
-            hi = np.concatenate([pr.q_max, pr.qd_max])
-            lo = np.concatenate([pr.q_min, -pr.qd_max])
-            y = X[1:][:, joints]
-            upper = np.where(nu_[:, 0::2] > 0, nu_[:, 0::2] * (hi[joints] - (y - S)), 0.0)
-            lower = np.where(nu_[:, 1::2] < 0, -nu_[:, 1::2] * (y + S - lo[joints]), 0.0)
-            at_zero = np.where(mu_s < 0, -mu_s * S, 0.0)
-            comp_soft = max(float(np.max(np.abs(upper))), float(np.max(np.abs(lower))), float(np.max(np.abs(at_zero))))
-            comp_soft /= 1.0 + pr.slack_weight
-        # complementarity: a multiplier pushes only on an active bound (CasADi's sign: > 0 at the upper one)
+        if pr.state_limits == "soft" and "lower" in mult:
+            # lo − s_l ≤ y ≤ hi + s_u, s_l, s_u ≥ 0, cost w (s_l + s_u): the least slacks at X, the slacks'
+            # stationarity w − λ − μ = 0, complementarity and the multipliers' signs (all ≥ 0)
+            q_lim, v_lim = pr.limited()
+            limited = np.concatenate([q_lim, n + v_lim])
+            lo = np.concatenate([pr.q_min, -pr.qd_max])[limited]
+            hi = np.concatenate([pr.q_max, pr.qd_max])[limited]
+            y = X[1:][:, limited]
+            s_l, s_u = np.maximum(lo - y, 0.0), np.maximum(y - hi, 0.0)
+            w = pr.slack_weight
+            lam_l, lam_u, mu_l, mu_u = mult["lower"], mult["upper"], mult["slack_lower"], mult["slack_upper"]
+            stat_s = max(float(np.max(np.abs(w - lam_l - mu_l), initial=0.0)),
+                         float(np.max(np.abs(w - lam_u - mu_u), initial=0.0)))
+            stationarity = max(stationarity, stat_s / (1.0 + w))
+            parts = [lam_l * (y - lo + s_l), lam_u * (hi + s_u - y), mu_l * s_l, mu_u * s_u,
+                     np.minimum(lam_l, 0.0), np.minimum(lam_u, 0.0), np.minimum(mu_l, 0.0), np.minimum(mu_u, 0.0)]
+            comp_soft = max(float(np.max(np.abs(v), initial=0.0)) for v in parts) / (1.0 + w)
+        # complementarity: a multiplier pushes only on an active bound (> 0 at the upper one)
         lam_scale = 1.0 + max(float(np.max(np.abs(lam))), float(np.max(np.abs(mult["tau"]))))
         comp = float(np.max(np.abs(np.where(mult["tau"] > 0, mult["tau"] * (pr.tau_max - U),
                                              -mult["tau"] * (U + pr.tau_max)))))

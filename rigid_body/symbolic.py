@@ -50,6 +50,7 @@ __all__ = [
     "friction_expression",
     "integrate_expression",
     "rotation_log_expression",
+    "forward_dynamics_derivatives_expression",
 ]
 
 _AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
@@ -547,3 +548,60 @@ def rotation_log_expression(R: Any) -> ca.SX:
     factor = ca.if_else(e < LOG_TAYLOR, 1.0 + e / 3.0 + 2.0 * e * e / 15.0,
                         ca.acos(c) / ca.sqrt(ca.fmax(1.0 - c * c, 1e-300)))
     return factor * w
+
+
+# ============================================================================================
+# Derivatives of the forward dynamics (optimal control's linearisations)
+# ============================================================================================
+
+def _cholesky_factor(B: ca.SX) -> list[list[Any]]:
+    """The lower factor L of B = L Lᵀ (symmetric positive definite B), as a list of rows of SX scalars."""
+    n = B.shape[0]
+    L: list[list[Any]] = [[None] * n for _ in range(n)]
+    for j in range(n):
+        L[j][j] = ca.sqrt(B[j, j] - sum((L[j][k] * L[j][k] for k in range(j)), ca.SX(0)))
+        for i in range(j + 1, n):
+            L[i][j] = (B[i, j] - sum((L[i][k] * L[j][k] for k in range(j)), ca.SX(0))) / L[j][j]
+    return L
+
+
+def _factored_solve(L: list[list[Any]], b: ca.SX) -> ca.SX:
+    """X = (L Lᵀ)⁻¹ b for each column of b (forward then backward substitution)."""
+    n = len(L)
+    columns = []
+    for c in range(b.shape[1]):
+        y: list[Any] = [None] * n
+        for i in range(n):
+            y[i] = (b[i, c] - sum((L[i][k] * y[k] for k in range(i)), ca.SX(0))) / L[i][i]
+        x: list[Any] = [None] * n
+        for i in reversed(range(n)):
+            x[i] = (y[i] - sum((L[k][i] * x[k] for k in range(i + 1, n)), ca.SX(0))) / L[i][i]
+        columns.append(ca.vertcat(*x))
+    return ca.horzcat(*columns)
+
+
+def forward_dynamics_derivatives_expression(robot_or_model: Any, q: Any, qd: Any, tau: Any) -> tuple[ca.SX, ca.SX]:
+    """q̈ of (7.42) and its Jacobian ∂q̈/∂[q; q̇; τ] (nv × 3nv) as SX expressions, without differentiating the
+    factorisation: Newton–Euler satisfies τ = RNEA(q, q̇, q̈) along the motion, so (implicit functions)
+    ∂q̈/∂[q; q̇] = −B(q)⁻¹ ∂RNEA/∂[q; q̇] at the fixed q̈ and ∂q̈/∂τ = B(q)⁻¹ — one Cholesky factor of B for all
+    2·nv + 1 right-hand sides; the partials of RNEA by reverse-mode differentiation (one sweep per torque).
+    Rotors (mimic joints) and armature included, as in :func:`forward_dynamics_expression`; nq = nv only.
+    """
+    model = _model(robot_or_model)
+    if model.nq != model.nv:
+        raise ValueError("forward_dynamics_derivatives_expression needs nq == nv (no continuous or free joints)")
+
+    def build() -> ca.Function:
+        n = model.nv
+        x, v, t, a = (ca.SX.sym(name, n) for name in ("q", "qd", "tau", "qdd"))
+        L = _cholesky_factor(inertia_expression(model, x))
+        qdd = _factored_solve(L, ca.reshape(t - inverse_dynamics_expression(model, x, v, ca.SX.zeros(n)), n, 1))
+        tau_a = inverse_dynamics_expression(model, x, v, a)
+        xv = ca.vertcat(x, v)
+        partials = ca.vertcat(*[ca.gradient(tau_a[i], xv).T for i in range(n)])      # ∂RNEA/∂[q; q̇] at a
+        partials = ca.substitute(partials, a, qdd)
+        J = _factored_solve(L, ca.horzcat(-partials, ca.SX.eye(n)))
+        return ca.Function("fd_derivatives", [x, v, t], [qdd, J])
+
+    out = _once("fd_derivatives", model, build)(q, qd, tau)
+    return tuple(o if isinstance(o, ca.SX) else ca.SX(o) for o in out)

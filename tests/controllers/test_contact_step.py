@@ -226,3 +226,12 @@ def test_singular_compliance_equilibrium_is_named():
 
     with pytest.raises(ValueError, match=r"I \+ K K_P⁻¹ is singular"):
         compliance_equilibrium(np.eye(2), -np.eye(2), [0.01, 0.0])
+
+
+@pytest.mark.parametrize("kwargs, name", [(dict(dy=-0.02), "dy"), (dict(v_slow=0.0), "v_slow"),
+                                          (dict(x_H=np.nan), "x_H"), (dict(eps="3"), "eps"), (dict(T_approach=np.inf), "T_approach")])
+def test_peg_in_hole_task_checks_its_data(kwargs, name):
+    from controllers.force import PegInHoleTask
+
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        PegInHoleTask(**(dict(x_H=0.5) | kwargs))

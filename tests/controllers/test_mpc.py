@@ -43,7 +43,10 @@ def test_regulation_within_the_torque_limits_and_logs(problem):
 def test_faster_loop_holds_the_torque_between_samples(problem):
     _, res = run(problem, Ts=0.005, t_f=0.1)
     np.testing.assert_array_equal(res.u[1:4], np.repeat(res.u[:1], 3, axis=0))
-    assert not np.array_equal(res.u[4], res.u[0])
+    np.testing.assert_array_equal(res["q_pred"][1:4], np.repeat(res["q_pred"][:1], 3, axis=0))
+    assert not np.array_equal(res["q_pred"][4], res["q_pred"][0])        # a new plan at the next sample (20 ms)
+    changes = np.flatnonzero(np.any(res.u[1:] != res.u[:-1], axis=1)) + 1
+    assert changes.size and np.all(changes % 4 == 0)                     # the torque changes only at samples
 
 
 def test_real_time_iteration_takes_one_sqp_step(problem):
@@ -111,3 +114,17 @@ def test_bad_input(problem):
         ModelPredictiveControl(posed, target=np.ones((4, 4)))
     with pytest.raises(ValueError, match="reference"):
         ModelPredictiveControl(problem, reference=[0.0, np.nan])
+
+
+def test_a_measured_state_beyond_a_hard_limit_is_a_failed_sample(problem):
+    """Hard speed limits and a measured state beyond one: no plan can start there (the solver would refuse x0); the
+    loop goes on with the fallback torque and logs the failed samples instead of stopping."""
+    hard = OptimalControlProblem(problem.robot, problem.horizon, problem.dt, problem.running, problem.terminal,
+                                 tau_max=problem.tau_max, qd_max=[1.0, 1.0], state_limits="hard")
+    mpc = ModelPredictiveControl(hard, reference=TARGET)
+    plant = ArmPlant(problem.robot, tau_max=problem.tau_max)
+    res = simulate(plant, mpc, (0.0, 0.1), np.array([0.0, 0.0, 1.5, 0.0]), h=1e-3, Ts=0.02)
+    assert np.all(res["failed"] == 1.0) and mpc.failures == mpc.samples == len(res.t)
+    assert np.all(np.isfinite(res.u)) and np.all(np.abs(res.u) <= problem.tau_max + 1e-9)
+    with pytest.raises(ValueError, match="x0"):                          # the solver alone refuses that start
+        mpc.solver.solve(np.array([0.0, 0.0, 1.5, 0.0]))

@@ -94,8 +94,8 @@ def test_payload_and_locked_joints_carry_over(panda, rng):
 
 
 def test_changed_book_parameters_carry_over(rng):
-    """A book robot rebuilt with other link lengths and a payload: MuJoCo's B(q) follows (point-mass/thin-rod bodies get the
-    minimum principal moments MuJoCo needs, a difference of ≤ 1e-9 relative, reported)."""
+    """A book robot rebuilt with other link lengths and a payload: MuJoCo's B(q) follows (point-mass/thin-rod bodies
+    get the minimum principal moments MuJoCo needs, a difference of ≤ 1e-9 relative, reported)."""
     arm = load("scara", a=(0.6, 0.3), payload=1.5)
     plant = MujocoPlant(arm)
     for q in random_configurations(arm, rng, 10):
@@ -392,7 +392,8 @@ def test_planar_scenes_become_boxes():
         assert ik.success
         expected = hole.wrench_at(np.r_[tip, 0.0], np.zeros(6))
         assert np.abs(expected).max() > 10.0
-        assert np.allclose(plant.wrench(plant.initial_state(ik.q)), expected, rtol=0.01, atol=0.01 * np.abs(expected).max())
+        h = plant.wrench(plant.initial_state(ik.q))
+        assert np.allclose(h, expected, rtol=0.01, atol=0.01 * np.abs(expected).max())
 
 
 # --------------------------------------------------------------------------------------------

@@ -11,7 +11,8 @@ if not mujoco_available():
         raise ImportError(f"MuJoCo is missing under CI, where the test extra installs it: {INSTALL}")
     pytest.skip(f"MuJoCo is not installed: {INSTALL}", allow_module_level=True)
 
-from examples.mujoco_physics import force_control_on_mujoco, panda_wall_on_mujoco, planned_motion_on_mujoco  # noqa: E402
+from examples.mujoco_physics import (force_control_on_mujoco, panda_wall_on_mujoco,  # noqa: E402
+                                     planned_motion_on_mujoco)
 
 
 @pytest.mark.parametrize("demo", [force_control_on_mujoco, panda_wall_on_mujoco, planned_motion_on_mujoco],

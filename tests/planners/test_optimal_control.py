@@ -297,3 +297,150 @@ def test_result_is_an_optimal_trajectory(arm_problem):
     x, u = res.shifted()
     np.testing.assert_array_equal(x[0], res.x[1])
     np.testing.assert_array_equal(u[-1], res.u[-1])
+
+
+# --------------------------------------------------------------------------------------------
+# The pieces of one SQP step: the linearisation and the step QP, against independent computations
+# --------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ["planar_2r", "ur5"])
+def test_chain_rule_linearisation_equals_automatic_differentiation(name):
+    """The interval's Jacobian by the chain rule through the RK4 stages (−B⁻¹ ∂RNEA) against CasADi's automatic
+    differentiation of the whole RK4 step and cost residual (built here from forward_dynamics_expression)."""
+    from planners.optimal_control import RK4_WEIGHTS, _linearised_interval, _parameter_size, _state_residual, _unpack
+    from rigid_body.symbolic import forward_dynamics_expression
+
+    robot = load(name)
+    n, frame = robot.nv, robot.ee_frame
+    x, u, p = ca.SX.sym("x", 2 * n), ca.SX.sym("u", n), ca.SX.sym("p", _parameter_size(n))
+    P = _unpack(p, n)
+    chain = ca.Function("chain", [x, u, p], list(_linearised_interval(robot, frame, x, u, p, True, True)))
+    x_next, stages = rk4(lambda s, v: ca.vertcat(s[n:], forward_dynamics_expression(robot, s[:n], s[n:], v)), x, u,
+                         P["dt"])
+    r = ca.vertcat(*[ca.sqrt(c * P["dt"]) * _state_residual(robot, frame, s, P, True, True)
+                     for c, s in zip(RK4_WEIGHTS, stages)], ca.sqrt(P["dt"]) * P["sw_tau"] * (u - P["tau_ref"]))
+    ad = ca.Function("ad", [x, u, p], [x_next, r, ca.jacobian(ca.vertcat(x_next, r), ca.vertcat(x, u))])
+    rng = np.random.default_rng(3)
+    for _ in range(3):
+        xv, uv = rng.normal(size=2 * n), rng.normal(size=n) * 20.0
+        pv = rng.uniform(0.1, 1.0, size=_parameter_size(n))
+        pv[0] = 0.02
+        R = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+        pv[1 + 3 * n + 3:1 + 3 * n + 12] = (R * np.sign(np.linalg.det(R))).ravel(order="F")
+        ours, theirs = chain(xv, uv, pv), ad(xv, uv, pv)
+        for a, b in zip(ours[:3], theirs):
+            a, b = np.array(a), np.array(b)
+            np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-10 * max(1.0, np.max(np.abs(b))))
+
+
+@pytest.mark.parametrize("soft", [True, False])
+def test_step_qp_equals_a_dense_qp(soft):
+    """HPIPM called directly on a random stage-wise QP (torque box, state limits soft or hard, one limit left out)
+    against proxsuite's dense solver on the same QP written out whole: steps, slacks and multipliers."""
+    import proxsuite
+
+    from planners.optimal_control import _StageQP
+
+    rng = np.random.default_rng(7)
+    N, nx, nu, limited = 6, 4, 2, np.array([0, 3])
+    nb = limited.size
+    qp = _StageQP(N, nx, nu, limited, soft, OptimalControlOptions(qp_tol=1e-12))
+    A, B, b = rng.normal(size=(N, nx, nx)) * 0.5, rng.normal(size=(N, nx, nu)), rng.normal(size=(N, nx))
+    M = rng.normal(size=(N + 1, nx + nu, nx + nu))
+    H = M @ np.transpose(M, (0, 2, 1)) + 0.1 * np.eye(nx + nu)                  # over [x; u]
+    g = rng.normal(size=(N + 1, nx + nu)) * 3.0
+    lbu, ubu, w = np.array([-0.5, -0.4]), np.array([0.7, 0.6]), 2.0
+    lbx, ubx = (np.array([-0.3, -0.2]), np.array([0.2, 0.25])) if soft else (np.array([-1.5, -1.2]), np.array([1.2, 1.0]))
+    for k in range(N):
+        qp.A[k], qp.B[k], qp.b[k] = A[k].T, B[k].T, b[k]
+        qp.R[k], qp.S[k], qp.r[k] = H[k][nx:, nx:], H[k][:nx, nx:], g[k][nx:]
+        qp.lbu[k], qp.ubu[k] = lbu, ubu
+    for k in range(1, N + 1):
+        qp.Q[k], qp.q[k], qp.lbx[k, :nb], qp.ubx[k, :nb] = H[k][:nx, :nx], g[k][:nx], lbx, ubx
+        if soft:
+            qp.zl[k, :nb] = qp.zu[k, :nb] = w
+    assert qp.solve()[0] == 0
+    binding = np.argwhere(qp.x[1:, limited] >= ubx - 1e-9)                  # upper limits that bind (or are paid)
+    assert binding.size
+    k_out, j_out = binding[0][0] + 1, binding[0][1]
+    qp.ubx_mask[k_out, j_out] = 0.0                                          # left out: no bound there
+    assert qp.solve()[0] == 0
+    assert qp.x[k_out, limited[j_out]] > ubx[j_out] + 1e-6                   # and the step crosses it
+    # the dense QP: z = [u_0, (x_k, u_k) k = 1..N−1, x_N, s_l (k, j), s_u (k, j)]
+    nv = nu + (N - 1) * (nx + nu) + nx
+    ns = N * nb if soft else 0
+    n_all = nv + 2 * ns
+    ix = lambda k: nu + (k - 1) * (nx + nu) + np.arange(nx)
+    iu = lambda k: np.arange(nu) if k == 0 else nu + (k - 1) * (nx + nu) + nx + np.arange(nu)
+    Hd, gd = np.zeros((n_all, n_all)), np.zeros(n_all)
+    for k in range(N + 1):
+        idx = np.concatenate([ix(k) if k else np.zeros(0, int), iu(k) if k < N else np.zeros(0, int)])
+        sel = np.concatenate([np.arange(nx) if k else np.zeros(0, int), nx + np.arange(nu) if k < N else np.zeros(0, int)])
+        Hd[np.ix_(idx, idx)] += H[k][np.ix_(sel, sel)]
+        gd[idx] += g[k][sel]
+    gd[nv:] = w
+    Ae = np.zeros((N * nx, n_all))
+    for k in range(N):
+        rows = slice(k * nx, (k + 1) * nx)
+        if k:
+            Ae[rows, ix(k)] = A[k]
+        Ae[rows, iu(k)] = B[k]
+        Ae[rows, ix(k + 1)] -= np.eye(nx)
+    be = -b.ravel()
+    C, lo, hi = [], [], []
+    for k in range(N):
+        C.append(np.eye(n_all)[iu(k)]), lo.append(lbu), hi.append(ubu)
+    big = 1e20
+    for k in range(1, N + 1):
+        for j in range(nb):
+            row = np.zeros(n_all)
+            row[ix(k)[limited[j]]] = 1.0
+            upper = big if (k == k_out and j == j_out) else ubx[j]
+            if soft:
+                m = (k - 1) * nb + j
+                low, up = row.copy(), row.copy()
+                low[nv + m], up[nv + ns + m] = 1.0, -1.0
+                C += [low[None], up[None]]
+                lo += [[lbx[j]], [-big]]
+                hi += [[big], [upper]]
+            else:
+                C.append(row[None]), lo.append([lbx[j]]), hi.append([upper])
+    if soft:
+        C.append(np.eye(n_all)[nv:]), lo.append(np.zeros(2 * ns)), hi.append(np.full(2 * ns, big))
+    C, lo, hi = np.vstack(C), np.concatenate(lo), np.concatenate(hi)
+    dense = proxsuite.proxqp.dense.QP(n_all, Ae.shape[0], C.shape[0])
+    dense.settings.eps_abs = 1e-12
+    dense.init(Hd + 1e-14 * np.eye(n_all), gd, Ae, be, C, lo, hi)
+    dense.solve()
+    z = dense.results.x
+    np.testing.assert_allclose(np.array([z[iu(k)] for k in range(N)]), qp.u[:N], atol=1e-8)
+    np.testing.assert_allclose(np.array([z[ix(k)] for k in range(1, N + 1)]), qp.x[1:], atol=1e-8)
+    np.testing.assert_allclose(dense.results.y.reshape(N, nx), qp.pi[:N], atol=1e-7)   # Φ − x_{k+1} = 0: + π
+    y_box = dense.results.z[:N * nu].reshape(N, nu)                                     # upper − lower
+    np.testing.assert_allclose(y_box, qp.lam_ub[:N, :nu] - qp.lam_lb[:N, :nu], atol=1e-7)
+    if soft:
+        np.testing.assert_allclose(z[nv:nv + ns].reshape(N, nb), qp.sl[1:, :nb], atol=1e-8)
+        np.testing.assert_allclose(z[nv + ns:].reshape(N, nb), qp.su[1:, :nb], atol=1e-8)
+        assert qp.sl[1:, :nb].max() + qp.su[1:, :nb].max() > 1e-3          # some limit is violated at a cost
+
+
+def test_limits_screened_into_the_qp_give_the_full_qp_steps(arm_problem, monkeypatch):
+    """Limits far from the iterate are left out of the step QP and added when a step crosses them: the same solution
+    as with every limit in every QP (soft and hard speed limits that bind)."""
+    import planners.optimal_control as oc
+
+    problem, _ = arm_problem
+    kw = dict(horizon=20, dt=0.02, running=StageCost(q=1e3, qd=1.0, tau=1e-6), terminal=StageCost(q=1e4, qd=1e2),
+              tau_max=[3000.0, 1500.0], qd_max=[1.0, 1.0], q_min=[-0.1, -0.25], q_max=[0.5, 0.1])
+    for limits in ("hard", "soft"):
+        results = []
+        for fraction in (0.0, np.inf):
+            monkeypatch.setattr(oc, "SCREEN_FRACTION", fraction)
+            solver = OptimalControlSolver(OptimalControlProblem(problem.robot, state_limits=limits, **kw))
+            results.append(solver.solve(np.zeros(4), q_ref=[0.3, -0.2]))
+            assert results[-1].success, results[-1].message
+        screened, full = results
+        assert screened.ratios["qd"] == pytest.approx(1.0, abs=1e-6)         # a limit binds
+        np.testing.assert_allclose(screened.u, full.u, atol=1e-6 * np.max(problem.tau_max))
+        np.testing.assert_allclose(screened.x, full.x, atol=1e-8)
+        assert screened.cost == pytest.approx(full.cost, rel=1e-9)

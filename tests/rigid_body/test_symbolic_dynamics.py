@@ -92,3 +92,48 @@ def test_gravity_and_reference_torque_expressions_against_pinocchio(name, rng):
     tau = np.array(ca.evalf(reference_torque_expression(robot, q, qd, qd_r, qdd_r))).ravel()
     B, C = pin.crba(model, data, q), pin.computeCoriolisMatrix(model, data, q, qd)
     np.testing.assert_allclose(tau, B @ qdd_r + C @ qd_r + g, rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_forward_dynamics_derivatives_match_pinocchio_aba_derivatives(name, rng):
+    """q̈ and ∂q̈/∂[q, q̇, τ] by −B⁻¹ ∂RNEA (symbolic) against Pinocchio's analytical ABA derivatives."""
+    import casadi as ca
+
+    from rigid_body.symbolic import forward_dynamics_derivatives_expression
+
+    robot = load(name)
+    n = robot.nv
+    q_, v_, t_ = ca.SX.sym("q", n), ca.SX.sym("v", n), ca.SX.sym("t", n)
+    f = ca.Function("fdd", [q_, v_, t_], list(forward_dynamics_derivatives_expression(robot, q_, v_, t_)))
+    data = robot.model.createData()
+    for _ in range(5):
+        q = robot.random_configuration(rng)
+        v, tau = rng.normal(size=n), rng.normal(size=n) * 5.0
+        qdd, J = (np.array(o) for o in f(q, v, tau))
+        pin.computeABADerivatives(robot.model, data, q, v, tau)
+        Minv = np.triu(data.Minv) + np.triu(data.Minv, 1).T
+        np.testing.assert_allclose(qdd.ravel(), data.ddq, rtol=1e-9, atol=1e-9)
+        reference = np.hstack([data.ddq_dq, data.ddq_dv, Minv])
+        np.testing.assert_allclose(J, reference, rtol=1e-8, atol=1e-8 * np.max(np.abs(reference)))
+
+
+def test_forward_dynamics_derivatives_with_rotors_match_finite_differences(rng):
+    """The book's two-link arm with its rotors (ABA refuses mimic joints): central differences of Pinocchio's
+    forward dynamics by CRBA and RNEA."""
+    import casadi as ca
+
+    from rigid_body.dynamics import forward_dynamics
+    from rigid_body.symbolic import forward_dynamics_derivatives_expression
+
+    robot = load("planar_2r")
+    n = robot.nv
+    q_, v_, t_ = ca.SX.sym("q", n), ca.SX.sym("v", n), ca.SX.sym("t", n)
+    f = ca.Function("fdd", [q_, v_, t_], list(forward_dynamics_derivatives_expression(robot, q_, v_, t_)))
+    for _ in range(5):
+        z = np.concatenate([rng.uniform(-2, 2, n), rng.normal(size=n), rng.normal(size=n) * 500.0])
+        qdd, J = (np.array(o) for o in f(z[:n], z[n:2 * n], z[2 * n:]))
+        fd = lambda w: forward_dynamics(robot, w[:n], w[n:2 * n], w[2 * n:])
+        np.testing.assert_allclose(qdd.ravel(), fd(z), rtol=1e-10, atol=1e-10)
+        steps = np.concatenate([np.full(2 * n, 1e-6), np.full(n, 1e-3)])
+        central = np.column_stack([(fd(z + h * e) - fd(z - h * e)) / (2 * h) for h, e in zip(steps, np.eye(3 * n))])
+        np.testing.assert_allclose(J, central, rtol=1e-6, atol=1e-6 * np.max(np.abs(central)))

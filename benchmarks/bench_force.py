@@ -34,16 +34,61 @@ from typing import Callable
 import numpy as np
 import pinocchio as pin
 
+from benchtools import per_call  # first: it puts the source tree (examples/) on sys.path
+from controllers.compiled import fast_backend
 from controllers.force import HybridForceMotionControl
 from controllers.operational_space import OperationalInverseDynamics
 from controllers.plants import ArmInContact
-from examples.panda_wall_contact import T_PANDA, _panda_hybrid, _panda_impedance, _panda_wall_scene
-from problems.ch09 import (F_V, K_HAT, R_C, T_D, _Held, _hybrid_run, _impedance_run, _plane, _tra_5)
+from controllers.scenes import PLANE_FRAME, PLANE_POINT, compliant_plane_9_16, panda_wall
+from controllers.simulation import simulate
+from examples.panda_wall_contact import T_PANDA, panda_hybrid, panda_impedance
+from planners.paths import PathLaw, Segment
+from planners.timing import trapezoidal_law
 from rigid_body.kinematics import ELBOW_UP, inverse_kinematics_planar_2r
 from rigid_body.robots import load
 from rigid_body.task_space import selection_matrices
 
-from benchtools import per_call
+
+# The loops of Problems 9.3 and 9.10 (their data: the manual and the companion files i9_3, i9_10), built here from
+# the library as a user would: the two-link arm with joint friction against the plane of Fig. 9.16.
+F_V, T_D, T_C = 100.0, 2.5, 1e-3          # joint viscous friction [N·m·s/rad], run length [s], period [s]
+K_HAT, LAMBDA_D = 4e3, -50.0              # 9.10: estimated plane stiffness [N/m], desired force along y_c [N]
+
+
+def tra_5() -> PathLaw:
+    """The companion's tra_5: a 0.2√2 m segment along x_c, trapezoidal with ṡ_c = 0.5 m/s over 1 s."""
+    p_i = np.array([1.0 + 0.2 * np.cos(np.pi / 4), 0.0, 0.0])
+    segment = Segment(p_i, p_i + np.array([0.2, 0.2, 0.0]))
+    return PathLaw(segment, trapezoidal_law(0.0, segment.length, 1.0, 0.5))
+
+
+def impedance_run(q0: np.ndarray):
+    """9.3: impedance control with force feedback, M_d = 100, K_D = 1600, K_P = 5000 (the compiled loop)."""
+    arm = load("planar_2r")
+    plant = ArmInContact(arm, compliant_plane_9_16(), viscous_friction=F_V)
+    ctrl = OperationalInverseDynamics(arm, 5000.0, 1600.0, tra_5(), rows=(0, 1), viscous_friction=F_V, inertia=100.0,
+                                      force_feedback=True)
+    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C, backend=fast_backend())
+
+
+def hybrid_run():
+    """9.10: hybrid force/motion control, velocity PI along x_c, force along y_c with the estimated stiffness."""
+    arm = load("planar_2r")
+    plant = ArmInContact(arm, compliant_plane_9_16(), viscous_friction=F_V)
+    law = tra_5()
+
+    def nu_reference(t: float) -> tuple[np.ndarray, np.ndarray]:
+        _, pd, pdd = law(t)
+        return (PLANE_FRAME.T @ pd[:2])[:1], (PLANE_FRAME.T @ pdd[:2])[:1]
+
+    S_f, S_v = selection_matrices(("x",), PLANE_FRAME, axes=("x", "y"))
+    C_hat = np.eye(2) / K_HAT
+    ctrl = HybridForceMotionControl(arm, S_f, S_v, [LAMBDA_D], nu_reference, 16.0, 100.0, 16.0, 100.0,
+                                    compliance=C_hat, stiffness=np.linalg.inv(C_hat),
+                                    compliance_prime=PLANE_FRAME @ np.diag([0.0, 1.0 / K_HAT]) @ PLANE_FRAME.T,
+                                    rows=(0, 1), viscous_friction=F_V)
+    q0 = inverse_kinematics_planar_2r(PLANE_POINT)[ELBOW_UP]
+    return simulate(plant, ctrl, (0.0, T_D), plant.initial_state(q0), h=T_C, Ts=T_C, backend=fast_backend())
 
 
 def simulated_per_wall_second(label: str, run: Callable[[], object], simulated: float, target: bool = True) -> dict:
@@ -82,14 +127,14 @@ def rows(quick: bool = False) -> list[dict]:
     """One call of the contact plant and the two laws (µs, no target), the Pinocchio floor of one simulated
     second, and the closed loops of 9.3 and 9.10 (target ≥ 20× real time) and of the Panda wall example."""
     arm = load("planar_2r")
-    plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
-    q0 = inverse_kinematics_planar_2r(_tra_5()(0.0)[0][:2])[ELBOW_UP]
+    plant = ArmInContact(arm, compliant_plane_9_16(), viscous_friction=F_V)
+    q0 = inverse_kinematics_planar_2r(tra_5()(0.0)[0][:2])[ELBOW_UP]
     x = plant.initial_state(q0, [0.1, -0.2])
     u = np.array([10.0, 5.0])
     meas = plant.measure(0.0, x)
-    imp = OperationalInverseDynamics(arm, 5000.0, 1600.0, _Held(_tra_5()), rows=(0, 1), viscous_friction=F_V,
+    imp = OperationalInverseDynamics(arm, 5000.0, 1600.0, tra_5(), rows=(0, 1), viscous_friction=F_V,
                                      inertia=100.0, force_feedback=True)
-    S_f, S_v = selection_matrices(("x",), R_C, axes=("x", "y"))
+    S_f, S_v = selection_matrices(("x",), PLANE_FRAME, axes=("x", "y"))
     hyb = HybridForceMotionControl(arm, S_f, S_v, [-50.0], [0.1], 16, 100, 16, 100, compliance=np.eye(2) / K_HAT,
                                    rows=(0, 1), viscous_friction=F_V)
     out = [dict(measurement=f"9.x two-link arm on the plane: {label} [µs]", rmpc=per_call(f) * 1e6, reference=None,
@@ -101,14 +146,14 @@ def rows(quick: bool = False) -> list[dict]:
     floor = pinocchio_floor(arm, q0, np.array([0.1, -0.2]), u, plant._fid)
     out.append(dict(measurement="9.x Pinocchio calls alone, one simulated second [simulated s / CPU s]",
                     rmpc=1.0 / floor, reference=None, ref_name="the floor of any Python loop on Pinocchio", target=None))
-    out.append(simulated_per_wall_second("9.3 impedance control", lambda: _impedance_run(_Held(_tra_5()), q0), T_D))
-    out.append(simulated_per_wall_second("9.10 hybrid force/motion control", lambda: _hybrid_run(K_HAT), T_D))
+    out.append(simulated_per_wall_second("9.3 impedance control", lambda: impedance_run(q0), T_D))
+    out.append(simulated_per_wall_second("9.10 hybrid force/motion control", hybrid_run, T_D))
     if not quick:
-        scene = _panda_wall_scene()
-        out.append(simulated_per_wall_second("Panda on the stepped wall, hybrid", lambda: _panda_hybrid(scene),
+        scene = panda_wall()
+        out.append(simulated_per_wall_second("Panda on the stepped wall, hybrid", lambda: panda_hybrid(scene),
                                              T_PANDA, target=False))
         out.append(simulated_per_wall_second("Panda on the stepped wall, impedance",
-                                             lambda: _panda_impedance(scene, 0.021), T_PANDA, target=False))
+                                             lambda: panda_impedance(scene, 0.021), T_PANDA, target=False))
     return out
 
 

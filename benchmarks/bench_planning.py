@@ -6,7 +6,7 @@ their success rate and path length), the unicycle RRT of 12.8, the trapezoidal d
 path of 12.6, the GVD nodes of a room, the wavefront of 12.13 and of a 200 × 200 random grid, and a
 potential-field descent of 12.10.
 
-Beyond the book (:func:`panda_vs_ompl`): the Panda among boxes of :func:`examples.planning.panda_shelf`
+Beyond the book (:func:`panda_vs_ompl`): the Panda among boxes of :func:`controllers.scenes.panda_shelf`
 — the collision check and the certificate's distance computation per configuration (broad phase against
 the pairwise check) and, on 50 seeded queries, this project's RRT-Connect with certified edges (the
 default) and in its explicit sampled mode beside OMPL's RRTConnect (PyPI ``ompl``, the ``bench`` extra;
@@ -33,7 +33,7 @@ from planners.configuration_space import Disc, Polygon, box
 from planners.potentials import (AttractivePotential, PotentialField, RepulsivePotential, gradient_descent,
                                  wavefront)
 from planners.sampling import MotionPrimitive, prm, rrt, rrt_connect, unicycle_rrt
-from problems.ch12 import SCENE_12_13, scene_12_7, scene_12_8
+from controllers.scenes import grid_12_13, panda_shelf, scene_12_7, scene_12_8
 
 from benchtools import per_call
 
@@ -79,7 +79,8 @@ def book_rows(seeds: int = 5) -> list[dict]:
                                                [5.5, 7], [5.5, 3]), 20), ""))
     room, hole = box(0, 0, 10, 6), Polygon([[4, 2], [6.5, 2.5], [5, 4]])
     rows.append(("GVD nodes, room + triangle (naive algorithm)", per_call(lambda: gvd_nodes(room, [hole]), 3), ""))
-    rows.append(("wavefront 7 × 7, 2-adjacency (12.13)", per_call(lambda: wavefront(SCENE_12_13, (6, 6), 2), 200), ""))
+    grid = grid_12_13()
+    rows.append(("wavefront 7 × 7, 2-adjacency (12.13)", per_call(lambda: wavefront(grid, (6, 6), 2), 200), ""))
     big = np.random.default_rng(1).random((200, 200)) < 0.2
     big[199, 199] = False
     rows.append(("wavefront 200 × 200, 2-adjacency", per_call(lambda: wavefront(big, (199, 199), 2), 1), ""))
@@ -145,7 +146,7 @@ def panda_vs_ompl(n_queries: int = N_QUERIES, step: float = 0.5) -> list[dict]:
     """Collision check and clearance per configuration, and RRT-Connect (certified, sampled, OMPL's) on the
     Panda among boxes: rows with OMPL as the reference (none when it is not installed), and the paths
     failing the independent re-check."""
-    from examples.planning import panda_shelf, recheck_path
+    from examples.planning import recheck_path
     from planners.sampling import path_length
 
     scene = panda_shelf()

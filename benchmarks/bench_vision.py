@@ -17,19 +17,22 @@ import time
 
 import numpy as np
 
+import benchtools  # noqa: F401  first: it puts the source tree (examples/) on sys.path
+from controllers.scenes import scara_eye_in_hand, scara_ibvs, scara_pbvs
 from controllers.simulation import simulate
 from examples.panda_visual_servoing import run_hybrid, run_ibvs, run_pbvs, scene, start_configuration
-from problems.ch10 import TC_COMPANION, TC_MANUAL, ibvs_setup, pbvs_setup, scara_eye_in_hand
+
+TC_COMPANION, TC_MANUAL = 0.04, 0.004    # the controller periods of Problems 10.8–10.11: companion files, manual's text
 
 LOOPS = {
     "10.8 PBVS PD+g (Tc 40 ms, estimator 1 ms, arm 1 ms)":
-        lambda: simulate(**pbvs_setup(TC_COMPANION, K_P=[500, 500, 10, 10], K_D=[500, 500, 10, 10])),
+        lambda: simulate(**scara_pbvs(TC_COMPANION, K_P=[500, 500, 10, 10], K_D=[500, 500, 10, 10])),
     "10.9 resolved-velocity PBVS (Tc 40 ms, estimator 1 ms)":
-        lambda: simulate(**pbvs_setup(TC_COMPANION, K=np.array([1.0, 1.0, 1.0, 2.0]))),
+        lambda: simulate(**scara_pbvs(TC_COMPANION, K=np.array([1.0, 1.0, 1.0, 2.0]))),
     "10.10 IBVS PD+g (Tc 4 ms, arm 1 ms)":
-        lambda: simulate(**ibvs_setup(TC_MANUAL, "segment", K_Ps=[300, 300, 150, 50], K_Ds=[330, 330, 165, 40])),
+        lambda: simulate(**scara_ibvs(TC_MANUAL, "segment", K_Ps=[300, 300, 150, 50], K_Ds=[330, 330, 165, 40])),
     "10.11 resolved-velocity IBVS (Tc 40 ms)":
-        lambda: simulate(**ibvs_setup(TC_COMPANION, "segment", K_s=1.0)),
+        lambda: simulate(**scara_ibvs(TC_COMPANION, "segment", K_s=1.0)),
 }
 
 

@@ -1,11 +1,21 @@
-"""Timing and the one table (text, Markdown, JSON) shared by the benchmark scripts (plain scripts, not tests)."""
+"""Timing and the one table (text, Markdown, JSON) shared by the benchmark scripts (plain scripts, not tests).
+
+Importing it also puts the source tree on ``sys.path`` (after the installed packages): ``examples/`` is not part
+of the installed package, and a script run alone (``python benchmarks/bench_force.py``) starts in ``benchmarks/``.
+"""
 
 from __future__ import annotations
 
+import sys
 import time
+from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
+
+SOURCE_TREE = str(Path(__file__).resolve().parent.parent)
+if SOURCE_TREE not in sys.path:
+    sys.path.append(SOURCE_TREE)
 
 WINDOWS_PER_ROUND = 10  # a timing window short enough to fit between two preemptions on a loaded machine
 

@@ -1,29 +1,30 @@
 """Compiled backend of the one simulation loop: ``simulate(..., backend="casadi")``.
 
-The same loop as :func:`controllers.simulation.simulate` — classical RK4 of step ``h`` on the plant,
-the controller every ``Ts`` with zero-order hold — written once as CasADi expressions: one *sample*
-(the controller's law, then ``Ts/h`` RK4 steps with the output held) is a ``casadi.Function``
-``(x_k, r_k, p) → (x_{k+1}, u_k)`` and the whole run is that function accumulated over the samples
-(``Function.mapaccum``). The run is generated as C and compiled with the system C compiler (``cc``,
-cached by the hash of the sample's code, the number of samples and this module's source, so that a
-cached run is loaded without building the accumulated function); without a compiler it is interpreted
-by CasADi's virtual machine (a one-line note says so).
+The same loop as :func:`controllers.simulation.simulate` — the one RK4 of step ``h``
+(:func:`controllers.integration.rk4_step_law`) on the plant, the controller every ``Ts`` with zero-order
+hold — as CasADi expressions: one *sample* (the controller's law, then ``Ts/h`` RK4 steps with the output
+held) is a ``casadi.Function`` ``(x_k, r_k, p) → (x_{k+1}, u_k, signals)`` and the whole run is that function
+accumulated over the samples (``Function.mapaccum``), generated as C and compiled with the system C compiler.
 
-What the loop needs from its two blocks, beside the contract of :mod:`controllers.simulation`:
+The blocks are written once (:mod:`controllers.laws`): a controller's body ``law(ops, …)`` and a plant's
+``dynamics(ops, x, u)`` are evaluated here on symbols with :class:`Symbolic`, the twin of
+:class:`controllers.laws.Numeric` (the Python loop's primitives). What the loop needs from its blocks, beside
+the contract of :mod:`controllers.simulation`:
 
-* the plant: ``symbolic() -> casadi.Function (x, u) → ẋ`` (time-invariant, x + h·ẋ integration)
-  and a ``state_layout`` with ``q`` and ``qd`` (where the law reads them in x): an
-  :class:`~controllers.plants.ArmPlant` with nq = nv and no external force (forward dynamics
-  :func:`rigid_body.symbolic.forward_dynamics_expression`), a :class:`~controllers.plants.ServomotorPlant`;
-* the controller: ``symbolic() -> SymbolicLaw``: the law ``(q, q̇, r, p) → (u, signals…)`` in CasADi
-  expressions. The reference ``r`` is open loop (a function of time only), so it is sampled in Python
-  at the controller instants and fed to the run; the parameters ``p`` are the gains, their values
-  taken from the numeric controller (its single source). A law may read more of the measurement
-  (``measurements``, e.g. the sensed ``wrench``: the plant's ``symbolic_measurement(name)``, a
-  ``casadi.Function`` x → value) and keep a state of its own (``state``: its value after ``reset()``;
-  the law also receives ``dt``, the time since the previous sample, 0 at the first, and returns the
-  next state: an integral action, an adaptive estimate). Chains and ``ZeroOrderHold`` blocks stay on
-  the Python backend.
+* the plant: ``dynamics(ops, x, u)`` (or ``symbolic() -> casadi.Function (x, u) → ẋ``), a ``state_layout``
+  with ``q`` and ``qd`` (where the law reads them in x), ``integrate_law`` when the state is on a manifold
+  (nq ≠ nv) and ``symbolic_measurement(name)`` for what else the law reads (the sensed ``wrench``);
+* the controller: a :class:`~controllers.laws.ControlLaw` (or ``symbolic() -> SymbolicLaw``): the law
+  ``(q, q̇, r, p[, measurements][, state, dt]) → (u[, next_state], signals…)``. The reference ``r`` is open loop
+  (a function of time only), sampled at the controller instants before the run (at once when it can:
+  ``at_times``) and fed to it, as are the camera's noise and occlusion of a visual servo; the parameters ``p``
+  are the gains (the numeric controller's values); the law's own state starts at its value after ``reset()``.
+
+The run is keyed by a digest of the blocks' structure (:func:`loop_key`: no code generated), built once per
+process (:func:`compiled_loop`) and cached on disk (``$RMPC_CACHE``) with the names of its signals, safely
+under concurrency; a compiler or cache fault sends ``simulate`` to the Python loop with one warning
+(:class:`CompiledLoopUnavailable`). A block without a symbolic form is refused through one path,
+:func:`no_symbolic_form`.
 
 Because the run is one CasADi function of ``(x_0, R, p)``, its derivatives with respect to the
 initial state and the gains come by automatic differentiation (:meth:`CompiledLoop.rollout`):
@@ -40,6 +41,7 @@ import errno
 import functools
 import hashlib
 import json
+import logging
 import os
 import shutil
 import subprocess
@@ -60,6 +62,10 @@ import pinocchio as pin
 
 from controllers.integration import rk4_step_law
 from rigid_body.task_space import FrameState
+
+#: Tells when a compiled function is built (the first run on a machine compiles each loop once: ~1 s each):
+#: ``rmpc report`` shows these INFO lines as its progress while the compiler works.
+log = logging.getLogger("rmpc.compiler")    # a stable name: rmpc report listens to it
 
 
 BACKENDS = ("python", "casadi")
@@ -271,6 +277,10 @@ class Symbolic:
     @staticmethod
     def hypot(a: Any, b: Any) -> Any:
         return _casadi().hypot(a, b)
+
+    @staticmethod
+    def entries(v: Any) -> list:
+        return [v[i] for i in range(v.shape[0])]
 
     @staticmethod
     def logic_and(a: Any, b: Any) -> Any:
@@ -726,16 +736,28 @@ def _build_library(code: bytes, name: str, key: str, cache: Path, cc: str, flags
 
 
 def compile_function(function: ca.Function | Callable[[], ca.Function], flags: tuple[str, ...] = COMPILE_FLAGS,
-                     name: str | None = None, key: bytes | None = None, metadata: Callable[[], bytes] | None = None
-                     ) -> ca.Function:
+                     name: str | None = None, key: bytes | None = None) -> ca.Function:
     """``function`` generated as C, compiled into a shared library (cached) and loaded.
 
     The cache key is the hash of the code, or of ``key`` (bytes that determine the code, e.g. a structure digest)
     with ``name``: then ``function`` may be a callable that builds it, called only when the cache misses.
-    Safe under concurrency (a lock per key, unique temporary files, an atomic rename). A cache that is full or
-    read-only is replaced by a temporary folder; no compiler, a failing compiler or an unusable cache raise
-    :class:`CompiledLoopUnavailable` (the compiled loop then falls back to the Python loop).
+    Safe under concurrency (a lock per key, unique temporary files, an atomic rename); a cache that is full or
+    read-only is replaced by a temporary folder. Without a usable compiler or cache the function is returned as
+    it is, interpreted by CasADi, with one warning line naming the fault (the compiled loop instead falls back to
+    the Python loop: :class:`CompiledLoopUnavailable`).
     """
+    try:
+        return _compiled_library(function, flags, name, key)
+    except CompiledLoopUnavailable as fault:
+        warnings.warn(f"{fault}; the function runs interpreted by CasADi (slower)", stacklevel=2)
+        return function if key is None else function()
+
+
+def _compiled_library(function: ca.Function | Callable[[], ca.Function], flags: tuple[str, ...] = COMPILE_FLAGS,
+                      name: str | None = None, key: bytes | None = None,
+                      metadata: Callable[[], bytes] | None = None) -> ca.Function:
+    """:func:`compile_function`, raising :class:`CompiledLoopUnavailable` on a compiler or cache fault; with
+    ``metadata`` (bytes stored beside the library) read back into :data:`_METADATA` when the library is loaded."""
     cc = compiler()
     if cc is None:
         raise CompiledLoopUnavailable("no compiler", "no C compiler found: install gcc (or clang) or set CC to one")
@@ -752,9 +774,12 @@ def compile_function(function: ca.Function | Callable[[], ca.Function], flags: t
         for attempt in range(2):
             try:
                 if not library.exists():
+                    started = time.perf_counter()
+                    log.info("compiling %s (C code for %s; once, then loaded from %s)", name, cc, cache)
                     code = code if code is not None else c_code(function())
                     library = _build_library(code, name, digest, cache, cc, flags,
                                              None if metadata is None else metadata())
+                    log.info("compiled %s in %.1f s", name, time.perf_counter() - started)
                 function = ca.external(name, str(library))
                 meta = library.with_suffix(".json")
                 if metadata is not None and meta.exists():
@@ -785,6 +810,12 @@ _NOT_STRUCTURE = frozenset({"gains", "_K", "_state", "_t_last", "_log", "stall",
 (fed as the initial law state), references (fed as R: every attribute whose name ends in ``reference``), logs
 and Pinocchio's work data."""
 _SOURCES: dict[str, bytes] = {}
+
+
+def _module_of(obj: Any) -> str:
+    """The name of the module defining ``obj`` ('' when it has none as a string, e.g. a pybind11 class)."""
+    name = getattr(obj, "__module__", "")
+    return name if isinstance(name, str) else ""
 
 
 def _source_digest(module: str) -> bytes:
@@ -852,13 +883,16 @@ def structure_digest(*blocks: Any) -> str:
                 walk(k, depth + 1)
                 walk(v[k], depth + 1)
             return
+        if isinstance(v, types.ModuleType):
+            feed("u", v.__name__.encode())
+            return
         if isinstance(v, type):
-            feed("t", f"{v.__module__}.{v.__qualname__}".encode())
-            modules.add(v.__module__)
+            feed("t", f"{_module_of(v)}.{v.__qualname__}".encode())
+            modules.add(_module_of(v))
             return
         if isinstance(v, types.FunctionType):
-            feed("f", f"{v.__module__}.{v.__qualname__}".encode() + v.__code__.co_code + repr(v.__code__.co_consts).encode())
-            modules.add(v.__module__)
+            feed("f", f"{_module_of(v)}.{v.__qualname__}".encode() + v.__code__.co_code + repr(v.__code__.co_consts).encode())
+            modules.add(_module_of(v))
             for cell in v.__closure__ or ():
                 try:
                     walk(cell.cell_contents, depth + 1)
@@ -878,8 +912,11 @@ def structure_digest(*blocks: Any) -> str:
             return
         seen[id(v)] = len(seen)
         cls = type(v)
-        feed("c", f"{cls.__module__}.{cls.__qualname__}".encode())
-        modules.add(cls.__module__)
+        feed("c", f"{_module_of(cls)}.{cls.__qualname__}".encode())
+        modules.add(_module_of(cls))
+        if not hasattr(v, "__dict__") and not getattr(cls, "__slots__", ()):
+            feed("i", f"{os.getpid()}:{id(v)}".encode())    # opaque (an extension object): this object only
+            return
         attributes = dict(getattr(v, "__dict__", {}))
         for slot in getattr(cls, "__slots__", ()):
             if hasattr(v, slot):
@@ -1117,7 +1154,7 @@ def _compile(build: Callable[[], ca.Function], name: str, key: bytes, metadata: 
              ) -> tuple[ca.Function, dict | None]:
     """:func:`compile_function` of a keyed build, and the metadata stored beside it (None when it was built here:
     the caller has it)."""
-    function = compile_function(build, name=name, key=key, metadata=metadata)
+    function = _compiled_library(build, name=name, key=key, metadata=metadata)
     return function, _METADATA.get(id(function))
 
 

@@ -165,7 +165,8 @@ class PDGravityCompensation(ControlLaw):
         """Eq. (8.51), once for both executors (:class:`~controllers.laws.ControlLaw`)."""
         q_d, qd_d, _ = ref
         e = q_d - q
-        u = ops.gravity(self._model, self._data, q) + ops.times(K["K_P"], e) + ops.times(K["K_D"], qd_d - qd)
+        times = ops.times
+        u = ops.gravity(self._model, self._data, q) + times(K["K_P"], e) + times(K["K_D"], qd_d - qd)
         return u, {"q_d": q_d, "e": e}
 
 # --------------------------------------------------------------------------------------------

@@ -17,6 +17,7 @@ never imports another law's helpers. Each function validates once, at constructi
 from __future__ import annotations
 
 import math
+import operator
 from typing import Any, Callable, Sequence
 
 import numpy as np
@@ -419,11 +420,19 @@ class Numeric:
 
     @staticmethod
     def where(mask: np.ndarray, a: Any, b: Any) -> np.ndarray:
-        """Row i of ``a`` where mask_i, else of ``b`` (a scalar ``b`` or ``a`` fills its rows)."""
-        if np.ndim(a) > 1 or np.ndim(b) > 1:
+        """Row i of ``a`` where mask_i, else of ``b`` (a scalar ``b`` or ``a`` fills its rows); ``a`` itself when
+        every row is taken."""
+        if type(a) is np.ndarray and mask.all():
+            return a
+        if getattr(a, "ndim", 0) > 1 or getattr(b, "ndim", 0) > 1:
             mask = mask[:, None]
         return np.where(mask, a, b)
-    logic_and = staticmethod(np.logical_and)
+
+    @staticmethod
+    def entries(v: np.ndarray) -> list:
+        """The entries of a vector as scalars (Python floats: scalar arithmetic on them is the cheapest)."""
+        return v.tolist() if type(v) is np.ndarray else list(v)
+    logic_and = staticmethod(operator.and_)                      # a & b: bools or boolean arrays
     logic_not = staticmethod(np.logical_not)
     repeat = staticmethod(np.repeat)
 
@@ -563,7 +572,7 @@ class ControlLaw(LoggedController):
                                                    state=self._state, dt=dt)
         except SingularTask:
             raise singular_task(f"at t = {t:.6g} s, q = {q}") from None
-        self.record(**signals)
+        self._log = signals                                  # record(**signals), without copying the dict
         return u
 
     def symbolic(self) -> Any:

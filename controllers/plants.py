@@ -7,7 +7,9 @@
   :mod:`controllers.environment`; its measurement carries the sensed wrench h_e.
 * :class:`JointDrivePlant` — one joint's electric drive M(s) of independent joint control (Sect. 8.3).
 * :class:`ServomotorPlant` — the servomotor of Fig. 5.2 (armature current, rotor, amplifier, PI).
-* :class:`JointIntegrator` — the kinematic plant q̇ = u of closed-loop inverse kinematics (Sect. 3.7).
+* :class:`JointIntegrator` — the kinematic plant q̇ = u of closed-loop inverse kinematics (Sect. 3.7), and
+  :class:`KinematicArm`, the same plant measured as encoders (``meas.q``): the arm of the resolved-velocity
+  visual servoing of Figs. 10.15 and 10.17 (``visual_servo`` also accepts a JointIntegrator's bare q).
 * Wheeled mobile robots (Chapter 11), kinematic: :class:`UnicyclePlant` (11.13) — with optional
   wheel-speed saturation (Problem 11.9) and wheel encoders (odometry, Sect. 11.7) —,
   :class:`BicyclePlant` (11.19)/(11.20), :class:`ChainedFormPlant` (11.25), :class:`DriftlessPlant`

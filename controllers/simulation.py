@@ -270,6 +270,21 @@ class SimulationResult:
     signals: dict[str, np.ndarray] = field(default_factory=dict)
     layout: Mapping[str, Any] = field(default_factory=dict)
     units: Mapping[str, str] = field(default_factory=dict)
+    components: Mapping[str, Any] = field(default_factory=dict)   # {signal: [(label, unit) per column]}, declared
+
+    def describe(self, name: str) -> list[tuple[str, str]]:
+        """One (label, unit) per column of the signal ``name``: as its controller declares them
+        (``signal_components``), else as :func:`controllers.signals.components` names the book's signals (f_x …
+        μ_z of a wrench, x₁, y₁ … of image points), else ``name1, name2 …`` with the plant's unit."""
+        from controllers.signals import components
+
+        y = np.asarray(self[name])
+        width = int(np.prod(y.shape[1:])) if y.ndim > 1 else 1
+        described = self.components.get(name) or components(name, width)
+        if described is not None and len(described) == width:
+            return [tuple(c) for c in described]
+        unit = self.units.get(name, "")
+        return [(name if width == 1 else f"{name}{i + 1}", unit) for i in range(width)]
 
     def __getitem__(self, name: str) -> np.ndarray:
         if name in ("t", "x", "u"):
@@ -304,7 +319,8 @@ class SimulationResult:
         """Plot the signals ``names`` (default ``"q"``) against time on ``ax`` (a new figure if None).
 
         The y axis is labelled with the signals' names and units (``unit`` overrides, e.g. after a
-        ``scale`` of 1e3 to mm); a legend appears when more than one line is drawn. Returns ``ax``.
+        ``scale`` of 1e3 to mm); a legend names the components (:meth:`describe`: f_x … μ_z of a wrench, x₁,
+        y₁ … of image points) when more than one line is drawn. Returns ``ax``.
         """
         import matplotlib.pyplot as plt
 
@@ -313,15 +329,19 @@ class SimulationResult:
         if new_figure:
             _, ax = plt.subplots()
         lines: list[str] = []
+        shown: list[str] = []
         for name in names:
             y = np.asarray(self[name], dtype=float).reshape(len(self.t), -1)
-            for i in range(y.shape[1]):
-                ax.plot(self.t, scale * y[:, i])
-                lines.append(name if y.shape[1] == 1 else f"{name}{i + 1}")
-        units = {unit} if unit is not None else {self.units.get(n, "") for n in names}
-        shown = ", ".join(units - {""})
+            for (label, column_unit), column in zip(self.describe(name), y.T):
+                ax.plot(self.t, scale * column)
+                lines.append(label)
+                column_unit = "–" if column_unit == "1" else column_unit      # dimensionless
+                if column_unit and column_unit not in shown:
+                    shown.append(column_unit)
+        if unit is not None:
+            shown = [unit] if unit else []
         ax.set_xlabel("t [s]")
-        ax.set_ylabel(", ".join(names) + (f" [{shown}]" if shown else ""))
+        ax.set_ylabel(", ".join(names) + (f" [{', '.join(shown)}]" if shown else ""))
         if len(lines) > 4:  # many curves: the legend beside the axes, clear of them
             ax.legend(list(labels) if labels is not None else lines, fontsize="small",
                       loc="upper left", bbox_to_anchor=(1.01, 1.0))
@@ -574,7 +594,7 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
                 signals[name] = value
             return SimulationResult(t=ts, x=xs, u=us, signals=signals,
                                     layout=dict(getattr(plant, "state_layout", {})),
-                                    units=dict(getattr(plant, "units", {})))
+                                    units=dict(getattr(plant, "units", {})), components=declared_components(controller))
     derivative = plant.derivative if hasattr(plant, "derivative") else plant
     integrate = getattr(plant, "integrate", None)
     n_dx = getattr(plant, "tangent_size", x.size)
@@ -661,7 +681,22 @@ def simulate(plant: Plant | Callable[[float, np.ndarray, np.ndarray], np.ndarray
     return SimulationResult(t=ts, x=xs, u=_stacked(us),
                             signals={k: _stacked(v) for k, v in signals.items()},
                             layout=dict(layout),
-                            units=dict(getattr(plant, "units", {})))
+                            units=dict(getattr(plant, "units", {})), components=declared_components(controller))
+
+
+def declared_components(controller: Any) -> dict[str, list[tuple[str, str]]]:
+    """The ``signal_components`` ({signal: [(label, unit) per column]}) the controller's blocks declare (a
+    :class:`Chain`'s two blocks, a :class:`ZeroOrderHold`'s block; the later block wins a clash)."""
+    out: dict[str, list[tuple[str, str]]] = {}
+    stack, seen = [controller], set()
+    while stack:
+        block = stack.pop(0)
+        if block is None or id(block) in seen:
+            continue
+        seen.add(id(block))
+        out.update(getattr(block, "signal_components", None) or {})
+        stack += [getattr(block, name, None) for name in ("block", "first", "second")]
+    return out
 
 
 def _stacked(samples: list) -> np.ndarray:

@@ -153,9 +153,12 @@ def _points_interaction(ops: Any, x: Any, y: Any, z: Any) -> Any:
 
 
 def _segment(ops: Any, x1: Any, y1: Any, x2: Any, y2: Any) -> Any:
-    """[x_m, y_m, L, α] of (10.28), for either loop."""
+    """[x_m, y_m, L, α] of (10.28), for either loop (coincident end points: α undefined, a ValueError — NaN in
+    the compiled loop)."""
     dx, dy = x2 - x1, y2 - y1
-    return ops.vector(0.5 * (x1 + x2), 0.5 * (y1 + y2), ops.hypot(dx, dy), ops.atan2(dy, dx))
+    alpha = ops.unless(ops.logic_and(dx == 0.0, dy == 0.0), lambda: ops.atan2(dy, dx),
+                       lambda: "the segment's end points coincide in the image: α is undefined")
+    return ops.vector(0.5 * (x1 + x2), 0.5 * (y1 + y2), ops.hypot(dx, dy), alpha)
 
 
 def _segment_jacobian(ops: Any, x1: Any, y1: Any, x2: Any, y2: Any) -> Any:
@@ -234,8 +237,6 @@ class TargetFeatures:
 
     def _features(self, xy: np.ndarray) -> np.ndarray:
         """:meth:`features` of checked points (the laws' hot path)."""
-        if self.kind == "segment" and xy[1, 0] == xy[0, 0] and xy[1, 1] == xy[0, 1]:
-            raise ValueError("the segment's end points coincide in the image: α is undefined")
         return self.features_law(Numeric, xy[:, 0], xy[:, 1])
 
     def features_law(self, ops: Any, x: Any, y: Any) -> Any:
@@ -319,13 +320,15 @@ class EyeInHandCamera:
         ``hidden`` (a mask), plus the ``noise`` (dx, dy); x, y are NaN where a point is not seen."""
         R, o = ops.frame_pose(self._model, self._data, self.frame, q)
         X, Y, Z = ops.to_camera(R, o, self.points_b)                               # (5.35)
-        x, y, seen = ops.perspective(X, Y, Z)                                       # (5.40)
+        x, y, seen = ops.perspective(X, Y, Z)                                       # (5.40): NaN behind the camera
         if self.fov is not None:
             seen = ops.logic_and(seen, self.fov.contains_xy(x, y, both=ops.logic_and))
         if hidden is not None:
             seen = ops.logic_and(seen, ops.logic_not(hidden))
         if noise is not None:
             x, y = x + noise[0], y + noise[1]
+        if self.fov is None and hidden is None:
+            return x, y, Z, seen
         return ops.where(seen, x, np.nan), ops.where(seen, y, np.nan), Z, seen
 
     def hidden_at(self, t: float) -> np.ndarray | None:
@@ -366,12 +369,18 @@ class EyeInHandCamera:
             draws = self.noise * self.rng.standard_normal((self.n_points, 2))
             noise = (draws[:, 0], draws[:, 1])
         x, y, z, seen = self.image_law(Numeric, meas.q, noise, self.hidden_at(t))
-        return CameraImage(xy=np.column_stack((x, y)), visible=seen, z=z)
+        xy = np.empty((len(z), 2))
+        xy[:, 0], xy[:, 1] = x, y
+        return CameraImage(xy=xy, visible=seen, z=z)
 
 
 # --------------------------------------------------------------------------------------------
 # Pose estimation by inversion of the image Jacobian, Eqs. (10.40)–(10.41) (4-DOF case)
 # --------------------------------------------------------------------------------------------
+
+_NAN4 = np.full(4, np.nan)          # the estimator's log while the feature is lost (shared, read-only)
+_NAN4.setflags(write=False)
+
 
 class PoseEstimator(LoggedController):
     """x̂_{c,o} ← x̂ + T Γ(ô) L_s⁻¹(ŝ) K_s (s − ŝ): the discrete estimator of Fig. 10.11 / S10.1 at period ``T``.
@@ -399,10 +408,10 @@ class PoseEstimator(LoggedController):
     def predicted(self, x_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(ŝ, L_s) at the estimate: the features and the 4×4 interaction matrix of the estimated pose
         (columns v_x, v_y, v_z, ω_z of (10.26); segments through (10.28))."""
-        return self.predicted_law(Numeric, x_hat.tolist())
+        return self.predicted_law(Numeric, x_hat)
 
     def predicted_law(self, ops: Any, x_hat: Any) -> tuple[Any, Any]:
-        x, y, z, phi = x_hat[0], x_hat[1], x_hat[2], x_hat[3]
+        x, y, z, phi = ops.entries(x_hat)
         c, s = ops.cos(phi), ops.sin(phi)
         xy, rows = [], []
         for X, Y, Z in self._points:                     # p^c = o + R_z(φ) P, then (5.40)
@@ -439,8 +448,7 @@ class PoseEstimator(LoggedController):
         def step() -> tuple:
             return self.step_law(ops, x_hat, self.target.features_law(ops, x, y))
 
-        lost = np.full(4, np.nan)
-        x_next, e_s, s_hat = ops.cond(ops.logic_and(seen[0], seen[1]), step, lambda: (x_hat, lost, lost))
+        x_next, e_s, s_hat = ops.cond(ops.logic_and(seen[0], seen[1]), step, lambda: (x_hat, _NAN4, _NAN4))
         return x_next, {"x_hat": x_hat, "e_s": e_s, "s_hat": s_hat}
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
@@ -449,10 +457,7 @@ class PoseEstimator(LoggedController):
         never modified in place, so the output is not copied."""
         image = meas.image
         x_k = self.x_hat
-        visible = image.visible
-        if visible[0] and visible[1]:
-            self.target._features(image.xy)                 # coincident end points: α undefined (ValueError)
-        self.x_hat, signals = self.estimator_law(Numeric, x_k, image.xy[:, 0], image.xy[:, 1], visible)
+        self.x_hat, signals = self.estimator_law(Numeric, x_k, image.xy[:, 0], image.xy[:, 1], image.visible)
         self.record(**signals)
         return x_k
 
@@ -670,6 +675,13 @@ class _IBVSLaw(_CameraLaw):
         self._dofs = np.array(self.dofs)
         self._check_reach()
         self.stall: tuple[float, float] | None = None
+
+    @property
+    def signal_components(self) -> dict[str, list[tuple[str, str]]]:
+        """The columns of the logged e_s: x₁, y₁ … of points or x_m, y_m, L, α of a segment (normalised units)."""
+        from controllers.signals import SEGMENT_FEATURES, point_features
+
+        return {"e_s": list(SEGMENT_FEATURES) if self.target.kind == "segment" else point_features(self.target.size)}
 
     def reset(self) -> None:
         super().reset()
@@ -892,6 +904,13 @@ class VisualServo(Chain):
     found by the rule of :class:`~controllers.simulation.ZeroOrderHold` on the run's grid and fed as a
     reference row, with the camera's noise and occlusion (:meth:`EyeInHandCamera.inputs_at`)."""
 
+    def __call__(self, t: float, measurement: Any) -> Any:
+        if isinstance(measurement, np.ndarray):    # a JointIntegrator's bare state q: read it as the encoders
+            from controllers.plants import ArmMeasurement
+
+            measurement = ArmMeasurement(measurement, None)
+        return super().__call__(t, measurement)
+
     def _blocks(self) -> tuple[EyeInHandCamera, PoseEstimator | None, ZeroOrderHold]:
         inner = self.second
         if isinstance(inner, Chain):
@@ -1056,3 +1075,101 @@ class HybridVisualServo(_CameraLaw):
         v = -np.linalg.solve(J_p, self.K_p * e_p + J_o @ w)
         self.record(e_p=e_p, theta=float(np.linalg.norm(theta_r)))
         return self.joint_rates(meas.q, np.concatenate([v, w]))
+
+
+# --------------------------------------------------------------------------------------------
+# Set-up in one call: an eye-in-hand camera servoed to a desired pose by IBVS (Fig. 10.17)
+# --------------------------------------------------------------------------------------------
+
+def desired_point_features(T_d: Any, points_b: Any) -> tuple[TargetFeatures, np.ndarray]:
+    """The point features a camera at the desired pose ``T_d`` (= T_c^b, 4×4) sees of ``points_b`` (n, 3, base
+    frame): the target (its points in the desired camera frame, (5.35)) and s_d = [x₁, y₁, …, x_n, y_n] (10.26),
+    normalised image coordinates. ValueError when a point is not in front of that camera."""
+    T = as_homogeneous(T_d, "T_d")
+    points = as_points(points_b, 3, "points_b")
+    view = view_points((points - T[:3, 3]) @ T[:3, :3])
+    if not view.all_visible:
+        hidden = np.flatnonzero(~view.in_front).tolist()
+        raise ValueError(f"`points_b` {hidden} are not in front of the camera at `T_desired`: no desired image")
+    target = TargetFeatures((points - T[:3, 3]) @ T[:3, :3], kind="points")
+    return target, target.features(view.xy)
+
+
+@dataclass
+class EyeInHandLoop:
+    """An eye-in-hand IBVS loop built by :func:`eye_in_hand_ibvs`: the ``camera`` block, the ``law``
+    (:class:`IBVSResolvedVelocity`), their chain ``controller`` (:func:`visual_servo`), the ``plant``
+    (:class:`~controllers.plants.KinematicArm`, q̇ = u), the desired features ``s_d``, the vision period ``Tc`` [s]
+    and the field of view ``fov`` (None: unbounded image)."""
+
+    robot: Robot
+    camera: EyeInHandCamera
+    law: IBVSResolvedVelocity
+    controller: Any
+    plant: Any
+    s_d: np.ndarray
+    Tc: float
+    fov: FieldOfView | None = None
+
+    def run(self, q0: Any, t_f: float, **options: Any) -> Any:
+        """``simulate`` the loop from the joint positions ``q0`` for ``t_f`` seconds (step and sampling ``Tc``);
+        ``options`` go to :func:`controllers.simulation.simulate` (``backend=`` …). The result logs ``e_s``."""
+        from controllers.simulation import simulate
+
+        return simulate(self.plant, self.controller, (0.0, t_f), q0, h=self.Tc, Ts=self.Tc, **options)
+
+    def image(self, q: Any) -> np.ndarray:
+        """The noise-free image points (n, 2) (normalised coordinates; NaN where not seen) at joint positions q."""
+        x, y, _, _ = self.camera.image_law(Numeric, as_vector(q, self.robot.nq, "q"))
+        return np.column_stack((x, y))
+
+    def image_error(self, res: Any) -> np.ndarray:
+        """max |s − s_d| of the noise-free image at every sample of a run (NaN while a point is not seen)."""
+        return np.array([np.max(np.abs(self.image(q).ravel() - self.s_d)) for q in res.q])
+
+    def __repr__(self) -> str:
+        return (f"EyeInHandLoop({self.robot.name!r}, {self.camera.n_points} points, K_s = "
+                f"{np.unique(self.law.K_s).tolist()}, Tc = {self.Tc:g} s)")
+
+
+def eye_in_hand_ibvs(robot: Robot, points_b: Any, T_desired: Any, *, frame: str | int | None = None,
+                     camera: Any = None, image_size: tuple[float, float] | None = None, K_s: Any = 1.0,
+                     Tc: float = 0.02, depth: Any = None, damping: float | None = 1e-2, noise: float = 0.0,
+                     rng: np.random.Generator | None = None, lost: dict[int, tuple[float, float]] | None = None,
+                     dofs: Sequence[int] | None = None) -> EyeInHandLoop:
+    """Resolved-velocity IBVS (Fig. 10.17) of a camera on ``frame`` of ``robot`` (default: its end effector, z the
+    optical axis) looking at the points ``points_b`` (n, 3, base frame), to bring their image to the one seen from
+    the desired camera pose ``T_desired`` (4×4, base frame): builds the :class:`EyeInHandCamera`, the desired point
+    features (:func:`desired_point_features`), the law q̇_r = J_L^† K_s e_s, its chain at the vision period ``Tc``
+    and the kinematic plant. ``camera`` (a :class:`rigid_body.camera.PinholeCamera`) with ``image_size`` (width,
+    height) [pixel] bounds the field of view (points outside are not seen); ``depth`` None uses the measured depths,
+    a number a constant one (e.g. the desired depth); ``damping`` λ of the damped least squares (None: the plain
+    pseudo-inverse, refused near a singular J_L); ``noise`` σ [normalised units] with ``rng``, ``lost`` = {point:
+    (t_from, t_to)} an occlusion; ``dofs`` the camera-twist components commanded (default: all it moves along).
+
+    >>> import numpy as np
+    >>> from rigid_body.robots import load
+    >>> from rigid_body.kinematics import direct_kinematics
+    >>> panda = load("panda")
+    >>> q_d = panda.configurations["ready"]
+    >>> T_d = direct_kinematics(panda, q_d, "panda_hand")                 # the hand camera looks down along z
+    >>> square = T_d[:3, 3] + 0.5 * T_d[:3, 2] + 0.1 * np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]) @ T_d[:3, :3].T
+    >>> loop = eye_in_hand_ibvs(panda, square, T_d, frame="panda_hand", K_s=2.0)
+    >>> res = loop.run(q_d + 0.1, 4.0)                                  # from 0.1 rad off at every joint
+    >>> bool(loop.image_error(res)[-1] < 1e-3)
+    True
+    """
+    from controllers.plants import KinematicArm
+
+    fov = None
+    if camera is not None:
+        if image_size is None:
+            raise ValueError("`image_size` (width, height) [pixel] is required with `camera`: it bounds the field of view")
+        fov = camera.field_of_view(*image_size)
+    elif image_size is not None:
+        raise ValueError("`image_size` needs `camera` (a PinholeCamera) to give its field of view")
+    target, s_d = desired_point_features(T_desired, points_b)
+    Tc = as_positive(Tc, "Tc")
+    sensor = EyeInHandCamera(robot, points_b, frame, fov=fov, noise=noise, rng=rng, lost=lost)
+    law = IBVSResolvedVelocity(robot, target, s_d, K_s, depth=depth, frame=frame, dofs=dofs, damping=damping)
+    return EyeInHandLoop(robot, sensor, law, visual_servo(sensor, law, Tc), KinematicArm(), s_d, Tc, fov)

@@ -160,6 +160,7 @@ def panda_wall_on_mujoco() -> Solution:
     tool.
     """
     import examples.panda_wall_contact as wall_example
+    from controllers.scenes import WALL_FRICTION, panda_wall
 
     sol = Solution(id="mujoco-panda-wall", title="The Panda on a MuJoCo wall: fingertip contacts, friction cone",
                    kind="simulation")
@@ -200,10 +201,10 @@ def panda_wall_on_mujoco() -> Solution:
               "(within 2 %)", abs(f_imp["MuJoCo"][-1] / f_pred - 1) < 0.02,
               f"{f_imp['MuJoCo'][-1]:.4f} N vs {f_pred:.4f} N (K_eq = {K_eq:g} N/m, reach {reach * 1e3:.2f} mm)")
 
-    scene = wall_example._panda_wall_scene()
-    stepped = scene["wall"]
-    S_f, S_v = selection_matrices(("x", "y", "rx", "ry", "rz"), scene["R_c"])
-    slide = scene["slide"]
+    scene = panda_wall()
+    stepped = scene.wall
+    S_f, S_v = selection_matrices(("x", "y", "rx", "ry", "rz"), scene.R_c)
+    slide = scene.slide
 
     def nu_reference(t: float) -> tuple[np.ndarray, np.ndarray]:
         _, sd, sdd = slide(t)
@@ -213,8 +214,8 @@ def panda_wall_on_mujoco() -> Solution:
                                       compliance=np.eye(6) / stepped.stiffness, frame=TOOL, null_space_damping=10.0)
     # the CLIK start posture has joint 5 on its limit: MuJoCo's limits are left out, as ArmInContact has none
     hyb_mj, hyb_pin = _both(MujocoPlant(panda, stepped, frame=TOOL, probe=0.005, joint_limits=False),
-                            ArmInContact(panda, stepped, frame=TOOL), hybrid, scene["q0"], wall_example.T_PANDA)
-    n_s, t = scene["n"], hyb_mj.t
+                            ArmInContact(panda, stepped, frame=TOOL), hybrid, scene.q0, wall_example.T_PANDA)
+    n_s, t = scene.n, hyb_mj.t
     f_hyb = {"MuJoCo": -(hyb_mj["h_e"][:, :3] @ n_s), "Pinocchio": -(hyb_pin["h_e"][:, :3] @ n_s)}
     cruise = (t > 1.3) & (t < 1.9)
     tangential = {k: r["h_e"][cruise, :3] - np.outer(r["h_e"][cruise, :3] @ n_s, n_s)
@@ -224,7 +225,7 @@ def panda_wall_on_mujoco() -> Solution:
     sol.value("hybrid_sliding_normal_force", normal)
     sol.value("hybrid_sliding_friction_force", friction)
     sol.check("sliding: friction = μ f_n on both (MuJoCo's cone edge, the regularised Coulomb law)",
-              all(abs(friction[k] / (wall_example.WALL_FRICTION * normal[k]) - 1) < 0.02 for k in friction),
+              all(abs(friction[k] / (WALL_FRICTION * normal[k]) - 1) < 0.02 for k in friction),
               ", ".join(f"{k}: {friction[k]:.3f} N / {normal[k]:.3f} N" for k in friction))
     sol.check("sliding: MuJoCo's normal force exceeds the 20 N held on the compliant plane by < 10 % (its soft "
               "friction cone turns part of the tangential push into normal force)",
@@ -259,7 +260,8 @@ def planned_motion_on_mujoco(seed: int = 1) -> Solution:
     """The Panda's RRT-Connect motion out of the shelf (certified, shortcut, time-optimal, re-checked) tracked by
     computed torque (8.57), K_P = 400, K_D = 40, on MuJoCo among the boxes and on ArmPlant; then the straight line
     between the same postures (a quintic in 3 s), which the planner would not accept, on MuJoCo."""
-    from examples.planning import panda_shelf, plan_and_time
+    from controllers.scenes import panda_shelf
+    from examples.planning import plan_and_time
 
     sol = Solution(id="mujoco-plan", title="A planned Panda motion executed on MuJoCo among the boxes",
                    kind="simulation")

@@ -20,23 +20,20 @@ Run it from a notebook or ``python -m examples.panda_visual_servoing``; it retur
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from controllers.plants import KinematicArm
+from controllers.scenes import CameraTarget, panda_camera_target
 from controllers.simulation import SimulationResult, simulate
-from controllers.visual_servoing import (EyeInHandCamera, HybridVisualServo, IBVSResolvedVelocity,
-                                         PBVSPoseResolvedVelocity, TargetFeatures, visual_servo)
-from planners.inverse_kinematics import solve_clik
-from problems.ch10 import eye_in_hand_animation
+from controllers.visual_servoing import (EyeInHandCamera, EyeInHandLoop, HybridVisualServo, PBVSPoseResolvedVelocity,
+                                         eye_in_hand_ibvs, visual_servo)
 from problems.common import label_axes, subplots
 from problems.registry import Solution
 from rigid_body.camera import PinholeCamera, view_target
 from rigid_body.kinematics import direct_kinematics
-from rigid_body.robots import load
-from rigid_body.rotations import rot_z
+from viewer import eye_in_hand_animation
 
 CAMERA = PinholeCamera(600.0, 600.0, 320.0, 240.0)
 FOV = CAMERA.field_of_view(640, 480)
@@ -49,50 +46,32 @@ K_S = 1.0
 DAMPING = 1e-2       # λ of the damped least-squares inverse of J_L (8×7): defined through the occlusion and the retreat
 
 
-@dataclass(frozen=True)
-class PandaScene:
-    robot: Any
-    points_b: np.ndarray   # the four points (base frame)
-    q_d: np.ndarray        # desired configuration
-    T_d: np.ndarray        # desired camera pose
+def scene() -> CameraTarget:
+    """The Panda, the four points on the table and the desired camera pose (0.5 m above their centre):
+    :func:`controllers.scenes.panda_camera_target`."""
+    return panda_camera_target(SIDE, DEPTH, Q_DESIRED_GUESS)
 
 
-def scene() -> PandaScene:
-    """The Panda, the four points on the table and the desired camera pose (0.5 m above their centre)."""
-    robot = load("panda")
-    T_d = direct_kinematics(robot, Q_DESIRED_GUESS, FRAME)
-    c = T_d[:3, 3] + DEPTH * T_d[:3, 2]               # the square's centre on the optical axis
-    h = SIDE / 2
-    corners = np.array([[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]])
-    return PandaScene(robot, c + corners @ T_d[:3, :3].T, Q_DESIRED_GUESS.copy(), T_d)
-
-
-def start_configuration(sc: PandaScene, angle: float, offset_c: Any) -> np.ndarray:
+def start_configuration(sc: CameraTarget, angle: float, offset_c: Any) -> np.ndarray:
     """Joints placing the camera at T_d · (rotation ``angle`` about z_c, translation ``offset_c`` in the camera frame)."""
-    T = np.eye(4)
-    T[:3, :3], T[:3, 3] = rot_z(angle), offset_c
-    for sign in (1.0, -1.0):                           # joint 7 turns the hand about z_c: seed it with ±angle
-        guess = sc.q_d.copy()
-        guess[6] += sign * angle
-        if sc.robot.lower[6] <= guess[6] <= sc.robot.upper[6]:
-            ik = solve_clik(sc.robot, sc.T_d @ T, guess)
-            if ik.success:
-                return ik.q
-    raise ValueError(f"start pose (angle {angle}, offset {offset_c}) unreachable within the joint limits")
+    return sc.start(angle, offset_c)
 
 
-def run_ibvs(sc: PandaScene, q0: np.ndarray, t_f: float, noise: float = 0.0, lost=None,
+def ibvs_loop(sc: CameraTarget, noise: float = 0.0, lost=None, depth: float | None = None,
+              seed: int = 10) -> EyeInHandLoop:
+    """Resolved-velocity IBVS of the four points (:func:`controllers.visual_servoing.eye_in_hand_ibvs`): the
+    640 × 480 camera, K_s, T_c and the damping of this module."""
+    return eye_in_hand_ibvs(sc.robot, sc.points_b, sc.T_d, frame=FRAME, camera=CAMERA, image_size=(640, 480), K_s=K_S,
+                            Tc=TC, depth=depth, damping=DAMPING, noise=noise, rng=np.random.default_rng(seed), lost=lost)
+
+
+def run_ibvs(sc: CameraTarget, q0: np.ndarray, t_f: float, noise: float = 0.0, lost=None,
              depth: float | None = None, seed: int = 10) -> SimulationResult:
     """Resolved-velocity IBVS with the four points from ``q0`` for ``t_f`` seconds."""
-    target = TargetFeatures(sc.points_b @ sc.T_d[:3, :3] - sc.T_d[:3, :3].T @ sc.T_d[:3, 3], kind="points")
-    s_d = target.features(view_target(sc.T_d, sc.points_b).xy)
-    camera = EyeInHandCamera(sc.robot, sc.points_b, FRAME, fov=FOV, noise=noise,
-                             rng=np.random.default_rng(seed), lost=lost)
-    law = IBVSResolvedVelocity(sc.robot, target, s_d, K_S, depth=depth, frame=FRAME, damping=DAMPING)
-    return simulate(KinematicArm(), visual_servo(camera, law, TC), (0.0, t_f), q0, h=TC, Ts=TC)
+    return ibvs_loop(sc, noise, lost, depth, seed).run(q0, t_f)
 
 
-def run_hybrid(sc: PandaScene, q0: np.ndarray, t_f: float, K_p: float = 1.0, K_o: float = 1.0) -> SimulationResult:
+def run_hybrid(sc: CameraTarget, q0: np.ndarray, t_f: float, K_p: float = 1.0, K_o: float = 1.0) -> SimulationResult:
     """2½-D visual servoing (:class:`HybridVisualServo`) with the four points from ``q0`` for ``t_f`` seconds:
     the plane's normal in the desired camera frame is its optical axis (the square faces the camera)."""
     xy_d = view_target(sc.T_d, sc.points_b).xy
@@ -102,7 +81,7 @@ def run_hybrid(sc: PandaScene, q0: np.ndarray, t_f: float, K_p: float = 1.0, K_o
     return simulate(KinematicArm(), visual_servo(camera, law, TC), (0.0, t_f), q0, h=TC, Ts=TC)
 
 
-def run_pbvs(sc: PandaScene, q0: np.ndarray, t_f: float, K_p: float = 1.0, K_o: float = 1.0) -> SimulationResult:
+def run_pbvs(sc: CameraTarget, q0: np.ndarray, t_f: float, K_p: float = 1.0, K_o: float = 1.0) -> SimulationResult:
     """6-DOF resolved-velocity PBVS (:class:`PBVSPoseResolvedVelocity`) with the four points from ``q0``: the
     object frame is the square's (centre, axes of the desired camera), so T_o^d = [I, (0, 0, 0.5)]."""
     centre = sc.points_b.mean(axis=0)
@@ -114,18 +93,18 @@ def run_pbvs(sc: PandaScene, q0: np.ndarray, t_f: float, K_p: float = 1.0, K_o: 
     return simulate(KinematicArm(), visual_servo(camera, law, TC), (0.0, t_f), q0, h=TC, Ts=TC)
 
 
-def views(sc: PandaScene, res: SimulationResult) -> list:
+def views(sc: CameraTarget, res: SimulationResult) -> list:
     """The (noise-free) view of the points at every sample, with the field of view."""
     return [view_target(direct_kinematics(sc.robot, q, FRAME), sc.points_b, FOV) for q in res.q]
 
 
-def _depth(sc: PandaScene, res: SimulationResult) -> np.ndarray:
+def camera_depth(sc: CameraTarget, res: SimulationResult) -> np.ndarray:
     """Distance of the camera from the target plane along the plane's normal [m]."""
     n, c = sc.T_d[:3, 2], sc.points_b.mean(axis=0)
     return np.array([float(n @ (c - direct_kinematics(sc.robot, q, FRAME)[:3, 3])) for q in res.q])
 
 
-def _angle_about_axis(sc: PandaScene, res: SimulationResult) -> np.ndarray:
+def angle_about_axis(sc: CameraTarget, res: SimulationResult) -> np.ndarray:
     """Rotation of the camera about its optical axis relative to the desired pose [rad]."""
     out = []
     for q in res.q:
@@ -177,8 +156,8 @@ def panda_ibvs() -> Solution:
 
     q_pi = start_configuration(sc, np.pi, np.zeros(3))
     retreat = run_ibvs(sc, q_pi, 1.2, depth=DEPTH)
-    z = _depth(sc, retreat)
-    turn = _angle_about_axis(sc, retreat)
+    z = camera_depth(sc, retreat)
+    turn = angle_about_axis(sc, retreat)
     sol.value("retreat_depth_max", float(z.max()))
     sol.check("rotation by π about the optical axis: the camera retreats (depth grows > 0.2 m) ...",
               z.max() - DEPTH > 0.2, f"depth {DEPTH} → {z.max():.3f} m")
@@ -203,10 +182,11 @@ def panda_ibvs() -> Solution:
     axes[2].plot(retreat.t, np.abs(turn), label="|rotation about z_c| [rad]")
     label_axes(axes[2], "t [s]", "depth [m], angle [rad]", title="start rotated by π: retreat", legend=True)
     sol.figure(fig, "Panda IBVS — image paths, error norm, camera retreat")
-    eye_in_hand_animation(sol, robot, res, sc.points_b, "IBVS from 60° and 0.2 m off: the hand camera's "
-                          "640 × 480 viewing pyramid (to the target plane) and the rays to the four points",
-                          frame=FRAME, half_width=(CAMERA.X0 / CAMERA.f_alpha_x, CAMERA.Y0 / CAMERA.f_alpha_y),
-                          depth=DEPTH)
+    sol.animation(robot, title="IBVS from 60° and 0.2 m off: the hand camera's 640 × 480 viewing pyramid (to the "
+                  "target plane) and the rays to the four points",
+                  **eye_in_hand_animation(robot, res, sc.points_b, frame=FRAME,
+                                          half_width=(CAMERA.X0 / CAMERA.f_alpha_x, CAMERA.Y0 / CAMERA.f_alpha_y),
+                                          depth=DEPTH))
     return sol
 
 

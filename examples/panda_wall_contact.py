@@ -14,81 +14,58 @@ Sects. 9.3, 9.5–9.7.
 
 from __future__ import annotations
 
-from typing import Any
 
 import numpy as np
 import pinocchio as pin
 from scipy.signal import lsim
 
-from controllers.environment import SteppedPlane
 from controllers.force import HybridForceMotionControl
 from controllers.operational_space import OperationalInverseDynamics
 from controllers.plants import ArmInContact
 from controllers.simulation import SimulationResult, simulate
-from planners.inverse_kinematics import solve_clik
+from controllers.scenes import PANDA_TOOL, SLIDE, STEP_AT, STEP_DEPTH, WALL_FRICTION, WALL_STIFFNESS, PandaWall, \
+    panda_wall
 from planners.timing import quintic_law
-from problems.ch09 import contact_animation
 from problems.common import label_axes, subplots
 from problems.registry import Solution
 from rigid_body.kinematics import direct_kinematics
-from rigid_body.robots import Robot, load
-from rigid_body.rotations import homogeneous_transform, rot_y
-from rigid_body.task_space import TaskSpace, selection_matrices
+from rigid_body.robots import Robot
+from rigid_body.rotations import homogeneous_transform
+from rigid_body.task_space import selection_matrices
+from viewer import contact_animation
 
 T_C = 1e-3                  # controller sampling period and plant step [s]
-PANDA_TOOL = "panda_hand_tcp"
-WALL_STIFFNESS, WALL_DAMPING, WALL_FRICTION = 2e4, 200.0, 0.3   # [N/m], [N·s/m], Coulomb μ
-SLIP_VELOCITY = 0.01        # friction regularisation [m/s]: below it friction is a damper μN/v_s, which must
-                            # stay non-stiff for RK4 at 1 ms on the tool's few-kg task-space inertia
 F_PUSH = 20.0               # the force held on the wall [N]
-SLIDE, STEP_AT, STEP_DEPTH = 0.2, 0.1, 0.01   # sliding length, edge along the slide, recess depth [m]
 T_PANDA = 3.5               # simulated time [s]: approach 0–1 s, slide 1–3 s (quintic), hold
 
 
-def _panda_wall_scene() -> dict[str, Any]:
-    """The Panda's tool (``panda_hand_tcp``) pointing along +x₀ at p₀ = [0.59, −0.1, 0.45] m, 1 cm from a
-    wall x₀ = 0.6 m (outward normal n = −x₀) that steps back by 1 cm 0.1 m further along +y₀."""
-    panda = load("panda")
-    R0, p0 = rot_y(np.pi / 2), np.array([0.59, -0.1, 0.45])
-    q_ready = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
-    ik = solve_clik(panda, homogeneous_transform(R0, p0), q_ready, TaskSpace(PANDA_TOOL, "axis_angle"))
-    if not ik.success:
-        raise RuntimeError(f"no Panda posture at the start pose: {ik.message}")
-    n, t1 = np.array([-1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
-    wall = SteppedPlane([0.6, p0[1], p0[2]], n, t1, STEP_AT, STEP_DEPTH, WALL_STIFFNESS, WALL_DAMPING,
-                        friction=WALL_FRICTION, slip_velocity=SLIP_VELOCITY)
-    R_c = np.column_stack([t1, np.cross(n, t1), n])       # x_c along the slide, z_c the wall's outward normal
-    return dict(panda=panda, q0=ik.q, R0=R0, p0=p0, n=n, t1=t1, wall=wall, R_c=R_c,
-                slide=quintic_law(0.0, SLIDE, 3.0, t_i=1.0))
-
-
-def _panda_hybrid(scene: dict[str, Any]) -> SimulationResult:
+def panda_hybrid(scene: PandaWall) -> SimulationResult:
     """Hybrid force/motion control: λ along n (λ_d = −20 N), PI velocity on the other 5 twist components
     (slide along +y₀, no rotation). Gains: k_Pλ = 400, k_Dλ = 32 (ω = 20 rad/s, ζ = 0.8 with the stiffness
     known), k_Pν = 16, k_Iν = 100; in free space the force loop approaches at ĉ k_Pλ |λ_d| / k_Dλ."""
-    S_f, S_v = selection_matrices(("x", "y", "rx", "ry", "rz"), scene["R_c"])
-    slide = scene["slide"]
+    S_f, S_v = selection_matrices(("x", "y", "rx", "ry", "rz"), scene.R_c)
+    slide = scene.slide
 
     def nu_reference(t: float) -> tuple[np.ndarray, np.ndarray]:
         _, sd, sdd = slide(t)
         return np.array([sd, 0.0, 0.0, 0.0, 0.0]), np.array([sdd, 0.0, 0.0, 0.0, 0.0])
 
-    panda = scene["panda"]
+    panda = scene.panda
     ctrl = HybridForceMotionControl(panda, S_f, S_v, [-F_PUSH], nu_reference, 16.0, 100.0, 32.0, 400.0,
                                     compliance=np.eye(6) / WALL_STIFFNESS, frame=PANDA_TOOL, null_space_damping=10.0)
-    plant = ArmInContact(panda, scene["wall"], frame=PANDA_TOOL)
-    return simulate(plant, ctrl, (0.0, T_PANDA), plant.initial_state(scene["q0"]), h=T_C, Ts=T_C)
+    plant = ArmInContact(panda, scene.wall, frame=PANDA_TOOL)
+    return simulate(plant, ctrl, (0.0, T_PANDA), plant.initial_state(scene.q0), h=T_C, Ts=T_C)
 
 
 PANDA_IMPEDANCE = dict(M_d=np.r_[5.0, 5.0, 5.0, 0.5, 0.5, 0.5], K_P=np.r_[1000.0, 1000.0, 1000.0, 100.0, 100.0, 100.0],
                        K_D=np.r_[400.0, 400.0, 400.0, 15.0, 15.0, 15.0])
 
 
-def _panda_impedance(scene: dict[str, Any], depth: float) -> SimulationResult:
+def panda_impedance(scene: PandaWall, depth: float) -> SimulationResult:
     """Impedance control with force feedback (9.30)–(9.31) on the full pose (quaternion error): the
     reference approaches to ``depth`` behind the wall in 1 s, then slides along +y₀."""
-    p0, n, t1, R0, slide = scene["p0"], scene["n"], scene["t1"], scene["R0"], scene["slide"]
-    gap = float(n @ (p0 - scene["wall"].point))
+    p0, n, t1, R0, slide = scene.p0, scene.n, scene.t1, scene.R0, scene.slide
+    gap = float(n @ (p0 - scene.wall.point))
     approach = quintic_law(0.0, gap + depth, 1.0)
 
     def reference(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -98,13 +75,13 @@ def _panda_impedance(scene: dict[str, Any], depth: float) -> SimulationResult:
         v[:3], acc[:3] = -ad * n + sd * t1, -add * n + sdd * t1
         return homogeneous_transform(R0, p0 - a * n + s * t1), v, acc
 
-    panda = scene["panda"]
+    panda = scene.panda
     g = PANDA_IMPEDANCE
     ctrl = OperationalInverseDynamics(panda, g["K_P"], g["K_D"], reference, frame=PANDA_TOOL, orientation="quaternion",
                                       inertia=g["M_d"], force_feedback=True, null_space_damping=10.0,
-                                      posture=scene["q0"], posture_stiffness=0.0)
-    plant = ArmInContact(panda, scene["wall"], frame=PANDA_TOOL)
-    return simulate(plant, ctrl, (0.0, T_PANDA), plant.initial_state(scene["q0"]), h=T_C, Ts=T_C)
+                                      posture=scene.q0, posture_stiffness=0.0)
+    plant = ArmInContact(panda, scene.wall, frame=PANDA_TOOL)
+    return simulate(plant, ctrl, (0.0, T_PANDA), plant.initial_state(scene.q0), h=T_C, Ts=T_C)
 
 
 def _orientation_error(panda: Robot, qs: np.ndarray, R0: np.ndarray) -> np.ndarray:
@@ -122,20 +99,20 @@ def panda_wall_contact() -> Solution:
     """
     sol = Solution(id="panda-wall", title="Panda: impedance and hybrid force/motion control on a wall",
                    kind="simulation")
-    scene = _panda_wall_scene()
-    panda, n, t1 = scene["panda"], scene["n"], scene["t1"]
+    scene = panda_wall()
+    panda, n, t1 = scene.panda, scene.n, scene.t1
     k = WALL_STIFFNESS
-    hyb = _panda_hybrid(scene)
+    hyb = panda_hybrid(scene)
     K_Pi = PANDA_IMPEDANCE["K_P"][0]
     k_series = K_Pi * k / (K_Pi + k)                         # active stiffness in series with the wall
     depth = F_PUSH / k_series                                # reference behind the wall for 20 N at rest
-    imp = _panda_impedance(scene, depth)
+    imp = panda_impedance(scene, depth)
     runs = {"hybrid": hyb, "impedance": imp}
     t = hyb.t
     f_n = {name: -(r["h_e"][:, :3] @ n) for name, r in runs.items()}          # pushing force [N] ≥ 0
-    slide_pos = {name: r["p_e"] @ t1 - scene["p0"] @ t1
+    slide_pos = {name: r["p_e"] @ t1 - scene.p0 @ t1
                  for name, r in runs.items()}
-    ori = {name: _orientation_error(panda, r.q[::10], scene["R0"]) for name, r in runs.items()}
+    ori = {name: _orientation_error(panda, r.q[::10], scene.R0) for name, r in runs.items()}
 
     # hybrid: the force is held, lost at the edge, regained at the predicted instant
     cruise = (t > 1.3) & (t < 1.9)
@@ -194,7 +171,7 @@ def panda_wall_contact() -> Solution:
         axes[1].plot(t, slide_pos[name], style, label=name)
         axes[2].plot(t[::10], ori[name] * 1e3, style, label=name)
     axes[0].axhline(F_PUSH, color="k", ls=":", lw=1, label="20 N")
-    axes[1].plot(t, [scene["slide"](ti)[0] for ti in t], "k:", lw=1, label="reference")
+    axes[1].plot(t, [scene.slide(ti)[0] for ti in t], "k:", lw=1, label="reference")
     axes[1].axhline(STEP_AT, color="0.5", lw=0.8, label="edge of the step")
     label_axes(axes[0], None, "force on the wall [N]")
     label_axes(axes[1], None, "tool along the slide [m]")
@@ -203,15 +180,16 @@ def panda_wall_contact() -> Solution:
     fig2, ax = subplots(figsize=(6.4, 3.4))
     for name, style in (("hybrid", "C0-"), ("impedance", "C1--")):
         ax.plot(runs[name]["p_e"][:, 1], runs[name]["p_e"][:, 0] * 1e3, style, label=name)
-    y = scene["p0"][1] + np.array([-0.02, STEP_AT, STEP_AT, 0.25])
+    y = scene.p0[1] + np.array([-0.02, STEP_AT, STEP_AT, 0.25])
     ax.plot(y, [600.0, 600.0, 610.0, 610.0], "k--", label="wall at rest")
     label_axes(ax, "y [m]", "x [mm]")
     sol.figure(fig2, "Tool path (top view) and the stepped wall")
-    wall = scene["wall"]
+    wall = scene.wall
     before = wall.point + (STEP_AT - 0.1) * t1                              # the wall up to the edge …
     after = wall.point - STEP_DEPTH * n + (STEP_AT + 0.1) * t1               # … and the recess beyond it
-    contact_animation(sol, panda, hyb, "hybrid force/motion control on the stepped wall: force −h_e (0.15 m per 20 N)",
-                      n, [(before, (0.3, 0.2)), (after, (0.3, 0.2))], 7.5e-3, frame=PANDA_TOOL)
+    sol.animation(panda, title="hybrid force/motion control on the stepped wall: force −h_e (0.15 m per 20 N)",
+                  **contact_animation(panda, hyb, n, [(before, (0.3, 0.2)), (after, (0.3, 0.2))], 7.5e-3,
+                                      frame=PANDA_TOOL))
     return sol
 
 

@@ -1,8 +1,9 @@
 """Beyond the book: the sampling planners of Ch. 12 on URDF arms among boxes, then timed and re-checked.
 
-Two scenes: the Panda (example-robot-data, its SRDF's self-collision filter) reaching from inside a
-shelf (a table, a shelf board and a back panel) to above the board, and the book's anthropomorphic arm
-(Sect. 2.9.4, DH table, cylinders) swinging over a pillar standing on a table. For each, the one call
+Two scenes (:mod:`controllers.scenes`): the Panda (example-robot-data, its SRDF's self-collision filter) reaching
+from inside a shelf (a table, a shelf board and a back panel) to above the board (``panda_shelf``), and the book's
+anthropomorphic arm (Sect. 2.9.4, DH table, cylinders) swinging over a pillar standing on a table
+(``anthropomorphic_pillar``). For each, the one call
 sequence that cannot produce a colliding motion (:func:`plan_and_time`): RRT-Connect or PRM (Sect. 12.5)
 in :class:`planners.collision.UrdfCSpace` with certified edges, certified random shortcutting, then the
 time-optimal timing of the certified polyline with certified blends
@@ -24,68 +25,21 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np
-import pinocchio as pin
 
-from planners.collision import Box, CollisionChecker, UrdfCSpace, example_robot_srdf
+from controllers.scenes import Scenario, anthropomorphic_pillar, panda_shelf
+from planners.collision import CollisionChecker
 from planners.optimization import JointLimits
 from planners.sampling import PlanResult, path_length, prm, rrt_connect, shortcut
 from planners.time_optimal import TimeOptimalPath, time_optimal_path
 from planners.timing import PiecewisePolynomial, multi_segment_law
 from problems.common import label_axes, subplots
 from problems.registry import Solution
-from rigid_body.robots import Robot, load
 from rigid_body.validation import as_positive
+from viewer import box_overlays, frame_path
 
-__all__ = ["Scenario", "TimedMotion", "panda_shelf", "anthropomorphic_pillar", "plan", "limits", "time_path",
-           "recheck", "recheck_path", "plan_and_time", "box_overlays", "end_effector_path", "planning_demo"]
+__all__ = ["TimedMotion", "plan", "limits", "time_path", "recheck", "recheck_path", "plan_and_time", "planning_demo"]
 
-RESOLUTION = 0.05        # local-path check step of the planners' explicit sampled mode [rad, Euclidean]
 RECHECK_STEP = 0.005     # fine grid of the independent re-check [rad, max-norm]
-
-
-@dataclass
-class Scenario:
-    """A robot among boxes with a planning query and the limits of its timing law."""
-
-    name: str
-    robot: Robot
-    boxes: tuple[Box, ...]
-    space: UrdfCSpace
-    q_start: np.ndarray
-    q_goal: np.ndarray
-    qd_max: np.ndarray      # joint speed limits of the timing law [rad/s]
-    qdd_max: np.ndarray     # joint acceleration limits [rad/s²]
-
-
-def panda_shelf(resolution: float = RESOLUTION) -> Scenario:
-    """The Panda (base at the origin) with a table top (z = 0.18–0.22 m), a shelf board (z ≈ 0.6 m) and a
-    back panel in front of it; start: the hand inside the shelf (0.55, 0.25, 0.40) m pointing into it,
-    goal: the hand above the board (0.40, −0.20, 0.80) m pointing down (found once by CLIK, stored).
-    Self-collision pairs: all, minus the SRDF's ``disable_collisions`` and adjacent links."""
-    robot = load("panda")
-    boxes = (Box([0.6, 0.0, 0.20], [0.5, 1.2, 0.04], "table"),
-             Box([0.6, 0.0, 0.60], [0.5, 1.2, 0.03], "shelf"),
-             Box([0.87, 0.0, 0.45], [0.04, 1.2, 0.5], "back"))
-    checker = CollisionChecker(robot, boxes, srdf=example_robot_srdf("panda"))
-    return Scenario("Panda: from inside the shelf to above it", robot, boxes,
-                    UrdfCSpace(checker, resolution),
-                    np.array([1.67, 1.465, -1.622, -1.833, 2.89, 2.973, 2.487]),
-                    np.array([-0.065, -0.081, -0.36, -1.159, -0.032, 1.083, 0.346]),
-                    0.5 * np.array(robot.model.velocityLimit), np.full(7, 5.0))
-
-
-def anthropomorphic_pillar(resolution: float = RESOLUTION) -> Scenario:
-    """The book's anthropomorphic arm (a₂ = 0.5 m, a₃ = 0.4 m; cylinders of its DH → URDF) on a table
-    (top at z = −0.43 m) with a pillar (top at z = 0.5 m) in front: from one side of the pillar to the
-    other, the arm must lift over it. Self-collision: non-adjacent links (no SRDF)."""
-    robot = load("anthropomorphic")
-    boxes = (Box([0.5, 0.0, -0.45], [0.8, 1.4, 0.04], "table"),
-             Box([0.55, 0.0, 0.03], [0.15, 0.15, 0.94], "pillar"))
-    checker = CollisionChecker(robot, boxes)
-    return Scenario("anthropomorphic arm: over the pillar", robot, boxes,
-                    UrdfCSpace(checker, resolution),
-                    np.array([0.6, -0.3, 0.9]), np.array([-0.6, -0.3, 0.9]),
-                    np.full(3, 1.5), np.full(3, 4.0))
 
 
 def plan(scenario: Scenario, planner: str, seed: int, edge_check: str = "certified") -> PlanResult:
@@ -189,26 +143,6 @@ def plan_and_time(scenario: Scenario, planner: str = "rrt_connect", seed: int = 
     return TimedMotion(res, path, motion, free, n, res.distance_queries)
 
 
-def box_overlays(boxes: Any, polylines: tuple = ()) -> Callable[[Any], None]:
-    """A ``viewer`` overlay: the boxes (grey) and polylines (e.g. the end-effector path)."""
-    def draw(scene: Any) -> None:
-        for k, b in enumerate(boxes):
-            scene.box(f"obstacles/{b.name}_{k}", pin.SE3(np.eye(3), b.center).homogeneous, b.size,
-                      color="#8c8c8c", opacity=0.6)
-        for k, p in enumerate(polylines):
-            scene.polyline(f"paths/{k}", p, radius=0.005)
-    return draw
-
-
-def end_effector_path(robot: Robot, Q: Any) -> np.ndarray:
-    """Positions (N, 3) of the end-effector frame at the configurations Q (N, n)."""
-    out = []
-    for q in np.atleast_2d(Q):
-        pin.framesForwardKinematics(robot.model, robot.data, q)
-        out.append(robot.data.oMf[robot.ee_frame].translation.copy())
-    return np.array(out)
-
-
 def planning_demo(scenario: Scenario, seed: int = 1) -> Solution:
     """RRT-Connect and PRM on ``scenario``: path lengths, distance queries, certified timed motion, its
     independent re-check; a figure of the joint trajectories of the RRT-Connect motion with the limits."""
@@ -258,7 +192,7 @@ def planning_demo(scenario: Scenario, seed: int = 1) -> Solution:
     t_anim = np.linspace(0.0, m.motion.t_f, int(30 * m.motion.t_f) + 2)
     q_anim = np.reshape(m.motion(t_anim)[0], (t_anim.size, -1))
     sol.animation(scenario.robot, (t_anim, q_anim), f"{scenario.name} (RRT-Connect, timed)",
-                  overlays=box_overlays(scenario.boxes, (end_effector_path(scenario.robot, q_anim),)))
+                  overlays=box_overlays(scenario.boxes, (frame_path(scenario.robot, q_anim),)))
     return sol
 
 

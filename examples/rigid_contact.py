@@ -92,13 +92,12 @@ class ArmOnRigidPlane:
 
 def rigid_versus_compliant(stiffnesses: tuple[float, ...] = (1e3, 1e4, 1e5, 1e6), duration: float = 1.0) -> Solution:
     """Compliance control pressing the Panda's tool into a wall, rigid (constrained dynamics) vs compliant."""
-    from examples.panda_wall_contact import _panda_wall_scene
+    from controllers.scenes import panda_wall
 
     sol = Solution(id="rigid-contact", title="Rigid wall (constrained dynamics) as the limit of a compliant one",
                    kind="simulation")
-    scene = _panda_wall_scene()
-    panda, R0 = scene["panda"], scene["R0"]
-    q0 = scene["q0"]
+    scene = panda_wall()
+    panda, R0, q0 = scene.panda, scene.R0, scene.q0
     p_start = direct_kinematics(panda, q0, TOOL)[:3, 3]
     p_start = p_start - float(NORMAL @ (p_start - O_R)) * NORMAL        # the tool on the wall's surface
     from planners.inverse_kinematics import solve_clik

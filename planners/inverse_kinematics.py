@@ -138,13 +138,18 @@ def _failure_reason(robot: Robot, q_start: np.ndarray, q_best: np.ndarray, J: np
     at_limit = np.flatnonzero((q_best <= robot.lower + 1e-6) | (q_best >= robot.upper - 1e-6))
     sv = np.linalg.svd(J, compute_uv=False)
     causes = []
-    if at_limit.size:
+    if at_limit.size == 1:
+        causes.append(f"q[{at_limit[0]}] at its joint limit")
+    elif at_limit.size:
         causes.append(f"q[{', '.join(map(str, at_limit))}] at their joint limits")
     if sv[-1] < 1e-6 * max(sv[0], 1e-12):
         causes.append(f"a singular Jacobian (σ_min = {sv[-1]:.2g})")
     moved = np.max(np.abs(q_best - q_start)) > 1e-9
     what = "stalled" if moved else "never improved on its start"
-    return f"{what} with {' and '.join(causes)}" if causes else f"{what}: a local minimum or an unreachable pose"
+    others = [name for name, q in getattr(robot, "configurations", {}).items()
+              if np.max(np.abs(np.asarray(q) - q_start)) > 1e-9]
+    hint = f"; start from another posture, e.g. robot.configurations[{others[0]!r}]" if others and not moved else ""
+    return (f"{what} with {' and '.join(causes)}" if causes else f"{what}: a local minimum or an unreachable pose") + hint
 
 
 # --------------------------------------------------------------------------------------------

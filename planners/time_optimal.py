@@ -205,6 +205,13 @@ class TimeOptimalPath:
     def t_i(self) -> float:
         return 0.0
 
+    def __repr__(self) -> str:
+        """One line: duration, size, the certificate and the limit ratios (not the arrays)."""
+        cert = f"certified, min clearance {self.min_clearance:.3g} m" if self.certified else "not certified"
+        ratios = ", ".join(f"{k} {v:.3g}" for k, v in self.ratios.items())
+        return (f"TimeOptimalPath(t_f = {self.t_f:.4g} s, {self.q.shape[1]} joints, {len(self.t)} samples, {cert}; "
+                f"limit ratios: {ratios})")
+
     def __call__(self, t: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """q, q̇, q̈ at the instants t (scalar → (n,), (N,) → (N, n)), exactly: s(t) is piecewise quadratic
         (constant s̈ between grid points) and q = q(s(t)); t is clamped to [0, t_f] (rest outside)."""

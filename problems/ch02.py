@@ -77,7 +77,7 @@ def problem_2_1() -> Solution:
             back.append((rot.euler_zxz_to_rotation(res.angles), R))
         true = np.array([ph, th, ps]) if th > 0 else np.array([ph + np.pi, -th, ps + np.pi])
         inv_pairs.append((rot.wrap_angle(rot.rotation_to_euler_zxz(R, 1).angles - true), 0.0))
-    sol.value("R_example", rot.euler_zxz_to_rotation([0.3, 0.5, -0.2]))
+    sol.value("R_example", rot.euler_zxz_to_rotation([0.3, 0.5, -0.2]), unit="1")
     sol.check("zxz_matrix_matches_manual", max_error(pairs) < 1e-12,
               f"max |error| = {max_error(pairs):.2e} over {N_RANDOM} random angle sets "
               "(manual erratum: third factor is R_z''(psi), printed R_z''(varphi))", reference="closed form")
@@ -194,7 +194,7 @@ def problem_2_4() -> Solution:
         pairs += [(R, product), (R, rows), (R, pin.exp3(th * r))]
     sol.check("rodrigues_equals_five_factor_product", max_error(pairs) < 1e-12,
               f"(2.25) vs (2.24), the manual's expansion and pin.exp3: max |error| = {max_error(pairs):.2e}")
-    sol.value("R_pi_3_about_111", rot.axis_angle_to_rotation(np.pi / 3, unit(np.ones(3))))
+    sol.value("R_pi_3_about_111", rot.axis_angle_to_rotation(np.pi / 3, unit(np.ones(3))), unit="1")
     return sol
 
 
@@ -402,7 +402,7 @@ def problem_2_11() -> Solution:
             fails += 1
     sol.check("no_solution_somewhere_when_a1p_plus_a1pp_gt_a2p", fails > 0,
               f"a1' + a1'' = 0.7 > a2' = 0.6: the loop cannot close at {fails}/25 values of theta1'")
-    sol.value("T_40_at_q0", closed_chain_direct_kinematics(chain, [0.3, 0.5]))
+    sol.value("T_40_at_q0", closed_chain_direct_kinematics(chain, [0.3, 0.5]), unit="1 (R), m (o)")
     return sol
 
 
@@ -503,8 +503,8 @@ def problem_2_14() -> Solution:
     sol.check("hand_poses_equal_2_78_2_79", max_error(pairs) < 1e-12,
               f"Pinocchio tree vs T_3^0 T_t^3 T_l^t T_lh^l and T_3^0 T_t^3 T_r^t T_rh^r: max |error| = "
               f"{max_error(pairs):.2e} ({N_RANDOM} random q, nq = {robot.nq})")
-    sol.value("T_lt", T_l)
-    sol.value("T_rt", T_r)
+    sol.value("T_lt", T_l, unit="1 (R), m (o)")
+    sol.value("T_rt", T_r, unit="1 (R), m (o)")
     return sol
 
 
@@ -520,10 +520,10 @@ def problem_2_15() -> Solution:
     sol = Solution()
     phi1 = sol.given("phi1", np.array([np.pi / 2, np.pi / 2, 0.0]), unit="rad")
     phi2 = sol.given("phi2", np.array([-np.pi / 2, -np.pi / 2, 0.0]), unit="rad")
-    R1 = sol.value("R1", rot.euler_zyz_to_rotation(phi1))
-    R2 = sol.value("R2", rot.euler_zyz_to_rotation(phi2))
-    R1R2 = sol.value("R1R2", R1 @ R2)
-    R2R1 = sol.value("R2R1", R2 @ R1)
+    R1 = sol.value("R1", rot.euler_zyz_to_rotation(phi1), unit="1")
+    R2 = sol.value("R2", rot.euler_zyz_to_rotation(phi2), unit="1")
+    R1R2 = sol.value("R1R2", R1 @ R2, unit="1")
+    R2R1 = sol.value("R2R1", R2 @ R1, unit="1")
     e12 = sol.value("euler_R1R2", np.array([rot.rotation_to_euler_zyz(R1R2, b).angles for b in (1, -1)]), unit="rad")
     e21 = sol.value("euler_R2R1", np.array([rot.rotation_to_euler_zyz(R2R1, b).angles for b in (1, -1)]), unit="rad")
     h = np.pi / 2
@@ -538,7 +538,7 @@ def problem_2_15() -> Solution:
     sol.check_close("euler_R2R1_mod_2pi", rot.wrap_angle(e21 - [[0, h, -h], [np.pi, -h, h]]), np.zeros((2, 3)), atol=1e-12,
                     reference="manual number")
     sol.check("not_commutative", np.max(np.abs(R1R2 - R2R1)) > 0.5, f"max |R1R2 - R2R1| = {np.max(np.abs(R1R2 - R2R1)):g}")
-    R_sum = sol.value("R_phi1_plus_phi2", rot.euler_zyz_to_rotation(phi1 + phi2))
+    R_sum = sol.value("R_phi1_plus_phi2", rot.euler_zyz_to_rotation(phi1 + phi2), unit="1")
     sol.check_close("direct_sum_gives_identity", R_sum, np.eye(3), atol=1e-15, reference="closed form")
     _zyz_generic_check(sol, np.random.default_rng(2215))
     return sol
@@ -568,7 +568,7 @@ def problem_2_16() -> Solution:
     for k, r in ratios.items():
         sol.check(f"{k}_is_O(eps^2)", max(r) < 2.0 and r[-1] > 1e-3,
                   "max error / eps^2 at eps = 1e-2, 1e-3, 1e-4: " + ", ".join(f"{x:.3f}" for x in r))
-    sol.value("error_over_eps2", {k: np.array(v) for k, v in ratios.items()})
+    sol.value("error_over_eps2", {k: np.array(v) for k, v in ratios.items()}, unit="1/rad²")
     return sol
 
 

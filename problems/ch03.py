@@ -108,7 +108,7 @@ def problem_3_2() -> Solution:
     pairs = [(geometric_jacobian(robot, q), _cylindrical_J(q)) for q in qs]
     fd = [(geometric_jacobian(robot, q)[:3], _fd_jacobian(lambda x: direct_kinematics(robot, x)[:3, 3], q))
           for q in qs]
-    sol.value("J_at_q0", _cylindrical_J(qs[0]))
+    sol.value("J_at_q0", _cylindrical_J(qs[0]), unit="m/rad (column θ₁ of J_P), 1 (the rest)")
     sol.check_close("(S3.2) == Pinocchio J (LOCAL_WORLD_ALIGNED)", max_error(pairs), 0.0, atol=1e-12,
                     reference="closed form")
     sol.check_close("J_P == finite difference of p(q)", max_error(fd), 0.0, atol=1e-8, reference="finite differences")
@@ -151,7 +151,7 @@ def problem_3_3() -> Solution:
     sol.check_close("(S3.3) == finite-difference dx/dq", fd, 0.0, atol=1e-8, reference="finite differences")
     ana = max_error([(analytical_jacobian(robot, q, "rpy")[[0, 1, 2, 3]], _scara_JA(q, a1, a2)) for q in qs])
     sol.check_close("(S3.3) == analytical_jacobian(rpy) rows [p; phi]", ana, 0.0, atol=1e-12, reference="closed form")
-    sol.value("J_A_at_q0", _scara_JA(qs[0], a1, a2))
+    sol.value("J_A_at_q0", _scara_JA(qs[0], a1, a2), unit="m/rad (rows p, columns θ₁, θ₂, θ₄), 1 (the rest)")
     return sol
 
 
@@ -397,7 +397,7 @@ def problem_3_13() -> Solution:
         return rot_x(p[0]) @ rot_y(p[1]) @ rot_z(p[2])
 
     T0 = np.column_stack([_omega_fd(lambda t, e=e: R_xyz(t * e)) for e in np.eye(3)])
-    sol.value("T_xyz_0", T0)
+    sol.value("T_xyz_0", T0, unit="1")
     sol.check_close("XYZ: finite-difference T(0) == I", T0, np.eye(3), atol=1e-9, reference="finite differences")
     T0_zyz = np.column_stack([_omega_fd(lambda t, e=e: euler_zyz_to_rotation(t * e)) for e in np.eye(3)])
     sol.check("ZYZ: T(0) is singular (contrast)", jacobian_rank(T0_zyz, 1e-6) == 2)
@@ -685,7 +685,7 @@ def problem_3_21() -> Solution:
     (res0, e0), (res1, e1) = results[0.0], results[35.0]
     d0, d1 = sol.value("min_distance_unconstrained", float(res0["d"].min()), unit="m"), \
         sol.value("min_distance_constrained", float(res1["d"].min()), unit="m")
-    sol.value("final_error", float(max(e0[-1], e1[-1])))
+    sol.value("final_error", float(max(e0[-1], e1[-1])), unit="m")
     sol.check("unconstrained: the arm crosses the obstacle (min d < 0)", d0 < 0, f"min d = {d0:.4f} m")
     sol.check("constrained: the arm never touches the obstacle (min d > 0)", d1 > 0, f"min d = {d1:.4f} m")
     sol.check_close("unconstrained min d (indicative -0.0644 m)", d0, -0.0644, atol=1e-3,

@@ -271,8 +271,8 @@ def problem_4_5() -> Solution:
     t, q = sol.given("t_k", [0.0, 2.0, 4.0], unit="s"), sol.given("q_k", [0.0, 2.0, 3.0], unit="rad")
     sol.given("virtual points t", np.array([1.0, 3.0]), unit="s")
     system = timing.spline_system(t, q, t_virtual=(1.0, 3.0))
-    sol.value("A", system.A.tolist())
-    sol.value("b", system.b.tolist())
+    sol.value("A", system.A.tolist(), unit="s")
+    sol.value("b", system.b.tolist(), unit="rad/s")
     law = _spline_checks(sol, "data of 4.5", t, q, 0.0, 0.0, 0.0, 0.0, (1.0, 3.0))
     sol.value("accelerations", law(np.array([1.0, 2.0, 3.0]))[2].tolist(), unit="rad/s²")
     sol.value("virtual_points", law(np.array([1.0, 3.0]))[0].tolist(), unit="rad")
@@ -406,7 +406,7 @@ def problem_4_8() -> Solution:
     rho, t_f, sd_c = sol.given("ρ", 0.5, unit="m"), sol.given("t_f", 2.0, unit="s"), sol.given("ṡ_c", 1.0, unit="m/s")
     s_f = rho * np.pi
     circle = paths.circle_through(p_i, [-1.0, 0.0, 0.0], c, length=s_f)
-    sol.value("R", circle.R.tolist())
+    sol.value("R", circle.R.tolist(), unit="1")
     sol.check_close("circle frame R = [x' y' z'] with x' = y, y' = −z, z' = −x", circle.R,
                     [[0, 0, -1], [1, 0, 0], [0, -1, 0]], atol=1e-12, reference="closed form")
     sol.check_close("centre and radius", np.concatenate([circle.center, [circle.radius]]), [0, 0, 1, 0.5], atol=1e-12,

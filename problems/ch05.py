@@ -101,7 +101,7 @@ def problem_5_1() -> Solution:
     m = DCServomotor(**sol.given("motor [MOT52]", MOTOR_52))
     omega_fm, _ = m.steady_state(1.0)
     ratio = m.Fm * m.Ra / (m.kv * m.kt)
-    sol.value("omega_ss_unit_step", omega_fm)
+    sol.value("omega_ss_unit_step", omega_fm, unit="rad/s")
     sol.check("F_m ≪ k_v k_t/R_a ⇒ ω_m ≈ (K/k_v) v'_c (5.7)",
               abs(omega_fm - 1.0 / m.kv) / (1.0 / m.kv) <= 1.01 * ratio / (1 + ratio),
               f"[MOT52]: ω_m = {omega_fm:.5f} vs K/k_v = {1 / m.kv:.5f}; relative gap = "
@@ -211,7 +211,7 @@ def problem_5_3() -> Solution:
     m = DCServomotor(**sol.given("motor [MOT52]", MOTOR_52), ki=sol.given("k_i", 1.0, unit="V/A"))
     zeta, t_s = sol.given("zeta", 0.7), sol.given("t_s", 2e-3, unit="s")
     pi, omega_n = design_pi_current_loop(m, zeta, t_s)
-    K_I, T_I = sol.value("K_I", pi.K), sol.value("T_I", pi.T)
+    K_I, T_I = sol.value("K_I", pi.K, unit="1/s"), sol.value("T_I", pi.T, unit="s")
     sol.value("omega_n", omega_n, unit="rad/s")
     # The manual's closed loop (Ω_m = 0, T_v ≈ 0): (1 + sT_I)/(1 + s(0.2 + K_I T_I)/K_I + s² 0.002/K_I)
     a1, a2 = (0.2 + K_I * T_I) / K_I, 0.002 / K_I
@@ -298,7 +298,7 @@ def problem_5_4() -> Solution:
               worst_v < 1e-8, f"max relative error {worst_v:.2e}")
     sol.check("Θ_m/C_r = −((1+k_r k_l+s k_r k_c)/(k_t k_r k_q))/(s(1 + ...))", worst_c < 1e-8,
               f"max relative error {worst_c:.2e}")
-    sol.value("max_relative_error", max(worst_v, worst_c))
+    sol.value("max_relative_error", max(worst_v, worst_c), unit="1")
     # Symbolic: the five relations of Fig. S5.5 solved with sympy against the manual's closed form.
     sym = sp.symbols("s k_t k_x k_r k_q k_c k_l G_s T_s I_m F_m", positive=True)
     s_, kt, kx, kr, kq, kc, kl, Gs, Ts, Im, Fm = sym
@@ -330,7 +330,7 @@ def problem_5_5() -> Solution:
     sol = Solution()
     sol.given("Table S5.1 (Gray codes of 0–15)", TABLE_S5_1)
     decoded = [bits_to_int(gray_to_binary([int(c) for c in g])) for g in TABLE_S5_1]
-    sol.value("table_S5_1_binary", decoded)
+    sol.value("table_S5_1_binary", decoded, unit="1")
     sol.check("XOR cascade reproduces Table S5.1 (16 codes)", decoded == list(range(16)),
               f"decoded {decoded}")
     x = np.array([[int(c) for c in g] for g in TABLE_S5_1])
@@ -364,7 +364,7 @@ def problem_5_6() -> Solution:
     R = sol.given("R_s^c", np.array([[0.0, 0, 1], [0, -1, 0], [1, 0, 0]]))
     r = sol.given("r_cs^c", np.array([-0.3, 0.0, 0.2]), unit="m")
     h_s = sol.given("h_s", np.array([20.0, 0, 0, 0, 6, 0]), unit="N, N·m")
-    W = sol.value("W", wrench_transform(R, r))
+    W = sol.value("W", wrench_transform(R, r), unit="1 (R blocks), m (S(r) R block)")
     h_c = W @ h_s
     f_c, mu_c = sol.value("f_c", h_c[:3], unit="N"), sol.value("mu_c", h_c[3:], unit="N·m")
     manual_W = np.array([[0, 0, 1, 0, 0, 0], [0, -1, 0, 0, 0, 0], [1, 0, 0, 0, 0, 0],
@@ -392,7 +392,7 @@ def problem_5_7() -> Solution:
     sol = Solution()
     robot = load("scara")
     q = sol.given("q", np.array([0.0, np.pi / 4, 0.1, 0.0]), unit="rad (q3 in m)")
-    T = sol.value("T_bc", direct_kinematics(robot, q))
+    T = sol.value("T_bc", direct_kinematics(robot, q), unit="1 (R), m (o)")
     a1 = a2 = sol.given("a1 = a2", 0.5, unit="m")
     c1, s1, c12, s12 = np.cos(q[0]), np.sin(q[0]), np.cos(q[0] + q[1]), np.sin(q[0] + q[1])
     c124, s124 = np.cos(q[0] + q[1] + q[3]), np.sin(q[0] + q[1] + q[3])
@@ -404,10 +404,10 @@ def problem_5_7() -> Solution:
     camera = PinholeCamera(*sol.given("f α_x, f α_y, X_0, Y_0", np.array([633.6, 964.0, 250.0, 250.0]), unit="pixel"))
     p_b = sol.given("p^b", np.array([0.8, 0.5, 0.9]), unit="m")
     proj = project_from_robot(camera, robot, q, p_b)
-    sol.value("p_c", proj.p_c)
-    sol.value("x_I", proj.x_I)
-    sol.value("y_I", proj.y_I)
-    lam, X, Y = sol.value("lambda", proj.lam), sol.value("X_I", proj.X_I), sol.value("Y_I", proj.Y_I)
+    sol.value("p_c", proj.p_c, unit="m")
+    sol.value("x_I", proj.x_I, unit="1")
+    sol.value("y_I", proj.y_I, unit="1")
+    lam, X, Y = sol.value("lambda", proj.lam, unit="m"), sol.value("X_I", proj.X_I, unit="pixel"), sol.value("Y_I", proj.Y_I, unit="pixel")
     # Independent route: the manual's rounded transform, by hand.
     R, o = manual_T[:3, :3], manual_T[:3, 3]
     p_c = R.T @ (p_b - o)

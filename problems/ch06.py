@@ -65,7 +65,7 @@ def problem_6_1() -> Solution:
     plan = decompose_pick_and_place(*_given_scene(sol))
     names = [a.name for a in plan.actions]
     sol.value("actions", names)
-    sol.value("points", plan.points)
+    sol.value("points", plan.points, unit="m")
     path = pick_and_place_path(plan, DURATIONS)
     traj = sample(path, samples=301)
     d = float(distance_to_box(traj.q[:, :2], OBSTACLE).min())
@@ -239,7 +239,7 @@ def problem_6_3() -> Solution:
                   bool(np.all(q >= robot.lower) and np.all(q <= robot.upper)),
                   f"q ranges {np.round(q.min(axis=0), 3).tolist()} … {np.round(q.max(axis=0), 3).tolist()}")
         key = "search" if offset < -0.004 else "direct"
-        sol.value(f"transitions_{key}", [(round(t, 3), s) for t, s in ctrl.transitions])
+        sol.value(f"transitions_{key}", [(round(t, 3), s) for t, s in ctrl.transitions], unit="s (instant of each state)")
         x_e, f, state = res["x_e"], res["f"], res["state"]
         if key == "search":
             sol.check("search scene: approach → descend → search → insert → done", states == list(PEG_STATES),
@@ -293,7 +293,7 @@ def problem_6_4() -> Solution:
     sol.given("fast, slow", np.array([FAST, SLOW]), unit="m/s")
     program = fill_pallet_program(HOME, CONVEYOR, PALLET, LIFT, LENGTH, WIDTH, FAST, SLOW, up=(0.0, 0.0, -1.0))
     prims = [s.primitive for s in program]
-    sol.value("program_length", len(program))
+    sol.value("program_length", len(program), unit="1")
     sol.check("16 NEW_OBJECT, 16 GRASP, 16 RELEASE", prims.count("NEW_OBJECT") == prims.count("GRASP")
               == prims.count("RELEASE") == 16, f"{prims.count('GRASP')} grasps, {prims.count('RELEASE')} releases")
     home_step = moveto(HOME, FAST)
@@ -311,7 +311,7 @@ def problem_6_4() -> Solution:
     cell = Workcell(CONVEYOR[:3], object_mass=OBJECT_MASS)
     executor = ActionExecutor(robot, inverse_kinematics_scara, cell, q0)
     record = executor.run(program)
-    sol.value("executed_steps", len(record.steps))
+    sol.value("executed_steps", len(record.steps), unit="1")
     sol.value("simulated_time", float(record.t[-1]), unit="s")
     sol.check("no primitive skipped: every step executed in order", [k for k, *_ in record.steps] == list(range(len(program))),
               f"{len(record.steps)} of {len(program)} steps")

@@ -121,7 +121,7 @@ def problem_7_1() -> Solution:
         worst["g"] = max(worst["g"], max_abs_error(lg.gravity_torques(model, q), g_manual))
         worst["pin"] = max(worst["pin"], max_abs_error(dyn.inertia_matrix(robot, q), B_manual) / np.abs(B_manual).max(),
                            max_abs_error(dyn.gravity_torques(robot, q), g_manual) / np.abs(g_manual).max())
-    sol.value("B_last", B)
+    sol.value("B_last", B, unit="kg")
     _error_checks(sol, [("link and motor Jacobians (7.16)-(7.29) equal the manual's", worst["jac"], 1e-12, "closed form"),
                         ("B (7.32) equals the manual's constant matrix (relative)", worst["B"], 1e-12, "closed form"),
                         ("B constant ⇒ C = O (Christoffel symbols vanish)", worst["C"], 1e-12, "closed form"),
@@ -273,7 +273,7 @@ def problem_7_3() -> Solution:
             worst["pin"] = max(worst["pin"], max_abs_error(dyn.inertia_matrix(robot, q), Bm),
                                max_abs_error(dyn.coriolis_matrix(robot, q, qd), Cm),
                                max_abs_error(dyn.gravity_torques(robot, q), [0, 0, -m3 * G, 0]))
-    sol.value("B_example", lg.inertia_matrix(down, q))
+    sol.value("B_example", lg.inertia_matrix(down, q), unit="kg·m² (θ₁, θ₂, θ₄), kg (d₃)")
     sol.check_error("B = B' + B'' equals the manual's b11 ... b44", worst["B"], 1e-9, reference="closed form")
     sol.check_error("Christoffel symbols: only c112 = c121 = c122 = k, c211 = −k", worst["c"], 1e-9,
                     reference="closed form")
@@ -320,8 +320,8 @@ def problem_7_4() -> Solution:
     sol = Solution()
     spec = planar_2r()
     sol.given("two-link arm (7.82)", _arm2_symbols(spec))
-    pi = sol.value("pi_prime", minimum_parameters(spec.links))
-    pi_c = sol.value("pi_prime_companion", minimum_parameters(spec.links, convention="companion"))
+    pi = sol.value("pi_prime", minimum_parameters(spec.links), unit="kg·m, kg·m², kg·m, kg·m², kg·m²")
+    pi_c = sol.value("pi_prime_companion", minimum_parameters(spec.links, convention="companion"), unit="kg·m, kg·m², kg·m, kg·m², kg·m²")
     p = two_link_parameters(spec.links)
     s = _arm2_symbols(spec)
     # Physical meaning in the manual: π'1 = mm2 a1 + mℓ1 ℓ1 + mℓ2 a1, π'3 = mℓ2 ℓ2.
@@ -402,12 +402,12 @@ def problem_7_4() -> Solution:
     ident = identify(Yf, tau_meas)
     truth = np.concatenate([pi, [Fv, Fv]])
     rel = np.abs(ident.estimate - truth) / np.abs(truth)
-    sol.value("pi_hat", ident.estimate[:5])
-    sol.value("Fv_hat", ident.estimate[5:])
-    sol.value("identification_relative_error", rel)
-    sol.value("regressor_condition_number", ident.condition_number)
+    sol.value("pi_hat", ident.estimate[:5], unit="kg·m, kg·m², kg·m, kg·m², kg·m²")
+    sol.value("Fv_hat", ident.estimate[5:], unit="N·m·s/rad")
+    sol.value("identification_relative_error", rel, unit="1")
+    sol.value("regressor_condition_number", ident.condition_number, unit="1")
     norm_rel = float(np.linalg.norm(ident.estimate - truth) / np.linalg.norm(truth))
-    sol.value("identification_norm_error", norm_rel)
+    sol.value("identification_norm_error", norm_rel, unit="1")
     sol.check("identification: ‖π̂ − π‖/‖π‖ < 0.5 % and every parameter within 5 % despite noise",
               norm_rel < 5e-3 and np.all(rel < 0.05),
               f"norm {norm_rel:.2g}; per parameter {np.array2string(rel, precision=4)}; cond(Ȳ) = {ident.condition_number:.3g}")
@@ -509,7 +509,7 @@ def problem_7_5() -> Solution:
         pi = pr_minimum_parameters(links, payload=mL)
         worst["Y"] = max(worst["Y"], max_abs_error(pr_regressor(q, qd, qdd) @ pi, tau_p),
                          max_abs_error(pi, [b11p, m2p * l2p, b22p]))
-    sol.value("pi_prime_last", pi)
+    sol.value("pi_prime_last", pi, unit="kg, kg·m, kg·m²")
     sol.check_error("frames of Fig. S7.2: z₁ = y₀, p₁ = [0 0 d1], p_ℓ2 = [−ℓ2c2, 0, d1 + ℓ2s2]", worst["p"], 1e-12,
                     reference="closed form")
     sol.check_error("link and motor Jacobians equal the manual's", worst["jac"], 1e-12, reference="closed form")
@@ -571,7 +571,7 @@ def problem_7_6() -> Solution:
         err["pin"] = max(err["pin"], max_abs_error(pin_osm.B_A, osm.B_A), max_abs_error(pin_osm.C_A @ xd, osm.C_A @ xd))
         diag0 = np.diag(osm.B_A) if diag0 is None else diag0
         err["diag"] = max(err["diag"], max_abs_error(np.diag(osm.B_A), diag0))
-    sol.value("B_A_diagonal", diag0)
+    sol.value("B_A_diagonal", diag0, unit="kg·m²")
     sol.check_error("B_A equals the manual's (with (1 − kr2)²Im2 and kr2(1 − kr2)Im2)", err["B"], 1e-9,
                     reference="closed form")
     sol.check("diagonal of B_A is configuration-invariant", err["diag"] < 1e-9, f"max variation {err['diag']:.2g}")
@@ -846,7 +846,7 @@ def problem_7_10() -> Solution:
         err["qp"] = max(err["qp"], max_abs_error(minimum_norm_torque_qp(B, J, gamma, tau_a), tau))
         err["cons"] = max(err["cons"], max_abs_error(Jb.T @ tau, gamma))
         err["null"] = max(err["null"], np.abs(Jb.T @ (np.eye(3) - J.T @ Jb.T)).max())
-    sol.value("tau_last", tau)
+    sol.value("tau_last", tau, unit="N·m")
     _error_checks(sol, [("Lagrange-multiplier form = J_Aᵀγ_A + (I − J_AᵀJ̄_Aᵀ)τ_a = library", err["forms"], 1e-9,
                          "closed form"),
                         ("proxsuite QP gives the closed-form torque", err["qp"], 1e-7, "other library"),
@@ -883,10 +883,10 @@ def problem_7_11() -> Solution:
     wq = np.array([dynamic_manipulability(lg.geometric_jacobian(model, [0.0, x])[:2], lg.inertia_matrix(model, [0.0, x]))
                    for x in q2])
     k = int(np.argmax(wq))
-    sol.value("q2_peak", q2[k])
-    sol.value("w_prime_max", wq[k])
+    sol.value("q2_peak", q2[k], unit="rad")
+    sol.value("w_prime_max", wq[k], unit="1/(kg²·m²)")
     Bh = lg.inertia_matrix(model, [0.0, np.pi / 2])
-    sol.value("det_B_half_pi", np.linalg.det(Bh))
+    sol.value("det_B_half_pi", np.linalg.det(Bh), unit="kg²·m⁴")
     sol.check_close("peak of w' at q2 ≈ 1.790 rad (derived value)", q2[k], 1.790, atol=2e-3,
                     reference="independent derivation")
     sol.check_close("w'max ≈ 4.273e-5 (derived value)", wq[k], 4.273e-5, rtol=1e-3, reference="independent derivation")

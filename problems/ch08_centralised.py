@@ -211,8 +211,8 @@ def problem_8_11() -> Solution:
     # Sharpness of the torques (the manual: "sharper" with the second gains): the peaks hardly differ, so
     # measure the steepest torque change max |dτ/dt| at the trapezoid's acceleration steps instead.
     rate = {k: np.abs(np.gradient(runs[k, True]["tau"], runs[k, True].t, axis=0)).max(axis=0) for k in (1, 2)}
-    sol.value("max_abs_dtau_dt_1 [N·m/s]", rate[1])
-    sol.value("max_abs_dtau_dt_2 [N·m/s]", rate[2])
+    sol.value("max_abs_dtau_dt_1 [N·m/s]", rate[1], unit="N·m/s")
+    sol.value("max_abs_dtau_dt_2 [N·m/s]", rate[2], unit="N·m/s")
     sol.check_error("the manual's 'sharper torques' with the second gains are not borne out: max |dτ/dt| (set by the "
                     "feedforward's steps) within 5 % on both joints (largest |ratio − 1|)",
                     np.max(np.abs(rate[2] / rate[1] - 1)), 0.05, "simulation vs prediction",
@@ -309,11 +309,11 @@ def problem_8_13() -> Solution:
     K_P, K_D = sol.given("K_P", 100.0, unit="1/s²"), sol.given("K_D", 16.0, unit="1/s")
     rho, eps = sol.given("ρ", 70.0), sol.given("ε", 1e-3)
     q2 = np.linspace(-np.pi, np.pi, 360, endpoint=False)
-    B_bar = sol.value("B_hat", mean_diagonal_inertia(armL, np.c_[np.zeros_like(q2), q2]))
+    B_bar = sol.value("B_hat", mean_diagonal_inertia(armL, np.c_[np.zeros_like(q2), q2]), unit="kg·m²")
     pi = minimum_parameters(planar_2r().links, payload=M_L, convention="companion")
     sol.check_close("B̂ = average diagonal = (a1π1 + π2 + a2π3 + π4, a2π3 + π4 + kr2²π5)", B_bar,
                     [pi[0] + pi[1] + pi[2] + pi[3], pi[2] + pi[3] + K_R**2 * pi[4]], atol=1e-9, reference="closed form")
-    Q = sol.value("Q", lyapunov_matrix(K_P * np.eye(2), K_D * np.eye(2)))
+    Q = sol.value("Q", lyapunov_matrix(K_P * np.eye(2), K_D * np.eye(2)), unit="1 (8.81) with K_P in 1/s², K_D in 1/s")
     H = np.block([[np.zeros((2, 2)), np.eye(2)], [-K_P * np.eye(2), -K_D * np.eye(2)]])
     sol.check_close("Q solves H̃ᵀQ + QH̃ = −I (8.81)", H.T @ Q + Q @ H, -np.eye(4), atol=1e-12, reference="closed form")
     sol.check("Q positive definite", np.min(np.linalg.eigvalsh(Q)) > 0, f"min eig {np.min(np.linalg.eigvalsh(Q)):.3g}")
@@ -333,14 +333,14 @@ def problem_8_13() -> Solution:
     sol.check("errors bounded despite the model mismatch", e_r.max() < 1e-2, f"max |q̃| = {e_r.max():.2e} < 1e-2 rad")
     sol.check("the robust term reduces the error", e_r.max() < 0.25 * e_0.max(),
               f"max |q̃| = {e_r.max():.2e} with ρ = 70 vs {e_0.max():.2e} with ρ = 0")
-    tv = sol.value("torque_total_variation", np.abs(np.diff(runs[rho].u, axis=0)).sum(axis=0))
-    sol.value("torque_total_variation_without_robust_term", np.abs(np.diff(runs[0.0].u, axis=0)).sum(axis=0))
+    tv = sol.value("torque_total_variation", np.abs(np.diff(runs[rho].u, axis=0)).sum(axis=0), unit="N·m")
+    sol.value("torque_total_variation_without_robust_term", np.abs(np.diff(runs[0.0].u, axis=0)).sum(axis=0), unit="N·m")
     # What the chattering costs: the same law with a boundary layer the 1 ms sampling resolves.
-    eps_bl = sol.value("epsilon_boundary_layer", 0.01)
+    eps_bl = sol.value("epsilon_boundary_layer", 0.01, unit="1")
     smooth = simulate(plant, RobustControl(armL, B_bar, K_P, K_D, tra, rho, eps_bl, viscous_friction=F_V),
                       (0.0, T_D), np.r_[Q_I, 0.0, 0.0], h=T_C, Ts=T_C, backend=fast_backend())
-    tv_bl = sol.value("torque_total_variation_boundary_layer", np.abs(np.diff(smooth.u, axis=0)).sum(axis=0))
-    e_bl = sol.value("max_error_boundary_layer", np.abs(smooth["e"]).max(axis=0))
+    tv_bl = sol.value("torque_total_variation_boundary_layer", np.abs(np.diff(smooth.u, axis=0)).sum(axis=0), unit="N·m")
+    e_bl = sol.value("max_error_boundary_layer", np.abs(smooth["e"]).max(axis=0), unit="rad")
     sol.check(f"the boundary layer ε = {eps_bl} removes the chattering (torque total variation ≥ 100× smaller); "
               f"the robust term still reduces the error (below ρ = 0's)", tv_bl.max() < 0.01 * tv.max()
               and e_bl.max() < e_0.max(),

@@ -206,14 +206,14 @@ def _disturbance_checks(sol: Solution, design: JointDesign, drive: JointDrive, T
     """X_R from the low-frequency gain of Θ_m/D (python-control) and T_R from a simulated disturbance
     response, against the manual's formulas (or, given ``X_R_spec``, X_R against the specification).
     ``T_R_predicted`` is the recovery time the formula ``T_R_formula`` gives (the manual withholds the value)."""
-    X_R = sol.value("X_R measured (low-frequency gain of Θ_m/D)", _measured_X_R(design, drive))
+    X_R = sol.value("X_R measured (low-frequency gain of Θ_m/D)", _measured_X_R(design, drive), unit="V/(rad·s)")
     if X_R_spec is None:
         sol.check_close("X_R from the low-frequency gain of Θ_m/D = the manual's formula", X_R, design.X_R,
                         rtol=1e-6, reference="closed form")
     else:
         sol.check_close(f"X_R from the low-frequency gain of Θ_m/D = the specification {X_R_spec:g}", X_R, X_R_spec,
                         rtol=1e-6, reference="specification met")
-    T_R = sol.value("T_R measured (decay of the disturbance response) [s]", _recovery_time(t, theta, t_from))
+    T_R = sol.value("T_R measured (decay of the disturbance response) [s]", _recovery_time(t, theta, t_from), unit="s")
     sol.check_close(f"T_R measured on the disturbance step response ≈ the predicted {T_R_formula} = "
                     f"{T_R_predicted:g} s", T_R, T_R_predicted, rtol=rtol, reference="simulation vs prediction")
 
@@ -243,12 +243,12 @@ def problem_8_4() -> Solution:
     _drive_checks(sol, drive)
     T_P = 10 * drive.T_m
     design = design_position_feedback(drive, sol.given("ζ", ZETA), T_P)
-    K_P = sol.value("K_P", design.K_P)
-    poles = sol.value("poles", design.poles)
-    sol.value("X_R", design.X_R)
-    sol.value("T_R", design.T_R)
-    K_prime = sol.value("K_prime", drive.k_m * K_P * T_P / drive.T_m)
-    sol.value("T_P", T_P)
+    K_P = sol.value("K_P", design.K_P, unit="1/s")            # C_P(s) = K_P (1 + sT_P)/s, volts to volts
+    poles = sol.value("poles", design.poles, unit="1/s")
+    sol.value("X_R", design.X_R, unit="V/(rad·s)")
+    sol.value("T_R", design.T_R, unit="s")
+    K_prime = sol.value("K_prime", drive.k_m * K_P * T_P / drive.T_m, unit="1/s²")
+    sol.value("T_P", T_P, unit="s")
     # Independent: the manual's W(s) denominator 1 + sT_P + s²(1 + sT_m)/(k_m K_P k_TP) → numpy roots.
     char = np.array([drive.T_m, 1.0, drive.k_m * K_P * T_P, drive.k_m * K_P]) / (drive.k_m * K_P)
     roots = np.sort_complex(np.roots(char))
@@ -305,10 +305,10 @@ def problem_8_5() -> Solution:
     drive = JointDrive(**sol.given("drive", DRIVE_84))
     _drive_checks(sol, drive)
     design = design_position_velocity(drive, sol.given("ζ", ZETA), sol.given("ω_n", OMEGA_N, unit="rad/s"))
-    K_P, K_V = sol.value("K_P", design.K_P), sol.value("K_V", design.K_V)
-    poles = sol.value("poles", design.poles)
-    sol.value("X_R", design.X_R)
-    T_R = sol.value("T_R", design.T_R)
+    K_P, K_V = sol.value("K_P", design.K_P, unit="1"), sol.value("K_V", design.K_V, unit="1/s")   # C_V = K_V(1 + sT_V)/s
+    poles = sol.value("poles", design.poles, unit="1/s")
+    sol.value("X_R", design.X_R, unit="V/(rad·s)")
+    T_R = sol.value("T_R", design.T_R, unit="s")
     # Independent: the manual's W(s) = 1/(1 + s/K_P + s²/(2 K_P K_V)) with the designed gains.
     _damping_checks(sol, design, OMEGA_N)
     manual = 1 / (1 + 1j * OMEGA / K_P - OMEGA**2 / (2 * K_P * K_V))
@@ -325,7 +325,7 @@ def problem_8_5() -> Solution:
     ref = control.forced_response(design.closed_loop.disturbance, t_after, np.ones_like(t_after)).outputs
     theta = res.q[res.t >= step_time, 0]
     err = float(np.max(np.abs(theta - ref)))
-    sol.value("disturbance_peak", float(np.max(np.abs(theta))))
+    sol.value("disturbance_peak", float(np.max(np.abs(theta))), unit="rad")
     sol.check_error("simulated disturbance response (1 ms sampling) ≈ python-control's Θ_m/D step response "
                     "(max |difference| relative to the peak, within 5 %)", err / np.max(np.abs(ref)), 0.05,
                     "simulation vs prediction",
@@ -354,12 +354,13 @@ def problem_8_6() -> Solution:
     _drive_checks(sol, drive)
     design = design_position_velocity_acceleration(drive, sol.given("ζ", ZETA), sol.given("ω_n", OMEGA_N, unit="rad/s"),
                                                    sol.given("X_R", X_R_SPEC))
-    K_P, K_V, K_A = sol.value("K_P", design.K_P), sol.value("K_V", design.K_V), sol.value("K_A", design.K_A)
-    sol.value("X_R", design.X_R)
-    sol.value("T_R", design.T_R)
-    sol.value("poles", design.poles)
+    K_P, K_V, K_A = (sol.value("K_P", design.K_P, unit="1"), sol.value("K_V", design.K_V, unit="1"),
+                     sol.value("K_A", design.K_A, unit="1/s"))     # C_A = K_A(1 + sT_A)/s
+    sol.value("X_R", design.X_R, unit="V/(rad·s)")
+    sol.value("T_R", design.T_R, unit="s")
+    sol.value("poles", design.poles, unit="1/s")
     W = design.closed_loop.reference
-    omega_3 = sol.value("omega_3", bandwidth(W))
+    omega_3 = sol.value("omega_3", bandwidth(W), unit="rad/s")
     # The manual's W(s) = 1/(1 + s/K_P + s²(1 + 2K_A)/(2 K_P K_V K_A)) with the designed gains.
     a1, a2 = 1 / K_P, (1 + 2 * K_A) / (2 * K_P * K_V * K_A)
     _damping_checks(sol, design, OMEGA_N)
@@ -440,8 +441,8 @@ def problem_8_7() -> Solution:
         ctrl = PositionVelocityController(design, drive, reference, Ts=1e-3, feedforward=ff)
         runs[ff] = simulate(JointDrivePlant(drive), ctrl, (0.0, 1.5), [0.0, 0.0], h=2.5e-4, Ts=1e-3)
     e_ff, e_no = (float(np.max(np.abs(runs[k]["e"]))) for k in (True, False))
-    sol.value("max_error_feedforward", e_ff)
-    sol.value("max_error_feedback_only", e_no)
+    sol.value("max_error_feedforward", e_ff, unit="rad")
+    sol.value("max_error_feedback_only", e_no, unit="rad")
     sol.check("sampled simulation: feedforward reduces the tracking error by more than 20×", e_ff < e_no / 20,
               f"max |ϑ_d − ϑ_m| = {e_ff:.2e} rad with feedforward vs {e_no:.2e} rad without")
     fig, ax = subplots(figsize=(8, 3.5))
@@ -519,10 +520,10 @@ def problem_8_9() -> Solution:
         q2 = np.linspace(-np.pi, np.pi, 721)
         Bs = np.array([inertia_matrix(robot, np.array([0.0, a])) for a in q2])
         bounds = inertia_bounds(Bs)
-        alpha = sol.value(f"alpha{label}", bounds.alpha)
-        sol.value(f"B_m{label}", bounds.B_m)
-        sol.value(f"B_M{label}", bounds.B_M)
-        sol.value(f"B_hat{label}", bounds.B_hat)
+        alpha = sol.value(f"alpha{label}", bounds.alpha, unit="1")
+        sol.value(f"B_m{label}", bounds.B_m, unit="1/(kg·m²)")
+        sol.value(f"B_M{label}", bounds.B_M, unit="1/(kg·m²)")
+        sol.value(f"B_hat{label}", bounds.B_hat, unit="kg·m²")
         q_test = np.column_stack([rng.uniform(-np.pi, np.pi, 200), rng.uniform(-np.pi, np.pi, 200)])
         norms = [np.linalg.norm(np.linalg.solve(inertia_matrix(robot, q), bounds.B_hat) - np.eye(2), 2)
                  for q in np.vstack([q_test, np.column_stack([np.zeros(721), q2])])]

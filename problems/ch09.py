@@ -22,7 +22,7 @@ Example 9.4, Figs. 9.8, 9.16; solution manual 9.1–9.11, Figs. S9.2, S9.5, S9.6
 
 from __future__ import annotations
 
-from typing import Any, Callable, Sequence
+from typing import Any, Callable
 
 import numpy as np
 import pinocchio as pin
@@ -35,12 +35,13 @@ from controllers.force import (ForceWithInnerLoop, HybridForceMotionControl, com
                                impedance_parameters, inner_position_loop_equilibrium, pi_velocity_parameters)
 from controllers.operational_space import OperationalInverseDynamics, OperationalPDGravity
 from controllers.plants import ArmInContact
+from controllers.scenes import PLANE_FRAME, PLANE_POINT, PLANE_STIFFNESS, compliant_plane_9_16
 from controllers.simulation import SimulationResult, simulate
 from planners.paths import PathLaw, Segment
 from planners.timing import trapezoidal_law
 from problems.common import label_axes, max_abs_error, subplots
 from problems.registry import Solution, problem
-from rigid_body.kinematics import ELBOW_UP, direct_kinematics, inverse_kinematics_planar_2r
+from rigid_body.kinematics import ELBOW_UP, inverse_kinematics_planar_2r
 from rigid_body.robots import Robot, load
 from rigid_body.rotations import euler_rate_matrix_zyz, rotation_to_euler_zyz, skew
 from rigid_body.task_space import (contact_wrenches, reciprocal_basis, relative_euler_rate, relative_position_rate,
@@ -49,9 +50,9 @@ from rigid_body.task_space import (contact_wrenches, reciprocal_basis, relative_
 T_C = 1e-3             # controller sampling period = integration step [s]
 T_D = 2.5              # simulated time of the authors' runs [s]
 F_V = 100.0            # joint viscous friction K_r F_m K_r [N·m·s/rad]
-K_Y = 5e3              # plane stiffness along its normal [N/m] (i9_3)
-O_R = np.array([1.0, 0.0])   # a point of the undeformed plane [m]
-R_C = np.array([[1.0, -1.0], [1.0, 1.0]]) / np.sqrt(2.0)   # constraint frame: x_c along the plane, y_c normal
+K_Y = PLANE_STIFFNESS  # plane stiffness along its normal [N/m] (i9_3): the plane of Fig. 9.16 (controllers.scenes)
+O_R = PLANE_POINT      # a point of the undeformed plane [m]
+R_C = PLANE_FRAME      # constraint frame: x_c along the plane, y_c normal
 PLANAR = ("x", "y")    # the components of a planar position/force task
 
 
@@ -60,8 +61,9 @@ def _arm() -> Robot:
 
 
 def _plane() -> CompliantPlane:
-    """The compliant plane of Fig. 9.16: the plane through o_r with outward normal y_c, stiffness k_y."""
-    return CompliantPlane(np.r_[O_R, 0.0], np.r_[R_C[:, 1], 0.0], K_Y)
+    """The compliant plane of Fig. 9.16 (:func:`controllers.scenes.compliant_plane_9_16`): through o_r with
+    outward normal y_c, stiffness k_y."""
+    return compliant_plane_9_16(K_Y)
 
 
 def _given_plane(sol: Solution) -> None:
@@ -114,29 +116,14 @@ class _Held:
         return tuple(out)
 
 
-def contact_animation(sol: Solution, robot: Robot, res: SimulationResult, title: str, normal: Any,
-                      patches: Sequence[tuple[Any, tuple[float, float]]], force_scale: float,
-                      frame: str | int | None = None, every: int = 40) -> None:
-    """Attach to ``sol`` a 3-D animation of a contact run: the arm, the undeformed surface (square
-    ``patches`` (centre (3,), size [m]) with outward ``normal``) and the contact force on the tool, −h_e
-    (the environment's reaction, ``res["h_e"]``), as an arrow from the end effector, ``force_scale`` [m/N].
-    The run is decimated to one sample in ``every`` (40 × 1 ms: 25 frames per second)."""
-    from viewer import arrow_transform
+def _contact_animation(sol: Solution, res: SimulationResult, title: str, force_scale: float) -> None:
+    """Attach the 3-D animation of a run of the two-link arm on the plane (:func:`viewer.contact_animation`): the
+    undeformed plane (a 0.2 × 0.8 m patch along x_c) and the force −h_e, ``force_scale`` [m/N]."""
+    from viewer import contact_animation
 
-    idx = np.arange(0, len(res.t), every)
-    t, q = res.t[idx], res.q[idx]
-    h = np.asarray(res["h_e"], dtype=float)[idx]
-    force = np.zeros((idx.size, 3))
-    force[:, :min(3, h.shape[1])] = -h[:, :3]
-    tip = np.array([direct_kinematics(robot, qk, frame)[:3, 3] for qk in q])
-    arrows = np.array([arrow_transform(p, force_scale * f) for p, f in zip(tip, force)])
-
-    def overlays(scene: Any) -> None:
-        for k, (center, size) in enumerate(patches):
-            scene.plane(f"surface{k}", center, normal, size)
-        scene.arrow("force", tip[0], force_scale * force[0], color="#d62728")
-
-    sol.animation(robot, (t, q), title, fps=25.0, overlays=overlays, tracks={"force": arrows})
+    sol.animation(_arm(), title=title, **contact_animation(_arm(), res, _plane().normal,
+                                                           [(np.r_[O_R + 0.2 * R_C[:, 0], 0.0], (0.2, 0.8))],
+                                                           force_scale))
 
 
 def _in_constraint_frame(v: np.ndarray) -> np.ndarray:
@@ -214,8 +201,8 @@ def problem_9_1() -> Solution:
         err_S92.append(max_abs_error(Rdot_T, -skew(R_d.T @ w_d) @ R_d.T))
         printed = R_d.T @ (od_e - od_d) - Rdot_T @ (o_e - o_d)      # the manual's (S9.1)
         err_printed.append(max_abs_error(printed, fd_p))
-    sol.value("max_error_9_10", max(err_p))
-    sol.value("max_error_9_11", max(err_phi))
+    sol.value("max_error_9_10", max(err_p), unit="m/s")
+    sol.value("max_error_9_11", max(err_phi), unit="rad/s")
     sol.check_error("(9.10) matches central differences of R_dᵀ(o_e − o_d) (20 random motions)", max(err_p), 1e-6,
                     reference="finite differences")
     sol.check_error("(9.11) with the ZYZ T(φ) of (3.64) matches differences of the extracted angles", max(err_phi),
@@ -260,7 +247,7 @@ def problem_9_2() -> Solution:
         direct = np.linalg.solve(M, np.r_[np.zeros(6), K @ dx_rd])
         h_e, dx_ed = compliance_equilibrium(K_P, K, dx_rd)
         errs.append(max_abs_error(np.r_[h_e, dx_ed], direct) / max(1.0, np.abs(direct).max()))
-    sol.value("max_relative_error", max(errs))
+    sol.value("max_relative_error", max(errs), unit="1")
     sol.check_error("(9.22)–(9.23) = direct solution (numpy) of the 12 × 12 system {h = K_P dx_ed, h = K (dx_rd − "
                     "dx_ed)}, K of rank 1..6 (relative)", max(errs), 1e-10, reference="second algorithm")
 
@@ -275,8 +262,8 @@ def problem_9_2() -> Solution:
     res = simulate(plant, OperationalPDGravity(arm, K_P, K_D, x_d, rows=(0, 1)), (0.0, T_D), plant.initial_state(q0),
                    h=T_C, Ts=T_C, backend=fast_backend(), log=lambda t, x, u: {"h_e": plant.wrench(x[:2], x[2:])[0][:2]})
     h_pred, dx_ed_pred = compliance_equilibrium(K_P * np.eye(2), K_Y * np.outer(n, n), x_d - O_R)
-    sol.value("h_e_simulated", res["h_e"][-1])
-    sol.value("h_e_9_22", h_pred)
+    sol.value("h_e_simulated", res["h_e"][-1], unit="N")
+    sol.value("h_e_9_22", h_pred, unit="N")
     sol.check_close("simulated compliance control rests at h_e of (9.22) [N]", res["h_e"][-1], h_pred, atol=0.01,
                     reference="simulation vs prediction")
     sol.check_close("… and at x_d − x_e of (9.23) [m]", res["e"][-1], dx_ed_pred, atol=1e-5,
@@ -323,7 +310,7 @@ def problem_9_3() -> Solution:
     res = _impedance_run(_Held(law), q0)
     f_c, e_c = _in_constraint_frame(res["h_e"]), _in_constraint_frame(res["e"])
     e_base = res["e"]
-    f_end, e_end = sol.value("f_final", f_c[-1]), sol.value("position_error_final", e_c[-1])
+    f_end, e_end = sol.value("f_final", f_c[-1], unit="N"), sol.value("position_error_final", e_c[-1], unit="m")
 
     # closed forms of the rest along y_c, from the data
     y_dr = float((R_C.T @ (p_i[:2] - O_R))[1])                 # y_d^c − y_r^c = −0.1 m
@@ -337,10 +324,10 @@ def problem_9_3() -> Solution:
                     reference="simulation vs prediction")
     # along x_c the continuous loop m_d x̃̈ + k_D x̃̇ + k_P x̃ = 0 from x̃(0) = 0 keeps x̃ ≡ 0 (the manual: "null");
     # the sampled law leaves an error of first order in T_c: a run at T_c/2 halves it
-    ex_max = sol.value("x_tilde_x_max", float(np.abs(e_c[:, 0]).max()))
+    ex_max = sol.value("x_tilde_x_max", float(np.abs(e_c[:, 0]).max()), unit="m")
     half = _impedance_run(_Held(law, T_C / 2), q0, T_C / 2)
-    ex_half = sol.value("x_tilde_x_max_half_period", float(np.abs(_in_constraint_frame(half["e"])[:, 0]).max()))
-    sol.value("f_x_max", float(np.abs(f_c[:, 0]).max()))
+    ex_half = sol.value("x_tilde_x_max_half_period", float(np.abs(_in_constraint_frame(half["e"])[:, 0]).max()), unit="m")
+    sol.value("f_x_max", float(np.abs(f_c[:, 0]).max()), unit="N")
     sol.check_close("x̃_x^c null but for sampling: max|x̃_x^c| is first order in T_c (ratio 1 ms / 0.5 ms = 2)",
                     ex_max / ex_half, 2.0, rtol=0.15, reference="simulation vs prediction")
     sol.check_bound("… and small: max|x̃_x^c| at T_c = 1 ms [m]", ex_max, 1e-4)
@@ -354,11 +341,11 @@ def problem_9_3() -> Solution:
     sol.check_close("manual: ω_ny = 10 rad/s, ζ_y = 0.8", [w_y, z_y], [10.0, 0.8], atol=1e-12,
                     reference="manual number")
     fit_y = fit_second_order(res.t, f_c[:, 1], f_inf, guess=(5.0, 0.5))
-    sol.value("omega_zeta_y_measured", np.array(fit_y))
+    sol.value("omega_zeta_y_measured", np.array(fit_y), unit="rad/s, 1")
     sol.check_close("ω_n, ζ along y_c measured on the force transient", fit_y, [w_y, z_y], rtol=0.01,
                     reference="simulation vs prediction")
     least = float(f_c[:, 1].max())
-    sol.value("force_least_negative", least)
+    sol.value("force_least_negative", least, unit="N")
     sol.check_close("small overshoot: least-negative force = f_∞ − (f_0 − f_∞) e^{−ζπ/√(1−ζ²)} ≈ −246.2 N [N]",
                     least, f_inf - (K_Y * y_dr - f_inf) * _overshoot(z_y), atol=0.1, reference="simulation vs prediction")
 
@@ -368,7 +355,7 @@ def problem_9_3() -> Solution:
     free = _impedance_run(p_i[:2], q_off)
     ex = _in_constraint_frame(free["e"])[:, 0]
     fit_x = fit_second_order(free.t, ex, 0.0, guess=(5.0, 1.5))
-    sol.value("omega_zeta_x_measured", np.array(fit_x))
+    sol.value("omega_zeta_x_measured", np.array(fit_x), unit="rad/s, 1")
     sol.check_close("ω_n, ζ along x_c measured on a 2 cm offset run", fit_x, [w_x, z_x], rtol=0.01,
                     reference="simulation vs prediction")
 
@@ -384,8 +371,7 @@ def problem_9_3() -> Solution:
         label_axes(axes[row, 0], xlabel, "position error [m]", title=frame)
         label_axes(axes[row, 1], xlabel, "contact force [N]", title=frame)
     sol.figure(fig, "Fig. S9.2: impedance control against the compliant plane")
-    contact_animation(sol, _arm(), res, "impedance control: the tip 0.1 m inside the plane, force −h_e (0.4 m per 500 N)",
-                      _plane().normal, [(np.r_[O_R + 0.2 * R_C[:, 0], 0.0], (0.2, 0.8))], 8e-4)
+    _contact_animation(sol, res, "impedance control: the tip 0.1 m inside the plane, force −h_e (0.4 m per 500 N)", 8e-4)
     return sol
 
 
@@ -414,7 +400,7 @@ def problem_9_4() -> Solution:
     q0 = inverse_kinematics_planar_2r(O_R + R_C @ np.array([0.15, 0.0]))[ELBOW_UP]
     plant = ArmInContact(arm, _plane(), viscous_friction=F_V)
     x_pred = inner_position_loop_equilibrium(x_d, O_R, K, c_F, f_d)
-    sol.value("x_e_predicted", x_pred)
+    sol.value("x_e_predicted", x_pred, unit="m")
     residual = x_pred - (x_d + c_F * (K @ (O_R - x_pred) + f_d))
     sol.check_error("(I + C_F K)⁻¹(x_d + C_F(K x_r + f_d)) satisfies the equilibrium x_e = x_d + C_F(K(x_r − x_e) + f_d)",
                     np.abs(residual).max(), 1e-12, reference="closed form")
@@ -424,7 +410,7 @@ def problem_9_4() -> Solution:
         ctrl = ForceWithInnerLoop(arm, K_P, K_D, M_d, c_F, x_d, f_d, K_I=K_I, rows=(0, 1), viscous_friction=F_V)
         runs[name] = simulate(plant, ctrl, (0.0, 3.0), plant.initial_state(q0), h=T_C, Ts=T_C, backend=fast_backend())
     p_run, pi_run = runs["P"], runs["PI"]
-    sol.value("x_e_simulated", p_run["x_e"][-1])
+    sol.value("x_e_simulated", p_run["x_e"][-1], unit="m")
     sol.check_close("proportional C_F: simulated rest = x_e of Problem 9.4 [m]", p_run["x_e"][-1], x_pred, atol=1e-6,
                     reference="simulation vs prediction")
     f_rest = K @ (x_pred - O_R)
@@ -468,7 +454,7 @@ def problem_9_5() -> Solution:
         grad.append(float(np.abs(-S_f.T @ W @ (h_e - S_f @ lam)).max()))
         g = lambda l: 0.5 * (h_e - S_f @ l) @ W @ (h_e - S_f @ l)
         worse += sum(g(lam + 1e-3 * rng.standard_normal(m)) < g(lam) for _ in range(50))
-    sol.value("max_error_vs_lstsq", max(err_ls))
+    sol.value("max_error_vs_lstsq", max(err_ls), unit="N")
     sol.check_error("λ = (S_fᵀWS_f)⁻¹S_fᵀW h_e = least squares of W^½ S_f λ ≈ W^½ h_e (numpy lstsq)", max(err_ls),
                     1e-10, reference="other library")
     sol.check_error("the gradient −S_fᵀW(h_e − S_f λ) vanishes", max(grad), 1e-10, reference="closed form")
@@ -500,7 +486,7 @@ def problem_9_6() -> Solution:
         dx = rng.standard_normal(6)
         lam_nu = np.linalg.solve(np.hstack([C @ S_f, S_v]), dx)
         split.append(max_abs_error(S_f @ lam_nu[:m], K1 @ dx) / np.abs(K1 @ dx).max())
-    sol.value("max_relative_error", max(err))
+    sol.value("max_relative_error", max(err), unit="1")
     sol.check_error("K' of (9.70) = P_f K (P_f = S_f S_f†, weight C) (relative)", max(err), 1e-10,
                     reference="closed form")
     sol.check_error("K' dx = the reaction S_f λ of the split dx = C S_f λ + S_v ν (one linear solve) (relative)",
@@ -614,7 +600,7 @@ def problem_9_7() -> Solution:
     lead = sol.given("thread lead p (the remark's pitch)", 1e-3, unit="m")
     T, W = _screwdriver_twists(geometry)
     natural_v, natural_f = _vanishing(T), _vanishing(W)
-    sol.value("twist_space_dimension", T.shape[1])
+    sol.value("twist_space_dimension", T.shape[1], unit="1")
     sol.value("natural_constraints", [n for n, z in zip(TWIST_NAMES, natural_v) if z]
               + [n for n, z in zip(WRENCH_NAMES, natural_f) if z])
     sol.value("artificial_constraints", [n for n, z in zip(WRENCH_NAMES, natural_v) if z]
@@ -625,8 +611,8 @@ def problem_9_7() -> Solution:
     sol.check_close("natural force constraints = Table S9.1: f_x^c = μ_z^c = 0", natural_f.astype(float),
                     [1.0, 0, 0, 0, 0, 1], atol=0, reference="manual number")
     S_f, S_v = selection_matrices(tuple(a for a, z in zip(AXES, natural_f) if z))
-    sol.value("S_v", S_v)
-    sol.value("S_f", S_f)
+    sol.value("S_v", S_v, unit="1")
+    sol.value("S_f", S_f, unit="1")
     in_span = lambda A, B: np.linalg.norm(A - B @ (B.T @ A)) < 1e-9    # noqa: E731 (B orthonormal)
     sol.check("selection_matrices(('x', 'rz')) (the library's S_v, S_f of the artificial axes) span the derived "
               "twist and wrench spaces", S_v.shape == T.shape and S_f.shape == W.shape and in_span(S_v, T)
@@ -644,11 +630,11 @@ def problem_9_7() -> Solution:
     # the manual's remark: a thread of lead p turns the revolute screw–hole pair into a helical one
     T_p, W_p = _screwdriver_twists(geometry | dict(lead=lead))
     turn = T_p @ np.linalg.lstsq(T_p[[0, 5]], [0.0, 1.0], rcond=None)[0]   # the admissible twist ṗ_x = 0, ω_z = 1
-    sol.value("pitch_twist", turn)
+    sol.value("pitch_twist", turn, unit="m/s, rad/s (per rad/s of ω_z)")
     sol.check_close("with the thread (lead p): ω_z^c specified ⇒ ṗ_z^c = (p/2π) ω_z^c (manual's remark) [m/rad]",
                     turn[2], lead / (2 * np.pi), atol=1e-12, reference="closed form")
     reaction = W_p[:, np.argmax(np.abs(W_p[2]))]
-    sol.value("pitch_reaction_mu_z_over_f_z", float(reaction[5] / reaction[2]))
+    sol.value("pitch_reaction_mu_z_over_f_z", float(reaction[5] / reaction[2]), unit="m")
     sol.check("with the thread: ṗ_z^c and μ_z^c no longer vanish alone (ṗ_z − (p/2π)ω_z = 0 and "
               "μ_z + (p/2π) f_z = 0 are the natural constraints); ṗ_y, ω_x, ω_y, f_x still do",
               np.array_equal(_vanishing(T_p), [0, 1, 0, 1, 1, 0]) and np.array_equal(_vanishing(W_p), [1, 0, 0, 0, 0, 0])
@@ -738,7 +724,7 @@ def problem_9_9() -> Solution:
         ref_f = np.array([[(C[0, 1] - C[1, 1]) / C[1, 1], (C[0, 1] + C[1, 1]) / C[1, 1]]]) / np.sqrt(2)
         ref_v = np.array([[(K[0, 0] - K[0, 1]) / K[0, 0], (K[0, 0] + K[0, 1]) / K[0, 0]]]) / np.sqrt(2)
         errs.append(max(max_abs_error(got_f, ref_f), max_abs_error(got_v, ref_v)))
-    sol.value("max_numeric_error", max(errs))
+    sol.value("max_numeric_error", max(errs), unit="1")
     sol.check_error("numeric S_f†, S_v† (9.55, the library) = the closed forms (10 random SPD C^c, K^c)", max(errs),
                     1e-12, reference="closed form")
     return sol
@@ -795,9 +781,9 @@ def problem_9_10() -> Solution:
     res, exact = _hybrid_run(K_HAT), _hybrid_run(K_Y)
     lam, lam_x = res["lam"][:, 0], exact["lam"][:, 0]
     e_nu = res["nu_d"][:, 0] - res["nu"][:, 0]
-    sol.value("force_final", float(lam[-1]))
-    sol.value("force_peak", float(lam.min()))
-    sol.value("velocity_error_max", float(np.abs(e_nu).max()))
+    sol.value("force_final", float(lam[-1]), unit="N")
+    sol.value("force_peak", float(lam.min()), unit="N")
+    sol.value("velocity_error_max", float(np.abs(e_nu).max()), unit="m/s")
 
     l_f = (1.0 / K_HAT) / (1.0 / K_Y)
     w, z = force_loop_parameters(K_D_LAMBDA, K_P_LAMBDA, l_f)
@@ -808,7 +794,7 @@ def problem_9_10() -> Solution:
                     atol=1e-12, reference="manual number")
     sol.check_close("λ(t_d) = λ_d = −50 N [N]", lam[-1], LAMBDA_D, atol=1e-3, reference="simulation vs prediction")
     fit = fit_second_order(res.t, lam, LAMBDA_D, guess=(8.0, 0.6))
-    sol.value("omega_zeta_measured", np.array(fit))
+    sol.value("omega_zeta_measured", np.array(fit), unit="rad/s, 1")
     sol.check_close("ω_nλ, ζ_λ measured on the force transient = √(l_f k_Pλ), k_Dλ/(2√(l_f k_Pλ))", fit, [w, z],
                     rtol=0.02, reference="simulation vs prediction")
     peak = LAMBDA_D * (1.0 + _overshoot(z))
@@ -818,7 +804,7 @@ def problem_9_10() -> Solution:
                     np.abs(e_nu).max(), 7.8e-4, rtol=0.05, reference="independent derivation")
     # the plane complies: deflection λ_d/k_y, the path parallel to the plane once the force has settled
     defl = _in_constraint_frame(res["p_e"][:, :2] - O_R)[:, 1]
-    sol.value("deflection_final", float(defl[-1]))
+    sol.value("deflection_final", float(defl[-1]), unit="m")
     sol.check_close("plane deflection y_e^c − y_r^c = λ_d/k_y = −0.01 m [m]", defl[-1], LAMBDA_D / K_Y, atol=1e-7,
                     reference="simulation vs prediction")
     # parallel to the plane once the force has settled: |λ − λ_d| ≤ |λ_d| e^{−ζω t}/√(1 − ζ²) (the envelope of
@@ -833,7 +819,7 @@ def problem_9_10() -> Solution:
                     atol=1e-5,
                     reference="simulation vs prediction")
     fit1 = fit_second_order(exact.t, lam_x, LAMBDA_D, guess=(8.0, 0.6))
-    sol.value("omega_zeta_measured_known_stiffness", np.array(fit1))
+    sol.value("omega_zeta_measured_known_stiffness", np.array(fit1), unit="rad/s, 1")
     sol.check_close("known stiffness: ω = 10 rad/s, ζ = 0.8 measured", fit1, [w1, z1], rtol=0.02,
                     reference="simulation vs prediction")
     sol.check_close("known stiffness: force peak = λ_d (1 + e^{−ζπ/√(1−ζ²)}), ζ = 0.8: −50.76 N, a smaller overshoot "
@@ -857,8 +843,7 @@ def problem_9_10() -> Solution:
     ax.set_aspect("equal")
     label_axes(ax, "x [m]", "y [m]")
     sol.figure(fig2, "Fig. S9.6: tip path and undeformed plane")
-    contact_animation(sol, _arm(), res, "hybrid force/motion control (k̂ = 4·10³ N/m): force −h_e (0.25 m per 50 N)",
-                      _plane().normal, [(np.r_[O_R + 0.2 * R_C[:, 0], 0.0], (0.2, 0.8))], 5e-3)
+    _contact_animation(sol, res, "hybrid force/motion control (k̂ = 4·10³ N/m): force −h_e (0.25 m per 50 N)", 5e-3)
     return sol
 
 
@@ -915,8 +900,8 @@ def problem_9_11() -> Solution:
     e = np.array([r_d(t)[0] for t in res.t]) - r
     e0, ed0 = e[0], r_d(0.0)[1] - 0.0
     predicted = (e0 + (ed0 + 5.0 * e0) * res.t) * np.exp(-5.0 * res.t)
-    sol.value("max_deviation_from_closed_loop", max_abs_error(e, predicted))
-    sol.value("final_error", float(e[-1]))
+    sol.value("max_deviation_from_closed_loop", max_abs_error(e, predicted), unit="m")
+    sol.value("final_error", float(e[-1]), unit="m")
     sol.check_error(f"r̃(t) = solution of r̃̈ + K_Dr r̃̇ + K_Pr r̃ = 0 (sampled law, 1 ms; r̃₀ = {e0:.2f} m, "
                     f"r̃̇₀ = {ed0:.2f} m/s) [m]", max_abs_error(e, predicted), 2e-4, reference="simulation vs prediction")
     sol.check_error("the constraint holds: ‖p‖ = ρ [m]", np.abs(np.hypot(res.x[:, 0], res.x[:, 1]) - rho).max(), 1e-6,

@@ -110,9 +110,9 @@ def problem_11_1() -> Solution:
         ranks.append(int(np.linalg.matrix_rank(J, tol=1e-8)))
         dims.append(n)
         constraint_ranks.append(int(np.linalg.matrix_rank(trailer_constraints(q, 1.0, lengths))))
-    sol.value("N", list(range(5)))
-    sol.value("dimension", dims)
-    sol.value("angle_indices_N3", trailer_angle_indices(3))
+    sol.value("N", list(range(5)), unit="1")
+    sol.value("dimension", dims, unit="1")
+    sol.value("angle_indices_N3", trailer_angle_indices(3), unit="1")
     sol.check_close("coordinates independent and sufficient: rank ∂(positions, headings)/∂q (finite differences) = "
                     "N + 4, the manual's dim C", ranks, [N + 4 for N in range(5)], atol=0, reference="manual number")
     sol.check_close("the N + 2 rolling constraints of 11.8 are independent: N + 4 − rank A(q) = 2 admissible directions "
@@ -162,15 +162,15 @@ def problem_11_2() -> Solution:
     freq = rng.uniform(0.5, 2.0, 3)
     res = simulate(DriftlessPlant(G), lambda t, q: np.sin(freq * t + np.arange(3)), (0.0, 5.0), q, h=1e-3, Ts=1e-3)
     invariant = res.x[:, 2] + r / (3 * ell) * res.x[:, 3:].sum(axis=1)
-    sol.value("invariant_drift", float(np.ptp(invariant)))
-    sol.value("orientation_change", float(np.ptp(res.x[:, 2])))
+    sol.value("invariant_drift", float(np.ptp(invariant)), unit="rad")
+    sol.value("orientation_change", float(np.ptp(res.x[:, 2])), unit="rad")
     sol.check_error("q3 + (r/3ℓ)(q4 + q5 + q6) constant along random admissible motions (5 s, peak-to-peak) [rad]",
                     np.ptp(invariant), 1e-9, reference="simulation vs prediction",
                     detail=f"while θ varies by {np.ptp(res.x[:, 2]):.2f} rad")
     sol.check_bound("… along motions that do turn the robot (peak-to-peak θ) [rad]", np.ptp(res.x[:, 2]), 0.1, ">=")
     fields = [_column(G, j) for j in range(3)]
     rank = accessibility_rank(fields, q, depth=3)
-    sol.value("accessibility_rank", rank)
+    sol.value("accessibility_rank", rank, unit="1")
     sol.check_close("partially integrable: dim Δ_A (brackets to depth 3) = n − 1 = 5: one holonomic constraint, "
                     "not three", [rank], [5], atol=0, reference="closed form")
     return sol
@@ -252,8 +252,8 @@ def problem_11_4() -> Solution:
     m = G.shape[1]
     fields = [lambda q, j=j: G[:, j] for j in range(m)]
     rank = accessibility_rank(fields, rng.normal(size=n), depth=3)
-    sol.value("m", m)
-    sol.value("accessibility_rank", rank)
+    sol.value("m", m, unit="1")
+    sol.value("accessibility_rank", rank, unit="1")
     sol.check_error("A G = 0 (the library's null-space basis)", np.abs(A @ G).max(), 1e-14, reference="closed form")
     sol.check_close("dim Δ_A = m = n − k = 3 < 5 (the brackets vanish)", [rank, m], [n - k, n - k], atol=0,
                     reference="closed form")
@@ -270,7 +270,7 @@ def problem_11_4() -> Solution:
         return int(np.linalg.matrix_rank(np.hstack(blocks), tol=1e-7))
 
     ctrb = controllability_rank(fields, rng.normal(size=n), rng.normal(size=m))
-    sol.value("controllability_rank", ctrb)
+    sol.value("controllability_rank", ctrb, unit="1")
     sol.check_close("linear rank condition (D.15) on the linearisation at a random (q, u): rank[B AB … A⁴B] = m = 3 "
                     "< n = 5, not controllable", [ctrb], [m], atol=0, reference="closed form")
     unicycle = [_column(unicycle_input_matrix, 0), _column(unicycle_input_matrix, 1)]
@@ -311,12 +311,12 @@ def problem_11_5() -> Solution:
                            eps * np.sin(theta0) - eps * np.sin(theta0 + eps), 0.0])
         err_closed.append(float(np.max(np.abs(disp - closed))))
         t_err.append(float(np.linalg.norm(disp / eps**2 - bracket)))
-    sol.value("epsilon", epsilons)
-    sol.value("t_minus_bracket", t_err)
+    sol.value("epsilon", epsilons, unit="s")
+    sol.value("t_minus_bracket", t_err, unit="m/s²")
     sol.check_error("simulated displacement = closed form (all ε)", max(err_closed), 1e-12,
                     reference="simulation vs prediction")
     orders = np.diff(np.log(t_err)) / np.diff(np.log(epsilons))
-    sol.value("convergence_order", orders)
+    sol.value("convergence_order", orders, unit="1")
     sol.check_close("‖t(ε) − [g1, g2](q0)‖ = O(ε): log–log slopes 1 (the expansion's next term is O(ε³))", orders,
                     np.ones_like(orders), atol=0.05, reference="closed form")
     return sol
@@ -358,7 +358,7 @@ def problem_11_6() -> Solution:
         mid = (res.t[1:-1] % 1.0 > 2 * h) & (res.t[1:-1] % 1.0 < 1 - 2 * h)  # away from input switches
         rolling = r * omega_i[:, None] * np.c_[np.cos(th_[1:-1]), np.sin(th_[1:-1])]
         worst = max(worst, float(np.max(np.abs(v_fd - rolling)[mid])))
-    sol.value("wheel_velocity_mismatch", worst)
+    sol.value("wheel_velocity_mismatch", worst, unit="m/s")
     sol.check_error("simulated wheel centres roll: ṗ_i = r ω_i [cos θ, sin θ] (finite differences)", worst, 1e-5,
                     reference="finite differences")
     return sol
@@ -401,7 +401,7 @@ def problem_11_7() -> Solution:
     sol.check_error("v_P ⟂ (P − C)", worst_perp, 1e-12, reference="closed form")
     sol.check_error("|v_P| = R_P v tan φ / ℓ", worst_mag, 1e-12, reference="closed form")
     q = np.array([0.0, 0.0, 0.0, 0.5])
-    sol.value("icr_example", bicycle_icr(q, ell))
+    sol.value("icr_example", bicycle_icr(q, ell), unit="m")
     sol.check_close("body frame: C = (0, ℓ/tan φ) at θ = 0", bicycle_icr(q, ell), [0.0, ell / np.tan(0.5)], atol=1e-15,
                     reference="closed form")
     return sol
@@ -433,7 +433,7 @@ def problem_11_8() -> Solution:
         headings = np.r_[q[3] + q[2], q[3:]]
         rows = np.array([np.sin(hd) * J[i, 0] - np.cos(hd) * J[i, 1] for i, hd in enumerate(headings)])
         worst_rows = max(worst_rows, float(np.max(np.abs(rows - A))))
-    sol.value("max_abs_AG", worst)
+    sol.value("max_abs_AG", worst, unit="1")
     sol.check_error("A(q) G(q) = 0 at 20 random q (N = 3)", worst, 1e-14, reference="closed form")
     sol.check_close("rank G(q) = 2 (v and ω) at the 20 random q", sorted(ranks), [2], atol=0, reference="closed form")
     sol.check_error("constraint rows = lateral velocities of the axle points (finite differences)", worst_rows, 1e-8,
@@ -446,7 +446,7 @@ def problem_11_8() -> Solution:
     v_fd = (pts[2:] - pts[:-2]) / (2 * h)
     headings = np.c_[res.x[1:-1, 3] + res.x[1:-1, 2], res.x[1:-1, 3:]]
     lateral = np.abs(np.sin(headings) * v_fd[..., 0] - np.cos(headings) * v_fd[..., 1])
-    sol.value("max_lateral_velocity", float(lateral.max()))
+    sol.value("max_lateral_velocity", float(lateral.max()), unit="m/s")
     sol.check_error("simulated train: no lateral slip at any wheel (6 s)", lateral.max(), 1e-6,
                     reference="simulation vs prediction")
     fig, ax = subplots(figsize=(6.4, 4.0))
@@ -467,8 +467,8 @@ def problem_11_9() -> Solution:
     sol = Solution()
     r, d, w_RL = sol.given("r", 0.1, unit="m"), sol.given("d", 0.5, unit="m"), sol.given("ω_RL", 10.0, unit="rad/s")
     v_max, w_max = differential_drive_limits(r, d, w_RL)
-    sol.value("v_max", v_max)
-    sol.value("omega_max", w_max)
+    sol.value("v_max", v_max, unit="m/s")
+    sol.value("omega_max", w_max, unit="rad/s")
     sol.check_close("v_max = r ω_RL = 1 m/s, ω_max = 2r ω_RL/d = 4 rad/s", [v_max, w_max], [1.0, 4.0], atol=1e-15,
                     reference="closed form")
     rng = _rng()
@@ -538,8 +538,8 @@ def problem_11_10() -> Solution:
         miss = max(miss, float(np.max(np.abs(_integrate_chained(path, z_i) - z_f))))
         wrong_path = parameterised_path(z_i, De, np.linalg.solve(D_book, d_manual))
         miss_manual = max(miss_manual, float(np.max(np.abs(_integrate_chained(wrong_path, z_i) - z_f))))
-    sol.value("example_c", path.coefficients)
-    sol.value("miss_with_manual_d", miss_manual)
+    sol.value("example_c", path.coefficients, unit="1")
+    sol.value("miss_with_manual_d", miss_manual, unit="1")
     sol.check_error("D = the manual's matrix (both signs of Δ)", worst_D, 1e-12, reference="closed form")
     sol.check_error("d = corrected vector (… − z2i Δ²/2)", worst_d, 1e-12, reference="closed form")
     sol.check_error("chained form integrated (RK4) with c = D⁻¹d reaches z_f", miss, 1e-9,
@@ -599,7 +599,7 @@ def problem_11_12() -> Solution:
                     reference="second algorithm")
     sol.check_error("z3 = z3i + Δ(z2i s + c0 s²/2 + c1 s³/6) (corrected)", worst_formula, 1e-12,
                     reference="closed form")
-    sol.value("manual_z3_miss", manual_miss)
+    sol.value("manual_z3_miss", manual_miss, unit="1")
     sol.check("erratum 11.12: the printed z3 (without z2i Δ s) misses z3f", manual_miss > 1e-3,
               f"max |z3(1) − z3f| = {manual_miss:.3g}")
     return sol
@@ -619,16 +619,16 @@ def problem_11_13() -> Solution:
     q_f = sol.given("q_f", np.array([2.0, 1.0, np.pi / 2]), unit="m, m, rad")
     k = sol.given("k = k_i = k_f", 1.0, unit="m")
     path = cartesian_polynomial_path(q_i, q_f, k, k)
-    sol.value("alpha_x", float(path.alpha[0]))
-    sol.value("beta_x", float(path.beta[0]))
-    sol.value("alpha_y", float(path.alpha[1]))
-    sol.value("beta_y", float(path.beta[1]))
+    sol.value("alpha_x", float(path.alpha[0]), unit="m")
+    sol.value("beta_x", float(path.beta[0]), unit="m")
+    sol.value("alpha_y", float(path.alpha[1]), unit="m")
+    sol.value("beta_y", float(path.beta[1]), unit="m")
     s = np.linspace(0.0, 1.0, 100001)
     p, dp, _ = path(s)
     theta, v, w = path.geometric_inputs(s)
-    sol.value("max_v", float(np.max(np.abs(v))))
-    sol.value("max_omega", float(np.max(np.abs(w))))
-    sol.value("s_at_max_v", float(s[np.argmax(v)]))
+    sol.value("max_v", float(np.max(np.abs(v))), unit="m (per unit of s)")
+    sol.value("max_omega", float(np.max(np.abs(w))), unit="rad (per unit of s)")
+    sol.value("s_at_max_v", float(s[np.argmax(v)]), unit="1")
     # (11.52) with α, β of (11.53) evaluated here from the data, term by term
     alpha = k * np.array([np.cos(q_f[2]), np.sin(q_f[2])]) - 3 * q_f[:2]
     beta = k * np.array([np.cos(q_i[2]), np.sin(q_i[2])]) + 3 * q_i[:2]
@@ -652,13 +652,13 @@ def problem_11_13() -> Solution:
                        unit="m/s, rad/s")
     T_lib = [uniform_time_scaling(path, v_max=vb, omega_max=wb) for vb, wb in bounds]
     T_cf = [max(np.max(np.abs(v)) / vb, np.max(np.abs(w)) / wb) for vb, wb in bounds]
-    sol.value("T_for_bounds", np.array(T_lib))
+    sol.value("T_for_bounds", np.array(T_lib), unit="s")
     sol.check_close("uniform scaling: the shortest T = max(max|ṽ|/v_max, max|ω̃|/ω_max) for both pairs of bounds [s]",
                     T_lib, T_cf, rtol=1e-6, reference="closed form")
     T = T_lib[0]
-    sol.value("T", T)
-    sol.value("max_v_scaled", float(np.max(np.abs(v)) / T))
-    sol.value("max_omega_scaled", float(np.max(np.abs(w)) / T))
+    sol.value("T", T, unit="s")
+    sol.value("max_v_scaled", float(np.max(np.abs(v)) / T), unit="m/s")
+    sol.value("max_omega_scaled", float(np.max(np.abs(w)) / T), unit="rad/s")
 
     def inputs(t: float, x: Any) -> np.ndarray:
         _, vs, ws = path.geometric_inputs(min((t + H / 2) / T, 1.0))  # midpoint of the hold interval
@@ -666,7 +666,7 @@ def problem_11_13() -> Solution:
 
     res = simulate(UnicyclePlant(), inputs, (0.0, T), q_i, h=H / 10, Ts=H)
     err = res.x[-1] - q_f
-    sol.value("open_loop_final_error", err)
+    sol.value("open_loop_final_error", err, unit="m, m, rad")
     sol.check_close("unicycle driven by the scaled inputs (RK4) reaches q_f", err, np.zeros(3), atol=1e-4,
                     reference="simulation vs prediction")
 
@@ -740,8 +740,8 @@ def problem_11_14() -> Solution:
     e0 = sol.given("e(0)", np.array([0.02, -0.03, 0.02]))
     res, dev = deviation(e0)
     _, dev_half = deviation(e0 / 2)
-    sol.value("final_error", res["e"][-1])
-    sol.value("max_deviation_from_linear_prediction", dev)
+    sol.value("final_error", res["e"][-1], unit="1 (chained-form coordinates)")
+    sol.value("max_deviation_from_linear_prediction", dev, unit="1")
     sol.check_error("simulated error follows the linearised loop exp(A_cl t) e(0): max deviation relative to |e(0)| "
                     "(it converges with it: |e(8 s)| = " + f"{np.linalg.norm(res['e'][-1]):.1e})",
                     dev / np.linalg.norm(e0), 0.02, reference="simulation vs prediction")
@@ -762,7 +762,7 @@ def problem_11_14() -> Solution:
     spiral = simulate(lambda t, q, u: plant.derivative(t, q, inputs(t)), lambda t, q: np.zeros(2), (0.0, 8.0),
                       unicycle_of(reference(0.0)[0]), h=h, Ts=8.0)
     mapped = np.array([unicycle_of(reference(t)[0]) for t in spiral.t])
-    sol.value("footnote_v_d_slope", float(np.polyfit(spiral.t, [inputs(t)[0] for t in spiral.t], 1)[0]))
+    sol.value("footnote_v_d_slope", float(np.polyfit(spiral.t, [inputs(t)[0] for t in spiral.t], 1)[0]), unit="m/s²")
     sol.check_error("footnote: the unicycle driven by ω_d = v1d (constant) and v_d = v2d + z3d v1d (growing linearly, "
                     "slope z2d v1d²) follows the mapped chained-form reference (an involute of the circle of radius "
                     "z2d: an Archimedean spiral as t grows) [m, rad]", np.abs(spiral.x - mapped).max(), 1e-9,
@@ -819,8 +819,8 @@ def problem_11_15() -> Solution:
     e = res["e"]
     predicted = e[0] * np.exp(-np.outer(res.t, k))
     dev = float(np.max(np.abs(e - predicted)))
-    sol.value("initial_error", e[0])
-    sol.value("final_error", e[-1])
+    sol.value("initial_error", e[0], unit="m")
+    sol.value("final_error", e[-1], unit="m")
     sol.check_error("circle tracked: e_i(t) = e_i(0) exp(−k_i t) (decoupled, up to the 1 ms hold): max deviation "
                     "relative to |e(0)|", dev / np.max(np.abs(e[0])), 1e-3, reference="simulation vs prediction",
                     detail=f"|e(0)| = {np.max(np.abs(e[0])):.2f} m")
@@ -863,11 +863,11 @@ def problem_11_16() -> Solution:
     mod = _regulate(CartesianRegulator(k1, k2, backward=True), Q0_COMPANION)
     orig = _regulate(CartesianRegulator(k1, k2), Q0_COMPANION)
     n_e0 = -(Q0_COMPANION[0] * np.cos(Q0_COMPANION[2]) + Q0_COMPANION[1] * np.sin(Q0_COMPANION[2]))
-    sol.value("n_T_e_p_initial", float(n_e0))
+    sol.value("n_T_e_p_initial", float(n_e0), unit="m")
     sol.check_close("obtuse start: nᵀe_p(0) = −2", n_e0, -2.0, atol=1e-12, reference="closed form")
-    sol.value("max_v_modified", float(mod.u[:, 0].max()))
-    sol.value("max_v_original", float(orig.u[:, 0].max()))
-    sol.value("final_distance_modified", float(np.hypot(*mod.x[-1, :2])))
+    sol.value("max_v_modified", float(mod.u[:, 0].max()), unit="m/s")
+    sol.value("max_v_original", float(orig.u[:, 0].max()), unit="m/s")
+    sol.value("final_distance_modified", float(np.hypot(*mod.x[-1, :2])), unit="m")
     sol.check("modified law: v ≤ 0 throughout (backward motion)", mod.u[:, 0].max() <= 1e-12,
               f"max v = {mod.u[:, 0].max():.2e} m/s")
     # With v ≤ 0 and the pointing error aligned, ρ̇ = −k1 ρ cos²(…) ⇒ ρ(t) ≤ ρ0 e^{...}: check against e^{−k1 t}
@@ -927,7 +927,7 @@ def problem_11_17() -> Solution:
     errs = {m: [np.linalg.norm(odometry_step(q0, 1.0, 2.0, T, m)[:2] - odometry_step(q0, 1.0, 2.0, T, "exact")[:2])
                 for T in Tss] for m in ("euler", "runge_kutta")}
     orders = {m: float(np.mean(np.diff(np.log(e)) / np.diff(np.log(Tss)))) for m, e in errs.items()}
-    sol.value("local_error_order", orders)
+    sol.value("local_error_order", orders, unit="1")
     sol.check_close("local error orders (log–log slopes over T_s = 0.2, 0.1, 0.05 s): Euler (11.83) 2, Runge–Kutta "
                     "(11.84) 3", [orders["euler"], orders["runge_kutta"]], [2.0, 3.0], atol=0.1, reference="closed form")
     return sol
@@ -989,9 +989,9 @@ def problem_11_18() -> Solution:
         dist = float(np.hypot(*res.x[-1, :2]))
         est = float(np.linalg.norm(res["q_hat"][-1, :2]))
         odo_error = float(np.hypot(*(res.x[-1, :2] - res["q_hat"][-1, :2])))
-        sol.value(f"final_distance_Ts_{Ts:g}", dist)
-        sol.value(f"final_heading_Ts_{Ts:g}", float(res.x[-1, 2]))
-        sol.value(f"final_odometry_error_Ts_{Ts:g}", odo_error)
+        sol.value(f"final_distance_Ts_{Ts:g}", dist, unit="m")
+        sol.value(f"final_heading_Ts_{Ts:g}", float(res.x[-1, 2]), unit="rad")
+        sol.value(f"final_odometry_error_Ts_{Ts:g}", odo_error, unit="m")
         sol.check_bound(f"T_s = {Ts:g} s: estimate regulated to the origin: ‖p̂(10 s)‖ [m]", est, 1e-3)
         sol.figure(motion_figure(res, "unicycle", estimate=res["q_hat"]),
                    f"{fig_name} — posture regulation with Runge–Kutta odometry, T_s = {Ts:g} s")
@@ -1000,7 +1000,7 @@ def problem_11_18() -> Solution:
     # At T_s = 0.01 s the regulator acts on an estimate that is the state of a perfectly localised robot: the
     # final distance (3e-4 m) is the regulator's own residual after 10 s, the odometric error (5e-5 m) is smaller.
     ideal = simulate(UnicyclePlant(), PostureRegulator(*K_POSTURE), (0.0, T_REGULATION), Q0_COMPANION, h=H, Ts=H)
-    sol.value("final_distance_perfect_localisation", float(np.hypot(*ideal.x[-1, :2])))
+    sol.value("final_distance_perfect_localisation", float(np.hypot(*ideal.x[-1, :2])), unit="m")
     sol.check_close("T_s = 0.01 s: the estimate q̂(10 s) = the final posture of the same regulator with perfect "
                     "localisation (the odometry is that accurate)", runs[0.01]["q_hat"][-1], ideal.x[-1], atol=1e-7,
                     reference="simulation vs prediction")
@@ -1036,8 +1036,8 @@ def problem_11_18() -> Solution:
 
     grid = np.array([0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0])
     finals = np.array([final_distance(Ts) for Ts in grid])
-    sol.value("Ts_grid", grid)
-    sol.value("final_distance_grid", finals)
+    sol.value("Ts_grid", grid, unit="s")
+    sol.value("final_distance_grid", finals, unit="m")
     sol.check("final error increases with T_s up to 0.5 s (degradation)", np.all(np.diff(finals[:7]) > 0),
               str(np.round(finals, 4)))
     sol.check("large T_s destabilises the loop: ‖p‖ > 1 m (or divergence) at T_s = 1 s", finals[-1] > 1.0,
@@ -1049,7 +1049,7 @@ def problem_11_18() -> Solution:
     while hi - lo > 1e-4:
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if final_distance(mid) <= 1e-2 else (lo, mid)
-    sol.value("Ts_threshold", 0.5 * (lo + hi))
+    sol.value("Ts_threshold", 0.5 * (lo + hi), unit="s")
     sol.check("bisection: ‖p(10 s)‖ crosses 1e-2 m between 0.1 and 0.2 s",
               final_distance(lo) <= 1e-2 < final_distance(hi), f"T_s* = {0.5 * (lo + hi):.4f} s")
 

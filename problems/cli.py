@@ -21,7 +21,7 @@ from pathlib import Path
 
 from problems.format import solution_text
 from problems.registry import all_problems, get
-from problems.report import save_figures, solution_dict, to_json, write_report
+from problems.report import save_figures, show_compiler_progress, solution_dict, to_json, write_report
 
 __all__ = ["main", "to_json"]
 
@@ -110,6 +110,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
 def cmd_report(args: argparse.Namespace) -> int:
     problems = selected(args.chapter)
     out = writable_directory(args.out, "--out")
+    show_compiler_progress()
     try:
         summary = write_report(problems, out, jobs=args.jobs)
     except OSError as exc:

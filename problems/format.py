@@ -16,12 +16,14 @@ Full precision stays in ``rmpc solve --json`` and ``summary.json`` (:func:`probl
 from __future__ import annotations
 
 import html
+import re
 import textwrap
 from typing import Any
 
 import numpy as np
 
-__all__ = ["DIGITS", "format_number", "format_value", "format_value_html", "solution_text"]
+__all__ = ["DIGITS", "format_number", "format_value", "format_value_html", "is_quantity", "solution_text", "statement_html",
+           "statement_text"]
 
 DIGITS = 4          # significant digits shown
 ARRAY_ZERO = 1e-12  # entries below this fraction of an array's largest magnitude are shown as 0
@@ -62,6 +64,28 @@ def _as_array(value: Any) -> np.ndarray | None:
         if a.dtype.kind in "biufc" and a.ndim >= 1:
             return a
     return None
+
+
+def is_quantity(value: Any) -> bool:
+    """Whether ``value`` is a number or holds numbers (an array, a list of numbers, a pose, a dictionary with a
+    numeric entry): a quantity, which carries a unit ("1" when dimensionless). Text, truth values and lists of
+    them are not.
+
+    >>> [is_quantity(v) for v in (2.0, np.eye(2), [1, 2], {"a": 1.0, "b": "x"}, True, "text", ["a", "b"], None)]
+    [True, True, True, True, False, False, False, False]
+    """
+    if isinstance(value, (bool, np.bool_, str)) or value is None:
+        return False
+    if isinstance(value, (int, float, complex, np.number)):
+        return True
+    if isinstance(value, dict):
+        return any(is_quantity(v) for v in value.values())
+    a = _as_array(value)
+    if a is not None:
+        return a.dtype.kind in "iufc"
+    if isinstance(value, (list, tuple)):
+        return any(is_quantity(v) for v in value)
+    return False
 
 
 def _entries(a: np.ndarray) -> list[str]:
@@ -110,6 +134,49 @@ def format_value_html(value: Any, unit: str = "") -> str:
     return f"<code>{html.escape(format_value(value))}</code>{tail}"
 
 
+_ROLE = re.compile(r":[a-z]+(?::[a-z]+)?:`~?([^`<]*?)(?:\s*<[^>]*>)?`")       # :func:`~a.b` → b, :ref:`text <x>` → text
+_LITERAL = re.compile(r"``(.+?)``")
+_EMPHASIS = re.compile(r"(?<![\w*])\*(?!\s)([^*]+?)(?<!\s)\*(?![\w*])")
+
+
+def _role_text(match: re.Match) -> str:
+    text = match.group(1)
+    return text.rsplit(".", 1)[-1] if match.group(0).split("`", 1)[1].startswith("~") else text
+
+
+def statement_text(text: str) -> str:
+    """A problem's statement (its docstring's first paragraph) as plain text: the reStructuredText markup removed
+    (``literal`` → literal, :func:`a.b` → a.b, :class:`~a.B` → B, *emphasis* → emphasis).
+
+    >>> statement_text("Compared with ``urdf/scara.urdf`` by :func:`~rigid_body.kinematics.direct_kinematics`; *all* q.")
+    'Compared with urdf/scara.urdf by direct_kinematics; all q.'
+    """
+    text = _ROLE.sub(_role_text, text)
+    text = _LITERAL.sub(r"\1", text)
+    return _EMPHASIS.sub(r"\1", text)
+
+
+def statement_html(text: str) -> str:
+    """A problem's statement as HTML: literals and roles in ``<code>``, emphasis in ``<em>``, the rest escaped.
+
+    >>> statement_html("companion ``i8_13``, K_P = 100 I & *no* payload")
+    'companion <code>i8_13</code>, K_P = 100 I &amp; <em>no</em> payload'
+    """
+    out, last = [], 0
+    pattern = re.compile(f"{_ROLE.pattern}|{_LITERAL.pattern}|{_EMPHASIS.pattern}")
+    for m in pattern.finditer(text):
+        out.append(html.escape(text[last:m.start()]))
+        if m.group(0).startswith("*"):
+            out.append(f"<em>{html.escape(m.group(3))}</em>")
+        elif m.group(0).startswith("``"):
+            out.append(f"<code>{html.escape(m.group(2))}</code>")
+        else:
+            out.append(f"<code>{html.escape(_role_text(m))}</code>")
+        last = m.end()
+    out.append(html.escape(text[last:]))
+    return "".join(out)
+
+
 MAX_LINES = 12  # a value longer than this is cut in the text view (all of it in --json)
 
 
@@ -119,7 +186,7 @@ def solution_text(sol: Any, seconds: float | None = None, figures: list[str] | N
     timing = f", {seconds:.2f} s" if seconds is not None else ""
     out = [f"Problem {sol.id} — {sol.title} [{sol.kind}{timing}]"]
     if getattr(sol, "statement", ""):  # what is asked and the data, so the output reads without the book
-        out += textwrap.wrap(sol.statement, 100, initial_indent="  ", subsequent_indent="  ")
+        out += textwrap.wrap(statement_text(sol.statement), 100, initial_indent="  ", subsequent_indent="  ")
     for name, value in sol.values.items():
         lines = format_value(value, sol.units.get(name, "")).splitlines() or [""]
         if len(lines) > MAX_LINES:

@@ -24,9 +24,10 @@ from typing import Any, Iterable
 
 import numpy as np
 
-from problems.format import format_value_html
+from problems.format import format_value_html, statement_html
 
-__all__ = ["to_json", "solution_dict", "save_figures", "figure_png", "solution_html", "write_report"]
+__all__ = ["to_json", "solution_dict", "save_figures", "figure_png", "solution_html", "write_report",
+           "show_compiler_progress"]
 
 FIGURE_DPI = 90  # the report's PNG files
 PNG_COMPRESS_LEVEL = 3  # zlib level: ~1/3 less encoding time than the default 6, files ~4 % larger
@@ -119,8 +120,8 @@ def _check_dict(c: Any) -> dict:
 
 
 def solution_dict(sol: Any, figures: list[str] | None = None) -> dict:
-    """The JSON object of ``rmpc solve --json``: id, title, kind, values (full precision), units, given (the
-    problem's data, ``sol.given``), checks, figures (the written files' paths, or the figures' titles when none
+    """The JSON object of ``rmpc solve --json``: id, title, kind, values (full precision), units (one entry per value
+    and per datum: "1" when dimensionless, null for text), given (the problem's data, ``sol.given``), checks, figures (the written files' paths, or the figures' titles when none
     were written)."""
     return {
         "id": sol.id,
@@ -128,7 +129,7 @@ def solution_dict(sol: Any, figures: list[str] | None = None) -> dict:
         "kind": sol.kind,
         "statement": getattr(sol, "statement", ""),
         "values": to_json(sol.values),
-        "units": dict(getattr(sol, "units", {})),
+        "units": {**dict(getattr(sol, "units", {})), **{name: getattr(sol, "units", {}).get(name) for name in sol.values}},
         "given": to_json(getattr(sol, "data", {})),
         "checks": [_check_dict(c) for c in sol.checks],
         "figures": figures if figures is not None else [figure_title(f, k) for k, f in enumerate(sol.figures)],
@@ -164,7 +165,7 @@ def solution_html(d: dict, figure_sources: Iterable[str] = (), extras: Iterable[
     parts = [f'<section id="p{d["id"]}" class="{status}"><h3>{d["id"]} — {html.escape(d["title"])} '
              f'<small>[{d["kind"]}{timing}]</small></h3>']
     if d.get("statement"):
-        parts.append(f'<p class="statement">{html.escape(d["statement"])}</p>')
+        parts.append(f'<p class="statement">{statement_html(d["statement"])}</p>')
     if d["values"]:
         parts.append("<table>")
         for name in d["values"]:
@@ -188,12 +189,31 @@ def solution_html(d: dict, figure_sources: Iterable[str] = (), extras: Iterable[
     parts.append("</ul>")
     captions = d.get("figure_titles") or [f"figure {k + 1}" for k in range(len(d["figures"]))]
     for k, src in enumerate(figure_sources):
-        caption = html.escape(f"Fig. {d['id']}.{k + 1}: {captions[k] if k < len(captions) else ''}".rstrip(": "))
+        caption = html.escape(figure_caption(d["id"], k, captions[k] if k < len(captions) else ""))
         parts.append(f'<figure><a href="{html.escape(src)}" target="_blank"><img src="{html.escape(src)}" '
                      f'alt="{caption}" title="click to enlarge"></a><figcaption>{caption}</figcaption></figure>')
     parts.extend(extras)  # HTML snippets, e.g. the 3-D animations
     parts.append("</section>")
     return "\n".join(parts)
+
+
+def figure_caption(pid: str, k: int, title: str) -> str:
+    """The caption of figure ``k`` of problem ``pid``: "Fig. 8.10.1: title"; a title that names the manual's figure
+    ("Fig. S12.3 — PRM …") keeps that name once: "Fig. 12.7.1 (the manual's Fig. S12.3): PRM …".
+
+    >>> figure_caption("12.7", 0, "Fig. S12.3 — PRM for a 2R planar manipulator")
+    "Fig. 12.7.1 (the manual's Fig. S12.3): PRM for a 2R planar manipulator"
+    >>> figure_caption("8.10", 1, "joint errors")
+    'Fig. 8.10.2: joint errors'
+    """
+    import re
+
+    number = f"Fig. {pid}.{k + 1}"
+    match = re.match(r"\s*(?:Fig\.|Figure)\s*(S?\d+\.\d+[a-z]?)\s*[—:–-]?\s*(.*)", title, re.S)
+    if match:
+        rest = match.group(2).strip()
+        return f"{number} (the manual's Fig. {match.group(1)})" + (f": {rest}" if rest else "")
+    return f"{number}: {title}".rstrip(": ")
 
 
 def inline_html(sol: Any) -> str:
@@ -222,14 +242,17 @@ CHAPTERS = {2: "Kinematics", 3: "Differential kinematics and statics", 4: "Traje
 
 
 def _html_page(rows: list[str], n_pass: int, n_fail: int, summary: list[dict]) -> str:
+    animation_script, animation_style = _animation_assets() if any('class="animation"' in r for r in rows) else ("", "")
     style = ("body{font-family:sans-serif;max-width:1100px;margin:auto} section{border-top:1px solid #ccc}"
              " .fail h3{color:#b00} li.fail{color:#b00} pre{display:inline;white-space:pre-wrap}"
-             " figure{display:inline-block;margin:4px;vertical-align:top} figure img{max-width:520px}"
+             " figure{display:inline-block;margin:4px;vertical-align:top;max-width:100%} figure img{max-width:100%}"
              " figcaption{font-size:small;color:#444} th{text-align:left;padding-right:1em;vertical-align:top}"
              " table.matrix td{text-align:right;padding:0 .6em;font-family:monospace;border-left:1px solid #ddd}"
              " table.dict th{font-weight:normal;font-style:italic} .unit{color:#555}"
              " p.statement{color:#333;font-style:italic} h2 a{font-size:small;margin-left:1em}"
-             " nav a{margin-right:.4em} a.fail{color:#b00;font-weight:bold}")
+             " nav a{margin-right:.4em} a.fail{color:#b00;font-weight:bold}"
+             " p.statement code{font-style:normal}"
+             f" {animation_style}")
     body, chapter = [], None
     for d, row in zip(summary, rows):
         ch = int(d["id"].split(".")[0])
@@ -237,11 +260,22 @@ def _html_page(rows: list[str], n_pass: int, n_fail: int, summary: list[dict]) -
             chapter = ch
             body.append(f'<h2 id="ch{ch}">Chapter {ch} — {CHAPTERS.get(ch, "")} <a href="#top">back to top</a></h2>')
         body.append(row)
-    return (f"<!doctype html><html><head><meta charset='utf-8'><title>rmpc report</title>"
+    return (f"<!doctype html><html><head><meta charset='utf-8'><title>rmpc report</title><link rel='icon' href='data:,'>"
             f"<style>{style}</style></head><body><h1 id='top'>rmpc — solved problems</h1>"
             f"<p>{n_pass} passed, {n_fail} failed. Values are shown to 4 significant digits; full precision "
             f"in <a href='summary.json'>summary.json</a> (one object per problem, as <code>rmpc solve ID --json</code>). "
-            f"Click a figure to enlarge it.</p>{_html_index(summary)}{''.join(body)}</body></html>")
+            f"Click a figure to enlarge it; a 3-D animation plays when it is scrolled into view or clicked.</p>"
+            f"{_html_index(summary)}{''.join(body)}{animation_script}</body></html>")
+
+
+def _animation_assets() -> tuple[str, str]:
+    """The page's script and style that make the animations live when seen (viewer/, imported on use; without it,
+    the report has no animations)."""
+    try:
+        from viewer.animation import LIVE_ANIMATIONS_SCRIPT, LIVE_ANIMATIONS_STYLE
+    except ImportError:  # pragma: no cover
+        return "", ""
+    return LIVE_ANIMATIONS_SCRIPT, LIVE_ANIMATIONS_STYLE
 
 
 def _progress(k: int, n: int, pid: str, started: float) -> None:
@@ -252,9 +286,35 @@ def _progress(k: int, n: int, pid: str, started: float) -> None:
     sys.stderr.flush()
 
 
+_SOLVING = [""]   # the problem this process is solving (the compiler's progress lines name it)
+
+
+def show_compiler_progress() -> None:
+    """Print the compiled backend's build messages (INFO of the logger ``rmpc.compiler``) on stderr, each with the
+    problem being solved: the first report on a machine compiles its closed loops (20–25 s in all) while the
+    progress bar waits for them."""
+    import logging
+
+    class _Problem(logging.Filter):
+        def filter(self, record: logging.LogRecord) -> bool:
+            record.problem = _SOLVING[0] or "-"
+            return True
+
+    logger = logging.getLogger("rmpc.compiler")
+    if any(getattr(h, "rmpc_report", False) for h in logger.handlers):
+        return
+    handler = logging.StreamHandler(sys.stderr)
+    handler.rmpc_report = True
+    handler.addFilter(_Problem())
+    handler.setFormatter(logging.Formatter("\r%(problem)6s %(message)s"))
+    logger.addHandler(handler)
+    logger.setLevel(logging.INFO)
+
+
 def _solve_for_report(prob: Any, out: Path) -> tuple[dict, list[str]]:
     """Solve one problem for the report: its :func:`solution_dict` (with ``passed``, ``seconds``), figures
     written under ``out/figures``, and its animations' HTML."""
+    _SOLVING[0] = prob.id
     fig_dir = out / "figures"
     t0 = time.time()
     try:
@@ -362,6 +422,10 @@ def write_report(problems: list, out: Path, jobs: int = 1) -> list[dict]:
     fig_dir = out / "figures"
     if fig_dir.is_dir():  # no stale figure of an earlier run (renamed or removed figures)
         for old in fig_dir.glob("*.png"):
+            old.unlink()
+    anim_dir = out / "animations"
+    if anim_dir.is_dir():  # nor a stale animation page (a problem that no longer animates, or fewer animations)
+        for old in anim_dir.glob("*.html"):
             old.unlink()
     progress = sys.stderr.isatty() or bool(os.environ.get("RMPC_PROGRESS"))
     started = time.time()

@@ -157,7 +157,8 @@ class Robot:
     urdf_path : the URDF file, or None for a model built in memory.
     urdf_xml : the URDF text the model was built from.
     configurations : named joint configurations, all within the joint limits: ``"neutral"`` (Pinocchio's
-        neutral moved onto the limits; often singular) for every robot, the Panda's ``"ready"``, the UR
+        neutral moved onto the limits; often singular — the Panda's stands stretched upright with q₄ on its limit,
+        a dead start for the local IK ``solve_clik``: start from ``"ready"``) for every robot, the Panda's ``"ready"``, the UR
         arms' ``"home"``, the Puma 560's ``"qz"``, ``"qr"``, ``"qs"``, ``"qn"``, and for each book robot
         at least one non-singular posture, the manual's where it gives one (``planar_2r``:
         ``"p8_10_target"``, ``"p8_15_start"``; ``scara``: ``"p5_7_camera"``; ``planar_pr``: ``"fig_s7_2"``),

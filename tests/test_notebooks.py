@@ -39,7 +39,9 @@ def test_the_scan_sees_a_failed_check():
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.name for p in NOTEBOOKS])
-def test_notebook_executes(path, tmp_path):
+def test_notebook_executes(path, tmp_path, monkeypatch):
+    # the kernel runs in tmp_path; examples/ (not installed) is found in the source tree, as from notebooks/ ("..")
+    monkeypatch.setenv("PYTHONPATH", str(path.parent.parent))
     nb = nbformat.read(path, as_version=4)
     NotebookClient(nb, timeout=300, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}).execute()
     failed = failed_outputs(nb)

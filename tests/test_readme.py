@@ -23,13 +23,15 @@ def test_ci_runs_the_readme_test_command():
     assert commands[1] in (ROOT / ".ci" / "run").read_text()
 
 
-def test_library_tour_runs_in_order_and_shows_what_it_says():
-    """Every ```python block of the README, executed in order in one namespace (the tour of six steps)."""
+def test_library_tour_runs_in_order_and_shows_what_it_says(tmp_path, monkeypatch):
+    """Every ```python block of the README, executed in order in one namespace (the tour of ten steps), in a
+    temporary folder (step 10 writes a page)."""
     import matplotlib
 
     matplotlib.use("Agg")
+    monkeypatch.chdir(tmp_path)
     blocks = re.findall(r"```python\n(.*?)```", README, re.S)
-    assert len(blocks) >= 7
+    assert len(blocks) >= 11
     ns: dict = {}
     for i, code in enumerate(blocks):
         exec(compile(code, f"README.md python block {i + 1}", "exec"), ns)
@@ -46,3 +48,18 @@ def test_library_tour_runs_in_order_and_shows_what_it_says():
     np.testing.assert_allclose(ns["res_ct_panda"].q[-1], ns["ik"].q, atol=1e-4)
     assert ns["extra"][3] > 0 and np.abs(ns["extra"]).max() < 2.0 * 9.81     # at most m g · 1 m on the Panda
     assert repr(ns["arm"]).count("\n") == 0 and len(repr(ns["res_id"])) < 200
+    # 7. force control: 20 N held while sliding, lost past the edge, regained; the plot names f_x … μ_z
+    res_force, t = ns["res_force"], ns["res_force"].t
+    f_n = -ns["res_force"]["h_e"][:, :3] @ ns["at_wall"].n                  # the push along the wall's normal
+    assert np.abs(f_n[(t > 1.3) & (t < 1.9)] - 20.0).max() < 0.5 and np.any(f_n[(t > 2.0) & (t < 2.6)] == 0.0)
+    assert abs(f_n[-1] - 20.0) < 0.1
+    assert [label for label, _ in res_force.describe("h_e")] == ["f_x", "f_y", "f_z", "μ_x", "μ_y", "μ_z"]
+    # 8. IBVS: the image back at s_d (a camera pose that sees it), the points in the 640 × 480 image throughout
+    assert ns["ibvs"].image_error(ns["res_vs"])[-1] < 1e-3
+    assert np.all(np.isfinite(ns["ibvs"].image_error(ns["res_vs"])))
+    assert ns["res_vs"].describe("e_s")[:2] == [("x₁", "1"), ("y₁", "1")]
+    # 9. the unicycle on the figure-eight, then parked at the origin
+    assert ns["tracked"]["position_error"][-1] < 1e-3 and np.abs(ns["parked"].x[-1]).max() < 1e-2
+    # 10. planned, certified, timed, certified, exported (a self-contained page)
+    assert ns["found"].certified and ns["motion"].certified and ns["motion"].t_f > 0
+    assert ns["page"].stat().st_size > 500_000 and len(repr(ns["motion"])) < 250

@@ -161,20 +161,72 @@ def export_html(robot: Robot | str, motion: Any, path: str | Path, speed: float 
 def report_animations(solution: Any, directory: str | Path, prefix: str = "animations") -> list[str]:
     """Export the animations a problem attached with ``Solution.animation(...)`` for the report.
 
-    Writes ``directory/prefix/<id>_<k>.html`` and returns one HTML snippet per animation: a
-    caption and an ``<iframe>`` whose ``src`` is relative to ``directory`` (the report's folder).
+    Writes ``directory/prefix/<id>_<k>.html`` and returns one HTML snippet per animation: a ``<figure
+    class="animation">`` whose ``data-src`` is the page (relative to ``directory``, the report's folder), holding a
+    still poster (:func:`viewer.poster.poster_svg`) and a caption. No ``<iframe>``: the report's page makes the
+    animation live when it is scrolled into view or clicked and removes it when scrolled away (a browser keeps
+    only so many live WebGL contexts), see :data:`LIVE_ANIMATIONS_SCRIPT`.
     """
+    from viewer.poster import poster_svg
+
     snippets = []
     for k, spec in enumerate(getattr(solution, "animations", ()), start=1):
         spec = dict(spec)
-        robot, motion, caption = spec.pop("robot"), spec.pop("motion"), spec.pop("title", "")
+        robot, motion, caption = as_robot(spec.pop("robot")), spec.pop("motion"), spec.pop("title", "")
         name = f"{solution.id or 'problem'}_{k}.html".replace("/", "_")
         started = time.perf_counter()
         export_html(robot, motion, Path(directory) / prefix / name, title=f"Problem {solution.id}: {caption}", **spec)
         elapsed = time.perf_counter() - started
+        t, q = motion_of(motion, robot)
+        R_up = up_rotation(robot.model.gravity.linear)
+        camera = spec.get("camera") or default_camera(robot, R_up)
+        poster = poster_svg(robot, t, q, R_up, camera, label=caption or robot.name)
         snippets.append(
-            f'<figure class="animation"><iframe src="{prefix}/{name}" loading="lazy" '
-            f'style="width:100%;height:420px;border:1px solid #ccc"></iframe>'
-            f"<figcaption>{html_lib.escape(caption or robot.name)} — 3-D animation "
-            f"(drag to orbit; controls at the top right; exported in {elapsed:.1f} s)</figcaption></figure>")
+            f'<figure class="animation" data-src="{prefix}/{name}"><div class="stage">'
+            f'<button type="button" class="poster" title="play the 3-D animation">{poster}</button></div>'
+            f"<figcaption>{html_lib.escape(caption or robot.name)} — 3-D animation (plays when scrolled into view "
+            f"or clicked; drag to orbit; controls at the top right; exported in {elapsed:.1f} s)</figcaption></figure>")
     return snippets
+
+
+#: The report page's script for its animations (:func:`report_animations`): an animation is live (an ``<iframe>``
+#: of its page) while its figure is within 300 px of the window or after a click, at most ``MAX_LIVE`` at once (the
+#: oldest released first); a figure scrolled away gets its poster back and its iframe removed — the document and
+#: its WebGL context go with it (``loseContext`` would leave a console warning). Chromium keeps 16 contexts.
+MAX_LIVE_ANIMATIONS = 4
+LIVE_ANIMATIONS_SCRIPT = """<script>
+(function () {
+  var MAX_LIVE = %d, live = [];
+  function release(fig) {
+    var frame = fig.querySelector("iframe");
+    if (frame) { frame.src = "about:blank"; frame.remove(); }
+    fig.classList.remove("live");
+    var i = live.indexOf(fig);
+    if (i >= 0) live.splice(i, 1);
+  }
+  function play(fig) {
+    if (live.indexOf(fig) >= 0) return;
+    while (live.length >= MAX_LIVE) release(live[0]);
+    var frame = document.createElement("iframe");
+    frame.src = fig.dataset.src;
+    frame.title = "3-D animation";
+    fig.querySelector(".stage").appendChild(frame);
+    fig.classList.add("live");
+    live.push(fig);
+  }
+  var figures = document.querySelectorAll("figure.animation[data-src]");
+  var watch = new IntersectionObserver(function (entries) {
+    entries.forEach(function (e) { if (e.isIntersecting) play(e.target); else release(e.target); });
+  }, {rootMargin: "300px 0px"});
+  figures.forEach(function (fig) {
+    fig.querySelector(".poster").addEventListener("click", function () { play(fig); });
+    watch.observe(fig);
+  });
+  window.rmpcLiveAnimations = function () { return live.length; };
+})();
+</script>""" % MAX_LIVE_ANIMATIONS
+LIVE_ANIMATIONS_STYLE = (
+    "figure.animation{display:block;margin:4px 0} figure.animation .stage{position:relative;width:100%;height:420px;"
+    "border:1px solid #ccc} figure.animation .poster{all:unset;cursor:pointer;display:block;width:100%;height:100%}"
+    " figure.animation .poster svg{width:100%;height:100%} figure.animation iframe{position:absolute;inset:0;"
+    "width:100%;height:100%;border:0} figure.animation.live .poster{visibility:hidden}")

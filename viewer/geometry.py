@@ -16,7 +16,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from rigid_body.robots import Robot, example_robot_data_dir
+from rigid_body.robots import Robot, example_robot_data_dir, joint_kind
 
 SKELETON_COLOR = np.array([0.90, 0.45, 0.10, 1.0])  # orange: the colour the browser test looks for
 JOINT_COLOR = np.array([0.20, 0.30, 0.55, 1.0])
@@ -61,11 +61,18 @@ def _segment(name: str, joint: int, a: np.ndarray, b: np.ndarray, radius: float)
     return obj
 
 
+def _reach(points: list[tuple[int, np.ndarray]]) -> float:
+    """The longest offset among (joint, point) pairs [m] (0 without any)."""
+    return max((float(np.linalg.norm(p)) for _, p in points), default=0.0)
+
+
 def skeleton_of(robot: Robot, radius: float | None = None) -> pin.GeometryModel:
     """Spheres at the joints and cylinders along the links: a drawing of any kinematic chain.
 
     Each cylinder is rigidly attached to one joint: from the joint's origin to the origin of every
-    child joint and of every frame (DH frame, end effector) carried by the same joint.
+    child joint and of every frame (DH frame, end effector) carried by the same joint. A prismatic joint also
+    carries a quill along its axis over its stroke, so that whatever its extension the link it moves stays
+    attached to the one before (the SCARA's third link, which carries the camera of Example 10.3).
     """
     model = robot.model
     mimic = set(getattr(model, "mimicking_joints", ()))
@@ -77,13 +84,14 @@ def skeleton_of(robot: Robot, radius: float | None = None) -> pin.GeometryModel:
         if f.type == pin.FrameType.BODY:
             points.append((f.parentJoint, np.array(f.placement.translation)))
     if radius is None:
-        reach = max((np.linalg.norm(p) for _, p in points), default=0.0)
-        radius = float(np.clip(0.04 * reach, 0.005, 0.03))
+        radius = float(np.clip(0.04 * _reach(points), 0.005, 0.03))
     geom = pin.GeometryModel()
     for k, (joint, p) in enumerate(points):
         seg = _segment(f"link_{model.names[joint]}_{k}", joint, np.zeros(3), p, radius)
         if seg is not None:
             geom.addGeometryObject(seg)
+    for quill in quills(robot, 0.8 * radius, _reach(points)):
+        geom.addGeometryObject(quill)
     for j in range(1, model.njoints):
         if j not in mimic:
             ball = pin.GeometryObject(f"joint_{model.names[j]}", j, pin.SE3.Identity(), coal.Sphere(1.6 * radius))
@@ -92,12 +100,34 @@ def skeleton_of(robot: Robot, radius: float | None = None) -> pin.GeometryModel:
     return geom
 
 
+def quills(robot: Robot, radius: float, reach: float = 0.1) -> list[pin.GeometryObject]:
+    """A cylinder on each prismatic joint's axis over its stroke [lower, upper] (``reach`` when unbounded), attached
+    to the joint: whatever its extension, the link it moves stays joined to the link before (the SCARA's third
+    link, which carries the camera of Example 10.3)."""
+    model = robot.model
+    mimic = set(getattr(model, "mimicking_joints", ()))
+    out = []
+    for j in range(1, model.njoints):
+        try:
+            kind, axis = joint_kind(model, j)
+        except ValueError:
+            continue
+        if kind == "prismatic" and j not in mimic:
+            lo, hi = (float(v[model.joints[j].idx_q]) for v in (model.lowerPositionLimit, model.upperPositionLimit))
+            lo, hi = (lo, hi) if np.isfinite(lo) and np.isfinite(hi) and hi > lo else (0.0, max(reach, 0.1))
+            seg = _segment(f"quill_{model.names[j]}", j, -hi * axis, -lo * axis, radius)
+            if seg is not None:
+                out.append(seg)
+    return out
+
+
 def geometry_of(robot: Robot, kind: str = "collision") -> pin.GeometryModel:
     """The geometry the viewer draws for ``robot``.
 
     ``kind`` is ``"collision"`` (simple meshes: small exports, the default) or ``"visual"`` (the
     detailed meshes). The robot's own ``visual_model``/``collision_model`` win when it has them; a
-    robot with no geometry of either kind is drawn as its :func:`skeleton_of`.
+    robot with no geometry of either kind is drawn as its :func:`skeleton_of`. Drawn from primitive shapes only
+    (a DH table's), a prismatic joint also gets its :func:`quills`.
     """
     if kind not in KINDS:
         raise ValueError(f"`kind` must be one of {KINDS}, got {kind!r}")
@@ -107,5 +137,16 @@ def geometry_of(robot: Robot, kind: str = "collision") -> pin.GeometryModel:
         if geom is None:
             geom = _from_urdf(robot, k)
         if geom.ngeoms > 0:
+            if all(obj.meshPath in ("", "BOX", "CYLINDER", "SPHERE") for obj in geom.geometryObjects):
+                # primitive shapes only (a DH table's cylinders and the gripper's box): no quill on the prismatic joints
+                radii = [obj.geometry.radius for obj in geom.geometryObjects if isinstance(obj.geometry, coal.Cylinder)]
+                carried = {obj.parentJoint for obj in geom.geometryObjects}     # a quill joins two drawn links
+                extra = [quill for quill in quills(robot, 0.8 * max(radii, default=0.01))
+                         if robot.model.parents[quill.parentJoint] in carried]
+                if extra:
+                    geom = geom.copy()
+                    for quill in extra:
+                        quill.meshColor = geom.geometryObjects[0].meshColor     # the links' colour
+                        geom.addGeometryObject(quill)
             return geom
     return skeleton_of(robot)

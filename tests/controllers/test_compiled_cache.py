@@ -182,3 +182,34 @@ def test_rmpc_solve_9_3_survives_a_failing_compiler_and_a_cache_that_is_a_file(t
                              env={**os.environ, **env}, timeout=900)
         assert run.returncode == 0, run.stderr.decode()[-2000:]
         assert "Python backend" in run.stderr.decode()
+
+
+def test_the_digest_takes_modules_and_opaque_objects():
+    """A block holding a module or an extension object without attributes: the digest names the module and
+    keys the object by itself (never reused for another object)."""
+    import types as pytypes
+
+    class Opaque:
+        __slots__ = ()
+
+    class Block:
+        def __init__(self):
+            self.module, self.handle = np, Opaque()
+
+    a, b = Block(), Block()
+    assert compiled.structure_digest(a) != compiled.structure_digest(b)              # two opaque handles
+    assert compiled.structure_digest(a) == compiled.structure_digest(a)
+    assert isinstance(np, pytypes.ModuleType)
+
+
+def test_compile_function_without_a_compiler_runs_interpreted(fresh_cache, monkeypatch):
+    """The generic helper (used beyond the loop, e.g. by planners.optimal_control) keeps working: interpreted,
+    one warning naming the fault."""
+    import casadi as ca
+
+    x = ca.SX.sym("x")
+    f = ca.Function("square", [x], [x * x])
+    monkeypatch.setenv("CC", "/bin/false")
+    with pytest.warns(UserWarning, match="compiler `/bin/false` failed.*interpreted"):
+        g = compiled.compile_function(f)
+    assert float(g(3.0)) == 9.0

@@ -43,15 +43,15 @@ def test_hybrid_servo_turns_by_pi_without_retreat_where_ibvs_retreats():
     reference point (ln ρ_z stays 0) and reaches the desired pose with the points in view."""
     import numpy as np
 
-    from examples.panda_visual_servoing import (DEPTH, FRAME, TC, _depth, run_hybrid, run_ibvs, scene,
+    from examples.panda_visual_servoing import (DEPTH, FRAME, TC, camera_depth, run_hybrid, run_ibvs, scene,
                                                 start_configuration, views)
     from rigid_body.kinematics import direct_kinematics
 
     sc = scene()
     q_pi = start_configuration(sc, np.pi, np.zeros(3))
-    assert _depth(sc, run_ibvs(sc, q_pi, 1.2, depth=DEPTH)).max() - DEPTH > 0.2
+    assert camera_depth(sc, run_ibvs(sc, q_pi, 1.2, depth=DEPTH)).max() - DEPTH > 0.2
     res = run_hybrid(sc, q_pi, 8.0)
-    z = _depth(sc, res)
+    z = camera_depth(sc, res)
     assert np.max(np.abs(z - DEPTH)) < 1e-3
     theta = res["theta"]
     k = np.arange(len(theta))

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from examples.planning import (anthropomorphic_pillar, panda_shelf, plan_and_time, planning_demo, recheck,
-                               time_path)
+from controllers.scenes import anthropomorphic_pillar, panda_shelf
+from examples.planning import plan_and_time, planning_demo, recheck, time_path
 from planners.sampling import edge_is_free
 
 

@@ -79,7 +79,7 @@ def test_sampled_mode_is_explicit_and_says_not_certified(thin_wall):
 
 @pytest.fixture(scope="module")
 def panda_space():
-    from examples.planning import panda_shelf
+    from controllers.scenes import panda_shelf
 
     return panda_shelf().space
 
@@ -185,7 +185,7 @@ def test_certified_panda_edges_pass_a_dense_pairwise_recheck(panda_space):
 
 def test_two_threads_plan_on_one_space_as_one_thread_does(panda_space):
     """Two threads planning on one UrdfCSpace at once get exactly the single-threaded results."""
-    from examples.planning import panda_shelf
+    from controllers.scenes import panda_shelf
 
     sc = panda_shelf()
     alone = [rrt_connect(panda_space, sc.q_start, sc.q_goal, seed, step=0.5, max_iterations=5000)
@@ -352,7 +352,7 @@ def test_unicycle_arcs_are_certified_and_dense_samples_agree():
     """Problem 12.8's scene: every arc of the certified tree's path is free at samples 1 mm of motion apart
     (exact shape distances), and an arc leaving the position bounds is refused by its exact extent."""
     from planners.sampling import certify_arc, unicycle_arc
-    from problems.ch12 import scene_12_8
+    from controllers.scenes import scene_12_8
 
     space, qs, qg = scene_12_8()
     prims = [MotionPrimitive(1.0, 0.0), MotionPrimitive(1.0, 1.3), MotionPrimitive(1.0, -1.3)]

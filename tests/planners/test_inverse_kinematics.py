@@ -367,7 +367,7 @@ def test_failure_reason_names_the_joint_at_a_limit_and_a_rank_deficient_jacobian
     q_low[1] = panda.lower[1]
     J = np.diag([3.0, 2.0, 1.5, 1.0, 0.5, 0.0])
     msg = _failure_reason(panda, q, q_low, J)
-    assert "q[1] at their joint limits" in msg and "singular" in msg and msg.startswith("stalled")
+    assert "q[1] at its joint limit" in msg and "singular" in msg and msg.startswith("stalled")
     msg = _failure_reason(panda, q, q, np.diag([3.0, 2.0, 1.5, 1.0, 0.5, 0.4]))
     assert msg.startswith("never improved") and "joint limits" not in msg and "singular" not in msg
 
@@ -403,7 +403,7 @@ def test_failure_reason_thresholds_are_tight_and_relative(panda):
     upper[2] = panda.upper[2]
     J = np.diag([3.0, 2.0, 1.5, 1.0, 0.5, 0.4])
     assert "joint limits" not in _failure_reason(panda, q, near, J)
-    assert "q[2] at their joint limits" in _failure_reason(panda, q, upper, J)
+    assert "q[2] at its joint limit" in _failure_reason(panda, q, upper, J)
     assert "singular" not in _failure_reason(panda, q, q, 1e-3 * np.diag([1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5]))
 
 
@@ -434,3 +434,20 @@ def test_qp_ik_failure_returns_its_best_configuration(panda):
 def test_qp_ik_velocity_limits_must_be_positive(panda):
     with pytest.raises(ValueError, match="velocity_limit"):
         QPIKOptions(velocity_limit=np.zeros(7))
+
+
+def test_a_dead_start_says_so_and_names_a_better_one():
+    """The Panda's neutral (stretched upright, q₄ on its limit) is a dead start for the local CLIK: the failure says
+    which joint sits on its limit (one joint: "its limit") and names another configuration to start from; from
+    ``ready`` the same pose converges."""
+    from planners.inverse_kinematics import solve_clik
+    from rigid_body.kinematics import direct_kinematics
+    from rigid_body.robots import load
+
+    panda = load("panda")
+    T = direct_kinematics(panda, panda.configurations["neutral"])
+    T[:3, 3] += [0.05, 0.0, -0.1]
+    dead = solve_clik(panda, T, panda.configurations["neutral"])
+    assert not dead.success and "q[3] at its joint limit" in dead.message
+    assert "robot.configurations['ready']" in dead.message
+    assert solve_clik(panda, T, panda.configurations["ready"]).success

@@ -66,7 +66,7 @@ def test_blended_polyline_is_c1_and_its_derivatives_are_exact():
 
 @pytest.fixture(scope="module")
 def panda_scene():
-    from examples.planning import panda_shelf
+    from controllers.scenes import panda_shelf
 
     return panda_shelf()
 

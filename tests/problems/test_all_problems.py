@@ -4,12 +4,15 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
+from problems.format import is_quantity
 from problems.registry import KINDS, REFERENCES, all_problems
 from tests.problems.figure_lint import lint_figure
 
 PROBLEMS = [p for p in all_problems() if p.chapter != 99]  # 99.x: test_cli.py's own
 #: Chapters whose every check must name the kind of its reference and whose problems declare their data.
 CLASSIFIED_CHAPTERS = range(2, 13)
+#: Chapters whose every numeric value carries a unit ("1" when dimensionless).
+UNIT_CHAPTERS = range(2, 13)
 
 #: The problems that declare no datum (``sol.given``): derivations proved symbolically or checked on random
 #: samples (angles, rotations, postures, motors, point clouds...), whose statement gives no numbers. Every
@@ -197,6 +200,9 @@ def test_problem_checks_pass(prob):
             assert bool(sol.data) != (prob.id in NO_DATA), (
                 f"problem {prob.id}: " + ("listed in NO_DATA but declares data" if sol.data else
                                           "declares no data: sol.given(name, value, unit) for each datum"))
+        if prob.chapter in UNIT_CHAPTERS:
+            bare = [name for name, v in sol.values.items() if is_quantity(v) and not sol.units.get(name)]
+            assert not bare, f"problem {prob.id}: values without a unit (sol.value(name, v, unit=...), '1' if none): {bare}"
         unreadable = [m for fig in sol.figures for m in lint_figure(fig)]
         assert not unreadable, f"problem {prob.id}: figures a reader cannot use: {unreadable}"
     finally:

@@ -118,7 +118,8 @@ def test_report_page_has_chapters_statements_captions_and_a_fresh_figures_folder
     assert "<figcaption>Fig. 0.1.1: a figure</figcaption>" in page        # captioned
     assert '<a href="figures/0_1_1_a_figure.png" target="_blank">' in page  # readable name, click to enlarge
     assert "summary.json" in page and "1 m" in page
-    assert json.loads((tmp_path / "summary.json").read_text())[0]["units"] == {"a": "m"}
+    written = json.loads((tmp_path / "summary.json").read_text())[0]
+    assert written["units"]["a"] == "m" and set(written["units"]) >= set(written["values"])   # an entry per value
     assert summary[0]["statement"].startswith("Find the answer")
 
 
@@ -137,3 +138,48 @@ def test_checks_record_both_sides_and_their_reference():
     with pytest.raises(ValueError, match="reference"):
         sol.check_close("y", 1.0, 1.0, reference="manual")
     assert "closed form</span>" in solution_html(solution_dict(sol))
+
+
+def test_captions_name_the_manuals_figure_once_and_statements_show_no_markup():
+    from problems.format import statement_text
+    from problems.report import figure_caption, solution_html
+
+    assert figure_caption("12.7", 0, "Fig. S12.3 — PRM for a 2R planar manipulator") == \
+        "Fig. 12.7.1 (the manual's Fig. S12.3): PRM for a 2R planar manipulator"
+    assert figure_caption("8.10", 1, "joint errors") == "Fig. 8.10.2: joint errors"
+    d = {"id": "0.1", "title": "t", "kind": "numeric", "values": {}, "checks": [], "figures": [],
+         "statement": "Compared with ``urdf/scara.urdf`` by :func:`~rigid_body.kinematics.direct_kinematics`."}
+    page = solution_html(d)
+    assert "<code>urdf/scara.urdf</code>" in page and "<code>direct_kinematics</code>" in page
+    assert "``" not in page and ":func:" not in page
+    assert statement_text(d["statement"]) == "Compared with urdf/scara.urdf by direct_kinematics."
+
+
+def test_a_rerun_removes_stale_animation_pages(tmp_path):
+    from problems.registry import Problem
+    from problems.report import write_report
+
+    stale = tmp_path / "animations" / "9.99_1.html"
+    stale.parent.mkdir(parents=True)
+    stale.write_text("<html></html>")
+    write_report([Problem("0.1", "A test", "numeric", lambda: _solution())], tmp_path)
+    assert not stale.exists()
+
+
+def test_the_report_shows_the_compilers_progress(capsys):
+    """The first report on a machine compiles its loops (20–25 s): each build is a line on stderr naming the problem."""
+    import logging
+
+    from problems import report
+
+    logger = logging.getLogger("rmpc.compiler")
+    before = list(logger.handlers)
+    try:
+        report.show_compiler_progress()
+        report._SOLVING[0] = "10.8"
+        logger.info("compiling %s (C code)", "rollout")
+    finally:
+        report._SOLVING[0] = ""
+        for handler in [h for h in logger.handlers if h not in before]:
+            logger.removeHandler(handler)
+    assert "10.8 compiling rollout (C code)" in capsys.readouterr().err

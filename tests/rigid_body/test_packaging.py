@@ -1,4 +1,5 @@
-"""A non-editable install ships the book's URDF files as package data (``rigid_body/urdf``) and no ``urdf`` package."""
+"""A non-editable install ships the book's URDF files as package data (``rigid_body/urdf``), no ``urdf`` package, and
+as top-level names only the library's, the CLI's ``problems`` and ``rmpc`` (no ``examples``)."""
 
 import importlib.util
 import os
@@ -19,6 +20,8 @@ def test_installed_package_loads_book_robots_outside_the_source_tree(tmp_path):
     assert build.returncode == 0, build.stderr[-2000:]
     assert (target / "rigid_body" / "urdf" / "planar_2r.urdf").is_file()
     assert not (target / "urdf").exists(), "urdf/ must ship inside rigid_body, not as a top-level package"
+    top = sorted(p.name for p in target.iterdir() if (p / "__init__.py").is_file())
+    assert top == ["controllers", "planners", "problems", "rigid_body", "rmpc", "viewer"], top   # not examples
     script = (
         "import rigid_body, numpy as np\n"
         "from rigid_body.robots import load\n"

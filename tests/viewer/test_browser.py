@@ -196,3 +196,73 @@ def test_the_unicycle_of_11_16_is_drawn_and_drives_to_the_goal(page, served, cap
     # (−1, −2) → (0, 0): right by half as much as up
     assert r0 - r1 > 60 and 0.25 < (c1 - c0) / (r0 - r1) < 0.8, (r0, c0, r1, c1)
     _assert_offline_and_clean(page, url)
+
+
+def _animated_problem(k: int):
+    """A registered-like problem whose solution animates the two-link arm (a different motion per k)."""
+    from problems.registry import Problem, Solution
+
+    def solve() -> Solution:
+        """A test problem with a 3-D animation."""
+        sol = Solution()
+        sol.value("k", k, unit="1")
+        sol.check("runs", True)
+        sol.animation(load("planar_2r"), quintic([0.0, 0.0], [0.1 * k, -0.05 * k], 1.0, dt=0.02), f"motion {k}")
+        return sol
+
+    return Problem(f"0.{k}", f"animated test problem {k}", "simulation", solve)
+
+
+def test_the_report_plays_every_animation_however_far_it_is_scrolled(page, served, capsys):
+    """A written report with 20 animations (Chromium keeps 16 WebGL contexts): scrolled from top to bottom and back,
+    at most a few animations are live at once, the one in view plays (its scene is drawn), and the console shows no
+    WebGL context warning, no lost context, no error; every request stays on the page's server."""
+    from problems.report import write_report
+    from viewer.animation import MAX_LIVE_ANIMATIONS
+
+    root, url = served
+    write_report([_animated_problem(k) for k in range(1, 21)], root / "report")
+    messages: list[str] = []
+    page.on("console", lambda m: messages.append(f"{m.type}: {m.text}"))
+    page.errors.clear()
+    page.requests.clear()
+    page.goto(f"{url}/report/index.html")
+    page.wait_for_load_state("load")
+    height = page.evaluate("document.documentElement.scrollHeight")
+    most_live, seen_ready = 0, set()
+
+    def ready_frames() -> set[str]:
+        out = set()
+        for frame in page.frames:
+            if "/animations/" in frame.url:
+                try:
+                    if frame.evaluate("window.rmpcSceneReady === true"):
+                        out.add(frame.url.rsplit("/", 1)[-1])
+                except Exception:       # a frame removed while asked: released, fine
+                    pass
+        return out
+
+    positions = list(range(0, height, 250)) + list(range(height, -1, -500)) + [0]
+    for y in positions:
+        page.evaluate("y => window.scrollTo(0, y)", y)
+        page.wait_for_timeout(120)
+        most_live = max(most_live, page.evaluate("window.rmpcLiveAnimations()"))
+        seen_ready |= ready_frames()
+    page.wait_for_function("document.querySelector('figure.animation iframe') !== null", timeout=10_000)
+    first = page.frame_locator("figure.animation >> nth=0 >> iframe")
+    first.locator("#meshcat-pane").wait_for(timeout=30_000)
+    page.wait_for_timeout(2000)
+    seen_ready |= ready_frames()
+    # Chromium's own words: "WARNING: Too many active WebGL contexts. Oldest context will be lost.", "CONTEXT_LOST_WEBGL",
+    # three.js's "THREE.WebGLRenderer: Context Lost." (SwiftShader's "GPU stall due to ReadPixels" is a performance note)
+    bad = [m for m in messages if any(w in m.lower() for w in ("too many active webgl", "context lost", "context_lost",
+                                                               "contextlost", "will be lost")) or m.startswith("error")]
+    with capsys.disabled():
+        print(f"\n[viewer] report of 20 animations, {height} px scrolled down and back: at most {most_live} live at "
+              f"once, {len(seen_ready)} played; console: {len(messages)} messages, {len(bad)} WebGL/lost/error: "
+              f"{[m[:90] for m in messages]}")
+    assert 0 < most_live <= MAX_LIVE_ANIMATIONS
+    assert len(seen_ready) == 20, sorted(seen_ready)           # every animation played when it came into view
+    assert "0.1_1.html" in ready_frames()                       # and the first one plays again at the top
+    assert not bad, bad[:5]
+    _assert_offline_and_clean(page, url)

@@ -304,3 +304,28 @@ def test_commands_packed_as_meshcat_packs_them():
     assert _packb(data) == umsgpack.packb(data)
     with pytest.raises(TypeError, match="cannot pack"):
         _packb({"bad": object()})
+
+
+def test_a_prismatic_link_stays_attached_whatever_its_extension():
+    """The SCARA's third link (which carries the camera of Example 10.3) is a quill on the prismatic joint's axis over
+    its stroke: at every extension the point where joint 3 is mounted on link 2 lies on it (no camera floating
+    below the arm); a mobile body's x, y carriages get none."""
+    import pinocchio as pin
+
+    from controllers.scenes import scara_eye_in_hand
+    from viewer import planar_body
+    from viewer.geometry import geometry_of
+
+    robot = scara_eye_in_hand()
+    (quill,) = [o for o in geometry_of(robot).geometryObjects if o.name.startswith("quill")]
+    j = quill.parentJoint
+    model, data = robot.model, robot.model.createData()
+    for d3 in (0.0, 0.3, 0.7, 1.0):
+        q = np.array([0.4, -0.6, d3, 0.2])
+        pin.forwardKinematics(model, data, q)
+        mount = (data.oMi[model.parents[j]] * model.jointPlacements[j]).translation    # joint 3 on link 2
+        pose = data.oMi[j] * quill.placement
+        axis, half = pose.rotation[:, 2], quill.geometry.halfLength
+        along = float(axis @ (mount - pose.translation))
+        assert abs(along) <= half + 1e-9 and np.linalg.norm(mount - pose.translation - along * axis) < 1e-9
+    assert not [o for o in geometry_of(planar_body()).geometryObjects if o.name.startswith("quill")]

@@ -21,7 +21,6 @@ and its solution manual; companion files i10_4, i10_5, i10_8, i10_9, i10_11.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -29,34 +28,30 @@ from scipy.linalg import orthogonal_procrustes
 from scipy.optimize import minimize_scalar
 from scipy.spatial.transform import Rotation
 
-from controllers.plants import ArmPlant, KinematicArm
 from controllers.compiled import fast_backend
+from controllers.scenes import (SCARA_DESIRED_POSE, SCARA_DURATION, SCARA_ESTIMATOR_GAIN, SCARA_ESTIMATOR_PERIOD,
+                                SCARA_FRICTION, SCARA_Q0, SCARA_STEP, SCARA_TARGET_POINTS, SCARA_TARGET_POSE,
+                                scara_eye_in_hand, scara_ibvs, scara_pbvs, scara_target_points)
 from controllers.simulation import simulate
-from controllers.visual_servoing import (EyeInHandCamera, IBVSPDGravity, IBVSResolvedVelocity, PBVSPDGravity,
-                                         PBVSResolvedVelocity, PoseEstimator, TargetFeatures, depth_from_segment,
-                                         hybrid_error_jacobians,
-                                         planar_pose, planar_pose_vector, relative_pose_vector, visual_servo)
+from controllers.visual_servoing import (EyeInHandCamera, PoseEstimator, TargetFeatures, depth_from_segment,
+                                         hybrid_error_jacobians, planar_pose, planar_pose_vector, relative_pose_vector)
 from problems.common import label_axes, max_abs_error, random_rotation, subplots, unit
 from problems.registry import Solution, problem
-from rigid_body.book_robots import book_robot_spec
-from rigid_body.camera import (PinholeCamera, point_velocity_in_camera, region_moments, segment_features, view_points,
-                               view_target)
-from rigid_body.dh import G, DHLink
+from rigid_body.camera import point_velocity_in_camera, region_moments, segment_features, view_points, view_target
 from rigid_body.dynamics import gravity_torques, inertia_matrix
-from rigid_body.kinematics import ELBOW_UP, direct_kinematics, inverse_kinematics_scara
-from rigid_body.robots import robot_from_dh
+from rigid_body.kinematics import ELBOW_UP, inverse_kinematics_scara
 from rigid_body.rotations import nearest_rotation, skew
 from rigid_body.vision import (homography_between_views, homography_dlt, homography_dlt_matrix, depth_ratio,
                                pose_from_homography, register_point_clouds, registration_cost)
 
 # -- The eye-in-hand SCARA and the visual target ---------------------------------------------------------
-X_O = np.array([1.0, 1.0, 1.0, np.pi / 4])            # object pose in the base frame (companion i10_8)
+X_O = SCARA_TARGET_POSE                               # object pose in the base frame (companion i10_8)
 X_C0 = np.array([1.0, 1.0, 0.5, np.pi / 4])           # initial camera pose (manual)
-X_DO = np.array([-0.1, 0.1, 0.6, -np.pi / 3])         # desired pose of the object in the camera frame (manual)
-P_O = np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0]])    # feature points in the object frame
+X_DO = SCARA_DESIRED_POSE                             # desired pose of the object in the camera frame (manual)
+P_O = SCARA_TARGET_POINTS                             # feature points in the object frame
 S_POINTS_MEASURED = np.array([-0.1667, 0.1667, -0.0833, 0.0223])   # 10.4's measured features (companion i10_4)
-K_S_ESTIMATOR = 160.0                                 # K_s = 160 I₄ [M, C]
-T_ESTIMATOR = 1e-3                                    # 1 ms Euler [M, C]
+K_S_ESTIMATOR = SCARA_ESTIMATOR_GAIN                  # K_s = 160 I₄ [M, C]
+T_ESTIMATOR = SCARA_ESTIMATOR_PERIOD                  # 1 ms Euler [M, C]
 
 
 def _wrap(a: np.ndarray) -> np.ndarray:
@@ -114,7 +109,7 @@ def problem_10_1() -> Solution:
         worst_tan = max(worst_tan, abs((m.mu02 - m.mu20 + root) / (2 * m.mu11) - np.tan(m.orientation)))
         worst_alpha = max(worst_alpha, abs(_wrap(m.orientation - alpha0)))
         if alpha0 == alphas[0]:
-            sol.value("alpha_0.4", m.orientation)
+            sol.value("alpha_0.4", m.orientation, unit="rad")
             region, moments = (u / a) ** 2 + (v / b) ** 2 <= 1.0, m
     sol.check_error("(10.2) α = ½Atan2(2μ11, μ20 − μ02) recovers the drawn orientation of 4 ellipses [rad]",
                     worst_alpha, 1e-3, reference="closed form")
@@ -158,7 +153,7 @@ def problem_10_2() -> Solution:
     zeta, s, R, o = _planar_scene(rng)
     A = homography_dlt_matrix(zeta, s)
     U, sigma, Vt = np.linalg.svd(A)
-    sol.value("singular_values", sigma)
+    sol.value("singular_values", sigma, unit="1")
     sol.check("A is 12×9 of rank 8 (σ₉/σ₁ < 1e-12, σ₈/σ₁ > 1e-6)",
               A.shape == (12, 9) and sigma[8] / sigma[0] < 1e-12 < 1e-6 < sigma[7] / sigma[0],
               f"σ₈ = {sigma[7]:.3g}, σ₉ = {sigma[8]:.3g}")
@@ -176,7 +171,7 @@ def problem_10_2() -> Solution:
     for noise in (1e-4, 1e-3):
         p = pose_from_homography(homography_dlt(zeta, s + noise * rng.standard_normal(s.shape)))
         errors.append(max_abs_error(p.o, o))
-    sol.value("position_error_with_noise", errors)
+    sol.value("position_error_with_noise", errors, unit="m")
     sol.check_close("with image noise 1e-4 / 1e-3 the position error grows in proportion to the noise (first-order "
                     "perturbation of the null vector: ratio 10)", errors[1] / errors[0], 10.0, rtol=0.3,
                     reference="closed form")
@@ -257,8 +252,8 @@ def _estimation(sol: Solution, target: TargetFeatures, s: np.ndarray, tol: float
     """The checks 10.4 and 10.5 share: 40 steps from s (the manual's data), the final estimate, the decay of
     ‖e_s‖ by 1 − K_s T = 0.84 a step, and exact convergence from the unrounded features in 200 steps."""
     xs, es, pts = _run_estimator(target, s, 40)
-    x_hat = sol.value("x_hat_final", xs[-1])
-    sol.value("e_s_norm", {"0": es[0], "30": es[30], "40": es[40]})
+    x_hat = sol.value("x_hat_final", xs[-1], unit="m, m, m, rad")
+    sol.value("e_s_norm", {"0": es[0], "30": es[30], "40": es[40]}, unit="1 (normalised image units)")
     sol.check_error("x̂(0.04 s) ≃ manual's [−0.1, 0.1, 0.6, −π/3]", np.max(np.abs(_pose_error(x_hat, X_DO))), tol,
                     reference="manual number")
     ratio = es[1:41] / es[:40]
@@ -327,12 +322,12 @@ def problem_10_4() -> Solution:
     sol.check_close("‖e_s‖ at steps 0, 30, 40 = 0.369234, 0.001983, 0.000347 (the same implementation)",
                     es[[0, 30, 40]], [0.369234, 0.001983, 0.000347], rtol=2e-3, reference="independent derivation")
     steps_1pct = int(np.argmax(np.max(np.abs(_pose_error(xs, X_DO)), axis=1) < 1e-2))
-    sol.value("steps_to_1cm", steps_1pct)
+    sol.value("steps_to_1cm", steps_1pct, unit="1")
     sol.check("converges in about 30 iterations (the manual's ≈ 0.03 s: error < 1 cm / 0.01 rad within 20–35 steps)",
               20 <= steps_1pct <= 35, f"{steps_1pct} steps", reference="manual number")
     worst, worst_half = _chord_deviations(target, S_POINTS_MEASURED, pts)
-    sol.value("max_chord_deviation", worst)
-    sol.value("max_chord_deviation_half_period", worst_half)
+    sol.value("max_chord_deviation", worst, unit="1 (normalised image units)")
+    sol.value("max_chord_deviation_half_period", worst_half, unit="1 (normalised image units)")
     sol.check_close("image paths straight but for Euler's steps: the largest distance from the chord is first order "
                     "in T (ratio 1 ms / 0.5 ms = 2), so null in continuous time", worst / worst_half, 2.0, rtol=0.1,
                     reference="simulation vs prediction")
@@ -356,14 +351,14 @@ def problem_10_5() -> Solution:
     sol.given("measured points", S_POINTS_MEASURED)
     sol.given("K_s", K_S_ESTIMATOR), sol.given("T", T_ESTIMATOR, unit="s")
     pts_measured = S_POINTS_MEASURED.reshape(2, 2)
-    s = sol.value("s", segment_features(pts_measured[0], pts_measured[1]).as_array())
+    s = sol.value("s", segment_features(pts_measured[0], pts_measured[1]).as_array(), unit="1, 1, 1, rad")
     target = TargetFeatures(P_O, kind="segment")
     s_true = target.features(target.view_from_pose(planar_pose(X_DO)).xy)
     sol.check_error("s (10.28) of the measured points = segment features of x_{d,o} (rounding of 10.4's data)",
                     max_abs_error(s, s_true), 2e-4, reference="closed form")
     xs, es, pts = _estimation(sol, target, s, 5e-3, 5e-3)
     worst, worst_half = _chord_deviations(target, s, pts)
-    limit = sol.value("chord_deviation_limit", 2 * worst_half - worst)     # Richardson: the T → 0 limit
+    limit = sol.value("chord_deviation_limit", 2 * worst_half - worst, unit="1 (normalised image units)")     # Richardson: the T → 0 limit
     sol.check_bound("image paths of the points not straight, even in continuous time: the largest distance from "
                     "the chord extrapolated to T → 0 (2 d(T/2) − d(T))", limit, 1e-3, ">",
                     reference="simulation vs prediction", detail=f"{limit:.3g} > 1e-3 (at 1 ms {worst:.3g}, at "
@@ -376,7 +371,7 @@ def problem_10_5() -> Solution:
     sol.check_error("ẑ_k = ℓ/L_k with the segment length L_k decaying by 1 − K_s T a step [m]",
                     np.max(np.abs(xs[:, 2] - z_pred)), 2e-3, reference="simulation vs prediction")
     xs_points, _, _ = _run_estimator(TargetFeatures(P_O, kind="points"), S_POINTS_MEASURED, 40)
-    z_over = sol.value("z_overshoot_points", float(xs_points[:, 2].max() - X_DO[2]))
+    z_over = sol.value("z_overshoot_points", float(xs_points[:, 2].max() - X_DO[2]), unit="m")
     sol.check("the z transient differs from 10.4's: ẑ rises monotonically to 0.6 m here, overshoots with the points",
               np.all(np.diff(xs[:, 2]) > 0) and xs[:, 2].max() <= X_DO[2] + 1e-3 and z_over > 0.02,
               f"max ẑ {xs[:, 2].max():.4f} m here, 10.4's overshoots by {z_over:.3f} m")
@@ -551,24 +546,13 @@ def problem_10_13() -> Solution:
 # 10.8–10.11: closed loops on the eye-in-hand SCARA (Example 10.3)
 # --------------------------------------------------------------------------------------------
 
-T_FINAL = 8.0                                          # t_d = 8 s (companion files)
+T_FINAL = SCARA_DURATION                               # t_d = 8 s (companion files)
 FIGURE_SOURCE = ("the companion files are the solution files the manual points to (\"Folder 10_x\"), so the primary "
                  "run (their data) is the one behind the manual's figures; the text's values run as the variant")
-H_ARM = 1e-3                                           # the arm's (maximum) integration step (manual)
+H_ARM = SCARA_STEP                                     # the arm's (maximum) integration step (manual)
 TC_COMPANION, TC_MANUAL = 0.04, 0.004                  # controller period: companion files vs manual's text
-F_V = np.array([100.0, 100.0, 0.0, 0.0])              # K_r diag(0.01, 0.01, 0, 0) K_r (companion files)
-Q0 = np.array([np.pi / 2, -np.pi / 2, 0.5, np.pi / 4])  # inv_ksu(x_c(0)) (companion files)
-
-
-@lru_cache(maxsize=1)
-def scara_eye_in_hand():
-    """The eye-in-hand SCARA of Example 10.3: the SCARA of Table S2.3 with a₁ = a₂ = 1 m, links 1–2 of the two-link arm (Sect. 7.3.2,
-    with motors), the last link m₃ = 2 kg, I₄ = 1 kg·m² (its motors negligible), z₀ down (gravity +g z₀);
-    the camera frame is the end-effector frame ``ee``."""
-    two_link = book_robot_spec("planar_2r").links
-    links = two_link + (DHLink(joint="prismatic", lower=0.0, upper=1.0),
-                        DHLink(mass=2.0, inertia=np.diag([1.0, 1.0, 1.0])))
-    return robot_from_dh(links, gravity=(0.0, 0.0, G), name="scara_eye_in_hand")
+F_V = SCARA_FRICTION                                   # K_r diag(0.01, 0.01, 0, 0) K_r (companion files)
+Q0 = SCARA_Q0                                          # inv_ksu(x_c(0)) (companion files)
 
 
 def _model_c_inertia(q: np.ndarray) -> np.ndarray:
@@ -579,11 +563,6 @@ def _model_c_inertia(q: np.ndarray) -> np.ndarray:
     b12 = 23.5 + 25 * c2 + m3 * (1 + c2) + I4
     b22 = 122.5 + m3 + I4
     return np.array([[b11, b12, 0, I4], [b12, b22, 0, I4], [0, 0, m3, 0], [I4, I4, 0, I4]])
-
-
-def _target_points_b() -> np.ndarray:
-    T_bo = planar_pose(X_O)
-    return P_O @ T_bo[:3, :3].T + T_bo[:3, 3]
 
 
 def _desired_segment() -> np.ndarray:
@@ -606,7 +585,7 @@ class _Run:
 
 def _post(robot, res, period: float = 0.01) -> _Run:
     """The run seen every ``period`` (10 ms: the figures' resolution; the last sample is kept)."""
-    camera = EyeInHandCamera(robot, _target_points_b())
+    camera = EyeInHandCamera(robot, scara_target_points())
     T_bo = planar_pose(X_O)
     x_c, x_co, xy = [], [], []
     every = max(1, int(round(period / (res.t[1] - res.t[0]))))
@@ -621,89 +600,24 @@ def _post(robot, res, period: float = 0.01) -> _Run:
     return _Run(res, res.t[keep], np.array(x_c), np.array(x_co), xy, s)
 
 
-def pbvs_setup(Tc: float, K_P=None, K_D=None, K=None) -> dict:
-    """The arguments of :func:`simulate` for 10.8 (PD + gravity, gains K_P, K_D) or 10.9 (resolved
-    velocity, gain K): camera → estimator at 1 ms → PBVS law held over ``Tc``."""
-    robot = scara_eye_in_hand()
-    camera = EyeInHandCamera(robot, _target_points_b())
-    estimator = PoseEstimator(TargetFeatures(P_O, "segment"), X_DO, K_S_ESTIMATOR, T_ESTIMATOR)
-    if K is None:
-        plant, law = ArmPlant(robot, viscous_friction=F_V), PBVSPDGravity(robot, X_DO, K_P, K_D)
-        x0 = plant.initial_state(Q0)
-    else:
-        plant, law, x0 = KinematicArm(), PBVSResolvedVelocity(robot, X_DO, K), Q0
-    return dict(plant=plant, controller=visual_servo(camera, law, Tc, estimator), t_span=(0.0, T_FINAL), x0=x0,
-                h=H_ARM, Ts=T_ESTIMATOR)
+def _eye_in_hand_animation(sol: Solution, res: Any, title: str, depth: float, speed: float = 1.0) -> None:
+    """Attach the 3-D animation of a SCARA loop (:func:`viewer.eye_in_hand_animation`): the arm, the camera's viewing
+    pyramid out to ``depth`` [m] carried by the camera frame, the points P₁, P₂ and the rays to them."""
+    from viewer import eye_in_hand_animation
 
-
-def ibvs_setup(Tc: float, kind: str, K_Ps=None, K_Ds=None, K_s=None, depth: Any = X_DO[2]) -> dict:
-    """The arguments of :func:`simulate` for 10.10 (PD + gravity, gains K_Ps, K_Ds) or 10.11 (resolved
-    velocity, gain K_s) with ``kind`` = "segment" or "points" features, L̂_s = L_s(s, ẑ): ẑ = z_d = 0.6 m
-    (the manual's), or another ``depth`` of the IBVS laws (None: the true depth, or an estimator)."""
-    robot = scara_eye_in_hand()
-    camera = EyeInHandCamera(robot, _target_points_b())
-    target = TargetFeatures(P_O, kind)
-    s_d = target.features(target.view_from_pose(planar_pose(X_DO)).xy)
-    if K_s is None:
-        plant = ArmPlant(robot, viscous_friction=F_V)
-        law, x0 = IBVSPDGravity(robot, target, s_d, K_Ps, K_Ds, depth=depth), plant.initial_state(Q0)
-    else:
-        plant, law, x0 = KinematicArm(), IBVSResolvedVelocity(robot, target, s_d, K_s, depth=depth), Q0
-    h = Tc if K_s is not None else H_ARM             # q̇ = u held over T_c: one RK4 step is exact
-    return dict(plant=plant, controller=visual_servo(camera, law, Tc), t_span=(0.0, T_FINAL), x0=x0, h=h, Ts=Tc)
-
-
-ANIMATION_FPS = 25.0        # the exported animations' frame rate: the runs are decimated to it
-
-
-def _ray_pose(origin: np.ndarray, point: np.ndarray) -> np.ndarray:
-    """The pose (with a scale) taking the unit segment [0, e_z] to the segment from ``origin`` to ``point``."""
-    d = point - origin
-    length = float(np.linalg.norm(d))
-    z = d / length
-    x = unit(np.cross([0.0, 1.0, 0.0] if abs(z[1]) < 0.9 else [1.0, 0.0, 0.0], z))
-    T = np.eye(4)
-    T[:3, :3] = np.column_stack([x, np.cross(z, x), length * z])
-    T[:3, 3] = origin
-    return T
-
-
-def eye_in_hand_animation(sol: Solution, robot: Any, res: Any, points_b: np.ndarray, title: str,
-                          frame: str | int | None = None, half_width: tuple[float, float] = (0.3, 0.3),
-                          depth: float = 0.3, speed: float = 1.0) -> None:
-    """Attach to ``sol`` a 3-D animation of an eye-in-hand loop: the arm along ``res`` (decimated to
-    :data:`ANIMATION_FPS`), the camera's viewing pyramid (normalised half-widths ``half_width``, out to
-    ``depth`` metres) carried by the camera frame, the target points ``points_b`` and the rays from the
-    optical centre to each point."""
-    step = max(1, int(round(1.0 / (ANIMATION_FPS * (res.t[1] - res.t[0])))))
-    keep = np.unique(np.r_[np.arange(0, len(res.t), step), len(res.t) - 1])
-    t, q = res.t[keep], res.q[keep]
-    poses = np.array([direct_kinematics(robot, qk, frame) for qk in q])
-    pts = np.asarray(points_b, dtype=float)
-    tracks = {"camera": poses}
-    for i, p in enumerate(pts):
-        tracks[f"ray_{i + 1}"] = np.array([_ray_pose(T[:3, 3], p) for T in poses])
-    hx, hy = half_width
-    pinhole = PinholeCamera(1.0, 1.0, hx, hy)          # normalised coordinates: the image spans ±half-widths
-
-    def overlays(scene: Any) -> None:
-        scene.frustum("camera", poses[0], pinhole, (2 * hx, 2 * hy), depth=depth, color="#1f77b4")
-        scene.points("target", pts, size=0.03)
-        for i in range(len(pts)):
-            scene.polyline(f"ray_{i + 1}", np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 1.0]]), color="#ff7f0e")
-
-    sol.animation(robot, (t, q), title, overlays=overlays, tracks=tracks, fps=ANIMATION_FPS, speed=speed)
+    sol.animation(scara_eye_in_hand(), title=title,
+                  **eye_in_hand_animation(scara_eye_in_hand(), res, scara_target_points(), depth=depth, speed=speed))
 
 
 def _pbvs_run(Tc: float, **gains) -> _Run:
     """10.8 (PD + gravity: the compiled loop where a C compiler is available) or 10.9 (the Python loop)."""
-    setup = pbvs_setup(Tc, **gains)
+    setup = scara_pbvs(Tc, **gains)
     return _post(scara_eye_in_hand(), simulate(**setup, backend=fast_backend(setup["controller"])))
 
 
 def _ibvs_run(Tc: float, kind: str, **gains) -> _Run:
     """10.10 (PD + gravity: the compiled loop where a C compiler is available) or 10.11 (the Python loop)."""
-    setup = ibvs_setup(Tc, kind, **gains)
+    setup = scara_ibvs(Tc, kind, **gains)
     return _post(scara_eye_in_hand(), simulate(**setup, backend=fast_backend(setup["controller"])))
 
 
@@ -776,9 +690,9 @@ def problem_10_8() -> Solution:
     sol.value("primary_run", "companion i10_8: controller period T_c = 40 ms")
     sol.value("variant_run", "manual's text: T_c = 4 ms")
     sol.value("figure_source", FIGURE_SOURCE)
-    sol.value("x_c_final", run.x_c[-1])
-    sol.value("x_co_final", run.x_co[-1])
-    sol.value("q_final", run.res.q[-1])
+    sol.value("x_c_final", run.x_c[-1], unit="m, m, m, rad")
+    sol.value("x_co_final", run.x_co[-1], unit="m, m, m, rad")
+    sol.value("q_final", run.res.q[-1], unit="rad, rad, m, rad")
     _check_convergence(sol, run, "Tc = 40 ms: ")
     _check_convergence(sol, variant, "variant Tc = 4 ms: ")
     q_inf = inverse_kinematics_scara(_final_camera_pose(), a=(1.0, 1.0))[ELBOW_UP]   # a₁ = a₂ = 1 m (Example 10.3)
@@ -790,8 +704,8 @@ def problem_10_8() -> Solution:
     speed = np.abs(np.gradient(run.x_co, run.t, axis=0))
     moving = (run.t[:, None] >= 0.1) & (speed > 1e-3)
     lag = est_err[moving] / speed[moving]
-    sol.value("estimator_error_max_after_0.1s", float(est_err[run.t >= 0.1].max()))
-    sol.value("estimator_lag", float(np.median(lag)))
+    sol.value("estimator_error_max_after_0.1s", float(est_err[run.t >= 0.1].max()), unit="m or rad (the largest of x, y, z, φ)")
+    sol.value("estimator_lag", float(np.median(lag)), unit="s")
     sol.check_error("the estimator tracks the moving camera with the lag of a first-order filter: "
                     "|x̂_i − x_i| = |ẋ_i|/K_s (1/160 s) after 0.1 s: max |K_s lag − 1| (relative)",
                     np.abs(lag * K_S_ESTIMATOR - 1).max(), 0.1, reference="simulation vs prediction",
@@ -803,7 +717,7 @@ def problem_10_8() -> Solution:
     sol.check_error("features s(8 s) = s_d", max_abs_error(run.s[-1], _desired_segment()), 1e-3,
                     reference="simulation vs prediction")
     diff = np.max(np.abs(run.x_c - variant.x_c), axis=0)
-    sol.value("max_difference_40ms_vs_4ms", float(diff.max()))
+    sol.value("max_difference_40ms_vs_4ms", float(diff.max()), unit="m or rad (the largest of x, y, z, φ)")
     # the two runs differ by their hold: a command at most 36 ms older moves each component by at most its
     # largest rate times 36 ms
     rate = np.max(np.abs(np.gradient(variant.x_c, variant.t, axis=0)), axis=0)
@@ -814,8 +728,8 @@ def problem_10_8() -> Solution:
                     detail=f"max |Δx_c| = {np.round(diff, 4).tolist()}; either run reproduces the manual's figure, "
                     "which it calls very similar to Figs. 10.18–10.19")
     _loop_figures(sol, run, ("S10.8", "S10.9"), "PBVS PD + gravity, T_c = 40 ms")
-    eye_in_hand_animation(sol, robot, run.res, _target_points_b(), "PBVS PD + gravity (T_c = 40 ms): the SCARA's "
-                          "camera (viewing pyramid out to 0.6 m), the points P₁, P₂ and their rays", depth=X_DO[2])
+    _eye_in_hand_animation(sol, run.res, "PBVS PD + gravity (T_c = 40 ms): the SCARA's camera (viewing pyramid out "
+                           "to 0.6 m), the points P₁, P₂ and their rays", depth=X_DO[2])
     return sol
 
 
@@ -842,8 +756,8 @@ def problem_10_9() -> Solution:
         run = _pbvs_run(Tc, K=np.array(K, dtype=float))
         if not label:
             primary = run
-            sol.value("x_c_final", run.x_c[-1])
-            sol.value("x_co_final", run.x_co[-1])
+            sol.value("x_c_final", run.x_c[-1], unit="m, m, m, rad")
+            sol.value("x_co_final", run.x_co[-1], unit="m, m, m, rad")
         x_tilde = -_pose_error(run.x_co, X_DO)
         t, t0 = run.t, Tc                               # the law acts from its second sample (x̂(0) = x_{d,o})
         k0 = int(np.argmin(np.abs(t - t0)))
@@ -853,7 +767,7 @@ def problem_10_9() -> Solution:
         cont = x_tilde[k0] * np.exp(-np.outer(tau, K))
         scale = np.maximum(np.abs(x_tilde[k0]), 1e-12)
         err_cont = float(np.max(np.abs(x_tilde[later] - cont) / scale))
-        sol.value(f"{label}exp_fit_error_relative", err_cont)
+        sol.value(f"{label}exp_fit_error_relative", err_cont, unit="1")
         # At 40 ms the joint rates held over a sample while the camera turns (φ̃ decays at 2 rad/s) couple
         # x̃_x and x̃_y by a few per cent; at 4 ms the decay is exponential within 1 %.
         sol.check_error(f"{label}x̃_i(t) = x̃_i(T_c) e^{{−K_ii (t − T_c)}} (error relative to x̃_i(T_c))", err_cont,
@@ -868,7 +782,7 @@ def problem_10_9() -> Solution:
     tau = primary.t[later] - TC_COMPANION
     fitted = np.array([minimize_scalar(lambda r: float(np.max(np.abs(e_s[later, i] - e_s[k0, i] * np.exp(-r * tau)))),
                                        bounds=(0.1, 5.0), method="bounded").x for i in range(4)])
-    sol.value("feature_error_rates", fitted)
+    sol.value("feature_error_rates", fitted, unit="1/s")
     sol.check_bound("erratum: the manual cites Fig. 10.17, the resolved-velocity IBVS of 10.11 (e_s,i ∝ e^{−K_ii t}); "
                     "this is Fig. 10.15's PBVS: the feature errors' fitted rates miss K_ii (largest |rate − K_ii|) [1/s]",
                     float(np.max(np.abs(fitted - [1.0, 1.0, 1.0, 2.0]))), 0.2, ">", reference="simulation vs prediction",
@@ -909,11 +823,11 @@ def problem_10_10() -> Solution:
     run = _ibvs_run(TC_MANUAL, "segment", **gains)
     sol.value("primary_run", "manual's text: T_c = 4 ms (no companion file exists for 10.10)")
     points = _ibvs_run(TC_MANUAL, "points", **gains)
-    s_d = sol.value("s_d", _desired_segment())
-    sol.value("x_c_final", run.x_c[-1])
+    s_d = sol.value("s_d", _desired_segment(), unit="1, 1, 1, rad")
+    sol.value("x_c_final", run.x_c[-1], unit="m, m, m, rad")
     sol.check_error("s(8 s) = s_d", max_abs_error(run.s[-1], s_d), 1e-3, reference="simulation vs prediction")
     _check_convergence(sol, run)
-    r_seg, r_pts = sol.value("retreat_segment", _retreat(run)), sol.value("retreat_points", _retreat(points))
+    r_seg, r_pts = sol.value("retreat_segment", _retreat(run), unit="m"), sol.value("retreat_points", _retreat(points), unit="m")
     sol.check("camera retreat smaller with the segment than with two point features (same gains)",
               r_seg < r_pts, f"max z_co − 0.6: segment {r_seg:.4f} m, points {r_pts:.4f} m")
     _loop_figures(sol, run, ("S10.14", "S10.15"), "IBVS PD + gravity, T_c = 4 ms")
@@ -939,8 +853,8 @@ def problem_10_11() -> Solution:
     sol.value("variant_run", "manual's text: T_c = 4 ms")
     sol.value("figure_source", FIGURE_SOURCE)
     points = _ibvs_run(TC_COMPANION, "points", K_s=1.0)
-    sol.value("x_c_final", run.x_c[-1])
-    sol.value("x_co_final", run.x_co[-1])
+    sol.value("x_c_final", run.x_c[-1], unit="m, m, m, rad")
+    sol.value("x_co_final", run.x_co[-1], unit="m, m, m, rad")
     for label, r in (("", run), ("variant Tc = 4 ms: ", variant)):
         sol.check_error(f"{label}s(8 s) = s_d", max_abs_error(r.s[-1], _desired_segment()), 1e-3,
                         reference="simulation vs prediction")
@@ -953,11 +867,11 @@ def problem_10_11() -> Solution:
     sol.check("variant with the depth estimated from the segment length (ẑ = ℓ/L, ℓ = 0.1 m) instead of z_d: "
               "converges, and no retreat either", np.max(np.abs(_pose_error(estimated.x_co[-1], X_DO))) < 1e-2
               and z_est.max() <= 0.601 and np.all(np.diff(z_est) >= -1e-9), f"max z = {z_est.max():.5f} m")
-    z_pts = sol.value("max_depth_points", float(points.x_co[:, 2].max()))
+    z_pts = sol.value("max_depth_points", float(points.x_co[:, 2].max()), unit="m")
     sol.check_close("with two point features the same law retreats: max z_{c,o} ≈ 0.649 m (the catalogue's own "
                     "kinematic simulation at 40 ms)", z_pts, 0.649, atol=1e-3, reference="independent derivation")
     _loop_figures(sol, run, ("S10.17", "S10.18"), "resolved-velocity IBVS, K_s = I₄, T_c = 40 ms")
-    eye_in_hand_animation(sol, scara_eye_in_hand(), run.res, _target_points_b(), "resolved-velocity IBVS "
-                          "(segment features, T_c = 40 ms): the camera rises to z_d without retreat", depth=X_DO[2])
+    _eye_in_hand_animation(sol, run.res, "resolved-velocity IBVS (segment features, T_c = 40 ms): the camera rises "
+                           "to z_d without retreat", depth=X_DO[2])
     return _depth_figure(sol, run, points,
                          "10.11 — depth of the object in the camera frame: no retreat with the segment")

@@ -26,9 +26,10 @@ from matplotlib.patches import Circle
 from scipy.spatial.distance import directed_hausdorff
 from matplotlib.patches import Polygon as PolygonPatch
 
+from controllers.scenes import grid_12_13, scene_12_7, scene_12_8
 from planners.cells import (channel_path, gvd_nodes, polyline_clearance, quadtree_decomposition,
                             sampled_gvd, trapezoidal_decomposition, visibility_graph)
-from planners.configuration_space import (Disc, PlanarArm, PlanarBody, PlanarCSpace, Polygon, Scene, box,
+from planners.configuration_space import (Disc, PlanarArm, PlanarCSpace, Polygon, Scene, box,
                                     certify_motion, certify_straight_path, connected_components, densify, free_grid,
                                     euclidean_distance,
                                     minkowski_c_obstacle, point_segment_distance, point_shape_distance,
@@ -46,26 +47,8 @@ SEED = 12  # one seed for every randomised problem
 
 
 # --------------------------------------------------------------------------------------------
-# Scenes
+# Scenes (those of 12.7, 12.8 and 12.13 live in controllers.scenes, for the benchmarks and a user)
 # --------------------------------------------------------------------------------------------
-
-def scene_12_7() -> tuple[PlanarCSpace, np.ndarray, np.ndarray]:
-    """Companion s12_7: 2R arm (links 1 m × 0.1 m + joint discs), four discs and a square; q_s, q_g."""
-    obstacles = [Disc([-0.8, 1.2], 0.2), Disc([-1.2, -0.9], 0.3), Disc([1.3, 1.5], 0.2), Disc([-1.2, 0.9], 0.3),
-                 Polygon([[0, 0.5], [0.5, 0.5], [0.5, 1], [0, 1]])]
-    space = PlanarCSpace(PlanarArm((1.0, 1.0), 0.1), Scene(obstacles, (-2.2, 2.2, -2.2, 2.2)),
-                         [-np.pi, -np.pi], [np.pi, np.pi], resolution=0.01)
-    return space, np.array([-np.pi / 4, 3 * np.pi / 4]), np.array([5 * np.pi / 8, -np.pi / 2])
-
-
-def scene_12_8() -> tuple[PlanarCSpace, np.ndarray, np.ndarray]:
-    """Companion s12_8: triangular unicycle (+ a 0.03 m disc), four discs and three squares; q_s, q_g."""
-    obstacles = [Disc([-2, -0.9], 0.3), Disc([0.8, 1.5], 0.2), Disc([0, -1], 0.3), Disc([-2, 0.9], 0.3),
-                 box(0, 0, 0.5, 1), box(0, -3, 0.5, -2.5), box(2, -1, 2.5, -0.5)]
-    body = PlanarBody((Polygon([[-0.1, -0.2], [-0.1, 0.2], [0.5, 0.0]]), Disc([0.0, 0.0], 0.03)))
-    space = PlanarCSpace(body, Scene(obstacles, (-5, 5, -5, 5)), [-5, -5, -np.pi], [5, 5, np.pi], resolution=0.01)
-    return space, np.array([-3.0, 0.0, 0.0]), np.array([3.0, -3.5, 0.0])
-
 
 def scene_12_4() -> Scene:
     """Defined here (Fig. 12.4 is not transcribed): two small discs near the base of the 2R arm of
@@ -73,15 +56,6 @@ def scene_12_4() -> Scene:
     cannot either: C_free splits into three components."""
     pol = lambda r, a: [r * np.cos(a), r * np.sin(a)]  # noqa: E731
     return Scene([Disc(pol(0.6, 3.55), 0.12), Disc(pol(0.6, 4.70), 0.12)], (-2.2, 2.2, -2.2, 2.2))
-
-
-SCENE_12_13 = np.array([[0, 0, 1, 1, 1, 0, 0],
-                        [1, 0, 1, 0, 0, 0, 0],
-                        [0, 0, 1, 0, 0, 0, 0],
-                        [0, 0, 0, 0, 1, 0, 0],
-                        [0, 0, 0, 0, 1, 0, 0],
-                        [0, 0, 1, 0, 1, 0, 0],
-                        [0, 0, 1, 0, 1, 0, 0]], dtype=bool)   # companion s12_13, 1 = obstacle
 
 
 def given_obstacles(sol: Solution, shapes: list, name: str = "obstacles") -> None:
@@ -162,8 +136,8 @@ def problem_12_1() -> Solution:
     base.addFrame(pin.Frame("platform", 1, 0, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
     arm = load("anthropomorphic_wrist")
     model = pin.appendModel(base, arm.model, base.getFrameId("platform"), pin.SE3.Identity())
-    dim = sol.value("dim_C", int(model.nv))
-    sol.value("nq", int(model.nq))
+    dim = sol.value("dim_C", int(model.nv), unit="1")
+    sol.value("nq", int(model.nq), unit="1")
     kinds = [j.shortname() for j in model.joints[1:]]
     sol.value("joints", kinds)
     n_so2 = sum(k.startswith("JointModelR") for k in kinds) + sum(k == "JointModelPlanar" for k in kinds)
@@ -184,7 +158,7 @@ def problem_12_1() -> Solution:
     J = np.column_stack([(placements(pin.integrate(model, q0, h * e)) - placements(pin.integrate(model, q0, -h * e)))
                          / (2 * h) for e in np.eye(model.nv)])
     rank = int(np.linalg.matrix_rank(J, tol=1e-6))
-    sol.value("rank_of_body_placements", rank)
+    sol.value("rank_of_body_placements", rank, unit="1")
     sol.check_close(f"dim C = 9 (manual): the bodies' placements vary along {dim} independent directions (rank of their "
                     "central differences along the model's tangent directions)", [rank, dim], [9, 9], atol=0,
                     reference="manual number")
@@ -224,15 +198,15 @@ def problem_12_2() -> Solution:
     # the erratum: a counterexample to the manual's √2π condition
     qa, qb = np.array([0.0, 0.0]), sol.given("counterexample q_B (q_A = 0)", np.array([1.2 * np.pi, 0.0]), unit="rad")
     c2, c3 = float(euclidean_distance(qa, qb)), float(torus_distance(qa, qb))
-    sol.value("counterexample_dq", qb - qa)
-    sol.value("counterexample_d2", c2)
-    sol.value("counterexample_d3", c3)
+    sol.value("counterexample_dq", qb - qa, unit="rad")
+    sol.value("counterexample_d2", c2, unit="rad")
+    sol.value("counterexample_d3", c3, unit="rad")
     sol.check("erratum: d₂ = 3.770 ≤ √2π = 4.443 yet d₃ = 2.513 ≠ d₂ (the manual's claim is false)",
               c2 <= np.sqrt(2) * np.pi and abs(c3 - 0.8 * np.pi) < 1e-12 and c3 < c2 - 1,
               f"d₂ = {c2:.4f}, √2π = {np.sqrt(2) * np.pi:.4f}, d₃ = {c3:.4f}")
     within = d2 <= np.sqrt(2) * np.pi
     share = float(np.mean(d3[within] < d2[within] - 1e-12))
-    sol.value("share_of_pairs_violating_claim", share)
+    sol.value("share_of_pairs_violating_claim", share, unit="1")
     # the exact share for uniform q_A, q_B: each |Δq_i| has the density (2π − δ)/(2π²) on [0, 2π); the claim fails
     # where d₂ ≤ √2π yet some |Δq_i| > π (scipy's dblquad over that region, relative to the disc d₂ ≤ √2π)
     from scipy.integrate import dblquad
@@ -242,7 +216,7 @@ def problem_12_2() -> Solution:
     arc = lambda x: np.sqrt(max(R * R - x * x, 0.0))                                           # noqa: E731
     disc = dblquad(lambda y, x: density(x) * density(y), 0.0, R, 0.0, arc)[0]
     exact = 2 * dblquad(lambda y, x: density(x) * density(y), np.pi, R, 0.0, arc)[0] / disc
-    sol.value("share_exact", exact)
+    sol.value("share_exact", exact, unit="1")
     sigma = np.sqrt(exact * (1 - exact) / within.sum())
     sol.check_close(f"the claim fails for a quarter of the pairs with d₂ ≤ √2π: the sampled share ({within.sum()} pairs) "
                     f"= the exact {exact:.4f} (scipy dblquad) within 4σ", share, exact, atol=4 * sigma,
@@ -268,7 +242,7 @@ def problem_12_3() -> Solution:
                Polygon(sol.given("O2 (pentagon)", np.array([[0.0, 1], [1, 0], [2, 0], [2, 2], [0, 2]]), unit="m")))]
     COs = [minkowski_c_obstacle(O, B) for B, O in scenes]
     key = lambda P: np.array(sorted(map(tuple, np.round(P.vertices, 12))))  # noqa: E731
-    sol.value("CO_vertices", key(COs[0]))
+    sol.value("CO_vertices", key(COs[0]), unit="m")
     sol.check("both scenes give the same C-obstacle (same vertex set)",
               key(COs[0]).shape == key(COs[1]).shape and np.allclose(key(COs[0]), key(COs[1])))
     expected = np.array(sorted([(-1, 0), (0, -1), (2, -1), (2, 2), (-1, 2)]), dtype=float)
@@ -328,10 +302,10 @@ def problem_12_4() -> Solution:
                  for k, v in q.items()}
         results[n] = (count, {k: int(labels[c]) for k, c in cells.items()}, labels, axis)
     count, member, labels, axis = results[320]
-    sol.value("components", count)
-    sol.value("labels", member)
+    sol.value("components", count, unit="1")
+    sol.value("labels", member, unit="1")
     clear = {k: float(scene.clearance(arm.bodies(v))) for k, v in q.items()}
-    sol.value("clearance", clear)
+    sol.value("clearance", clear, unit="m")
     sol.check_close("C_free has the manual's 3 disjoint components (0.04 rad and 0.02 rad grids)",
                     [results[160][0], count], [3, 3], atol=0, reference="manual number")
     sol.check("q_a, q_b, q_c are free (exact geometry)", min(clear.values()) > 0, str(clear))
@@ -375,7 +349,7 @@ def problem_12_4() -> Solution:
     keys += [PolygonPatch([[0, 0]], facecolor=colors[name], alpha=0.55, label=f"component of {name} (label {k})")
              for name, k in member.items()]
     big.legend(handles=keys, loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=7)
-    zoom.legend(handles=keys[:1] + keys[2:], loc="upper right", fontsize=6)
+    zoom.legend(handles=keys[:1] + keys[2:], loc="upper right", fontsize=7)
     sol.figure(fig, "Fig. S12.2 — configurations in the three components of C_free")
     return sol
 
@@ -399,7 +373,7 @@ def problem_12_5() -> Solution:
     K = box(0, 0, a, b)
     nodes = gvd_nodes(K)
     inner = nodes[nodes[:, 2] > 1e-9]
-    sol.value("nodes", inner[:, :2])
+    sol.value("nodes", inner[:, :2], unit="m")
     sol.check_close("nodes (b/2, b/2), (a − b/2, b/2), clearance b/2", inner,
                     [[b / 2, b / 2, b / 2], [a - b / 2, b / 2, b / 2]], atol=1e-9, reference="closed form")
     corners = nodes[nodes[:, 2] <= 1e-9, :2]
@@ -412,7 +386,7 @@ def problem_12_5() -> Solution:
     on_spine = np.abs(y - b / 2) + np.maximum(0, np.maximum(b / 2 - x, x - (a - b / 2)))
     on_diag = np.minimum.reduce([np.abs(y - x), np.abs(y - (b - x)), np.abs(y - (x - a + b)), np.abs(y - (a - x))])
     err = float(np.max(np.minimum(on_spine, on_diag)))
-    sol.value("sampled_gvd_max_distance_from_medial_axis", err)
+    sol.value("sampled_gvd_max_distance_from_medial_axis", err, unit="m")
     sol.check_error("sampled GVD (scipy Voronoi of boundary points 0.02 m apart) lies on the medial axis [m]", err, 0.02,
                     reference="other library")
     # a room with an obstacle: the GVD around it
@@ -426,7 +400,7 @@ def problem_12_5() -> Solution:
     gap = float(np.max(d[:, 1] - d[:, 0]))
     sol.check_error("room + obstacle: every sampled GVD point (scipy Voronoi) has two nearest sides equally far [m]",
                     gap, 0.05, reference="other library")
-    sol.value("room_nodes", nodes2[nodes2[:, 2] > 1e-9, :2])
+    sol.value("room_nodes", nodes2[nodes2[:, 2] > 1e-9, :2], unit="m")
     fig, axes = subplots(1, 2, figsize=(11, 4.6))
     for ax, (R, H, S, N, title) in zip(axes, [(K, [], segs, nodes, "rectangle: GVD = medial axis"),
                                              (room, [hole], segs2, nodes2, "room with an obstacle")]):
@@ -461,13 +435,13 @@ def problem_12_6() -> Solution:
     dec = trapezoidal_decomposition((0, 10, 0, 10), [diamond])
     naive, chan = channel_path(dec, qs, qg, centroids=False)
     fixed, _ = channel_path(dec, qs, qg, centroids=True)
-    sol.value("cells", len(dec.cells))
-    sol.value("channel", chan)
-    sol.value("midpoint_path", naive)
-    sol.value("fixed_path", fixed)
+    sol.value("cells", len(dec.cells), unit="1")
+    sol.value("channel", chan, unit="1")
+    sol.value("midpoint_path", naive, unit="m")
+    sol.value("fixed_path", fixed, unit="m")
     c_naive, c_fixed = polyline_clearance(naive, [diamond]), polyline_clearance(fixed, [diamond])
-    sol.value("clearance_midpoint_path", c_naive)
-    sol.value("clearance_fixed_path", c_fixed)
+    sol.value("clearance_midpoint_path", c_naive, unit="m")
+    sol.value("clearance_fixed_path", c_fixed, unit="m")
     cells = [dec.cells[k] for k in chan]
     sol.check("channel = the cell holding q_s (above the diamond), the cell left of it (x ≤ 5), the cell holding q_g "
               "(below): located by point containment",
@@ -489,14 +463,14 @@ def problem_12_6() -> Solution:
     quad = quadtree_decomposition((0, 10, 0, 10), [diamond], min_size=0.25)
     qpath, qchan = channel_path(quad, qs, qg)
     c_quad = polyline_clearance(qpath, [diamond])
-    sol.value("quadtree_cells", len(quad.cells))
+    sol.value("quadtree_cells", len(quad.cells), unit="1")
     sol.check("approximate (quadtree) decomposition: the fixed extraction gives a free path", c_quad > 0, f"{c_quad:.3g} m")
     vis = visibility_graph(qs, qg, [diamond])
-    sol.value("visibility_length", vis.length)
+    sol.value("visibility_length", vis.length, unit="m")
     sol.check_close("visibility graph: shortest path via (5, 5), length 2√(0.5² + 2²)", vis.length,
                     2 * np.hypot(0.5, 2), atol=1e-12, reference="closed form")
     lengths = [float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1))) for p in (fixed, qpath)]
-    sol.value("cell_path_lengths", lengths)
+    sol.value("cell_path_lengths", lengths, unit="m")
     sol.check("the cell paths are no shorter than the visibility path", min(lengths) >= vis.length - 1e-12)
     fig, axes = subplots(1, 2, figsize=(11, 5))
     for ax, d, paths, title in [(axes[0], dec, [(naive, "r--", "midpoints only (clearance 0)"),
@@ -547,16 +521,16 @@ def problem_12_7() -> Solution:
     sol.value("message", res.message)
     # the companion's 50 samples do not join q_s and q_g with this seed: the roadmap grows one sample at a time
     # and stops at the first count that does (the companion's own runs are seeded from the clock)
-    sol.value("vertices_when_connected", len(res.nodes))
+    sol.value("vertices_when_connected", len(res.nodes), unit="1")
     sol.value("certified_by_the_planner", bool(res.certified))
     if not res.success:
         sol.check("PRM joins q_s and q_g within its growth budget", False, res.message)
         return sol
-    sol.value("path", res.path)
-    sol.value("path_length", res.length)
-    sol.value("planner_min_clearance", res.min_clearance)
+    sol.value("path", res.path, unit="rad")
+    sol.value("path_length", res.length, unit="rad")
+    sol.value("planner_min_clearance", res.min_clearance, unit="m")
     ok, cmin, n_eval = certify_straight_path(space, res.path, 0.05)
-    sol.value("path_min_clearance", cmin)
+    sol.value("path_min_clearance", cmin, unit="m")
     sol.check("the PRM's path (success and certified by the planner) certified again from q_s to q_g by a second "
               "algorithm: 0.05 rad re-sampling bisected where inconclusive, exact geometry, motion bound Σ|Δθ_i|R_i",
               res.success and res.certified and ok and np.allclose(res.path[[0, -1]], [qs, qg], atol=0),
@@ -565,16 +539,16 @@ def problem_12_7() -> Solution:
     sol.check_close("the two certificates find the same smallest clearance along the path [m]", cmin,
                     res.min_clearance, atol=1e-4, reference="second algorithm")
     wrapped = [bool(np.any(np.abs(res.nodes[j] - res.nodes[i]) > np.pi)) for i, j in res.edges]
-    sol.value("roadmap_edges", len(res.edges))
-    sol.value("wrapping_edges", int(sum(wrapped)))
+    sol.value("roadmap_edges", len(res.edges), unit="1")
+    sol.value("wrapping_edges", int(sum(wrapped)), unit="1")
     sol.check("C is treated as a torus: some roadmap edges cross q_i = ±π", sum(wrapped) > 0, f"{sum(wrapped)} edges")
     d_seg = torus_distance(res.path[:-1], res.path[1:])
     sol.check_bound("every path edge within the neighbour distance (largest d₃) [rad]", float(d_seg.max()), d_near)
     rc = rrt_connect(space, qs, qg, np.random.default_rng(SEED), step=0.3)
     short = shortcut(space, rc.path, np.random.default_rng(SEED), attempts=200) if rc.success else rc.path
     L_short = path_length(space, short)
-    sol.value("rrt_connect_length", rc.length)
-    sol.value("rrt_connect_shortcut_length", L_short)
+    sol.value("rrt_connect_length", rc.length, unit="rad")
+    sol.value("rrt_connect_shortcut_length", L_short, unit="rad")
     ok2 = rc.success and certify_straight_path(space, short, 0.05)[0]
     sol.check("RRT-Connect + shortcutting: a path certified by the second algorithm, no longer than before "
               "shortcutting", rc.success and ok2 and L_short <= rc.length + 1e-12, f"{rc.length:.3f} → {L_short:.3f} rad",
@@ -710,11 +684,11 @@ def problem_12_8() -> Solution:
                          goal_threshold=threshold, goal_bias=bias)
     d_short = float(space.distance(short.path[-1], qg))
     sol.value("companion_run", short.message)
-    sol.value("companion_final_distance", d_short)
+    sol.value("companion_final_distance", d_short, unit="m | rad (Euclidean in (x, y, θ))")
     depth = 16
     bound_16, examined = closest_primitive_sequence(qs, qg, companion, delta_c, depth, threshold)
     bound_path, _ = closest_primitive_sequence(qs, qg, companion, delta_c, len(short.path) - 1, threshold)
-    sol.value("companion_closest_over_16_primitives", bound_16)
+    sol.value("companion_closest_over_16_primitives", bound_16, unit="m | rad (Euclidean in (x, y, θ))")
     sol.check_bound(f"why the companion's run cannot terminate: no sequence of ≤ {depth} of its primitives (obstacles "
                     f"ignored; {examined} partial sequences examined) ends within the threshold of q_g — the closest",
                     bound_16, threshold, ">", reference="second algorithm")
@@ -727,12 +701,12 @@ def problem_12_8() -> Solution:
                        goal_threshold=threshold, goal_bias=bias)
     d_end = float(space.distance(res.path[-1], qg))
     sol.value("message", res.message)
-    sol.value("vertices", len(res.nodes))
-    sol.value("path", res.path)
-    sol.value("controls", res.controls)
-    sol.value("final_distance_to_goal", d_end)
-    sol.value("final_position_error", float(np.linalg.norm(res.path[-1][:2] - qg[:2])))
-    sol.value("path_length_workspace", float(np.sum(np.abs(res.controls[:, 0])) * delta))
+    sol.value("vertices", len(res.nodes), unit="1")
+    sol.value("path", res.path, unit="m, m, rad")
+    sol.value("controls", res.controls, unit="m/s, rad/s")
+    sol.value("final_distance_to_goal", d_end, unit="m | rad (Euclidean in (x, y, θ))")
+    sol.value("final_position_error", float(np.linalg.norm(res.path[-1][:2] - qg[:2])), unit="m")
+    sol.value("path_length_workspace", float(np.sum(np.abs(res.controls[:, 0])) * delta), unit="m")
     sol.check_bound(f"lattice primitives: the tree reaches q_g within the threshold (success, {len(res.nodes)} vertices "
                     f"of the budget {budget})", d_end if res.success else np.inf, threshold)
     d_all = space.distance(res.nodes, qg)
@@ -756,7 +730,7 @@ def problem_12_8() -> Solution:
     err = max_error((space.difference(solve_ivp(unicycle, (0, delta), a, args=(v, w), method="RK45", rtol=1e-11,
                                                 atol=1e-12).y[:, -1], b), 0.0)
                     for a, b, (v, w) in zip(res.path[:-1], res.path[1:], res.controls))
-    sol.value("max_edge_error_vs_rk45", err)
+    sol.value("max_edge_error_vs_rk45", err, unit="m or rad (the largest of x, y, θ)")
     sol.check_error("every edge is its primitive over Δ: closed-form arc (exact integration (11.85)) = RK45 on the model",
                     err, 1e-8, reference="other library")
     # a second certificate along the arcs: the whole body's clearance (exact geometry) every 10 ms, against the
@@ -776,7 +750,7 @@ def problem_12_8() -> Solution:
             ok &= bool(np.all(cf[:-1] + cf[1:] > rate * tau / 50))
         S.append(arc[1:])
     S = np.vstack(S)
-    sol.value("path_min_clearance", worst)
+    sol.value("path_min_clearance", worst, unit="m")
     sol.check("path (certified by the planner) certified again along the arcs by a second algorithm: 10 ms samples "
               "(0.2 ms where inconclusive), exact geometry, motion bound (|v| + |ω| r) τ", res.certified and ok,
               f"min clearance {worst:.4f} m (the planner's {res.min_clearance:.4f} m)", reference="second algorithm")
@@ -866,7 +840,7 @@ def problem_12_9() -> Solution:
                     max_error([(att.force(q_in), att.force(q_out))]), 1e-7, reference="closed form")
     sol.check_error("potential continuous with the offset −½k_aρ²",
                     max_error([(att.potential(q_in), att.potential(q_out))]), 1e-7, reference="closed form")
-    sol.value("potential_jump_without_offset_here", float(jump.subs({k_a: att.k_a, rho: att.rho})))
+    sol.value("potential_jump_without_offset_here", float(jump.subs({k_a: att.k_a, rho: att.rho})), unit="J")
     qs = att.goal - np.linspace(0, 2, 401)[:, None] * u[0]
     h = 1e-6
     fd = np.array([-(att.potential(qs + d) - att.potential(qs - d)) / (2 * h) for d in np.eye(2) * h]).T
@@ -929,7 +903,7 @@ def problem_12_10() -> Solution:
     sol.given("ρ, k_a, k_r, η₀", np.array([0.5, 1.0, 1.0, 1.0]))
     single = _disc_field([[3.0, 0.0]])
     P = stationary_point(single, [3.9, 0.1])
-    sol.value("P_single", P)
+    sol.value("P_single", P, unit="m")
     sol.check_close("single disc: ∇U(P) = 0 on the goal–centre axis, at (4, 0) (η = 0.5)", P, [4.0, 0.0], atol=1e-9,
                     reference="closed form")
     H = single.hessian(P)
@@ -937,7 +911,7 @@ def problem_12_10() -> Solution:
     sol.check_close("Hessian: finite differences of the force = closed form", H, H_cf, atol=1e-5,
                     reference="finite differences")
     ev = np.linalg.eigvalsh(H_cf)
-    sol.value("eig_single", ev)
+    sol.value("eig_single", ev, unit="N/m")
     sol.check_close("eigenvalues −k_a D/(ρ + η) = −3 (tangential) and +33 (radial)", ev, [-3.0, 33.0], atol=1e-9,
                     reference="closed form")
     sol.check("erratum: the single-disc stationary point is a saddle (indefinite Hessian), not a minimum",
@@ -946,9 +920,9 @@ def problem_12_10() -> Solution:
     M = stationary_point(double, [3.67, 0.02])
     U_M = float(double.potential(M))
     ev2 = np.linalg.eigvalsh(_hessian_closed_form(M, [[3.0, 0.8], [3.0, -0.8]], 0.5, 1.0, 1.0, 1.0))
-    sol.value("minimum_two_discs", M)
-    sol.value("U_minimum", U_M)
-    sol.value("eig_two_discs", ev2)
+    sol.value("minimum_two_discs", M, unit="m")
+    sol.value("U_minimum", U_M, unit="J")
+    sol.value("eig_two_discs", ev2, unit="N/m")
     sol.check_close("two discs: stationary point ≈ (3.669, 0), U ≈ 7.4399", [M[0], M[1], U_M],
                     [3.669, 0.0, 7.4399], atol=1e-3, reference="independent derivation")
     sol.check("two discs: positive-definite Hessian ⇒ a true local minimum", ev2[0] > 0, f"{ev2}")
@@ -1005,7 +979,7 @@ def problem_12_11() -> Solution:
         etas = np.linspace(1e-3, eta0, 2000)
         residual_manual.append(bool(np.all(manual(etas) < 0)))
     saddles = np.array(saddles)
-    sol.value("saddles", saddles)
+    sol.value("saddles", saddles, unit="m")
     f_norm = np.linalg.norm(field.force(saddles), axis=1)
     sol.check_error("the library's f_t vanishes at the three points of the scalar balance (the other obstacles out of "
                     "range) [N]", f_norm.max(), 1e-9, reference="closed form")
@@ -1013,7 +987,7 @@ def problem_12_11() -> Solution:
     sol.check_close("2-D root finder on f_t (from perturbed seeds) finds the same points", roots, saddles, atol=1e-9,
                     reference="second algorithm")
     eig = np.array([np.linalg.eigvalsh(_hessian_closed_form(q, centers, rho, k_a, k_r, eta0)) for q in saddles])
-    sol.value("hessian_eigenvalues", eig)
+    sol.value("hessian_eigenvalues", eig, unit="N/m")
     sol.check("each is a saddle: one negative, one positive Hessian eigenvalue", np.all((eig[:, 0] < 0) & (eig[:, 1] > 0)))
     sol.check_error("the 2-D roots (found off the rays) lie on the rays from the goal through the centres: max "
                     "|roots × c_i| / ‖c_i‖ [m]", float(np.max(np.abs(np.cross(roots, centers)) / np.linalg.norm(centers,
@@ -1113,8 +1087,8 @@ def problem_12_12() -> Solution:
         r = results[label] = _reactive_comparison(obstacles, goal, R, n_rays, k_a, k_r, eta0, rho, keep)
         rel, ratio, run_off, run_re = r["rel"], r["ratio"], r["offline"], r["reactive"]
         key = label.split()[0]
-        sol.value(f"{key}_relative_force_error_median", float(np.median(rel)))
-        sol.value(f"{key}_relative_force_error_max", float(rel.max()))
+        sol.value(f"{key}_relative_force_error_median", float(np.median(rel)), unit="1")
+        sol.value(f"{key}_relative_force_error_max", float(rel.max()), unit="1")
         sol.check_bound(f"{label}: reactive repulsive force within 2 % of the off-line force (exact distances) at 90 % "
                         f"of {len(keep)} positions within η₀ = {eta0:g} m (90th percentile of the relative error)",
                         float(np.quantile(rel, 0.9)), 0.02, reference="second algorithm",
@@ -1126,8 +1100,8 @@ def problem_12_12() -> Solution:
         dense = [np.vstack([np.linspace(a, b, max(int(np.ceil(np.linalg.norm(b - a) / 1e-3)), 1), endpoint=False)
                             for a, b in zip(run.path[:-1], run.path[1:])] + [run.path[-1:]]) for run in (run_off, run_re)]
         dev = float(max(directed_hausdorff(dense[0], dense[1])[0], directed_hausdorff(dense[1], dense[0])[0]))
-        sol.value(f"{key}_trajectory_max_deviation", dev)
-        sol.value(f"{key}_final_position_reactive", run_re.path[-1])
+        sol.value(f"{key}_trajectory_max_deviation", dev, unit="m")
+        sol.value(f"{key}_final_position_reactive", run_re.path[-1], unit="m")
         sol.check_bound(f"{label}: both planners reach the goal (the reactive one's final distance) [m]",
                         float(np.linalg.norm(run_re.path[-1] - goal)) if run_off.converged and run_re.converged
                         else np.inf, 0.01, detail=f"{run_off.message}; {run_re.message}")
@@ -1138,7 +1112,7 @@ def problem_12_12() -> Solution:
                   "distances of its steps)", run_re.certified and run_re.min_clearance > 0,
                   f"min clearance {run_re.min_clearance:.3f} m")
     sol.value("path_length_reactive", float(np.sum(np.linalg.norm(np.diff(results["point robot"]["reactive"].path,
-                                                                           axis=0), axis=1))))
+                                                                           axis=0), axis=1))), unit="m")
     fig, ax = subplots(figsize=(10, 5))
     draw_shapes(ax, obstacles, facecolor="0.75", label="obstacles")
     run_re = results["point robot"]["reactive"]
@@ -1172,7 +1146,7 @@ def problem_12_13() -> Solution:
     from scipy.sparse.csgraph import dijkstra
 
     sol = Solution()
-    occ = sol.given("occupancy grid", SCENE_12_13)
+    occ = sol.given("occupancy grid", grid_12_13())
     start = sol.given("start cell (0-based)", (0, 0))
     goal = sol.given("goal cell (0-based)", (6, 6))     # cells (1, 1) and (7, 7), 1-based in the manual
     results = {}
@@ -1192,9 +1166,9 @@ def problem_12_13() -> Solution:
         ref = dijkstra(G.tocsr(), directed=False, indices=goal[0] * n_c + goal[1]).reshape(occ.shape)
         ref[occ] = np.inf
         results[adj] = (V, path, L)
-        sol.value(f"navigation_function_{adj}adj", V)
-        sol.value(f"path_{adj}adj", path + 1)
-        sol.value(f"length_{adj}adj", L)
+        sol.value(f"navigation_function_{adj}adj", V, unit="cell (cell sides)")
+        sol.value(f"path_{adj}adj", path + 1, unit="1 (cell indices, 1-based)")
+        sol.value(f"length_{adj}adj", L, unit="cell (cell sides)")
         sol.check(f"{adj}-adjacency: wavefront = scipy's Dijkstra cost-to-go on every cell (∞ on obstacles)",
                   np.array_equal(np.isinf(V), np.isinf(ref)) and np.allclose(V[np.isfinite(V)], ref[np.isfinite(ref)]),
                   reference="other library")
@@ -1211,7 +1185,7 @@ def problem_12_13() -> Solution:
     p2 = results[2][1]
     diag = np.abs(np.diff(p2, axis=0)).sum(axis=1) == 2
     graze = [bool(occ[a[0], b[1]] or occ[b[0], a[1]]) for a, b, d in zip(p2[:-1], p2[1:], diag) if d]
-    sol.value("diagonal_moves_grazing_obstacles", int(sum(graze)))
+    sol.value("diagonal_moves_grazing_obstacles", int(sum(graze)), unit="1")
     sol.check("2-adjacency path grazes a C-obstacle (a diagonal step past an obstacle corner)", any(graze))
     fig, axes = subplots(1, 2, figsize=(11, 6.0))
     for ax, adj in zip(axes, (1, 2)):

@@ -10,13 +10,14 @@ from controllers.visual_servoing import (SCARA_DOFS, CameraImage, EyeInHandCamer
                                          PBVSResolvedVelocity, PoseEstimator, TargetFeatures, gamma_matrix,
                                          hybrid_error_jacobians, planar_pose, planar_pose_vector,
                                          relative_pose_vector)
-from problems.ch10 import P_O, Q0, X_DO, X_O, _target_points_b, scara_eye_in_hand
+from controllers.scenes import SCARA_DESIRED_POSE as X_DO, SCARA_Q0 as Q0, SCARA_TARGET_POINTS as P_O, \
+    SCARA_TARGET_POSE as X_O, scara_eye_in_hand, scara_target_points
 
 TARGET = TargetFeatures(P_O, kind="segment")
 
 
 def _x_co(robot, q):
-    return relative_pose_vector(EyeInHandCamera(robot, _target_points_b()).pose(q), planar_pose(X_O))
+    return relative_pose_vector(EyeInHandCamera(robot, scara_target_points()).pose(q), planar_pose(X_O))
 
 
 def test_planar_pose_round_trip(rng):
@@ -74,7 +75,7 @@ def test_ibvs_degrades_without_crashing_when_points_are_lost():
     points = TargetFeatures(P_O, "points")
     law = IBVSResolvedVelocity(robot, points, points.features(points.view_from_pose(planar_pose(X_DO)).xy), 1.0,
                                depth=0.6)
-    camera = EyeInHandCamera(robot, _target_points_b(), lost={0: (0.0, 1.0)})
+    camera = EyeInHandCamera(robot, scara_target_points(), lost={0: (0.0, 1.0)})
     meas = ArmMeasurement(Q0, None)
     u = law(0.5, Augmented(meas, image=camera(0.5, meas)))
     assert u.shape == (4,) and np.all(np.isfinite(u))
@@ -86,7 +87,7 @@ def test_ibvs_degrades_without_crashing_when_points_are_lost():
 def test_camera_and_laws_check_their_inputs():
     robot = scara_eye_in_hand()
     with pytest.raises(ValueError, match="rng"):
-        EyeInHandCamera(robot, _target_points_b(), noise=0.01)
+        EyeInHandCamera(robot, scara_target_points(), noise=0.01)
     with pytest.raises(ValueError, match="points_b"):
         EyeInHandCamera(robot, np.zeros(3))
     with pytest.raises(ValueError, match="kind"):
@@ -96,7 +97,7 @@ def test_camera_and_laws_check_their_inputs():
     with pytest.raises(ValueError, match="depth"):
         IBVSResolvedVelocity(robot, TARGET, np.zeros(4), 1.0, depth=-1.0)
     with pytest.raises(ValueError, match="no frame"):
-        EyeInHandCamera(robot, _target_points_b(), frame="camera_link")
+        EyeInHandCamera(robot, scara_target_points(), frame="camera_link")
 
 
 def test_hybrid_jacobians_need_positive_depth():
@@ -114,7 +115,7 @@ def test_depth_from_segment_length_matches_the_true_depth_for_a_parallel_segment
     from controllers.visual_servoing import depth_from_segment
 
     robot = scara_eye_in_hand()
-    camera = EyeInHandCamera(robot, _target_points_b())
+    camera = EyeInHandCamera(robot, scara_target_points())
     image = camera(0.0, ArmMeasurement(Q0, None))
     np.testing.assert_allclose(depth_from_segment(0.1)(image), image.z, atol=1e-12)
     with pytest.raises(ValueError, match="length"):
@@ -170,7 +171,8 @@ def test_hybrid_and_6dof_pbvs_name_bad_arguments():
 def test_compiled_pbvs_loop_reproduces_the_python_loop():
     """10.8's chain (camera → estimator at 1 ms → PD + gravity held over 40 ms) as one compiled run: the
     estimate, the held torque and the held log of the law as its state."""
-    from problems.ch10 import TC_COMPANION, pbvs_setup
+    from controllers.scenes import scara_pbvs as pbvs_setup
+    from problems.ch10 import TC_COMPANION
     from controllers.simulation import simulate
 
     runs = []
@@ -190,7 +192,8 @@ def test_compiled_pbvs_loop_reproduces_the_python_loop():
 def test_compiled_ibvs_loop_reproduces_the_python_loop(kind, depth):
     """10.10's chain (camera → IBVS PD + gravity held over 4 ms), segment or point features, a constant or
     the measured depth."""
-    from problems.ch10 import TC_MANUAL, ibvs_setup
+    from controllers.scenes import scara_ibvs as ibvs_setup
+    from problems.ch10 import TC_MANUAL
     from controllers.simulation import simulate
 
     runs = []
@@ -215,8 +218,8 @@ def _chain_runs(case: str, t_end: float = 0.6):
 
     runs = []
     for backend in ("python", "casadi"):
-        robot = ch10.scara_eye_in_hand()
-        points = ch10._target_points_b()
+        robot = scara_eye_in_hand()
+        points = scara_target_points()
         plant = ArmPlant(robot, viscous_friction=ch10.F_V)
         x0 = plant.initial_state(ch10.Q0)
         camera_options = {}

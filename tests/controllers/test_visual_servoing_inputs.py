@@ -13,7 +13,8 @@ from controllers.visual_servoing import (SCARA_DOFS, CameraImage, EyeInHandCamer
                                          IBVSResolvedVelocity, PBVSPDGravity, PBVSPoseResolvedVelocity,
                                          PBVSResolvedVelocity, PoseEstimator, TargetFeatures, camera_dofs,
                                          camera_jacobian, depth_from_segment, hybrid_error_jacobians, planar_pose)
-from problems.ch10 import P_O, Q0, X_DO, _target_points_b, scara_eye_in_hand
+from controllers.scenes import SCARA_DESIRED_POSE as X_DO, SCARA_Q0 as Q0, SCARA_TARGET_POINTS as P_O, \
+    scara_eye_in_hand, scara_target_points
 from rigid_body.robots import load
 from rigid_body.task_space import RATE_CONDITION, resolved_rates
 
@@ -91,7 +92,7 @@ def test_rate_options_are_checked(scara, kwargs, name):
 
 def test_ibvs_resolved_velocity_refuses_a_singular_image_jacobian(scara):
     law = IBVSResolvedVelocity(scara, SEGMENT, S_D, 1.0, depth=0.6)
-    camera = EyeInHandCamera(scara, _target_points_b())
+    camera = EyeInHandCamera(scara, scara_target_points())
     q = np.array([0.3, 0.0, 0.5, 0.2])                                                  # stretched
     meas = ArmMeasurement(q, None)
     with pytest.raises(ValueError, match=r"J_L = L_s J_c at q = \[0\.3, 0\.0, 0\.5, 0\.2\]"):
@@ -144,7 +145,7 @@ def test_depth_from_a_zero_length_segment():
 
 def test_depth_estimate_that_is_not_positive_is_named(scara):
     law = IBVSResolvedVelocity(scara, SEGMENT, S_D, 1.0, depth=lambda image: np.array([0.6, -0.1]))
-    camera = EyeInHandCamera(scara, _target_points_b())
+    camera = EyeInHandCamera(scara, scara_target_points())
     meas = ArmMeasurement(Q0, None)
     with pytest.raises(ValueError, match="`depth` estimated non-positive"):
         law(0.0, Augmented(meas, image=camera(0.0, meas)))
@@ -203,7 +204,7 @@ def test_scara_dofs_on_the_panda_are_refused(panda):
 
 def test_dofs_the_camera_does_not_move_along_change_nothing(scara):
     """ω_x, ω_y rows of the SCARA camera's J_c vanish: adding them to `dofs` gives the same law."""
-    camera = EyeInHandCamera(scara, _target_points_b())
+    camera = EyeInHandCamera(scara, scara_target_points())
     meas = ArmMeasurement(np.array([0.5, -1.2, 0.45, 0.6]), None)
     meas = Augmented(meas, image=camera(0.0, meas))
     u = IBVSResolvedVelocity(scara, SEGMENT, S_D, 1.0, depth=0.6)(0.0, meas)

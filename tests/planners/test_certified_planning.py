@@ -352,7 +352,7 @@ def test_unicycle_arcs_are_certified_and_dense_samples_agree():
     """Problem 12.8's scene: every arc of the certified tree's path is free at samples 1 mm of motion apart
     (exact shape distances), and an arc leaving the position bounds is refused by its exact extent."""
     from planners.sampling import certify_arc, unicycle_arc
-    from problems.ch12 import scene_12_8
+    from controllers.scenes import scene_12_8
 
     space, qs, qg = scene_12_8()
     prims = [MotionPrimitive(1.0, 0.0), MotionPrimitive(1.0, 1.3), MotionPrimitive(1.0, -1.3)]

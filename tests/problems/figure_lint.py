@@ -11,7 +11,9 @@ Used by ``test_all_problems.py`` on every solved problem (after its layout, as t
   a colour bar of that image, or legend entries that are colour patches;
 * a legend inside the axes does not cover the text annotations of the axes (cell values, labels);
 * a norm or an error measure (a y label with ‖…‖, "norm" or "error") whose positive curve spans more than two
-  decades is drawn on a log axis (on a linear one its exponential rate is invisible).
+  decades is drawn on a log axis (on a linear one its exponential rate is invisible);
+* legend text stays legible in the report: at least :data:`LEGIBLE_PX` pixels high where the report shows the
+  figure (saved at ``problems.report.FIGURE_DPI``, shown at its own width up to :data:`REPORT_WIDTH_PX`).
 """
 
 from __future__ import annotations
@@ -29,6 +31,8 @@ RAW_TEX = re.compile(r"[_^]\{")
 CATEGORIES = 12
 #: A positive norm or error curve spanning more decades than this wants a log axis.
 DECADES = 2.0
+#: The smallest legend text [px] as the report shows a figure, and the widest a figure is shown there [px].
+LEGIBLE_PX, REPORT_WIDTH_PX = 8.0, 1080.0
 DECAYING = re.compile(r"‖|\|\||\bnorm\b|\berror\b", re.IGNORECASE)
 
 
@@ -145,6 +149,14 @@ def lint_figure(fig) -> list[str]:
             problems.append(f"{title!r} {what} {text.get_text()!r} is cut by the canvas's edge")
         if _raw_tex(text.get_text()):
             problems.append(f"{title!r} {what} {text.get_text()!r} shows TeX that is not rendered (wrap it in $…$)")
+    from problems.report import FIGURE_DPI
+
+    scale = FIGURE_DPI / 72.0 * min(1.0, REPORT_WIDTH_PX / (fig.get_figwidth() * FIGURE_DPI))   # px per point shown
+    legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None]
+    small = [t.get_text() for legend in legends for t in legend.get_texts() if t.get_fontsize() * scale < LEGIBLE_PX]
+    if small:
+        problems.append(f"{title!r}: legend text {small[:3]} below {LEGIBLE_PX:g} px in the report (font "
+                        f"{min(t.get_fontsize() for lg in legends for t in lg.get_texts()):g} pt)")
     for k, ax in enumerate(fig.axes):
         if not ax.axison or not (ax.get_lines() or ax.collections or ax.images or ax.patches):
             continue

@@ -12,7 +12,7 @@ PROBLEMS = [p for p in all_problems() if p.chapter != 99]  # 99.x: test_cli.py's
 #: Chapters whose every check must name the kind of its reference and whose problems declare their data.
 CLASSIFIED_CHAPTERS = range(2, 13)
 #: Chapters whose every numeric value carries a unit ("1" when dimensionless).
-UNIT_CHAPTERS = (2, 3, 4, 5, 6, 7, 8, 9, 11)
+UNIT_CHAPTERS = range(2, 13)
 
 #: The problems that declare no datum (``sol.given``): derivations proved symbolically or checked on random
 #: samples (angles, rotations, postures, motors, point clouds...), whose statement gives no numbers. Every

@@ -57,16 +57,15 @@ def test_eye_in_hand_animation_tracks_the_camera_and_the_rays():
     """The animation of a SCARA loop (0.4 s of 10.11): 25 frames per second, the pyramid carried by the camera
     pose (T = the camera frame's from an independent FK of the SCARA's DH geometry), each ray's unit segment
     mapped from the optical centre onto its target point."""
+    from controllers.scenes import scara_eye_in_hand, scara_ibvs, scara_target_points
     from controllers.simulation import simulate
-    from problems.registry import Solution
+    from viewer import eye_in_hand_animation
 
-    setup = ch10.ibvs_setup(ch10.TC_MANUAL, "segment", K_s=1.0)
+    setup = scara_ibvs(ch10.TC_MANUAL, "segment", K_s=1.0)
     setup["t_span"] = (0.0, 0.4)
     res = simulate(**setup)
-    sol = Solution()
-    points = ch10._target_points_b()
-    ch10.eye_in_hand_animation(sol, ch10.scara_eye_in_hand(), res, points, "test", depth=0.6)
-    (spec,) = sol.animations
+    points = scara_target_points()
+    spec = eye_in_hand_animation(scara_eye_in_hand(), res, points, depth=0.6)
     t, q = spec["motion"]
     assert spec["fps"] == 25.0 and np.allclose(np.diff(t), 0.04) and t[-1] == res.t[-1]
     for k, qk in enumerate(q):                      # SCARA of a1 = a2 = 1, z down: camera above the target
@@ -81,8 +80,7 @@ def test_eye_in_hand_animation_tracks_the_camera_and_the_rays():
             np.testing.assert_allclose(R @ [0, 0, 0, 1], np.r_[o, 1], atol=1e-12)
     import viewer
 
-    scene = viewer.animate(spec["robot"], spec["motion"], overlays=spec["overlays"], tracks=spec["tracks"],
-                           fps=spec["fps"])
+    scene = viewer.animate(scara_eye_in_hand(), **spec)
     assert scene.duration == pytest.approx(0.4)
 
 
@@ -91,9 +89,10 @@ def test_fast_backend_compiles_the_pd_gravity_chains_only():
     resolved-velocity chains of 10.9/10.11 have none and stay on the Python loop."""
     from controllers.compiled import compiler, fast_backend
 
-    pd = ch10.pbvs_setup(ch10.TC_MANUAL, K_P=np.full(4, 100.0),
-                         K_D=np.full(4, 10.0))["controller"]
-    velocity = ch10.pbvs_setup(ch10.TC_MANUAL, K=np.ones(4))["controller"]
+    from controllers.scenes import scara_pbvs
+
+    pd = scara_pbvs(ch10.TC_MANUAL, K_P=np.full(4, 100.0), K_D=np.full(4, 10.0))["controller"]
+    velocity = scara_pbvs(ch10.TC_MANUAL, K=np.ones(4))["controller"]
     assert pd.compilable and not velocity.compilable
     assert fast_backend(velocity) == "python"
     if compiler() is not None:

@@ -123,3 +123,16 @@ def test_the_lint_catches_each_defect_of_the_chapter_9_12_figures_and_passes_its
     found = lint_figure(make(False))
     assert any(message in m for m in found), found
     assert lint_figure(make(True)) == []
+
+
+def test_the_lint_sees_legend_text_too_small_for_the_report():
+    """A 14-inch figure is shown at 1080 px of its 1260: a 6-pt legend reads 6.4 px, below the 8 px the lint asks;
+    at 8 pt it reads 8.6 px."""
+    for size, expected in ((6, 1), (8, 0)):
+        fig, ax = subplots(figsize=(14, 3))
+        ax.plot([0, 1], [0, 1], label="x")
+        ax.plot([0, 1], [1, 0], label="y")
+        label_axes(ax, "t [s]", "x [m]", legend=False)
+        ax.legend(fontsize=size)
+        found = [m for m in lint_figure(fig) if "legend text" in m]
+        assert len(found) == expected, found

@@ -174,10 +174,10 @@ def test_two_view_triangulation_with_noise(rng):
 
 def test_view_through_a_robot_frame():
     """MODEL-C at its start: the camera (end effector, z down) sees P₁ on its optical axis at depth 0.5 m."""
-    from problems.ch10 import Q0, _target_points_b, scara_eye_in_hand
+    from controllers.scenes import SCARA_Q0 as Q0, scara_eye_in_hand, scara_target_points
     from rigid_body.camera import view_target_from_robot
 
-    view = view_target_from_robot(scara_eye_in_hand(), Q0, _target_points_b(), fov=FieldOfView(-0.5, 0.5, -0.5, 0.5))
+    view = view_target_from_robot(scara_eye_in_hand(), Q0, scara_target_points(), fov=FieldOfView(-0.5, 0.5, -0.5, 0.5))
     np.testing.assert_allclose(view.z, [0.5, 0.5], atol=1e-12)
     np.testing.assert_allclose(view.xy, [[0.0, 0.0], [0.2, 0.0]], atol=1e-12)
     assert view.all_visible

@@ -131,7 +131,7 @@ def test_the_book_2r_arm_drawn_for_12_7_is_the_planners_planar_arm(rng):
     """12.7 plans for ``PlanarArm((1, 1))`` and animates ``load("planar_2r")``: the same chain (joint
     and tip positions of the planner's kinematics = the URDF model's frames, Pinocchio)."""
     from planners.configuration_space import PlanarArm
-    from problems.ch12 import scene_12_7
+    from controllers.scenes import scene_12_7
     from rigid_body.robots import load
 
     space, _, _ = scene_12_7()

@@ -94,7 +94,7 @@ def rows() -> list[dict]:
     user_call()                                              # built (or loaded) once, then reused
     loop = compiled_loop(plant, controller, H, 1, int(round(T_END / H)) + 1)
     R, p, _ = loop.inputs(0.0)
-    t_user, t_bare = best_times([user_call, lambda: loop._call(x0, R, p)], repetitions=3, rounds=15)
+    t_user, t_bare = best_times([user_call, lambda: loop._call(x0, R, p)], repetitions=2, rounds=61)
     t_key = best_times([lambda: compiled_loop(plant, controller, H, 1, loop.n_samples)], 20, 15)[0]
     t_python = best_of(lambda: simulate(plant, controller, (0.0, T_END), x0, h=H, Ts=H), 3)[0]
     how = "gcc" if compiler() else "no compiler: the Python loop"

@@ -37,8 +37,8 @@ from controllers.plants import ArmInContact, ArmPlant
 from controllers.simulation import SimulationResult, simulate
 from planners.paths import PathLaw, Segment
 from planners.timing import quintic_law, trapezoidal_law
-from problems.ch09 import F_V, K_D_IMP, K_D_LAMBDA, K_I_NU, K_P_IMP, K_P_LAMBDA, K_P_NU, K_Y, LAMBDA_D, M_D, O_R, R_C, \
-    T_C, T_D
+from controllers.scenes import PLANE_FRAME as R_C, PLANE_POINT as O_R, PLANE_STIFFNESS as K_Y, compliant_plane_9_16
+from problems.ch09 import F_V, K_D_IMP, K_D_LAMBDA, K_I_NU, K_P_IMP, K_P_LAMBDA, K_P_NU, LAMBDA_D, M_D, T_C, T_D
 from problems.common import label_axes, subplots
 from problems.registry import Solution
 from rigid_body.kinematics import ELBOW_UP, inverse_kinematics_planar_2r
@@ -64,7 +64,7 @@ def _both(plant_mj: MujocoPlant, plant_pin: Any, controller: Any, q0: Any, t_f: 
 def _two_link_on_the_plane() -> tuple[Robot, CompliantPlane, MujocoPlant, ArmInContact]:
     """The two-link arm with its motors (viscous friction F_v) against the plane of Fig. 9.16, on both simulators."""
     arm = load("planar_2r")
-    plane = CompliantPlane(np.r_[O_R, 0.0], np.r_[R_C[:, 1], 0.0], K_Y)
+    plane = compliant_plane_9_16()                     # Fig. 9.16 (controllers.scenes)
     friction = JointFriction(np.full(2, F_V), np.zeros(2), np.zeros(2))
     mj = MujocoPlant(arm, plane, rotors="armature", probe=PROBE, friction=friction)
     return arm, plane, mj, ArmInContact(arm, plane, viscous_friction=F_V)

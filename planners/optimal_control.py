@@ -76,7 +76,8 @@ SCREEN_FRACTION = 0.1
 others are checked on the QP's step and added when it crosses them (the QP is then solved again), so the step is
 the full QP's."""
 MU0_FLOOR = 1e2
-"""HPIPM's initial barrier parameter: the largest slack cost of the limits in the QP, at least this."""
+"""HPIPM's initial barrier parameter on a cold start: the largest slack cost of the limits in the QP, at least this
+(a warm start begins from the previous QP's solution instead)."""
 RK4_WEIGHTS = (1.0 / 6.0, 2.0 / 6.0, 2.0 / 6.0, 1.0 / 6.0)
 
 
@@ -358,8 +359,8 @@ def _state_residual(robot: Robot, frame: int, x: Any, P: dict, position: bool, o
 
 def _linearised_interval(robot: Robot, frame: int, x: Any, u: Any, p: Any, position: bool,
                          orientation: bool) -> tuple[Any, Any, Any, Any]:
-    """One interval's (Φ(x, u), r, ∂[Φ; r]/∂[x; u], q̈(x, u)) as SX, the Jacobian by the chain rule through the RK4 stages
-    (forward sensitivities): with z = [x; u], each stage state s_i has ∂s_i/∂z, the stage slope k_i = f(s_i, u)
+    """One interval's (Φ(x, u), r, ∂[Φ; r]/∂[x; u], q̈(x, u)) as SX, the Jacobian by the chain rule through the RK4
+    stages (forward sensitivities): with z = [x; u], each stage state s_i has ∂s_i/∂z, the stage slope k_i = f(s_i, u)
     has ∂k_i/∂z = ∂f/∂s ∂s_i/∂z + ∂f/∂u ∂u/∂z, the dynamics' partials from
     :func:`rigid_body.symbolic.forward_dynamics_derivatives_expression` (−B⁻¹ times the Newton–Euler partials: about
     a third of the operations of differentiating the whole step automatically)."""
@@ -495,10 +496,6 @@ class _Call:
                 out.append(full)
         return out
 
-    def stats(self) -> dict:
-        """The statistics of the last call (a solver's iterations and status)."""
-        return self._buffer.stats()
-
 
 # --------------------------------------------------------------------------------------------
 # The structured QP of one SQP step: HPIPM called directly
@@ -538,7 +535,7 @@ def _hpipm() -> Any:
         signatures[f"d_ocp_qp_{what + '_' if what else ''}strsize"] = (_C_SIZE, [])
     for field_ in ("idxs_rev", "lbx_mask", "ubx_mask"):
         signatures[f"d_ocp_qp_set_{field_}"] = (None, [I, P, P])
-    for field_ in ("iter_max", "tol_stat", "tol_eq", "tol_ineq", "tol_comp", "warm_start", "mu0", "pred_corr", "reg_prim", "ric_alg", "split_step", "comp_res_exit", "cond_pred_corr"):
+    for field_ in ("iter_max", "tol_stat", "tol_eq", "tol_ineq", "tol_comp", "warm_start", "mu0"):
         signatures[f"d_ocp_qp_ipm_arg_set_{field_}"] = (None, [P, P])
     for field_ in ("status", "iter", "max_res_stat", "max_res_eq", "max_res_ineq", "max_res_comp"):
         signatures[f"d_ocp_qp_ipm_get_{field_}"] = (None, [P, P])

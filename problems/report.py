@@ -300,10 +300,15 @@ def show_compiler_progress() -> None:
             record.problem = _SOLVING[0] or "-"
             return True
 
+    class _Stderr(logging.StreamHandler):
+        def emit(self, record: logging.LogRecord) -> None:
+            self.stream = sys.stderr           # the stderr of now (a test or a notebook may have replaced it)
+            super().emit(record)
+
     logger = logging.getLogger("rmpc.compiler")
     if any(getattr(h, "rmpc_report", False) for h in logger.handlers):
         return
-    handler = logging.StreamHandler(sys.stderr)
+    handler = _Stderr()
     handler.rmpc_report = True
     handler.addFilter(_Problem())
     handler.setFormatter(logging.Formatter("\r%(problem)6s %(message)s"))

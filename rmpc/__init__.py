@@ -27,7 +27,7 @@ Visual servoing (Ch. 10) [``rigid_body.camera``, ``rigid_body.vision``, ``contro
     ``TargetFeatures``, ``PoseEstimator``, ``visual_servo(camera, law, Tc)``; the laws ``PBVSPDGravity``,
     ``PBVSResolvedVelocity``, ``PBVSPoseResolvedVelocity``, ``IBVSPDGravity``, ``IBVSResolvedVelocity``,
     ``HybridVisualServo``; the kinematic plant of resolved-velocity loops ``KinematicArm`` (q̇ = u);
-    ``eye_in_hand_ibvs(robot, frame, points, T_desired)`` builds camera, desired features and loop in one call;
+    ``eye_in_hand_ibvs(robot, points, T_desired, frame=)`` builds camera, desired features and loop in one call;
     ``homography_dlt``, ``pose_from_homography``
 Mobile robots (Ch. 11) [``controllers.plants``, ``controllers.wheeled``, ``planners.wheeled``]
     plants ``UnicyclePlant``, ``BicyclePlant``, ``ChainedFormPlant``; paths ``FigureEight``,
@@ -45,7 +45,7 @@ Beyond the book [``planners.optimal_control``, ``controllers.mpc``, ``controller
     ``solve_optimal_control``; ``ModelPredictiveControl``, ``MPCOptions``; ``MujocoPlant`` (the same loops on
     MuJoCo physics: ``pip install 'rmpc[mujoco]'``)
 Scenes and pictures [``controllers.scenes``, ``viewer``]
-    ``rmpc.scenes`` (the book's scenes and the demos': the wall of Fig. 9.16, the Panda at a wall or above a
+    ``rmpc.scenes`` (the book's scenes and the demos': the plane of Fig. 9.16, the Panda at a wall or above a
     target, the eye-in-hand SCARA, the planning scenes of Ch. 12, the Panda among boxes), ``rmpc.viewer``
     (``show``, ``animate``, ``export_html``: a 3-D page with no server and no network)
 Problems (``problems``)

@@ -311,13 +311,14 @@ def test_hybrid_force_motion_on_the_stepped_wall(panda):
     probe: the force is held at 20 N, lost at the edge and regained as on ArmInContact's SteppedPlane; frictionless
     here (MuJoCo's friction cone and the regularised Coulomb law differ, see the example)."""
     import examples.panda_wall_contact as example
+    from controllers.scenes import panda_wall
 
-    scene = example._panda_wall_scene()
-    wall = scene["wall"]
+    scene = panda_wall()
+    wall = scene.wall
     frictionless = SteppedPlane(wall.point, wall.normal, wall.direction, wall.step_at, wall.depth, wall.stiffness,
                                 wall.damping)
-    S_f, S_v = selection_matrices(("x", "y", "rx", "ry", "rz"), scene["R_c"])
-    slide = scene["slide"]
+    S_f, S_v = selection_matrices(("x", "y", "rx", "ry", "rz"), scene.R_c)
+    slide = scene.slide
 
     def nu_reference(t):
         _, sd, sdd = slide(t)
@@ -326,10 +327,10 @@ def test_hybrid_force_motion_on_the_stepped_wall(panda):
     ctrl = HybridForceMotionControl(panda, S_f, S_v, [-example.F_PUSH], nu_reference, 16.0, 100.0, 32.0, 400.0,
                                     compliance=np.eye(6) / wall.stiffness, frame=TOOL, null_space_damping=10.0)
     plant = MujocoPlant(panda, frictionless, frame=TOOL, probe=0.005, joint_limits=False)
-    mj = simulate(plant, ctrl, (0.0, example.T_PANDA), plant.initial_state(scene["q0"]), h=1e-3)
+    mj = simulate(plant, ctrl, (0.0, example.T_PANDA), plant.initial_state(scene.q0), h=1e-3)
     arm = ArmInContact(panda, frictionless, frame=TOOL)
-    ref = simulate(arm, ctrl, (0.0, example.T_PANDA), arm.initial_state(scene["q0"]), h=1e-3)
-    n, t = scene["n"], mj.t
+    ref = simulate(arm, ctrl, (0.0, example.T_PANDA), arm.initial_state(scene.q0), h=1e-3)
+    n, t = scene.n, mj.t
     f_mj, f_pin = -(mj["h_e"][:, :3] @ n), -(ref["h_e"][:, :3] @ n)
     cruise = (t > 1.3) & (t < 1.9)
     assert np.abs(f_mj[cruise] - example.F_PUSH).max() < 0.5

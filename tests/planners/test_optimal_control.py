@@ -350,7 +350,9 @@ def test_step_qp_equals_a_dense_qp(soft):
     H = M @ np.transpose(M, (0, 2, 1)) + 0.1 * np.eye(nx + nu)                  # over [x; u]
     g = rng.normal(size=(N + 1, nx + nu)) * 3.0
     lbu, ubu, w = np.array([-0.5, -0.4]), np.array([0.7, 0.6]), 2.0
-    lbx, ubx = (np.array([-0.3, -0.2]), np.array([0.2, 0.25])) if soft else (np.array([-1.5, -1.2]), np.array([1.2, 1.0]))
+    lbx, ubx = np.array([-0.3, -0.2]), np.array([0.2, 0.25])
+    if not soft:                                                              # hard: wide enough to be feasible
+        lbx, ubx = np.array([-1.5, -1.2]), np.array([1.2, 1.0])
     for k in range(N):
         qp.A[k], qp.B[k], qp.b[k] = A[k].T, B[k].T, b[k]
         qp.R[k], qp.S[k], qp.r[k] = H[k][nx:, nx:], H[k][:nx, nx:], g[k][nx:]
@@ -374,8 +376,9 @@ def test_step_qp_equals_a_dense_qp(soft):
     iu = lambda k: np.arange(nu) if k == 0 else nu + (k - 1) * (nx + nu) + nx + np.arange(nu)
     Hd, gd = np.zeros((n_all, n_all)), np.zeros(n_all)
     for k in range(N + 1):
-        idx = np.concatenate([ix(k) if k else np.zeros(0, int), iu(k) if k < N else np.zeros(0, int)])
-        sel = np.concatenate([np.arange(nx) if k else np.zeros(0, int), nx + np.arange(nu) if k < N else np.zeros(0, int)])
+        none = np.zeros(0, int)
+        idx = np.concatenate([ix(k) if k else none, iu(k) if k < N else none])
+        sel = np.concatenate([np.arange(nx) if k else none, nx + np.arange(nu) if k < N else none])
         Hd[np.ix_(idx, idx)] += H[k][np.ix_(sel, sel)]
         gd[idx] += g[k][sel]
     gd[nv:] = w

@@ -7,6 +7,10 @@ the tree, and the module's tests run against the copy. A mutant *survives* when 
 
     python benchmarks/mutation.py --per-module 50 --out /tmp/mutation.txt
     python benchmarks/mutation.py --lines 294-316 controllers/simulation.py   # every point of rk4_step
+    python benchmarks/mutation.py --rerun /tmp/mutation.txt --out /tmp/after.txt   # its survivors, after new tests
+
+``--rerun`` takes the log of an earlier run of the same module code with the same ``--seed`` and ``--per-module``:
+the samples are drawn again in the same order and the mutants that SURVIVED there are run again, one for one.
 
 Docstrings and ``raise ValueError`` messages are skipped (they carry no behaviour the tests measure).
 """
@@ -41,20 +45,31 @@ TARGETS = {
     "controllers/simulation.py": ["tests/controllers/test_simulation.py",
                                   "tests/controllers/test_loop_fast_paths.py"],
     # chapters 9-12
-    "controllers/force.py": ["tests/controllers/test_force.py", "tests/controllers/test_peg_in_hole.py"],
+    "controllers/force.py": ["tests/controllers/test_force.py", "tests/controllers/test_contact_step.py",
+                             "tests/controllers/test_peg_in_hole.py"],
     "controllers/visual_servoing.py": ["tests/controllers/test_visual_servoing.py",
+                                       "tests/controllers/test_visual_servoing_inputs.py",
                                        "tests/examples/test_panda_visual_servoing.py"],
-    "controllers/wheeled.py": ["tests/controllers/test_wheeled.py"],
+    "controllers/wheeled.py": ["tests/controllers/test_wheeled.py", "tests/controllers/test_wheeled_inputs.py",
+                               "tests/controllers/test_wheeled_laws.py"],
     "rigid_body/camera.py": ["tests/rigid_body/test_camera_vision.py", "tests/rigid_body/test_sensors.py",
-                             "tests/rigid_body/test_independent_references.py"],
-    "rigid_body/vision.py": ["tests/rigid_body/test_camera_vision.py"],
-    "rigid_body/wheeled.py": ["tests/rigid_body/test_wheeled.py", "tests/controllers/test_wheeled.py"],
-    "planners/wheeled.py": ["tests/planners/test_wheeled.py", "tests/controllers/test_wheeled.py"],
-    "planners/sampling.py": ["tests/planners/test_sampling.py"],
-    "planners/configuration_space.py": ["tests/planners/test_configuration_space.py", "tests/planners/test_cspace.py"],
-    "planners/collision.py": ["tests/planners/test_collision.py"],
-    "planners/cells.py": ["tests/planners/test_cells.py"],
-    "planners/potentials.py": ["tests/planners/test_potentials.py"],
+                             "tests/rigid_body/test_independent_references.py",
+                             "tests/controllers/test_visual_servoing.py", "tests/rigid_body/test_vision_references.py"],
+    "rigid_body/vision.py": ["tests/rigid_body/test_camera_vision.py", "tests/rigid_body/test_vision_references.py"],
+    "rigid_body/wheeled.py": ["tests/rigid_body/test_wheeled.py", "tests/controllers/test_wheeled.py",
+                              "tests/controllers/test_wheeled_inputs.py", "tests/planners/test_wheeled_references.py"],
+    "planners/wheeled.py": ["tests/planners/test_wheeled.py", "tests/controllers/test_wheeled.py",
+                            "tests/controllers/test_wheeled_inputs.py", "tests/planners/test_wheeled_references.py"],
+    "planners/sampling.py": ["tests/planners/test_sampling.py", "tests/planners/test_certified_planning.py",
+                             "tests/planners/test_planning_references.py"],
+    "planners/configuration_space.py": ["tests/planners/test_configuration_space.py", "tests/planners/test_cspace.py",
+                                        "tests/planners/test_certified_planning.py",
+                                        "tests/planners/test_planning_references.py"],
+    "planners/collision.py": ["tests/planners/test_collision.py", "tests/planners/test_certified_planning.py",
+                              "tests/planners/test_planning_references.py"],
+    "planners/cells.py": ["tests/planners/test_cells.py", "tests/planners/test_planning_references.py"],
+    "planners/potentials.py": ["tests/planners/test_potentials.py", "tests/planners/test_certified_planning.py",
+                               "tests/planners/test_planning_references.py"],
 }
 
 SWAP = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult,
@@ -132,6 +147,9 @@ def main() -> None:
     parser.add_argument("--timeout", type=float, default=120.0)
     parser.add_argument("--out", type=Path, default=Path("mutation.txt"))
     parser.add_argument("--lines", default="", help="FIRST-LAST: only the points on these lines (all of them)")
+    parser.add_argument("--rerun", type=Path, default=None,
+                        help="a previous --out log (same module code, --seed and --per-module): run again only the "
+                             "mutants that SURVIVED there")
     parser.add_argument("modules", nargs="*", default=list(TARGETS))
     args = parser.parse_args()
     work = Path(tempfile.mkdtemp(prefix="rmpc-mutation-"))
@@ -139,6 +157,15 @@ def main() -> None:
                                                                     "*.egg-info"))
     tree = work / "tree"
     rng = random.Random(args.seed)
+    outcomes: dict[str, list[str]] = {}          # --rerun: each module's statuses, in its sample's order
+    if args.rerun is not None:
+        for line in args.rerun.read_text().splitlines():
+            if line.startswith("# ") and ": " in line and "points" in line:
+                outcomes[line[2:].split(":")[0]] = []
+            elif line.split(" ")[0] in ("killed", "SURVIVED", "SKIP"):
+                module = next(word for word in line.split() if word.endswith(".py"))   # after "killed (timeout)"
+                outcomes[module].append(line.split()[0])
+        args.modules = list(outcomes)              # the same modules in the same order: the same draws
     total = survived = 0
     with args.out.open("w") as log:
         for module in args.modules:
@@ -148,6 +175,11 @@ def main() -> None:
                 first, last = (int(n) for n in args.lines.split("-"))
                 points = [(k, what) for k, what in points if first <= int(what.split(":")[0][5:]) <= last]
             sample = sorted(rng.sample(points, min(args.per_module, len(points))))
+            if args.rerun is not None:
+                if len(outcomes[module]) != len(sample):
+                    raise SystemExit(f"{module}: {len(outcomes[module])} lines in {args.rerun}, {len(sample)} drawn: "
+                                     "not the same code, --seed or --per-module")
+                sample = [point for point, status in zip(sample, outcomes[module]) if status == "SURVIVED"]
             print(f"# {module}: {len(points)} points, {len(sample)} sampled", file=log, flush=True)
             for index, what in sample:
                 try:

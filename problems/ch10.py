@@ -358,6 +358,7 @@ def problem_10_5() -> Solution:
                     max_abs_error(s, s_true), 2e-4, reference="closed form")
     xs, es, pts = _estimation(sol, target, s, 5e-3, 5e-3)
     worst, worst_half = _chord_deviations(target, s, pts)
+    sol.value("min_chord_deviation", min(_chord_deviation(pts[:, i]) for i in range(2)), unit="1 (normalised image units)")
     limit = sol.value("chord_deviation_limit", 2 * worst_half - worst, unit="1 (normalised image units)")     # Richardson: the T → 0 limit
     sol.check_bound("image paths of the points not straight, even in continuous time: the largest distance from "
                     "the chord extrapolated to T → 0 (2 d(T/2) − d(T))", limit, 1e-3, ">",

@@ -77,6 +77,25 @@ def arm_units(robot: Robot) -> dict[str, str]:
     return {"q": q, "qd": qd, "u": u, "e": q, "q_d": q}
 
 
+def joint_torques(u: Any, n: int) -> np.ndarray:
+    """``u`` as the (n,) float array of an arm's commanded joint torques (an array of that shape as it is); a
+    ValueError naming the shape otherwise."""
+    if type(u) is not np.ndarray or u.shape != (n,):
+        if np.shape(u) != (n,):
+            raise ValueError(f"the arm needs {n} joint torques, got an input of shape {np.shape(u)}")
+        u = np.asarray(u, dtype=float)
+    return u
+
+
+def saturated(ops: Any, u: Any, tau_max: Any, tau_min: Any = None) -> Any:
+    """The torque the actuators apply: the command ``u`` saturated at [−tau_max, tau_max] (``tau_min`` the lower
+    limit −tau_max when given precomputed), ``u`` itself without limits — the one body of the saturation of
+    :class:`ArmPlant` (both loops) and :class:`controllers.mujoco.MujocoPlant`."""
+    if tau_max is None:
+        return u
+    return ops.clip(u, -tau_max if tau_min is None else tau_min, tau_max)
+
+
 class ArmPlant:
     """A rigid arm driven by joint torques: x = [q, v], ẋ = [v, B⁻¹(τ − C v − g − τ_f − τ_ext)].
 
@@ -185,14 +204,10 @@ class ArmPlant:
         return self._saturated(Numeric, self._checked_input(u))
 
     def _checked_input(self, u: Any) -> np.ndarray:
-        if type(u) is not np.ndarray or u.shape != self._u_shape:
-            if np.shape(u) != (self.n,):
-                raise ValueError(f"the arm needs {self.n} joint torques, got an input of shape {np.shape(u)}")
-            u = np.asarray(u, dtype=float)
-        return u
+        return u if type(u) is np.ndarray and u.shape == self._u_shape else joint_torques(u, self.n)
 
     def _saturated(self, ops: Any, u: Any) -> Any:
-        return u if self.tau_max is None else ops.clip(u, self._tau_min, self.tau_max)
+        return u if self.tau_max is None else saturated(ops, u, self.tau_max, self._tau_min)
 
     def torque_law(self, ops: Any, qd: Any, u: Any) -> Any:
         """τ − τ_f: the commanded torques saturated at ±tau_max, minus friction (F_v q̇, and F_s sgn(q̇) with the

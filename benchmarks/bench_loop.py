@@ -140,17 +140,18 @@ def book_loop_rows(pids: tuple[str, ...] = BOOK_LOOPS) -> list[dict]:
     from pathlib import Path
 
     import controllers.compiled as compiled
+    import rigid_body.codegen as codegen
 
     out = []
     with tempfile.TemporaryDirectory() as cache:
-        saved = compiled.CACHE
-        compiled.CACHE = Path(cache)                            # cold: nothing compiled yet
+        saved = codegen.CACHE
+        codegen.CACHE = Path(cache)                            # cold: nothing compiled yet
         try:
             for pid in pids:
-                compiled._loaded.clear()
+                codegen._loaded.clear()
                 compiled._LOOPS.clear()
                 simulated, cold, uses_compiled = book_loops(pid)
-                compiled._loaded.clear()                        # warm: the libraries are on disk (a new process)
+                codegen._loaded.clear()                        # warm: the libraries are on disk (a new process)
                 compiled._LOOPS.clear()
                 warm = book_loops(pid)[1]
                 name = f"problem {pid} closed loops{' (compiled)' if uses_compiled else ''} [sim s / wall s]"
@@ -161,7 +162,7 @@ def book_loop_rows(pids: tuple[str, ...] = BOOK_LOOPS) -> list[dict]:
                                     rmpc=max(cold - warm, 0.0), reference=None, ref_name="cached afterwards",
                                     target=None))
         finally:
-            compiled.CACHE = saved
+            codegen.CACHE = saved
     return out
 
 

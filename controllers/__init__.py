@@ -5,7 +5,7 @@ Entry points (the main names are also reachable as ``rmpc.<name>``):
 * ``simulation`` — ``simulate(plant, controller, (t0, t_f), x0, h, Ts)``: RK4 plant, discrete controller
   with zero-order hold → a ``SimulationResult`` (``t``, ``q``, ``qd``, ``u``, named signals, ``.plot()``);
   a diverging loop raises ``SimulationDiverged`` naming the time (and, when the controller can tell,
-  which sampled-stability bound is violated). ``integration`` holds its one RK4 step; ``signals`` names the columns
+  which sampled-stability bound is violated). Its one RK4 step is ``rigid_body.integration``'s; ``signals`` names the columns
   of the logged signals and their units (f_x … μ_z of a wrench, x₁, y₁ … of image points) for plots.
 * ``compiled`` — the same loop compiled (``simulate(..., backend="casadi")``) for laws written once against the
   primitives of ``laws`` (``ControlLaw``: one body, run by both loops).

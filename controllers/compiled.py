@@ -1,7 +1,7 @@
 """Compiled backend of the one simulation loop: ``simulate(..., backend="casadi")``.
 
 The same loop as :func:`controllers.simulation.simulate` — the one RK4 of step ``h``
-(:func:`controllers.integration.rk4_step_law`) on the plant, the controller every ``Ts`` with zero-order
+(:func:`rigid_body.integration.rk4_step_law`) on the plant, the controller every ``Ts`` with zero-order
 hold — as CasADi expressions: one *sample* (the controller's law, then ``Ts/h`` RK4 steps with the output
 held) is a ``casadi.Function`` ``(x_k, r_k, p) → (x_{k+1}, u_k, signals)`` and the whole run is that function
 accumulated over the samples (``Function.mapaccum``), generated as C and compiled with the system C compiler.
@@ -21,8 +21,8 @@ the contract of :mod:`controllers.simulation`:
   are the gains (the numeric controller's values); the law's own state starts at its value after ``reset()``.
 
 The run is keyed by a digest of the blocks' structure (:func:`loop_key`: no code generated), built once per
-process (:func:`compiled_loop`) and cached on disk (``$RMPC_CACHE``) with the names of its signals, safely
-under concurrency; a compiler or cache fault sends ``simulate`` to the Python loop with one warning
+process (:func:`compiled_loop`) and cached on disk (``$RMPC_CACHE``, :mod:`rigid_body.codegen`) with the names
+of its signals, safely under concurrency; a compiler or cache fault sends ``simulate`` to the Python loop with one warning
 (:class:`CompiledLoopUnavailable`). A block without a symbolic form is refused through one path,
 :func:`no_symbolic_form`.
 
@@ -37,36 +37,27 @@ References: Siciliano et al., *Robotics: Modelling, Planning and Control*, Sprin
 
 from __future__ import annotations
 
-import errno
 import functools
 import hashlib
 import json
-import logging
 import os
-import shutil
-import subprocess
-import tempfile
 import threading
 import time
 import types
 import warnings
 from collections import OrderedDict
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Iterator, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 import casadi as ca
 import numpy as np
 import pinocchio as pin
 
-from controllers.integration import rk4_step_law
+from rigid_body import codegen
+from rigid_body.codegen import COMPILE_FLAGS, CompiledLoopUnavailable, key_lock  # noqa: F401 (the loop's fault)
+from rigid_body.integration import rk4_step_law
 from rigid_body.task_space import FrameState
-
-#: Tells when a compiled function is built (the first run on a machine compiles each loop once: ~1 s each):
-#: ``rmpc report`` shows these INFO lines as its progress while the compiler works.
-log = logging.getLogger("rmpc.compiler")    # a stable name: rmpc report listens to it
-
 
 BACKENDS = ("python", "casadi")
 
@@ -587,32 +578,8 @@ def _length(index: Any) -> int:
 
 
 # --------------------------------------------------------------------------------------------
-# Compilation: a compiler, a cache, and what happens when either fails
+# Compilation: rigid_body.codegen (the compiler and its cache); the loop's choice of backend
 # --------------------------------------------------------------------------------------------
-
-CACHE = Path(os.environ.get("RMPC_CACHE", Path(tempfile.gettempdir()) / "rmpc-casadi"))
-_loaded: dict[str, ca.Function] = {}             # compiled functions loaded in this process, by cache key
-_key_locks: dict[str, threading.Lock] = {}       # one lock per key: threads of this process build a key once
-_key_locks_guard = threading.Lock()
-
-
-class CompiledLoopUnavailable(RuntimeError):
-    """The compiled loop cannot be built here: ``kind`` is ``"no compiler"``, ``"compiler failed"`` or
-    ``"cache unusable"``; the message (one line) says what to fix. :func:`controllers.simulation.simulate`
-    then runs the Python loop (the same results) with that line as a warning."""
-
-    def __init__(self, kind: str, message: str):
-        super().__init__(message)
-        self.kind = kind
-
-
-def compiler() -> str | None:
-    """The system C compiler (``$CC``, ``cc``, ``gcc`` or ``clang``), None when there is none."""
-    for name in (os.environ.get("CC"), "cc", "gcc", "clang"):
-        if name and shutil.which(name):
-            return name
-    return None
-
 
 def fast_backend(controller: Any = None) -> str:
     """The backend for a loop that needs speed: ``"casadi"`` when a C compiler can build the compiled loop,
@@ -622,182 +589,11 @@ def fast_backend(controller: Any = None) -> str:
     loop too (:class:`CompiledLoopUnavailable`)."""
     if controller is not None and not getattr(controller, "compilable", hasattr(controller, "symbolic")):
         return "python"
-    if compiler() is not None:
+    if codegen.compiler() is not None:
         return "casadi"
     warnings.warn("no C compiler found: the loop runs on the Python backend (same results, slower)", stacklevel=2)
     return "python"
 
-
-def c_code(function: ca.Function) -> bytes:
-    """The C source CasADi generates for ``function``."""
-    name = function.name()
-    with tempfile.TemporaryDirectory() as tmp:
-        generator = ca.CodeGenerator(f"{name}.c", {"with_header": False})
-        generator.add(function)
-        generator.generate(tmp + os.sep)
-        return (Path(tmp) / f"{name}.c").read_bytes()
-
-
-COMPILE_FLAGS = ("-O1",)
-"""The C compiler's optimisation: CasADi's generated code is straight-line arithmetic, which ``-O1`` compiles
-about 40 % faster than ``-O2`` and runs as fast (Puma 560 PD + g rollout: 8.1 ms with either)."""
-
-
-def _key_lock(key: str) -> threading.Lock:
-    with _key_locks_guard:
-        return _key_locks.setdefault(key, threading.Lock())
-
-
-@contextmanager
-def _file_lock(path: Path) -> Iterator[None]:
-    """An exclusive lock on ``path`` (created) between processes (``fcntl.flock``; a no-op where there is none)."""
-    try:
-        import fcntl
-    except ImportError:                                  # not POSIX: the atomic rename still protects the files
-        yield
-        return
-    with open(path, "a+b") as handle:
-        fcntl.flock(handle.fileno(), fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(handle.fileno(), fcntl.LOCK_UN)
-
-
-def _usable_cache(cache: Path) -> Path:
-    """The cache directory, created if needed; a temporary directory when it exists but cannot be written
-    (read-only); :class:`CompiledLoopUnavailable` when it is not a directory at all (``RMPC_CACHE`` names a
-    file) or cannot be made."""
-    if cache.exists() and not cache.is_dir():
-        raise CompiledLoopUnavailable("cache unusable", f"the compiled-loop cache RMPC_CACHE={cache} is not a directory: "
-                                      "point RMPC_CACHE at a writable directory (or unset it)")
-    try:
-        cache.mkdir(parents=True, exist_ok=True)
-    except OSError as err:
-        if cache.exists() and cache.is_dir():
-            pass
-        elif isinstance(err, PermissionError) or err.errno in (errno.EROFS, errno.EACCES):
-            return _temporary_cache()
-        else:
-            raise CompiledLoopUnavailable("cache unusable", f"the compiled-loop cache RMPC_CACHE={cache} cannot be "
-                                          f"created ({err.strerror}): point RMPC_CACHE at a writable directory") from None
-    if not os.access(cache, os.W_OK | os.X_OK):
-        return _temporary_cache()
-    return cache
-
-
-_temporary: list[Path] = []
-
-
-def _temporary_cache() -> Path:
-    """One temporary directory per process, for a cache that is full or read-only (removed at exit)."""
-    if not _temporary:
-        import atexit
-
-        path = Path(tempfile.mkdtemp(prefix="rmpc-casadi-"))
-        atexit.register(shutil.rmtree, path, True)
-        _temporary.append(path)
-    return _temporary[0]
-
-
-def _build_library(code: bytes, name: str, key: str, cache: Path, cc: str, flags: tuple[str, ...],
-                   metadata: bytes | None) -> Path:
-    """Compile ``code`` into ``cache/{name}_{key}.so`` (and its metadata beside it): under a file lock per key,
-    into unique temporary names published by an atomic rename, so that threads and processes building the
-    same key never see a partial file; a library already there is taken as it is."""
-    library = cache / f"{name}_{key}.so"
-    with _file_lock(cache / f"{name}_{key}.lock"):
-        if library.exists():
-            return library
-        fd, c_path = tempfile.mkstemp(prefix=f"{name}_{key}.", suffix=".c", dir=cache)
-        so_path = c_path[:-2] + ".so"
-        try:
-            with os.fdopen(fd, "wb") as handle:
-                handle.write(code)
-            result = subprocess.run([cc, *flags, "-fPIC", "-shared", c_path, "-o", so_path, "-lm"],
-                                    capture_output=True)
-            if result.returncode != 0:
-                detail = (result.stderr.decode(errors="replace").strip().splitlines() or ["no message"])[0]
-                if any(s in detail for s in ("No space left", "Read-only file system", "Permission denied")):
-                    raise OSError(errno.ENOSPC, detail)
-                raise CompiledLoopUnavailable("compiler failed", f"the C compiler `{cc}` failed (exit {result.returncode}"
-                                              f": {detail[:160]}): fix it or set CC to a working compiler")
-            if metadata is not None:
-                meta_fd, meta_path = tempfile.mkstemp(prefix=f"{name}_{key}.", suffix=".json", dir=cache)
-                with os.fdopen(meta_fd, "wb") as handle:
-                    handle.write(metadata)
-                os.replace(meta_path, cache / f"{name}_{key}.json")
-            os.replace(so_path, library)                                 # atomic: the library appears whole
-        finally:
-            for path in (c_path, so_path):
-                if os.path.exists(path):
-                    os.remove(path)
-    return library
-
-
-def compile_function(function: ca.Function | Callable[[], ca.Function], flags: tuple[str, ...] = COMPILE_FLAGS,
-                     name: str | None = None, key: bytes | None = None) -> ca.Function:
-    """``function`` generated as C, compiled into a shared library (cached) and loaded.
-
-    The cache key is the hash of the code, or of ``key`` (bytes that determine the code, e.g. a structure digest)
-    with ``name``: then ``function`` may be a callable that builds it, called only when the cache misses.
-    Safe under concurrency (a lock per key, unique temporary files, an atomic rename); a cache that is full or
-    read-only is replaced by a temporary folder. Without a usable compiler or cache the function is returned as
-    it is, interpreted by CasADi, with one warning line naming the fault (the compiled loop instead falls back to
-    the Python loop: :class:`CompiledLoopUnavailable`).
-    """
-    try:
-        return _compiled_library(function, flags, name, key)
-    except CompiledLoopUnavailable as fault:
-        warnings.warn(f"{fault}; the function runs interpreted by CasADi (slower)", stacklevel=2)
-        return function if key is None else function()
-
-
-def _compiled_library(function: ca.Function | Callable[[], ca.Function], flags: tuple[str, ...] = COMPILE_FLAGS,
-                      name: str | None = None, key: bytes | None = None,
-                      metadata: Callable[[], bytes] | None = None) -> ca.Function:
-    """:func:`compile_function`, raising :class:`CompiledLoopUnavailable` on a compiler or cache fault; with
-    ``metadata`` (bytes stored beside the library) read back into :data:`_METADATA` when the library is loaded."""
-    cc = compiler()
-    if cc is None:
-        raise CompiledLoopUnavailable("no compiler", "no C compiler found: install gcc (or clang) or set CC to one")
-    code = None
-    if key is None:
-        name, code = function.name(), c_code(function)
-        key = code
-    digest = hashlib.sha256(key + " ".join((cc, *flags)).encode()).hexdigest()[:16]
-    with _key_lock(digest):
-        if digest in _loaded:
-            return _loaded[digest]
-        cache = _usable_cache(CACHE)
-        library = cache / f"{name}_{digest}.so"
-        for attempt in range(2):
-            try:
-                if not library.exists():
-                    started = time.perf_counter()
-                    log.info("compiling %s (C code for %s; once, then loaded from %s)", name, cc, cache)
-                    code = code if code is not None else c_code(function())
-                    library = _build_library(code, name, digest, cache, cc, flags,
-                                             None if metadata is None else metadata())
-                    log.info("compiled %s in %.1f s", name, time.perf_counter() - started)
-                function = ca.external(name, str(library))
-                meta = library.with_suffix(".json")
-                if metadata is not None and meta.exists():
-                    _METADATA[id(function)] = json.loads(meta.read_text())
-                _loaded[digest] = function
-                return function
-            except OSError as err:                                  # full or read-only: a temporary folder
-                if attempt or err.errno not in (errno.ENOSPC, errno.EROFS, errno.EACCES, errno.EDQUOT):
-                    raise CompiledLoopUnavailable("cache unusable", f"the compiled-loop cache {cache} cannot be "
-                                                  f"written ({err.strerror}): point RMPC_CACHE at a writable "
-                                                  "directory with free space") from None
-                cache = _temporary_cache()
-                library = cache / f"{name}_{digest}.so"
-            except RuntimeError as err:                             # CasADi cannot load the library
-                if isinstance(err, CompiledLoopUnavailable) or attempt:
-                    raise
-                library.unlink(missing_ok=True)                     # a damaged file in the cache: build it again
-    raise AssertionError("unreachable")
 
 
 # --------------------------------------------------------------------------------------------
@@ -1152,13 +948,8 @@ class CompiledLoop:
 
 def _compile(build: Callable[[], ca.Function], name: str, key: bytes, metadata: Callable[[], bytes]
              ) -> tuple[ca.Function, dict | None]:
-    """:func:`compile_function` of a keyed build, and the metadata stored beside it (None when it was built here:
-    the caller has it)."""
-    function = _compiled_library(build, name=name, key=key, metadata=metadata)
-    return function, _METADATA.get(id(function))
-
-
-_METADATA: dict[int, dict] = {}
+    """:func:`rigid_body.codegen.compiled_library` of a keyed build, and the metadata stored beside it."""
+    return codegen.compiled_library(build, name=name, key=key, metadata=metadata)
 
 
 def compiled_loop(plant: Any, controller: Any, h: float, n_sub: int, n_samples: int) -> CompiledLoop:
@@ -1172,7 +963,7 @@ def compiled_loop(plant: Any, controller: Any, h: float, n_sub: int, n_samples: 
         if loop is not None:
             _LOOPS.move_to_end(key)
             return loop
-    with _key_lock("loop" + key):
+    with key_lock("loop" + key):
         with _LOOPS_GUARD:
             loop = _LOOPS.get(key)
         if loop is None:

@@ -79,7 +79,8 @@ import numpy as np
 import pinocchio as pin
 
 from controllers.environment import CompliantPlane, SteppedPlane, SurfaceWithHole
-from controllers.plants import ArmMeasurement, arm_units
+from controllers.laws import Numeric
+from controllers.plants import ArmMeasurement, arm_units, joint_torques, saturated
 from controllers.simulation import SimulationDiverged
 from rigid_body.robots import EXAMPLE_ROBOTS, JointFriction, Robot
 from rigid_body.validation import as_positive, as_vector
@@ -380,7 +381,7 @@ class MujocoPlant:
         for its robots, None for none (adjacent bodies are always excluded).
     self_collision : collide the robot's non-excluded bodies with one another.
     joint_limits : MuJoCo's joint-limit constraints at the position limits (``ArmPlant`` has no joint stops).
-    tau_max : optional actuator limits (n,): the commanded torque is saturated, as :class:`ArmPlant` does.
+    tau_max : optional actuator limits (n,): the commanded torque is saturated (:func:`controllers.plants.saturated`, the one body of ArmPlant's saturation).
 
     Attributes
     ----------
@@ -698,11 +699,7 @@ class MujocoPlant:
 
     def torque(self, u: Any) -> np.ndarray:
         """The torque actually applied: ``u`` saturated at ±tau_max."""
-        if type(u) is not np.ndarray or u.shape != (self.n,):
-            if np.shape(u) != (self.n,):
-                raise ValueError(f"the arm needs {self.n} joint torques, got an input of shape {np.shape(u)}")
-            u = np.asarray(u, dtype=float)
-        return u if self.tau_max is None else np.clip(u, -self.tau_max, self.tau_max)
+        return saturated(Numeric, joint_torques(u, self.n), self.tau_max)
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         """ẋ = [q̇, q̈] with q̈ MuJoCo's ``qacc`` from ``mj_forward`` at (x, u): contacts, joint limits, damping and
@@ -733,7 +730,7 @@ class MujocoPlant:
         def step(t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
             qpos[:] = x[:n]
             qvel[:] = x[n:]
-            qfrc[:] = u if tau_max is None else np.clip(u, -tau_max, tau_max)
+            qfrc[:] = saturated(Numeric, u, tau_max)
             before = counts.item(acc) + counts.item(pos) + counts.item(vel)
             for _ in substeps:
                 mj_step(m, d)

@@ -77,6 +77,25 @@ def arm_units(robot: Robot) -> dict[str, str]:
     return {"q": q, "qd": qd, "u": u, "e": q, "q_d": q}
 
 
+def joint_torques(u: Any, n: int) -> np.ndarray:
+    """``u`` as the (n,) float array of an arm's commanded joint torques (an array of that shape as it is); a
+    ValueError naming the shape otherwise."""
+    if type(u) is not np.ndarray or u.shape != (n,):
+        if np.shape(u) != (n,):
+            raise ValueError(f"the arm needs {n} joint torques, got an input of shape {np.shape(u)}")
+        u = np.asarray(u, dtype=float)
+    return u
+
+
+def saturated(ops: Any, u: Any, tau_max: Any, tau_min: Any = None) -> Any:
+    """The torque the actuators apply: the command ``u`` saturated at [−tau_max, tau_max] (``tau_min`` the lower
+    limit −tau_max when given precomputed), ``u`` itself without limits — the one body of the saturation of
+    :class:`ArmPlant` (both loops) and :class:`controllers.mujoco.MujocoPlant`."""
+    if tau_max is None:
+        return u
+    return ops.clip(u, -tau_max if tau_min is None else tau_min, tau_max)
+
+
 class ArmPlant:
     """A rigid arm driven by joint torques: x = [q, v], ẋ = [v, B⁻¹(τ − C v − g − τ_f − τ_ext)].
 
@@ -115,6 +134,7 @@ class ArmPlant:
         self.state_size = robot.nq + robot.nv
         self.tangent_size = 2 * robot.nv
         self.input_size = robot.nv
+        self._x_shape = (self.state_size,)
         self.state_layout = {"q": slice(0, self.nq), "qd": slice(self.nq, self.state_size)}
         self.Fv = as_friction(viscous_friction, self.n)
         Fs = per_joint(coulomb_friction, self.n, "coulomb_friction")
@@ -185,14 +205,10 @@ class ArmPlant:
         return self._saturated(Numeric, self._checked_input(u))
 
     def _checked_input(self, u: Any) -> np.ndarray:
-        if type(u) is not np.ndarray or u.shape != self._u_shape:
-            if np.shape(u) != (self.n,):
-                raise ValueError(f"the arm needs {self.n} joint torques, got an input of shape {np.shape(u)}")
-            u = np.asarray(u, dtype=float)
-        return u
+        return u if type(u) is np.ndarray and u.shape == self._u_shape else joint_torques(u, self.n)
 
     def _saturated(self, ops: Any, u: Any) -> Any:
-        return u if self.tau_max is None else ops.clip(u, self._tau_min, self.tau_max)
+        return u if self.tau_max is None else saturated(ops, u, self.tau_max, self._tau_min)
 
     def torque_law(self, ops: Any, qd: Any, u: Any) -> Any:
         """τ − τ_f: the commanded torques saturated at ±tau_max, minus friction (F_v q̇, and F_s sgn(q̇) with the
@@ -211,7 +227,8 @@ class ArmPlant:
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
-        _check_state(x, self.state_size, nq)
+        if type(x) is not np.ndarray or x.shape != self._x_shape:     # the cheap test first (hot path)
+            _check_state(x, self.state_size, nq)
         q, qd = x[:nq], x[nq:]
         xd = np.empty(2 * n)
         xd[:n] = qd
@@ -252,7 +269,8 @@ class ArmPlant:
         return tau
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
-        _check_state(x, self.state_size, self.nq)
+        if type(x) is not np.ndarray or x.shape != self._x_shape:     # the cheap test first (hot path)
+            _check_state(x, self.state_size, self.nq)
         return ArmMeasurement(x[:self.nq], x[self.nq:])
 
     def symbolic(self) -> Any:
@@ -379,6 +397,7 @@ class ArmInContact:
         a = self.arm
         self.n, self.nq = a.n, a.nq
         self.state_size, self.tangent_size, self.state_layout = a.state_size, a.tangent_size, a.state_layout
+        self._x_shape = (self.state_size,)
         self.input_size = a.input_size
         self.integrate, self.initial_state = a.integrate, a.initial_state
         self.units = {**ARM_UNITS, "wrench": "N, N·m"}
@@ -463,7 +482,8 @@ class ArmInContact:
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
-        _check_state(x, self.state_size, nq)
+        if type(x) is not np.ndarray or x.shape != self._x_shape:     # the cheap test first (hot path)
+            _check_state(x, self.state_size, nq)
         if np.shape(u) != (n,):
             raise ValueError(f"the arm needs {n} joint torques, got an input of shape {np.shape(u)}")
         q, qd = x[:nq], x[nq:]
@@ -491,7 +511,8 @@ class ArmInContact:
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         nq = self.nq
-        _check_state(x, self.state_size, nq)
+        if type(x) is not np.ndarray or x.shape != self._x_shape:     # the cheap test first (hot path)
+            _check_state(x, self.state_size, nq)
         q, qd = x[:nq], x[nq:]
         h_e, J = self.wrench(q, qd)
         kept = h_e if h_e is NO_CONTACT else np.array(h_e, dtype=float)   # the controller may keep or alter its own

@@ -106,7 +106,7 @@ from typing import Any, Callable, Iterable, Mapping, Protocol
 
 import numpy as np
 
-from controllers.integration import RK4_WEIGHTS, rk4_step_law
+from rigid_body.integration import RK4_WEIGHTS, rk4_step_law
 from rigid_body.validation import as_positive, as_vector
 
 DEFAULT_BOUND = 1e12

@@ -22,10 +22,11 @@ import casadi as ca
 import numpy as np
 from scipy.optimize import minimize
 
-from controllers.compiled import CompiledLoop, compile_function
+from controllers.compiled import CompiledLoop
 from controllers.joint_space import PDGravityCompensation
 from controllers.plants import ArmPlant
 from problems.ch08_centralised import F_V    # 8.10's joint-side viscous friction, from the motor data
+from rigid_body.codegen import compile_function
 from rigid_body.dynamics import gravity_torques
 from rigid_body.robots import load
 

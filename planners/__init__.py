@@ -22,7 +22,8 @@ Entry points (every name below is also reachable as ``rmpc.<name>``):
   * ``collision`` — URDF arms among boxes: ``Box``, ``CollisionChecker`` (coal distances, self-collision pairs),
     ``UrdfCSpace`` (the planners' space, certified edges);
   * ``sampling`` — ``prm``, ``rrt``, ``rrt_connect``, ``unicycle_rrt``, ``shortcut`` → ``PlanResult``
-    (``certified``: collision-free along every edge, not only at samples);
+    (``certified``: collision-free along every edge, not only at samples; ``min_clearance`` [m]);
+    ``edge_check="sampled"`` checks sampled configurations only, faster, and says ``certified=False``;
   * ``potentials`` — artificial potentials, ``gradient_descent``, navigation functions on grids (``wavefront``);
   * ``cells`` — trapezoidal and quadtree decompositions, visibility graph, Voronoi (GVD);
   * ``time_optimal`` — ``time_optimal_path(robot, path, limits, space=)`` times a planned polyline (TOPP-RA) with

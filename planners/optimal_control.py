@@ -47,9 +47,7 @@ Diehl et al., SIAM J. Control Optim. 43 (2005) (real-time iteration).
 
 from __future__ import annotations
 
-import hashlib
 import math
-import platform
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -62,6 +60,8 @@ import pinocchio as pin
 from planners.optimization import OptimalTrajectory
 from planners.stage_qp import QP_SOLVERS, stage_qp
 from planners.timing import PiecewisePolynomial, Trajectory
+from rigid_body.codegen import compile_function
+from rigid_body.integration import RK4_WEIGHTS, rk4_sensitivities, rk4_stages
 from rigid_body.robots import Robot
 from rigid_body.symbolic import (forward_dynamics_derivatives_expression, forward_dynamics_expression, frame_placement,
                                  model_digest, rotation_log_expression)
@@ -69,7 +69,7 @@ from rigid_body.validation import as_positive, as_vector
 
 __all__ = [
     "StageCost", "OptimalControlProblem", "OptimalControlOptions", "OptimalControlResult", "OptimalControlSolver",
-    "solve_optimal_control", "rk4_step", "rk4_sensitivities",
+    "solve_optimal_control",
 ]
 
 STATE_LIMITS = ("hard", "soft")
@@ -80,43 +80,6 @@ the full QP's."""
 MU0_FLOOR = 1e2
 """HPIPM's initial barrier parameter on a cold start: the largest slack cost of the limits in the QP, at least this
 (a warm start begins from the previous QP's solution instead)."""
-RK4_WEIGHTS = (1.0 / 6.0, 2.0 / 6.0, 2.0 / 6.0, 1.0 / 6.0)
-
-
-def rk4_step(f: Any, x: Any, u: Any, h: Any) -> tuple[Any, list]:
-    """One classical Runge–Kutta step of ẋ = f(x, u) with u held: (x_next, [s_1 … s_4]) the result and the four stage
-    states. The same arithmetic on numpy arrays (the independent check) and on CasADi expressions (the transcription)."""
-    s1 = x
-    k1 = f(s1, u)
-    s2 = x + 0.5 * h * k1
-    k2 = f(s2, u)
-    s3 = x + 0.5 * h * k2
-    k3 = f(s3, u)
-    s4 = x + h * k3
-    k4 = f(s4, u)
-    return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4), [s1, s2, s3, s4]
-
-
-def rk4_sensitivities(slope: Any, x: Any, u: Any, h: Any, E_x: Any, E_u: Any) -> tuple[Any, Any, list, list]:
-    """:func:`rk4_step` with its forward sensitivities (the chain rule through the stages): ``slope(s, u)`` gives
-    (f, ∂f/∂s, ∂f/∂u) at a stage state; E_x = ∂x/∂z = [I 0] and E_u = ∂u/∂z = [0 I] with z = [x; u]. Returns (x_next,
-    ∂x_next/∂z, [s_1 … s_4], [∂s_1/∂z … ∂s_4/∂z]). The same arithmetic on numpy arrays (the independent check, with
-    Pinocchio's derivatives) and on CasADi expressions (the transcription, with the symbolic ones)."""
-    s, ds = x, E_x
-    slopes, slope_jacobians, states, state_jacobians = [], [], [], []
-    for c in (0.5, 0.5, 1.0, None):
-        k, k_s, k_u = slope(s, u)
-        dk = k_s @ ds + k_u @ E_u
-        states.append(s)
-        state_jacobians.append(ds)
-        slopes.append(k)
-        slope_jacobians.append(dk)
-        if c is not None:
-            s, ds = x + c * h * k, E_x + c * h * dk
-    k1, k2, k3, k4 = slopes
-    d1, d2, d3, d4 = slope_jacobians
-    return (x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4), E_x + (h / 6.0) * (d1 + 2.0 * d2 + 2.0 * d3 + d4),
-            states, state_jacobians)
 
 
 # --------------------------------------------------------------------------------------------
@@ -419,8 +382,6 @@ def _functions(robot: Robot, frame: int, position: bool, orientation: bool) -> t
     cached = _FUNCTIONS.get(key)
     if cached is not None:
         return cached
-    from controllers.compiled import COMPILE_FLAGS, CompiledLoopUnavailable, compile_function   # the C code cache
-
     n = robot.nv
     x, u, p = ca.SX.sym("x", 2 * n), ca.SX.sym("u", n), ca.SX.sym("p", _parameter_size(n))
     P = _unpack(p, n)
@@ -431,7 +392,7 @@ def _functions(robot: Robot, frame: int, position: bool, orientation: bool) -> t
         slopes.append(ca.vertcat(xs[n:], forward_dynamics_expression(robot, xs[:n], xs[n:], us)))
         return slopes[-1]
 
-    x_next, stages = rk4_step(f, x, u, P["dt"])
+    x_next, stages = rk4_stages(f, x, u, P["dt"])
     r = ca.vertcat(*[ca.sqrt(c * P["dt"]) * _state_residual(robot, frame, s, P, position, orientation)
                      for c, s in zip(RK4_WEIGHTS, stages)],
                    ca.sqrt(P["dt"]) * P["sw_tau"] * (u - P["tau_ref"]))
@@ -442,27 +403,10 @@ def _functions(robot: Robot, frame: int, position: bool, orientation: bool) -> t
     r_N = _state_residual(robot, frame, x, P, position, orientation)
     terminal = ca.Function(f"ocp_terminal{tag}", [x, p], [r_N, ca.densify(ca.jacobian(r_N, x))])
     terminal_value = ca.Function(f"ocp_terminal_value{tag}", [x, p], [r_N])
-    try:                                    # the linearisation, the hot spot: the host's instruction set
-        stage = compile_function(stage, flags=(*COMPILE_FLAGS, "-march=native", f"-DRMPC_HOST={_host()}"))
-    except CompiledLoopUnavailable as err:
-        if err.kind != "compiler failed":
-            raise
-        stage = compile_function(stage)     # a compiler without -march=native
+    stage = compile_function(stage, native=True)    # the linearisation, the hot spot: the host's instruction set
     built = (stage, *(compile_function(g) for g in (stage_value, terminal, terminal_value)))
     _FUNCTIONS[key] = built
     return built
-
-
-def _host() -> str:
-    """A digest of this machine's processor (its name and features): a library built for its instruction set is cached
-    under it, so a cache shared with another machine never loads one it cannot run."""
-    info = f"{platform.machine()} {platform.processor()}"
-    try:
-        with open("/proc/cpuinfo") as f:
-            info += "".join(sorted({line for line in f if line.startswith(("model name", "flags", "Features"))}))
-    except OSError:
-        pass
-    return hashlib.sha256(info.encode()).hexdigest()[:12]
 
 
 class _Call:
@@ -940,7 +884,7 @@ def _hermite(t: np.ndarray, q: np.ndarray, qd: np.ndarray) -> PiecewisePolynomia
 # --------------------------------------------------------------------------------------------
 
 class _KKTCheck:
-    """The KKT conditions of the solution evaluated with Pinocchio: integration by :func:`rk4_step` of
+    """The KKT conditions of the solution evaluated with Pinocchio: integration by :func:`rk4_stages` of
     :func:`rigid_body.dynamics.forward_dynamics`, its derivatives from RNEA's (Pinocchio's analytical ones, central
     differences on models with rotors, which Pinocchio's derivatives refuse), the pose costs from Pinocchio's
     kinematics, ``log3`` and ``Jlog3``."""
@@ -962,7 +906,7 @@ class _KKTCheck:
         """max |x_{k+1} − Φ(x_k, τ_k)| over the intervals, Φ by Pinocchio."""
         worst = 0.0
         for k in range(len(U)):
-            x_next, _ = rk4_step(self._fd, X[k], U[k], self.pr.dt)
+            x_next, _ = rk4_stages(self._fd, X[k], U[k], self.pr.dt)
             worst = max(worst, float(np.max(np.abs(x_next - X[k + 1]))))
         return worst if np.isfinite(worst) else math.inf
 

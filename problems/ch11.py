@@ -254,7 +254,8 @@ def problem_11_4() -> Solution:
     rank = accessibility_rank(fields, rng.normal(size=n), depth=3)
     sol.value("m", m, unit="1")
     sol.value("accessibility_rank", rank, unit="1")
-    sol.check_error("A G = 0 (the library's null-space basis)", np.abs(A @ G).max(), 1e-14, reference="closed form")
+    sol.check_error("A G = 0 (the library's null-space basis: its defining property)", np.abs(A @ G).max(), 1e-14,
+                    reference="property")
     sol.check_close("dim Δ_A = m = n − k = 3 < 5 (the brackets vanish)", [rank, m], [n - k, n - k], atol=0,
                     reference="closed form")
 

@@ -199,19 +199,31 @@ def solution_html(d: dict, figure_sources: Iterable[str] = (), extras: Iterable[
 
 def figure_caption(pid: str, k: int, title: str) -> str:
     """The caption of figure ``k`` of problem ``pid``: "Fig. 8.10.1: title"; a title that names the manual's figure
-    ("Fig. S12.3 — PRM …") keeps that name once: "Fig. 12.7.1 (the manual's Fig. S12.3): PRM …".
+    ("Fig. S12.3 — PRM …") keeps that name once: "Fig. 12.7.1 (the manual's Fig. S12.3): PRM …"; the problem's own
+    number, which the caption's number already gives ("Problem 7.7 — …", "… (Problem 11.8)"), is dropped.
 
     >>> figure_caption("12.7", 0, "Fig. S12.3 — PRM for a 2R planar manipulator")
     "Fig. 12.7.1 (the manual's Fig. S12.3): PRM for a 2R planar manipulator"
     >>> figure_caption("8.10", 1, "joint errors")
     'Fig. 8.10.2: joint errors'
+    >>> figure_caption("7.7", 0, "Problem 7.7 — Fig. S7.3: trajectory 1")
+    "Fig. 7.7.1 (the manual's Fig. S7.3): trajectory 1"
+    >>> figure_caption("3.21", 1, "Problem 3.21 — Fig. S3.5 (constrained, k0 = 35)")
+    "Fig. 3.21.2 (the manual's Fig. S3.5): constrained, k0 = 35"
+    >>> figure_caption("11.8", 0, "Tricycle with 3 trailers (Problem 11.8)")
+    'Fig. 11.8.1: Tricycle with 3 trailers'
     """
     import re
 
     number = f"Fig. {pid}.{k + 1}"
+    own = re.escape(pid)
+    title = re.sub(rf"^\s*Problem\s+{own}\b\s*[—:–/-]?\s*", "", title)          # "Problem 7.7 — …"
+    title = re.sub(rf"\s*\(Problem\s+{own}\)\s*$", "", title)                   # "… (Problem 11.8)"
     match = re.match(r"\s*(?:Fig\.|Figure)\s*(S?\d+\.\d+[a-z]?)\s*[—:–-]?\s*(.*)", title, re.S)
     if match:
         rest = match.group(2).strip()
+        if re.fullmatch(r"\([^()]*\)", rest):                                       # "(constrained, …)"
+            rest = rest[1:-1]
         return f"{number} (the manual's Fig. {match.group(1)})" + (f": {rest}" if rest else "")
     return f"{number}: {title}".rstrip(": ")
 

@@ -11,7 +11,16 @@ Entry points:
   ``inverse_dynamics`` (RNEA), ``forward_dynamics``, ``friction_torques``.
 * ``rotations``, ``se3`` — rotation matrices, Euler/RPY, axis–angle, quaternions, twists.
 * ``task_space`` — pose errors and generalised inverses; ``statics``, ``manipulability``,
-  ``operational_space``, ``regressor``, ``actuators``, ``sensors``, ``camera``, ``wheeled``.
+  ``operational_space``, ``regressor``, ``actuators``, ``sensors``, ``camera``, ``vision`` (homographies, poses
+  from images), ``wheeled``.
+* The book's robots as data: ``book_robots`` (DH tables, masses, motors; writes ``urdf/``), ``dh`` (a DH table
+  → URDF → Pinocchio), ``trees`` (the humanoid, branches), ``closed_chain`` (the four-link closed chain of 2.11).
+* Independent references the tests check Pinocchio against: ``lagrange`` (the Lagrange formulation),
+  ``newton_euler`` (the book's RNEA in DH frames).
+* Shared machinery: ``symbolic`` (CasADi expressions of a ``pin.Model``: kinematics, RNEA, CRBA, forward
+  dynamics), ``integration`` (the one RK4 step of the simulation loops and of optimal control), ``codegen``
+  (CasADi functions compiled to C and cached in ``$RMPC_CACHE``), ``validation`` (every input check and its
+  message).
 
 The short path to all of these is the :mod:`rmpc` package (``rmpc.load``, ``rmpc.direct_kinematics`` …).
 """

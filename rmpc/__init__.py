@@ -16,6 +16,10 @@ Motion control (Ch. 8) [``controllers``]
     ``simulate``, ``SimulationResult``, ``SimulationDiverged``, ``ZeroOrderHold``, ``ArmPlant``,
     ``PDGravityCompensation`` (8.51), ``InverseDynamicsControl`` (8.57), ``OperationalPDGravity`` (8.110),
     ``OperationalInverseDynamics`` (8.114; with ``force_feedback=True`` the impedance control of Ch. 9)
+A law of your own [``controllers.laws``, ``controllers.compiled``]
+    subclass ``ControlLaw`` and write its body ``law(ops, K, q, qd, ref)`` once: ``simulate`` runs it
+    numerically, ``simulate(..., backend="casadi")`` compiles the same body; a block that has no symbolic form is
+    refused there with ``NoSymbolicForm`` naming it (it runs on the default Python loop; README, tour step 12)
 Force control (Ch. 9) [``controllers.force``, ``controllers.environment``, ``controllers.plants``]
     the plant ``ArmInContact(robot, environment, frame=)`` (measures the wrench h_e), the environments
     ``CompliantPlane``, ``SteppedPlane``, ``SurfaceWithHole``; the laws ``HybridForceMotionControl`` (9.77)–(9.81),
@@ -98,6 +102,9 @@ _HOMES: dict[str, str] = {
     "InverseDynamicsControl": "controllers.joint_space",
     "OperationalPDGravity": "controllers.operational_space",
     "OperationalInverseDynamics": "controllers.operational_space",
+    # a law written once, run by both loops
+    "ControlLaw": "controllers.laws",
+    "NoSymbolicForm": "controllers.compiled",
     # force control (Ch. 9)
     "ArmInContact": "controllers.plants",
     "CompliantPlane": "controllers.environment",

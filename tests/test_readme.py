@@ -24,7 +24,7 @@ def test_ci_runs_the_readme_test_command():
 
 
 def test_library_tour_runs_in_order_and_shows_what_it_says(tmp_path, monkeypatch):
-    """Every ```python block of the README, executed in order in one namespace (the tour of ten steps), in a
+    """Every ```python block of the README, executed in order in one namespace (the tour of twelve steps), in a
     temporary folder (step 10 writes a page)."""
     import matplotlib
 
@@ -63,3 +63,10 @@ def test_library_tour_runs_in_order_and_shows_what_it_says(tmp_path, monkeypatch
     # 10. planned, certified, timed, certified, exported (a self-contained page)
     assert ns["found"].certified and ns["motion"].certified and ns["motion"].t_f > 0
     assert ns["page"].stat().st_size > 500_000 and len(repr(ns["motion"])) < 250
+    # 11. the optimal control problem solved and checked; MPC reaches the set point with no failed sample
+    assert ns["plan"].success and ns["plan"].kkt < 1e-6
+    np.testing.assert_allclose(ns["res_mpc"].q[-1], [0.3, -0.2], atol=1e-2)
+    assert ns["res_mpc"]["failed"].sum() == 0
+    # 12. a law written once: the Python and the compiled loop agree; it reaches q_f
+    np.testing.assert_allclose(ns["python_run"].q, ns["compiled_run"].q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(ns["python_run"].q[-1], ns["q_f"], atol=2e-3)

@@ -35,9 +35,9 @@ def test_help_lists_every_name_under_its_chapter():
         assert heading in doc
 
 
-@pytest.mark.parametrize("package", ["planners", "controllers"])
+@pytest.mark.parametrize("package", ["rigid_body", "planners", "controllers"])
 def test_package_help_names_every_module(package):
-    """help(planners) and help(controllers) name each of their modules (a module not named is not found)."""
+    """help(rigid_body), help(planners) and help(controllers) name each of their modules (a module not named is not found)."""
     import pkgutil
 
     mod = importlib.import_module(package)

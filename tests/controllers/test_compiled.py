@@ -5,6 +5,7 @@ import pinocchio as pin
 import pytest
 
 import controllers.compiled as compiled
+import rigid_body.codegen as codegen
 from controllers.environment import CompliantPlane, SteppedPlane
 from controllers.force import ForceWithInnerLoop, HybridForceMotionControl
 from controllers.independent_joint import JointDrive, design_position_velocity
@@ -104,10 +105,10 @@ def test_references_sampled_at_once_match_one_by_one():
 
 
 def test_fast_backend_falls_back_to_python_without_a_compiler(monkeypatch):
-    monkeypatch.setattr(compiled, "compiler", lambda: None)
+    monkeypatch.setattr(codegen, "compiler", lambda: None)
     with pytest.warns(UserWarning, match="Python backend"):
         assert compiled.fast_backend() == "python"
-    monkeypatch.setattr(compiled, "compiler", lambda: "cc")
+    monkeypatch.setattr(codegen, "compiler", lambda: "cc")
     assert compiled.fast_backend() == "casadi"
 
 
@@ -275,10 +276,10 @@ def test_constant_input_checks_its_arguments():
 
 def test_cached_run_is_the_rollout(arm, tmp_path, monkeypatch):
     """A loop found in the cache (a fresh process: nothing loaded) runs the code of its own rollout."""
-    monkeypatch.setattr(compiled, "CACHE", tmp_path)
+    monkeypatch.setattr(codegen, "CACHE", tmp_path)
     plant, x0 = ArmPlant(arm, viscous_friction=100.0), np.r_[Q_D - 0.1, 0.2, -0.1]
     first = compiled.CompiledLoop(plant, PDGravityCompensation(arm, 400, 40, Q_D), 1e-3, 2, 50)
-    compiled._loaded.clear()
+    codegen._loaded.clear()
     loop = compiled.CompiledLoop(plant, PDGravityCompensation(arm, 500, 30, Q_D), 1e-3, 2, 50)
     assert len(list(tmp_path.glob("rollout_*.so"))) == 1 and loop._rollout is None   # found, not rebuilt
     other = compiled.CompiledLoop(plant, PDGravityCompensation(arm, 500, 30, Q_D), 1e-3, 2, 60)

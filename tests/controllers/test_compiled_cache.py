@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import controllers.compiled as compiled
+import rigid_body.codegen as codegen
 from controllers.joint_space import InverseDynamicsControl, PDGravityCompensation
 from controllers.plants import ArmPlant
 from controllers.simulation import simulate
@@ -30,8 +31,8 @@ ROOT = Path(__file__).resolve().parents[2]
 def fresh_cache(tmp_path, monkeypatch):
     """An empty cache directory and nothing built or loaded in this process."""
     cache = tmp_path / "cache"
-    monkeypatch.setattr(compiled, "CACHE", cache)
-    monkeypatch.setattr(compiled, "_loaded", {})
+    monkeypatch.setattr(codegen, "CACHE", cache)
+    monkeypatch.setattr(codegen, "_loaded", {})
     monkeypatch.setattr(compiled, "_LOOPS", compiled.OrderedDict())
     return cache
 
@@ -75,7 +76,7 @@ def test_a_fresh_process_loads_the_run_without_building_it(fresh_cache):
     assert len(list(fresh_cache.glob("rollout_*.so"))) == 1
     meta = json.loads(next(fresh_cache.glob("rollout_*.json")).read_text())
     assert meta["signals"] == ["q_d", "e"]
-    compiled._loaded.clear()
+    codegen._loaded.clear()
     compiled._LOOPS.clear()
     arm = load("planar_2r")
     plant = ArmPlant(arm, viscous_friction=100.0)
@@ -138,7 +139,7 @@ def test_two_processes_build_one_loop_into_a_fresh_cache(tmp_path):
 @pytest.mark.parametrize("fault", ["no compiler", "failing compiler", "cache is a file"])
 def test_a_compiler_or_cache_fault_runs_the_python_loop_with_one_warning(fresh_cache, monkeypatch, fault):
     if fault == "no compiler":
-        monkeypatch.setattr(compiled, "compiler", lambda: None)
+        monkeypatch.setattr(codegen, "compiler", lambda: None)
         match = "no C compiler found: install gcc"
     elif fault == "failing compiler":
         monkeypatch.setenv("CC", "/bin/false")
@@ -156,21 +157,21 @@ def test_a_compiler_or_cache_fault_runs_the_python_loop_with_one_warning(fresh_c
 
 
 def test_a_full_or_read_only_cache_builds_in_a_temporary_folder(fresh_cache, monkeypatch):
-    real = compiled._build_library
+    real = codegen._build_library
 
     def full(code, name, key, cache, *args):
         if cache == fresh_cache:
             raise OSError(errno.ENOSPC, "No space left on device")
         return real(code, name, key, cache, *args)
 
-    monkeypatch.setattr(compiled, "_build_library", full)
+    monkeypatch.setattr(codegen, "_build_library", full)
     with warnings.catch_warnings():
         warnings.simplefilter("error")                               # compiled, without falling back
         res = _run("casadi")
     np.testing.assert_allclose(res.x, _run("python").x, rtol=0, atol=1e-9)
-    assert compiled._temporary and list(compiled._temporary[0].glob("rollout_*.so"))
-    monkeypatch.setattr(compiled.os, "access", lambda path, mode: False)           # read-only
-    assert compiled._usable_cache(fresh_cache) == compiled._temporary[0]
+    assert codegen._temporary and list(codegen._temporary[0].glob("rollout_*.so"))
+    monkeypatch.setattr(codegen.os, "access", lambda path, mode: False)           # read-only
+    assert codegen._usable_cache(fresh_cache) == codegen._temporary[0]
 
 
 def test_rmpc_solve_9_3_survives_a_failing_compiler_and_a_cache_that_is_a_file(tmp_path):
@@ -211,5 +212,5 @@ def test_compile_function_without_a_compiler_runs_interpreted(fresh_cache, monke
     f = ca.Function("square", [x], [x * x])
     monkeypatch.setenv("CC", "/bin/false")
     with pytest.warns(UserWarning, match="compiler `/bin/false` failed.*interpreted"):
-        g = compiled.compile_function(f)
+        g = codegen.compile_function(f)
     assert float(g(3.0)) == 9.0

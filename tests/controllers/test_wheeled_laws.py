@@ -135,6 +135,25 @@ def test_posture_regulator_commands_11_82():
         np.testing.assert_allclose(law(0.0, Posture(x, y, th)), expected, atol=1e-12)
 
 
+def test_posture_regulator_at_the_goal_point_turns_back_to_heading_zero():
+    """At ρ = 0 (11.82) is undefined: the robot turns in place, ω = −k2 θ (towards θ = 0), v = 0; its log
+    records γ = 0 and δ = −θ, the angle still to turn."""
+    law = cw.PostureRegulator(1.0, 2.5, 3.0)
+    for th in (0.5, -1.2, 3.0):
+        np.testing.assert_allclose(law(0.0, Posture(0.0, 0.0, th)), [0.0, -2.5 * th], atol=1e-15)
+        assert law.log()["delta"] == pytest.approx(-th) and law.log()["gamma"] == 0.0
+
+
+def test_odometry_integrates_every_encoder_increment_whatever_the_distance_read():
+    """(11.84) on each increment Δs since the previous call: a straight run read at 0.1 s periods gives x̂ = s, even
+    when the distance read exceeds the time stamp (a fast robot)."""
+    from types import SimpleNamespace
+
+    odometry = cw.Odometry([0.0, 0.0, 0.0])
+    for k in range(5):
+        q_hat = odometry(0.1 * k, SimpleNamespace(distance=2.0 * k, rotation=0.0))
+    np.testing.assert_allclose([q_hat.x, q_hat.y, q_hat.theta], [8.0, 0.0, 0.0], atol=1e-12)
+
 def test_mobile_manipulator_hold_cancels_the_base_and_decays_the_error_at_rate_K():
     """While the base drives (v, ω), q̇_a = J_a†(K e − J_b u_b): the end-effector error obeys ė = −K e, so
     ‖e(t)‖ = ‖e(0)‖ e^{−K t} (damped least squares and the 1 ms hold aside)."""

@@ -191,6 +191,10 @@ class OptimalControlProblem:
             object.__setattr__(self, name, v.copy())
         if np.any(self.q_min >= self.q_max) or np.any(self.q_min == np.inf) or np.any(self.q_max == -np.inf):
             raise ValueError(f"`q_min` must be below `q_max` for every joint, got {self.q_min} and {self.q_max}")
+        one_sided = np.flatnonzero(np.isfinite(self.q_min) != np.isfinite(self.q_max))
+        if one_sided.size:
+            raise ValueError(f"`q_min` and `q_max` of joint(s) {(one_sided + 1).tolist()} have one finite side: give "
+                             "both limits finite, or both infinite (no position limit)")
         if np.any(self.qd_max <= 0):
             raise ValueError(f"`qd_max` must be positive, got {self.qd_max}")
         if self.state_limits not in STATE_LIMITS:
@@ -209,7 +213,8 @@ class OptimalControlProblem:
                 self.running.orientation > 0 or self.terminal.orientation > 0)
 
     def limited(self) -> tuple[np.ndarray, np.ndarray]:
-        """Indices of the joints with finite position limits and with finite speed limits."""
+        """Indices of the joints with finite position limits (both sides: one-sided limits are refused) and with
+        finite speed limits."""
         return np.flatnonzero(np.isfinite(self.q_min)), np.flatnonzero(np.isfinite(self.qd_max))
 
 

@@ -107,6 +107,10 @@ def test_bad_input(problem):
         MPCOptions(max_iter=0)
     with pytest.raises(ValueError, match="time_limit"):
         MPCOptions(time_limit=-1.0)
+    with pytest.raises(ValueError, match="time_limit"):
+        MPCOptions(time_limit=np.nan)
+    with pytest.raises(ValueError, match="qp_solver"):
+        MPCOptions(qp_solver="quadprog")
     posed = OptimalControlProblem(problem.robot, 5, 0.02, terminal=StageCost(position=1.0))
     with pytest.raises(ValueError, match="target"):
         ModelPredictiveControl(posed)

@@ -273,6 +273,9 @@ class OptimalControlResult(OptimalTrajectory):
         excess; iterations : SQP iterations; solve_time : wall time of the SQP (the check apart: check_time);
         timings : where solve_time went [s]: ``"linearisation"`` (the compiled intervals' values and Jacobians),
         ``"qp assembly"`` (the step QP's stage arrays), ``"qp"`` (HPIPM), ``"line search"``.
+    verified : whether Pinocchio's independent check ran (``OptimalControlOptions.verify``): with it ``success``
+        includes the KKT residual by Pinocchio; without, ``success`` is the solver's own account (converged, finite,
+        hard limits, its model's defects) and ``kkt`` is NaN.
     """
 
     status: str = ""
@@ -285,11 +288,12 @@ class OptimalControlResult(OptimalTrajectory):
     check_time: float = 0.0
     multipliers: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     timings: dict[str, float] = field(default_factory=dict, repr=False)
+    verified: bool = False
 
     def __repr__(self) -> str:
         ratios = ", ".join(f"{k} {v:.3g}" for k, v in self.ratios.items())
         return (f"OptimalControlResult(N={len(self.u)}, dt={self.dt:g} s, cost={self.cost:.6g}, success={self.success}, "
-                f"KKT {self.kkt:.2g}, defect {self.defect:.2g}, limit ratios: {ratios}, {self.iterations} SQP "
+                f"KKT {self.kkt:.2g}{'' if self.verified else ' (not verified)'}, defect {self.defect:.2g}, limit ratios: {ratios}, {self.iterations} SQP "
                 f"iterations in {self.solve_time * 1e3:.3g} ms, message={self.message!r})")
 
     def shifted(self, steps: int = 1) -> tuple[np.ndarray, np.ndarray]:
@@ -846,7 +850,8 @@ class OptimalControlSolver:
         return OptimalControlResult(trajectory, tau, float(t[-1]), "optimal control", cost, success, message, ratios,
                                     iterations, solve_time, status=status, x=X.copy(), u=U.copy(), dt=pr.dt, kkt=kkt,
                                     defect=defect,
-                                    slack=penalty, check_time=check_time, multipliers=mult, timings=timings or {})
+                                    slack=penalty, check_time=check_time, multipliers=mult, timings=timings or {},
+                                    verified=bool(o.verify))
 
 
 def _bound_rows(lam: np.ndarray, n: int, nb: int) -> np.ndarray:

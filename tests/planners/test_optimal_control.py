@@ -125,7 +125,7 @@ def test_nonlinear_case_satisfies_first_order_optimality_by_finite_differences(a
     q_ref = np.array([0.3, -0.2])
     x0 = np.zeros(4)
     res = solver.solve(x0, q_ref=q_ref)
-    assert res.success and res.kkt < 1e-6, res
+    assert res.success and res.kkt < 1e-6 and res.verified, res
     assert res.ratios["tau"] == pytest.approx(1.0, abs=1e-9)          # the torque box is active
     f = arm_dynamics(problem.robot)
     U = res.u.ravel()

@@ -496,3 +496,21 @@ def test_nan_clearances_are_never_certified():
     # a NaN in the pair of ends that needs no split (0.5 + NaN > 0.1 is False, NaN <= 0.1 too)
     small = certify_by_bisection(lambda s, idx: np.full(len(idx), 0.5), [0.1, 0.1], [0.5, 0.5], [np.nan, 0.5])
     assert not small.free
+
+
+def test_certify_path_refuses_a_nan_vertex_clearance(thin_wall):
+    """A path of one vertex has no edge to refuse it: a NaN clearance there used to certify it."""
+    import dataclasses
+
+    from planners.sampling import certify_path
+
+    @dataclasses.dataclass(frozen=True)
+    class NaNSpace(PlanarCSpace):
+        def clearances(self, q, parts=None):
+            return np.full(super().clearances(q, parts).shape, np.nan)
+
+    space, q_start, _ = thin_wall
+    assert certify_path(space, [q_start]).free
+    nan_space = NaNSpace(space.robot, space.scene, space.lower, space.upper, space.resolution)
+    cert = certify_path(nan_space, [q_start])
+    assert not cert.free and "NaN" in cert.message

@@ -69,6 +69,7 @@ class MPCOptions:
     delay : model a one-sample computation delay (the torque computed at t_k is applied at t_{k+1}).
     feedforward : τ_ref of the effort cost is the inverse dynamics of the reference (else 0).
     verify : run the solver's independent KKT check at every sample (costly; off in real time).
+    qp_solver : the step QPs' solver (``OptimalControlOptions.qp_solver``: "auto", "hpipm", "piqp", "proxsuite").
     """
 
     max_iter: int = 10
@@ -77,6 +78,7 @@ class MPCOptions:
     delay: bool = False
     feedforward: bool = True
     verify: bool = False
+    qp_solver: str = "auto"
 
     def __post_init__(self) -> None:
         v = self.max_iter
@@ -143,7 +145,7 @@ class ModelPredictiveControl(LoggedController):
         o = self.options
         self.solver = OptimalControlSolver(problem, OptimalControlOptions(
             max_iter=1 if o.real_time_iteration else o.max_iter, verify=o.verify,
-            time_limit=math.inf if o.time_limit is None else o.time_limit))
+            time_limit=math.inf if o.time_limit is None else o.time_limit, qp_solver=o.qp_solver))
         self._data = self.robot.model.createData()
         self.reset()
 

@@ -228,6 +228,10 @@ class TimeOptimalPath:
         return out if t_arr.ndim else tuple(x[0] for x in out)
 
 
+LIMIT_NAMES = {"qd": "the velocity `limits.qd_max`", "qdd": "the acceleration `limits.qdd_max`",
+               "tau": "the torque `limits.tau_max`"}
+
+
 def time_optimal_path(robot: Robot, waypoints: np.ndarray, limits: JointLimits, gridpoints: int = 200,
                       subsamples: int = 10, max_backoff: int = 4, space: Any = None) -> TimeOptimalPath:
     """The time-optimal rest-to-rest timing of a path through ``waypoints`` (K, n) within ``limits``.
@@ -236,6 +240,9 @@ def time_optimal_path(robot: Robot, waypoints: np.ndarray, limits: JointLimits, 
     :class:`planners.configuration_space.PlanarCSpace`) the path is the certified polyline with certified
     blends (:class:`BlendedPolyline`, :func:`certified_blends`) and the result is ``certified``; without it,
     the cubic spline through the waypoints (not certified: use it for paths that are not a planner's).
+    TOPP-RA meets the limits at its grid points; the timing is re-checked on a grid ``subsamples`` times
+    finer and re-solved with the exceeded limits scaled down, at most ``max_backoff`` times (≥ 0); a limit
+    still exceeded then is a ValueError naming it and its ratio.
     """
     import toppra
     import toppra.algorithm as algo
@@ -252,6 +259,7 @@ def time_optimal_path(robot: Robot, waypoints: np.ndarray, limits: JointLimits, 
         raise ValueError(f"`limits` are for {limits.n} joints, the robot has {n}")
     gridpoints = as_count(gridpoints, "gridpoints", minimum=2)
     subsamples = as_count(subsamples, "subsamples")
+    max_backoff = as_count(max_backoff, "max_backoff", minimum=0)
     certified, c_min = False, float("nan")
     if space is not None:
         if getattr(space, "dim", None) != n:
@@ -309,5 +317,9 @@ def time_optimal_path(robot: Robot, waypoints: np.ndarray, limits: JointLimits, 
         for k, r in ratios.items():
             if r > 1.0 + 1e-6:
                 scale[k] *= (1.0 - 1e-4) / r
+    else:
+        over = ", ".join(f"{LIMIT_NAMES[k]} at {r:.6g} × its limit" for k, r in ratios.items() if r > 1.0 + 1e-6)
+        raise ValueError(f"the timed path exceeds the limits on the fine check grid after `max_backoff` = "
+                         f"{max_backoff} re-solves: {over} (raise `max_backoff` or `gridpoints`)")
     return TimeOptimalPath(T, q, qd, qdd, tau, float(t[-1]), ratios, time.perf_counter() - start, backoff,
                            path, S, certified, c_min, (t, s, sd, sdd))

@@ -334,17 +334,20 @@ def test_chain_rule_linearisation_equals_automatic_differentiation(name):
 
 
 @pytest.mark.parametrize("soft", [True, False])
-def test_step_qp_equals_a_dense_qp(soft):
-    """HPIPM called directly on a random stage-wise QP (torque box, state limits soft or hard, one limit left out)
-    against proxsuite's dense solver on the same QP written out whole: steps, slacks and multipliers."""
+@pytest.mark.parametrize("solver", ["hpipm", "piqp", "proxsuite"])
+def test_step_qp_equals_a_dense_qp(soft, solver):
+    """HPIPM called directly, and the sparse fallback (PIQP through CasADi, proxsuite's sparse solver), on a random
+    stage-wise QP (torque box, state limits soft or hard, one limit left out) against proxsuite's dense solver on the
+    same QP written out whole: steps, slacks and multipliers."""
     import proxsuite
 
-    from planners.optimal_control import _StageQP
+    from planners.stage_qp import stage_qp
 
     rng = np.random.default_rng(7)
     N, nx, nu, limited = 6, 4, 2, np.array([0, 3])
     nb = limited.size
-    qp = _StageQP(N, nx, nu, limited, soft, OptimalControlOptions(qp_tol=1e-12))
+    qp = stage_qp(N, nx, nu, limited, soft, OptimalControlOptions(qp_tol=1e-12), solver)
+    assert qp.name == {"hpipm": "HPIPM"}.get(solver, solver)
     A, B, b = rng.normal(size=(N, nx, nx)) * 0.5, rng.normal(size=(N, nx, nu)), rng.normal(size=(N, nx))
     M = rng.normal(size=(N + 1, nx + nu, nx + nu))
     H = M @ np.transpose(M, (0, 2, 1)) + 0.1 * np.eye(nx + nu)                  # over [x; u]

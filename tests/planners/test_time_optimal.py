@@ -118,3 +118,20 @@ def test_the_timed_motion_evaluates_exactly_between_samples(setting):
     q, qd, _ = m(t)
     np.testing.assert_allclose(np.diff(q, axis=0) / np.diff(t)[:, None], 0.5 * (qd[1:] + qd[:-1]), atol=1e-4)
     assert np.allclose(m(-1.0)[0], q_i) and np.allclose(m(m.t_f + 1)[0], q_f) and not np.any(m(m.t_f + 1)[1])
+
+
+def test_limits_still_exceeded_after_the_backoffs_are_an_error(setting):
+    """Review MED: after `max_backoff` re-solves a ratio above 1 used to come back as a normal result (only
+    `ratios` showed it). On a coarse grid the torque exceeds its limit by 0.9 % after the first solve, 0.009 %
+    after one back-off; two back-offs meet it."""
+    arm, limits, q_i, q_f = setting
+    W = np.linspace(q_i, q_f, 5)
+    with pytest.raises(ValueError, match=r"after `max_backoff` = 1 re-solves: the torque `limits.tau_max` at 1\.0000"):
+        time_optimal_path(arm, W, limits, gridpoints=10, max_backoff=1)
+    with pytest.raises(ValueError, match=r"`max_backoff` = 0 .*tau_max` at 1\.009"):
+        time_optimal_path(arm, W, limits, gridpoints=10, max_backoff=0)
+    ok = time_optimal_path(arm, W, limits, gridpoints=10, max_backoff=2)
+    assert ok.backoffs == 2 and max(ok.ratios.values()) <= 1.0 + 1e-6
+    for bad in (-1, 1.5, "2", True):
+        with pytest.raises(ValueError, match="`max_backoff` must be an integer >= 0"):
+            time_optimal_path(arm, W, limits, max_backoff=bad)

@@ -454,3 +454,30 @@ def test_limits_screened_into_the_qp_give_the_full_qp_steps(arm_problem, monkeyp
         np.testing.assert_allclose(screened.u, full.u, atol=1e-6 * np.max(problem.tau_max))
         np.testing.assert_allclose(screened.x, full.x, atol=1e-8)
         assert screened.cost == pytest.approx(full.cost, rel=1e-9)
+
+
+@pytest.mark.parametrize("weight", [1e5, 1e-3])
+def test_soft_limits_tried_hard_first_give_the_soft_qp_steps(arm_problem, weight):
+    """The 'hard first' shortcut for soft limits (the QP with them hard, kept only when no multiplier exceeds the
+    slack price) changes nothing in the iterates: the same solution as solving every soft QP, with a weight above
+    the multipliers (the hard step kept) and below them (the soft QP solved)."""
+    problem, _ = arm_problem
+    soft = OptimalControlProblem(problem.robot, 20, 0.02, StageCost(q=1e3, qd=1.0, tau=1e-6),
+                                 StageCost(q=1e4, qd=1e2), tau_max=[3000.0, 1500.0], qd_max=[1.0, 1.0],
+                                 state_limits="soft", slack_weight=weight)
+    shortcut, plain = OptimalControlSolver(soft), OptimalControlSolver(soft)
+    plain._hard_qp = None
+    kept = []
+    solve = shortcut._hard_qp.solve
+
+    def counted():
+        out = solve()
+        kept.append(out[0] == 0)
+        return out
+    shortcut._hard_qp.solve = counted
+    a, b = shortcut.solve(np.zeros(4), q_ref=[0.3, -0.2]), plain.solve(np.zeros(4), q_ref=[0.3, -0.2])
+    assert a.success and b.success, (a.message, b.message)
+    assert kept                                                          # the shortcut was tried
+    assert a.cost == pytest.approx(b.cost, rel=1e-9)
+    np.testing.assert_allclose(a.x, b.x, atol=1e-7)
+    np.testing.assert_allclose(a.u, b.u, atol=1e-7 * np.max(soft.tau_max))

@@ -55,7 +55,7 @@ from controllers.simulation import LoggedController
 from planners.optimal_control import (OptimalControlOptions, OptimalControlProblem, OptimalControlResult,
                                       OptimalControlSolver)
 from planners.stage_qp import QP_SOLVERS
-from rigid_body.rotations import ORTHONORMAL_TOL, as_homogeneous
+from rigid_body.rotations import as_homogeneous, as_homogeneous_batch
 from rigid_body.validation import as_positive
 
 __all__ = ["MPCOptions", "ModelPredictiveControl"]
@@ -194,7 +194,7 @@ class ModelPredictiveControl(LoggedController):
         if self._target_fixed is not None:
             out["T_d"] = self._target_fixed
         elif self._target is not None:
-            out["T_d"] = _poses(np.array([self._target(float(s)) for s in times]), "target")
+            out["T_d"] = as_homogeneous_batch(np.array([self._target(float(s)) for s in times]), "target")
         if self._constant_reference and (self._target is None or self._target_fixed is not None):
             self._references = out                                  # a set point and one pose: every sample's
         return out
@@ -281,16 +281,3 @@ class ModelPredictiveControl(LoggedController):
         return (f"ModelPredictiveControl (N = {self.N}, dt = {self.dt:g} s): {self.failures} failed solves and "
                 f"{self.missed_deadlines} missed deadlines in {self.samples} samples; the prediction model "
                 f"{self.robot.name!r} may differ too much from the plant")
-
-
-def _poses(T: np.ndarray, name: str) -> np.ndarray:
-    """Homogeneous transforms (m, 4, 4), checked at once: finite, last row [0, 0, 0, 1], rotation blocks (the
-    vectorised :func:`rigid_body.rotations.as_homogeneous`)."""
-    if T.ndim != 3 or T.shape[1:] != (4, 4) or not np.all(np.isfinite(T)):
-        raise ValueError(f"`{name}` must give finite (4, 4) homogeneous transforms, got shape {T.shape[1:]}")
-    R = T[:, :3, :3]
-    if (np.max(np.abs(T[:, 3] - [0.0, 0.0, 0.0, 1.0])) > ORTHONORMAL_TOL
-            or np.max(np.abs(R @ np.transpose(R, (0, 2, 1)) - np.eye(3))) > ORTHONORMAL_TOL
-            or np.any(np.linalg.det(R) < 0)):
-        raise ValueError(f"`{name}` must give homogeneous transforms (rotation block, last row [0, 0, 0, 1])")
-    return T

@@ -62,6 +62,7 @@ from planners.timing import PiecewisePolynomial, Trajectory
 from rigid_body.codegen import compile_function
 from rigid_body.integration import RK4_WEIGHTS, rk4_sensitivities, rk4_stages
 from rigid_body.robots import Robot
+from rigid_body.rotations import as_homogeneous_batch
 from rigid_body.symbolic import (forward_dynamics_derivatives_expression, forward_dynamics_expression, frame_placement,
                                  model_digest, rotation_log_expression)
 from rigid_body.validation import as_positive, as_vector
@@ -524,11 +525,9 @@ class OptimalControlSolver:
         else:
             T = np.asarray(T_d, dtype=float)
             T = np.tile(T, (N + 1, 1, 1)) if T.shape == (4, 4) else T
-            if T.shape != (N + 1, 4, 4) or not np.all(np.isfinite(T)):
-                raise ValueError(f"`T_d` must be a finite (4, 4) pose or (N+1, 4, 4) poses, got shape {np.shape(T_d)}")
-            R = T[:, :3, :3]
-            if np.max(np.abs(R @ np.transpose(R, (0, 2, 1)) - np.eye(3))) > 1e-6 or np.any(np.linalg.det(R) < 0):
-                raise ValueError("`T_d` must hold rotation matrices in its upper-left 3×3 block")
+            if T.shape != (N + 1, 4, 4):
+                raise ValueError(f"`T_d` must be a (4, 4) pose or (N+1, 4, 4) poses, got shape {np.shape(T_d)}")
+            as_homogeneous_batch(T, "T_d")
 
         rotations = np.transpose(T[:, :3, :3], (0, 2, 1)).reshape(N + 1, 9)   # each R_d by columns
         running, terminal = self._weights

@@ -83,6 +83,20 @@ def as_homogeneous(T: Any, name: str = "T", tol: float = ORTHONORMAL_TOL) -> np.
     return T
 
 
+def as_homogeneous_batch(T: Any, name: str = "T", tol: float = ORTHONORMAL_TOL) -> np.ndarray:
+    """``T`` as m homogeneous transforms (m, 4, 4), checked at once as :func:`as_homogeneous` checks one: finite,
+    last rows [0, 0, 0, 1], rotation blocks (orthonormal within ``tol``, det +1); ValueError naming ``name``."""
+    T = np.asarray(T, dtype=float) if not isinstance(T, np.ndarray) or T.dtype != float else T
+    if T.ndim != 3 or T.shape[1:] != (4, 4) or not np.all(np.isfinite(T)):
+        raise ValueError(f"`{name}` must be finite (4, 4) homogeneous transforms, got shape {T.shape}")
+    R = T[:, :3, :3]
+    if (np.max(np.abs(T[:, 3] - [0.0, 0.0, 0.0, 1.0]), initial=0.0) > tol
+            or np.max(np.abs(R @ np.transpose(R, (0, 2, 1)) - np.eye(3)), initial=0.0) > tol
+            or np.any(np.linalg.det(R) < 0)):
+        raise ValueError(f"`{name}` must hold homogeneous transforms (rotation block, last row [0, 0, 0, 1])")
+    return T
+
+
 _scalar = as_scalar  # a finite float, ValueError naming the argument
 
 

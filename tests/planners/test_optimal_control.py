@@ -285,6 +285,10 @@ def test_bad_solve_arguments_are_refused(arm_problem):
         solve_optimal_control(posed, np.zeros(4))
     with pytest.raises(ValueError, match="T_d"):
         solve_optimal_control(posed, np.zeros(4), T_d=2 * np.eye(4))
+    bad_row = np.eye(4)
+    bad_row[3, 2] = 1.0                                                  # not homogeneous: its last row
+    with pytest.raises(ValueError, match="T_d"):
+        solve_optimal_control(posed, np.zeros(4), T_d=np.tile(bad_row, (6, 1, 1)))
     with pytest.raises(ValueError, match="max_iter"):
         OptimalControlOptions(max_iter=0)
 

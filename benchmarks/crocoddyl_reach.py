@@ -60,14 +60,16 @@ def main() -> None:
     problem = crocoddyl.ShootingProblem(x0, [running] * spec["N"], terminal)
     xs0 = [x0.copy() for _ in range(spec["N"] + 1)]
     us0 = [np.array(u) for u in spec["us_init"]]
-    times, solver = [], None
+    times, cpu_times, solver = [], [], None
     for _ in range(spec.get("repeats", 5)):
         solver = crocoddyl.SolverBoxFDDP(problem)
         solver.th_stop = spec.get("th_stop", 1e-9)
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         solver.solve(xs0, us0, spec.get("max_iter", 500), False)
         times.append(time.perf_counter() - start)
-    json.dump({"cost": solver.cost, "iterations": solver.iter, "times": times, "crocoddyl": crocoddyl.__version__,
+        cpu_times.append(time.process_time() - start_cpu)
+    json.dump({"cost": solver.cost, "iterations": solver.iter, "times": times, "cpu_times": cpu_times,
+               "crocoddyl": crocoddyl.__version__,
                "us": [list(u) for u in solver.us]}, sys.stdout)
 
 

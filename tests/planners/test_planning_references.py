@@ -172,3 +172,9 @@ def test_cone_force_vanishes_at_the_goal_and_disc_closest_point_by_hand():
     np.testing.assert_allclose(U, [0.0, 10.0])
     np.testing.assert_allclose(f, [[0.0, 0.0], [1.2, 1.6]], atol=1e-15)     # k_a e/‖e‖, zero at the goal
     np.testing.assert_allclose(closest_point(Disc([1.0, 1.0], 0.5), np.array([[4.0, 5.0]])), [[1.3, 1.4]], atol=1e-12)
+
+
+def test_box_corners_are_its_centre_minus_and_plus_half_its_size():
+    lower, upper = Box([0.5, -0.2, 1.0], [0.2, 0.4, 1.0]).corners
+    np.testing.assert_allclose(lower, [0.4, -0.4, 0.5], atol=1e-15)
+    np.testing.assert_allclose(upper, [0.6, 0.0, 1.5], atol=1e-15)

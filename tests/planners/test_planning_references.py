@@ -178,3 +178,25 @@ def test_box_corners_are_its_centre_minus_and_plus_half_its_size():
     lower, upper = Box([0.5, -0.2, 1.0], [0.2, 0.4, 1.0]).corners
     np.testing.assert_allclose(lower, [0.4, -0.4, 0.5], atol=1e-15)
     np.testing.assert_allclose(upper, [0.6, 0.0, 1.5], atol=1e-15)
+
+
+@pytest.mark.parametrize("edge_check", ["certified", "sampled"])
+def test_validity_checks_count_every_configuration_the_planner_checks(arm_space, edge_check):
+    """PlanResult.validity_checks against a space that counts what it is asked (q_s and q_g, checked before
+    planning, are not the planner's); a sampled-mode run computes no clearance."""
+
+    class Counting(PlanarCSpace):
+        asked = 0
+
+        def valid_many(self, Q):
+            self.asked += len(Q)
+            return super().valid_many(Q)
+
+    space, qs, qg = arm_space
+    counting = Counting(space.robot, space.scene, space.lower, space.upper, resolution=space.resolution)
+    for planner, options in ((prm, dict(n_vertices=60)), (rrt, dict(max_iterations=300))):
+        counting.asked = 0
+        res = planner(counting, qs, qg, 3, edge_check=edge_check, **options)
+        assert res.validity_checks == counting.asked - 2
+        assert res.validity_checks > 0 or (planner is rrt and edge_check == "certified")  # RRT samples unchecked
+        assert (res.distance_queries > 0) == (edge_check == "certified")

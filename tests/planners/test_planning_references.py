@@ -198,5 +198,5 @@ def test_validity_checks_count_every_configuration_the_planner_checks(arm_space,
         counting.asked = 0
         res = planner(counting, qs, qg, 3, edge_check=edge_check, **options)
         assert res.validity_checks == counting.asked - 2
-        assert res.validity_checks > 0 or (planner is rrt and edge_check == "certified")  # RRT samples unchecked
+        assert res.validity_checks > 0 or (planner is rrt and edge_check == "certified")  # certified RRT: clearances only
         assert (res.distance_queries > 0) == (edge_check == "certified")

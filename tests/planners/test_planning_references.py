@@ -106,10 +106,18 @@ def test_the_first_moving_link_is_checked_against_the_obstacles():
     assert checker.box_clearance(q) <= 0 and checker.clearances(q).min() <= 0
 
 
-def test_the_motion_bound_is_never_below_the_true_motion_of_the_hulls(panda_space):
-    """Along straight edges (Panda, random, 0.6 rad long), every robot hull's vertices move at most the
-    certificate's bound for each robot–box pair (the box is fixed): the bound of Schwarzer et al. is sound."""
-    checker = panda_space.checker
+@pytest.fixture(scope="module")
+def ur5_space():
+    """The UR5: joints about their y axes as well as z (the Panda's are all about z)."""
+    return UrdfCSpace(CollisionChecker(load("ur5"), [Box([0.5, 0.0, 0.3], [0.1, 0.6, 0.6], "wall")]))
+
+
+@pytest.mark.parametrize("robot_space", ["panda_space", "ur5_space"])
+def test_the_motion_bound_is_never_below_the_true_motion_of_the_hulls(robot_space, request):
+    """Along straight edges (random, 0.6 rad long), every robot hull's vertices move at most the certificate's
+    bound for each robot–box pair (the box is fixed): the bound of Schwarzer et al. is sound."""
+    space = request.getfixturevalue(robot_space)
+    checker = space.checker
     model, geom = checker.model, checker.distance_geom
     data, gdata = model.createData(), geom.createData()
     rng = np.random.default_rng(8)
@@ -118,9 +126,9 @@ def test_the_motion_bound_is_never_below_the_true_motion_of_the_hulls(panda_spac
              if (geom.geometryObjects[p.first].parentJoint == 0) != (geom.geometryObjects[p.second].parentJoint == 0)]
     assert pairs
     for _ in range(10):
-        a = panda_space.sample(rng)
-        b = np.clip(a + 0.6 * rng.normal(size=a.size) / np.sqrt(a.size), panda_space.lower, panda_space.upper)
-        rates = panda_space.edge_rates(a, b)
+        a = space.sample(rng)
+        b = np.clip(a + 0.6 * rng.normal(size=a.size) / np.sqrt(a.size), space.lower, space.upper)
+        rates = space.edge_rates(a, b)
         moved = {}
         for s in np.linspace(0.0, 1.0, 41):
             pin.updateGeometryPlacements(model, data, geom, gdata, a + s * (b - a))

@@ -208,3 +208,18 @@ def test_validity_checks_count_every_configuration_the_planner_checks(arm_space,
         assert res.validity_checks == counting.asked - 2
         assert res.validity_checks > 0 or (planner is rrt and edge_check == "certified")  # certified RRT: clearances only
         assert (res.distance_queries > 0) == (edge_check == "certified")
+
+
+def test_the_certificate_bounds_only_revolute_and_prismatic_joints():
+    """A helical joint (one coordinate, neither revolute nor prismatic) and multi-coordinate joints get no
+    revolute/prismatic motion bound."""
+    from planners.collision import _joint_kind
+
+    model = pin.Model()
+    joints = {"revolute": [pin.JointModelRZ(), pin.JointModelRevoluteUnaligned(0.0, 0.6, 0.8)],
+              "prismatic": [pin.JointModelPX(), pin.JointModelPrismaticUnaligned(1.0, 0.0, 0.0)],
+              None: [pin.JointModelHZ(0.1), pin.JointModelPlanar(), pin.JointModelSpherical(), pin.JointModelRUBZ()]}
+    for kind, models in joints.items():
+        for joint in models:
+            j = model.addJoint(0, joint, pin.SE3.Identity(), f"{joint.shortname()}_{model.njoints}")
+            assert _joint_kind(model, j) == kind, joint.shortname()

@@ -191,6 +191,10 @@ class OptimalControlProblem:
             object.__setattr__(self, name, v.copy())
         if np.any(self.q_min >= self.q_max) or np.any(self.q_min == np.inf) or np.any(self.q_max == -np.inf):
             raise ValueError(f"`q_min` must be below `q_max` for every joint, got {self.q_min} and {self.q_max}")
+        one_sided = np.flatnonzero(np.isfinite(self.q_min) != np.isfinite(self.q_max))
+        if one_sided.size:
+            raise ValueError(f"`q_min` and `q_max` of joint(s) {(one_sided + 1).tolist()} have one finite side: give "
+                             "both limits finite, or both infinite (no position limit)")
         if np.any(self.qd_max <= 0):
             raise ValueError(f"`qd_max` must be positive, got {self.qd_max}")
         if self.state_limits not in STATE_LIMITS:
@@ -209,7 +213,8 @@ class OptimalControlProblem:
                 self.running.orientation > 0 or self.terminal.orientation > 0)
 
     def limited(self) -> tuple[np.ndarray, np.ndarray]:
-        """Indices of the joints with finite position limits and with finite speed limits."""
+        """Indices of the joints with finite position limits (both sides: one-sided limits are refused) and with
+        finite speed limits."""
         return np.flatnonzero(np.isfinite(self.q_min)), np.flatnonzero(np.isfinite(self.qd_max))
 
 
@@ -268,6 +273,9 @@ class OptimalControlResult(OptimalTrajectory):
         excess; iterations : SQP iterations; solve_time : wall time of the SQP (the check apart: check_time);
         timings : where solve_time went [s]: ``"linearisation"`` (the compiled intervals' values and Jacobians),
         ``"qp assembly"`` (the step QP's stage arrays), ``"qp"`` (HPIPM), ``"line search"``.
+    verified : whether Pinocchio's independent check ran (``OptimalControlOptions.verify``): with it ``success``
+        includes the KKT residual by Pinocchio; without, ``success`` is the solver's own account (converged, finite,
+        hard limits, its model's defects) and ``kkt`` is NaN.
     """
 
     status: str = ""
@@ -280,11 +288,12 @@ class OptimalControlResult(OptimalTrajectory):
     check_time: float = 0.0
     multipliers: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     timings: dict[str, float] = field(default_factory=dict, repr=False)
+    verified: bool = False
 
     def __repr__(self) -> str:
         ratios = ", ".join(f"{k} {v:.3g}" for k, v in self.ratios.items())
         return (f"OptimalControlResult(N={len(self.u)}, dt={self.dt:g} s, cost={self.cost:.6g}, success={self.success}, "
-                f"KKT {self.kkt:.2g}, defect {self.defect:.2g}, limit ratios: {ratios}, {self.iterations} SQP "
+                f"KKT {self.kkt:.2g}{'' if self.verified else ' (not verified)'}, defect {self.defect:.2g}, limit ratios: {ratios}, {self.iterations} SQP "
                 f"iterations in {self.solve_time * 1e3:.3g} ms, message={self.message!r})")
 
     def shifted(self, steps: int = 1) -> tuple[np.ndarray, np.ndarray]:
@@ -841,7 +850,8 @@ class OptimalControlSolver:
         return OptimalControlResult(trajectory, tau, float(t[-1]), "optimal control", cost, success, message, ratios,
                                     iterations, solve_time, status=status, x=X.copy(), u=U.copy(), dt=pr.dt, kkt=kkt,
                                     defect=defect,
-                                    slack=penalty, check_time=check_time, multipliers=mult, timings=timings or {})
+                                    slack=penalty, check_time=check_time, multipliers=mult, timings=timings or {},
+                                    verified=bool(o.verify))
 
 
 def _bound_rows(lam: np.ndarray, n: int, nb: int) -> np.ndarray:

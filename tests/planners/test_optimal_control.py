@@ -125,7 +125,7 @@ def test_nonlinear_case_satisfies_first_order_optimality_by_finite_differences(a
     q_ref = np.array([0.3, -0.2])
     x0 = np.zeros(4)
     res = solver.solve(x0, q_ref=q_ref)
-    assert res.success and res.kkt < 1e-6, res
+    assert res.success and res.kkt < 1e-6 and res.verified, res
     assert res.ratios["tau"] == pytest.approx(1.0, abs=1e-9)          # the torque box is active
     f = arm_dynamics(problem.robot)
     U = res.u.ravel()
@@ -255,7 +255,11 @@ def test_unconstrained_reach_equals_a_second_solver():
     (dict(q_min=[0.0, 0.0], q_max=[1.0, -1.0]), "q_min"), (dict(qd_max=0.0), "qd_max"),
     (dict(running=StageCost(q=np.nan)), "running.q"), (dict(terminal=StageCost(position=-1.0)), "terminal.position"),
     (dict(running=StageCost(tau=[1.0, 2.0, 3.0])), "running.tau"), (dict(state_limits="firm"), "state_limits"),
-    (dict(slack_weight=0.0), "slack_weight"),
+    (dict(slack_weight=0.0), "slack_weight"), (dict(slack_weight=np.inf), "slack_weight"),
+    (dict(q_min=[-np.inf, -1.0], q_max=[0.1, 1.0]), "q_min` and `q_max` of joint\\(s\\) \\[1\\]"),
+    (dict(q_min=[-1.0, -1.0], q_max=[0.1, np.inf]), "q_min` and `q_max` of joint\\(s\\) \\[2\\]"),
+    (dict(q_min=[np.nan, -1.0]), "q_min"), (dict(running=StageCost(qd=[1.0, np.inf])), "running.qd"),
+    (dict(terminal=StageCost(orientation=np.nan)), "terminal.orientation"), (dict(tau_max=np.nan), "tau_max"),
 ])
 def test_bad_problems_are_refused_naming_the_argument(change, name):
     arm = load("planar_2r")

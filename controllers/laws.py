@@ -561,8 +561,12 @@ class ControlLaw(LoggedController):
 
     def __call__(self, t: float, meas: Any) -> np.ndarray:
         q, qd = as_vector(meas.q, self.nq, "q"), meas.qd
-        extra = {name: self.measured(meas, name) for name, _ in self.measurements} if self.measurements else {}
         try:
+            if not self.measurements and self._state is None:        # the common case, without a keyword dict
+                u, signals = self.law(Numeric, self._K, q, qd, self.reference(t))
+                self._log = signals
+                return u
+            extra = {name: self.measured(meas, name) for name, _ in self.measurements} if self.measurements else {}
             if self._state is None:
                 u, signals = self.law(Numeric, self._K, q, qd, self.reference(t), **extra)
             else:

@@ -134,6 +134,7 @@ class ArmPlant:
         self.state_size = robot.nq + robot.nv
         self.tangent_size = 2 * robot.nv
         self.input_size = robot.nv
+        self._x_shape = (self.state_size,)
         self.state_layout = {"q": slice(0, self.nq), "qd": slice(self.nq, self.state_size)}
         self.Fv = as_friction(viscous_friction, self.n)
         Fs = per_joint(coulomb_friction, self.n, "coulomb_friction")
@@ -226,7 +227,8 @@ class ArmPlant:
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
-        _check_state(x, self.state_size, nq)
+        if type(x) is not np.ndarray or x.shape != self._x_shape:     # the cheap test first (hot path)
+            _check_state(x, self.state_size, nq)
         q, qd = x[:nq], x[nq:]
         xd = np.empty(2 * n)
         xd[:n] = qd
@@ -267,7 +269,8 @@ class ArmPlant:
         return tau
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
-        _check_state(x, self.state_size, self.nq)
+        if type(x) is not np.ndarray or x.shape != self._x_shape:     # the cheap test first (hot path)
+            _check_state(x, self.state_size, self.nq)
         return ArmMeasurement(x[:self.nq], x[self.nq:])
 
     def symbolic(self) -> Any:
@@ -394,6 +397,7 @@ class ArmInContact:
         a = self.arm
         self.n, self.nq = a.n, a.nq
         self.state_size, self.tangent_size, self.state_layout = a.state_size, a.tangent_size, a.state_layout
+        self._x_shape = (self.state_size,)
         self.input_size = a.input_size
         self.integrate, self.initial_state = a.integrate, a.initial_state
         self.units = {**ARM_UNITS, "wrench": "N, N·m"}
@@ -478,7 +482,8 @@ class ArmInContact:
 
     def derivative(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         n, nq = self.n, self.nq
-        _check_state(x, self.state_size, nq)
+        if type(x) is not np.ndarray or x.shape != self._x_shape:     # the cheap test first (hot path)
+            _check_state(x, self.state_size, nq)
         if np.shape(u) != (n,):
             raise ValueError(f"the arm needs {n} joint torques, got an input of shape {np.shape(u)}")
         q, qd = x[:nq], x[nq:]
@@ -506,7 +511,8 @@ class ArmInContact:
 
     def measure(self, t: float, x: np.ndarray) -> ArmMeasurement:
         nq = self.nq
-        _check_state(x, self.state_size, nq)
+        if type(x) is not np.ndarray or x.shape != self._x_shape:     # the cheap test first (hot path)
+            _check_state(x, self.state_size, nq)
         q, qd = x[:nq], x[nq:]
         h_e, J = self.wrench(q, qd)
         kept = h_e if h_e is NO_CONTACT else np.array(h_e, dtype=float)   # the controller may keep or alter its own

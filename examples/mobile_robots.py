@@ -18,18 +18,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from controllers.plants import BicyclePlant, MobileManipulatorPlant, UnicyclePlant
-from controllers.simulation import simulate
-from controllers.wheeled import (ApproximateLinearizationTracking, BicycleTracking, InputOutputTracking,
-                                 MobileManipulatorHold, NonlinearTracking, PostureRegulator)
+from rmpc import (ApproximateLinearizationTracking, BicyclePlant, direct_kinematics, dubins_path, FigureEight,
+                  InputOutputTracking, load, NonlinearTracking, PostureRegulator, reeds_shepp_path, simulate,
+                  UnicyclePlant)
+from controllers.plants import MobileManipulatorPlant
+from controllers.wheeled import BicycleTracking, MobileManipulatorHold
 from planners.timing import quintic_law
-from planners.wheeled import (DubinsPath, FigureEight, ReedsSheppPath, TimeScaledPath, dubins_path, dubins_paths,
-                              max_steering_angle, reeds_shepp_path, reeds_shepp_paths, steering_feasible_path)
+from planners.wheeled import (DubinsPath, ReedsSheppPath, TimeScaledPath, dubins_paths, max_steering_angle,
+                              reeds_shepp_paths, steering_feasible_path)
 from problems.ch11 import H, K_POSTURE, Q0_COMPANION, SEED, draw_unicycle, plane_axes, time_axes
 from problems.common import label_axes, subplots
 from problems.registry import Solution
-from rigid_body.kinematics import direct_kinematics
-from rigid_body.robots import load
 from rigid_body.wheeled import differential_drive_wheel_speeds, mobile_manipulator
 
 __all__ = ["tracking_comparison", "parallel_parking", "wheel_saturation", "car_shortest_paths",

@@ -24,15 +24,13 @@ from typing import Any
 
 import numpy as np
 
-from controllers.plants import KinematicArm
+from rmpc import (direct_kinematics, eye_in_hand_ibvs, EyeInHandCamera, HybridVisualServo, KinematicArm,
+                  PBVSPoseResolvedVelocity, PinholeCamera, simulate, SimulationResult, view_target,
+                  visual_servo)
 from controllers.scenes import CameraTarget, panda_camera_target
-from controllers.simulation import SimulationResult, simulate
-from controllers.visual_servoing import (EyeInHandCamera, EyeInHandLoop, HybridVisualServo, PBVSPoseResolvedVelocity,
-                                         eye_in_hand_ibvs, visual_servo)
+from controllers.visual_servoing import EyeInHandLoop
 from problems.common import label_axes, subplots
 from problems.registry import Solution
-from rigid_body.camera import PinholeCamera, view_target
-from rigid_body.kinematics import direct_kinematics
 from viewer import eye_in_hand_animation
 
 CAMERA = PinholeCamera(600.0, 600.0, 320.0, 240.0)

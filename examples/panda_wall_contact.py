@@ -19,19 +19,14 @@ import numpy as np
 import pinocchio as pin
 from scipy.signal import lsim
 
-from controllers.force import HybridForceMotionControl
-from controllers.operational_space import OperationalInverseDynamics
-from controllers.plants import ArmInContact
-from controllers.simulation import SimulationResult, simulate
+from rmpc import (ArmInContact, direct_kinematics, HybridForceMotionControl, OperationalInverseDynamics,
+                  Robot, selection_matrices, simulate, SimulationResult)
 from controllers.scenes import PANDA_TOOL, SLIDE, STEP_AT, STEP_DEPTH, WALL_FRICTION, WALL_STIFFNESS, PandaWall, \
     panda_wall
 from planners.timing import quintic_law
 from problems.common import label_axes, subplots
 from problems.registry import Solution
-from rigid_body.kinematics import direct_kinematics
-from rigid_body.robots import Robot
 from rigid_body.rotations import homogeneous_transform
-from rigid_body.task_space import selection_matrices
 from viewer import contact_animation
 
 T_C = 1e-3                  # controller sampling period and plant step [s]

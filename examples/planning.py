@@ -27,10 +27,9 @@ from typing import Any, Callable
 import numpy as np
 
 from controllers.scenes import Scenario, anthropomorphic_pillar, panda_shelf
-from planners.collision import CollisionChecker
-from planners.optimization import JointLimits
-from planners.sampling import PlanResult, path_length, prm, rrt_connect, shortcut
-from planners.time_optimal import TimeOptimalPath, time_optimal_path
+from rmpc import (CollisionChecker, JointLimits, PlanResult, prm, rrt_connect, shortcut, time_optimal_path,
+                  TimeOptimalPath)
+from planners.sampling import path_length
 from planners.timing import PiecewisePolynomial, multi_segment_law
 from problems.common import label_axes, subplots
 from problems.registry import Solution

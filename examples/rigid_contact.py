@@ -27,15 +27,11 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from controllers.environment import CompliantPlane
-from controllers.force import compliance_equilibrium
-from controllers.operational_space import OperationalPDGravity
-from controllers.plants import ArmInContact, ArmMeasurement, ArmPlant
-from controllers.simulation import simulate
+from rmpc import (ArmInContact, ArmPlant, compliance_equilibrium, CompliantPlane, direct_kinematics,
+                  OperationalPDGravity, Robot, simulate)
+from controllers.plants import ArmMeasurement
 from problems.common import label_axes, subplots
 from problems.registry import Solution
-from rigid_body.kinematics import direct_kinematics
-from rigid_body.robots import Robot
 from rigid_body.rotations import homogeneous_transform
 from rigid_body.validation import as_positive, as_vector
 

@@ -15,14 +15,11 @@ from typing import Any
 
 import numpy as np
 
-from controllers.joint_space import AdaptivePayloadControl, InverseDynamicsControl, PDGravityCompensation
-from controllers.plants import ArmPlant
-from controllers.simulation import SimulationResult, simulate
-from planners.timing import quintic
+from rmpc import (ArmPlant, inertia_matrix, InverseDynamicsControl, load, PDGravityCompensation, quintic,
+                  simulate, SimulationResult, with_payload)
+from controllers.joint_space import AdaptivePayloadControl
 from problems.common import label_axes, subplots
 from problems.registry import Solution
-from rigid_body.dynamics import inertia_matrix
-from rigid_body.robots import load, with_payload
 
 T_C = 1e-3  # controller sampling period and plant step [s]
 

@@ -154,7 +154,7 @@ class CollisionChecker:
         self.distance_geom = _convex_hulls(geom, set(box_ids))
         self._local = threading.local()
         self._static_contact_check([i for i in range(n_robot) if parents[i] == 0], box_ids)
-        self.pair_rates = self._pair_rates()
+        self.pair_rates = self.motion_rates(self.model.lowerPositionLimit, self.model.upperPositionLimit)
         self.calls = 0
 
     def _work(self) -> SimpleNamespace:
@@ -257,12 +257,18 @@ class CollisionChecker:
                             float, len(pairs))
         return d - DISTANCE_MARGIN
 
-    def _pair_rates(self) -> np.ndarray:
-        """W (P, nq): the relative motion of pair p's two shapes along a straight step Δq is at most
-        Σ_k W[p, k] |Δq_k| (module docstring): r_k for a revolute joint k between the two shapes (a bound on
-        the distance of the moving shape's points from k's axis), 1 for a prismatic one; ∞ in the columns of
-        joints that are neither (no certificate for them)."""
+    def motion_rates(self, lower: Any, upper: Any) -> np.ndarray:
+        """W (P, nq): the relative motion of pair p's two shapes along a straight step Δq between two
+        configurations of the joint box [lower, upper] is at most Σ_k W[p, k] |Δq_k| (module docstring):
+        r_k for a revolute joint k between the two shapes (a bound on the distance of the moving shape's
+        points from k's axis, over every configuration of the box: a prismatic joint beyond k adds its
+        largest |q| in the box), 1 for a prismatic one; ∞ in a pair's row when a joint between its shapes
+        is neither (continuous, planar, mimic ...: no certificate for them). :attr:`pair_rates` is W on
+        the model's joint limits; :class:`UrdfCSpace` uses its own box."""
         model, geom = self.model, self.distance_geom
+        lower, upper = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+        if lower.shape != (model.nq,) or upper.shape != (model.nq,) or np.isnan(lower).any() or np.isnan(upper).any():
+            raise ValueError(f"`lower` and `upper` must be ({model.nq},) joint bounds, got {lower} and {upper}")
         chains = {}
         for j in range(model.njoints):
             chain, k = [], j
@@ -288,7 +294,7 @@ class CollisionChecker:
             if _joint_kind(model, m) != "prismatic":
                 return 0.0
             i = model.idx_qs[m]
-            return float(max(abs(model.lowerPositionLimit[i]), abs(model.upperPositionLimit[i])))
+            return float(max(abs(lower[i]), abs(upper[i])))        # ∞ when the box is unbounded
 
         def reach(g: int, k: int) -> float:
             """A bound on the distance of any point of shape g from revolute joint k's axis (k on g's chain).
@@ -318,8 +324,10 @@ class CollisionChecker:
                     if k in other:
                         continue          # moves both shapes rigidly: no relative motion
                     kind = _joint_kind(model, k)
-                    cols = slice(model.idx_qs[k], model.idx_qs[k] + model.nqs[k])
-                    W[p, cols] += (np.inf if kind is None else 1.0 if kind == "prismatic" else reach(g, k))
+                    if kind is None:
+                        W[p, :] = np.inf  # a mimic joint has no column of its own: the whole row is unbounded
+                        continue
+                    W[p, model.idx_qs[k]] += 1.0 if kind == "prismatic" else reach(g, k)
         return W
 
 
@@ -408,7 +416,9 @@ def _convex_hulls(geom: Any, obstacles: set) -> Any:
 class UrdfCSpace:
     """The configuration space of a URDF robot among boxes, as the sampling planners see it.
 
-    ``lower``/``upper`` default to the robot's joint limits; ``resolution`` [rad] is the largest
+    ``lower``/``upper`` default to the robot's joint limits and must lie within them (ValueError naming
+    the bound otherwise); the certificate's motion bounds (``pair_rates``,
+    :meth:`CollisionChecker.motion_rates`) hold over this box. ``resolution`` [rad] is the largest
     (Euclidean) step between two checked configurations of a straight local path. Implements
     :class:`planners.sampling.PlanningSpace` and its optional ``all_valid`` (stops at the first
     collision, in :func:`bisection_order`).
@@ -425,8 +435,23 @@ class UrdfCSpace:
         hi = np.array(model.upperPositionLimit) if self.upper is None else as_vector(self.upper, model.nq, "upper")
         if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(hi > lo)):
             raise ValueError(f"`lower` and `upper` must be finite with upper > lower, got {lo}, {hi}")
+        for name, box, beyond in (("lower", lo, lo < model.lowerPositionLimit),
+                                  ("upper", hi, hi > model.upperPositionLimit)):
+            if beyond.any():
+                i = int(np.flatnonzero(beyond)[0])
+                limit = (model.lowerPositionLimit if name == "lower" else model.upperPositionLimit)[i]
+                raise ValueError(f"`{name}`[{i}] = {box[i]:g} lies beyond the robot's joint limit {limit:g} "
+                                 f"(joint {self._joint_name(i)!r}): the space must stay within the joint limits")
         self.lower, self.upper = lo, hi
         as_positive(self.resolution, "resolution")
+        # the motion bounds must hold over every configuration this space can produce: its own box
+        self.pair_rates = self.checker.motion_rates(lo, hi)
+
+    def _joint_name(self, i: int) -> str:
+        """Name of the joint owning configuration coordinate i."""
+        model = self.checker.model
+        return next((model.names[j] for j in range(1, model.njoints)
+                     if model.idx_qs[j] <= i < model.idx_qs[j] + model.nqs[j]), "?")
 
     @property
     def dim(self) -> int:
@@ -487,7 +512,8 @@ class UrdfCSpace:
 
     def edge_rates(self, a: Any, b: Any) -> np.ndarray:
         """Bounds (P,) on the relative motion of each pair's shapes along the straight edge a → b."""
-        return self.checker.pair_rates @ np.abs(np.asarray(b, dtype=float) - np.asarray(a, dtype=float))
+        with np.errstate(invalid="ignore"):           # an unbounded row (∞ · 0) gives NaN: refused by the caller
+            return self.pair_rates @ np.abs(np.asarray(b, dtype=float) - np.asarray(a, dtype=float))
 
     def certify_edge(self, a: Any, b: Any, ca: np.ndarray | None = None, cb: np.ndarray | None = None,
                      max_queries: int = EDGE_QUERY_BUDGET) -> EdgeCertificate:

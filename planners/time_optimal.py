@@ -63,6 +63,8 @@ class BlendedPolyline:
 
     def __init__(self, waypoints: Any, deltas: Any) -> None:
         W = np.asarray(waypoints, dtype=float)
+        if W.ndim != 2 or W.shape[0] < 2 or not np.all(np.isfinite(W)):
+            raise ValueError(f"`waypoints` must be a finite (K >= 2, n) array, got shape {W.shape}")
         d = np.diff(W, axis=0)
         lengths = np.linalg.norm(d, axis=1)
         if np.any(lengths <= 0):
@@ -72,8 +74,16 @@ class BlendedPolyline:
         deltas = np.concatenate([[0.0], np.asarray(deltas, dtype=float), [0.0]])
         if deltas.size != W.shape[0]:
             raise ValueError(f"`deltas` must give one value per interior waypoint ({W.shape[0] - 2})")
+        if not np.all(np.isfinite(deltas)):
+            raise ValueError(f"`deltas` must be finite, got {deltas[1:-1]}")
         if np.any(deltas[1:] + deltas[:-1] > lengths * (1 + 1e-12)) or np.any(deltas < 0):
             raise ValueError("blends must not overlap: δ_k + δ_{k+1} <= |edge k| and δ >= 0")
+        turn = np.linalg.norm(np.diff(U, axis=0), axis=1)              # |u₊ − u₋| at each interior corner
+        sharp = (deltas[1:-1] == 0) & (turn > 1e-12)
+        if sharp.any():
+            k = int(np.flatnonzero(sharp)[0])
+            raise ValueError(f"`deltas`[{k}] = 0 at a corner (waypoint {k + 1} turns by |u₊ − u₋| = {turn[k]:.3g}): "
+                             "the path would not be C¹ there; give δ > 0 (δ = 0 only where the path runs straight)")
         self._W, self._U, self.deltas = W, U, deltas[1:-1]
         # pieces: (kind, s0, s1, k) — "line" along edge k, "blend" at corner k
         pieces, s = [], 0.0
@@ -152,9 +162,14 @@ def certified_blends(space: Any, waypoints: np.ndarray, safety: float = BLEND_SA
     otherwise). At corner k a blend point is v_k + Δ with |Δ_j| ≤ δ max(|u₋,j|, |u₊,j|) (the blend lies in
     the triangle of its control points), so the relative motion of every pair from the corner is at most
     δ · m_p, m_p = ``space.edge_rates(0, max(|u₋|, |u₊|))``; δ_k = ``safety`` · min_p c_p(v_k)/m_p, and at
-    most half of each adjacent edge.
+    most half of each adjacent edge. ``safety`` ∈ (0, 1].
     """
     from planners.sampling import certify_path
+
+    if isinstance(safety, bool) or not isinstance(safety, (int, float, np.integer, np.floating)) \
+            or not 0.0 < float(safety) <= 1.0:
+        raise ValueError(f"`safety` must be a number in (0, 1] (the fraction of the certified room a blend "
+                         f"uses), got {safety!r}")
 
     cert = certify_path(space, waypoints)
     if not cert.free:
@@ -228,6 +243,10 @@ class TimeOptimalPath:
         return out if t_arr.ndim else tuple(x[0] for x in out)
 
 
+LIMIT_NAMES = {"qd": "the velocity `limits.qd_max`", "qdd": "the acceleration `limits.qdd_max`",
+               "tau": "the torque `limits.tau_max`"}
+
+
 def time_optimal_path(robot: Robot, waypoints: np.ndarray, limits: JointLimits, gridpoints: int = 200,
                       subsamples: int = 10, max_backoff: int = 4, space: Any = None) -> TimeOptimalPath:
     """The time-optimal rest-to-rest timing of a path through ``waypoints`` (K, n) within ``limits``.
@@ -236,6 +255,9 @@ def time_optimal_path(robot: Robot, waypoints: np.ndarray, limits: JointLimits, 
     :class:`planners.configuration_space.PlanarCSpace`) the path is the certified polyline with certified
     blends (:class:`BlendedPolyline`, :func:`certified_blends`) and the result is ``certified``; without it,
     the cubic spline through the waypoints (not certified: use it for paths that are not a planner's).
+    TOPP-RA meets the limits at its grid points; the timing is re-checked on a grid ``subsamples`` times
+    finer and re-solved with the exceeded limits scaled down, at most ``max_backoff`` times (≥ 0); a limit
+    still exceeded then is a ValueError naming it and its ratio.
     """
     import toppra
     import toppra.algorithm as algo
@@ -252,6 +274,7 @@ def time_optimal_path(robot: Robot, waypoints: np.ndarray, limits: JointLimits, 
         raise ValueError(f"`limits` are for {limits.n} joints, the robot has {n}")
     gridpoints = as_count(gridpoints, "gridpoints", minimum=2)
     subsamples = as_count(subsamples, "subsamples")
+    max_backoff = as_count(max_backoff, "max_backoff", minimum=0)
     certified, c_min = False, float("nan")
     if space is not None:
         if getattr(space, "dim", None) != n:
@@ -309,5 +332,9 @@ def time_optimal_path(robot: Robot, waypoints: np.ndarray, limits: JointLimits, 
         for k, r in ratios.items():
             if r > 1.0 + 1e-6:
                 scale[k] *= (1.0 - 1e-4) / r
+    else:
+        over = ", ".join(f"{LIMIT_NAMES[k]} at {r:.6g} × its limit" for k, r in ratios.items() if r > 1.0 + 1e-6)
+        raise ValueError(f"the timed path exceeds the limits on the fine check grid after `max_backoff` = "
+                         f"{max_backoff} re-solves: {over} (raise `max_backoff` or `gridpoints`)")
     return TimeOptimalPath(T, q, qd, qdd, tau, float(t[-1]), ratios, time.perf_counter() - start, backoff,
                            path, S, certified, c_min, (t, s, sd, sdd))

@@ -399,3 +399,118 @@ def test_the_certificate_geometry_contains_the_collision_shapes(panda_space):
         for pair, res in zip(checker.geom.collisionPairs, gdata.distanceResults):
             k = hull_pairs[tuple(sorted((hull_of[pair.first], hull_of[pair.second])))]
             assert c[k] <= max(res.min_distance, 0.0) + 1e-6
+
+
+# -- review findings (issue 26): motion bounds over the space's own box ---------------------------------------
+
+def _cylindrical_with_a_tip_box(upper_limit_3):
+    """The book's cylindrical arm (joint 3 prismatic, URDF limit [0.1, 1] m) with joint 3's model limit set to
+    ``upper_limit_3`` and a 1 cm box at its tip for q = (0, 0.5, 2.9)."""
+    from types import SimpleNamespace
+
+    import pinocchio as pin
+
+    from planners.collision import Box, CollisionChecker
+    from rigid_body.robots import load
+    r = load("cylindrical")
+    model = r.model.copy()
+    model.upperPositionLimit[2] = upper_limit_3
+    data, gdata = model.createData(), r.collision_model.createData()
+    pin.updateGeometryPlacements(model, data, r.collision_model, gdata, np.array([0.0, 0.5, 2.9]))
+    tip = gdata.oMg[r.collision_model.ngeoms - 1].translation.copy()
+    robot = SimpleNamespace(model=model, collision_model=r.collision_model, name="cylindrical")
+    return CollisionChecker(robot, [Box(tip, [0.3, 0.01, 0.3], "thin")])
+
+
+def test_a_space_beyond_the_joint_limits_is_refused():
+    """Review HIGH: the bound used the URDF's prismatic range [0.1, 1] m while the space reached 3 m; the edge
+    below was certified free (0 queries) though 225 of 2001 samples collide. Such a box is now refused."""
+    from planners.collision import UrdfCSpace
+    checker = _cylindrical_with_a_tip_box(1.0)
+    with pytest.raises(ValueError, match=r"`upper`\[2\] = 3 lies beyond the robot's joint limit 1 .*joint_3"):
+        UrdfCSpace(checker, lower=[-3.0, 0.0, 0.1], upper=[3.0, 1.0, 3.0])
+    with pytest.raises(ValueError, match=r"`lower`\[1\]"):
+        UrdfCSpace(checker, lower=[-3.0, -0.5, 0.1], upper=[3.0, 1.0, 1.0])
+
+
+@pytest.mark.parametrize("upper_limit_3", [3.0, np.inf])
+def test_motion_bounds_hold_over_the_spaces_box(upper_limit_3):
+    """The prismatic ranges of the bound come from the space's box, not the model's limits (an unbounded URDF
+    joint used to make the certificate refuse everything; a narrower model range made it unsound). Certified
+    edges are re-checked densely with the collision shapes (coal's narrow phase, a second geometry)."""
+    from planners.collision import UrdfCSpace
+    checker = _cylindrical_with_a_tip_box(upper_limit_3)
+    space = UrdfCSpace(checker, lower=[-3.0, 0.0, 0.1], upper=[3.0, 1.0, 3.0])
+    assert np.all(np.isfinite(space.pair_rates)) and space.pair_rates.max() >= 3.0   # the 3 m reach counts
+    a, b = np.array([-0.5, 0.5, 2.9]), np.array([0.5, 0.5, 2.9])
+    cert = space.certify_edge(a, b)
+    Q = space.interpolate(a, b, np.linspace(0.0, 1.0, 2001))
+    assert sum(checker.in_collision(q) for q in Q) == 225 and not cert.free
+    rng = np.random.default_rng(4)
+    accepted = 0
+    for _ in range(25):
+        a = space.sample(rng)
+        b = space.interpolate(a, space.sample(rng), 0.2)
+        if space.is_valid(a) and space.is_valid(b) and space.certify_edge(a, b).free:
+            accepted += 1
+            assert not any(checker.in_collision(q) for q in space.interpolate(a, b, np.linspace(0, 1, 401)))
+    assert accepted >= 10
+
+
+def test_a_shape_on_a_mimic_joint_has_no_motion_bound():
+    """A mimic joint (the book's rotors) has no coordinate of its own: a shape it carries used to get no bound
+    for its spin (an edge moving only the mimicked joint was certified at once); its pairs are now unbounded
+    and the certificate says so."""
+    from types import SimpleNamespace
+
+    import coal
+    import pinocchio as pin
+
+    from planners.collision import Box, CollisionChecker, UrdfCSpace
+    from rigid_body.robots import load
+    r = load("planar_2r")                                          # joint 3 (a rotor) mimics joint 2
+    geom = r.collision_model.clone()
+    geom.addGeometryObject(pin.GeometryObject("rotor_arm", 3, 0, pin.SE3(np.eye(3), np.array([0.3, 0, 0])),
+                                              coal.Box(0.6, 0.02, 0.02)))
+    robot = SimpleNamespace(model=r.model, collision_model=geom, name="planar_2r")
+    checker = CollisionChecker(robot, [Box([2.0, 2.0, 0.0], [0.1, 0.1, 0.1], "far")], self_collision=False)
+    assert np.isinf(checker.pair_rates).any()
+    space = UrdfCSpace(checker)
+    with pytest.raises(ValueError, match="no motion bound"):
+        space.certify_edge(np.zeros(2), np.array([0.0, 0.5]))
+
+
+def test_nan_clearances_are_never_certified():
+    """Review LOW: every comparison with NaN is False, so a NaN clearance used to pass `c <= 0` and `ca + cb <= M`
+    as certified. A NaN at an end, at a bisection point, or a NaN rate now refuses the edge."""
+    from planners.configuration_space import certify_by_bisection
+    ok = certify_by_bisection(lambda s, idx: np.full(len(idx), 0.5), [1.0, 1.0], [0.5, 0.5], [0.5, 0.5])
+    assert ok.free                                                 # the reference: clearance 0.5 everywhere
+    for c0 in ([np.nan, 0.5], [0.5, np.nan]):
+        cert = certify_by_bisection(lambda s, idx: np.full(len(idx), 0.5), [1.0, 1.0], c0, [0.5, 0.5])
+        assert not cert.free and cert.queries == 0 and "NaN" in cert.message
+    mid = certify_by_bisection(lambda s, idx: np.full(len(idx), np.nan), [3.0, 3.0], [0.5, 0.5], [0.5, 0.5])
+    assert not mid.free and mid.queries == 1 and "NaN" in mid.message
+    rate = certify_by_bisection(lambda s, idx: np.full(len(idx), 0.5), [np.nan, 1.0], [0.5, 0.5], [0.5, 0.5])
+    assert not rate.free
+    # a NaN in the pair of ends that needs no split (0.5 + NaN > 0.1 is False, NaN <= 0.1 too)
+    small = certify_by_bisection(lambda s, idx: np.full(len(idx), 0.5), [0.1, 0.1], [0.5, 0.5], [np.nan, 0.5])
+    assert not small.free
+
+
+def test_certify_path_refuses_a_nan_vertex_clearance(thin_wall):
+    """A path of one vertex has no edge to refuse it: a NaN clearance there used to certify it."""
+    import dataclasses
+
+    from planners.sampling import certify_path
+
+    @dataclasses.dataclass(frozen=True)
+    class NaNSpace(PlanarCSpace):
+        def clearances(self, q, parts=None):
+            return np.full(super().clearances(q, parts).shape, np.nan)
+
+    space, q_start, _ = thin_wall
+    assert certify_path(space, [q_start]).free
+    nan_space = NaNSpace(space.robot, space.scene, space.lower, space.upper, space.resolution)
+    cert = certify_path(nan_space, [q_start])
+    assert not cert.free and "NaN" in cert.message

@@ -118,3 +118,46 @@ def test_the_timed_motion_evaluates_exactly_between_samples(setting):
     q, qd, _ = m(t)
     np.testing.assert_allclose(np.diff(q, axis=0) / np.diff(t)[:, None], 0.5 * (qd[1:] + qd[:-1]), atol=1e-4)
     assert np.allclose(m(-1.0)[0], q_i) and np.allclose(m(m.t_f + 1)[0], q_f) and not np.any(m(m.t_f + 1)[1])
+
+
+def test_limits_still_exceeded_after_the_backoffs_are_an_error(setting):
+    """Review MED: after `max_backoff` re-solves a ratio above 1 used to come back as a normal result (only
+    `ratios` showed it). On a coarse grid the torque exceeds its limit by 0.9 % after the first solve, 0.009 %
+    after one back-off; two back-offs meet it."""
+    arm, limits, q_i, q_f = setting
+    W = np.linspace(q_i, q_f, 5)
+    with pytest.raises(ValueError, match=r"after `max_backoff` = 1 re-solves: the torque `limits.tau_max` at 1\.0000"):
+        time_optimal_path(arm, W, limits, gridpoints=10, max_backoff=1)
+    with pytest.raises(ValueError, match=r"`max_backoff` = 0 .*tau_max` at 1\.009"):
+        time_optimal_path(arm, W, limits, gridpoints=10, max_backoff=0)
+    ok = time_optimal_path(arm, W, limits, gridpoints=10, max_backoff=2)
+    assert ok.backoffs == 2 and max(ok.ratios.values()) <= 1.0 + 1e-6
+    for bad in (-1, 1.5, "2", True):
+        with pytest.raises(ValueError, match="`max_backoff` must be an integer >= 0"):
+            time_optimal_path(arm, W, limits, max_backoff=bad)
+
+
+def test_blend_arguments_are_validated():
+    """Review LOW: δ = 0 at a real corner made a path with a kink (q' jumps, q'' undefined) that TOPP-RA timed
+    as if it were C¹; `certified_blends(safety=)` took any value (safety > 1 leaves the certified room)."""
+    from planners.configuration_space import Disc, PlanarBody, PlanarCSpace, Scene
+    from planners.time_optimal import BlendedPolyline, certified_blends
+
+    W = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [2.0, 2.0]])
+    with pytest.raises(ValueError, match=r"`deltas`\[0\] = 0 at a corner \(waypoint 1 turns by .* = 1.41"):
+        BlendedPolyline(W, [0.0, 0.3])
+    with pytest.raises(ValueError, match=r"`deltas`\[1\] = 0"):
+        BlendedPolyline(W, [0.2, 0.0])
+    straight = BlendedPolyline(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]), [0.0])    # no corner: allowed
+    np.testing.assert_allclose(straight(1.5), [1.5, 0.0])
+    with pytest.raises(ValueError, match="`deltas` must be finite"):
+        BlendedPolyline(W, [np.nan, 0.3])
+    with pytest.raises(ValueError, match="`waypoints` must be a finite"):
+        BlendedPolyline(W[:1], [])
+    body = PlanarBody((Disc([0.0, 0.0], 0.01),))
+    space = PlanarCSpace(body, Scene([], (-3, 3, -3, 3)), [-3, -3, -np.pi], [3, 3, np.pi])
+    P = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]])
+    assert certified_blends(space, P)[0][0] > 0
+    for bad in (0.0, -0.5, 1.5, np.nan, "0.5", True):
+        with pytest.raises(ValueError, match=r"`safety` must be a number in \(0, 1\]"):
+            certified_blends(space, P, safety=bad)

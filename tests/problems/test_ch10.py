@@ -87,9 +87,9 @@ def test_eye_in_hand_animation_tracks_the_camera_and_the_rays():
 def test_fast_backend_compiles_the_pd_gravity_chains_only():
     """10.8/10.10 (PD + gravity laws with a symbolic form) take the compiled loop with a compiler; the
     resolved-velocity chains of 10.9/10.11 have none and stay on the Python loop."""
-    from controllers.compiled import compiler, fast_backend
-
+    from controllers.compiled import fast_backend
     from controllers.scenes import scara_pbvs
+    from rigid_body.codegen import compiler
 
     pd = scara_pbvs(ch10.TC_MANUAL, K_P=np.full(4, 100.0), K_D=np.full(4, 10.0))["controller"]
     velocity = scara_pbvs(ch10.TC_MANUAL, K=np.ones(4))["controller"]

@@ -19,7 +19,8 @@ Logged signals: ``q_d`` (the reference at t), ``e`` = q_d − q, ``tau_plan`` (t
 (the predicted positions over the horizon, (N+1, n) per sample), ``solve_time`` [s] (the wall time of the whole
 sample: references, SQP, checks), ``cpu_time`` [s] (its processor time: what it takes on an idle core),
 ``linearisation_time`` and ``qp_time`` [s] (its two largest parts), ``iterations``, ``deadline_met`` (solve_time ≤ the
-sampling period), ``failed``, ``converged``, ``cost`` and ``defect`` (max |x_{k+1} − Φ(x_k, τ_k)| of the plan).
+sampling period), ``failed``, ``converged``, ``plan_success`` (the plan's ``success``: its own checks, or with
+``verify`` the independent one), ``cost`` and ``defect`` (max |x_{k+1} − Φ(x_k, τ_k)| of the plan).
 
 What is checked at each sample: without ``verify`` (the real-time default) the plan is checked from the solver's own
 quantities, all computed with the step (nothing is evaluated again): HPIPM's status (a NaN step is a failure),
@@ -53,6 +54,7 @@ from controllers.plants import ArmMeasurement
 from controllers.simulation import LoggedController
 from planners.optimal_control import (OptimalControlOptions, OptimalControlProblem, OptimalControlResult,
                                       OptimalControlSolver)
+from planners.stage_qp import QP_SOLVERS
 from rigid_body.rotations import ORTHONORMAL_TOL, as_homogeneous
 from rigid_body.validation import as_positive
 
@@ -69,6 +71,7 @@ class MPCOptions:
     delay : model a one-sample computation delay (the torque computed at t_k is applied at t_{k+1}).
     feedforward : τ_ref of the effort cost is the inverse dynamics of the reference (else 0).
     verify : run the solver's independent KKT check at every sample (costly; off in real time).
+    qp_solver : the step QPs' solver (``OptimalControlOptions.qp_solver``: "auto", "hpipm", "piqp", "proxsuite").
     """
 
     max_iter: int = 10
@@ -77,6 +80,7 @@ class MPCOptions:
     delay: bool = False
     feedforward: bool = True
     verify: bool = False
+    qp_solver: str = "auto"
 
     def __post_init__(self) -> None:
         v = self.max_iter
@@ -84,6 +88,8 @@ class MPCOptions:
             raise ValueError(f"`max_iter` must be an integer >= 1, got {v!r}")
         if self.time_limit is not None:
             as_positive(self.time_limit, "time_limit")
+        if self.qp_solver not in QP_SOLVERS:
+            raise ValueError(f"`qp_solver` must be one of {QP_SOLVERS}, got {self.qp_solver!r}")
 
 
 class ModelPredictiveControl(LoggedController):
@@ -143,7 +149,7 @@ class ModelPredictiveControl(LoggedController):
         o = self.options
         self.solver = OptimalControlSolver(problem, OptimalControlOptions(
             max_iter=1 if o.real_time_iteration else o.max_iter, verify=o.verify,
-            time_limit=math.inf if o.time_limit is None else o.time_limit))
+            time_limit=math.inf if o.time_limit is None else o.time_limit, qp_solver=o.qp_solver))
         self._data = self.robot.model.createData()
         self.reset()
 
@@ -246,6 +252,7 @@ class ModelPredictiveControl(LoggedController):
                           solve_time=float(solve_time), iterations=float(plan.iterations if plan is not None else 0),
                           deadline_met=float(deadline), failed=float(failed),
                           converged=float(plan is not None and plan.status == "converged"),
+                          plan_success=float(plan is not None and not failed and plan.success),
                           cost=float(plan.cost if plan is not None and not failed else math.nan),
                           defect=float(plan.defect if plan is not None and not failed else math.nan),
                           cpu_time=float(cpu_time), linearisation_time=float(timings.get("linearisation", math.nan)),

@@ -362,10 +362,18 @@ class SimulationResult:
 # The step RK4 can take on a spring-mass-damper mode (a stiff contact)
 # --------------------------------------------------------------------------------------------
 
+def _oscillator(mass: Any, damping: Any, stiffness: Any) -> tuple[float, float, float]:
+    """m > 0, d ≥ 0, k ≥ 0 of m ẍ + d ẋ + k x = 0 as floats; ValueError naming the argument."""
+    return (as_positive(mass, "mass"), as_positive(damping, "damping", allow_zero=True),
+            as_positive(stiffness, "stiffness", allow_zero=True))
+
+
 def rk4_stable(mass: float, damping: float, stiffness: float, h: float) -> bool:
     """Whether RK4 of step ``h`` is stable on m ẍ + d ẋ + k x = 0: both roots λ of m λ² + d λ + k
     have |R(hλ)| ≤ 1, R(z) = 1 + z + z²/2 + z³/6 + z⁴/24 (RK4's amplification; without damping
     h √(k/m) ≤ 2√2)."""
+    mass, damping, stiffness = _oscillator(mass, damping, stiffness)
+    h = as_positive(h, "h")
     roots = np.roots([mass, damping, stiffness]) if stiffness > 0 else np.array([0.0, -damping / mass])
     z = h * roots.astype(complex)
     return bool(np.all(np.abs(1 + z + z * z / 2 + z ** 3 / 6 + z ** 4 / 24) <= 1.0 + 1e-12))
@@ -374,6 +382,8 @@ def rk4_stable(mass: float, damping: float, stiffness: float, h: float) -> bool:
 def rk4_stiffness_bound(mass: float, damping: float, h: float) -> float:
     """The largest k for which RK4 of step ``h`` is stable on m ẍ + d ẋ + k x = 0 (:func:`rk4_stable`;
     8 m/h² without damping); 0 when the damping alone is too much for h (h d/m > 2.785)."""
+    mass, damping, _ = _oscillator(mass, damping, 0.0)
+    h = as_positive(h, "h")
     if not rk4_stable(mass, damping, 0.0, h):
         return 0.0
     lo, hi = 0.0, 8.0 * mass / (h * h)
@@ -387,8 +397,11 @@ def rk4_stiffness_bound(mass: float, damping: float, h: float) -> float:
 
 def rk4_step_bound(mass: float, damping: float, stiffness: float) -> float:
     """The largest h for which RK4 is stable on m ẍ + d ẋ + k x = 0 (:func:`rk4_stable`): 2√2 √(m/k)
-    without damping."""
+    without damping; ∞ when d = k = 0 (ẍ = 0: RK4 is exact at every step)."""
+    mass, damping, stiffness = _oscillator(mass, damping, stiffness)
     rate = float(np.max(np.abs(np.roots([mass, damping, stiffness]))))   # |λ|: stable for h |λ| ≤ 1, not 3.5
+    if rate == 0.0:
+        return math.inf
     lo, hi = 1.0 / rate, 3.5 / rate
     for _ in range(60):
         mid = 0.5 * (lo + hi)

@@ -11,7 +11,8 @@ Entry points (every name below is also reachable as ``rmpc.<name>``):
 * ``optimization`` — ``minimum_time_trajectory(robot, q_i, q_f, JointLimits(...))`` under torque
   limits, ``minimum_effort_trajectory``, ``minimum_jerk_trajectory`` → an ``OptimalTrajectory``.
 * ``optimal_control`` — beyond the book: ``OptimalControlProblem`` solved by multiple shooting
-  (``solve_optimal_control``), the optimiser behind ``controllers.mpc``.
+  (``solve_optimal_control``), the optimiser behind ``controllers.mpc``; ``stage_qp`` holds its step QP's
+  solvers (HPIPM through its C interface, checked before first use, and a sparse fallback).
 * ``tasks`` — Chapter 6: a task decomposed into actions and their paths (pick-and-place).
 * ``wheeled`` — Chapter 11: flat outputs, Cartesian polynomial paths, ``FigureEight``, chained forms,
   Dubins and Reeds–Shepp paths, ``uniform_time_scaling``.

@@ -38,9 +38,6 @@ __all__ = [
 ]
 
 
-_check_bounds = check_bounds
-
-
 def _check_obstacles(obstacles: Sequence[Any]) -> tuple[Polygon, ...]:
     obs = tuple(obstacles)
     for k, o in enumerate(obs):
@@ -328,7 +325,7 @@ def trapezoidal_decomposition(bounds: Sequence[float], obstacles: Sequence[Any])
     merged and clipped to the rectangle before the free intervals between them become cells.
     """
     obs = _check_obstacles(obstacles)
-    x0, x1, y0, y1 = _check_bounds(bounds)
+    x0, x1, y0, y1 = check_bounds(bounds)
     xs = np.unique(np.concatenate([[x0, x1]] + [o.vertices[:, 0] for o in obs] + [_crossings_x(obs, y0, y1)]))
     xs = xs[(xs >= x0) & (xs <= x1)]
     scale = max(x1 - x0, y1 - y0)
@@ -378,7 +375,7 @@ def quadtree_decomposition(bounds: Sequence[float], obstacles: Sequence[Any], mi
     at the smallest size count as occupied, so the decomposition is conservative)."""
     obs = _check_obstacles(obstacles)
     as_positive(min_size, "min_size")
-    x0, x1, y0, y1 = _check_bounds(bounds)
+    x0, x1, y0, y1 = check_bounds(bounds)
     free: list[Polygon] = []
     stack = [(x0, y0, x1, y1)]
     while stack:

@@ -1090,7 +1090,9 @@ def certify_by_bisection(clearances: Callable[[float, np.ndarray], np.ndarray], 
     rates = np.asarray(rates, dtype=float)
     c0, c1 = np.asarray(c0, dtype=float), np.asarray(c1, dtype=float)
     c_min = float(min(c0.min(initial=np.inf), c1.min(initial=np.inf)))
-    if c_min <= 0:
+    if np.isnan(c0).any() or np.isnan(c1).any():
+        return EdgeCertificate(False, np.nan, 0, "a clearance at an end of the edge is NaN")
+    if not c_min > 0:
         return EdgeCertificate(False, c_min, 0, "an end of the edge is in collision or out of bounds")
     if not np.all(np.isfinite(rates)):
         return EdgeCertificate(False, c_min, 0, "the motion bound is not finite")
@@ -1099,11 +1101,11 @@ def certify_by_bisection(clearances: Callable[[float, np.ndarray], np.ndarray], 
     while stack:
         s0, s1, idx, ca, cb = stack.pop()
         M = rates[idx] * (s1 - s0)
-        bad = ca + cb <= M
+        bad = ~(ca + cb > M)                   # NaN (a clearance or a rate) is never certified
         if not bad.any():
             continue
         idx, ca, cb, M = idx[bad], ca[bad], cb[bad], M[bad]
-        if M.max() <= min_bound:
+        if not M.max() > min_bound:
             return EdgeCertificate(False, c_min, queries, f"grazes an obstacle near s = {s0:.6g} (clearance → 0)")
         if queries >= max_queries:
             return EdgeCertificate(False, c_min, queries, f"certificate budget of {max_queries} queries spent")
@@ -1113,8 +1115,10 @@ def certify_by_bisection(clearances: Callable[[float, np.ndarray], np.ndarray], 
         sm = s0 + (s1 - s0) * min(max(0.5 * (lo[w] + hi[w]), 0.05), 0.95)
         cm = np.asarray(clearances(sm, idx), dtype=float)
         queries += 1
+        if np.isnan(cm).any():
+            return EdgeCertificate(False, np.nan, queries, f"a clearance at s = {sm:.6g} is NaN")
         c_min = min(c_min, float(cm.min()))
-        if cm.min() <= 0:
+        if not cm.min() > 0:
             return EdgeCertificate(False, c_min, queries, f"collision at s = {sm:.6g}")
         stack.append((sm, s1, idx, cm, cb))
         stack.append((s0, sm, idx, ca, cm))

@@ -20,7 +20,9 @@ with the dynamics' partials ∂q̈/∂[q, q̇] = −B⁻¹ ∂RNEA/∂[q, q̇], 
 operations of differentiating the whole step automatically). The quadratic program of the step goes to HPIPM (a
 Riccati-recursion interior point method that works stage by stage: its cost grows like N, not N³), called directly
 through its C interface on arrays filled in place, soft limits as its native L1 slacks, warm-started from the
-previous QP's solution. A state limit enters the QP only near the iterate (within ``SCREEN_FRACTION`` of its range);
+previous QP's solution (:mod:`planners.stage_qp`: CasADi's libhpipm is checked before first use — found, its
+interface, a test QP in a separate process compared with proxsuite's solution — and when it fails the QPs go to
+a sparse solver (PIQP through CasADi) with one warning naming why). A state limit enters the QP only near the iterate (within ``SCREEN_FRACTION`` of its range);
 a step that crosses one left out is solved again with it, so the step is always the full QP's. Soft limits that the
 iterate satisfies are tried as hard bounds first (half the interior point iterations): that step is the soft QP's
 when no multiplier exceeds the slack price, else the soft QP is solved. Then an Armijo line search on the L1 merit
@@ -45,11 +47,9 @@ Diehl et al., SIAM J. Control Optim. 43 (2005) (real-time iteration).
 
 from __future__ import annotations
 
-import ctypes
 import math
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import casadi as ca
@@ -57,6 +57,7 @@ import numpy as np
 import pinocchio as pin
 
 from planners.optimization import OptimalTrajectory
+from planners.stage_qp import QP_SOLVERS, stage_qp
 from planners.timing import PiecewisePolynomial, Trajectory
 from rigid_body.codegen import compile_function
 from rigid_body.integration import RK4_WEIGHTS, rk4_sensitivities, rk4_stages
@@ -190,6 +191,10 @@ class OptimalControlProblem:
             object.__setattr__(self, name, v.copy())
         if np.any(self.q_min >= self.q_max) or np.any(self.q_min == np.inf) or np.any(self.q_max == -np.inf):
             raise ValueError(f"`q_min` must be below `q_max` for every joint, got {self.q_min} and {self.q_max}")
+        one_sided = np.flatnonzero(np.isfinite(self.q_min) != np.isfinite(self.q_max))
+        if one_sided.size:
+            raise ValueError(f"`q_min` and `q_max` of joint(s) {(one_sided + 1).tolist()} have one finite side: give "
+                             "both limits finite, or both infinite (no position limit)")
         if np.any(self.qd_max <= 0):
             raise ValueError(f"`qd_max` must be positive, got {self.qd_max}")
         if self.state_limits not in STATE_LIMITS:
@@ -208,7 +213,8 @@ class OptimalControlProblem:
                 self.running.orientation > 0 or self.terminal.orientation > 0)
 
     def limited(self) -> tuple[np.ndarray, np.ndarray]:
-        """Indices of the joints with finite position limits and with finite speed limits."""
+        """Indices of the joints with finite position limits (both sides: one-sided limits are refused) and with
+        finite speed limits."""
         return np.flatnonzero(np.isfinite(self.q_min)), np.flatnonzero(np.isfinite(self.qd_max))
 
 
@@ -222,6 +228,10 @@ class OptimalControlOptions:
         complementarity); step_tol : the SQP stops when no step component exceeds it (torques relative to τ_max).
     limit_tol : hard limits may be exceeded by this fraction of their size and still hold.
     qp_tol, qp_max_iter : HPIPM's residual tolerances and iteration cap.
+    qp_solver : the step QP's solver (:mod:`planners.stage_qp`): ``"auto"`` (HPIPM through its C interface when
+        CasADi's libhpipm passes the checks, else the sparse fallback with one warning), ``"hpipm"`` (an error naming
+        what is missing when it cannot be used), ``"piqp"`` or ``"proxsuite"`` (the fallback: one sparse QP per step
+        by PIQP through CasADi, or proxsuite; slower).
     verify : False skips the independent Pinocchio check (KKT and defects; success is then the solver's own
         convergence and defects with every hard limit checked; real-time loops that cannot afford the check).
     """
@@ -234,6 +244,7 @@ class OptimalControlOptions:
     qp_tol: float = 1e-10
     qp_max_iter: int = 100
     verify: bool = True
+    qp_solver: str = "auto"
 
     def __post_init__(self) -> None:
         for name in ("max_iter", "qp_max_iter"):
@@ -243,6 +254,8 @@ class OptimalControlOptions:
         for name in ("tol", "step_tol", "qp_tol"):
             as_positive(getattr(self, name), name)
         as_positive(self.limit_tol, "limit_tol", allow_zero=True)
+        if self.qp_solver not in QP_SOLVERS:
+            raise ValueError(f"`qp_solver` must be one of {QP_SOLVERS}, got {self.qp_solver!r}")
         if not (isinstance(self.time_limit, (int, float)) and self.time_limit > 0):
             raise ValueError(f"`time_limit` must be a positive number of seconds (inf: none), got {self.time_limit!r}")
 
@@ -260,6 +273,9 @@ class OptimalControlResult(OptimalTrajectory):
         excess; iterations : SQP iterations; solve_time : wall time of the SQP (the check apart: check_time);
         timings : where solve_time went [s]: ``"linearisation"`` (the compiled intervals' values and Jacobians),
         ``"qp assembly"`` (the step QP's stage arrays), ``"qp"`` (HPIPM), ``"line search"``.
+    verified : whether Pinocchio's independent check ran (``OptimalControlOptions.verify``): with it ``success``
+        includes the KKT residual by Pinocchio; without, ``success`` is the solver's own account (converged, finite,
+        hard limits, its model's defects) and ``kkt`` is NaN.
     """
 
     status: str = ""
@@ -272,11 +288,12 @@ class OptimalControlResult(OptimalTrajectory):
     check_time: float = 0.0
     multipliers: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     timings: dict[str, float] = field(default_factory=dict, repr=False)
+    verified: bool = False
 
     def __repr__(self) -> str:
         ratios = ", ".join(f"{k} {v:.3g}" for k, v in self.ratios.items())
         return (f"OptimalControlResult(N={len(self.u)}, dt={self.dt:g} s, cost={self.cost:.6g}, success={self.success}, "
-                f"KKT {self.kkt:.2g}, defect {self.defect:.2g}, limit ratios: {ratios}, {self.iterations} SQP "
+                f"KKT {self.kkt:.2g}{'' if self.verified else ' (not verified)'}, defect {self.defect:.2g}, limit ratios: {ratios}, {self.iterations} SQP "
                 f"iterations in {self.solve_time * 1e3:.3g} ms, message={self.message!r})")
 
     def shifted(self, steps: int = 1) -> tuple[np.ndarray, np.ndarray]:
@@ -442,183 +459,6 @@ class _Call:
 
 
 # --------------------------------------------------------------------------------------------
-# The structured QP of one SQP step: HPIPM called directly
-# --------------------------------------------------------------------------------------------
-
-_HPIPM: Any = None
-_C_SIZE, _C_PTR, _C_INT = ctypes.c_size_t, ctypes.c_void_p, ctypes.c_int
-HPIPM_MODES = {"speed_abs": 0, "speed": 1, "balance": 2, "robust": 3}
-"""HPIPM's modes (its ``enum hpipm_mode``)."""
-
-
-def _hpipm() -> Any:
-    """HPIPM's C library, the one CasADi ships (and its HPIPM plugin loads), with the signatures used here."""
-    global _HPIPM
-    if _HPIPM is not None:
-        return _HPIPM
-    folder = Path(ca.__file__).parent
-    found = sorted(folder.glob("libhpipm.*")) or sorted(folder.glob("*hpipm*.dll"))
-    if not found:
-        raise RuntimeError(f"HPIPM's library (libhpipm) was not found beside CasADi in {folder}")
-    lib = ctypes.CDLL(str(found[0]))
-    if hasattr(lib, "d_ocp_qp_dim_set_nsbx"):      # HPIPM before its interface of August 2025 (ns, idxs_rev)
-        raise RuntimeError(f"the HPIPM shipped with CasADi {ca.__version__} has an older interface than the optimal "
-                           "control solver calls: install CasADi >= 3.8 (pip install -U casadi)")
-    P, I = _C_PTR, _C_INT
-    signatures: dict[str, tuple[Any, list]] = {
-        "d_ocp_qp_dim_memsize": (_C_SIZE, [I]), "d_ocp_qp_dim_create": (None, [I, P, P]),
-        "d_ocp_qp_dim_set_all": (None, [P] * 7), "d_ocp_qp_memsize": (_C_SIZE, [P]),
-        "d_ocp_qp_create": (None, [P, P, P]), "d_ocp_qp_sol_memsize": (_C_SIZE, [P]),
-        "d_ocp_qp_sol_create": (None, [P, P, P]), "d_ocp_qp_ipm_arg_memsize": (_C_SIZE, [P]),
-        "d_ocp_qp_ipm_arg_create": (None, [P, P, P]), "d_ocp_qp_ipm_arg_set_default": (None, [I, P]),
-        "d_ocp_qp_ipm_ws_memsize": (_C_SIZE, [P, P]), "d_ocp_qp_ipm_ws_create": (None, [P, P, P, P]),
-        "d_ocp_qp_ipm_solve": (None, [P, P, P, P]), "d_ocp_qp_sol_get_all": (None, [P] * 12),
-        "d_ocp_qp_set_all": (None, [P] * 27),
-    }
-    for what in ("dim", "", "sol", "ipm_arg", "ipm_ws"):
-        signatures[f"d_ocp_qp_{what + '_' if what else ''}strsize"] = (_C_SIZE, [])
-    for field_ in ("idxs_rev", "lbx_mask", "ubx_mask"):
-        signatures[f"d_ocp_qp_set_{field_}"] = (None, [I, P, P])
-    for field_ in ("iter_max", "tol_stat", "tol_eq", "tol_ineq", "tol_comp", "warm_start", "mu0"):
-        signatures[f"d_ocp_qp_ipm_arg_set_{field_}"] = (None, [P, P])
-    for field_ in ("status", "iter", "max_res_stat", "max_res_eq", "max_res_ineq", "max_res_comp"):
-        signatures[f"d_ocp_qp_ipm_get_{field_}"] = (None, [P, P])
-    for name, (restype, argtypes) in signatures.items():
-        function = getattr(lib, name)
-        function.restype, function.argtypes = restype, argtypes
-    _HPIPM = lib
-    return lib
-
-
-class _StageQP:
-    """The QP of one SQP step in HPIPM's stage-wise form, solved by HPIPM's Riccati-based interior point method
-    (its C interface, called directly: no CasADi matrices are built per step)::
-
-        min Σ_k ½ [δτ_k; δx_k]ᵀ [R_k S_k; S_kᵀ Q_k] [δτ_k; δx_k] + r_kᵀ δτ_k + q_kᵀ δx_k  (+ Σ z (s_l + s_u))
-        s.t. δx_{k+1} = A_k δx_k + B_k δτ_k + b_k,   lbu ≤ δτ_k ≤ ubu (k < N),
-             lbx − s_l ≤ δx_k[limited] ≤ ubx + s_u,  s_l, s_u ≥ 0  (k ≥ 1; hard limits: no slacks).
-
-    Stage 0 has no state (x_0 is given). The structure is set once; the numbers are written into the numpy arrays
-    below (each stage's matrix as its transpose in C order, i.e. column-major as HPIPM reads it), which HPIPM reads
-    through arrays of pointers made once (one call per solve). A state bound can be left out (its mask 0)."""
-
-    def __init__(self, N: int, nx: int, nu: int, limited: np.ndarray, soft: bool, options: OptimalControlOptions,
-                 inputs_of: "_StageQP | None" = None):
-        """``inputs_of``: a QP of the same sizes whose arrays of data (not its slack costs) this one reads."""
-        lib = self.lib = _hpipm()
-        self.N, self.nx, self.nu = N, nx, nu
-        limited = np.ascontiguousarray(limited, dtype=np.int32)
-        nb = self.nb = limited.size
-        ns = self.ns = nb if soft else 0
-        ints = lambda values: np.ascontiguousarray(values, dtype=np.int32)
-        self._memory: list[Any] = []
-        dims = [ints([0] + [nx] * N), ints([nu] * N + [0]), ints([0] + [nb] * N), ints([nu] * N + [0]),
-                ints([0] * (N + 1)), ints([0] + [ns] * N)]
-        self._memory += dims
-        self.dim = self._block(lib.d_ocp_qp_dim_strsize())
-        lib.d_ocp_qp_dim_create(N, self.dim, self._block(lib.d_ocp_qp_dim_memsize(N)))
-        lib.d_ocp_qp_dim_set_all(*[d.ctypes.data for d in dims], self.dim)
-        self.qp = self._block(lib.d_ocp_qp_strsize())
-        lib.d_ocp_qp_create(self.dim, self.qp, self._block(lib.d_ocp_qp_memsize(self.dim)))
-        self.sol = self._block(lib.d_ocp_qp_sol_strsize())
-        lib.d_ocp_qp_sol_create(self.dim, self.sol, self._block(lib.d_ocp_qp_sol_memsize(self.dim)))
-        self.arg = self._block(lib.d_ocp_qp_ipm_arg_strsize())
-        lib.d_ocp_qp_ipm_arg_create(self.dim, self.arg, self._block(lib.d_ocp_qp_ipm_arg_memsize(self.dim)))
-        lib.d_ocp_qp_ipm_arg_set_default(HPIPM_MODES["robust"], self.arg)
-        lib.d_ocp_qp_ipm_arg_set_iter_max(ctypes.byref(ctypes.c_int(options.qp_max_iter)), self.arg)
-        for name in ("tol_stat", "tol_eq", "tol_ineq", "tol_comp"):
-            getattr(lib, f"d_ocp_qp_ipm_arg_set_{name}")(ctypes.byref(ctypes.c_double(options.qp_tol)), self.arg)
-        self.ws = self._block(lib.d_ocp_qp_ipm_ws_strsize())
-        lib.d_ocp_qp_ipm_ws_create(self.dim, self.arg, self.ws,
-                                   self._block(lib.d_ocp_qp_ipm_ws_memsize(self.dim, self.arg)))
-        f, nbs, nss = np.zeros, max(nb, 1), max(ns, 1)
-        self.A, self.B, self.b = f((N + 1, nx, nx)), f((N + 1, nu, nx)), f((N + 1, nx))        # A_kᵀ, B_kᵀ
-        self.Q, self.S, self.R = f((N + 1, nx, nx)), f((N + 1, nx, nu)), f((N + 1, nu, nu))   # S_kᵀ (S_k: nu × nx)
-        self.q, self.r = f((N + 1, nx)), f((N + 1, nu))
-        self.lbu, self.ubu, self.lbx, self.ubx = f((N + 1, nu)), f((N + 1, nu)), f((N + 1, nbs)), f((N + 1, nbs))
-        self.zl, self.zu = f((N + 1, nss)), f((N + 1, nss))
-        self.lbx_mask, self.ubx_mask = np.ones((N + 1, nbs)), np.ones((N + 1, nbs))   # 0: the bound is left out
-        if inputs_of is not None:
-            for name in ("A", "B", "b", "Q", "S", "R", "q", "r", "lbu", "ubu", "lbx", "ubx", "lbx_mask", "ubx_mask"):
-                setattr(self, name, getattr(inputs_of, name))
-        self._masks = np.ones((2, N + 1, nbs))                                        # as HPIPM has them
-        self.u, self.x, self.pi = f((N + 1, nu)), f((N + 1, nx)), f((N + 1, nx))
-        self.sl, self.su, self.lam_ls, self.lam_us = f((N + 1, nss)), f((N + 1, nss)), f((N + 1, nss)), f((N + 1, nss))
-        self.lam_lb, self.lam_ub = f((N + 1, nu + nb)), f((N + 1, nu + nb))
-        # the structure (the bounded variables, the slack of each bound: −1 hard) and the slacks' fixed data
-        # (L1: no quadratic term, s >= 0)
-        idxbu, idxbx, zeros = ints(np.arange(nu)), limited, np.zeros((N + 1, nss))
-        slack_of = ints(np.concatenate([np.arange(nb) if soft else np.full(nb, -1), np.full(nu, -1)]))
-        slack_of_u = ints(np.concatenate([np.full(nu, -1), slack_of[:nb]]))
-        unused = f((N + 1, 1))
-        self._memory += [idxbu, idxbx, zeros, slack_of, slack_of_u, unused]
-        for k in range(1, N + 1):
-            if nb:
-                lib.d_ocp_qp_set_idxs_rev(k, (slack_of_u if k < N else slack_of).ctypes.data, self.qp)
-
-        def rows(a: np.ndarray) -> Any:
-            pointers = (ctypes.c_void_p * (N + 1))(*[a.ctypes.data + k * a.strides[0] for k in range(N + 1)])
-            self._memory.append(pointers)
-            return pointers
-
-        def same(a: np.ndarray) -> Any:
-            pointers = (ctypes.c_void_p * (N + 1))(*[a.ctypes.data] * (N + 1))
-            self._memory.append(pointers)
-            return pointers
-
-        # d_ocp_qp_set_all(A, B, b, Q, S, R, q, r, idxbx, lbx, ubx, idxbu, lbu, ubu, C, D, lg, ug, Zl, Zu, zl, zu,
-        # idxs, idxs_rev, ls, us, qp): idxs, idxs_rev NULL (the soft structure above stays)
-        self._all = [rows(self.A), rows(self.B), rows(self.b), rows(self.Q), rows(self.S), rows(self.R), rows(self.q),
-                     rows(self.r), same(idxbx), rows(self.lbx), rows(self.ubx), same(idxbu), rows(self.lbu),
-                     rows(self.ubu), rows(unused), rows(unused), rows(unused), rows(unused), rows(zeros), rows(zeros),
-                     rows(self.zl), rows(self.zu), None, None, rows(zeros), rows(zeros), self.qp]
-        self._outputs = [rows(a) for a in (self.u, self.x, self.sl, self.su, self.pi, self.lam_lb, self.lam_ub,
-                                           unused, unused, self.lam_ls, self.lam_us)]
-        self._mask_setters = [(lib.d_ocp_qp_set_lbx_mask, self.lbx_mask), (lib.d_ocp_qp_set_ubx_mask, self.ubx_mask)]
-        self._status, self._iter, self._res = ctypes.c_int(), ctypes.c_int(), ctypes.c_double()
-        self._mu0, self._warm = ctypes.c_double(), ctypes.c_int(0)
-        self._solved = False                    # HPIPM's solution struct holds a solution to start the next from
-
-    def set_mu0(self, value: float) -> None:
-        """HPIPM's initial barrier parameter (of the order of the largest cost gradient: fewer iterations)."""
-        self._mu0.value = value
-        self.lib.d_ocp_qp_ipm_arg_set_mu0(ctypes.byref(self._mu0), self.arg)
-
-    def _block(self, size: int) -> int:
-        """The address of ``size`` fresh bytes aligned to 64 (kept alive with the QP)."""
-        memory = np.zeros(int(size) + 64, dtype=np.uint8)
-        self._memory.append(memory)
-        return (memory.ctypes.data + 63) // 64 * 64
-
-    def solve(self) -> tuple[int, int, float]:
-        """Hand the arrays to HPIPM, solve, read the solution into u, x, s_l, s_u, π, λ: (status, iterations, the
-        largest of HPIPM's residuals). Status 0: solved to tolerance; 1: iteration limit; 2: step too small; 3: NaN."""
-        lib, qp = self.lib, self.qp
-        lib.d_ocp_qp_set_all(*self._all)
-        if self.nb:
-            for m, (setter, mask) in enumerate(self._mask_setters):
-                changed = np.flatnonzero(np.any(mask != self._masks[m], axis=1))
-                for k in changed[changed > 0]:
-                    setter(int(k), mask.ctypes.data + int(k) * mask.strides[0], qp)
-                self._masks[m] = mask
-        if self._warm.value != (2 if self._solved else 0):
-            # start from the previous solution, primal and dual (the QPs of successive SQP iterations and MPC samples
-            # are alike: fewer iterations), cold at first and after a failure
-            self._warm.value = 2 if self._solved else 0
-            lib.d_ocp_qp_ipm_arg_set_warm_start(ctypes.byref(self._warm), self.arg)
-        lib.d_ocp_qp_ipm_solve(qp, self.sol, self.arg, self.ws)
-        lib.d_ocp_qp_sol_get_all(self.sol, *self._outputs)
-        lib.d_ocp_qp_ipm_get_status(self.ws, ctypes.byref(self._status))
-        lib.d_ocp_qp_ipm_get_iter(self.ws, ctypes.byref(self._iter))
-        worst = 0.0
-        for name in ("stat", "eq", "ineq", "comp"):
-            getattr(lib, f"d_ocp_qp_ipm_get_max_res_{name}")(self.ws, ctypes.byref(self._res))
-            worst = max(worst, self._res.value)
-        self._solved = self._status.value in (0, 1) and math.isfinite(worst)
-        return self._status.value, self._iter.value, worst
-
-
-# --------------------------------------------------------------------------------------------
 # The solver
 # --------------------------------------------------------------------------------------------
 
@@ -655,10 +495,12 @@ class OptimalControlSolver:
         self._upper = np.concatenate([pr.q_max, pr.qd_max])[self._limited]
         span = self._upper - self._lower
         self._margin = np.where(np.isfinite(span), SCREEN_FRACTION * span, np.inf)
-        self._qp = _StageQP(N, self.nx, n, self._limited, pr.state_limits == "soft", self.options)
+        self._qp = stage_qp(N, self.nx, n, self._limited, pr.state_limits == "soft", self.options,
+                            self.options.qp_solver)
+        self.qp_solver = self._qp.name      # "HPIPM", "piqp" or "proxsuite"
         self._hard_qp = None                # soft limits: the same QP with them hard, tried first (fewer iterations)
         if self._qp.ns:
-            self._hard_qp = _StageQP(N, self.nx, n, self._limited, False, self.options, inputs_of=self._qp)
+            self._hard_qp = stage_qp(N, self.nx, n, self._limited, False, self.options, inputs_of=self._qp)
         self.qp_solves, self._qp_time = 0, 0.0
         self._gravity_data = pr.robot.model.createData()
         self._weights = tuple(np.concatenate([np.sqrt(c.q), np.sqrt(c.qd), np.sqrt(c.tau),
@@ -884,7 +726,8 @@ class OptimalControlSolver:
             self._qp_time += time.perf_counter() - t0
             dX, dU = solved.x[1:] * D_x, solved.u[:N] * D_u
             if status == 3 or not (np.all(np.isfinite(dX)) and np.all(np.isfinite(dU))):
-                return None, {}, False, f"non-finite step, HPIPM status {status} after {iterations} iterations"
+                return None, {}, False, (f"non-finite or failed step, {solved.name} status {status} after "
+                                         f"{iterations} iterations")
             if not nb:
                 break
             y_new = y + dX[:, limited]
@@ -907,7 +750,7 @@ class OptimalControlSolver:
             S = np.zeros((N, nb))
             w = pr.slack_weight
             mult.update(lower=lower, upper=upper, slack_lower=w - lower, slack_upper=w - upper)
-        note = "" if status == 0 else f"HPIPM status {status} (residual {residual:.1g})"
+        note = "" if status == 0 else f"{solved.name} status {status} (residual {residual:.1g})"
         return (dX, dU, S, slope), mult, True, note
 
 
@@ -1007,7 +850,8 @@ class OptimalControlSolver:
         return OptimalControlResult(trajectory, tau, float(t[-1]), "optimal control", cost, success, message, ratios,
                                     iterations, solve_time, status=status, x=X.copy(), u=U.copy(), dt=pr.dt, kkt=kkt,
                                     defect=defect,
-                                    slack=penalty, check_time=check_time, multipliers=mult, timings=timings or {})
+                                    slack=penalty, check_time=check_time, multipliers=mult, timings=timings or {},
+                                    verified=bool(o.verify))
 
 
 def _bound_rows(lam: np.ndarray, n: int, nb: int) -> np.ndarray:

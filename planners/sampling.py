@@ -42,7 +42,7 @@ from rigid_body.rotations import wrap_angle
 from rigid_body.validation import as_count, as_generator, as_positive, as_vector
 
 __all__ = [
-    "PlanningSpace", "PlanResult", "local_path", "edge_is_free", "certify_path", "path_length", "sample_free",
+    "PlanningSpace", "PlanResult", "local_path", "edge_is_free", "certify_path", "path_length",
     "EDGE_CHECKS", "prm", "rrt", "rrt_connect", "shortcut",
     "unicycle_arc", "MotionPrimitive", "certify_arc", "unicycle_rrt",
 ]
@@ -152,7 +152,9 @@ def certify_path(space: PlanningSpace, path: Any) -> EdgeCertificate:
         raise ValueError(f"`path` must be a finite (k >= 1, {space.dim}) array, got shape {P.shape}")
     C = [np.asarray(space.clearances(q), dtype=float) for q in P]
     queries, c_min = len(P), float(min(c.min(initial=np.inf) for c in C))
-    if c_min <= 0:
+    if any(np.isnan(c).any() for c in C):
+        return EdgeCertificate(False, np.nan, queries, "a clearance at a vertex of the path is NaN")
+    if not c_min > 0:
         return EdgeCertificate(False, c_min, queries, "a vertex of the path is in collision or out of bounds")
     for k, (a, b) in enumerate(zip(P[:-1], P[1:])):
         cert = space.certify_edge(a, b, C[k], C[k + 1])
@@ -182,13 +184,6 @@ class _EdgeTester:
             return None
         self.queries += 1
         return np.asarray(self.space.clearances(q), dtype=float)
-
-    def valid(self, q: np.ndarray, c: np.ndarray | None) -> bool:
-        """Is a vertex free? Its clearances in the certified mode, the space's validity check otherwise."""
-        if self.certified:
-            return bool(c.min(initial=np.inf) > 0)
-        self.checks += 1
-        return bool(self.space.valid_many(q[None])[0])
 
     def test(self, a: np.ndarray, b: np.ndarray, ca: np.ndarray | None, cb: np.ndarray | None) -> float | None:
         """The edge a → b: its smallest clearance met when accepted (NaN in the sampled mode), None when refused."""
@@ -245,16 +240,6 @@ def path_length(space: PlanningSpace, path: Any) -> float:
     """Σ d(q_k, q_{k+1}) along the path, with the space's distance."""
     P = np.asarray(path, dtype=float)
     return float(np.sum(space.distance(P[:-1], P[1:]))) if len(P) > 1 else 0.0
-
-
-def sample_free(space: PlanningSpace, rng: Any, max_draws: int = MAX_REJECTED) -> np.ndarray | None:
-    """A free configuration drawn uniformly (rejection sampling), or None after ``max_draws`` draws."""
-    rng = as_generator(rng)
-    for _ in range(as_count(max_draws, "max_draws")):
-        q = space.sample(rng)
-        if space.valid_many(q[None])[0]:
-            return q
-    return None
 
 
 def _check_endpoints(space: PlanningSpace, q_start: Any, q_goal: Any) -> tuple[np.ndarray, np.ndarray]:

@@ -63,6 +63,8 @@ class BlendedPolyline:
 
     def __init__(self, waypoints: Any, deltas: Any) -> None:
         W = np.asarray(waypoints, dtype=float)
+        if W.ndim != 2 or W.shape[0] < 2 or not np.all(np.isfinite(W)):
+            raise ValueError(f"`waypoints` must be a finite (K >= 2, n) array, got shape {W.shape}")
         d = np.diff(W, axis=0)
         lengths = np.linalg.norm(d, axis=1)
         if np.any(lengths <= 0):
@@ -72,8 +74,16 @@ class BlendedPolyline:
         deltas = np.concatenate([[0.0], np.asarray(deltas, dtype=float), [0.0]])
         if deltas.size != W.shape[0]:
             raise ValueError(f"`deltas` must give one value per interior waypoint ({W.shape[0] - 2})")
+        if not np.all(np.isfinite(deltas)):
+            raise ValueError(f"`deltas` must be finite, got {deltas[1:-1]}")
         if np.any(deltas[1:] + deltas[:-1] > lengths * (1 + 1e-12)) or np.any(deltas < 0):
             raise ValueError("blends must not overlap: δ_k + δ_{k+1} <= |edge k| and δ >= 0")
+        turn = np.linalg.norm(np.diff(U, axis=0), axis=1)              # |u₊ − u₋| at each interior corner
+        sharp = (deltas[1:-1] == 0) & (turn > 1e-12)
+        if sharp.any():
+            k = int(np.flatnonzero(sharp)[0])
+            raise ValueError(f"`deltas`[{k}] = 0 at a corner (waypoint {k + 1} turns by |u₊ − u₋| = {turn[k]:.3g}): "
+                             "the path would not be C¹ there; give δ > 0 (δ = 0 only where the path runs straight)")
         self._W, self._U, self.deltas = W, U, deltas[1:-1]
         # pieces: (kind, s0, s1, k) — "line" along edge k, "blend" at corner k
         pieces, s = [], 0.0
@@ -152,9 +162,14 @@ def certified_blends(space: Any, waypoints: np.ndarray, safety: float = BLEND_SA
     otherwise). At corner k a blend point is v_k + Δ with |Δ_j| ≤ δ max(|u₋,j|, |u₊,j|) (the blend lies in
     the triangle of its control points), so the relative motion of every pair from the corner is at most
     δ · m_p, m_p = ``space.edge_rates(0, max(|u₋|, |u₊|))``; δ_k = ``safety`` · min_p c_p(v_k)/m_p, and at
-    most half of each adjacent edge.
+    most half of each adjacent edge. ``safety`` ∈ (0, 1].
     """
     from planners.sampling import certify_path
+
+    if isinstance(safety, bool) or not isinstance(safety, (int, float, np.integer, np.floating)) \
+            or not 0.0 < float(safety) <= 1.0:
+        raise ValueError(f"`safety` must be a number in (0, 1] (the fraction of the certified room a blend "
+                         f"uses), got {safety!r}")
 
     cert = certify_path(space, waypoints)
     if not cert.free:

@@ -395,11 +395,22 @@ def resolved_rates(J: np.ndarray, b: np.ndarray, where: str, max_condition: floa
     largest singular values. ``damping`` None: ValueError when σ_1/σ_rank > ``max_condition`` (the rates
     would be unphysical), naming ``where`` (the posture), the condition number and the remedies; ``damping``
     = λ > 0: the damped least-squares rates Jᵀ(J Jᵀ + λ² I)⁻¹ b (3.59), defined at every posture
-    (|q̇| ≤ |b|/(2λ)), never refused."""
+    (|q̇| ≤ |b|/(2λ)), never refused. ValueError naming ``damping`` (not > 0), ``max_condition`` (not ≥ 1) or
+    ``rank`` (not an integer in [1, min(m, n)])."""
     m, n = J.shape
     if damping is not None:
+        if not (isinstance(damping, (float, int, np.floating, np.integer)) and 0.0 < damping < math.inf) \
+                or isinstance(damping, bool):
+            raise ValueError(f"`damping` must be a finite number > 0 (λ of the damped least squares) or None, "
+                             f"got {damping!r}")
         return J.T @ np.linalg.solve(J @ J.T + damping * damping * np.eye(m), b)
+    if not (isinstance(max_condition, (float, int, np.floating, np.integer)) and max_condition >= 1.0) \
+            or isinstance(max_condition, bool):
+        raise ValueError(f"`max_condition` must be a number >= 1 (a condition number), got {max_condition!r}")
     r = min(m, n) if rank is None else rank
+    if rank is not None and (isinstance(rank, bool) or not isinstance(rank, (int, np.integer))
+                             or not 1 <= rank <= min(m, n)):
+        raise ValueError(f"`rank` must be an integer in [1, min(m, n) = {min(m, n)}] for a {m}×{n} J, got {rank!r}")
     if m == n == r:                              # square: one gesv gives J⁻¹ b and J⁻¹; cond₂ ≤ ‖J‖_F ‖J⁻¹‖_F
         rhs = np.empty((m, m + 1), order="F")
         rhs[:, 0] = b

@@ -235,3 +235,21 @@ def test_peg_in_hole_task_checks_its_data(kwargs, name):
 
     with pytest.raises(ValueError, match=f"`{name}`"):
         PegInHoleTask(**(dict(x_H=0.5) | kwargs))
+
+
+def test_rk4_bounds_name_bad_arguments():
+    """Review LOW: rk4_step_bound(m, 0, 0) divided by zero; no argument was checked."""
+    assert rk4_step_bound(2.0, 0.0, 0.0) == math.inf                  # ẍ = 0: RK4 exact at any step
+    assert rk4_step_bound(1.0, 2.0, 0.0) == pytest.approx(2.785 / 2.0, rel=1e-3)   # damping alone: h d/m ≤ 2.785
+    for args, name in (((0.0, 1.0, 1.0), "mass"), ((1.0, -1.0, 1.0), "damping"), ((1.0, 1.0, np.nan), "stiffness"),
+                       ((np.inf, 1.0, 1.0), "mass")):
+        with pytest.raises(ValueError, match=f"`{name}`"):
+            rk4_step_bound(*args)
+        with pytest.raises(ValueError, match=f"`{name}`"):
+            rk4_stable(*args, 1e-3)
+    with pytest.raises(ValueError, match="`h`"):
+        rk4_stable(1.0, 0.0, 1.0, 0.0)
+    with pytest.raises(ValueError, match="`h`"):
+        rk4_stiffness_bound(1.0, 0.0, -1e-3)
+    with pytest.raises(ValueError, match="`mass`"):
+        rk4_stiffness_bound(-1.0, 0.0, 1e-3)

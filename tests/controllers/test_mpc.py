@@ -34,9 +34,11 @@ def test_regulation_within_the_torque_limits_and_logs(problem):
     n_samples = len(res.t)
     assert res["q_pred"].shape == (n_samples, problem.horizon + 1, 2)
     np.testing.assert_allclose(res["q_pred"][:, 0], res.q, atol=1e-12)   # each plan starts at the measured state
-    for name in ("solve_time", "iterations", "deadline_met", "failed", "converged", "cost"):
+    for name in ("solve_time", "iterations", "deadline_met", "failed", "converged", "plan_success", "cost"):
         assert res[name].shape == (n_samples,)
-    assert res["failed"].sum() == 0 and res["converged"].all()
+    assert res["failed"].sum() == 0 and res["converged"].all() and res["plan_success"].all()
+    assert not mpc._plan.verified and np.isnan(mpc._plan.kkt)           # real time: the solver's own account
+    assert "(not verified)" in repr(mpc._plan)
     assert np.all(res["iterations"] >= 1)
 
 
@@ -107,6 +109,10 @@ def test_bad_input(problem):
         MPCOptions(max_iter=0)
     with pytest.raises(ValueError, match="time_limit"):
         MPCOptions(time_limit=-1.0)
+    with pytest.raises(ValueError, match="time_limit"):
+        MPCOptions(time_limit=np.nan)
+    with pytest.raises(ValueError, match="qp_solver"):
+        MPCOptions(qp_solver="quadprog")
     posed = OptimalControlProblem(problem.robot, 5, 0.02, terminal=StageCost(position=1.0))
     with pytest.raises(ValueError, match="target"):
         ModelPredictiveControl(posed)

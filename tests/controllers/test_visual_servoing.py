@@ -261,3 +261,22 @@ def test_compiled_visual_servo_covers_the_camera_and_the_features(case):
     for name in a.signals:
         np.testing.assert_allclose(b[name], a[name], rtol=0, atol=1e-9)
     assert signal in a.signals
+
+
+def test_a_joint_integrator_runs_the_eye_in_hand_loop_as_the_kinematic_arm_does():
+    """The plant of closed-loop IK (JointIntegrator, whose measurement is the bare q) closes the IBVS loop of
+    eye_in_hand_ibvs exactly as its KinematicArm (encoders ``meas.q``) does — once an AttributeError."""
+    from controllers.plants import JointIntegrator
+    from controllers.scenes import panda_camera_target
+    from controllers.simulation import simulate
+    from controllers.visual_servoing import eye_in_hand_ibvs
+    from rigid_body.camera import PinholeCamera
+
+    table = panda_camera_target()
+    ibvs = eye_in_hand_ibvs(table.robot, table.points_b, table.T_d, frame="panda_hand",
+                            camera=PinholeCamera(600.0, 600.0, 320.0, 240.0), image_size=(640, 480), K_s=1.0, Tc=0.02)
+    q_off = table.start(np.pi / 3, [0.08, -0.06, -0.17])
+    on_arm = ibvs.run(q_off, 1.0)
+    on_integrator = simulate(JointIntegrator(), ibvs.controller, (0.0, 1.0), q_off, h=0.02, Ts=0.02)
+    np.testing.assert_array_equal(on_integrator.q, on_arm.q)
+    assert ibvs.image_error(on_integrator)[-1] < 0.5 * ibvs.image_error(on_integrator)[0]

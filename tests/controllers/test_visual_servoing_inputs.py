@@ -281,3 +281,23 @@ def test_a_stalled_servo_is_reported(panda):
         assert np.linalg.norm(law(0.0, Augmented(ArmMeasurement(q, None), image=moving))) > 1e-4
     assert law.stall is None
     assert math.isfinite(points_b.sum())
+
+
+def test_resolved_rates_arguments_are_named():
+    """Review LOW: damping = 0 at a singular J gave a bare LinAlgError; a `rank` above min(m, n) said "near
+    singular"; `max_condition` was unchecked. Each is now a ValueError naming the argument."""
+    J_singular = np.array([[1.0, 2.0], [2.0, 4.0]])
+    b = np.array([1.0, 0.0])
+    for damping in (0.0, -0.1, np.nan, np.inf, "0.1", True):
+        with pytest.raises(ValueError, match="`damping` must be a finite number > 0"):
+            resolved_rates(J_singular, b, "here", damping=damping)
+    qd = resolved_rates(J_singular, b, "here", damping=0.1)          # damped: defined at the singularity
+    np.testing.assert_allclose(qd, J_singular.T @ np.linalg.solve(J_singular @ J_singular.T + 0.01 * np.eye(2), b))
+    J = np.array([[1.0, 0.0, 0.0], [0.0, 2.0, 0.0]])
+    for rank in (3, 0, 1.0, True):
+        with pytest.raises(ValueError, match=r"`rank` must be an integer in \[1, min\(m, n\) = 2\]"):
+            resolved_rates(J, b, "here", rank=rank)
+    for bound in (0.5, np.nan, "1e3", None):
+        with pytest.raises(ValueError, match="`max_condition` must be a number >= 1"):
+            resolved_rates(J, b, "here", max_condition=bound)
+    np.testing.assert_allclose(resolved_rates(J, [1.0, 1.0], "here", rank=1), [0.0, 0.5, 0.0])   # σ = 2 kept

@@ -63,6 +63,19 @@ def test_gvd_node_of_a_square_is_its_centre():
     assert np.allclose(nodes[nodes[:, 2] > 1e-9], [[1, 1, 1]])
 
 
+def test_gvd_nodes_around_a_square_hole_by_hand():
+    """Room [0, 4]², hole [1.5, 2.5]²: on each diagonal the node equidistant from two walls and the hole's corner,
+    s = √2 (1.5 − s) ⇒ s = 1.5√2/(1 + √2); beside each hole corner the node midway between a wall and the hole's
+    side, at the corner's height (clearance 0.75). The first kind comes from the vertex–side–side equations."""
+    nodes = gvd_nodes(box(0, 0, 4, 4), [box(1.5, 1.5, 2.5, 2.5)])
+    s = 1.5 * np.sqrt(2) / (1 + np.sqrt(2))
+    expected = [[x, y, s] for x in (s, 4 - s) for y in (s, 4 - s)]
+    expected += [[x, y, 0.75] for x, y in ((0.75, 1.5), (0.75, 2.5), (3.25, 1.5), (3.25, 2.5),
+                                           (1.5, 0.75), (2.5, 0.75), (1.5, 3.25), (2.5, 3.25))]
+    inner = nodes[nodes[:, 2] > 1e-9]
+    key = lambda rows: np.array(sorted(map(tuple, np.round(rows, 9))))  # noqa: E731
+    np.testing.assert_allclose(key(inner), key(np.array(expected)), atol=1e-9)
+
 def test_bad_input_names_the_argument():
     with pytest.raises(ValueError, match="bounds"):
         trapezoidal_decomposition((0, -1, 0, 1), [DIAMOND])

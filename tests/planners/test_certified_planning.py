@@ -478,3 +478,39 @@ def test_a_shape_on_a_mimic_joint_has_no_motion_bound():
     space = UrdfCSpace(checker)
     with pytest.raises(ValueError, match="no motion bound"):
         space.certify_edge(np.zeros(2), np.array([0.0, 0.5]))
+
+
+def test_nan_clearances_are_never_certified():
+    """Review LOW: every comparison with NaN is False, so a NaN clearance used to pass `c <= 0` and `ca + cb <= M`
+    as certified. A NaN at an end, at a bisection point, or a NaN rate now refuses the edge."""
+    from planners.configuration_space import certify_by_bisection
+    ok = certify_by_bisection(lambda s, idx: np.full(len(idx), 0.5), [1.0, 1.0], [0.5, 0.5], [0.5, 0.5])
+    assert ok.free                                                 # the reference: clearance 0.5 everywhere
+    for c0 in ([np.nan, 0.5], [0.5, np.nan]):
+        cert = certify_by_bisection(lambda s, idx: np.full(len(idx), 0.5), [1.0, 1.0], c0, [0.5, 0.5])
+        assert not cert.free and cert.queries == 0 and "NaN" in cert.message
+    mid = certify_by_bisection(lambda s, idx: np.full(len(idx), np.nan), [3.0, 3.0], [0.5, 0.5], [0.5, 0.5])
+    assert not mid.free and mid.queries == 1 and "NaN" in mid.message
+    rate = certify_by_bisection(lambda s, idx: np.full(len(idx), 0.5), [np.nan, 1.0], [0.5, 0.5], [0.5, 0.5])
+    assert not rate.free
+    # a NaN in the pair of ends that needs no split (0.5 + NaN > 0.1 is False, NaN <= 0.1 too)
+    small = certify_by_bisection(lambda s, idx: np.full(len(idx), 0.5), [0.1, 0.1], [0.5, 0.5], [np.nan, 0.5])
+    assert not small.free
+
+
+def test_certify_path_refuses_a_nan_vertex_clearance(thin_wall):
+    """A path of one vertex has no edge to refuse it: a NaN clearance there used to certify it."""
+    import dataclasses
+
+    from planners.sampling import certify_path
+
+    @dataclasses.dataclass(frozen=True)
+    class NaNSpace(PlanarCSpace):
+        def clearances(self, q, parts=None):
+            return np.full(super().clearances(q, parts).shape, np.nan)
+
+    space, q_start, _ = thin_wall
+    assert certify_path(space, [q_start]).free
+    nan_space = NaNSpace(space.robot, space.scene, space.lower, space.upper, space.resolution)
+    cert = certify_path(nan_space, [q_start])
+    assert not cert.free and "NaN" in cert.message

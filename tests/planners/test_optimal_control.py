@@ -125,7 +125,7 @@ def test_nonlinear_case_satisfies_first_order_optimality_by_finite_differences(a
     q_ref = np.array([0.3, -0.2])
     x0 = np.zeros(4)
     res = solver.solve(x0, q_ref=q_ref)
-    assert res.success and res.kkt < 1e-6, res
+    assert res.success and res.kkt < 1e-6 and res.verified, res
     assert res.ratios["tau"] == pytest.approx(1.0, abs=1e-9)          # the torque box is active
     f = arm_dynamics(problem.robot)
     U = res.u.ravel()
@@ -255,7 +255,11 @@ def test_unconstrained_reach_equals_a_second_solver():
     (dict(q_min=[0.0, 0.0], q_max=[1.0, -1.0]), "q_min"), (dict(qd_max=0.0), "qd_max"),
     (dict(running=StageCost(q=np.nan)), "running.q"), (dict(terminal=StageCost(position=-1.0)), "terminal.position"),
     (dict(running=StageCost(tau=[1.0, 2.0, 3.0])), "running.tau"), (dict(state_limits="firm"), "state_limits"),
-    (dict(slack_weight=0.0), "slack_weight"),
+    (dict(slack_weight=0.0), "slack_weight"), (dict(slack_weight=np.inf), "slack_weight"),
+    (dict(q_min=[-np.inf, -1.0], q_max=[0.1, 1.0]), "q_min` and `q_max` of joint\\(s\\) \\[1\\]"),
+    (dict(q_min=[-1.0, -1.0], q_max=[0.1, np.inf]), "q_min` and `q_max` of joint\\(s\\) \\[2\\]"),
+    (dict(q_min=[np.nan, -1.0]), "q_min"), (dict(running=StageCost(qd=[1.0, np.inf])), "running.qd"),
+    (dict(terminal=StageCost(orientation=np.nan)), "terminal.orientation"), (dict(tau_max=np.nan), "tau_max"),
 ])
 def test_bad_problems_are_refused_naming_the_argument(change, name):
     arm = load("planar_2r")
@@ -334,17 +338,20 @@ def test_chain_rule_linearisation_equals_automatic_differentiation(name):
 
 
 @pytest.mark.parametrize("soft", [True, False])
-def test_step_qp_equals_a_dense_qp(soft):
-    """HPIPM called directly on a random stage-wise QP (torque box, state limits soft or hard, one limit left out)
-    against proxsuite's dense solver on the same QP written out whole: steps, slacks and multipliers."""
+@pytest.mark.parametrize("solver", ["hpipm", "piqp", "proxsuite"])
+def test_step_qp_equals_a_dense_qp(soft, solver):
+    """HPIPM called directly, and the sparse fallback (PIQP through CasADi, proxsuite's sparse solver), on a random
+    stage-wise QP (torque box, state limits soft or hard, one limit left out) against proxsuite's dense solver on the
+    same QP written out whole: steps, slacks and multipliers."""
     import proxsuite
 
-    from planners.optimal_control import _StageQP
+    from planners.stage_qp import stage_qp
 
     rng = np.random.default_rng(7)
     N, nx, nu, limited = 6, 4, 2, np.array([0, 3])
     nb = limited.size
-    qp = _StageQP(N, nx, nu, limited, soft, OptimalControlOptions(qp_tol=1e-12))
+    qp = stage_qp(N, nx, nu, limited, soft, OptimalControlOptions(qp_tol=1e-12), solver)
+    assert qp.name == {"hpipm": "HPIPM"}.get(solver, solver)
     A, B, b = rng.normal(size=(N, nx, nx)) * 0.5, rng.normal(size=(N, nx, nu)), rng.normal(size=(N, nx))
     M = rng.normal(size=(N + 1, nx + nu, nx + nu))
     H = M @ np.transpose(M, (0, 2, 1)) + 0.1 * np.eye(nx + nu)                  # over [x; u]

@@ -106,10 +106,18 @@ def test_the_first_moving_link_is_checked_against_the_obstacles():
     assert checker.box_clearance(q) <= 0 and checker.clearances(q).min() <= 0
 
 
-def test_the_motion_bound_is_never_below_the_true_motion_of_the_hulls(panda_space):
-    """Along straight edges (Panda, random, 0.6 rad long), every robot hull's vertices move at most the
-    certificate's bound for each robot–box pair (the box is fixed): the bound of Schwarzer et al. is sound."""
-    checker = panda_space.checker
+@pytest.fixture(scope="module")
+def ur5_space():
+    """The UR5: joints about their y axes as well as z (the Panda's are all about z)."""
+    return UrdfCSpace(CollisionChecker(load("ur5"), [Box([0.5, 0.0, 0.3], [0.1, 0.6, 0.6], "wall")]))
+
+
+@pytest.mark.parametrize("robot_space", ["panda_space", "ur5_space"])
+def test_the_motion_bound_is_never_below_the_true_motion_of_the_hulls(robot_space, request):
+    """Along straight edges (random, 0.6 rad long), every robot hull's vertices move at most the certificate's
+    bound for each robot–box pair (the box is fixed): the bound of Schwarzer et al. is sound."""
+    space = request.getfixturevalue(robot_space)
+    checker = space.checker
     model, geom = checker.model, checker.distance_geom
     data, gdata = model.createData(), geom.createData()
     rng = np.random.default_rng(8)
@@ -118,9 +126,9 @@ def test_the_motion_bound_is_never_below_the_true_motion_of_the_hulls(panda_spac
              if (geom.geometryObjects[p.first].parentJoint == 0) != (geom.geometryObjects[p.second].parentJoint == 0)]
     assert pairs
     for _ in range(10):
-        a = panda_space.sample(rng)
-        b = np.clip(a + 0.6 * rng.normal(size=a.size) / np.sqrt(a.size), panda_space.lower, panda_space.upper)
-        rates = panda_space.edge_rates(a, b)
+        a = space.sample(rng)
+        b = np.clip(a + 0.6 * rng.normal(size=a.size) / np.sqrt(a.size), space.lower, space.upper)
+        rates = space.edge_rates(a, b)
         moved = {}
         for s in np.linspace(0.0, 1.0, 41):
             pin.updateGeometryPlacements(model, data, geom, gdata, a + s * (b - a))
@@ -172,3 +180,46 @@ def test_cone_force_vanishes_at_the_goal_and_disc_closest_point_by_hand():
     np.testing.assert_allclose(U, [0.0, 10.0])
     np.testing.assert_allclose(f, [[0.0, 0.0], [1.2, 1.6]], atol=1e-15)     # k_a e/‖e‖, zero at the goal
     np.testing.assert_allclose(closest_point(Disc([1.0, 1.0], 0.5), np.array([[4.0, 5.0]])), [[1.3, 1.4]], atol=1e-12)
+
+
+def test_box_corners_are_its_centre_minus_and_plus_half_its_size():
+    lower, upper = Box([0.5, -0.2, 1.0], [0.2, 0.4, 1.0]).corners
+    np.testing.assert_allclose(lower, [0.4, -0.4, 0.5], atol=1e-15)
+    np.testing.assert_allclose(upper, [0.6, 0.0, 1.5], atol=1e-15)
+
+
+@pytest.mark.parametrize("edge_check", ["certified", "sampled"])
+def test_validity_checks_count_every_configuration_the_planner_checks(arm_space, edge_check):
+    """PlanResult.validity_checks against a space that counts what it is asked (q_s and q_g, checked before
+    planning, are not the planner's); a sampled-mode run computes no clearance."""
+
+    class Counting(PlanarCSpace):
+        asked = 0
+
+        def valid_many(self, Q):
+            self.asked += len(Q)
+            return super().valid_many(Q)
+
+    space, qs, qg = arm_space
+    counting = Counting(space.robot, space.scene, space.lower, space.upper, resolution=space.resolution)
+    for planner, options in ((prm, dict(n_vertices=60)), (rrt, dict(max_iterations=300))):
+        counting.asked = 0
+        res = planner(counting, qs, qg, 3, edge_check=edge_check, **options)
+        assert res.validity_checks == counting.asked - 2
+        assert res.validity_checks > 0 or (planner is rrt and edge_check == "certified")  # certified RRT: clearances only
+        assert (res.distance_queries > 0) == (edge_check == "certified")
+
+
+def test_the_certificate_bounds_only_revolute_and_prismatic_joints():
+    """A helical joint (one coordinate, neither revolute nor prismatic) and multi-coordinate joints get no
+    revolute/prismatic motion bound."""
+    from planners.collision import _joint_kind
+
+    model = pin.Model()
+    joints = {"revolute": [pin.JointModelRZ(), pin.JointModelRevoluteUnaligned(0.0, 0.6, 0.8)],
+              "prismatic": [pin.JointModelPX(), pin.JointModelPrismaticUnaligned(1.0, 0.0, 0.0)],
+              None: [pin.JointModelHZ(0.1), pin.JointModelPlanar(), pin.JointModelSpherical(), pin.JointModelRUBZ()]}
+    for kind, models in joints.items():
+        for joint in models:
+            j = model.addJoint(0, joint, pin.SE3.Identity(), f"{joint.shortname()}_{model.njoints}")
+            assert _joint_kind(model, j) == kind, joint.shortname()

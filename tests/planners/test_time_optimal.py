@@ -135,3 +135,29 @@ def test_limits_still_exceeded_after_the_backoffs_are_an_error(setting):
     for bad in (-1, 1.5, "2", True):
         with pytest.raises(ValueError, match="`max_backoff` must be an integer >= 0"):
             time_optimal_path(arm, W, limits, max_backoff=bad)
+
+
+def test_blend_arguments_are_validated():
+    """Review LOW: δ = 0 at a real corner made a path with a kink (q' jumps, q'' undefined) that TOPP-RA timed
+    as if it were C¹; `certified_blends(safety=)` took any value (safety > 1 leaves the certified room)."""
+    from planners.configuration_space import Disc, PlanarBody, PlanarCSpace, Scene
+    from planners.time_optimal import BlendedPolyline, certified_blends
+
+    W = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [2.0, 2.0]])
+    with pytest.raises(ValueError, match=r"`deltas`\[0\] = 0 at a corner \(waypoint 1 turns by .* = 1.41"):
+        BlendedPolyline(W, [0.0, 0.3])
+    with pytest.raises(ValueError, match=r"`deltas`\[1\] = 0"):
+        BlendedPolyline(W, [0.2, 0.0])
+    straight = BlendedPolyline(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]), [0.0])    # no corner: allowed
+    np.testing.assert_allclose(straight(1.5), [1.5, 0.0])
+    with pytest.raises(ValueError, match="`deltas` must be finite"):
+        BlendedPolyline(W, [np.nan, 0.3])
+    with pytest.raises(ValueError, match="`waypoints` must be a finite"):
+        BlendedPolyline(W[:1], [])
+    body = PlanarBody((Disc([0.0, 0.0], 0.01),))
+    space = PlanarCSpace(body, Scene([], (-3, 3, -3, 3)), [-3, -3, -np.pi], [3, 3, np.pi])
+    P = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]])
+    assert certified_blends(space, P)[0][0] > 0
+    for bad in (0.0, -0.5, 1.5, np.nan, "0.5", True):
+        with pytest.raises(ValueError, match=r"`safety` must be a number in \(0, 1\]"):
+            certified_blends(space, P, safety=bad)

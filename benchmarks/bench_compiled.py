@@ -27,10 +27,11 @@ from pathlib import Path
 
 import numpy as np
 
-from controllers.compiled import compiled_loop, compiler
+from controllers.compiled import compiled_loop
 from controllers.joint_space import PDGravityCompensation
 from controllers.plants import ArmPlant
 from controllers.simulation import simulate
+from rigid_body.codegen import compiler
 from rigid_body.robots import load
 
 from benchtools import best_of, best_times

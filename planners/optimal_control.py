@@ -308,18 +308,26 @@ class OptimalControlResult(OptimalTrajectory):
 # The transcription: one interval's linearisation, generated as C
 # --------------------------------------------------------------------------------------------
 
+def _layout(n: int) -> dict[str, slice]:
+    """Where each per-node parameter sits in a parameter column (the one layout: the compiled functions, the
+    references written by :meth:`OptimalControlSolver.parameters` and the independent check read it): dt, q_ref,
+    q̇_ref, τ_ref, p_d (3), vec R_d (9, by columns), √w_q, √w_q̇, √w_τ, √w_p, √w_o."""
+    out, k = {}, 0
+    for name, size in (("dt", 1), ("q_ref", n), ("qd_ref", n), ("tau_ref", n), ("p_d", 3), ("R_d", 9), ("sw_q", n),
+                       ("sw_qd", n), ("sw_tau", n), ("sw_p", 1), ("sw_o", 1)):
+        out[name] = slice(k, k + size)
+        k += size
+    return out
+
+
 def _parameter_size(n: int) -> int:
-    """Per-node parameters: dt, q_ref, q̇_ref, τ_ref, p_d (3), vec R_d (9), √w_q, √w_q̇, √w_τ, √w_p, √w_o."""
-    return 1 + 3 * n + 12 + 3 * n + 2
+    """The length of a parameter column (:func:`_layout`)."""
+    return _layout(n)["sw_o"].stop
 
 
 def _unpack(p: Any, n: int) -> dict[str, Any]:
-    k = 0
-    out = {}
-    for name, size in (("dt", 1), ("q_ref", n), ("qd_ref", n), ("tau_ref", n), ("p_d", 3), ("R_d", 9), ("sw_q", n),
-                       ("sw_qd", n), ("sw_tau", n), ("sw_p", 1), ("sw_o", 1)):
-        out[name] = p[k:k + size]
-        k += size
+    """The parameters of the column ``p`` (CasADi) by name, R_d as 3 × 3."""
+    out = {name: p[where] for name, where in _layout(n).items()}
     out["R_d"] = ca.reshape(out["R_d"], 3, 3)
     return out
 
@@ -531,10 +539,15 @@ class OptimalControlSolver:
 
         rotations = np.transpose(T[:, :3, :3], (0, 2, 1)).reshape(N + 1, 9)   # each R_d by columns
         running, terminal = self._weights
-        P = np.hstack([np.full((N, 1), pr.dt), q_ref[:N], qd_ref[:N], tau_ref, T[:N, :3, 3], rotations[:N],
-                       np.broadcast_to(running, (N, running.size))])
-        P_N = np.concatenate([[pr.dt], q_ref[N], qd_ref[N], np.zeros(n), T[N, :3, 3], rotations[N], terminal])
-        return P, P_N
+        at = _layout(n)
+        weights = slice(at["sw_q"].start, at["sw_o"].stop)
+        P = np.empty((N + 1, _parameter_size(n)))                            # rows 0..N−1 running, N terminal
+        P[:, at["dt"]] = pr.dt
+        P[:, at["q_ref"]], P[:, at["qd_ref"]] = q_ref, qd_ref
+        P[:N, at["tau_ref"]], P[N, at["tau_ref"]] = tau_ref, 0.0
+        P[:, at["p_d"]], P[:, at["R_d"]] = T[:, :3, 3], rotations
+        P[:N, weights], P[N, weights] = running, terminal
+        return P[:N], P[N].copy()
 
     # ---- the SQP --------------------------------------------------------------------------------------------
     def solve(self, x0: Any, q_ref: Any = None, qd_ref: Any = None, tau_ref: Any = None, T_d: Any = None,
@@ -615,7 +628,7 @@ class OptimalControlSolver:
         """Φ(x, τ): the state one interval dt after x under the held torque τ, by the problem's model (the same RK4
         step as the transcription)."""
         column = np.zeros(_parameter_size(self.n))
-        column[0] = self.problem.dt
+        column[_layout(self.n)["dt"]] = self.problem.dt
         x_next = self._stage_value_one(as_vector(x, self.nx, "x"), as_vector(tau, self.n, "tau"), column)[0]
         return np.asarray(x_next).ravel()
 
@@ -899,6 +912,7 @@ class _KKTCheck:
 
     def __init__(self, problem: OptimalControlProblem, P: np.ndarray, P_N: np.ndarray):
         self.pr, self.P, self.P_N = problem, P, P_N
+        self._at = _layout(problem.n)
         robot = problem.robot
         self.model, self.data = robot.model, robot.model.createData()
         self.n = robot.nv
@@ -960,10 +974,11 @@ class _KKTCheck:
         """∂/∂x of ½‖r(x)‖², r the state and pose residual with the parameter column p."""
         n = self.n
         q, v = x[:n], x[n:]
-        q_ref, qd_ref = p[1:1 + n], p[1 + n:1 + 2 * n]
-        p_d, R_d = p[1 + 3 * n:4 + 3 * n], p[4 + 3 * n:13 + 3 * n].reshape(3, 3, order="F")
-        w_q, w_qd = p[13 + 3 * n:13 + 4 * n] ** 2, p[13 + 4 * n:13 + 5 * n] ** 2
-        w_p, w_o = p[13 + 6 * n] ** 2, p[14 + 6 * n] ** 2
+        at = _layout(n)
+        q_ref, qd_ref = p[at["q_ref"]], p[at["qd_ref"]]
+        p_d, R_d = p[at["p_d"]], p[at["R_d"]].reshape(3, 3, order="F")
+        w_q, w_qd = p[at["sw_q"]] ** 2, p[at["sw_qd"]] ** 2
+        w_p, w_o = p[at["sw_p"]][0] ** 2, p[at["sw_o"]][0] ** 2
         grad = np.concatenate([w_q * (q - q_ref), w_qd * (v - qd_ref)])
         if w_p > 0 or w_o > 0:
             fid = self.pr.frame
@@ -995,8 +1010,8 @@ class _KKTCheck:
             g = np.zeros(3 * n)
             for c, s, ds in zip(RK4_WEIGHTS, states, jacs):
                 g += c * h * ds.T @ self._state_gradient(s, p)
-            w_tau = p[13 + 5 * n:13 + 6 * n] ** 2
-            g[nx:] += h * w_tau * (U[k] - p[1 + 2 * n:1 + 3 * n])
+            w_tau = p[self._at["sw_tau"]] ** 2
+            g[nx:] += h * w_tau * (U[k] - p[self._at["tau_ref"]])
             grad_x[k] += g[:nx]
             grad_u[k] = g[nx:]
             stat_x[k] += g[:nx] + dPhi[:, :nx].T @ lam[k]

@@ -342,10 +342,10 @@ class Numeric:
 
     @staticmethod
     def frame_pose(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(R, o) of a frame in the base frame (2.50)."""
+        """(R, o) of a frame in the base frame (2.50): copies (``data.oMf``'s views change at the next call)."""
         pin.framesForwardKinematics(model, data, q)
         M = data.oMf[fid]
-        return M.rotation, M.translation
+        return M.rotation.copy(), M.translation.copy()
 
     @staticmethod
     def camera_jacobian(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray) -> np.ndarray:

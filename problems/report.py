@@ -212,6 +212,8 @@ def figure_caption(pid: str, k: int, title: str) -> str:
     "Fig. 3.21.2 (the manual's Fig. S3.5): constrained, k0 = 35"
     >>> figure_caption("11.8", 0, "Tricycle with 3 trailers (Problem 11.8)")
     'Fig. 11.8.1: Tricycle with 3 trailers'
+    >>> figure_caption("11.16", 0, "Fig. S11.2 (here) — the two regulators")
+    "Fig. 11.16.1 (the manual's Fig. S11.2): the two regulators"
     """
     import re
 
@@ -219,7 +221,7 @@ def figure_caption(pid: str, k: int, title: str) -> str:
     own = re.escape(pid)
     title = re.sub(rf"^\s*Problem\s+{own}\b\s*[—:–/-]?\s*", "", title)          # "Problem 7.7 — …"
     title = re.sub(rf"\s*\(Problem\s+{own}\)\s*$", "", title)                   # "… (Problem 11.8)"
-    match = re.match(r"\s*(?:Fig\.|Figure)\s*(S?\d+\.\d+[a-z]?)\s*[—:–-]?\s*(.*)", title, re.S)
+    match = re.match(r"\s*(?:Fig\.|Figure)\s*(S?\d+\.\d+[a-z]?)\s*(?:\(here\)\s*)?[—:–-]?\s*(.*)", title, re.S)
     if match:
         rest = match.group(2).strip()
         if re.fullmatch(r"\([^()]*\)", rest):                                       # "(constrained, …)"

@@ -171,6 +171,8 @@ class ZeroOrderHold:
     log is the one of its last sample (held too).
     """
 
+    runtime_attributes = ("_next", "_output")   # the Python loop's hold: not part of the compiled loop's key
+
     def __init__(self, block: Callable[[float, Any], Any], Ts: float):
         self.block, self.Ts = block, as_positive(Ts, "Ts")
         self.reset()

@@ -280,3 +280,22 @@ def test_the_key_reads_partials_and_attribute_names_in_full():
         runtime_attributes = ("log",)
 
     assert compiled.structure_digest(Logged(log=u)) == compiled.structure_digest(Logged(log=v))
+
+
+def test_a_python_run_leaves_the_key_unchanged():
+    """The blocks' Python-loop state (a contact plant's last measurement, a hold's next instant and output, a
+    servo's stall) is declared in ``runtime_attributes``: a compiled run after a Python run reuses the loop."""
+    from controllers.environment import CompliantPlane
+    from controllers.plants import ArmInContact
+    from controllers.scenes import scara_ibvs
+
+    arm = load("planar_2r")
+    plant = ArmInContact(arm, CompliantPlane([1.2, 0.0, 0.0], [-1.0, -1.0, 0.0], 5e3, damping=20.0),
+                         viscous_friction=100.0)
+    law = PDGravityCompensation(arm, 400, 40, [0.95, 0.55])
+    scene = scara_ibvs(0.004, "points", K_Ps=1.0, K_Ds=1.0)
+    for p, c, run in ((plant, law, dict(t_span=(0.0, 0.1), x0=plant.initial_state([0.2, -1.6]), h=1e-3)),
+                      (scene["plant"], scene["controller"], {**scene, "t_span": (0.0, 0.2)})):
+        before = compiled.structure_digest(p, c)
+        simulate(**{"plant": p, "controller": c, **run})
+        assert compiled.structure_digest(p, c) == before, type(c).__name__

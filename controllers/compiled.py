@@ -41,6 +41,7 @@ import functools
 import hashlib
 import json
 import os
+import pickle
 import threading
 import time
 import types
@@ -600,12 +601,17 @@ def fast_backend(controller: Any = None) -> str:
 # The key of a loop: a digest of its blocks' structure, without generating code
 # --------------------------------------------------------------------------------------------
 
-_NOT_STRUCTURE = frozenset({"gains", "_K", "_state", "_t_last", "_log", "stall", "rng", "transitions", "_measured",
-                            "_data", "data", "_local"})
-"""Attributes that are not part of a block's symbolic structure: its parameters (gains, fed as p), its state
-(fed as the initial law state), references (fed as R: every attribute whose name ends in ``reference``), logs
-and Pinocchio's work data."""
+_NOT_STRUCTURE = frozenset({"gains", "_K", "_state", "_t_last", "_log"})
+"""Attributes of every law that are not part of its symbolic structure, because the executor feeds them at run
+time or only the Python loop keeps them: its gains (fed as p; also ``_K``, their fast copies), its state (fed as
+the initial law state), the Python loop's last sample time and signals. References are fed too (as R: every
+attribute whose name ends in ``reference``). A class names its own such attributes in ``runtime_attributes``
+(e.g. a log the Python loop appends to); Pinocchio's work data, thread-local stores and random generators are
+keyed by their type (the generator's draws are fed as inputs)."""
+_BY_TYPE = (pin.Data, np.random.Generator, threading.local)
 _SOURCES: dict[str, bytes] = {}
+_BOOST_INSTANCE = next(c for c in pin.SE3.__mro__ if c.__module__ == "Boost.Python" and c.__name__ == "instance")
+"""The base of every Boost.Python object (Pinocchio's SE3, Motion, Inertia …): its value is not in ``__dict__``."""
 
 
 def _module_of(obj: Any) -> str:
@@ -654,8 +660,11 @@ def structure_digest(*blocks: Any) -> str:
             feed("a", f"{v.dtype}{v.shape}".encode() + (np.ascontiguousarray(v).tobytes() if v.dtype != object
                                                          else repr(v.tolist()).encode()))
             return
-        if isinstance(v, (pin.Data, np.random.Generator, threading.local)) or depth > 12:
+        if isinstance(v, _BY_TYPE):
             feed("o", type(v).__qualname__.encode())
+            return
+        if depth > 12:
+            feed("i", f"{os.getpid()}:{id(v)}".encode())    # too deep to read: this object only
             return
         if isinstance(v, pin.Model):
             if id(v) not in models:
@@ -700,7 +709,13 @@ def structure_digest(*blocks: Any) -> str:
             feed("b", v.__func__.__qualname__.encode())
             walk(v.__self__, depth + 1)
             return
-        if isinstance(v, (types.BuiltinFunctionType, functools.partial)) or type(v).__module__ == "Boost.Python":
+        if isinstance(v, functools.partial):
+            feed("p", b"")
+            walk(v.func, depth + 1)
+            walk(v.args, depth + 1)
+            walk(v.keywords, depth + 1)
+            return
+        if isinstance(v, types.BuiltinFunctionType) or type(v).__module__ == "Boost.Python":
             feed("n", repr(v).encode())
             return
         if id(v) in seen:
@@ -710,20 +725,25 @@ def structure_digest(*blocks: Any) -> str:
         cls = type(v)
         feed("c", f"{_module_of(cls)}.{cls.__qualname__}".encode())
         modules.add(_module_of(cls))
-        if not hasattr(v, "__dict__") and not getattr(cls, "__slots__", ()):
-            feed("i", f"{os.getpid()}:{id(v)}".encode())    # opaque (an extension object): this object only
-            return
         attributes = dict(getattr(v, "__dict__", {}))
         for slot in getattr(cls, "__slots__", ()):
             if hasattr(v, slot):
                 attributes[slot] = getattr(v, slot)
+        if not attributes or _BOOST_INSTANCE in cls.__mro__:
+            # No Python state (an extension object such as a pin.SE3, whose value lives in C++): by value when
+            # it pickles (its full state), else opaque — this object only. Never by its class alone.
+            try:
+                feed("v", pickle.dumps(v, protocol=4))
+            except Exception:                               # noqa: BLE001 (any refusal to pickle)
+                feed("i", f"{os.getpid()}:{id(v)}".encode())
+        skipped = _NOT_STRUCTURE.union(getattr(cls, "runtime_attributes", ()))
         gains = attributes.get("gains")
         gain_values = [] if not isinstance(gains, dict) else list(gains.values())
         if gain_values:
             feed("g", repr([(k, np.shape(g)) for k, g in gains.items()]).encode())
         for name in sorted(attributes):
             value = attributes[name]
-            if name in _NOT_STRUCTURE or name.endswith("reference") or any(value is g for g in gain_values):
+            if name in skipped or name.endswith("reference") or any(value is g for g in gain_values):
                 continue
             feed("k", name.encode())
             walk(value, depth + 1)

@@ -342,10 +342,11 @@ class Numeric:
 
     @staticmethod
     def frame_pose(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(R, o) of a frame in the base frame (2.50)."""
-        pin.framesForwardKinematics(model, data, q)
-        M = data.oMf[fid]
-        return M.rotation, M.translation
+        """(R, o) of a frame in the base frame (2.50): views of a fresh (4, 4) (never of ``data.oMf``, which the
+        next call changes); the forward kinematics and this frame only (not every frame's placement)."""
+        pin.forwardKinematics(model, data, q)
+        T = pin.updateFramePlacement(model, data, fid).homogeneous         # a fresh array
+        return T[:3, :3], T[:3, 3]
 
     @staticmethod
     def camera_jacobian(model: pin.Model, data: pin.Data, fid: int, q: np.ndarray) -> np.ndarray:

@@ -387,6 +387,8 @@ class ArmInContact:
     asked directly; no contact (:data:`controllers.environment.NO_CONTACT`) skips Jᵀ h_e.
     """
 
+    runtime_attributes = ("_measured",)      # the last measurement (a Python-loop cache): not part of the loop's key
+
     def __init__(self, robot: Robot, environment: Any, viscous_friction: Any = 0.0,
                  frame: str | int | None = None):
         if not callable(getattr(environment, "wrench", None)):

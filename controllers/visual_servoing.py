@@ -659,6 +659,8 @@ class _IBVSLaw(_CameraLaw):
     Python loop's diagnosis).
     """
 
+    runtime_attributes = ("stall",)          # the Python loop's diagnosis: not part of the compiled loop's key
+
     STALL_ERROR = 1e-4         # ‖e_s‖ (normalised image units, 0.06 px at f α = 600 px) below which the servo has converged
     STALL_GRADIENT = 1e-3      # ‖J_Lᵀ K e_s‖ / (‖J_L‖ ‖K e_s‖) below which the error is out of the law's reach
 

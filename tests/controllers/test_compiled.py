@@ -335,3 +335,15 @@ def test_casadi_backend_reproduces_python_pose_tasks(orientation, law):
     assert set(a.signals) == set(b.signals)
     for name in a.signals:
         np.testing.assert_allclose(b[name], a[name], rtol=0, atol=1e-9)
+
+
+def test_numeric_frame_pose_returns_copies():
+    """Numeric.frame_pose's (R, o) are the law's own: the next Pinocchio call on the same data leaves them."""
+    from controllers.laws import Numeric
+
+    arm = load("puma560")
+    R, o = Numeric.frame_pose(arm.model, arm.data, arm.ee_frame, np.zeros(arm.nq))
+    R0, o0 = R.copy(), o.copy()
+    Numeric.frame_pose(arm.model, arm.data, arm.ee_frame, np.full(arm.nq, 0.3))
+    np.testing.assert_array_equal(R, R0)
+    np.testing.assert_array_equal(o, o0)

@@ -214,3 +214,69 @@ def test_compile_function_without_a_compiler_runs_interpreted(fresh_cache, monke
     with pytest.warns(UserWarning, match="compiler `/bin/false` failed.*interpreted"):
         g = codegen.compile_function(f)
     assert float(g(3.0)) == 9.0
+
+
+class _SE3Target:
+    """A user's law holding a ``pin.SE3`` target: u = K_P (p_xy − q) − K_D q̇ + g(q), p_xy the target's
+    translation baked into the body as constants (the compiled loop must be keyed by the SE3's value)."""
+
+    @staticmethod
+    def make(robot, translation):
+        import pinocchio as pin
+
+        from controllers.laws import ControlLaw, as_gain, as_reference
+
+        class SE3TargetLaw(ControlLaw):
+            def __init__(self):
+                self.robot, self.nq, self.nv = robot, robot.nq, robot.nv
+                self._model, self._data = robot.model, robot.data
+                self.target = pin.SE3(np.eye(3), np.asarray(translation, dtype=float))
+                self.set_gains(K_P=as_gain(400.0, robot.nv, "K_P"), K_D=as_gain(40.0, robot.nv, "K_D"))
+                self.reference = as_reference(np.zeros(robot.nv), robot.nv)       # unused
+                self.reference_shapes = ((robot.nv,),) * 3
+
+            def law(self, ops, K, q, qd, ref):
+                e = self.target.translation[:2] - q
+                return ops.gravity(self._model, self._data, q) + ops.times(K["K_P"], e) - ops.times(K["K_D"], qd), {}
+
+        return SE3TargetLaw()
+
+
+def test_the_key_reads_extension_objects_by_value(fresh_cache):
+    """Two laws differing only in a pin.SE3 attribute's translation: different keys, and each compiled run
+    equals its own Python run (the second never reuses the first's loop)."""
+    arm = load("planar_2r")
+    plant = ArmPlant(arm, viscous_friction=100.0)
+    a, b = _SE3Target.make(arm, [0.5, -0.5, 0.0]), _SE3Target.make(arm, [0.2, 0.3, 0.0])
+    assert compiled.structure_digest(a) != compiled.structure_digest(b)
+    assert compiled.structure_digest(a) == compiled.structure_digest(_SE3Target.make(arm, [0.5, -0.5, 0.0]))
+    x0 = plant.initial_state(np.zeros(2))
+    for law in (a, b):
+        fast = simulate(plant, law, (0.0, 0.2), x0, h=1e-3, backend="casadi")
+        slow = simulate(plant, law, (0.0, 0.2), x0, h=1e-3)
+        np.testing.assert_allclose(fast.x, slow.x, rtol=0, atol=1e-9)
+    assert abs(fast.x[-1] - simulate(plant, a, (0.0, 0.2), x0, h=1e-3).x[-1]).max() > 1e-3    # they differ
+
+
+def test_the_key_reads_partials_and_attribute_names_in_full():
+    """functools.partial over large arrays is keyed by its arguments (not a truncated repr); an attribute is
+    skipped by its class's declaration (``runtime_attributes``), not by a common name such as ``data``."""
+    import functools
+
+    class Block:
+        def __init__(self, **attributes):
+            self.__dict__.update(attributes)
+
+    u, v = np.zeros(2000), np.zeros(2000)
+    v[1000] = 1.0
+    assert compiled.structure_digest(Block(f=functools.partial(np.dot, u))) != \
+        compiled.structure_digest(Block(f=functools.partial(np.dot, v)))
+    assert compiled.structure_digest(Block(f=functools.partial(np.dot, u))) == \
+        compiled.structure_digest(Block(f=functools.partial(np.dot, u.copy())))
+    for name in ("data", "rng", "stall", "transitions", "_measured"):
+        assert compiled.structure_digest(Block(**{name: u})) != compiled.structure_digest(Block(**{name: v})), name
+
+    class Logged(Block):
+        runtime_attributes = ("log",)
+
+    assert compiled.structure_digest(Logged(log=u)) == compiled.structure_digest(Logged(log=v))

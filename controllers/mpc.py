@@ -54,7 +54,7 @@ from controllers.plants import ArmMeasurement
 from controllers.simulation import LoggedController
 from planners.optimal_control import (OptimalControlOptions, OptimalControlProblem, OptimalControlResult,
                                       OptimalControlSolver)
-from planners.stage_qp import QP_SOLVERS
+from planners.stage_qp import check_qp_solver
 from rigid_body.rotations import as_homogeneous, as_homogeneous_batch
 from rigid_body.validation import as_positive
 
@@ -88,8 +88,7 @@ class MPCOptions:
             raise ValueError(f"`max_iter` must be an integer >= 1, got {v!r}")
         if self.time_limit is not None:
             as_positive(self.time_limit, "time_limit")
-        if self.qp_solver not in QP_SOLVERS:
-            raise ValueError(f"`qp_solver` must be one of {QP_SOLVERS}, got {self.qp_solver!r}")
+        check_qp_solver(self.qp_solver)
 
 
 class ModelPredictiveControl(LoggedController):

@@ -486,8 +486,7 @@ class ArmInContact:
         n, nq = self.n, self.nq
         if type(x) is not np.ndarray or x.shape != self._x_shape:     # the cheap test first (hot path)
             _check_state(x, self.state_size, nq)
-        if np.shape(u) != (n,):
-            raise ValueError(f"the arm needs {n} joint torques, got an input of shape {np.shape(u)}")
+        u = joint_torques(u, n)
         q, qd = x[:nq], x[nq:]
         xd = np.empty(2 * n)
         xd[:n] = qd

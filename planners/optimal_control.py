@@ -47,6 +47,7 @@ Diehl et al., SIAM J. Control Optim. 43 (2005) (real-time iteration).
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import dataclass, field
@@ -57,7 +58,7 @@ import numpy as np
 import pinocchio as pin
 
 from planners.optimization import OptimalTrajectory
-from planners.stage_qp import QP_SOLVERS, stage_qp
+from planners.stage_qp import check_qp_solver, stage_qp
 from planners.timing import PiecewisePolynomial, Trajectory
 from rigid_body.codegen import compile_function
 from rigid_body.integration import RK4_WEIGHTS, rk4_sensitivities, rk4_stages
@@ -255,8 +256,7 @@ class OptimalControlOptions:
         for name in ("tol", "step_tol", "qp_tol"):
             as_positive(getattr(self, name), name)
         as_positive(self.limit_tol, "limit_tol", allow_zero=True)
-        if self.qp_solver not in QP_SOLVERS:
-            raise ValueError(f"`qp_solver` must be one of {QP_SOLVERS}, got {self.qp_solver!r}")
+        check_qp_solver(self.qp_solver)
         if not (isinstance(self.time_limit, (int, float)) and self.time_limit > 0):
             raise ValueError(f"`time_limit` must be a positive number of seconds (inf: none), got {self.time_limit!r}")
 
@@ -308,6 +308,7 @@ class OptimalControlResult(OptimalTrajectory):
 # The transcription: one interval's linearisation, generated as C
 # --------------------------------------------------------------------------------------------
 
+@functools.lru_cache(maxsize=None)
 def _layout(n: int) -> dict[str, slice]:
     """Where each per-node parameter sits in a parameter column (the one layout: the compiled functions, the
     references written by :meth:`OptimalControlSolver.parameters` and the independent check read it): dt, q_ref,
@@ -863,7 +864,7 @@ class OptimalControlSolver:
                                     iterations, solve_time, status=status, x=X.copy(), u=U.copy(), dt=pr.dt, kkt=kkt,
                                     defect=defect,
                                     slack=penalty, check_time=check_time, multipliers=mult, timings=timings or {},
-                                    verified=bool(o.verify))
+                                    verified=bool(o.verify) and not math.isnan(kkt))
 
 
 def _bound_rows(lam: np.ndarray, n: int, nb: int) -> np.ndarray:

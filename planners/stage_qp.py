@@ -560,6 +560,13 @@ def _has_piqp() -> bool:
         return False
 
 
+def check_qp_solver(solver: Any) -> str:
+    """``solver`` if it names one of :data:`QP_SOLVERS`, else a ValueError naming `qp_solver`."""
+    if solver not in QP_SOLVERS:
+        raise ValueError(f"`qp_solver` must be one of {QP_SOLVERS}, got {solver!r}")
+    return solver
+
+
 def stage_qp(N: int, nx: int, nu: int, limited: np.ndarray, soft: bool, options: Any, solver: str = "auto",
              inputs_of: Any = None) -> HpipmStageQP | SparseStageQP:
     """The step QP by ``solver`` (:data:`QP_SOLVERS`): ``"auto"`` HPIPM if its library passes :func:`load_hpipm`'s
@@ -567,8 +574,7 @@ def stage_qp(N: int, nx: int, nu: int, limited: np.ndarray, soft: bool, options:
     ``"hpipm"`` HPIPM or :class:`QPUnavailable`; ``"piqp"``, ``"proxsuite"`` :class:`SparseStageQP` with that
     solver. ``inputs_of``: a QP (of the same class) whose data arrays this one reads."""
     global _WARNED
-    if solver not in QP_SOLVERS:
-        raise ValueError(f"`qp_solver` must be one of {QP_SOLVERS}, got {solver!r}")
+    check_qp_solver(solver)
     if inputs_of is not None:
         return type(inputs_of)(N, nx, nu, limited, soft, options, inputs_of=inputs_of)
     if solver in ("piqp", "proxsuite"):
